@@ -1,0 +1,33 @@
+# Thin wrapper over CMake. `make demo` and `make test` are the README's two
+# set-up commands: each installs missing Debian packages first (as root).
+JOBS ?= 2
+CMAKE_FLAGS ?=
+
+.PHONY: deps build demo test clean
+
+deps:
+	sh cmake/install-deps.sh
+
+build: deps
+	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	cmake --build build -j $(JOBS)
+
+demo: build
+	./build/softbond run scenes/default.yaml --output out/demo
+	@echo "softbond: frames and log.csv are in out/demo (open out/demo/frames.pvd in ParaView)"
+
+# Three configurations: float (the default), double, and float under the
+# address and undefined-behaviour sanitizers.
+test: deps
+	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	cmake --build build -j $(JOBS)
+	cd build && ctest --output-on-failure -j $(JOBS)
+	cmake -S . -B build-double -DCMAKE_BUILD_TYPE=Release -DSB_DOUBLE=ON $(CMAKE_FLAGS)
+	cmake --build build-double -j $(JOBS)
+	cd build-double && ctest --output-on-failure -j $(JOBS)
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE=ON $(CMAKE_FLAGS)
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE no_sanitizer
+
+clean:
+	rm -rf build build-double build-asan out

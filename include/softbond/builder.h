@@ -1,0 +1,103 @@
+/* Construction mode: add vertices, bonds and triangles, then compile them
+ * into an immutable sb_model (the Spring Systems library's SpringGraph). */
+#ifndef SOFTBOND_BUILDER_H
+#define SOFTBOND_BUILDER_H
+
+#include "softbond/types.h"
+#include "softbond/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sb_builder sb_builder;
+typedef struct sb_model sb_model;
+
+typedef struct sb_vertex_def {
+    double position[3]; /* m; also the rest position */
+    double velocity[3]; /* m/s, initial */
+    double mass;        /* kg; must be > 0 unless fixed */
+    bool fixed;
+} sb_vertex_def;
+
+/* A bond between two vertices carries two edge terms: the molecular bond
+ * stretch ½ k (r − r0)² (Eq. 3) and the classic damped spring (Eq. 2)
+ * ½ spring_k (r − r0)² with damping spring_damping along the bond. */
+typedef struct sb_bond_def {
+    uint32_t i, j;
+    double rest_length;    /* m; negative means the current distance */
+    double k;              /* N/m, bond stretch */
+    double spring_k;       /* N/m, damped spring */
+    double spring_damping; /* N·s/m */
+} sb_bond_def;
+
+/* A triangle contributes one angle per corner: angle bend
+ * ½ angle_k (cos θ − cos θ0)² (Eq. 4) and stretch-bend
+ * stretch_bend_k (cos θ − cos θ0)[(rA − rA0) + (rB − rB0)] (Eq. 5). Rest
+ * values come from the vertices' positions. */
+typedef struct sb_triangle_def {
+    uint32_t i, j, k;
+    double angle_k;        /* J */
+    double stretch_bend_k; /* J/m */
+} sb_triangle_def;
+
+/* A hinge is an interior edge (e0, e1) shared by the triangles (e0, e1, o0)
+ * and (e1, e0, o1); it resists folding with ½ k (φ − φ0)², φ the signed
+ * dihedral angle (0 when flat), φ0 taken from the positions. */
+typedef struct sb_hinge_def {
+    uint32_t e0, e1, o0, o1;
+    double k; /* J/rad² */
+} sb_hinge_def;
+
+sb_vertex_def sb_default_vertex_def(void);
+sb_bond_def sb_default_bond_def(void);
+sb_triangle_def sb_default_triangle_def(void);
+
+sb_builder* sb_builder_create(void);
+void sb_builder_destroy(sb_builder* builder);
+
+/* Each add returns the new element's index, or -1 when out of memory.
+ * Nothing is checked here: compile validates everything at once. */
+int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* def);
+int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
+int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
+int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
+
+uint32_t sb_builder_vertex_count(const sb_builder* builder);
+/* Changes a vertex after it was added (to pin it, give it a mass, ...). */
+sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
+
+/* Validates and compiles. On failure returns NULL and err names the first
+ * bad element: an index out of range, a bond from a vertex to itself, a
+ * duplicate bond (rejected, never merged: the caller decides which constants
+ * win), a degenerate triangle or hinge, a non-finite number, a free vertex
+ * with zero or negative mass, a negative constant. The builder is unchanged
+ * and may be compiled again. */
+sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err);
+
+/* Constants for the mesh factory: every term is per element, uniform here. */
+typedef struct sb_material_def {
+    double bond_k;         /* N/m, Eq. 3, 0 = off */
+    double angle_k;        /* J, Eq. 4, 0 = off */
+    double stretch_bend_k; /* J/m, Eq. 5, 0 = off */
+    double spring_k;       /* N/m, Eq. 2, 0 = off */
+    double spring_damping; /* N·s/m, Eq. 2 */
+    double bend_k;         /* J/rad², hinge term, 0 = off */
+    double mass;           /* kg per vertex, used when density is 0 */
+    double density;        /* kg/m², areal: each vertex gets a third of its triangles' mass */
+} sb_material_def;
+
+sb_material_def sb_default_material_def(void);
+
+/* The mesh factory for molecular mechanics: a vertex per mesh vertex (order
+ * kept), a bond per unique edge (in order of first appearance), a triangle
+ * per face (all three corners), a hinge per edge shared by exactly two
+ * triangles (only when bend_k > 0). Fails when an edge is shared by more than
+ * two triangles and bend_k > 0 (the hinge would be ambiguous). */
+sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh,
+                              const sb_material_def* material, sb_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

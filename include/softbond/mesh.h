@@ -1,0 +1,53 @@
+/* An indexed triangle mesh: what generators and importers produce and what
+ * the factory turns into a model. Positions are double, metres. */
+#ifndef SOFTBOND_MESH_H
+#define SOFTBOND_MESH_H
+
+#include "softbond/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sb_mesh {
+    uint32_t vertex_count;
+    double* positions;    /* 3 * vertex_count, x y z interleaved */
+    uint32_t triangle_count;
+    uint32_t* triangles;  /* 3 * triangle_count vertex indices */
+} sb_mesh;
+
+/* Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
+void sb_mesh_free(sb_mesh* mesh);
+
+/* A rectangular sheet in the z = 0 plane, x in [0, width], y in [0, height],
+ * nx × ny vertices in row-major order (vertex = row * nx + column, row along
+ * y), each quad split into two triangles along alternating diagonals.
+ * Interior vertices are moved by up to jitter × spacing in x and y, with a
+ * deterministic generator seeded by seed. */
+typedef struct sb_sheet_def {
+    uint32_t nx, ny;
+    double width, height;
+    double jitter;
+    uint64_t seed;
+} sb_sheet_def;
+
+sb_sheet_def sb_default_sheet_def(void);
+sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err);
+
+/* An icosphere: an icosahedron subdivided `subdivisions` times, projected
+ * onto a sphere of the given radius centred at the origin. It has
+ * 10 * 4^s + 2 vertices and 20 * 4^s triangles, outward-facing. */
+sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out,
+                                     sb_error* err);
+
+/* Reads a triangle mesh from a file. OBJ and OFF are read by softbond's own
+ * readers, which keep the file's vertex order and count exactly (polygons are
+ * fan-triangulated); every other format goes through assimp (triangulated,
+ * identical vertices joined, all meshes of the file merged). Errors name the
+ * file and, where there is one, the line. */
+sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,44 @@
+/* The compiled, immutable model: topology, rest values, constants, masses.
+ * Read it through these accessors; its layout is private. */
+#ifndef SOFTBOND_MODEL_H
+#define SOFTBOND_MODEL_H
+
+#include "softbond/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sb_model sb_model;
+
+/* Which force terms a model carries: a term with every constant 0 is off. */
+typedef enum sb_term {
+    SB_TERM_BOND = 0,     /* bond stretch, Eq. 3 */
+    SB_TERM_ANGLE,        /* angle bend, Eq. 4 */
+    SB_TERM_STRETCH_BEND, /* stretch-bend, Eq. 5 */
+    SB_TERM_SPRING,       /* damped spring, Eq. 2 */
+    SB_TERM_BEND,         /* dihedral hinge */
+    SB_TERM_COUNT
+} sb_term;
+
+/* "bond", "angle", "stretch_bend", "spring", "bend". */
+const char* sb_term_name(sb_term term);
+
+void sb_model_destroy(sb_model* model);
+
+uint32_t sb_model_vertex_count(const sb_model* model);
+uint32_t sb_model_bond_count(const sb_model* model);
+uint32_t sb_model_triangle_count(const sb_model* model);
+uint32_t sb_model_hinge_count(const sb_model* model);
+bool sb_model_term_enabled(const sb_model* model, sb_term term);
+
+/* Rest (initial) position, initial velocity, mass and pin of a vertex. */
+void sb_model_rest_position(const sb_model* model, uint32_t vertex, double out[3]);
+void sb_model_initial_velocity(const sb_model* model, uint32_t vertex, double out[3]);
+double sb_model_mass(const sb_model* model, uint32_t vertex);
+bool sb_model_is_fixed(const sb_model* model, uint32_t vertex);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,13 @@
+/* softbond: real-time soft bodies with molecular-mechanics bonded terms. */
+#ifndef SOFTBOND_H
+#define SOFTBOND_H
+
+#include "softbond/types.h"
+#include "softbond/mesh.h"
+#include "softbond/builder.h"
+#include "softbond/model.h"
+#include "softbond/state.h"
+#include "softbond/reference.h"
+#include "softbond/solver.h"
+
+#endif

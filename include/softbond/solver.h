@@ -1,0 +1,80 @@
+/* The solver advances a state of a model in time: force terms, integrator,
+ * fixed vertices, gravity and external forces. */
+#ifndef SOFTBOND_SOLVER_H
+#define SOFTBOND_SOLVER_H
+
+#include "softbond/model.h"
+#include "softbond/state.h"
+#include "softbond/reference.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum sb_integrator {
+    SB_INTEGRATOR_VERLET = 0,      /* Störmer-Verlet, position form (Eq. 12) */
+    SB_INTEGRATOR_VELOCITY_VERLET, /* kick ½dt, drift dt, kick ½dt */
+    SB_INTEGRATOR_COUNT
+} sb_integrator;
+
+/* "verlet", "velocity_verlet". */
+const char* sb_integrator_name(sb_integrator integrator);
+/* Returns false when the name is unknown. */
+bool sb_integrator_from_name(const char* name, sb_integrator* out);
+
+typedef enum sb_kernels {
+    SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
+    SB_KERNELS_FAST           /* the SIMD/OpenMP kernels */
+} sb_kernels;
+
+/* Called once per free vertex per force evaluation; adds to force[] (N). */
+typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time,
+                                     const double position[3], const double velocity[3],
+                                     double force[3]);
+
+typedef struct sb_solver_def {
+    sb_integrator integrator;
+    double gravity[3]; /* m/s² */
+    sb_kernels kernels;
+    int threads;       /* 0 = the runtime's default */
+    sb_external_force_fn external_force;
+    void* external_user;
+} sb_solver_def;
+
+sb_solver_def sb_default_solver_def(void);
+
+typedef struct sb_solver sb_solver;
+
+/* The state starts at the model's rest positions and initial velocities.
+ * The model must outlive the solver. */
+sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
+void sb_solver_destroy(sb_solver* solver);
+
+/* Advances the state by one step of dt seconds (dt > 0 and finite). On
+ * failure (a collapsed edge, a non-finite or runaway state) the solver keeps
+ * the message, which names the step, the time and the first bad vertex or
+ * element; the state is then undefined. */
+sb_status sb_solver_advance(sb_solver* solver, double dt);
+const char* sb_solver_error(const sb_solver* solver);
+
+double sb_solver_time(const sb_solver* solver);
+uint64_t sb_solver_step_count(const sb_solver* solver);
+const sb_model* sb_solver_model(const sb_solver* solver);
+
+/* Energies of the current state: each term, kinetic, gravity. */
+sb_energies sb_solver_energies(const sb_solver* solver);
+
+const sb_state* sb_solver_state(const sb_solver* solver);
+/* Copies positions or velocities out as 3n interleaved doubles. */
+void sb_solver_get_positions(const sb_solver* solver, double* out);
+void sb_solver_get_velocities(const sb_solver* solver, double* out);
+/* Replaces positions and velocities (3n interleaved; velocities may be
+ * NULL for zero) and recomputes forces. Fixed vertices keep their rest
+ * position. */
+sb_status sb_solver_set_state(sb_solver* solver, const double* positions,
+                              const double* velocities);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

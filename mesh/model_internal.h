@@ -1,0 +1,47 @@
+/* The compiled model's layout, shared by the library's own modules only.
+ *
+ * Structure of arrays: each vertex attribute, each element's vertex index
+ * and each per-element constant is its own contiguous array, so a kernel
+ * streams exactly the fields it needs and SIMD lanes load one element each.
+ * Everything here is set by sb_builder_compile and never changed after. */
+#ifndef SB_MODEL_INTERNAL_H
+#define SB_MODEL_INTERNAL_H
+
+#include "softbond/model.h"
+
+struct sb_model {
+    /* vertices */
+    uint32_t vertex_count;
+    double *rest_x, *rest_y, *rest_z; /* rest and initial positions */
+    double *vel_x, *vel_y, *vel_z;    /* initial velocities */
+    double* mass;                     /* kg (fixed vertices keep theirs) */
+    double* inv_mass;                 /* 0 for fixed vertices */
+    uint8_t* fixed;
+
+    /* bonds: bond stretch (Eq. 3) and damped spring (Eq. 2) */
+    uint32_t bond_count;
+    uint32_t *bond_i, *bond_j;
+    double* bond_r0;
+    double* bond_k;         /* N/m */
+    double* spring_k;       /* N/m */
+    double* spring_damping; /* N·s/m */
+
+    /* triangles: three corners each; corner c sits at vertex tri_v[c] with
+     * neighbours tri_v[(c+1)%3] and tri_v[(c+2)%3]. */
+    uint32_t triangle_count;
+    uint32_t* tri_v[3];
+    double* tri_cos0[3];  /* rest cosine at each corner */
+    double* tri_len0[3];  /* rest length of edge (v[c], v[(c+1)%3]) */
+    double* angle_k;        /* J */
+    double* stretch_bend_k; /* J/m */
+
+    /* hinges: interior edges resisting folding */
+    uint32_t hinge_count;
+    uint32_t *hinge_e0, *hinge_e1, *hinge_o0, *hinge_o1;
+    double* hinge_phi0; /* rest dihedral, rad */
+    double* hinge_k;    /* J/rad² */
+
+    bool term_enabled[SB_TERM_COUNT];
+};
+
+#endif
