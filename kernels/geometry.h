@@ -1,0 +1,61 @@
+/* Private: small double-precision vector helpers and the dihedral angle,
+ * shared by the builder (rest values) and the reference kernels. */
+#ifndef SB_GEOMETRY_H
+#define SB_GEOMETRY_H
+
+#include <math.h>
+
+#define SB_PI 3.14159265358979323846
+
+typedef struct sb_vec3 {
+    double x, y, z;
+} sb_vec3;
+
+static inline sb_vec3 sb_v3(const double* p) { return (sb_vec3){p[0], p[1], p[2]}; }
+static inline sb_vec3 sb_v3_sub(sb_vec3 a, sb_vec3 b) { return (sb_vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline sb_vec3 sb_v3_add(sb_vec3 a, sb_vec3 b) { return (sb_vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline sb_vec3 sb_v3_scale(sb_vec3 a, double s) { return (sb_vec3){a.x * s, a.y * s, a.z * s}; }
+static inline double sb_v3_dot(sb_vec3 a, sb_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline double sb_v3_length(sb_vec3 a) { return sqrt(sb_v3_dot(a, a)); }
+static inline sb_vec3 sb_v3_cross(sb_vec3 a, sb_vec3 b) {
+    return (sb_vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+/* out[0..2] += s * a */
+static inline void sb_v3_add_to(double* out, sb_vec3 a, double s) {
+    out[0] += s * a.x;
+    out[1] += s * a.y;
+    out[2] += s * a.z;
+}
+
+/* The hinge (e0, e1; o0, o1): n0 = (o0 − e0) × (o0 − e1) and
+ * n1 = (o1 − e1) × (o1 − e0) are the normals of the two wings, both pointing
+ * the same way when the sheet is flat. The signed dihedral angle is
+ * φ = atan2((n0 × n1)·ê, n0·n1), ê along e1 − e0: 0 when flat, ±π when
+ * folded shut. */
+typedef struct sb_hinge_geometry {
+    sb_vec3 edge; /* e1 − e0 */
+    sb_vec3 n0, n1;
+    double edge_length;
+    double phi;
+} sb_hinge_geometry;
+
+static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3 o0, sb_vec3 o1) {
+    sb_hinge_geometry h;
+    h.edge = sb_v3_sub(e1, e0);
+    h.edge_length = sb_v3_length(h.edge);
+    h.n0 = sb_v3_cross(sb_v3_sub(o0, e0), sb_v3_sub(o0, e1));
+    h.n1 = sb_v3_cross(sb_v3_sub(o1, e1), sb_v3_sub(o1, e0));
+    double sine = sb_v3_dot(sb_v3_cross(h.n0, h.n1), h.edge) / h.edge_length;
+    h.phi = atan2(sine, sb_v3_dot(h.n0, h.n1));
+    return h;
+}
+
+/* φ − φ0 wrapped into (−π, π]. */
+static inline double sb_angle_difference(double phi, double phi0) {
+    double d = phi - phi0;
+    if (d > SB_PI) d -= 2.0 * SB_PI;
+    if (d <= -SB_PI) d += 2.0 * SB_PI;
+    return d;
+}
+
+#endif

@@ -1,0 +1,70 @@
+/* The Verlet integrators. Both evaluate forces once per step, at the new
+ * positions, with the half-step velocity for damping, and leave the state
+ * at t + dt with its forces (reused by the next step).
+ *
+ * Störmer-Verlet, position form (Eq. 12), generalised to a step dt after a
+ * step dt_prev:  x⁺ = x + (x − x⁻)·dt/dt_prev + a·dt·(dt + dt_prev)/2.
+ * The first step has no x⁻ and starts from the velocity:
+ * x⁺ = x + v dt + a dt²/2. The velocity it reports is
+ * v⁺ = (x⁺ − x)/dt + a⁺ dt/2, the same as velocity Verlet's.
+ *
+ * Velocity Verlet: v½ = v + a dt/2, x⁺ = x + v½ dt, v⁺ = v½ + a⁺ dt/2.
+ * Fixed vertices have zero inverse mass and zero velocity and never move. */
+#include "kernels/solver_internal.h"
+
+/* v += a dt/2 for every vertex (a = f/m; 0 on fixed vertices). */
+static void sb_half_kick(sb_solver* s, double dt) {
+    const sb_model* m = s->model;
+    sb_state* st = &s->state;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        double h = 0.5 * dt * m->inv_mass[i];
+        st->vx[i] = (sb_real)(st->vx[i] + h * st->fx[i]);
+        st->vy[i] = (sb_real)(st->vy[i] + h * st->fy[i]);
+        st->vz[i] = (sb_real)(st->vz[i] + h * st->fz[i]);
+    }
+}
+
+static sb_real sb_stormer_update(sb_real* x, sb_real* prev, sb_real* v, double displacement_scale, double accel_term,
+                                 double dt) {
+    sb_real old = *x;
+    double moved = displacement_scale * (old - *prev) + accel_term;
+    *x = (sb_real)(old + moved);
+    *prev = old;
+    *v = (sb_real)((*x - old) / dt);
+    return *x;
+}
+
+sb_status sb_integrate_verlet(sb_solver* s, double dt) {
+    if (!s->has_prev) return sb_integrate_velocity_verlet(s, dt); /* same first step; leaves x⁻ set */
+    const sb_model* m = s->model;
+    sb_state* st = &s->state;
+    double scale = dt / s->prev_dt, accel = 0.5 * dt * (dt + s->prev_dt);
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        double w = accel * m->inv_mass[i];
+        sb_stormer_update(&st->x[i], &s->prev_x[i], &st->vx[i], scale, w * st->fx[i], dt);
+        sb_stormer_update(&st->y[i], &s->prev_y[i], &st->vy[i], scale, w * st->fy[i], dt);
+        sb_stormer_update(&st->z[i], &s->prev_z[i], &st->vz[i], scale, w * st->fz[i], dt);
+    }
+    sb_status status = sb_solver_compute_forces(s);
+    if (status == SB_OK) sb_half_kick(s, dt);
+    s->prev_dt = dt;
+    return status;
+}
+
+sb_status sb_integrate_velocity_verlet(sb_solver* s, double dt) {
+    sb_state* st = &s->state;
+    sb_half_kick(s, dt);
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        s->prev_x[i] = st->x[i];
+        s->prev_y[i] = st->y[i];
+        s->prev_z[i] = st->z[i];
+        st->x[i] = (sb_real)(st->x[i] + dt * st->vx[i]);
+        st->y[i] = (sb_real)(st->y[i] + dt * st->vy[i]);
+        st->z[i] = (sb_real)(st->z[i] + dt * st->vz[i]);
+    }
+    s->has_prev = true;
+    s->prev_dt = dt;
+    sb_status status = sb_solver_compute_forces(s);
+    if (status == SB_OK) sb_half_kick(s, dt);
+    return status;
+}

@@ -1,0 +1,201 @@
+/* The solver: owns a state of a model and advances it one step at a time
+ * with the chosen integrator, checking after every step that the state is
+ * still finite and bounded. */
+#include "kernels/solver_internal.h"
+#include "kernels/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A vertex further than this many model diameters from its rest position
+ * has run away: no stable simulation of a soft body goes there. */
+#define SB_RUNAWAY_DIAMETERS 1e6
+
+static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {"verlet", "velocity_verlet"};
+
+const char* sb_integrator_name(sb_integrator integrator) {
+    return (unsigned)integrator < SB_INTEGRATOR_COUNT ? sb_integrator_names[integrator] : "unknown";
+}
+
+bool sb_integrator_from_name(const char* name, sb_integrator* out) {
+    for (int i = 0; i < SB_INTEGRATOR_COUNT; i++)
+        if (strcmp(name, sb_integrator_names[i]) == 0) {
+            *out = (sb_integrator)i;
+            return true;
+        }
+    return false;
+}
+
+sb_solver_def sb_default_solver_def(void) {
+    return (sb_solver_def){.integrator = SB_INTEGRATOR_VERLET, .gravity = {0.0, 0.0, -9.81}};
+}
+
+static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
+    sb_real** arrays[] = {&s->state.x, &s->state.y, &s->state.z, &s->state.vx, &s->state.vy, &s->state.vz,
+                          &s->state.fx, &s->state.fy, &s->state.fz, &s->prev_x, &s->prev_y, &s->prev_z};
+    bool ok = true;
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) ok &= (*arrays[a] = calloc(n, sizeof(sb_real))) != NULL;
+    double** scratch[] = {&s->scratch_x, &s->scratch_v, &s->scratch_f};
+    for (size_t a = 0; a < 3; a++) ok &= (*scratch[a] = calloc(3 * (size_t)n, sizeof(double))) != NULL;
+    s->state.vertex_count = n;
+    return ok;
+}
+
+void sb_solver_destroy(sb_solver* s) {
+    if (!s) return;
+    void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
+                      s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->prev_x,
+                      s->prev_y,   s->prev_z,   s->scratch_x, s->scratch_v, s->scratch_f};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    free(s);
+}
+
+static double sb_model_diameter(const sb_model* m) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        double p[3] = {m->rest_x[i], m->rest_y[i], m->rest_z[i]};
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], p[c]);
+            hi[c] = fmax(hi[c], p[c]);
+        }
+    }
+    double d2 = 0.0;
+    for (int c = 0; c < 3; c++) d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    return sqrt(d2) > 0.0 ? sqrt(d2) : 1.0;
+}
+
+static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
+    if ((unsigned)def->integrator >= SB_INTEGRATOR_COUNT)
+        return sb_error_set(err, SB_ERR_INVALID, "unknown integrator %d", (int)def->integrator);
+    for (int c = 0; c < 3; c++)
+        if (!isfinite(def->gravity[c])) return sb_error_set(err, SB_ERR_INVALID, "gravity must be finite");
+    if (def->threads < 0) return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->threads);
+    if (def->kernels != SB_KERNELS_REFERENCE)
+        return sb_error_set(err, SB_ERR_INVALID, "the fast kernels are not available in this build");
+    return SB_OK;
+}
+
+sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err) {
+    if (sb_check_def(def, err) != SB_OK) return NULL;
+    sb_solver* s = calloc(1, sizeof *s);
+    if (!s || !sb_solver_allocate(s, model->vertex_count)) {
+        sb_solver_destroy(s);
+        sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
+        return NULL;
+    }
+    s->model = model;
+    s->def = *def;
+    s->runaway_distance = SB_RUNAWAY_DIAMETERS * sb_model_diameter(model);
+    sb_status status = sb_solver_set_state(s, NULL, NULL);
+    if (status != SB_OK) {
+        if (err) *err = s->error;
+        sb_solver_destroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void sb_update_energies(sb_solver* s) {
+    const sb_model* m = s->model;
+    const sb_state* st = &s->state;
+    double kinetic = 0.0, gravity = 0.0;
+    const double* g = s->def.gravity;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        if (m->fixed[i]) continue;
+        double v2 = (double)st->vx[i] * st->vx[i] + (double)st->vy[i] * st->vy[i] + (double)st->vz[i] * st->vz[i];
+        kinetic += 0.5 * m->mass[i] * v2;
+        gravity -= m->mass[i] * (g[0] * st->x[i] + g[1] * st->y[i] + g[2] * st->z[i]);
+    }
+    s->energies.kinetic = kinetic;
+    s->energies.gravity = gravity;
+}
+
+/* Names the first vertex whose position or velocity is not finite or whose
+ * displacement from rest is beyond the runaway distance. */
+static sb_status sb_check_state(sb_solver* s) {
+    const sb_model* m = s->model;
+    const sb_state* st = &s->state;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        double values[6] = {st->x[i], st->y[i], st->z[i], st->vx[i], st->vy[i], st->vz[i]};
+        bool finite = true;
+        for (int c = 0; c < 6; c++) finite &= isfinite(values[c]) != 0;
+        double dx = values[0] - m->rest_x[i], dy = values[1] - m->rest_y[i], dz = values[2] - m->rest_z[i];
+        double distance = sqrt(dx * dx + dy * dy + dz * dz);
+        if (!finite || distance > s->runaway_distance)
+            return sb_error_set(&s->error, SB_ERR_UNSTABLE,
+                                "step %llu (t = %.9g s): vertex %u %s; the time step is too large for the stiffness",
+                                (unsigned long long)s->steps, s->time, i,
+                                finite ? "ran away from its rest position" : "is not finite");
+    }
+    return SB_OK;
+}
+
+/* Puts "step N (t = T s): " in front of the solver's message. */
+static void sb_prefix_step(sb_solver* s) {
+    sb_error original = s->error;
+    sb_error_set(&s->error, SB_OK, "step %llu (t = %.9g s): %s", (unsigned long long)s->steps, s->time,
+                 original.message);
+}
+
+sb_status sb_solver_advance(sb_solver* s, double dt) {
+    if (!(dt > 0.0) || !isfinite(dt))
+        return sb_error_set(&s->error, SB_ERR_INVALID, "time step %g s must be positive and finite", dt);
+    sb_status status = s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt)
+                                                                  : sb_integrate_velocity_verlet(s, dt);
+    s->steps++;
+    s->time += dt;
+    /* A non-finite state also makes the force terms fail: name the cause. */
+    sb_status state_status = sb_check_state(s);
+    if (state_status != SB_OK) return state_status;
+    if (status != SB_OK) {
+        sb_prefix_step(s);
+        return status;
+    }
+    sb_update_energies(s);
+    return SB_OK;
+}
+
+sb_status sb_solver_set_state(sb_solver* s, const double* positions, const double* velocities) {
+    const sb_model* m = s->model;
+    sb_state* st = &s->state;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        bool keep_rest = !positions || m->fixed[i];
+        st->x[i] = (sb_real)(keep_rest ? m->rest_x[i] : positions[3 * i]);
+        st->y[i] = (sb_real)(keep_rest ? m->rest_y[i] : positions[3 * i + 1]);
+        st->z[i] = (sb_real)(keep_rest ? m->rest_z[i] : positions[3 * i + 2]);
+        bool initial = !positions && !velocities;
+        const double* v = velocities ? velocities + 3 * i : NULL;
+        st->vx[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_x[i] : v ? v[0] : 0.0);
+        st->vy[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_y[i] : v ? v[1] : 0.0);
+        st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
+    }
+    s->has_prev = false;
+    sb_status status = sb_check_state(s);
+    if (status == SB_OK) status = sb_solver_compute_forces(s);
+    if (status == SB_OK) sb_update_energies(s);
+    return status;
+}
+
+const char* sb_solver_error(const sb_solver* s) { return s->error.message; }
+double sb_solver_time(const sb_solver* s) { return s->time; }
+uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }
+const sb_model* sb_solver_model(const sb_solver* s) { return s->model; }
+sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
+const sb_state* sb_solver_state(const sb_solver* s) { return &s->state; }
+
+void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n) {
+    for (uint32_t i = 0; i < n; i++) {
+        out[3 * i] = a[i];
+        out[3 * i + 1] = b[i];
+        out[3 * i + 2] = c[i];
+    }
+}
+
+void sb_solver_get_positions(const sb_solver* s, double* out) {
+    sb_interleave(out, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
+}
+
+void sb_solver_get_velocities(const sb_solver* s, double* out) {
+    sb_interleave(out, s->state.vx, s->state.vy, s->state.vz, s->state.vertex_count);
+}

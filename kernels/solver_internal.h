@@ -1,0 +1,36 @@
+/* Private: the solver's layout, shared by solver.c, solver_forces.c and
+ * integrators.c. */
+#ifndef SB_SOLVER_INTERNAL_H
+#define SB_SOLVER_INTERNAL_H
+
+#include "softbond/solver.h"
+#include "mesh/model_internal.h"
+
+struct sb_solver {
+    const sb_model* model;
+    sb_solver_def def;
+    sb_state state;
+    sb_real *prev_x, *prev_y, *prev_z; /* Störmer-Verlet: positions one step back */
+    bool has_prev;
+    double prev_dt;
+    double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
+    double runaway_distance; /* a vertex this far from its rest position ran away */
+    double time;
+    uint64_t steps;
+    sb_energies energies;
+    sb_error error;
+};
+
+/* Forces at the state's positions, with the state's velocities for damping:
+ * fills state.f (internal + gravity + external) and energies.term[]. */
+sb_status sb_solver_compute_forces(sb_solver* solver);
+
+/* out[3i..3i+2] = (a[i], b[i], c[i]): SoA to interleaved doubles. */
+void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n);
+
+/* One step of each integrator; both leave forces and velocities at the new
+ * positions. */
+sb_status sb_integrate_verlet(sb_solver* solver, double dt);
+sb_status sb_integrate_velocity_verlet(sb_solver* solver, double dt);
+
+#endif

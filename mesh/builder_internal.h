@@ -1,0 +1,21 @@
+/* Private: the builder's layout, shared by builder.c, compile.c and factory.c. */
+#ifndef SB_BUILDER_INTERNAL_H
+#define SB_BUILDER_INTERNAL_H
+
+#include "softbond/builder.h"
+
+typedef struct sb_array {
+    void* items;
+    size_t count, capacity;
+} sb_array;
+
+struct sb_builder {
+    sb_array vertices;  /* sb_vertex_def */
+    sb_array bonds;     /* sb_bond_def */
+    sb_array triangles; /* sb_triangle_def */
+    sb_array hinges;    /* sb_hinge_def */
+};
+
+#define SB_ITEMS(array, type) ((const type*)(array).items)
+
+#endif
