@@ -1,0 +1,587 @@
+/* sb_mesh_load: reads a triangle mesh from a file.
+ *
+ * Dispatch is on the extension, case-insensitively: ".obj" and ".off" go to
+ * softbond's own readers (obj_reader.c, off_reader.c), which keep the file's
+ * vertex order and count exactly; every other extension goes through assimp.
+ *
+ * The assimp path:
+ *   - post-processing: Triangulate, JoinIdenticalVertices, SortByPType,
+ *     FindDegenerates (degenerate triangles become lines/points), DropNormals
+ *     (so that per-face normals, as in STL, do not keep corners apart),
+ *     FindInvalidData and ValidateDataStructure;
+ *   - the node hierarchy is walked depth-first from the root and each node's
+ *     meshes are placed with the node's accumulated transform (a mesh used by
+ *     two nodes is imported twice); if no node references a mesh, every mesh
+ *     is taken as is;
+ *   - all meshes are merged and vertices with bitwise-identical positions
+ *     (after the transform) are joined, across meshes too, so that a seam in
+ *     texture coordinates or a split between meshes never tears the body;
+ *     vertex order is the order of first appearance in assimp's output;
+ *   - only triangles are kept (points and lines are ignored) and a triangle
+ *     whose corners join into fewer than three vertices is dropped;
+ *   - assimp keeps its last error in a process-wide string, so imports are
+ *     serialised by a mutex.
+ * Assimp reads positions in single precision: a file's coordinates come back
+ * rounded to float. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include "mesh/mesh_readers.h"
+
+/* ---- growable mesh arrays ------------------------------------------------ */
+
+static bool grow(void** data, size_t* capacity, size_t needed, size_t element_size)
+{
+    if (needed <= *capacity) {
+        return true;
+    }
+    size_t capacity_new = *capacity < 64 ? 64 : *capacity;
+    while (capacity_new < needed) {
+        if (capacity_new > SIZE_MAX / 2) {
+            return false;
+        }
+        capacity_new *= 2;
+    }
+    if (capacity_new > SIZE_MAX / element_size) {
+        return false;
+    }
+    void* grown = realloc(*data, capacity_new * element_size);
+    if (grown == NULL) {
+        return false;
+    }
+    *data = grown;
+    *capacity = capacity_new;
+    return true;
+}
+
+bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z)
+{
+    if (b->vertex_count >= UINT32_MAX ||
+        !grow((void**)&b->positions, &b->vertex_capacity, b->vertex_count + 1,
+              3 * sizeof(double))) {
+        return false;
+    }
+    double* p = b->positions + 3 * b->vertex_count++;
+    p[0] = x;
+    p[1] = y;
+    p[2] = z;
+    return true;
+}
+
+bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, uint32_t k)
+{
+    if (b->triangle_count >= UINT32_MAX ||
+        !grow((void**)&b->triangles, &b->triangle_capacity, b->triangle_count + 1,
+              3 * sizeof(uint32_t))) {
+        return false;
+    }
+    uint32_t* t = b->triangles + 3 * b->triangle_count++;
+    t[0] = i;
+    t[1] = j;
+    t[2] = k;
+    return true;
+}
+
+void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out)
+{
+    /* Shrink to fit; a failed shrink keeps the larger block. */
+    if (b->vertex_count > 0 && b->vertex_count < b->vertex_capacity) {
+        double* p = realloc(b->positions, b->vertex_count * 3 * sizeof(double));
+        if (p != NULL) {
+            b->positions = p;
+        }
+    }
+    if (b->triangle_count > 0 && b->triangle_count < b->triangle_capacity) {
+        uint32_t* t = realloc(b->triangles, b->triangle_count * 3 * sizeof(uint32_t));
+        if (t != NULL) {
+            b->triangles = t;
+        }
+    }
+    out->vertex_count = (uint32_t)b->vertex_count;
+    out->positions = b->positions;
+    out->triangle_count = (uint32_t)b->triangle_count;
+    out->triangles = b->triangles;
+    memset(b, 0, sizeof *b);
+}
+
+void sb_mesh_builder_free(sb_mesh_builder* b)
+{
+    free(b->positions);
+    free(b->triangles);
+    memset(b, 0, sizeof *b);
+}
+
+/* ---- errors and text ----------------------------------------------------- */
+
+sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line,
+                             const char* fmt, ...)
+{
+    if (err == NULL) {
+        return status;
+    }
+    int used = line > 0 ? snprintf(err->message, sizeof err->message, "%s:%zu: ", path, line)
+                        : snprintf(err->message, sizeof err->message, "%s: ", path);
+    if (used < 0) {
+        used = 0;
+    }
+    if ((size_t)used < sizeof err->message) {
+        va_list args;
+        va_start(args, fmt);
+        vsnprintf(err->message + used, sizeof err->message - (size_t)used, fmt, args);
+        va_end(args);
+    }
+    return status;
+}
+
+static bool is_blank(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f' || c == '\0';
+}
+
+bool sb_text_next_token(sb_text_line* line, const char** token, size_t* length)
+{
+    while (line->p < line->end && is_blank(*line->p)) {
+        line->p++;
+    }
+    if (line->p >= line->end) {
+        return false;
+    }
+    const char* start = line->p;
+    while (line->p < line->end && !is_blank(*line->p)) {
+        line->p++;
+    }
+    *token = start;
+    *length = (size_t)(line->p - start);
+    return true;
+}
+
+bool sb_text_parse_double(const char* token, size_t length, double* out)
+{
+    char buffer[128];
+    if (length == 0 || length >= sizeof buffer) {
+        return false;
+    }
+    memcpy(buffer, token, length);
+    buffer[length] = '\0';
+    /* strtod would skip leading blanks; tokens have none, but be strict. */
+    if (isspace((unsigned char)buffer[0])) {
+        return false;
+    }
+    char* end = NULL;
+    errno = 0;
+    double value = strtod(buffer, &end);
+    if (end != buffer + length) {
+        return false;
+    }
+    /* Overflow gives ±HUGE_VAL (non-finite: reported by the reader);
+     * underflow to a tiny or zero value is accepted. */
+    *out = value;
+    return true;
+}
+
+bool sb_text_parse_integer(const char* token, size_t length, long long* out)
+{
+    size_t i = 0;
+    bool negative = false;
+    if (i < length && (token[i] == '+' || token[i] == '-')) {
+        negative = token[i] == '-';
+        i++;
+    }
+    if (i == length) {
+        return false;
+    }
+    long long value = 0;
+    for (; i < length; i++) {
+        if (token[i] < '0' || token[i] > '9') {
+            return false;
+        }
+        if (value > (INT64_MAX - 9) / 10) {
+            return false;
+        }
+        value = value * 10 + (token[i] - '0');
+    }
+    *out = negative ? -value : value;
+    return true;
+}
+
+/* ---- reading a file ------------------------------------------------------ */
+
+static sb_status open_error(const char* path, int code, sb_error* err)
+{
+    return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(code));
+}
+
+static sb_status read_whole_file(const char* path, char** text, size_t* size, sb_error* err)
+{
+    FILE* file = fopen(path, "rb");
+    if (file == NULL) {
+        return open_error(path, errno, err);
+    }
+    char* data = NULL;
+    size_t used = 0, capacity = 0;
+    for (;;) {
+        if (!grow((void**)&data, &capacity, used + 65536 + 1, 1)) {
+            free(data);
+            fclose(file);
+            return sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory reading the file");
+        }
+        size_t got = fread(data + used, 1, capacity - used - 1, file);
+        used += got;
+        if (got == 0) {
+            break;
+        }
+    }
+    if (ferror(file)) {
+        int code = errno;
+        free(data);
+        fclose(file);
+        return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot read: %s", strerror(code));
+    }
+    fclose(file);
+    data[used] = '\0';
+    *text = data;
+    *size = used;
+    return SB_OK;
+}
+
+/* ---- assimp -------------------------------------------------------------- */
+
+/* Joins vertices with bitwise-identical positions: open addressing over the
+ * output vertex indices, kept at most half full. */
+typedef struct weld_table {
+    uint32_t* slots; /* output index + 1; 0 = empty */
+    size_t capacity; /* a power of two */
+} weld_table;
+
+static uint64_t hash_position(const double p[3])
+{
+    uint64_t h = 0x9e3779b97f4a7c15u;
+    for (int c = 0; c < 3; c++) {
+        uint64_t bits;
+        memcpy(&bits, &p[c], sizeof bits);
+        h ^= bits + 0x9e3779b97f4a7c15u + (h << 6) + (h >> 2);
+        h *= 0xff51afd7ed558ccdu;
+        h ^= h >> 33;
+    }
+    return h;
+}
+
+/* A 4x4 affine transform in double, row-major: p' = M (p, 1). */
+typedef struct transform4 {
+    double m[16];
+} transform4;
+
+typedef struct assimp_merge {
+    const char* path;
+    const struct aiScene* scene;
+    sb_mesh_builder mesh;
+    weld_table weld;
+    uint32_t* remap; /* per mesh: assimp vertex -> output vertex */
+    size_t remap_capacity;
+    bool any_node_mesh;
+} assimp_merge;
+
+static void transform_point(const transform4* t, const struct aiVector3D* v, double out[3])
+{
+    const double* m = t->m;
+    double x = v->x, y = v->y, z = v->z;
+    out[0] = m[0] * x + m[1] * y + m[2] * z + m[3];
+    out[1] = m[4] * x + m[5] * y + m[6] * z + m[7];
+    out[2] = m[8] * x + m[9] * y + m[10] * z + m[11];
+    double w = m[12] * x + m[13] * y + m[14] * z + m[15];
+    if (w != 1.0 && w != 0.0) {
+        out[0] /= w;
+        out[1] /= w;
+        out[2] /= w;
+    }
+}
+
+static void transform_compose(const transform4* parent, const struct aiMatrix4x4* local,
+                              transform4* out)
+{
+    const ai_real* l = &local->a1; /* a1..d4 are contiguous, row-major */
+    for (int i = 0; i < 4; i++) {
+        for (int j = 0; j < 4; j++) {
+            double s = 0.0;
+            for (int k = 0; k < 4; k++) {
+                s += parent->m[4 * i + k] * (double)l[4 * k + j];
+            }
+            out->m[4 * i + j] = s;
+        }
+    }
+}
+
+static void weld_insert(weld_table* weld, const double* positions, uint32_t index)
+{
+    size_t mask = weld->capacity - 1;
+    size_t slot = (size_t)hash_position(positions + 3 * (size_t)index) & mask;
+    while (weld->slots[slot] != 0) {
+        slot = (slot + 1) & mask;
+    }
+    weld->slots[slot] = index + 1;
+}
+
+static bool weld_reserve(weld_table* weld, const sb_mesh_builder* mesh, size_t count)
+{
+    if (count <= weld->capacity / 2) {
+        return true;
+    }
+    size_t capacity = weld->capacity < 1024 ? 1024 : weld->capacity;
+    while (count > capacity / 2) {
+        if (capacity > SIZE_MAX / 2 / sizeof(uint32_t)) {
+            return false;
+        }
+        capacity *= 2;
+    }
+    uint32_t* slots = calloc(capacity, sizeof(uint32_t));
+    if (slots == NULL) {
+        return false;
+    }
+    free(weld->slots);
+    weld->slots = slots;
+    weld->capacity = capacity;
+    for (size_t v = 0; v < mesh->vertex_count; v++) {
+        weld_insert(weld, mesh->positions, (uint32_t)v);
+    }
+    return true;
+}
+
+static bool weld_vertex(assimp_merge* merge, const double p[3], uint32_t* index)
+{
+    double q[3] = {p[0] + 0.0, p[1] + 0.0, p[2] + 0.0}; /* -0 joins +0 */
+    if (!weld_reserve(&merge->weld, &merge->mesh, merge->mesh.vertex_count + 1)) {
+        return false;
+    }
+    size_t mask = merge->weld.capacity - 1;
+    size_t slot = (size_t)hash_position(q) & mask;
+    for (uint32_t entry; (entry = merge->weld.slots[slot]) != 0; slot = (slot + 1) & mask) {
+        const double* e = merge->mesh.positions + 3 * (size_t)(entry - 1);
+        if (e[0] == q[0] && e[1] == q[1] && e[2] == q[2]) {
+            *index = entry - 1;
+            return true;
+        }
+    }
+    if (!sb_mesh_builder_add_vertex(&merge->mesh, q[0], q[1], q[2])) {
+        return false;
+    }
+    *index = (uint32_t)(merge->mesh.vertex_count - 1);
+    merge->weld.slots[slot] = *index + 1;
+    return true;
+}
+
+static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
+                            const transform4* transform, unsigned mesh_index, sb_error* err)
+{
+    if (mesh->mNumVertices == 0 || mesh->mVertices == NULL) {
+        return SB_OK;
+    }
+    if (!grow((void**)&merge->remap, &merge->remap_capacity, mesh->mNumVertices,
+              sizeof(uint32_t))) {
+        return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
+    }
+    for (unsigned v = 0; v < mesh->mNumVertices; v++) {
+        double p[3];
+        transform_point(transform, &mesh->mVertices[v], p);
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+            return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
+                                      "non-finite position at vertex %u of mesh %u", v,
+                                      mesh_index);
+        }
+        if (!weld_vertex(merge, p, &merge->remap[v])) {
+            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
+                                      "out of memory or more than 2^32-1 vertices");
+        }
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces && mesh->mFaces != NULL; f++) {
+        const struct aiFace* face = &mesh->mFaces[f];
+        if (face->mNumIndices != 3 || face->mIndices == NULL) {
+            continue; /* points and lines */
+        }
+        uint32_t t[3];
+        for (int c = 0; c < 3; c++) {
+            unsigned index = face->mIndices[c];
+            if (index >= mesh->mNumVertices) {
+                return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
+                                          "face %u of mesh %u uses vertex %u of %u", f,
+                                          mesh_index, index, mesh->mNumVertices);
+            }
+            t[c] = merge->remap[index];
+        }
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+            continue; /* collapsed by the join */
+        }
+        if (!sb_mesh_builder_add_triangle(&merge->mesh, t[0], t[1], t[2])) {
+            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
+                                      "out of memory or more than 2^32-1 triangles");
+        }
+    }
+    return SB_OK;
+}
+
+enum { MAX_NODE_DEPTH = 256 };
+
+static sb_status merge_node(assimp_merge* merge, const struct aiNode* node,
+                            const transform4* parent, int depth, sb_error* err)
+{
+    if (depth > MAX_NODE_DEPTH) {
+        return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
+                                  "node hierarchy deeper than %d", MAX_NODE_DEPTH);
+    }
+    transform4 transform;
+    transform_compose(parent, &node->mTransformation, &transform);
+    for (unsigned i = 0; i < node->mNumMeshes && node->mMeshes != NULL; i++) {
+        unsigned m = node->mMeshes[i];
+        if (m >= merge->scene->mNumMeshes || merge->scene->mMeshes[m] == NULL) {
+            continue;
+        }
+        merge->any_node_mesh = true;
+        sb_status status = merge_mesh(merge, merge->scene->mMeshes[m], &transform, m, err);
+        if (status != SB_OK) {
+            return status;
+        }
+    }
+    for (unsigned i = 0; i < node->mNumChildren && node->mChildren != NULL; i++) {
+        if (node->mChildren[i] != NULL) {
+            sb_status status = merge_node(merge, node->mChildren[i], &transform, depth + 1, err);
+            if (status != SB_OK) {
+                return status;
+            }
+        }
+    }
+    return SB_OK;
+}
+
+static sb_status merge_scene(assimp_merge* merge, sb_error* err)
+{
+    const struct aiScene* scene = merge->scene;
+    transform4 identity = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+    sb_status status = SB_OK;
+    if (scene->mRootNode != NULL) {
+        status = merge_node(merge, scene->mRootNode, &identity, 0, err);
+    }
+    for (unsigned m = 0; status == SB_OK && !merge->any_node_mesh && m < scene->mNumMeshes &&
+                         scene->mMeshes != NULL;
+         m++) {
+        if (scene->mMeshes[m] != NULL) {
+            status = merge_mesh(merge, scene->mMeshes[m], &identity, m, err);
+        }
+    }
+    if (status == SB_OK && merge->mesh.triangle_count == 0) {
+        status = sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
+                                    "no triangles (%zu vertices)", merge->mesh.vertex_count);
+    }
+    return status;
+}
+
+static pthread_mutex_t assimp_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
+{
+    /* Open it ourselves first, for the same missing-file message as the
+     * readers (assimp would only say it could not open it). */
+    FILE* file = fopen(path, "rb");
+    if (file == NULL) {
+        return open_error(path, errno, err);
+    }
+    fclose(file);
+
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType | aiProcess_FindDegenerates |
+                           aiProcess_DropNormals | aiProcess_FindInvalidData |
+                           aiProcess_ValidateDataStructure;
+    pthread_mutex_lock(&assimp_lock);
+    const struct aiScene* scene = aiImportFile(path, flags);
+    if (scene == NULL) {
+        const char* why = aiGetErrorString();
+        sb_status status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "%s",
+                                              why != NULL && why[0] != '\0' ? why
+                                                                            : "assimp cannot read it");
+        pthread_mutex_unlock(&assimp_lock);
+        return status;
+    }
+    pthread_mutex_unlock(&assimp_lock);
+
+    assimp_merge merge = {.path = path, .scene = scene};
+    sb_status status = SB_OK;
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
+        status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "incomplete scene (no meshes)");
+    } else {
+        status = merge_scene(&merge, err);
+    }
+    aiReleaseImport(scene);
+    free(merge.weld.slots);
+    free(merge.remap);
+    if (status != SB_OK) {
+        sb_mesh_builder_free(&merge.mesh);
+        return status;
+    }
+    sb_mesh_builder_finish(&merge.mesh, out);
+    return SB_OK;
+}
+
+/* ---- dispatch ------------------------------------------------------------ */
+
+static bool has_extension(const char* path, const char* extension)
+{
+    const char* slash = strrchr(path, '/');
+    const char* name = slash != NULL ? slash + 1 : path;
+    const char* dot = strrchr(name, '.');
+    if (dot == NULL) {
+        return false;
+    }
+    for (size_t i = 0;; i++) {
+        if (tolower((unsigned char)dot[i]) != extension[i]) {
+            return false;
+        }
+        if (extension[i] == '\0') {
+            return true;
+        }
+    }
+}
+
+sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err)
+{
+    if (out == NULL) {
+        if (err != NULL) {
+            snprintf(err->message, sizeof err->message, "sb_mesh_load: no output mesh");
+        }
+        return SB_ERR_INVALID;
+    }
+    memset(out, 0, sizeof *out);
+    if (path == NULL || path[0] == '\0') {
+        if (err != NULL) {
+            snprintf(err->message, sizeof err->message, "sb_mesh_load: empty path");
+        }
+        return SB_ERR_INVALID;
+    }
+    bool obj = has_extension(path, ".obj");
+    bool off = has_extension(path, ".off");
+    if (!obj && !off) {
+        return load_assimp(path, out, err);
+    }
+    char* text = NULL;
+    size_t size = 0;
+    sb_status status = read_whole_file(path, &text, &size, err);
+    if (status != SB_OK) {
+        return status;
+    }
+    status = obj ? sb_obj_parse(path, text, size, out, err)
+                 : sb_off_parse(path, text, size, out, err);
+    free(text);
+    if (status != SB_OK) {
+        memset(out, 0, sizeof *out);
+    }
+    return status;
+}

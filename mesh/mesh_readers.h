@@ -1,0 +1,54 @@
+/* Private to mesh/: softbond's own OBJ and OFF readers and the helpers they
+ * share with sb_mesh_load (growable arrays, error lines, number parsing).
+ *
+ * The readers parse a whole file already in memory. They keep the file's
+ * vertex order and count exactly and fan-triangulate polygons
+ * (v0, vk, vk+1). Every error is one line "FILE:LINE: what" in err. */
+#ifndef SB_MESH_READERS_H
+#define SB_MESH_READERS_H
+
+#include "softbond/mesh.h"
+
+/* Growable arrays for building an sb_mesh; sizes are checked for overflow. */
+typedef struct sb_mesh_builder {
+    double* positions;
+    size_t vertex_count, vertex_capacity;
+    uint32_t* triangles;
+    size_t triangle_count, triangle_capacity;
+} sb_mesh_builder;
+
+/* Return false when out of memory or past the uint32 limit. */
+bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z);
+bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, uint32_t k);
+/* Moves the arrays into out (which then owns them) and resets b. */
+void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out);
+void sb_mesh_builder_free(sb_mesh_builder* b);
+
+/* Writes "PATH:LINE: message" (line 0: "PATH: message") into err (if any)
+ * and returns status. */
+sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line,
+                             const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+/* A cursor over one line of text (no terminator inside [p, end)). */
+typedef struct sb_text_line {
+    const char* p;
+    const char* end;
+} sb_text_line;
+
+/* Skips blanks; returns the next whitespace-delimited token, or false. */
+bool sb_text_next_token(sb_text_line* line, const char** token, size_t* length);
+/* Parses a whole token as a double (any finite or non-finite value). */
+bool sb_text_parse_double(const char* token, size_t length, double* out);
+/* Parses a whole token as a signed decimal integer. */
+bool sb_text_parse_integer(const char* token, size_t length, long long* out);
+
+sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out,
+                       sb_error* err);
+sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out,
+                       sb_error* err);
+
+#endif
