@@ -1,0 +1,178 @@
+/* Shared helpers for the cmocka tests: small models built by hand through
+ * the public builder API, a deterministic random generator, vector helpers
+ * and assertions on doubles that print both sides when they fail. */
+#ifndef SB_TEST_UTIL_H
+#define SB_TEST_UTIL_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <float.h>
+#include <stdlib.h>
+#include <math.h>
+#include <string.h>
+
+#include "softbond/softbond.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* The rounding unit of the solver's state (float by default). */
+#define TU_REAL_EPS ((double)(sizeof(sb_real) == sizeof(float) ? FLT_EPSILON : DBL_EPSILON))
+
+/* a <= b, printing both values (cmocka's float asserts round to float). */
+#define TU_ASSERT_LE(a, b)                                                              \
+    do {                                                                                \
+        double tu_a_ = (a), tu_b_ = (b);                                                \
+        if (!(tu_a_ <= tu_b_))                                                          \
+            fail_msg("expected %s <= %s, got %.17g > %.17g", #a, #b, tu_a_, tu_b_);     \
+    } while (0)
+
+/* |a - b| <= tol, printing the values. */
+#define TU_ASSERT_NEAR(a, b, tol)                                                        \
+    do {                                                                                 \
+        double tu_a_ = (a), tu_b_ = (b), tu_t_ = (tol);                                  \
+        if (!(fabs(tu_a_ - tu_b_) <= tu_t_))                                             \
+            fail_msg("expected %s ~= %s within %.3g, got %.17g vs %.17g (diff %.3g)", #a, \
+                     #b, tu_t_, tu_a_, tu_b_, fabs(tu_a_ - tu_b_));                      \
+    } while (0)
+
+/* The message contains the substring. */
+#define TU_ASSERT_CONTAINS(message, needle)                                        \
+    do {                                                                           \
+        const char* tu_m_ = (message);                                             \
+        if (!tu_m_ || !strstr(tu_m_, (needle)))                                    \
+            fail_msg("expected message to contain \"%s\", got \"%s\"", (needle),   \
+                     tu_m_ ? tu_m_ : "(null)");                                    \
+    } while (0)
+
+/* ---- random numbers: splitmix64, deterministic across platforms ---------- */
+
+typedef struct tu_rng {
+    uint64_t s;
+} tu_rng;
+
+static inline uint64_t tu_next(tu_rng* r) {
+    uint64_t z = (r->s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [lo, hi). */
+static inline double tu_uniform(tu_rng* r, double lo, double hi) {
+    return lo + (hi - lo) * (double)(tu_next(r) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* ---- vectors -------------------------------------------------------------- */
+
+static inline double tu_dot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline double tu_norm(const double a[3]) { return sqrt(tu_dot(a, a)); }
+static inline void tu_cross(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline double tu_dist(const double* a, const double* b) {
+    double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    return tu_norm(d);
+}
+static inline double tu_max_abs(const double* v, size_t n) {
+    double m = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        if (fabs(v[i]) > m) m = fabs(v[i]);
+    return m;
+}
+static inline bool tu_all_finite(const double* v, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(v[i])) return false;
+    return true;
+}
+
+/* ---- building models by hand --------------------------------------------- */
+
+static inline int64_t tu_vertex(sb_builder* b, double x, double y, double z, double mass,
+                                bool fixed) {
+    sb_vertex_def v = sb_default_vertex_def();
+    v.position[0] = x;
+    v.position[1] = y;
+    v.position[2] = z;
+    v.velocity[0] = v.velocity[1] = v.velocity[2] = 0.0;
+    v.mass = mass;
+    v.fixed = fixed;
+    return sb_builder_add_vertex(b, &v);
+}
+
+/* rest_length < 0: the current distance. */
+static inline int64_t tu_bond(sb_builder* b, uint32_t i, uint32_t j, double rest_length, double k,
+                              double spring_k, double spring_damping) {
+    sb_bond_def d = sb_default_bond_def();
+    d.i = i;
+    d.j = j;
+    d.rest_length = rest_length;
+    d.k = k;
+    d.spring_k = spring_k;
+    d.spring_damping = spring_damping;
+    return sb_builder_add_bond(b, &d);
+}
+
+static inline int64_t tu_triangle(sb_builder* b, uint32_t i, uint32_t j, uint32_t k,
+                                  double angle_k, double stretch_bend_k) {
+    sb_triangle_def d = sb_default_triangle_def();
+    d.i = i;
+    d.j = j;
+    d.k = k;
+    d.angle_k = angle_k;
+    d.stretch_bend_k = stretch_bend_k;
+    return sb_builder_add_triangle(b, &d);
+}
+
+static inline int64_t tu_hinge(sb_builder* b, uint32_t e0, uint32_t e1, uint32_t o0, uint32_t o1,
+                               double k) {
+    sb_hinge_def d;
+    memset(&d, 0, sizeof d);
+    d.e0 = e0;
+    d.e1 = e1;
+    d.o0 = o0;
+    d.o1 = o1;
+    d.k = k;
+    return sb_builder_add_hinge(b, &d);
+}
+
+/* Compiles and fails the test (with the library's message) on error. */
+static inline sb_model* tu_compile(const sb_builder* b) {
+    sb_error err;
+    memset(&err, 0, sizeof err);
+    sb_model* m = sb_builder_compile(b, &err);
+    if (!m) fail_msg("sb_builder_compile failed: %s", err.message);
+    return m;
+}
+
+/* Expects the compile to fail and returns the message (static storage). */
+static inline const char* tu_compile_fails(const sb_builder* b) {
+    static sb_error err;
+    memset(&err, 0, sizeof err);
+    sb_model* m = sb_builder_compile(b, &err);
+    if (m) {
+        sb_model_destroy(m);
+        fail_msg("sb_builder_compile succeeded where it should have failed");
+    }
+    if (err.message[0] == '\0') fail_msg("sb_builder_compile failed with an empty message");
+    return err.message;
+}
+
+/* Rest positions of a model as 3n interleaved doubles (caller frees). */
+static inline double* tu_rest_positions(const sb_model* m) {
+    uint32_t n = sb_model_vertex_count(m);
+    double* p = (double*)malloc(sizeof(double) * 3 * (n ? n : 1));
+    for (uint32_t v = 0; v < n; ++v) sb_model_rest_position(m, v, p + 3 * v);
+    return p;
+}
+
+#endif
