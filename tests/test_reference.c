@@ -633,10 +633,11 @@ static void test_known_hinge(void** state) {
         double x[12] = {0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -cos(alpha), sign * sin(alpha)}, f[12];
         double e = eval_term(m, SB_TERM_BEND, x, NULL, f, 12);
         TU_ASSERT_NEAR(e, 0.5 * k * alpha * alpha, 1e-13);
-        /* o0's force is along ±z (the normal of its wing), towards o1's side. */
+        /* o0's force is along ±z (the normal of its wing), away from o1's
+         * side: turning o0 away from o1 opens the hinge back towards flat. */
         TU_ASSERT_NEAR(f[6], 0.0, 1e-13);
         TU_ASSERT_NEAR(f[7], 0.0, 1e-13);
-        TU_ASSERT_NEAR(f[8], sign * k * alpha, 1e-12);
+        TU_ASSERT_NEAR(f[8], -sign * k * alpha, 1e-12);
         /* o1's force is normal to its wing (-cos α, sign sin α) in the y-z
          * plane and points back towards the flat position (0.5, −1, 0). */
         double fo1[3] = {f[9], f[10], f[11]};
