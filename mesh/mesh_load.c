@@ -33,7 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/types.h>
+#include <sys/stat.h>
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -233,16 +233,14 @@ static sb_status read_whole_file(const char* path, char** text, size_t* size, sb
     char* data = NULL;
     size_t used = 0, capacity = 0;
     /* One allocation when the size is known (a regular file), else grow. */
-    if (fseeko(file, 0, SEEK_END) == 0) {
-        off_t end = ftello(file);
-        if (end > 0 && (uintmax_t)end < SIZE_MAX - 65536 - 1) {
-            capacity = (size_t)end + 65536 + 1;
-            data = malloc(capacity);
-            if (data == NULL) {
-                capacity = 0;
-            }
+    struct stat info;
+    if (fstat(fileno(file), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0 &&
+        (uintmax_t)info.st_size < SIZE_MAX - 65536 - 1) {
+        capacity = (size_t)info.st_size + 65536 + 1;
+        data = malloc(capacity);
+        if (data == NULL) {
+            capacity = 0;
         }
-        rewind(file);
     }
     for (;;) {
         if (!grow((void**)&data, &capacity, used + 65536 + 1, 1)) {
