@@ -1,0 +1,147 @@
+/* What the commands share (see cli.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/cli.h"
+#include "scenes/errorf.h"
+
+#include <errno.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct option_spec {
+    const char* name;
+    size_t offset; /* of a const char* value, or of the bool for a flag */
+    bool flag;
+} option_spec;
+
+static const option_spec option_specs[] = {
+    {"--output", offsetof(sb_cli_args, output), false},
+    {"--threads", offsetof(sb_cli_args, threads), false},
+    {"--positions", offsetof(sb_cli_args, positions), false},
+    {"--forces", offsetof(sb_cli_args, forces), false},
+    {"--fast", offsetof(sb_cli_args, fast), true},
+};
+
+static bool accepts(const char* const* accepted, const char* name) {
+    for (; *accepted; accepted++)
+        if (strcmp(*accepted, name) == 0) return true;
+    return false;
+}
+
+/* "--name=value" or "--name value"; returns the value or NULL. */
+static const char* option_value(int argc, char** argv, int* i, size_t name_length) {
+    if (argv[*i][name_length] == '=') return argv[*i] + name_length + 1;
+    return *i + 1 < argc ? argv[++*i] : NULL;
+}
+
+static const option_spec* find_option(const char* arg, const char* const* accepted) {
+    for (size_t s = 0; s < sizeof option_specs / sizeof option_specs[0]; s++) {
+        size_t n = strlen(option_specs[s].name);
+        bool match = strncmp(arg, option_specs[s].name, n) == 0 &&
+                     (arg[n] == '\0' || (arg[n] == '=' && !option_specs[s].flag));
+        if (match && accepts(accepted, option_specs[s].name)) return &option_specs[s];
+    }
+    return NULL;
+}
+
+static sb_status usage_fail(sb_error* err, const char* command, const char* format,
+                            const char* what) {
+    char message[sizeof err->message];
+    snprintf(message, sizeof message, format, what);
+    return sb_errorf(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
+}
+
+static sb_status parse_option(int argc, char** argv, int* i, const char* const* accepted,
+                              sb_cli_args* out, sb_error* err) {
+    const char* arg = argv[*i];
+    bool is_set = strncmp(arg, "--set", 5) == 0 && (arg[5] == '\0' || arg[5] == '=');
+    const option_spec* spec = is_set ? NULL : find_option(arg, accepted);
+    if (!is_set && !spec) return usage_fail(err, argv[0], "unknown option '%s'", arg);
+    if (spec && spec->flag) {
+        *(bool*)((char*)out + spec->offset) = true;
+        return SB_OK;
+    }
+    const char* value = option_value(argc, argv, i, is_set ? 5 : strlen(spec->name));
+    if (!value) return usage_fail(err, argv[0], "%s needs a value", arg);
+    if (is_set)
+        out->sets[out->set_count++] = value;
+    else
+        *(const char**)((char*)out + spec->offset) = value;
+    return SB_OK;
+}
+
+static sb_status parse_arg(int argc, char** argv, int* i, const char* const* accepted,
+                           sb_cli_args* out, sb_error* err) {
+    const char* arg = argv[*i];
+    if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+        out->help = true;
+        return SB_OK;
+    }
+    if (arg[0] == '-' && arg[1] != '\0') return parse_option(argc, argv, i, accepted, out, err);
+    if (out->input) return usage_fail(err, argv[0], "unexpected argument '%s'", arg);
+    out->input = arg;
+    return SB_OK;
+}
+
+sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out,
+                       sb_error* err) {
+    *out = (sb_cli_args){.sets = malloc((size_t)argc * sizeof *out->sets)};
+    if (!out->sets) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    for (int i = 1; i < argc; i++) {
+        sb_status status = parse_arg(argc, argv, &i, accepted, out, err);
+        if (status != SB_OK) return status;
+    }
+    if (!out->input && !out->help)
+        return usage_fail(err, argv[0], "missing %s", strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
+    return SB_OK;
+}
+
+void sb_cli_args_free(sb_cli_args* args) {
+    free(args->sets);
+    args->sets = NULL;
+}
+
+static sb_status fill_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
+                            sb_error* err) {
+    sb_status status = path ? sb_scene_load(scene, path, err) : SB_OK;
+    for (int i = 0; i < args->set_count && status == SB_OK; i++)
+        status = sb_scene_set(scene, args->sets[i], err);
+    return status == SB_OK ? sb_scene_validate(scene, err) : status;
+}
+
+sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
+                       sb_error* err) {
+    sb_status status = sb_scene_init(scene, err);
+    if (status != SB_OK) return status;
+    status = fill_scene(path, args, scene, err);
+    if (status != SB_OK) sb_scene_free(scene);
+    return status;
+}
+
+/* A thread count: a whole number in [0, 4096]. */
+static bool parse_threads(const char* text, int* out) {
+    char* end;
+    errno = 0;
+    long value = strtol(text, &end, 10);
+    if (end == text || *end != '\0' || errno != 0 || value < 0 || value > 4096) return false;
+    *out = (int)value;
+    return true;
+}
+
+sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out,
+                         sb_error* err) {
+    const char* env = getenv("SOFTBOND_THREADS");
+    *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
+    if (args->threads && !parse_threads(args->threads, out))
+        return sb_errorf(err, SB_ERR_INVALID,
+                         "--threads: expected an integer in [0, 4096], got '%s'", args->threads);
+    if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
+    if (parse_threads(env, out)) return SB_OK;
+    return sb_errorf(err, SB_ERR_INVALID,
+                     "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
+}
+
+int sb_cli_fail(int code, const sb_error* err) {
+    fprintf(stderr, "softbond: %s\n", err->message);
+    return code;
+}

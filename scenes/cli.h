@@ -1,0 +1,57 @@
+/* The `softbond` program's commands and what they share: argument parsing,
+ * the scene from file and --set, exit codes. Every error is one line on
+ * stderr, "softbond: WHERE: message". */
+#ifndef SB_CLI_H
+#define SB_CLI_H
+
+#include <stdio.h>
+
+#include "scenes/scene.h"
+
+enum {
+    SB_EXIT_OK = 0,
+    SB_EXIT_FAILURE = 1, /* an output file could not be written */
+    SB_EXIT_INPUT = 2,   /* bad input: arguments, scene, mesh, CSV */
+    SB_EXIT_SOLVER = 3   /* the solver failed during the run */
+};
+
+/* The options of every command; a command says which it accepts. */
+typedef struct sb_cli_args {
+    const char* input;  /* the one positional argument */
+    const char** sets;  /* each --set key=value, in order */
+    int set_count;
+    const char* output; /* run --output DIR */
+    const char* threads; /* run --threads N */
+    const char* positions; /* eval --positions POS.csv */
+    const char* forces; /* eval --forces OUT.csv */
+    bool fast;          /* eval --fast */
+    bool help;          /* --help, -h */
+} sb_cli_args;
+
+/* Parses argv[1..] (argv[0] is the command's name). `accepted` lists the
+ * options the command takes ("--output", ...; --set and --help always).
+ * Fails on an unknown option, a missing value or a missing or extra
+ * positional argument (unless --help). */
+sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out,
+                       sb_error* err);
+void sb_cli_args_free(sb_cli_args* args);
+
+/* Defaults, then the file (when path is not NULL), then every --set, then
+ * the checks. On failure the scene is freed. */
+sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
+                       sb_error* err);
+
+/* The solver's thread count: --threads, else the scene's threads when not
+ * 0, else SOFTBOND_THREADS, else 0 (the runtime's default). */
+sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out,
+                         sb_error* err);
+
+/* Prints "softbond: message" on stderr and returns code. */
+int sb_cli_fail(int code, const sb_error* err);
+
+int sb_cli_run(int argc, char** argv);
+int sb_cli_eval(int argc, char** argv);
+void sb_cli_run_usage(FILE* stream);
+void sb_cli_eval_usage(FILE* stream);
+
+#endif

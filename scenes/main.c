@@ -1,0 +1,35 @@
+/* The `softbond` program: `run` a scene, `eval` a mesh's energies and
+ * forces. See README.md ("Running a scene", "softbond eval"). */
+#include "scenes/cli.h"
+
+#include <string.h>
+
+static void usage(FILE* stream) {
+    fprintf(stream,
+            "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+            "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
+            "                          [--forces OUT.csv] [--fast]\n"
+            "       softbond --help | --version\n"
+            "Soft bodies with molecular-mechanics bonded terms. `softbond COMMAND --help`\n"
+            "describes a command.\n");
+}
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        usage(stderr);
+        return SB_EXIT_INPUT;
+    }
+    const char* command = argv[1];
+    if (strcmp(command, "run") == 0) return sb_cli_run(argc - 1, argv + 1);
+    if (strcmp(command, "eval") == 0) return sb_cli_eval(argc - 1, argv + 1);
+    if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
+        usage(stdout);
+        return SB_EXIT_OK;
+    }
+    if (strcmp(command, "--version") == 0) {
+        printf("softbond %s\n", SB_VERSION_STRING);
+        return SB_EXIT_OK;
+    }
+    fprintf(stderr, "softbond: unknown command '%s' (see softbond --help)\n", command);
+    return SB_EXIT_INPUT;
+}

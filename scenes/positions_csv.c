@@ -1,0 +1,102 @@
+/* The positions CSV reader (see positions_csv.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/positions_csv.h"
+#include "scenes/errorf.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct csv_reader {
+    const char* path;
+    FILE* file;
+    char* line;
+    size_t capacity;
+    size_t line_number;
+    sb_error* err;
+} csv_reader;
+
+static sb_status csv_fail(const csv_reader* r, const char* format, ...) {
+    char where[sizeof r->err->message];
+    snprintf(where, sizeof where, "%s:%zu", r->path, r->line_number);
+    va_list args;
+    va_start(args, format);
+    sb_verrorf(r->err, SB_ERR_PARSE, format, args);
+    va_end(args);
+    return sb_error_prefix(r->err, SB_ERR_PARSE, where);
+}
+
+static bool is_blank(const char* s) {
+    for (; *s; s++)
+        if (!isspace((unsigned char)*s)) return false;
+    return true;
+}
+
+/* The next non-blank line without its line ending; false at the end. */
+static bool next_line(csv_reader* r) {
+    for (;;) {
+        if (getline(&r->line, &r->capacity, r->file) < 0) {
+            r->line_number++;
+            return false;
+        }
+        r->line_number++;
+        r->line[strcspn(r->line, "\r\n")] = '\0';
+        if (!is_blank(r->line)) return true;
+    }
+}
+
+static bool is_header(const char* line) {
+    char compact[16];
+    size_t n = 0;
+    for (; *line && n + 1 < sizeof compact; line++)
+        if (!isspace((unsigned char)*line)) compact[n++] = *line;
+    compact[n] = '\0';
+    return *line == '\0' && strcmp(compact, "x,y,z") == 0;
+}
+
+/* Three comma-separated numbers and nothing else. */
+static sb_status parse_row(const csv_reader* r, double* xyz) {
+    const char* p = r->line;
+    for (int c = 0; c < 3; c++) {
+        char* end;
+        xyz[c] = strtod(p, &end);
+        while (isspace((unsigned char)*end)) end++;
+        bool separated = c < 2 ? *end == ',' : *end == '\0';
+        if (end == p || !separated)
+            return csv_fail(r, "expected three numbers x,y,z, got '%.60s'", r->line);
+        if (!isfinite(xyz[c])) return csv_fail(r, "non-finite number in '%.60s'", r->line);
+        p = end + 1;
+    }
+    return SB_OK;
+}
+
+static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
+    if (!next_line(r)) return csv_fail(r, "empty file: expected the header 'x,y,z'");
+    if (!is_header(r->line)) return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
+    uint32_t rows = 0;
+    while (next_line(r)) {
+        if (rows == vertex_count)
+            return csv_fail(r, "more rows than the mesh's %u vertices", vertex_count);
+        sb_status status = parse_row(r, &out[3 * (size_t)rows]);
+        if (status != SB_OK) return status;
+        rows++;
+    }
+    if (ferror(r->file)) return csv_fail(r, "read error: %s", strerror(errno));
+    if (rows < vertex_count)
+        return csv_fail(r, "%u rows, but the mesh has %u vertices", rows, vertex_count);
+    return SB_OK;
+}
+
+sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out,
+                            sb_error* err) {
+    csv_reader r = {.path = path, .file = fopen(path, "rb"), .err = err};
+    if (!r.file) return sb_errorf(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    sb_status status = read_rows(&r, vertex_count, out);
+    free(r.line);
+    fclose(r.file);
+    return status;
+}

@@ -1,0 +1,190 @@
+/* `softbond run SCENE.yaml`: advances the scene's model with a fixed dt
+ * until its duration, writing frame k at step round(k frame_interval / dt)
+ * for k = 0 .. floor(duration / frame_interval): a .vtu file each (unless
+ * output.frames is false), frames.pvd listing them, and a row of log.csv.
+ * Nothing is created before the scene is valid and its model compiled. */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/cli.h"
+#include "scenes/energy_log.h"
+#include "scenes/errorf.h"
+#include "scenes/output_dir.h"
+#include "scenes/progress.h"
+#include "scenes/scene_model.h"
+#include "scenes/vtk.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void sb_cli_run_usage(FILE* stream) {
+    fprintf(stream,
+            "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+            "Runs a scene and writes its frames (.vtu, listed in frames.pvd) and log.csv\n"
+            "(the energy of each term per frame) to DIR, by default out/<scene name>.\n"
+            "--set overrides any scene key (see README.md, \"Running a scene\");\n"
+            "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n");
+}
+
+typedef struct run_job {
+    sb_cli_args args;
+    sb_scene scene;
+    sb_mesh mesh;
+    sb_model* model;
+    sb_solver* solver;
+    sb_output_dir out;
+    sb_energy_log log;
+    double* buffers; /* positions, velocities, forces: 3n each */
+} run_job;
+
+static int run_finish(run_job* job, int code) {
+    free(job->buffers);
+    sb_energy_log_free(&job->log);
+    sb_output_dir_free(&job->out);
+    sb_solver_destroy(job->solver);
+    sb_model_destroy(job->model);
+    sb_mesh_free(&job->mesh);
+    sb_scene_free(&job->scene);
+    sb_cli_args_free(&job->args);
+    return code;
+}
+
+static sb_status make_model(run_job* job, sb_error* err) {
+    sb_status status = sb_scene_make_mesh(&job->scene, &job->mesh, err);
+    if (status != SB_OK) return status;
+    bool from_file = strcmp(sb_scene_string(&job->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
+    char* source = from_file ? sb_scene_path(&job->scene, SB_KEY_MESH_FILE) : NULL;
+    job->model = sb_scene_build_model(&job->scene, &job->mesh,
+                                      source ? source : job->scene.path, err);
+    free(source);
+    return job->model ? SB_OK : SB_ERR_INVALID;
+}
+
+/* The scene, its model and a solver for it: all the input, checked. */
+static sb_status prepare(run_job* job, sb_error* err) {
+    sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
+    if (status != SB_OK) return status;
+    sb_solver_def def = sb_scene_solver_def(&job->scene);
+    status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
+    if (status == SB_OK) status = make_model(job, err);
+    if (status != SB_OK) return status;
+    job->solver = sb_solver_create(job->model, &def, err);
+    if (!job->solver) return SB_ERR_INVALID;
+    size_t n = 3 * (size_t)job->mesh.vertex_count;
+    job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
+    return job->buffers ? SB_OK : sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+}
+
+static sb_status write_frame(run_job* job, sb_error* err) {
+    size_t n = 3 * (size_t)job->mesh.vertex_count;
+    sb_vtk_frame frame = {&job->mesh, job->model, job->buffers, job->buffers + n,
+                          job->buffers + 2 * n};
+    const sb_state* state = sb_solver_state(job->solver);
+    sb_solver_get_positions(job->solver, job->buffers);
+    sb_solver_get_velocities(job->solver, job->buffers + n);
+    for (uint32_t v = 0; v < state->vertex_count; v++) {
+        job->buffers[2 * n + 3 * v] = state->fx[v];
+        job->buffers[2 * n + 3 * v + 1] = state->fy[v];
+        job->buffers[2 * n + 3 * v + 2] = state->fz[v];
+    }
+    char name[32];
+    sb_vtk_frame_name(job->log.count, name, sizeof name);
+    return sb_vtk_write_frame(sb_output_dir_path(&job->out, name), &frame, err);
+}
+
+static int record_frame(run_job* job, sb_error* err) {
+    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK)
+        return SB_EXIT_FAILURE;
+    sb_energies energies = sb_solver_energies(job->solver);
+    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies)) return SB_EXIT_OK;
+    sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    return SB_EXIT_FAILURE;
+}
+
+static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_error* err) {
+    double dt = sb_scene_number(&job->scene, SB_KEY_DT);
+    while (sb_solver_step_count(job->solver) < step) {
+        if (sb_solver_advance(job->solver, dt) != SB_OK) {
+            sb_errorf(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
+            return SB_EXIT_SOLVER;
+        }
+        sb_progress_update(progress, sb_solver_step_count(job->solver));
+    }
+    return SB_EXIT_OK;
+}
+
+static int simulate(run_job* job, sb_error* err) {
+    double dt = sb_scene_number(&job->scene, SB_KEY_DT);
+    double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
+    double duration = sb_scene_number(&job->scene, SB_KEY_DURATION);
+    uint64_t frames = (uint64_t)floor(duration / interval + 1e-9) + 1;
+    uint64_t steps = (uint64_t)ceil(duration / dt - 1e-9);
+    sb_progress progress = sb_progress_start(steps);
+    int code = SB_EXIT_OK;
+    for (uint64_t k = 0; k < frames && code == SB_EXIT_OK; k++) {
+        code = advance_to(job, (uint64_t)llround((double)k * interval / dt), &progress, err);
+        if (code == SB_EXIT_OK) code = record_frame(job, err);
+    }
+    if (code == SB_EXIT_OK) code = advance_to(job, steps, &progress, err);
+    sb_progress_end(&progress);
+    return code;
+}
+
+static int write_index(run_job* job, sb_error* err) {
+    sb_status status = SB_OK;
+    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+        status = sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"),
+                                         job->log.times, job->log.count, err);
+    if (status == SB_OK)
+        status = sb_energy_log_write(&job->log, sb_output_dir_path(&job->out, "log.csv"), err);
+    return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
+}
+
+static void report(const run_job* job, double seconds) {
+    const char* dir = job->out.dir;
+    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+        printf("softbond: %u frames and log.csv in %s (open %s/frames.pvd in ParaView), "
+               "%.1f s\n", job->log.count, dir, dir, seconds);
+    else
+        printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
+}
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Simulates, then writes the index and log even after a solver failure, so
+ * the frames up to the failure can be looked at. */
+static int execute(run_job* job, sb_error* err) {
+    double start = now();
+    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK)
+        return SB_EXIT_FAILURE;
+    int code = simulate(job, err);
+    sb_error index_err;
+    int index_code = write_index(job, &index_err);
+    if (code != SB_EXIT_OK) return code;
+    if (index_code != SB_EXIT_OK) {
+        *err = index_err;
+        return index_code;
+    }
+    report(job, now() - start);
+    return SB_EXIT_OK;
+}
+
+int sb_cli_run(int argc, char** argv) {
+    static const char* const accepted[] = {"--output", "--threads", NULL};
+    run_job job = {0};
+    sb_error err;
+    if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)
+        return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    if (job.args.help) {
+        sb_cli_run_usage(stdout);
+        return run_finish(&job, SB_EXIT_OK);
+    }
+    if (prepare(&job, &err) != SB_OK) return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    int code = execute(&job, &err);
+    if (code != SB_EXIT_OK) sb_cli_fail(code, &err);
+    return run_finish(&job, code);
+}

@@ -1,0 +1,137 @@
+/* A scene: every setting of a run, read from a YAML file and `--set`.
+ *
+ * The keys live in one table, SB_SCENE_KEYS: dotted name, type, default (as
+ * YAML text, parsed by the same code as the file) and a short meaning. The
+ * loader flattens nested maps into dotted keys (`bond: {k: 1}` is
+ * `bond.k: 1`) and rejects unknown keys, wrong types, duplicate keys and
+ * malformed YAML with one line naming the file and the line. Each value
+ * remembers where it came from, so later checks name that place too. */
+#ifndef SB_SCENE_H
+#define SB_SCENE_H
+
+#include "softbond/softbond.h"
+
+typedef enum sb_scene_type {
+    SB_SCENE_NUMBER,  /* a finite or non-finite double; validation decides */
+    SB_SCENE_INTEGER, /* a whole number */
+    SB_SCENE_STRING,
+    SB_SCENE_BOOL,    /* true or false */
+    SB_SCENE_VEC3,    /* a sequence of three numbers */
+    SB_SCENE_INDICES  /* a sequence of non-negative integers */
+} sb_scene_type;
+
+/* X(id, name, type, default, meaning) */
+#define SB_SCENE_KEYS(X)                                                                   \
+    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")       \
+    X(MESH_FILE, "mesh.file", STRING, "''",                                                \
+      "mesh file for generator file (OBJ, OFF or any assimp format), relative to the "     \
+      "scene file")                                                                        \
+    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                 \
+    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                 \
+    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                     \
+    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                   \
+    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                             \
+      "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")            \
+    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                   \
+    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2",                                \
+      "icosphere: subdivisions of the icosahedron (0 to 8)")                               \
+    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                     \
+    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")     \
+    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")          \
+    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                       \
+      "stretch-bend constant, J/m (Eq. 5); 0 = off")                                       \
+    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")  \
+    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")       \
+    X(BEND_K, "bend.k", NUMBER, "0",                                                       \
+      "dihedral bending across interior edges, J/rad^2; 0 = off")                          \
+    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")       \
+    X(DENSITY, "density", NUMBER, "0",                                                     \
+      "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "      \
+      "wins over mass")                                                                    \
+    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")    \
+    X(PIN, "pin", STRING, "none",                                                          \
+      "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "        \
+      "right_corners, top_edge, bottom_edge, left_edge or right_edge")                     \
+    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                         \
+    X(INTEGRATOR, "integrator", STRING, "verlet", "verlet or velocity_verlet")             \
+    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                          \
+    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                              \
+    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                    \
+      "simulated time between frames, s (>= dt)")                                          \
+    X(THREADS, "threads", INTEGER, "0",                                                    \
+      "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")                     \
+    X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")        \
+    X(OUTPUT_FRAMES, "output.frames", BOOL, "true",                                        \
+      "write .vtu frames and frames.pvd; false writes log.csv only")
+
+typedef enum sb_scene_key {
+#define SB_SCENE_KEY_ENUM(id, name, type, def, meaning) SB_KEY_##id,
+    SB_SCENE_KEYS(SB_SCENE_KEY_ENUM)
+#undef SB_SCENE_KEY_ENUM
+    SB_KEY_COUNT
+} sb_scene_key;
+
+typedef struct sb_scene_key_info {
+    const char* name;
+    sb_scene_type type;
+    const char* default_value; /* YAML text */
+    const char* meaning;
+} sb_scene_key_info;
+
+const sb_scene_key_info* sb_scene_key_get(sb_scene_key key);
+/* Returns false when no key has this dotted name. */
+bool sb_scene_key_find(const char* name, sb_scene_key* out);
+/* "number", "integer", "string", "bool", "vec3", "list of integers". */
+const char* sb_scene_type_name(sb_scene_type type);
+
+typedef struct sb_scene_value {
+    double number;
+    int64_t integer;
+    bool boolean;
+    double vec3[3];
+    char* string;
+    uint32_t* indices;
+    uint32_t index_count;
+    char where[320]; /* "scene.yaml:12", "--set k=v"; empty for the default */
+    char* base_dir;  /* directory a relative path in this value is relative to */
+} sb_scene_value;
+
+typedef struct sb_scene {
+    char* path; /* the scene file, NULL when none was loaded */
+    char* name; /* its file name without directory and extension */
+    sb_scene_value values[SB_KEY_COUNT];
+} sb_scene;
+
+/* Every key at its default. Fails only when out of memory. */
+sb_status sb_scene_init(sb_scene* scene, sb_error* err);
+void sb_scene_free(sb_scene* scene);
+
+/* Reads a scene file over the current values. Errors: "PATH:LINE: ...". */
+sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err);
+/* Applies one "key=value" (the value a YAML scalar, flow sequence or flow
+ * map); a later --set wins over the file and over earlier --sets. */
+sb_status sb_scene_set(sb_scene* scene, const char* assignment, sb_error* err);
+/* Checks values and their combinations: dt > 0, constants finite and >= 0,
+ * known names, ... Errors name where the offending value was set. */
+sb_status sb_scene_validate(const sb_scene* scene, sb_error* err);
+
+double sb_scene_number(const sb_scene* scene, sb_scene_key key);
+int64_t sb_scene_integer(const sb_scene* scene, sb_scene_key key);
+bool sb_scene_bool(const sb_scene* scene, sb_scene_key key);
+const char* sb_scene_string(const sb_scene* scene, sb_scene_key key);
+const double* sb_scene_vec3(const sb_scene* scene, sb_scene_key key);
+const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32_t* count);
+
+/* Where a key was set: "file:line", "--set k=v", or the scene file (NULL
+ * without one) for a default. */
+const char* sb_scene_where(const sb_scene* scene, sb_scene_key key);
+/* Formats "WHERE: message" into err, WHERE being where key was set (the
+ * message alone when there is no WHERE); returns SB_ERR_INVALID. */
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err,
+                        const char* format, ...);
+
+/* A path value made usable: relative paths are joined to the directory of
+ * the file that set it (the current directory for --set). Caller frees. */
+char* sb_scene_path(const sb_scene* scene, sb_scene_key key);
+
+#endif

@@ -1,0 +1,104 @@
+/* Builds the library's mesh, model and solver settings from a scene. */
+#include "scenes/scene_model.h"
+#include "scenes/errorf.h"
+#include "scenes/pin.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) {
+    sb_sheet_def def = sb_default_sheet_def();
+    def.nx = (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_NX);
+    def.ny = (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_NY);
+    def.width = sb_scene_number(scene, SB_KEY_MESH_WIDTH);
+    def.height = sb_scene_number(scene, SB_KEY_MESH_HEIGHT);
+    def.jitter = sb_scene_number(scene, SB_KEY_MESH_JITTER);
+    def.seed = (uint64_t)sb_scene_integer(scene, SB_KEY_MESH_SEED);
+    return sb_mesh_generate_sheet(&def, out, err);
+}
+
+static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
+    char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
+    if (!path) return sb_scene_fail(scene, SB_KEY_MESH_FILE, err, "out of memory");
+    sb_status status = sb_mesh_load(path, out, err);
+    free(path);
+    return status;
+}
+
+sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
+    const char* generator = sb_scene_string(scene, SB_KEY_MESH_GENERATOR);
+    if (strcmp(generator, "file") == 0) return load_file(scene, out, err);
+    sb_status status =
+        strcmp(generator, "sheet") == 0
+            ? make_sheet(scene, out, err)
+            : sb_mesh_generate_icosphere((uint32_t)sb_scene_integer(scene, SB_KEY_MESH_SUBDIVISIONS),
+                                         sb_scene_number(scene, SB_KEY_MESH_RADIUS), out, err);
+    if (status == SB_OK) return SB_OK;
+    const char* where = sb_scene_where(scene, SB_KEY_MESH_GENERATOR);
+    return sb_error_prefix(err, status, where ? where : generator);
+}
+
+sb_material_def sb_scene_material(const sb_scene* scene) {
+    sb_material_def m = sb_default_material_def();
+    m.bond_k = sb_scene_number(scene, SB_KEY_BOND_K);
+    m.angle_k = sb_scene_number(scene, SB_KEY_ANGLE_K);
+    m.stretch_bend_k = sb_scene_number(scene, SB_KEY_STRETCH_BEND_K);
+    m.spring_k = sb_scene_number(scene, SB_KEY_SPRING_K);
+    m.spring_damping = sb_scene_number(scene, SB_KEY_SPRING_DAMPING);
+    m.bend_k = sb_scene_number(scene, SB_KEY_BEND_K);
+    m.mass = sb_scene_number(scene, SB_KEY_MASS);
+    m.density = sb_scene_number(scene, SB_KEY_DENSITY);
+    return m;
+}
+
+static sb_status fix_vertices(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
+                              sb_error* err) {
+    uint32_t count;
+    const uint32_t* fixed = sb_scene_indices(scene, SB_KEY_FIXED, &count);
+    for (uint32_t i = 0; i < count; i++) {
+        if (fixed[i] >= mesh->vertex_count)
+            return sb_scene_fail(scene, SB_KEY_FIXED, err,
+                                 "'fixed': vertex %u out of range (the mesh has %u vertices)",
+                                 fixed[i], mesh->vertex_count);
+        sb_builder_vertex(builder, fixed[i])->fixed = true;
+    }
+    sb_pin_apply(sb_scene_string(scene, SB_KEY_PIN), mesh, builder);
+    return SB_OK;
+}
+
+static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* source,
+                       sb_builder* builder, sb_error* err) {
+    sb_material_def material = sb_scene_material(scene);
+    sb_status status = sb_builder_add_mesh(builder, mesh, &material, err);
+    if (status != SB_OK) {
+        sb_error_prefix(err, status, source);
+        return NULL;
+    }
+    if (fix_vertices(scene, mesh, builder, err) != SB_OK) return NULL;
+    sb_model* model = sb_builder_compile(builder, err);
+    if (!model) sb_error_prefix(err, SB_ERR_INVALID, source);
+    return model;
+}
+
+sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source,
+                               sb_error* err) {
+    sb_builder* builder = sb_builder_create();
+    if (!builder) {
+        sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+        return NULL;
+    }
+    sb_model* model = build(scene, mesh, source, builder, err);
+    sb_builder_destroy(builder);
+    return model;
+}
+
+sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
+    sb_solver_def def = sb_default_solver_def();
+    sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &def.integrator);
+    memcpy(def.gravity, sb_scene_vec3(scene, SB_KEY_GRAVITY), sizeof def.gravity);
+    bool fast = strcmp(sb_scene_string(scene, SB_KEY_KERNELS), "fast") == 0;
+    def.kernels = fast ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+    def.threads = (int)sb_scene_integer(scene, SB_KEY_THREADS);
+    return def;
+}

@@ -1,0 +1,24 @@
+/* From a validated scene to the library's objects: the mesh, the model
+ * (material, fixed vertices, pins) and the solver's settings. */
+#ifndef SB_SCENE_MODEL_H
+#define SB_SCENE_MODEL_H
+
+#include "scenes/scene.h"
+
+/* The mesh the scene asks for: a sheet, an icosphere or a file. Errors name
+ * the file (and line), or where the generator's settings came from. */
+sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err);
+
+sb_material_def sb_scene_material(const sb_scene* scene);
+
+/* Adds the mesh with the scene's material, fixes the `fixed` vertices and
+ * the `pin` selection, and compiles. On failure returns NULL; err names the
+ * bad index or element, prefixed with `source` (the mesh's file or the
+ * scene) for errors of the mesh itself. */
+sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source,
+                               sb_error* err);
+
+/* Integrator, gravity, kernels and threads (as the scene says; 0 = default). */
+sb_solver_def sb_scene_solver_def(const sb_scene* scene);
+
+#endif

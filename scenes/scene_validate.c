@@ -1,0 +1,127 @@
+/* Checks a scene's values before anything is built: ranges of numbers and
+ * integers (one table each), names from fixed sets, and the combinations
+ * (frame_interval >= dt, a file for the file generator, some mass). Vertex
+ * indices are checked when the mesh is known (scene_model.c). */
+#include "scenes/scene.h"
+#include "scenes/pin.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct number_rule {
+    sb_scene_key key;
+    bool positive; /* > 0; otherwise >= 0 */
+} number_rule;
+
+static const number_rule number_rules[] = {
+    {SB_KEY_MESH_WIDTH, true},     {SB_KEY_MESH_HEIGHT, true},  {SB_KEY_MESH_JITTER, false},
+    {SB_KEY_MESH_RADIUS, true},    {SB_KEY_BOND_K, false},      {SB_KEY_ANGLE_K, false},
+    {SB_KEY_STRETCH_BEND_K, false}, {SB_KEY_SPRING_K, false},   {SB_KEY_SPRING_DAMPING, false},
+    {SB_KEY_BEND_K, false},        {SB_KEY_MASS, false},        {SB_KEY_DENSITY, false},
+    {SB_KEY_DT, true},             {SB_KEY_DURATION, true},     {SB_KEY_FRAME_INTERVAL, true},
+};
+
+typedef struct integer_rule {
+    sb_scene_key key;
+    int64_t min, max;
+} integer_rule;
+
+static const integer_rule integer_rules[] = {
+    {SB_KEY_MESH_NX, 2, 1 << 16},   {SB_KEY_MESH_NY, 2, 1 << 16},
+    {SB_KEY_MESH_SEED, 0, INT64_MAX}, {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
+    {SB_KEY_THREADS, 0, 4096},
+};
+
+static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
+    double value = sb_scene_number(scene, rule->key);
+    const char* name = sb_scene_key_get(rule->key)->name;
+    if (!isfinite(value))
+        return sb_scene_fail(scene, rule->key, err, "'%s' must be finite, got %g", name, value);
+    if (rule->positive ? value <= 0.0 : value < 0.0)
+        return sb_scene_fail(scene, rule->key, err, "'%s' must be %s 0, got %g", name,
+                             rule->positive ? ">" : ">=", value);
+    return SB_OK;
+}
+
+static sb_status check_integer(const sb_scene* scene, const integer_rule* rule,
+                               sb_error* err) {
+    int64_t value = sb_scene_integer(scene, rule->key);
+    if (value >= rule->min && value <= rule->max) return SB_OK;
+    return sb_scene_fail(scene, rule->key, err, "'%s' must be in [%lld, %lld], got %lld",
+                         sb_scene_key_get(rule->key)->name, (long long)rule->min,
+                         (long long)rule->max, (long long)value);
+}
+
+static sb_status check_ranges(const sb_scene* scene, sb_error* err) {
+    for (size_t i = 0; i < sizeof number_rules / sizeof number_rules[0]; i++) {
+        sb_status status = check_number(scene, &number_rules[i], err);
+        if (status != SB_OK) return status;
+    }
+    for (size_t i = 0; i < sizeof integer_rules / sizeof integer_rules[0]; i++) {
+        sb_status status = check_integer(scene, &integer_rules[i], err);
+        if (status != SB_OK) return status;
+    }
+    return SB_OK;
+}
+
+static bool one_of(const char* value, const char* const* names) {
+    for (; *names; names++)
+        if (strcmp(value, *names) == 0) return true;
+    return false;
+}
+
+static sb_status check_names(const sb_scene* scene, sb_error* err) {
+    static const char* const generators[] = {"sheet", "icosphere", "file", NULL};
+    static const char* const kernels[] = {"reference", "fast", NULL};
+    sb_integrator integrator;
+    if (!one_of(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), generators))
+        return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err,
+                             "'mesh.generator' must be sheet, icosphere or file, got '%s'",
+                             sb_scene_string(scene, SB_KEY_MESH_GENERATOR));
+    if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
+        return sb_scene_fail(scene, SB_KEY_KERNELS, err,
+                             "'kernels' must be reference or fast, got '%s'",
+                             sb_scene_string(scene, SB_KEY_KERNELS));
+    if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
+        return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
+                             "'integrator' must be verlet or velocity_verlet, got '%s'",
+                             sb_scene_string(scene, SB_KEY_INTEGRATOR));
+    if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
+        return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'",
+                             sb_pin_names(), sb_scene_string(scene, SB_KEY_PIN));
+    return SB_OK;
+}
+
+/* The key to blame for a combination: the one the user set, if any. */
+static sb_scene_key blame(const sb_scene* scene, sb_scene_key first, sb_scene_key second) {
+    return scene->values[first].where[0] ? first : second;
+}
+
+static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
+    const double* g = sb_scene_vec3(scene, SB_KEY_GRAVITY);
+    if (!isfinite(g[0]) || !isfinite(g[1]) || !isfinite(g[2]))
+        return sb_scene_fail(scene, SB_KEY_GRAVITY, err, "'gravity' must be finite");
+    if (sb_scene_number(scene, SB_KEY_MESH_JITTER) >= 0.5)
+        return sb_scene_fail(scene, SB_KEY_MESH_JITTER, err, "'mesh.jitter' must be < 0.5");
+    double dt = sb_scene_number(scene, SB_KEY_DT);
+    double interval = sb_scene_number(scene, SB_KEY_FRAME_INTERVAL);
+    if (interval < dt)
+        return sb_scene_fail(scene, blame(scene, SB_KEY_FRAME_INTERVAL, SB_KEY_DT), err,
+                             "'frame_interval' (%g) must be >= 'dt' (%g)", interval, dt);
+    if (sb_scene_number(scene, SB_KEY_MASS) == 0.0 &&
+        sb_scene_number(scene, SB_KEY_DENSITY) == 0.0)
+        return sb_scene_fail(scene, blame(scene, SB_KEY_MASS, SB_KEY_DENSITY), err,
+                             "'mass' and 'density' are both 0: free vertices need a mass");
+    bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;
+    if (file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] == '\0')
+        return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err,
+                             "'mesh.generator' is file but 'mesh.file' is not set");
+    return SB_OK;
+}
+
+sb_status sb_scene_validate(const sb_scene* scene, sb_error* err) {
+    sb_status status = check_ranges(scene, err);
+    if (status == SB_OK) status = check_names(scene, err);
+    if (status == SB_OK) status = check_combinations(scene, err);
+    return status;
+}

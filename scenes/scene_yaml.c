@@ -1,0 +1,345 @@
+/* Reading scene values from YAML: a scene file, or the value of one --set.
+ *
+ * Both go through libyaml's document API, which keeps the line of every
+ * node. Nested maps are flattened into dotted names as they are walked: a
+ * name that is a key takes the node as its value; a name that is not a key
+ * but holds a map is a prefix and is walked into; anything else is unknown.
+ * A key given twice in one source (`bond: {k: 1}` and `bond.k: 2`) is an
+ * error; a later source (a --set) simply wins. */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/scene.h"
+#include "scenes/errorf.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <yaml.h>
+
+typedef struct yaml_source {
+    sb_scene* scene;
+    yaml_document_t* doc;
+    const char* name;     /* the file's path, or "--set key=value" */
+    bool has_lines;       /* file: errors carry the node's line */
+    const char* base_dir; /* where relative paths point; NULL for cwd */
+    size_t seen_line[SB_KEY_COUNT]; /* 1-based line a key was set at */
+    bool seen[SB_KEY_COUNT];
+    sb_error* err;
+} yaml_source;
+
+static void node_where(const yaml_source* src, const yaml_node_t* node, char* out,
+                       size_t size) {
+    if (src->has_lines)
+        snprintf(out, size, "%s:%zu", src->name, node->start_mark.line + 1);
+    else
+        snprintf(out, size, "%s", src->name);
+}
+
+static sb_status source_fail(const yaml_source* src, const yaml_node_t* node,
+                             const char* format, ...) {
+    char where[320];
+    node_where(src, node, where, sizeof where);
+    va_list args;
+    va_start(args, format);
+    sb_verrorf(src->err, SB_ERR_PARSE, format, args);
+    va_end(args);
+    return sb_error_prefix(src->err, SB_ERR_PARSE, where);
+}
+
+/* ---- scalars -------------------------------------------------------------- */
+
+static const char* scalar_text(const yaml_node_t* node) {
+    return (const char*)node->data.scalar.value;
+}
+
+static bool is_plain_scalar(const yaml_node_t* node) {
+    return node->type == YAML_SCALAR_NODE &&
+           node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE && node->data.scalar.length > 0;
+}
+
+static bool parse_number(const yaml_node_t* node, double* out) {
+    if (!is_plain_scalar(node)) return false;
+    char* end;
+    *out = strtod(scalar_text(node), &end);
+    return *end == '\0';
+}
+
+static bool parse_integer(const yaml_node_t* node, int64_t* out) {
+    if (!is_plain_scalar(node)) return false;
+    char* end;
+    errno = 0;
+    long long value = strtoll(scalar_text(node), &end, 10);
+    *out = value;
+    return *end == '\0' && errno == 0;
+}
+
+static bool parse_bool(const yaml_node_t* node, bool* out) {
+    static const char* const words[] = {"true", "True", "TRUE", "false", "False", "FALSE"};
+    if (!is_plain_scalar(node)) return false;
+    for (int i = 0; i < 6; i++) {
+        if (strcmp(scalar_text(node), words[i]) == 0) {
+            *out = i < 3;
+            return true;
+        }
+    }
+    return false;
+}
+
+/* What a node is, for "expects a number, got ..." messages. */
+static void describe_node(const yaml_node_t* node, char* out, size_t size) {
+    if (node->type == YAML_SEQUENCE_NODE)
+        snprintf(out, size, "a sequence");
+    else if (node->type == YAML_MAPPING_NODE)
+        snprintf(out, size, "a map");
+    else
+        snprintf(out, size, "'%.80s'", scalar_text(node));
+}
+
+static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                           const char* expected) {
+    char got[100];
+    describe_node(node, got, sizeof got);
+    return source_fail(src, node, "'%s' expects %s, got %s", sb_scene_key_get(key)->name,
+                       expected, got);
+}
+
+/* ---- values of each type -------------------------------------------------- */
+
+static yaml_node_t* item_node(const yaml_source* src, const yaml_node_t* seq, size_t i) {
+    return yaml_document_get_node(src->doc, seq->data.sequence.items.start[i]);
+}
+
+static size_t item_count(const yaml_node_t* seq) {
+    return (size_t)(seq->data.sequence.items.top - seq->data.sequence.items.start);
+}
+
+static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                           sb_scene_value* out) {
+    if (node->type != YAML_SEQUENCE_NODE || item_count(node) != 3)
+        return type_fail(src, node, key, "a sequence of 3 numbers");
+    for (size_t i = 0; i < 3; i++) {
+        yaml_node_t* item = item_node(src, node, i);
+        if (!parse_number(item, &out->vec3[i])) return type_fail(src, item, key, "a number");
+    }
+    return SB_OK;
+}
+
+static sb_status read_indices(const yaml_source* src, const yaml_node_t* node,
+                              sb_scene_key key, sb_scene_value* out) {
+    if (node->type != YAML_SEQUENCE_NODE)
+        return type_fail(src, node, key, "a sequence of vertex indices");
+    size_t count = item_count(node);
+    if (count > UINT32_MAX) return source_fail(src, node, "too many indices");
+    out->indices = malloc((count ? count : 1) * sizeof *out->indices);
+    if (!out->indices) return source_fail(src, node, "out of memory");
+    out->index_count = (uint32_t)count;
+    for (size_t i = 0; i < count; i++) {
+        yaml_node_t* item = item_node(src, node, i);
+        int64_t index;
+        if (!parse_integer(item, &index) || index < 0 || index > UINT32_MAX)
+            return type_fail(src, item, key, "a vertex index (an integer >= 0)");
+        out->indices[i] = (uint32_t)index;
+    }
+    return SB_OK;
+}
+
+static sb_status read_string(const yaml_source* src, const yaml_node_t* node,
+                             sb_scene_key key, sb_scene_value* out) {
+    if (node->type != YAML_SCALAR_NODE) return type_fail(src, node, key, "a string");
+    out->string = strdup(scalar_text(node));
+    return out->string ? SB_OK : source_fail(src, node, "out of memory");
+}
+
+static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                            sb_scene_value* out) {
+    switch (sb_scene_key_get(key)->type) {
+    case SB_SCENE_NUMBER:
+        return parse_number(node, &out->number) ? SB_OK
+                                                : type_fail(src, node, key, "a number");
+    case SB_SCENE_INTEGER:
+        return parse_integer(node, &out->integer) ? SB_OK
+                                                  : type_fail(src, node, key, "an integer");
+    case SB_SCENE_BOOL:
+        return parse_bool(node, &out->boolean) ? SB_OK
+                                               : type_fail(src, node, key, "true or false");
+    case SB_SCENE_STRING:
+        return read_string(src, node, key, out);
+    case SB_SCENE_VEC3:
+        return read_vec3(src, node, key, out);
+    case SB_SCENE_INDICES:
+        return read_indices(src, node, key, out);
+    }
+    return SB_ERR_INVALID;
+}
+
+static void value_release(sb_scene_value* value) {
+    free(value->string);
+    free(value->indices);
+    free(value->base_dir);
+}
+
+/* ---- walking the document ------------------------------------------------- */
+
+static sb_status assign(yaml_source* src, const yaml_node_t* key_node,
+                        const yaml_node_t* node, sb_scene_key key) {
+    if (src->seen[key])
+        return source_fail(src, key_node, "duplicate key '%s' (first set at line %zu)",
+                           sb_scene_key_get(key)->name, src->seen_line[key]);
+    src->seen[key] = true;
+    src->seen_line[key] = key_node->start_mark.line + 1;
+    sb_scene_value value = {0};
+    sb_status status = read_value(src, node, key, &value);
+    if (status == SB_OK && src->base_dir && !(value.base_dir = strdup(src->base_dir)))
+        status = source_fail(src, node, "out of memory");
+    if (status != SB_OK) {
+        value_release(&value);
+        return status;
+    }
+    node_where(src, node, value.where, sizeof value.where);
+    value_release(&src->scene->values[key]);
+    src->scene->values[key] = value;
+    return SB_OK;
+}
+
+static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* prefix);
+
+static sb_status apply(yaml_source* src, const yaml_node_t* key_node, const char* name,
+                       const yaml_node_t* node) {
+    sb_scene_key key;
+    if (sb_scene_key_find(name, &key)) return assign(src, key_node, node, key);
+    bool nonempty_map = node->type == YAML_MAPPING_NODE &&
+                        node->data.mapping.pairs.top > node->data.mapping.pairs.start;
+    if (nonempty_map) return walk_map(src, node, name);
+    return source_fail(src, key_node, "unknown key '%s'", name);
+}
+
+static sb_status walk_pair(yaml_source* src, const yaml_node_pair_t* pair, const char* prefix) {
+    const yaml_node_t* key_node = yaml_document_get_node(src->doc, pair->key);
+    const yaml_node_t* value = yaml_document_get_node(src->doc, pair->value);
+    if (key_node->type != YAML_SCALAR_NODE)
+        return source_fail(src, key_node, "a key must be a plain name");
+    char name[256];
+    int length = snprintf(name, sizeof name, "%s%s%s", prefix, prefix[0] ? "." : "",
+                          scalar_text(key_node));
+    if (length < 0 || (size_t)length >= sizeof name)
+        return source_fail(src, key_node, "key too long");
+    return apply(src, key_node, name, value);
+}
+
+static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* prefix) {
+    for (const yaml_node_pair_t* pair = map->data.mapping.pairs.start;
+         pair < map->data.mapping.pairs.top; pair++) {
+        sb_status status = walk_pair(src, pair, prefix);
+        if (status != SB_OK) return status;
+    }
+    return SB_OK;
+}
+
+/* ---- entry points ---------------------------------------------------------- */
+
+static sb_status yaml_fail(const yaml_source* src, const yaml_parser_t* parser) {
+    const char* problem = parser->problem ? parser->problem : "unreadable";
+    if (src->has_lines)
+        return sb_errorf(src->err, SB_ERR_PARSE, "%s:%zu: malformed YAML: %s", src->name,
+                         parser->problem_mark.line + 1, problem);
+    return sb_errorf(src->err, SB_ERR_PARSE, "%s: malformed value: %s", src->name, problem);
+}
+
+/* A file holds one document whose root is a map (an empty file is fine). */
+static sb_status walk_file(yaml_source* src, yaml_parser_t* parser) {
+    yaml_node_t* root = yaml_document_get_root_node(src->doc);
+    if (!root) return SB_OK;
+    if (root->type != YAML_MAPPING_NODE)
+        return source_fail(src, root, "a scene must be a map of keys");
+    sb_status status = walk_map(src, root, "");
+    if (status != SB_OK) return status;
+    yaml_document_t next;
+    if (!yaml_parser_load(parser, &next)) return yaml_fail(src, parser);
+    yaml_node_t* extra = yaml_document_get_root_node(&next);
+    if (extra) status = source_fail(src, extra, "a scene file holds one YAML document");
+    yaml_document_delete(&next);
+    return status;
+}
+
+static char* directory_of(const char* path) {
+    const char* slash = strrchr(path, '/');
+    if (!slash) return strdup(".");
+    if (slash == path) return strdup("/");
+    return strndup(path, (size_t)(slash - path));
+}
+
+static char* name_of(const char* path) {
+    const char* slash = strrchr(path, '/');
+    const char* base = slash ? slash + 1 : path;
+    const char* dot = strrchr(base, '.');
+    return strndup(base, dot && dot != base ? (size_t)(dot - base) : strlen(base));
+}
+
+static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_error* err) {
+    char* dir = directory_of(path);
+    yaml_source src = {.scene = scene, .name = path, .has_lines = true, .base_dir = dir,
+                       .err = err};
+    yaml_parser_t parser;
+    yaml_document_t doc;
+    yaml_parser_initialize(&parser);
+    yaml_parser_set_input_file(&parser, file);
+    sb_status status = SB_OK;
+    if (!dir)
+        status = source_fail(&src, &(yaml_node_t){0}, "out of memory");
+    else if (!yaml_parser_load(&parser, &doc))
+        status = yaml_fail(&src, &parser);
+    else {
+        src.doc = &doc;
+        status = walk_file(&src, &parser);
+        yaml_document_delete(&doc);
+    }
+    yaml_parser_delete(&parser);
+    free(dir);
+    return status;
+}
+
+sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
+    FILE* file = fopen(path, "rb");
+    if (!file) return sb_errorf(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    sb_status status = load_file(scene, file, path, err);
+    fclose(file);
+    if (status != SB_OK) return status;
+    free(scene->path);
+    free(scene->name);
+    scene->path = strdup(path);
+    scene->name = name_of(path);
+    if (scene->path && scene->name) return SB_OK;
+    return sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
+}
+
+static sb_status set_value(yaml_source* src, const char* name, const char* text) {
+    yaml_parser_t parser;
+    yaml_document_t doc;
+    yaml_parser_initialize(&parser);
+    yaml_parser_set_input_string(&parser, (const unsigned char*)text, strlen(text));
+    sb_status status;
+    if (!yaml_parser_load(&parser, &doc)) {
+        status = yaml_fail(src, &parser);
+    } else {
+        src->doc = &doc;
+        yaml_node_t* root = yaml_document_get_root_node(&doc);
+        status = root ? apply(src, root, name, root)
+                      : source_fail(src, &(yaml_node_t){0}, "missing value after '='");
+        yaml_document_delete(&doc);
+    }
+    yaml_parser_delete(&parser);
+    return status;
+}
+
+sb_status sb_scene_set(sb_scene* scene, const char* assignment, sb_error* err) {
+    char where[320];
+    snprintf(where, sizeof where, "--set %s", assignment);
+    yaml_source src = {.scene = scene, .name = where, .err = err};
+    const char* equals = strchr(assignment, '=');
+    if (!equals || equals == assignment)
+        return source_fail(&src, &(yaml_node_t){0}, "expected key=value");
+    char name[256];
+    snprintf(name, sizeof name, "%.*s", (int)(equals - assignment), assignment);
+    return set_value(&src, name, equals + 1);
+}
