@@ -1,0 +1,76 @@
+/* Byte model: the least memory traffic one Verlet step needs on the
+ * structure-of-arrays layout, with s = sizeof(sb_real) (4 in float, 8 in
+ * double) and 4-byte vertex indices. It assumes the gathers of a vertex's
+ * neighbours hit cache (vertices reordered for locality), so each per-vertex
+ * array crosses the memory bus once per step, read or written:
+ *   per vertex   x y z read + written (6 s), previous x y z read + written
+ *                (6 s), force x y z written by the kernels and read by the
+ *                update (6 s), velocity x y z written (3 s), inverse mass
+ *                read (1 s): 22 s; with --all-terms the damping also reads
+ *                the velocity (3 s more): 25 s
+ *   per bond     i, j (8 B) + r0, k (2 s); --all-terms adds spring_k and
+ *                spring_damping (2 s)
+ *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
+ *                + angle_k, stretch_bend_k (2 s)
+ *   per hinge    4 indices (16 B) + φ0, k (2 s)          (--all-terms only)
+ * Float, default terms: 88 B per vertex, 16 B per bond, 44 B per triangle;
+ * a 1M-vertex sheet (3M bonds, 2M triangles) moves about 224 MB per step.
+ * Writes are counted once (no write-allocate), as STREAM counts them.
+ *
+ * Flop model: add, subtract, multiply, divide and square root each count 1
+ * (an FMA counts 2); energies are not counted (a step need not compute
+ * them). From the formulas in DESIGN.md:
+ *   bond stretch: d = xj − xi (3), r² (5), r = √ (1), r − r0 (1),
+ *     k(r − r0) (1), /r (1), f = that · d (3), fi += f, fj −= f (6): 21
+ *   damped spring (--all-terms, sharing r and d): ks (r − r0) and the sum
+ *     (2), vj − vi (3), its dot with d (5), d/r times it (2): 12 more
+ *   triangle, shared by its three corners: 3 edge vectors (9), their
+ *     squared lengths (15), 3 √ (3), 3 reciprocals (3), 3 unit vectors (9),
+ *     3 length deviations (3): 42
+ *   per corner: c = â·b̂ (5), c − c0 (1), S (1), g = kθ dc + ksb S (3),
+ *     h = ksb dc (1), F_j = −(g/A)(b̂ − c â) − h â (1 + 3 + 3 + 3 + 3 + 3 =
+ *     16), F_k likewise (16), F_i = −F_j − F_k (3), three accumulations (9):
+ *     55, so 42 + 3 · 55 = 207 per triangle, 69 per angle
+ *   hinge (--all-terms): the dihedral (edge, two normals, atan2) and its
+ *     gradient on four vertices: about 120
+ *   per vertex: gravity m g (3), Verlet x⁺ = x + (x − x⁻) σ + w f and
+ *     v = (x⁺ − x)/dt (3 · 7 + 1): 25
+ * So the default step costs 21 per bond + 207 per triangle + 25 per vertex:
+ * about 0.5 Gflop per step on the 1M-vertex sheet, 56 per element. */
+#include "bench/bench_model.h"
+
+#define SB_FLOPS_BOND 21.0
+#define SB_FLOPS_SPRING 12.0
+#define SB_FLOPS_TRIANGLE 207.0
+#define SB_FLOPS_HINGE 120.0
+#define SB_FLOPS_VERTEX 25.0
+
+sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
+    sb_bench_counts c = {0};
+    const double s = sizeof(sb_real);
+    c.vertices = sb_model_vertex_count(model);
+    c.bonds = sb_model_bond_count(model);
+    c.triangles = sb_model_triangle_count(model);
+    c.hinges = sb_model_hinge_count(model);
+    c.elements = c.bonds + 3 * c.triangles + c.hinges;
+    double vertex_bytes = (all_terms ? 25.0 : 22.0) * s;
+    double bond_bytes = 8.0 + (all_terms ? 4.0 : 2.0) * s;
+    double triangle_bytes = 12.0 + 8.0 * s, hinge_bytes = 16.0 + 2.0 * s;
+    c.bytes_per_step = vertex_bytes * c.vertices + bond_bytes * c.bonds + triangle_bytes * c.triangles +
+                       hinge_bytes * c.hinges;
+    double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
+    c.flops_per_step = SB_FLOPS_VERTEX * c.vertices + bond_flops * c.bonds + SB_FLOPS_TRIANGLE * c.triangles +
+                       SB_FLOPS_HINGE * c.hinges;
+    return c;
+}
+
+const char* sb_bench_byte_model_text(void) {
+    return "bytes/step = 22s per vertex (x,prev rw; f w+r; v w; 1/m r) + (8+2s) per bond + (12+8s) per triangle"
+           " [+3s per vertex, +2s per bond, (16+2s) per hinge with --all-terms]; s = sizeof(sb_real);"
+           " gathers assumed cached, writes counted once";
+}
+
+const char* sb_bench_flop_model_text(void) {
+    return "flops/step = 21 per bond + 207 per triangle (3 corners of angle bend + stretch-bend) + 25 per vertex"
+           " (gravity + Verlet) [+12 per bond, 120 per hinge with --all-terms]; FMA = 2, sqrt = div = 1";
+}
