@@ -44,6 +44,8 @@ static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
 
 void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
+    sb_fast_model_destroy(s->fast);
+    free(s->partials);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->prev_x,
                       s->prev_y,   s->prev_z,   s->scratch_x, s->scratch_v, s->scratch_f};
@@ -51,7 +53,9 @@ void sb_solver_destroy(sb_solver* s) {
     free(s);
 }
 
-static double sb_model_diameter(const sb_model* m) {
+/* The box around the rest shape, grown by SB_RUNAWAY_DIAMETERS diameters. */
+static void sb_runaway_box(sb_solver* s) {
+    const sb_model* m = s->model;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double p[3] = {m->rest_x[i], m->rest_y[i], m->rest_z[i]};
@@ -61,8 +65,11 @@ static double sb_model_diameter(const sb_model* m) {
         }
     }
     double d2 = 0.0;
-    for (int c = 0; c < 3; c++) d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
-    return sqrt(d2) > 0.0 ? sqrt(d2) : 1.0;
+    for (int c = 0; c < 3; c++) {
+        s->center[c] = 0.5 * (lo[c] + hi[c]);
+        d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    }
+    s->runaway = SB_RUNAWAY_DIAMETERS * (sqrt(d2) > 0.0 ? sqrt(d2) : 1.0);
 }
 
 static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
@@ -71,8 +78,8 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     for (int c = 0; c < 3; c++)
         if (!isfinite(def->gravity[c])) return sb_error_set(err, SB_ERR_INVALID, "gravity must be finite");
     if (def->threads < 0) return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->threads);
-    if (def->kernels != SB_KERNELS_REFERENCE)
-        return sb_error_set(err, SB_ERR_INVALID, "the fast kernels are not available in this build");
+    if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)
+        return sb_error_set(err, SB_ERR_INVALID, "unknown kernels %d", (int)def->kernels);
     return SB_OK;
 }
 
@@ -86,8 +93,13 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     }
     s->model = model;
     s->def = *def;
-    s->runaway_distance = SB_RUNAWAY_DIAMETERS * sb_model_diameter(model);
-    sb_status status = sb_solver_set_state(s, NULL, NULL);
+    sb_runaway_box(s);
+    sb_status status = def->kernels == SB_KERNELS_FAST ? sb_fast_prepare(s, err) : SB_OK;
+    if (status != SB_OK) {
+        sb_solver_destroy(s);
+        return NULL;
+    }
+    status = sb_solver_set_state(s, NULL, NULL);
     if (status != SB_OK) {
         if (err) *err = s->error;
         sb_solver_destroy(s);
@@ -96,7 +108,7 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     return s;
 }
 
-static void sb_update_energies(sb_solver* s) {
+void sb_update_energies(sb_solver* s) {
     const sb_model* m = s->model;
     const sb_state* st = &s->state;
     double kinetic = 0.0, gravity = 0.0;
@@ -111,22 +123,18 @@ static void sb_update_energies(sb_solver* s) {
     s->energies.gravity = gravity;
 }
 
-/* Names the first vertex whose position or velocity is not finite or whose
- * displacement from rest is beyond the runaway distance. */
-static sb_status sb_check_state(sb_solver* s) {
-    const sb_model* m = s->model;
+sb_status sb_check_state(sb_solver* s) {
     const sb_state* st = &s->state;
     for (uint32_t i = 0; i < st->vertex_count; i++) {
         double values[6] = {st->x[i], st->y[i], st->z[i], st->vx[i], st->vy[i], st->vz[i]};
-        bool finite = true;
+        bool finite = true, inside = true;
         for (int c = 0; c < 6; c++) finite &= isfinite(values[c]) != 0;
-        double dx = values[0] - m->rest_x[i], dy = values[1] - m->rest_y[i], dz = values[2] - m->rest_z[i];
-        double distance = sqrt(dx * dx + dy * dy + dz * dz);
-        if (!finite || distance > s->runaway_distance)
+        for (int c = 0; c < 3; c++) inside &= fabs(values[c] - s->center[c]) <= s->runaway;
+        if (!finite || !inside)
             return sb_error_set(&s->error, SB_ERR_UNSTABLE,
                                 "step %llu (t = %.9g s): vertex %u %s; the time step is too large for the stiffness",
                                 (unsigned long long)s->steps, s->time, i,
-                                finite ? "ran away from its rest position" : "is not finite");
+                                finite ? "ran away from the model" : "is not finite");
     }
     return SB_OK;
 }
@@ -141,11 +149,16 @@ static void sb_prefix_step(sb_solver* s) {
 sb_status sb_solver_advance(sb_solver* s, double dt) {
     if (!(dt > 0.0) || !isfinite(dt))
         return sb_error_set(&s->error, SB_ERR_INVALID, "time step %g s must be positive and finite", dt);
-    sb_status status = s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt)
-                                                                  : sb_integrate_velocity_verlet(s, dt);
     s->steps++;
-    s->time += dt;
+    s->time += dt; /* forces of this step are evaluated at the new time */
+    sb_status status = s->fast                                        ? sb_fast_verlet_step(s, dt)
+                       : s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt)
+                                                                   : sb_integrate_velocity_verlet(s, dt);
     /* A non-finite state also makes the force terms fail: name the cause. */
+    if (s->fast) { /* the fast step checked the state and summed the energies itself */
+        if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
+        return status;
+    }
     sb_status state_status = sb_check_state(s);
     if (state_status != SB_OK) return state_status;
     if (status != SB_OK) {

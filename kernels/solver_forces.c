@@ -28,5 +28,5 @@ static sb_status sb_reference_step_forces(sb_solver* s) {
 }
 
 sb_status sb_solver_compute_forces(sb_solver* s) {
-    return sb_reference_step_forces(s);
+    return s->fast ? sb_fast_compute_forces(s) : sb_reference_step_forces(s);
 }

@@ -5,6 +5,7 @@
 
 #include "softbond/solver.h"
 #include "mesh/model_internal.h"
+#include "kernels/fast_model.h"
 
 struct sb_solver {
     const sb_model* model;
@@ -14,7 +15,10 @@ struct sb_solver {
     bool has_prev;
     double prev_dt;
     double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
-    double runaway_distance; /* a vertex this far from its rest position ran away */
+    double center[3], runaway; /* a vertex further than runaway from center (any axis) ran away */
+    sb_fast_model* fast;       /* NULL with the reference kernels */
+    int threads;
+    double* partials;          /* per-chunk energy sums of the fast passes */
     double time;
     uint64_t steps;
     sb_energies energies;
@@ -27,6 +31,16 @@ sb_status sb_solver_compute_forces(sb_solver* solver);
 
 /* out[3i..3i+2] = (a[i], b[i], c[i]): SoA to interleaved doubles. */
 void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n);
+
+/* The fast kernels' counterparts (kernels/solver_fast.c). */
+sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
+sb_status sb_fast_compute_forces(sb_solver* solver);
+sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
+
+/* Fills the solver's error naming the first vertex that is not finite or ran
+ * away; SB_OK if there is none. */
+sb_status sb_check_state(sb_solver* solver);
+void sb_update_energies(sb_solver* solver);
 
 /* One step of each integrator; both leave forces and velocities at the new
  * positions. */

@@ -9,5 +9,6 @@
 #include "softbond/state.h"
 #include "softbond/reference.h"
 #include "softbond/solver.h"
+#include "softbond/runtime.h"
 
 #endif

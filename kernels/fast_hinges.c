@@ -1,0 +1,68 @@
+/* Fast per-hinge kernel: the dihedral bending term of
+ * kernels/reference_hinges.c (which derives the gradient), in SIMD.
+ * atan2 has no SIMD instruction, so the angle difference is computed as
+ * the atan2 of the rotation from the rest normal pair, lane by lane. */
+#include "kernels/fast_kernels.h"
+#include "kernels/fast_block.h"
+#include "kernels/geometry.h"
+
+#include <float.h>
+
+#if SB_DOUBLE
+#define SB_REAL_MIN DBL_MIN
+#else
+#define SB_REAL_MIN FLT_MIN
+#endif
+
+#define SB_MIN_WING_RATIO 1e-12
+
+/* φ − φ0 per lane, wrapped into (−π, π]. */
+static sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
+    sb_real s[SB_WIDTH], c[SB_WIDTH], p[SB_WIDTH], out[SB_WIDTH];
+    memcpy(s, &sine, sizeof s);
+    memcpy(c, &cosine, sizeof c);
+    memcpy(p, &phi0, sizeof p);
+    for (int l = 0; l < SB_WIDTH; l++) out[l] = (sb_real)sb_angle_difference(atan2(s[l], c[l]), p[l]);
+    sb_wide result;
+    memcpy(&result, out, sizeof result);
+    return result;
+}
+
+bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
+                    double energy[1]) {
+    uint32_t step = sb_block_step(serial);
+    const sb_wide limit_ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
+    bool collapsed = false;
+    for (uint32_t s = begin; s < end; s += step) {
+        int count = sb_block_count(s, end, step);
+        sb_windex v[4];
+        sb_wvec3 p[4]; /* e0, e1, o0, o1 */
+        for (int a = 0; a < 4; a++) {
+            v[a] = sb_w_index(m->hinge_v[a] + s);
+            p[a] = sb_wv_gather(fr->x, fr->y, fr->z, v[a]);
+        }
+        sb_wvec3 edge = sb_wv_sub(p[1], p[0]);
+        sb_wvec3 n0 = sb_wv_cross(sb_wv_sub(p[2], p[0]), sb_wv_sub(p[2], p[1]));
+        sb_wvec3 n1 = sb_wv_cross(sb_wv_sub(p[3], p[1]), sb_wv_sub(p[3], p[0]));
+        sb_wide edge_sq = sb_wv_dot(edge, edge), n0_sq = sb_wv_dot(n0, n0), n1_sq = sb_wv_dot(n1, n1);
+        /* the smallest normal number keeps a zero-length edge (limit 0) caught */
+        sb_wide limit = sb_w_add(sb_w_mul(limit_ratio, sb_w_mul(edge_sq, edge_sq)), sb_w_set(SB_REAL_MIN));
+        collapsed |= sb_w_any(sb_w_less(n0_sq, limit), count) || sb_w_any(sb_w_less(n1_sq, limit), count);
+        sb_wide length = sb_w_sqrt(edge_sq), inv_length = sb_w_div(sb_w_set(1), length);
+        sb_wide sine = sb_w_mul(sb_wv_dot(sb_wv_cross(n0, n1), edge), inv_length);
+        sb_wide delta = sb_w_angle_delta(sine, sb_wv_dot(n0, n1), sb_w_load(m->hinge_phi0 + s));
+        sb_wide k = sb_w_constant(m->hinge_k, s), kd = sb_w_mul(k, delta);
+        sb_wvec3 w0 = sb_wv_scale(n0, sb_w_div(kd, n0_sq)), w1 = sb_wv_scale(n1, sb_w_div(kd, n1_sq));
+        sb_wvec3 unit = sb_wv_scale(edge, inv_length);
+        sb_wvec3 f_o0 = sb_wv_scale(w0, length), f_o1 = sb_wv_scale(w1, length);
+        sb_wvec3 f_e0 = sb_wv_add(sb_wv_scale(w0, sb_wv_dot(sb_wv_sub(p[2], p[1]), unit)),
+                                  sb_wv_scale(w1, sb_wv_dot(sb_wv_sub(p[3], p[1]), unit)));
+        sb_wvec3 f_e1 = sb_wv_neg(sb_wv_add(f_o0, sb_wv_add(f_o1, f_e0)));
+        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[0], f_e0, count);
+        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[1], f_e1, count);
+        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[2], f_o0, count);
+        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[3], f_o1, count);
+        energy[0] += sb_w_sum(sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta), count);
+    }
+    return collapsed;
+}

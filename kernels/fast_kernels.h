@@ -1,0 +1,28 @@
+/* Private: the fast force kernels. Each processes the elements [begin, end)
+ * of one color of its group in blocks of SB_WIDTH lanes (one lane at a time
+ * when serial, for the overflow color), adds forces to frame->f and its
+ * energies to energy[], and returns true when an edge collapsed. Forces are
+ * the same formulas as the scalar reference (kernels/reference_*.c), in
+ * sb_real. */
+#ifndef SB_FAST_KERNELS_H
+#define SB_FAST_KERNELS_H
+
+#include "kernels/fast_model.h"
+
+typedef struct sb_fast_frame {
+    const sb_real *x, *y, *z;
+    const sb_real *vx, *vy, *vz; /* for damping */
+    sb_real *fx, *fy, *fz;
+} sb_fast_frame;
+
+/* energy[0] bond stretch, energy[1] spring */
+bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                   double energy[2]);
+/* energy[0] angle bend, energy[1] stretch-bend */
+bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                     double energy[2]);
+/* energy[0] bend */
+bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                    double energy[1]);
+
+#endif

@@ -1,0 +1,157 @@
+/* Building the fast kernels' model: color each element kind, lay the
+ * elements out color by color (in model order within a color, which keeps
+ * the locality of the vertex order), pad each color to whole SIMD blocks and
+ * convert the constants to sb_real, folding uniform ones to one value. */
+#include "kernels/fast_model.h"
+#include "kernels/error.h"
+#include "kernels/wide.h"
+
+#include <stdlib.h>
+
+static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) / step * step; }
+
+/* Lays out `count` elements of the given colors; fills the group's ranges
+ * and source[]. Returns false when out of memory. */
+static bool sb_group_layout(sb_element_group* g, const uint8_t* color, uint32_t count) {
+    uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
+    for (uint32_t e = 0; e < count; e++) sizes[color[e]]++;
+    uint32_t slot = 0, chunks = 0;
+    g->color_count = 0;
+    for (int c = 0; c < SB_MAX_COLORS; c++) {
+        if (!sizes[c]) continue;
+        sb_color_range* r = &g->colors[g->color_count++];
+        *r = (sb_color_range){slot, slot + sizes[c], chunks, c == SB_OVERFLOW_COLOR};
+        cursor[c] = slot;
+        chunks += (sizes[c] + SB_CHUNK - 1) / SB_CHUNK;
+        slot = sb_round_up(r->end, SB_WIDTH);
+    }
+    g->count = count;
+    g->capacity = slot + SB_WIDTH;
+    g->chunk_count = chunks;
+    g->source = malloc(g->capacity * sizeof *g->source);
+    if (!g->source) return false;
+    for (uint32_t e = 0; e < count; e++) g->source[cursor[color[e]]++] = e;
+    /* padding repeats the color's first element: finite, never written */
+    for (uint32_t r = 0; r < g->color_count; r++) {
+        sb_color_range* range = &g->colors[r];
+        uint32_t stop = r + 1 < g->color_count ? g->colors[r + 1].begin : g->capacity;
+        for (uint32_t s = range->end; s < stop; s++) g->source[s] = g->source[range->begin];
+    }
+    return true;
+}
+
+static bool sb_group_build(sb_element_group* g, uint32_t vertex_count, uint32_t count, int arity,
+                           const uint32_t* const* vertices) {
+    *g = (sb_element_group){0};
+    if (count == 0) return true;
+    uint8_t* color = malloc(count);
+    bool ok = color && sb_color_elements(vertex_count, count, arity, vertices, color) > 0 &&
+              sb_group_layout(g, color, count);
+    free(color);
+    return ok;
+}
+
+static uint32_t* sb_gather_index(const uint32_t* in, const sb_element_group* g, bool* ok) {
+    uint32_t* out = malloc((g->capacity ? g->capacity : 1) * sizeof *out);
+    if (!out) *ok = false;
+    for (uint32_t s = 0; out && s < g->capacity; s++) out[s] = in[g->source[s]];
+    return out;
+}
+
+static sb_real* sb_gather_real(const double* in, const sb_element_group* g, bool* ok) {
+    sb_real* out = malloc((g->capacity ? g->capacity : 1) * sizeof *out);
+    if (!out) *ok = false;
+    for (uint32_t s = 0; out && s < g->capacity; s++) out[s] = (sb_real)in[g->source[s]];
+    return out;
+}
+
+static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, const sb_element_group* g, bool* ok) {
+    bool uniform = true;
+    for (uint32_t e = 1; e < count && uniform; e++) uniform = in[e] == in[0];
+    if (uniform) return (sb_fast_constant){NULL, count ? (sb_real)in[0] : 0};
+    return (sb_fast_constant){sb_gather_real(in, g, ok), 0};
+}
+
+static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
+
+static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m) {
+    const uint32_t* ends[2] = {m->bond_i, m->bond_j};
+    if (!sb_group_build(&f->bonds, m->vertex_count, m->bond_count, 2, ends)) return false;
+    bool ok = true;
+    f->bond_i = sb_gather_index(m->bond_i, &f->bonds, &ok);
+    f->bond_j = sb_gather_index(m->bond_j, &f->bonds, &ok);
+    f->bond_r0 = sb_gather_real(m->bond_r0, &f->bonds, &ok);
+    f->bond_k = sb_gather_constant(m->bond_k, m->bond_count, &f->bonds, &ok);
+    f->spring_k = sb_gather_constant(m->spring_k, m->bond_count, &f->bonds, &ok);
+    f->spring_damping = sb_gather_constant(m->spring_damping, m->bond_count, &f->bonds, &ok);
+    f->has_bond = m->term_enabled[SB_TERM_BOND];
+    f->has_spring = m->term_enabled[SB_TERM_SPRING];
+    f->has_damping = sb_constant_on(f->spring_damping);
+    return ok;
+}
+
+static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
+    const uint32_t* corners[3] = {m->tri_v[0], m->tri_v[1], m->tri_v[2]};
+    if (!sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, 3, corners)) return false;
+    bool ok = true;
+    for (int c = 0; c < 3; c++) {
+        f->tri_v[c] = sb_gather_index(m->tri_v[c], &f->triangles, &ok);
+        f->tri_cos0[c] = sb_gather_real(m->tri_cos0[c], &f->triangles, &ok);
+        f->tri_len0[c] = sb_gather_real(m->tri_len0[c], &f->triangles, &ok);
+    }
+    f->angle_k = sb_gather_constant(m->angle_k, m->triangle_count, &f->triangles, &ok);
+    f->stretch_bend_k = sb_gather_constant(m->stretch_bend_k, m->triangle_count, &f->triangles, &ok);
+    f->has_corners = m->term_enabled[SB_TERM_ANGLE] || m->term_enabled[SB_TERM_STRETCH_BEND];
+    return ok;
+}
+
+static bool sb_fast_hinges(sb_fast_model* f, const sb_model* m) {
+    const uint32_t* ids[4] = {m->hinge_e0, m->hinge_e1, m->hinge_o0, m->hinge_o1};
+    if (!sb_group_build(&f->hinges, m->vertex_count, m->hinge_count, 4, ids)) return false;
+    bool ok = true;
+    for (int a = 0; a < 4; a++) f->hinge_v[a] = sb_gather_index(ids[a], &f->hinges, &ok);
+    f->hinge_phi0 = sb_gather_real(m->hinge_phi0, &f->hinges, &ok);
+    f->hinge_k = sb_gather_constant(m->hinge_k, m->hinge_count, &f->hinges, &ok);
+    f->has_hinges = m->term_enabled[SB_TERM_BEND];
+    return ok;
+}
+
+static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
+    f->vertex_count = m->vertex_count;
+    size_t n = sb_round_up(m->vertex_count, SB_WIDTH);
+    f->mass = calloc(n, sizeof *f->mass);
+    f->inv_mass = calloc(n, sizeof *f->inv_mass);
+    if (!f->mass || !f->inv_mass) return false;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        f->mass[i] = (sb_real)m->mass[i];
+        f->inv_mass[i] = (sb_real)m->inv_mass[i];
+    }
+    return true;
+}
+
+sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
+    sb_fast_model* f = calloc(1, sizeof *f);
+    bool ok = f && sb_fast_vertices(f, m) && sb_fast_bonds(f, m) && sb_fast_triangles(f, m) && sb_fast_hinges(f, m);
+    if (!ok) {
+        sb_fast_model_destroy(f);
+        sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing the fast kernels for %u vertices", m->vertex_count);
+        return NULL;
+    }
+    return f;
+}
+
+void sb_fast_model_destroy(sb_fast_model* f) {
+    if (!f) return;
+    void* arrays[] = {f->mass,           f->inv_mass,        f->bonds.source,          f->bond_i,
+                      f->bond_j,         f->bond_r0,         f->bond_k.values,         f->spring_k.values,
+                      f->spring_damping.values, f->triangles.source, f->angle_k.values, f->stretch_bend_k.values,
+                      f->hinges.source,  f->hinge_phi0,      f->hinge_k.values};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    for (int c = 0; c < 3; c++) {
+        free(f->tri_v[c]);
+        free(f->tri_cos0[c]);
+        free(f->tri_len0[c]);
+    }
+    for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
+    free(f);
+}

@@ -1,0 +1,186 @@
+/* Private: the "wide" real — one SIMD register of sb_real lanes — behind a
+ * few inline functions, so that every fast kernel is written once and runs
+ * as AVX-512, AVX2 or plain scalar code (SB_WIDTH lanes of 16/8/1 in float,
+ * 8/4/1 in double), chosen by the compiler flags of the SB_SIMD build
+ * option. The scalar variant is the same kernel code with one lane, not a
+ * separate implementation.
+ *
+ * Elements are processed in blocks of SB_WIDTH. The element arrays are
+ * padded to a multiple of SB_WIDTH with copies of a real element, so loads
+ * and gathers of a block are always in bounds and finite; `count` (the
+ * number of real lanes in the block) masks what is written and summed. */
+#ifndef SB_WIDE_H
+#define SB_WIDE_H
+
+#include "softbond/types.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#if defined(__AVX512F__) || defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+#if defined(__AVX512F__) && !SB_DOUBLE
+/* ---- AVX-512, float: 16 lanes ------------------------------------------ */
+#define SB_WIDTH 16
+#define SB_SIMD_NAME "avx512"
+typedef __m512 sb_wide;
+typedef __m512i sb_windex;
+typedef __mmask16 sb_wmask;
+static inline sb_wide sb_w_set(sb_real s) { return _mm512_set1_ps(s); }
+static inline sb_wide sb_w_load(const sb_real* p) { return _mm512_loadu_ps(p); }
+static inline sb_windex sb_w_index(const uint32_t* p) { return _mm512_loadu_si512((const void*)p); }
+static inline sb_wide sb_w_gather(const sb_real* base, sb_windex i) { return _mm512_i32gather_ps(i, base, 4); }
+static inline sb_wmask sb_w_lanes(int count) { return (sb_wmask)((1u << count) - 1u); }
+static inline void sb_w_scatter_add(sb_real* base, sb_windex i, sb_wide v, int count) {
+    sb_wmask m = sb_w_lanes(count);
+    __m512 old = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m, i, base, 4);
+    _mm512_mask_i32scatter_ps(base, m, i, _mm512_add_ps(old, v), 4);
+}
+static inline sb_wide sb_w_add(sb_wide a, sb_wide b) { return _mm512_add_ps(a, b); }
+static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm512_sub_ps(a, b); }
+static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm512_mul_ps(a, b); }
+static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm512_div_ps(a, b); }
+static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm512_sqrt_ps(a); }
+static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_ps_mask(a, b, _CMP_NGE_UQ); }
+static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
+static inline double sb_w_sum(sb_wide v, int count) {
+    return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v);
+}
+
+#elif defined(__AVX512F__) && SB_DOUBLE
+/* ---- AVX-512, double: 8 lanes ------------------------------------------ */
+#define SB_WIDTH 8
+#define SB_SIMD_NAME "avx512"
+typedef __m512d sb_wide;
+typedef __m256i sb_windex;
+typedef __mmask8 sb_wmask;
+static inline sb_wide sb_w_set(sb_real s) { return _mm512_set1_pd(s); }
+static inline sb_wide sb_w_load(const sb_real* p) { return _mm512_loadu_pd(p); }
+static inline sb_windex sb_w_index(const uint32_t* p) { return _mm256_loadu_si256((const void*)p); }
+static inline sb_wide sb_w_gather(const sb_real* base, sb_windex i) { return _mm512_i32gather_pd(i, base, 8); }
+static inline sb_wmask sb_w_lanes(int count) { return (sb_wmask)((1u << count) - 1u); }
+static inline void sb_w_scatter_add(sb_real* base, sb_windex i, sb_wide v, int count) {
+    sb_wmask m = sb_w_lanes(count);
+    __m512d old = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), m, i, base, 8);
+    _mm512_mask_i32scatter_pd(base, m, i, _mm512_add_pd(old, v), 8);
+}
+static inline sb_wide sb_w_add(sb_wide a, sb_wide b) { return _mm512_add_pd(a, b); }
+static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm512_sub_pd(a, b); }
+static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm512_mul_pd(a, b); }
+static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm512_div_pd(a, b); }
+static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm512_sqrt_pd(a); }
+static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_pd_mask(a, b, _CMP_NGE_UQ); }
+static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
+static inline double sb_w_sum(sb_wide v, int count) {
+    return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v);
+}
+
+#elif defined(__AVX2__)
+/* ---- AVX2: 8 float or 4 double lanes; scatter is done lane by lane ----- */
+#if SB_DOUBLE
+#define SB_WIDTH 4
+typedef __m256d sb_wide;
+typedef __m128i sb_windex;
+static inline sb_wide sb_w_set(sb_real s) { return _mm256_set1_pd(s); }
+static inline sb_wide sb_w_load(const sb_real* p) { return _mm256_loadu_pd(p); }
+static inline sb_windex sb_w_index(const uint32_t* p) { return _mm_loadu_si128((const void*)p); }
+static inline sb_wide sb_w_gather(const sb_real* base, sb_windex i) { return _mm256_i32gather_pd(base, i, 8); }
+static inline sb_wide sb_w_add(sb_wide a, sb_wide b) { return _mm256_add_pd(a, b); }
+static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm256_sub_pd(a, b); }
+static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm256_mul_pd(a, b); }
+static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_pd(a, b); }
+static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_pd(a); }
+static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_NGE_UQ)); }
+#else
+#define SB_WIDTH 8
+typedef __m256 sb_wide;
+typedef __m256i sb_windex;
+static inline sb_wide sb_w_set(sb_real s) { return _mm256_set1_ps(s); }
+static inline sb_wide sb_w_load(const sb_real* p) { return _mm256_loadu_ps(p); }
+static inline sb_windex sb_w_index(const uint32_t* p) { return _mm256_loadu_si256((const void*)p); }
+static inline sb_wide sb_w_gather(const sb_real* base, sb_windex i) { return _mm256_i32gather_ps(base, i, 4); }
+static inline sb_wide sb_w_add(sb_wide a, sb_wide b) { return _mm256_add_ps(a, b); }
+static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm256_sub_ps(a, b); }
+static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm256_mul_ps(a, b); }
+static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_ps(a, b); }
+static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_ps(a); }
+static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGE_UQ)); }
+#endif
+#define SB_SIMD_NAME "avx2"
+typedef int sb_wmask;
+static inline bool sb_w_any(sb_wmask m, int count) { return (m & ((1 << count) - 1)) != 0; }
+static inline void sb_w_scatter_add(sb_real* base, sb_windex i, sb_wide v, int count) {
+    sb_real lanes[SB_WIDTH];
+    int32_t index[SB_WIDTH];
+    memcpy(lanes, &v, sizeof lanes);
+    memcpy(index, &i, sizeof index);
+    for (int l = 0; l < count; l++) base[index[l]] += lanes[l];
+}
+static inline double sb_w_sum(sb_wide v, int count) {
+    sb_real lanes[SB_WIDTH];
+    memcpy(lanes, &v, sizeof lanes);
+    double sum = 0.0;
+    for (int l = 0; l < count; l++) sum += lanes[l];
+    return sum;
+}
+
+#else
+/* ---- scalar: one lane, the same kernels ------------------------------- */
+#define SB_WIDTH 1
+#define SB_SIMD_NAME "scalar"
+typedef sb_real sb_wide;
+typedef uint32_t sb_windex;
+typedef int sb_wmask;
+static inline sb_wide sb_w_set(sb_real s) { return s; }
+static inline sb_wide sb_w_load(const sb_real* p) { return *p; }
+static inline sb_windex sb_w_index(const uint32_t* p) { return *p; }
+static inline sb_wide sb_w_gather(const sb_real* base, sb_windex i) { return base[i]; }
+static inline void sb_w_scatter_add(sb_real* base, sb_windex i, sb_wide v, int count) {
+    if (count) base[i] += v;
+}
+static inline sb_wide sb_w_add(sb_wide a, sb_wide b) { return a + b; }
+static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return a - b; }
+static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return a * b; }
+static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return a / b; }
+static inline sb_wide sb_w_sqrt(sb_wide a) { return (sb_wide)sqrt(a); }
+static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return !(a >= b); }
+static inline bool sb_w_any(sb_wmask m, int count) { return m && count; }
+static inline double sb_w_sum(sb_wide v, int count) { return count ? v : 0.0; }
+#endif
+
+/* A 3-vector of wide reals: one lane per element. */
+typedef struct sb_wvec3 {
+    sb_wide x, y, z;
+} sb_wvec3;
+
+static inline sb_wvec3 sb_wv_gather(const sb_real* x, const sb_real* y, const sb_real* z, sb_windex i) {
+    return (sb_wvec3){sb_w_gather(x, i), sb_w_gather(y, i), sb_w_gather(z, i)};
+}
+static inline void sb_wv_scatter_add(sb_real* x, sb_real* y, sb_real* z, sb_windex i, sb_wvec3 v, int count) {
+    sb_w_scatter_add(x, i, v.x, count);
+    sb_w_scatter_add(y, i, v.y, count);
+    sb_w_scatter_add(z, i, v.z, count);
+}
+static inline sb_wvec3 sb_wv_sub(sb_wvec3 a, sb_wvec3 b) {
+    return (sb_wvec3){sb_w_sub(a.x, b.x), sb_w_sub(a.y, b.y), sb_w_sub(a.z, b.z)};
+}
+static inline sb_wvec3 sb_wv_add(sb_wvec3 a, sb_wvec3 b) {
+    return (sb_wvec3){sb_w_add(a.x, b.x), sb_w_add(a.y, b.y), sb_w_add(a.z, b.z)};
+}
+static inline sb_wvec3 sb_wv_scale(sb_wvec3 a, sb_wide s) {
+    return (sb_wvec3){sb_w_mul(a.x, s), sb_w_mul(a.y, s), sb_w_mul(a.z, s)};
+}
+static inline sb_wide sb_wv_dot(sb_wvec3 a, sb_wvec3 b) {
+    return sb_w_add(sb_w_add(sb_w_mul(a.x, b.x), sb_w_mul(a.y, b.y)), sb_w_mul(a.z, b.z));
+}
+static inline sb_wvec3 sb_wv_cross(sb_wvec3 a, sb_wvec3 b) {
+    return (sb_wvec3){sb_w_sub(sb_w_mul(a.y, b.z), sb_w_mul(a.z, b.y)),
+                      sb_w_sub(sb_w_mul(a.z, b.x), sb_w_mul(a.x, b.z)),
+                      sb_w_sub(sb_w_mul(a.x, b.y), sb_w_mul(a.y, b.x))};
+}
+static inline sb_wvec3 sb_wv_neg(sb_wvec3 a) { return sb_wv_scale(a, sb_w_set(-1)); }
+
+#endif

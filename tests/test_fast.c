@@ -1,0 +1,241 @@
+/* The fast kernels against the double scalar reference, the coloring they
+ * rely on, and determinism for any thread count. */
+#include "test_util.h"
+
+#include "kernels/fast_model.h"
+
+/* Float carries ~7 digits; after a few dozen operations per element the
+ * error stays below 1e-5 of the largest force. Double: 1e-12. */
+#define FAST_TOLERANCE (sizeof(sb_real) == sizeof(float) ? 1e-5 : 1e-12)
+
+typedef enum { SHAPE_SHEET, SHAPE_JITTERED, SHAPE_SLIVERS, SHAPE_FLATTENED, SHAPE_SPHERE } shape;
+
+static void make_mesh(shape kind, sb_mesh* mesh) {
+    sb_error err;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = 24;
+    sheet.ny = 20;
+    if (kind == SHAPE_JITTERED) sheet.jitter = 0.15;
+    if (kind == SHAPE_SLIVERS) {
+        sheet.nx = 40;
+        sheet.ny = 3;
+        sheet.height = 0.002; /* triangles 13 times longer than high */
+    }
+    sb_status status = kind == SHAPE_SPHERE ? sb_mesh_generate_icosphere(2, 0.5, mesh, &err)
+                                            : sb_mesh_generate_sheet(&sheet, mesh, &err);
+    assert_int_equal(status, SB_OK);
+}
+
+static sb_model* make_model(const sb_mesh* mesh) {
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 50.0;
+    material.angle_k = 0.3;
+    material.stretch_bend_k = 2.0;
+    material.spring_k = 20.0;
+    material.spring_damping = 0.05;
+    material.bend_k = 0.01;
+    sb_builder* builder = sb_builder_create();
+    sb_error err;
+    assert_int_equal(sb_builder_add_mesh(builder, mesh, &material, &err), SB_OK);
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(model);
+    return model;
+}
+
+/* Perturbed positions and random velocities, rounded to sb_real so both
+ * implementations see the same input. Flattened squashes y to 1e-3 of the
+ * rest, making nearly straight and nearly closed corner angles. */
+static void perturb(const sb_mesh* mesh, shape kind, uint64_t seed, double* x, double* v) {
+    tu_rng rng = {seed};
+    double size = kind == SHAPE_SLIVERS ? 0.0005 : 0.01;
+    for (uint32_t i = 0; i < 3 * mesh->vertex_count; i++) {
+        double p = mesh->positions[i] + tu_uniform(&rng, -size, size);
+        if (kind == SHAPE_FLATTENED && i % 3 == 1) p = mesh->positions[i] * 1e-3;
+        x[i] = (sb_real)p;
+        v[i] = (sb_real)tu_uniform(&rng, -0.5, 0.5);
+    }
+}
+
+static sb_solver* make_fast_solver(const sb_model* model, int threads) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.threads = threads;
+    def.gravity[2] = 0.0;
+    sb_error err;
+    sb_solver* solver = sb_solver_create(model, &def, &err);
+    if (!solver) fail_msg("%s", err.message);
+    return solver;
+}
+
+static void compare_with_reference(shape kind) {
+    sb_mesh mesh = {0};
+    make_mesh(kind, &mesh);
+    sb_model* model = make_model(&mesh);
+    uint32_t n = mesh.vertex_count;
+    double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
+    sb_solver* solver = make_fast_solver(model, 2);
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        perturb(&mesh, kind, seed, x, v);
+        sb_energies reference;
+        sb_error err;
+        assert_int_equal(sb_reference_forces(model, x, v, f, &reference, &err), SB_OK);
+        assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
+        const sb_state* st = sb_solver_state(solver);
+        double largest = tu_max_abs(f, 3 * n), worst = 0.0;
+        for (uint32_t i = 0; i < n; i++) {
+            double fast[3] = {st->fx[i], st->fy[i], st->fz[i]};
+            for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(fast[c] - f[3 * i + c]));
+        }
+        print_message("shape %d seed %llu: largest force error %.3g of the largest force\n", (int)kind,
+                      (unsigned long long)seed, worst / largest);
+        TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
+        sb_energies fast = sb_solver_energies(solver);
+        double scale = 0.0;
+        for (int t = 0; t < SB_TERM_COUNT; t++) scale = fmax(scale, fabs(reference.term[t]));
+        for (int t = 0; t < SB_TERM_COUNT; t++) TU_ASSERT_NEAR(fast.term[t], reference.term[t], FAST_TOLERANCE * scale);
+    }
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+    free(x);
+    free(v);
+    free(f);
+}
+
+static void test_regular_sheet(void** state) { (void)state; compare_with_reference(SHAPE_SHEET); }
+static void test_jittered_sheet(void** state) { (void)state; compare_with_reference(SHAPE_JITTERED); }
+static void test_sliver_triangles(void** state) { (void)state; compare_with_reference(SHAPE_SLIVERS); }
+static void test_nearly_straight_angles(void** state) { (void)state; compare_with_reference(SHAPE_FLATTENED); }
+static void test_icosphere(void** state) { (void)state; compare_with_reference(SHAPE_SPHERE); }
+
+/* Within a color no two elements share a vertex, and every element of the
+ * model appears exactly once among the real slots. */
+static void check_group(const sb_element_group* g, uint32_t element_count, uint32_t vertex_count, int arity,
+                        uint32_t* const* ids) {
+    assert_int_equal(g->count, element_count);
+    uint8_t* seen = calloc(element_count + 1, 1);
+    uint32_t* owner = malloc((vertex_count + 1) * sizeof *owner);
+    for (uint32_t r = 0; r < g->color_count; r++) {
+        const sb_color_range* range = &g->colors[r];
+        for (uint32_t v = 0; v < vertex_count; v++) owner[v] = UINT32_MAX;
+        for (uint32_t s = range->begin; s < range->end; s++) {
+            assert_int_equal(seen[g->source[s]], 0);
+            seen[g->source[s]] = 1;
+            for (int a = 0; a < arity && !range->serial; a++) {
+                if (owner[ids[a][s]] != UINT32_MAX)
+                    fail_msg("color %u: slots %u and %u share vertex %u", r, owner[ids[a][s]], s, ids[a][s]);
+                owner[ids[a][s]] = s;
+            }
+        }
+    }
+    for (uint32_t e = 0; e < element_count; e++) assert_int_equal(seen[e], 1);
+    free(seen);
+    free(owner);
+}
+
+static void test_coloring(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_SPHERE, &mesh);
+    sb_model* model = make_model(&mesh);
+    sb_error err;
+    sb_fast_model* fast = sb_fast_model_create(model, &err);
+    assert_non_null(fast);
+    check_group(&fast->bonds, sb_model_bond_count(model), mesh.vertex_count, 2,
+                (uint32_t* const[]){fast->bond_i, fast->bond_j});
+    check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 3, fast->tri_v);
+    check_group(&fast->hinges, sb_model_hinge_count(model), mesh.vertex_count, 4, fast->hinge_v);
+    print_message("colors: %u bond, %u triangle, %u hinge\n", fast->bonds.color_count, fast->triangles.color_count,
+                  fast->hinges.color_count);
+    assert_true(fast->triangles.color_count <= 16); /* greedy on a valence-6 mesh needs few */
+    sb_fast_model_destroy(fast);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* FNV-1a over the bytes of positions and velocities. */
+static uint64_t hash_state(const sb_state* st) {
+    uint64_t h = 1469598103934665603ull;
+    const sb_real* arrays[6] = {st->x, st->y, st->z, st->vx, st->vy, st->vz};
+    for (int a = 0; a < 6; a++) {
+        const unsigned char* bytes = (const unsigned char*)arrays[a];
+        for (size_t b = 0; b < st->vertex_count * sizeof(sb_real); b++) h = (h ^ bytes[b]) * 1099511628211ull;
+    }
+    return h;
+}
+
+static uint64_t run_steps(const sb_model* model, int threads, sb_integrator integrator) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.threads = threads;
+    def.integrator = integrator;
+    sb_error err;
+    sb_solver* solver = sb_solver_create(model, &def, &err);
+    assert_non_null(solver);
+    for (int s = 0; s < 1000; s++) assert_int_equal(sb_solver_advance(solver, 2e-4), SB_OK);
+    uint64_t h = hash_state(sb_solver_state(solver));
+    sb_solver_destroy(solver);
+    return h;
+}
+
+static void test_determinism(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_JITTERED, &mesh);
+    sb_builder* builder = sb_builder_create();
+    sb_material_def material = sb_default_material_def();
+    material.stretch_bend_k = 1.0;
+    material.spring_k = 10.0;
+    material.spring_damping = 0.02;
+    material.bend_k = 0.001;
+    sb_error err;
+    assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
+    sb_builder_vertex(builder, 0)->fixed = true;
+    sb_builder_vertex(builder, mesh.vertex_count - 1)->fixed = true;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(model);
+    for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++) {
+        uint64_t one = run_steps(model, 1, (sb_integrator)integrator);
+        uint64_t two = run_steps(model, 2, (sb_integrator)integrator);
+        uint64_t again = run_steps(model, 2, (sb_integrator)integrator);
+        uint64_t three = run_steps(model, 3, (sb_integrator)integrator);
+        print_message("%s: hash %016llx (1 thread) %016llx (2) %016llx (2 again) %016llx (3)\n",
+                      sb_integrator_name((sb_integrator)integrator), (unsigned long long)one,
+                      (unsigned long long)two, (unsigned long long)again, (unsigned long long)three);
+        assert_true(one == two);
+        assert_true(two == again);
+        assert_true(one == three);
+    }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* The fast kernels notice a collapsed edge and the solver names it. */
+static void test_collapse_reported(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_SHEET, &mesh);
+    sb_model* model = make_model(&mesh);
+    sb_solver* solver = make_fast_solver(model, 2);
+    double* x = malloc(3 * mesh.vertex_count * sizeof *x);
+    memcpy(x, mesh.positions, 3 * mesh.vertex_count * sizeof *x);
+    memcpy(x + 3 * 30, x + 3 * 31, 3 * sizeof *x); /* vertex 30 onto its neighbour 31 */
+    assert_int_equal(sb_solver_set_state(solver, x, NULL), SB_ERR_DEGENERATE);
+    TU_ASSERT_CONTAINS(sb_solver_error(solver), "collapsed");
+    free(x);
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_regular_sheet),     cmocka_unit_test(test_jittered_sheet),
+        cmocka_unit_test(test_sliver_triangles),  cmocka_unit_test(test_nearly_straight_angles),
+        cmocka_unit_test(test_icosphere),         cmocka_unit_test(test_coloring),
+        cmocka_unit_test(test_determinism),       cmocka_unit_test(test_collapse_reported),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
