@@ -115,7 +115,10 @@ static int evaluate(eval_job* job, sb_error* err) {
         if (evaluate_fast(job, err) != SB_OK) return SB_EXIT_FAILURE;
     } else if (sb_reference_forces(job->model, job->positions, NULL, job->forces,
                                    &job->energies, err) != SB_OK) {
-        return SB_EXIT_INPUT; /* a collapsed edge at the given positions */
+        /* a collapsed edge at the given positions */
+        sb_error_prefix(err, SB_ERR_DEGENERATE,
+                        job->args.positions ? job->args.positions : job->args.input);
+        return SB_EXIT_INPUT;
     }
     if (job->args.forces && write_forces(job, err) != SB_OK) return SB_EXIT_FAILURE;
     print_json(job);

@@ -143,8 +143,8 @@ static int write_index(run_job* job, sb_error* err) {
 static void report(const run_job* job, double seconds) {
     const char* dir = job->out.dir;
     if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
-        printf("softbond: %u frames and log.csv in %s (open %s/frames.pvd in ParaView), "
-               "%.1f s\n", job->log.count, dir, dir, seconds);
+        printf("softbond: %u frame%s and log.csv in %s (open %s/frames.pvd in ParaView), "
+               "%.1f s\n", job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
     else
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
 }

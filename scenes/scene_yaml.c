@@ -86,10 +86,18 @@ static bool parse_bool(const yaml_node_t* node, bool* out) {
     return false;
 }
 
+static yaml_node_t* item_node(const yaml_source* src, const yaml_node_t* seq, size_t i) {
+    return yaml_document_get_node(src->doc, seq->data.sequence.items.start[i]);
+}
+
+static size_t item_count(const yaml_node_t* seq) {
+    return (size_t)(seq->data.sequence.items.top - seq->data.sequence.items.start);
+}
+
 /* What a node is, for "expects a number, got ..." messages. */
 static void describe_node(const yaml_node_t* node, char* out, size_t size) {
     if (node->type == YAML_SEQUENCE_NODE)
-        snprintf(out, size, "a sequence");
+        snprintf(out, size, "a sequence of %zu", item_count(node));
     else if (node->type == YAML_MAPPING_NODE)
         snprintf(out, size, "a map");
     else
@@ -105,14 +113,6 @@ static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_s
 }
 
 /* ---- values of each type -------------------------------------------------- */
-
-static yaml_node_t* item_node(const yaml_source* src, const yaml_node_t* seq, size_t i) {
-    return yaml_document_get_node(src->doc, seq->data.sequence.items.start[i]);
-}
-
-static size_t item_count(const yaml_node_t* seq) {
-    return (size_t)(seq->data.sequence.items.top - seq->data.sequence.items.start);
-}
 
 static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
                            sb_scene_value* out) {
@@ -262,9 +262,10 @@ static sb_status walk_file(yaml_source* src, yaml_parser_t* parser) {
     return status;
 }
 
+/* The directory part of path; NULL (the current directory) without one. */
 static char* directory_of(const char* path) {
     const char* slash = strrchr(path, '/');
-    if (!slash) return strdup(".");
+    if (!slash) return NULL;
     if (slash == path) return strdup("/");
     return strndup(path, (size_t)(slash - path));
 }
@@ -284,10 +285,8 @@ static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_err
     yaml_document_t doc;
     yaml_parser_initialize(&parser);
     yaml_parser_set_input_file(&parser, file);
-    sb_status status = SB_OK;
-    if (!dir)
-        status = source_fail(&src, &(yaml_node_t){0}, "out of memory");
-    else if (!yaml_parser_load(&parser, &doc))
+    sb_status status;
+    if (!yaml_parser_load(&parser, &doc))
         status = yaml_fail(&src, &parser);
     else {
         src.doc = &doc;

@@ -1,0 +1,384 @@
+/* The scene loader: defaults, flattening of nested maps into dotted keys,
+ * --set overrides, relative mesh paths, validation, pins, and the exact
+ * one-line message of every error kind (file and line, or --set). Scene
+ * files are written by the tests into a fresh temporary directory. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <stdio.h>
+#include <unistd.h>
+
+#include "tests/test_util.h"
+#include "scenes/scene.h"
+#include "scenes/scene_model.h"
+
+static char tmp_dir[256];
+static char tmp_files[64][320];
+static int tmp_count;
+
+static int setup_dir(void** state) {
+    (void)state;
+    const char* base = getenv("TMPDIR");
+    snprintf(tmp_dir, sizeof tmp_dir, "%s/sb_test_scene_XXXXXX", base && *base ? base : "/tmp");
+    return mkdtemp(tmp_dir) ? 0 : -1;
+}
+
+static int teardown_dir(void** state) {
+    (void)state;
+    for (int i = 0; i < tmp_count; i++) remove(tmp_files[i]);
+    return rmdir(tmp_dir);
+}
+
+/* Writes text to tmp_dir/name; returns the path (valid until teardown). */
+static const char* write_file(const char* name, const char* text) {
+    assert_true(tmp_count < 64);
+    char* path = tmp_files[tmp_count++];
+    snprintf(path, sizeof tmp_files[0], "%s/%s", tmp_dir, name);
+    FILE* f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    return path;
+}
+
+/* Loads text as a scene file over the defaults; returns the status. */
+static sb_status load_text(sb_scene* scene, const char* name, const char* text, sb_error* err) {
+    assert_int_equal(sb_scene_init(scene, err), SB_OK);
+    return sb_scene_load(scene, write_file(name, text), err);
+}
+
+/* The expected message for a file error: "<tmp_dir>/<name>:<rest>". */
+static void assert_file_error(const sb_error* err, const char* name, const char* rest) {
+    char expected[600];
+    snprintf(expected, sizeof expected, "%s/%s:%s", tmp_dir, name, rest);
+    assert_string_equal(err->message, expected);
+}
+
+/* A scene file that fails to load, with its exact message. */
+static void assert_load_fails(const char* name, const char* text, const char* rest) {
+    sb_scene scene;
+    sb_error err;
+    sb_status status = load_text(&scene, name, text, &err);
+    if (status == SB_OK) status = sb_scene_validate(&scene, &err);
+    assert_int_not_equal(status, SB_OK);
+    assert_file_error(&err, name, rest);
+    sb_scene_free(&scene);
+}
+
+/* ---- defaults, flattening, --set ------------------------------------------ */
+
+static void test_defaults_are_valid_and_from_nowhere(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_string_equal(sb_scene_string(&scene, SB_KEY_MESH_GENERATOR), "sheet");
+    assert_string_equal(sb_scene_string(&scene, SB_KEY_MESH_FILE), "");
+    assert_int_equal(sb_scene_integer(&scene, SB_KEY_MESH_NX), 10);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_DT), 1e-4, 0.0);
+    TU_ASSERT_NEAR(sb_scene_vec3(&scene, SB_KEY_GRAVITY)[2], -9.81, 0.0);
+    assert_true(sb_scene_bool(&scene, SB_KEY_OUTPUT_FRAMES));
+    uint32_t count = 99;
+    sb_scene_indices(&scene, SB_KEY_FIXED, &count);
+    assert_int_equal(count, 0);
+    for (int k = 0; k < SB_KEY_COUNT; k++) assert_null(sb_scene_where(&scene, (sb_scene_key)k));
+    sb_scene_free(&scene);
+}
+
+static void test_key_table_names_are_unique(void** state) {
+    (void)state;
+    for (int k = 0; k < SB_KEY_COUNT; k++) {
+        sb_scene_key found;
+        assert_true(sb_scene_key_find(sb_scene_key_get((sb_scene_key)k)->name, &found));
+        assert_int_equal(found, k);
+    }
+    sb_scene_key found;
+    assert_false(sb_scene_key_find("bond", &found));
+}
+
+static void test_nested_maps_flatten_to_dotted_keys(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    const char* text = "mesh:\n"
+                       "  generator: icosphere\n"
+                       "  subdivisions: 1\n"
+                       "bond: {k: 250.5}\n"
+                       "spring.k: 7\n"
+                       "spring:\n"
+                       "  damping: 0.25\n"
+                       "gravity: [1, -2, 3.5]\n"
+                       "fixed: [4, 0, 2]\n"
+                       "output: {frames: false}\n";
+    assert_int_equal(load_text(&scene, "nested.yaml", text, &err), SB_OK);
+    assert_string_equal(sb_scene_string(&scene, SB_KEY_MESH_GENERATOR), "icosphere");
+    assert_int_equal(sb_scene_integer(&scene, SB_KEY_MESH_SUBDIVISIONS), 1);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_BOND_K), 250.5, 0.0);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_SPRING_K), 7.0, 0.0);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_SPRING_DAMPING), 0.25, 0.0);
+    const double* g = sb_scene_vec3(&scene, SB_KEY_GRAVITY);
+    assert_true(g[0] == 1.0 && g[1] == -2.0 && g[2] == 3.5);
+    uint32_t count;
+    const uint32_t* fixed = sb_scene_indices(&scene, SB_KEY_FIXED, &count);
+    assert_int_equal(count, 3);
+    assert_true(fixed[0] == 4 && fixed[1] == 0 && fixed[2] == 2);
+    assert_false(sb_scene_bool(&scene, SB_KEY_OUTPUT_FRAMES));
+    /* untouched keys keep their defaults */
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_MESH_RADIUS), 1.0, 0.0);
+    assert_string_equal(scene.name, "nested");
+    char where[400];
+    snprintf(where, sizeof where, "%s/nested.yaml:4", tmp_dir);
+    assert_string_equal(sb_scene_where(&scene, SB_KEY_BOND_K), where);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_scene_free(&scene);
+}
+
+static void test_set_overrides_file_and_earlier_sets(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(load_text(&scene, "set.yaml", "bond:\n  k: 5\ndt: 0.001\n", &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "bond.k=12", &err), SB_OK);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_BOND_K), 12.0, 0.0);
+    assert_string_equal(sb_scene_where(&scene, SB_KEY_BOND_K), "--set bond.k=12");
+    assert_int_equal(sb_scene_set(&scene, "bond={k: 13, }", &err), SB_OK);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_BOND_K), 13.0, 0.0);
+    assert_int_equal(sb_scene_set(&scene, "gravity=[0,0,-1]", &err), SB_OK);
+    TU_ASSERT_NEAR(sb_scene_vec3(&scene, SB_KEY_GRAVITY)[2], -1.0, 0.0);
+    assert_int_equal(sb_scene_set(&scene, "pin=left_edge", &err), SB_OK);
+    assert_string_equal(sb_scene_string(&scene, SB_KEY_PIN), "left_edge");
+    assert_int_equal(sb_scene_set(&scene, "fixed=[1,2]", &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "fixed=[3]", &err), SB_OK);
+    uint32_t count;
+    assert_int_equal(sb_scene_indices(&scene, SB_KEY_FIXED, &count)[0], 3);
+    assert_int_equal(count, 1);
+    TU_ASSERT_NEAR(sb_scene_number(&scene, SB_KEY_DT), 0.001, 0.0);
+    sb_scene_free(&scene);
+}
+
+static void test_mesh_file_is_relative_to_the_scene(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    write_file("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const char* text = "mesh: {generator: file, file: tri.obj}\n";
+    assert_int_equal(load_text(&scene, "rel.yaml", text, &err), SB_OK);
+    char* path = sb_scene_path(&scene, SB_KEY_MESH_FILE);
+    char expected[400];
+    snprintf(expected, sizeof expected, "%s/tri.obj", tmp_dir);
+    assert_string_equal(path, expected);
+    free(path);
+    sb_mesh mesh = {0};
+    assert_int_equal(sb_scene_make_mesh(&scene, &mesh, &err), SB_OK);
+    assert_int_equal(mesh.vertex_count, 3);
+    sb_mesh_free(&mesh);
+    /* a --set path is relative to the current directory */
+    assert_int_equal(sb_scene_set(&scene, "mesh.file=sub/x.obj", &err), SB_OK);
+    path = sb_scene_path(&scene, SB_KEY_MESH_FILE);
+    assert_string_equal(path, "sub/x.obj");
+    free(path);
+    sb_scene_free(&scene);
+}
+
+/* ---- errors: one line naming file and line ------------------------------------ */
+
+static void test_unknown_keys(void** state) {
+    (void)state;
+    assert_load_fails("unknown.yaml", "dt: 0.001\nbond:\n  kk: 1\n", "3: unknown key 'bond.kk'");
+    assert_load_fails("unknown2.yaml", "bnd.k: 1\n", "1: unknown key 'bnd.k'");
+    assert_load_fails("unknown3.yaml", "mesh: {}\n", "1: unknown key 'mesh'");
+}
+
+static void test_wrong_types(void** state) {
+    (void)state;
+    assert_load_fails("type1.yaml", "\ndt: fast\n", "2: 'dt' expects a number, got 'fast'");
+    assert_load_fails("type2.yaml", "mesh:\n  nx: 2.5\n", "2: 'mesh.nx' expects an integer, got '2.5'");
+    assert_load_fails("type3.yaml", "output:\n  frames: maybe\n",
+                      "2: 'output.frames' expects true or false, got 'maybe'");
+    assert_load_fails("type4.yaml", "gravity: [0, 0]\n",
+                      "1: 'gravity' expects a sequence of 3 numbers, got a sequence of 2");
+    assert_load_fails("type5.yaml", "gravity:\n  - 0\n  - x\n  - 1\n",
+                      "3: 'gravity' expects a number, got 'x'");
+    assert_load_fails("type6.yaml", "fixed: [1, -2]\n",
+                      "1: 'fixed' expects a vertex index (an integer >= 0), got '-2'");
+    assert_load_fails("type7.yaml", "bond: {k: [1]}\n", "1: 'bond.k' expects a number, got a sequence of 1");
+    assert_load_fails("type8.yaml", "dt: '0.1'\n", "1: 'dt' expects a number, got '0.1'");
+    assert_load_fails("type9.yaml", "pin: {a: 1}\n", "1: 'pin' expects a string, got a map");
+}
+
+static void test_duplicate_keys(void** state) {
+    (void)state;
+    assert_load_fails("dup1.yaml", "dt: 0.1\ndt: 0.2\n", "2: duplicate key 'dt' (first set at line 1)");
+    assert_load_fails("dup2.yaml", "bond: {k: 1}\nangle.k: 1\nbond.k: 2\n",
+                      "3: duplicate key 'bond.k' (first set at line 1)");
+}
+
+static void test_malformed_yaml(void** state) {
+    (void)state;
+    assert_load_fails("bad1.yaml", "dt: 0.1\ngravity: [0, 0\n",
+                      "3: malformed YAML: did not find expected ',' or ']'");
+    assert_load_fails("bad2.yaml", "- dt\n- 0.1\n", "1: a scene must be a map of keys");
+    assert_load_fails("bad3.yaml", "dt: 0.1\n---\ndt: 0.2\n", "3: a scene file holds one YAML document");
+    assert_load_fails("bad4.yaml", "dt: 0.1\n  bond: 3\n",
+                      "2: malformed YAML: mapping values are not allowed in this context");
+}
+
+static void test_missing_file(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_load(&scene, "/nonexistent/scene.yaml", &err), SB_ERR_IO);
+    assert_string_equal(err.message, "/nonexistent/scene.yaml: cannot open: No such file or directory");
+    sb_scene_free(&scene);
+}
+
+static void assert_set_fails(const char* assignment, const char* message) {
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    sb_status status = sb_scene_set(&scene, assignment, &err);
+    if (status == SB_OK) status = sb_scene_validate(&scene, &err);
+    assert_int_not_equal(status, SB_OK);
+    assert_string_equal(err.message, message);
+    sb_scene_free(&scene);
+}
+
+static void test_set_errors_name_the_set(void** state) {
+    (void)state;
+    assert_set_fails("bond.kk=1", "--set bond.kk=1: unknown key 'bond.kk'");
+    assert_set_fails("dt=abc", "--set dt=abc: 'dt' expects a number, got 'abc'");
+    assert_set_fails("gravity=[0,0", "--set gravity=[0,0: malformed value: did not find expected ',' or ']'");
+    assert_set_fails("dt", "--set dt: expected key=value");
+    assert_set_fails("=1", "--set =1: expected key=value");
+    assert_set_fails("dt=", "--set dt=: missing value after '='");
+    assert_set_fails("dt=-1", "--set dt=-1: 'dt' must be > 0, got -1");
+}
+
+/* ---- validation ---------------------------------------------------------------- */
+
+static void test_validation_names_where_the_value_was_set(void** state) {
+    (void)state;
+    assert_load_fails("v1.yaml", "dt: 0\n", "1: 'dt' must be > 0, got 0");
+    assert_load_fails("v2.yaml", "duration: 1\nbond.k: -3\n", "2: 'bond.k' must be >= 0, got -3");
+    assert_load_fails("v3.yaml", "angle: {k: inf}\n", "1: 'angle.k' must be finite, got inf");
+    assert_load_fails("v4.yaml", "dt: 0.01\nframe_interval: 0.001\n",
+                      "2: 'frame_interval' (0.001) must be >= 'dt' (0.01)");
+    assert_load_fails("v5.yaml", "mass: 0\n", "1: 'mass' and 'density' are both 0: free vertices need a mass");
+    assert_load_fails("v6.yaml", "mesh: {generator: cube}\n",
+                      "1: 'mesh.generator' must be sheet, icosphere or file, got 'cube'");
+    assert_load_fails("v7.yaml", "integrator: rk4\n",
+                      "1: 'integrator' must be verlet or velocity_verlet, got 'rk4'");
+    assert_load_fails("v8.yaml", "kernels: gpu\n", "1: 'kernels' must be reference or fast, got 'gpu'");
+    assert_load_fails("v9.yaml", "mesh:\n  generator: file\n",
+                      "2: 'mesh.generator' is file but 'mesh.file' is not set");
+    assert_load_fails("v10.yaml", "mesh: {nx: 1}\n", "1: 'mesh.nx' must be in [2, 65536], got 1");
+    assert_load_fails("v11.yaml", "mesh: {jitter: 0.5}\n", "1: 'mesh.jitter' must be < 0.5");
+    assert_load_fails("v12.yaml", "threads: -1\n", "1: 'threads' must be in [0, 4096], got -1");
+    assert_load_fails("v13.yaml", "gravity: [0, nan, 0]\n", "1: 'gravity' must be finite");
+}
+
+static void test_pin_names(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(load_text(&scene, "pin.yaml", "pin: middle\n", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_ERR_INVALID);
+    assert_non_null(strstr(err.message, ":1: 'pin' must be one of none, top_corners"));
+    assert_non_null(strstr(err.message, "got 'middle'"));
+    sb_scene_free(&scene);
+}
+
+/* ---- the model: pins and fixed vertices ---------------------------------------- */
+
+/* Builds a 3 x 2 sheet (vertex = row * 3 + column, row along y) with the
+ * given settings and returns which vertices are fixed, as a bit mask. */
+static unsigned fixed_mask(const char* const* sets, int count) {
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "mesh={nx: 3, ny: 2, width: 2, height: 1}", &err), SB_OK);
+    for (int i = 0; i < count; i++) assert_int_equal(sb_scene_set(&scene, sets[i], &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_mesh mesh = {0};
+    assert_int_equal(sb_scene_make_mesh(&scene, &mesh, &err), SB_OK);
+    sb_model* model = sb_scene_build_model(&scene, &mesh, "sheet", &err);
+    assert_non_null(model);
+    unsigned mask = 0;
+    for (uint32_t v = 0; v < sb_model_vertex_count(model); v++)
+        if (sb_model_is_fixed(model, v)) mask |= 1u << v;
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+    sb_scene_free(&scene);
+    return mask;
+}
+
+static void test_pins_select_by_place(void** state) {
+    (void)state;
+    /* row 0 (y = 0): 0 1 2; row 1 (y = 1): 3 4 5 */
+    assert_int_equal(fixed_mask((const char*[]){"pin=none"}, 1), 0);
+    assert_int_equal(fixed_mask((const char*[]){"pin=top_corners"}, 1), (1u << 3) | (1u << 5));
+    assert_int_equal(fixed_mask((const char*[]){"pin=bottom_corners"}, 1), (1u << 0) | (1u << 2));
+    assert_int_equal(fixed_mask((const char*[]){"pin=left_edge"}, 1), (1u << 0) | (1u << 3));
+    assert_int_equal(fixed_mask((const char*[]){"pin=right_edge"}, 1), (1u << 2) | (1u << 5));
+    assert_int_equal(fixed_mask((const char*[]){"pin=top_edge"}, 1), 7u << 3);
+    assert_int_equal(fixed_mask((const char*[]){"pin=left_corners"}, 1), (1u << 0) | (1u << 3));
+    assert_int_equal(fixed_mask((const char*[]){"fixed=[1, 4]", "pin=bottom_corners"}, 2),
+                     (1u << 0) | (1u << 1) | (1u << 2) | (1u << 4));
+}
+
+static void test_fixed_index_out_of_range(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(load_text(&scene, "range.yaml", "mesh: {nx: 2, ny: 2}\nfixed: [0, 4]\n", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_mesh mesh = {0};
+    assert_int_equal(sb_scene_make_mesh(&scene, &mesh, &err), SB_OK);
+    assert_null(sb_scene_build_model(&scene, &mesh, "sheet", &err));
+    assert_file_error(&err, "range.yaml", "2: 'fixed': vertex 4 out of range (the mesh has 4 vertices)");
+    sb_mesh_free(&mesh);
+    sb_scene_free(&scene);
+}
+
+static void test_material_and_solver_follow_the_scene(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    const char* text = "bond.k: 3\nangle.k: 0\nstretch_bend.k: 4\nspring: {k: 5, damping: 6}\n"
+                       "bend.k: 7\nmass: 8\ndensity: 9\nintegrator: velocity_verlet\n"
+                       "kernels: fast\nthreads: 2\ngravity: [1, 2, 3]\n";
+    assert_int_equal(load_text(&scene, "mat.yaml", text, &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_material_def m = sb_scene_material(&scene);
+    assert_true(m.bond_k == 3 && m.angle_k == 0 && m.stretch_bend_k == 4 && m.spring_k == 5);
+    assert_true(m.spring_damping == 6 && m.bend_k == 7 && m.mass == 8 && m.density == 9);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    assert_int_equal(def.integrator, SB_INTEGRATOR_VELOCITY_VERLET);
+    assert_int_equal(def.kernels, SB_KERNELS_FAST);
+    assert_int_equal(def.threads, 2);
+    assert_true(def.gravity[0] == 1 && def.gravity[1] == 2 && def.gravity[2] == 3);
+    sb_scene_free(&scene);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults_are_valid_and_from_nowhere),
+        cmocka_unit_test(test_key_table_names_are_unique),
+        cmocka_unit_test(test_nested_maps_flatten_to_dotted_keys),
+        cmocka_unit_test(test_set_overrides_file_and_earlier_sets),
+        cmocka_unit_test(test_mesh_file_is_relative_to_the_scene),
+        cmocka_unit_test(test_unknown_keys),
+        cmocka_unit_test(test_wrong_types),
+        cmocka_unit_test(test_duplicate_keys),
+        cmocka_unit_test(test_malformed_yaml),
+        cmocka_unit_test(test_missing_file),
+        cmocka_unit_test(test_set_errors_name_the_set),
+        cmocka_unit_test(test_validation_names_where_the_value_was_set),
+        cmocka_unit_test(test_pin_names),
+        cmocka_unit_test(test_pins_select_by_place),
+        cmocka_unit_test(test_fixed_index_out_of_range),
+        cmocka_unit_test(test_material_and_solver_follow_the_scene),
+    };
+    return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
+}
