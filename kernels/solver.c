@@ -33,7 +33,7 @@ sb_solver_def sb_default_solver_def(void) {
 
 static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
     sb_real** arrays[] = {&s->state.x, &s->state.y, &s->state.z, &s->state.vx, &s->state.vy, &s->state.vz,
-                          &s->state.fx, &s->state.fy, &s->state.fz, &s->prev_x, &s->prev_y, &s->prev_z};
+                          &s->state.fx, &s->state.fy, &s->state.fz, &s->disp_x, &s->disp_y, &s->disp_z};
     bool ok = true;
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) ok &= (*arrays[a] = calloc(n, sizeof(sb_real))) != NULL;
     double** scratch[] = {&s->scratch_x, &s->scratch_v, &s->scratch_f};
@@ -47,8 +47,8 @@ void sb_solver_destroy(sb_solver* s) {
     sb_fast_model_destroy(s->fast);
     free(s->partials);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
-                      s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->prev_x,
-                      s->prev_y,   s->prev_z,   s->scratch_x, s->scratch_v, s->scratch_f};
+                      s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
+                      s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(s);
 }
@@ -183,7 +183,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
         st->vy[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_y[i] : v ? v[1] : 0.0);
         st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
     }
-    s->has_prev = false;
+    s->has_displacement = false;
     sb_status status = sb_check_state(s);
     if (status == SB_OK) status = sb_solver_compute_forces(s);
     if (status == SB_OK) sb_update_energies(s);

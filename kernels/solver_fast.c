@@ -147,7 +147,7 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, b
     const sb_real accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt);
     const sb_real step = (sb_real)dt, inv_dt = (sb_real)(1.0 / dt);
     sb_real* pos[3] = {st->x, st->y, st->z};
-    sb_real* prev[3] = {s->prev_x, s->prev_y, s->prev_z};
+    sb_real* disp[3] = {s->disp_x, s->disp_y, s->disp_z};
     sb_real* vel[3] = {st->vx, st->vy, st->vz};
     sb_real* force[3] = {st->fx, st->fy, st->fz};
     const sb_real g[3] = {gx, gy, gz};
@@ -156,19 +156,17 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, b
         uint32_t begin, end;
         sb_vertex_range(st->vertex_count, c, &begin, &end);
         for (int a = 0; a < 3; a++) {
-            sb_real *x = pos[a], *xp = prev[a], *v = vel[a], *f = force[a];
+            sb_real *x = pos[a], *d = disp[a], *v = vel[a], *f = force[a];
 #pragma omp simd
             for (uint32_t i = begin; i < end; i++) {
-                sb_real old = x[i], moved;
                 if (stormer) {
-                    moved = scale * (old - xp[i]) + accel * inv_mass[i] * f[i];
-                    x[i] = old + moved;
-                    v[i] = (x[i] - old) * inv_dt;
+                    d[i] = scale * d[i] + accel * inv_mass[i] * f[i];
+                    v[i] = d[i] * inv_dt;
                 } else {
                     v[i] = v[i] + accel * inv_mass[i] * f[i];
-                    x[i] = old + step * v[i];
+                    d[i] = step * v[i];
                 }
-                xp[i] = old;
+                x[i] = x[i] + d[i];
                 f[i] = mass[i] * g[a];
             }
         }
@@ -261,7 +259,7 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
 }
 
 sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
-    bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_prev;
+    bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_displacement;
     sb_partial_layout p = sb_partials_of(s);
     int collapsed = 0, bad = 0;
 #pragma omp parallel num_threads(s->threads)
@@ -272,7 +270,7 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         if (s->def.external_force) sb_external_pass(s);
         sb_kick_pass(s, &p, dt, &bad);
     }
-    s->has_prev = true;
+    s->has_displacement = true;
     s->prev_dt = dt;
     sb_collect_energies(s, &p, true);
     if (bad) return sb_check_state(s);

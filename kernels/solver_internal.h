@@ -11,8 +11,8 @@ struct sb_solver {
     const sb_model* model;
     sb_solver_def def;
     sb_state state;
-    sb_real *prev_x, *prev_y, *prev_z; /* Störmer-Verlet: positions one step back */
-    bool has_prev;
+    sb_real *disp_x, *disp_y, *disp_z; /* the last step's displacement, x − x⁻ */
+    bool has_displacement;
     double prev_dt;
     double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
     double center[3], runaway; /* a vertex further than runaway from center (any axis) ran away */
