@@ -482,10 +482,10 @@ static void test_verlet_small_step_precision(void** state) {
     triangle_run(m, SB_INTEGRATOR_VERLET, 0.04 / 256, 1.0, a);
     triangle_run(m, SB_INTEGRATOR_VELOCITY_VERLET, 0.04 / 256, 1.0, b);
     double d = max_diff(a, b, 9);
+    sb_model_destroy(m);
     print_message("verlet vs velocity_verlet at dt = 1.5625e-4 s after 1 s: max difference %.3g m\n",
                   d);
     TU_ASSERT_LE(d, 1e-4);
-    sb_model_destroy(m);
 }
 
 int main(void) {
