@@ -92,7 +92,8 @@ sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cl
         if (status != SB_OK) return status;
     }
     if (!out->input && !out->help)
-        return usage_fail(err, argv[0], "missing %s", strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
+        return usage_fail(err, argv[0], "missing %s",
+                          strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
     return SB_OK;
 }
 
@@ -109,8 +110,7 @@ static sb_status fill_scene(const char* path, const sb_cli_args* args, sb_scene*
     return status == SB_OK ? sb_scene_validate(scene, err) : status;
 }
 
-sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
-                       sb_error* err) {
+sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err) {
     sb_status status = sb_scene_init(scene, err);
     if (status != SB_OK) return status;
     status = fill_scene(path, args, scene, err);
@@ -128,8 +128,7 @@ static bool parse_threads(const char* text, int* out) {
     return true;
 }
 
-sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out,
-                         sb_error* err) {
+sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err) {
     const char* env = getenv("SOFTBOND_THREADS");
     *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
     if (args->threads && !parse_threads(args->threads, out))

@@ -17,15 +17,15 @@ enum {
 
 /* The options of every command; a command says which it accepts. */
 typedef struct sb_cli_args {
-    const char* input;  /* the one positional argument */
-    const char** sets;  /* each --set key=value, in order */
+    const char* input; /* the one positional argument */
+    const char** sets; /* each --set key=value, in order */
     int set_count;
-    const char* output; /* run --output DIR */
-    const char* threads; /* run --threads N */
+    const char* output;    /* run --output DIR */
+    const char* threads;   /* run --threads N */
     const char* positions; /* eval --positions POS.csv */
-    const char* forces; /* eval --forces OUT.csv */
-    bool fast;          /* eval --fast */
-    bool help;          /* --help, -h */
+    const char* forces;    /* eval --forces OUT.csv */
+    bool fast;             /* eval --fast */
+    bool help;             /* --help, -h */
 } sb_cli_args;
 
 /* Parses argv[1..] (argv[0] is the command's name). `accepted` lists the
@@ -38,13 +38,11 @@ void sb_cli_args_free(sb_cli_args* args);
 
 /* Defaults, then the file (when path is not NULL), then every --set, then
  * the checks. On failure the scene is freed. */
-sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
-                       sb_error* err);
+sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err);
 
 /* The solver's thread count: --threads, else the scene's threads when not
  * 0, else SOFTBOND_THREADS, else 0 (the runtime's default). */
-sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out,
-                         sb_error* err);
+sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err);
 
 /* Prints "softbond: message" on stderr and returns code. */
 int sb_cli_fail(int code, const sb_error* err);

@@ -42,6 +42,7 @@ sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_err
     fprintf(file.stream, "time,kinetic");
     for (int t = 0; t < SB_TERM_COUNT; t++) fprintf(file.stream, ",%s", sb_term_name((sb_term)t));
     fprintf(file.stream, ",gravity,total\n");
-    for (uint32_t i = 0; i < log->count; i++) write_row(file.stream, log->times[i], &log->energies[i]);
+    for (uint32_t i = 0; i < log->count; i++)
+        write_row(file.stream, log->times[i], &log->energies[i]);
     return sb_atomic_commit(&file, err);
 }

@@ -13,14 +13,13 @@
 #include <string.h>
 
 void sb_cli_eval_usage(FILE* stream) {
-    fprintf(stream,
-            "usage: softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
-            "                     [--forces OUT.csv] [--fast]\n"
-            "Builds the model of MESH (its positions are the rest state; constants from\n"
-            "the scene keys' defaults and --set), moves the vertices to POS.csv (header\n"
-            "x,y,z, one row per vertex) and prints the energy of each enabled term and\n"
-            "their total as one JSON object. --forces writes id,fx,fy,fz per vertex.\n"
-            "--fast evaluates with the fast kernels instead of the double reference.\n");
+    fprintf(stream, "usage: softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
+                    "                     [--forces OUT.csv] [--fast]\n"
+                    "Builds the model of MESH (its positions are the rest state; constants from\n"
+                    "the scene keys' defaults and --set), moves the vertices to POS.csv (header\n"
+                    "x,y,z, one row per vertex) and prints the energy of each enabled term and\n"
+                    "their total as one JSON object. --forces writes id,fx,fy,fz per vertex.\n"
+                    "--fast evaluates with the fast kernels instead of the double reference.\n");
 }
 
 typedef struct eval_job {
@@ -113,8 +112,8 @@ static sb_status prepare(eval_job* job, sb_error* err) {
 static int evaluate(eval_job* job, sb_error* err) {
     if (job->args.fast) {
         if (evaluate_fast(job, err) != SB_OK) return SB_EXIT_FAILURE;
-    } else if (sb_reference_forces(job->model, job->positions, NULL, job->forces,
-                                   &job->energies, err) != SB_OK) {
+    } else if (sb_reference_forces(job->model, job->positions, NULL, job->forces, &job->energies,
+                                   err) != SB_OK) {
         /* a collapsed edge at the given positions */
         sb_error_prefix(err, SB_ERR_DEGENERATE,
                         job->args.positions ? job->args.positions : job->args.input);

@@ -26,8 +26,8 @@ static bool make_parents(char* path) {
     return make_one(path);
 }
 
-sb_status sb_output_dir_create(sb_output_dir* out, const char* requested,
-                               const char* scene_name, sb_error* err) {
+sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const char* scene_name,
+                               sb_error* err) {
     size_t size = requested ? strlen(requested) + 1 : strlen(scene_name) + 5;
     out->dir = malloc(size);
     if (!out->dir) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");

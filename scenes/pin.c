@@ -13,10 +13,10 @@ typedef struct pin_rule {
 } pin_rule;
 
 static const pin_rule rules[] = {
-    {"top_corners", 1, true, true},     {"bottom_corners", 1, false, true},
-    {"left_corners", 0, false, true},   {"right_corners", 0, true, true},
-    {"top_edge", 1, true, false},       {"bottom_edge", 1, false, false},
-    {"left_edge", 0, false, false},     {"right_edge", 0, true, false},
+    {"top_corners", 1, true, true},   {"bottom_corners", 1, false, true},
+    {"left_corners", 0, false, true}, {"right_corners", 0, true, true},
+    {"top_edge", 1, true, false},     {"bottom_edge", 1, false, false},
+    {"left_edge", 0, false, false},   {"right_edge", 0, true, false},
 };
 enum { RULE_COUNT = sizeof rules / sizeof rules[0] };
 

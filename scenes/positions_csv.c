@@ -76,7 +76,8 @@ static sb_status parse_row(const csv_reader* r, double* xyz) {
 
 static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
     if (!next_line(r)) return csv_fail(r, "empty file: expected the header 'x,y,z'");
-    if (!is_header(r->line)) return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
+    if (!is_header(r->line))
+        return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
     uint32_t rows = 0;
     while (next_line(r)) {
         if (rows == vertex_count)
@@ -91,8 +92,7 @@ static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
     return SB_OK;
 }
 
-sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out,
-                            sb_error* err) {
+sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out, sb_error* err) {
     csv_reader r = {.path = path, .file = fopen(path, "rb"), .err = err};
     if (!r.file) return sb_errorf(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     sb_status status = read_rows(&r, vertex_count, out);

@@ -8,7 +8,6 @@
 #include "softbond/types.h"
 
 /* Fills out[3 * vertex_count] (x y z interleaved). */
-sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out,
-                            sb_error* err);
+sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out, sb_error* err);
 
 #endif

@@ -54,8 +54,8 @@ static sb_status make_model(run_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     bool from_file = strcmp(sb_scene_string(&job->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     char* source = from_file ? sb_scene_path(&job->scene, SB_KEY_MESH_FILE) : NULL;
-    job->model = sb_scene_build_model(&job->scene, &job->mesh,
-                                      source ? source : job->scene.path, err);
+    job->model =
+        sb_scene_build_model(&job->scene, &job->mesh, source ? source : job->scene.path, err);
     free(source);
     return job->model ? SB_OK : SB_ERR_INVALID;
 }
@@ -144,7 +144,8 @@ static void report(const run_job* job, double seconds) {
     const char* dir = job->out.dir;
     if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
         printf("softbond: %u frame%s and log.csv in %s (open %s/frames.pvd in ParaView), "
-               "%.1f s\n", job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
+               "%.1f s\n",
+               job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
     else
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
 }

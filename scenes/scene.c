@@ -91,8 +91,8 @@ const char* sb_scene_where(const sb_scene* scene, sb_scene_key key) {
     return scene->values[key].where[0] ? scene->values[key].where : scene->path;
 }
 
-sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err,
-                        const char* format, ...) {
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format,
+                        ...) {
     const char* where = sb_scene_where(scene, key);
     va_list args;
     va_start(args, format);

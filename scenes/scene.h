@@ -15,60 +15,59 @@ typedef enum sb_scene_type {
     SB_SCENE_NUMBER,  /* a finite or non-finite double; validation decides */
     SB_SCENE_INTEGER, /* a whole number */
     SB_SCENE_STRING,
-    SB_SCENE_BOOL,    /* true or false */
-    SB_SCENE_VEC3,    /* a sequence of three numbers */
-    SB_SCENE_INDICES  /* a sequence of non-negative integers */
+    SB_SCENE_BOOL,   /* true or false */
+    SB_SCENE_VEC3,   /* a sequence of three numbers */
+    SB_SCENE_INDICES /* a sequence of non-negative integers */
 } sb_scene_type;
 
 /* X(id, name, type, default, meaning) */
-#define SB_SCENE_KEYS(X)                                                                   \
-    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")       \
-    X(MESH_FILE, "mesh.file", STRING, "''",                                                \
-      "mesh file for generator file (OBJ, OFF or any assimp format), relative to the "     \
-      "scene file")                                                                        \
-    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                 \
-    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                 \
-    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                     \
-    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                   \
-    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                             \
-      "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")            \
-    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                   \
-    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2",                                \
-      "icosphere: subdivisions of the icosahedron (0 to 8)")                               \
-    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                     \
-    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")     \
-    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")          \
-    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                       \
-      "stretch-bend constant, J/m (Eq. 5); 0 = off")                                       \
-    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")  \
-    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")       \
-    X(BEND_K, "bend.k", NUMBER, "0",                                                       \
-      "dihedral bending across interior edges, J/rad^2; 0 = off")                          \
-    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")       \
-    X(DENSITY, "density", NUMBER, "0",                                                     \
-      "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "      \
-      "wins over mass")                                                                    \
-    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")    \
-    X(PIN, "pin", STRING, "none",                                                          \
-      "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "        \
-      "right_corners, top_edge, bottom_edge, left_edge or right_edge")                     \
-    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                         \
-    X(INTEGRATOR, "integrator", STRING, "verlet", "verlet or velocity_verlet")             \
-    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                          \
-    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                              \
-    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                    \
-      "simulated time between frames, s (>= dt)")                                          \
-    X(THREADS, "threads", INTEGER, "0",                                                    \
-      "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")                     \
-    X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")        \
-    X(OUTPUT_FRAMES, "output.frames", BOOL, "true",                                        \
+#define SB_SCENE_KEYS(X)                                                                           \
+    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")               \
+    X(MESH_FILE, "mesh.file", STRING, "''",                                                        \
+      "mesh file for generator file (OBJ, OFF or any assimp format), relative to the "             \
+      "scene file")                                                                                \
+    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                         \
+    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                         \
+    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                             \
+    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                           \
+    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                                     \
+      "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")                     \
+    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                           \
+    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2",                                        \
+      "icosphere: subdivisions of the icosahedron (0 to 8)")                                       \
+    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                             \
+    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")             \
+    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                \
+    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                               \
+      "stretch-bend constant, J/m (Eq. 5); 0 = off")                                               \
+    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")          \
+    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")               \
+    X(BEND_K, "bend.k", NUMBER, "0", "dihedral bending across interior edges, J/rad^2; 0 = off")   \
+    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")                \
+    X(DENSITY, "density", NUMBER, "0",                                                             \
+      "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "              \
+      "wins over mass")                                                                            \
+    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")            \
+    X(PIN, "pin", STRING, "none",                                                                  \
+      "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                \
+      "right_corners, top_edge, bottom_edge, left_edge or right_edge")                             \
+    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
+    X(INTEGRATOR, "integrator", STRING, "verlet", "verlet or velocity_verlet")                     \
+    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                  \
+    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                      \
+    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                            \
+      "simulated time between frames, s (>= dt)")                                                  \
+    X(THREADS, "threads", INTEGER, "0",                                                            \
+      "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")                             \
+    X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")                \
+    X(OUTPUT_FRAMES, "output.frames", BOOL, "true",                                                \
       "write .vtu frames and frames.pvd; false writes log.csv only")
 
 typedef enum sb_scene_key {
 #define SB_SCENE_KEY_ENUM(id, name, type, def, meaning) SB_KEY_##id,
     SB_SCENE_KEYS(SB_SCENE_KEY_ENUM)
 #undef SB_SCENE_KEY_ENUM
-    SB_KEY_COUNT
+        SB_KEY_COUNT
 } sb_scene_key;
 
 typedef struct sb_scene_key_info {
@@ -127,8 +126,8 @@ const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32
 const char* sb_scene_where(const sb_scene* scene, sb_scene_key key);
 /* Formats "WHERE: message" into err, WHERE being where key was set (the
  * message alone when there is no WHERE); returns SB_ERR_INVALID. */
-sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err,
-                        const char* format, ...);
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format,
+                        ...);
 
 /* A path value made usable: relative paths are joined to the directory of
  * the file that set it (the current directory for --set). Caller frees. */

@@ -29,11 +29,11 @@ static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     const char* generator = sb_scene_string(scene, SB_KEY_MESH_GENERATOR);
     if (strcmp(generator, "file") == 0) return load_file(scene, out, err);
-    sb_status status =
-        strcmp(generator, "sheet") == 0
-            ? make_sheet(scene, out, err)
-            : sb_mesh_generate_icosphere((uint32_t)sb_scene_integer(scene, SB_KEY_MESH_SUBDIVISIONS),
-                                         sb_scene_number(scene, SB_KEY_MESH_RADIUS), out, err);
+    sb_status status = strcmp(generator, "sheet") == 0
+                           ? make_sheet(scene, out, err)
+                           : sb_mesh_generate_icosphere(
+                                 (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_SUBDIVISIONS),
+                                 sb_scene_number(scene, SB_KEY_MESH_RADIUS), out, err);
     if (status == SB_OK) return SB_OK;
     const char* where = sb_scene_where(scene, SB_KEY_MESH_GENERATOR);
     return sb_error_prefix(err, status, where ? where : generator);

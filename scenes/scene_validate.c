@@ -14,11 +14,21 @@ typedef struct number_rule {
 } number_rule;
 
 static const number_rule number_rules[] = {
-    {SB_KEY_MESH_WIDTH, true},     {SB_KEY_MESH_HEIGHT, true},  {SB_KEY_MESH_JITTER, false},
-    {SB_KEY_MESH_RADIUS, true},    {SB_KEY_BOND_K, false},      {SB_KEY_ANGLE_K, false},
-    {SB_KEY_STRETCH_BEND_K, false}, {SB_KEY_SPRING_K, false},   {SB_KEY_SPRING_DAMPING, false},
-    {SB_KEY_BEND_K, false},        {SB_KEY_MASS, false},        {SB_KEY_DENSITY, false},
-    {SB_KEY_DT, true},             {SB_KEY_DURATION, true},     {SB_KEY_FRAME_INTERVAL, true},
+    {SB_KEY_MESH_WIDTH, true},
+    {SB_KEY_MESH_HEIGHT, true},
+    {SB_KEY_MESH_JITTER, false},
+    {SB_KEY_MESH_RADIUS, true},
+    {SB_KEY_BOND_K, false},
+    {SB_KEY_ANGLE_K, false},
+    {SB_KEY_STRETCH_BEND_K, false},
+    {SB_KEY_SPRING_K, false},
+    {SB_KEY_SPRING_DAMPING, false},
+    {SB_KEY_BEND_K, false},
+    {SB_KEY_MASS, false},
+    {SB_KEY_DENSITY, false},
+    {SB_KEY_DT, true},
+    {SB_KEY_DURATION, true},
+    {SB_KEY_FRAME_INTERVAL, true},
 };
 
 typedef struct integer_rule {
@@ -27,7 +37,7 @@ typedef struct integer_rule {
 } integer_rule;
 
 static const integer_rule integer_rules[] = {
-    {SB_KEY_MESH_NX, 2, 1 << 16},   {SB_KEY_MESH_NY, 2, 1 << 16},
+    {SB_KEY_MESH_NX, 2, 1 << 16},     {SB_KEY_MESH_NY, 2, 1 << 16},
     {SB_KEY_MESH_SEED, 0, INT64_MAX}, {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
     {SB_KEY_THREADS, 0, 4096},
 };
@@ -43,8 +53,7 @@ static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb
     return SB_OK;
 }
 
-static sb_status check_integer(const sb_scene* scene, const integer_rule* rule,
-                               sb_error* err) {
+static sb_status check_integer(const sb_scene* scene, const integer_rule* rule, sb_error* err) {
     int64_t value = sb_scene_integer(scene, rule->key);
     if (value >= rule->min && value <= rule->max) return SB_OK;
     return sb_scene_fail(scene, rule->key, err, "'%s' must be in [%lld, %lld], got %lld",
@@ -108,8 +117,7 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     if (interval < dt)
         return sb_scene_fail(scene, blame(scene, SB_KEY_FRAME_INTERVAL, SB_KEY_DT), err,
                              "'frame_interval' (%g) must be >= 'dt' (%g)", interval, dt);
-    if (sb_scene_number(scene, SB_KEY_MASS) == 0.0 &&
-        sb_scene_number(scene, SB_KEY_DENSITY) == 0.0)
+    if (sb_scene_number(scene, SB_KEY_MASS) == 0.0 && sb_scene_number(scene, SB_KEY_DENSITY) == 0.0)
         return sb_scene_fail(scene, blame(scene, SB_KEY_MASS, SB_KEY_DENSITY), err,
                              "'mass' and 'density' are both 0: free vertices need a mass");
     bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;

@@ -20,24 +20,23 @@
 typedef struct yaml_source {
     sb_scene* scene;
     yaml_document_t* doc;
-    const char* name;     /* the file's path, or "--set key=value" */
-    bool has_lines;       /* file: errors carry the node's line */
-    const char* base_dir; /* where relative paths point; NULL for cwd */
+    const char* name;               /* the file's path, or "--set key=value" */
+    bool has_lines;                 /* file: errors carry the node's line */
+    const char* base_dir;           /* where relative paths point; NULL for cwd */
     size_t seen_line[SB_KEY_COUNT]; /* 1-based line a key was set at */
     bool seen[SB_KEY_COUNT];
     sb_error* err;
 } yaml_source;
 
-static void node_where(const yaml_source* src, const yaml_node_t* node, char* out,
-                       size_t size) {
+static void node_where(const yaml_source* src, const yaml_node_t* node, char* out, size_t size) {
     if (src->has_lines)
         snprintf(out, size, "%s:%zu", src->name, node->start_mark.line + 1);
     else
         snprintf(out, size, "%s", src->name);
 }
 
-static sb_status source_fail(const yaml_source* src, const yaml_node_t* node,
-                             const char* format, ...) {
+static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, const char* format,
+                             ...) {
     char where[320];
     node_where(src, node, where, sizeof where);
     va_list args;
@@ -54,8 +53,8 @@ static const char* scalar_text(const yaml_node_t* node) {
 }
 
 static bool is_plain_scalar(const yaml_node_t* node) {
-    return node->type == YAML_SCALAR_NODE &&
-           node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE && node->data.scalar.length > 0;
+    return node->type == YAML_SCALAR_NODE && node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE &&
+           node->data.scalar.length > 0;
 }
 
 static bool parse_number(const yaml_node_t* node, double* out) {
@@ -108,8 +107,8 @@ static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_s
                            const char* expected) {
     char got[100];
     describe_node(node, got, sizeof got);
-    return source_fail(src, node, "'%s' expects %s, got %s", sb_scene_key_get(key)->name,
-                       expected, got);
+    return source_fail(src, node, "'%s' expects %s, got %s", sb_scene_key_get(key)->name, expected,
+                       got);
 }
 
 /* ---- values of each type -------------------------------------------------- */
@@ -125,8 +124,8 @@ static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_s
     return SB_OK;
 }
 
-static sb_status read_indices(const yaml_source* src, const yaml_node_t* node,
-                              sb_scene_key key, sb_scene_value* out) {
+static sb_status read_indices(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                              sb_scene_value* out) {
     if (node->type != YAML_SEQUENCE_NODE)
         return type_fail(src, node, key, "a sequence of vertex indices");
     size_t count = item_count(node);
@@ -144,8 +143,8 @@ static sb_status read_indices(const yaml_source* src, const yaml_node_t* node,
     return SB_OK;
 }
 
-static sb_status read_string(const yaml_source* src, const yaml_node_t* node,
-                             sb_scene_key key, sb_scene_value* out) {
+static sb_status read_string(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                             sb_scene_value* out) {
     if (node->type != YAML_SCALAR_NODE) return type_fail(src, node, key, "a string");
     out->string = strdup(scalar_text(node));
     return out->string ? SB_OK : source_fail(src, node, "out of memory");
@@ -155,14 +154,11 @@ static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_
                             sb_scene_value* out) {
     switch (sb_scene_key_get(key)->type) {
     case SB_SCENE_NUMBER:
-        return parse_number(node, &out->number) ? SB_OK
-                                                : type_fail(src, node, key, "a number");
+        return parse_number(node, &out->number) ? SB_OK : type_fail(src, node, key, "a number");
     case SB_SCENE_INTEGER:
-        return parse_integer(node, &out->integer) ? SB_OK
-                                                  : type_fail(src, node, key, "an integer");
+        return parse_integer(node, &out->integer) ? SB_OK : type_fail(src, node, key, "an integer");
     case SB_SCENE_BOOL:
-        return parse_bool(node, &out->boolean) ? SB_OK
-                                               : type_fail(src, node, key, "true or false");
+        return parse_bool(node, &out->boolean) ? SB_OK : type_fail(src, node, key, "true or false");
     case SB_SCENE_STRING:
         return read_string(src, node, key, out);
     case SB_SCENE_VEC3:
@@ -181,8 +177,8 @@ static void value_release(sb_scene_value* value) {
 
 /* ---- walking the document ------------------------------------------------- */
 
-static sb_status assign(yaml_source* src, const yaml_node_t* key_node,
-                        const yaml_node_t* node, sb_scene_key key) {
+static sb_status assign(yaml_source* src, const yaml_node_t* key_node, const yaml_node_t* node,
+                        sb_scene_key key) {
     if (src->seen[key])
         return source_fail(src, key_node, "duplicate key '%s' (first set at line %zu)",
                            sb_scene_key_get(key)->name, src->seen_line[key]);
@@ -220,8 +216,8 @@ static sb_status walk_pair(yaml_source* src, const yaml_node_pair_t* pair, const
     if (key_node->type != YAML_SCALAR_NODE)
         return source_fail(src, key_node, "a key must be a plain name");
     char name[256];
-    int length = snprintf(name, sizeof name, "%s%s%s", prefix, prefix[0] ? "." : "",
-                          scalar_text(key_node));
+    int length =
+        snprintf(name, sizeof name, "%s%s%s", prefix, prefix[0] ? "." : "", scalar_text(key_node));
     if (length < 0 || (size_t)length >= sizeof name)
         return source_fail(src, key_node, "key too long");
     return apply(src, key_node, name, value);
@@ -279,8 +275,8 @@ static char* name_of(const char* path) {
 
 static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_error* err) {
     char* dir = directory_of(path);
-    yaml_source src = {.scene = scene, .name = path, .has_lines = true, .base_dir = dir,
-                       .err = err};
+    yaml_source src = {
+        .scene = scene, .name = path, .has_lines = true, .base_dir = dir, .err = err};
     yaml_parser_t parser;
     yaml_document_t doc;
     yaml_parser_initialize(&parser);

@@ -10,8 +10,9 @@ void sb_vtk_frame_name(uint32_t index, char* out, size_t size) {
 }
 
 static void write_vectors(FILE* f, const char* name, const double* data, uint32_t n) {
-    fprintf(f, "        <DataArray type=\"Float64\"%s%s%s NumberOfComponents=\"3\" "
-               "format=\"ascii\">\n",
+    fprintf(f,
+            "        <DataArray type=\"Float64\"%s%s%s NumberOfComponents=\"3\" "
+            "format=\"ascii\">\n",
             name ? " Name=\"" : "", name ? name : "", name ? "\"" : "");
     for (uint32_t i = 0; i < n; i++)
         fprintf(f, "          %.9g %.9g %.9g\n", data[3 * i], data[3 * i + 1], data[3 * i + 2]);
@@ -47,11 +48,12 @@ static void write_cells(FILE* f, const sb_mesh* mesh) {
 }
 
 static void write_grid(FILE* f, const sb_vtk_frame* frame) {
-    fprintf(f, "<?xml version=\"1.0\"?>\n"
-               "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-               "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-               "  <UnstructuredGrid>\n"
-               "    <Piece NumberOfPoints=\"%u\" NumberOfCells=\"%u\">\n",
+    fprintf(f,
+            "<?xml version=\"1.0\"?>\n"
+            "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+            "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+            "  <UnstructuredGrid>\n"
+            "    <Piece NumberOfPoints=\"%u\" NumberOfCells=\"%u\">\n",
             frame->mesh->vertex_count, frame->mesh->triangle_count);
     write_point_data(f, frame);
     fprintf(f, "      <Points>\n");
@@ -80,8 +82,9 @@ sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_
     for (uint32_t i = 0; i < count; i++) {
         char name[32];
         sb_vtk_frame_name(i, name, sizeof name);
-        fprintf(file.stream, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n",
-                times[i], name);
+        fprintf(file.stream,
+                "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", times[i],
+                name);
     }
     fprintf(file.stream, "  </Collection>\n</VTKFile>\n");
     return sb_atomic_commit(&file, err);
