@@ -47,6 +47,14 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
  * file and, where there is one, the line. */
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
 
+/* Renumbers the vertices along a Morton (Z-order) curve through the
+ * bounding box and sorts the triangles by their lowest vertex, so that
+ * vertices near in space are near in memory and the elements built from the
+ * mesh visit them in order: the fast kernels' gathers and scatters then hit
+ * the cache. When order is not NULL it receives, for each new vertex, its
+ * old index (vertex_count entries). */
+sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err);
+
 #ifdef __cplusplus
 }
 #endif
