@@ -272,6 +272,28 @@ static void test_eval_bend_of_a_folded_square(void** state) {
     result_free(&r);
 }
 
+static void test_eval_fast_agrees_with_the_reference(void** state) {
+    (void)state;
+    write_file("tri.obj", tri_obj);
+    write_file("tri_pos.csv", tri_pos);
+    const char* sets[] = {"eval", "tri.obj", "--set", "angle.k=2", "--set", "stretch_bend.k=3",
+                          "--positions", "tri_pos.csv", "--fast", NULL};
+    result fast = run(sets);
+    sets[8] = NULL;
+    result reference = run(sets);
+    assert_int_equal(fast.code, 0);
+    assert_int_equal(reference.code, 0);
+    const char* terms[] = {"bond", "angle", "stretch_bend", "total"};
+    for (int t = 0; t < 4; t++) {
+        double expected = json_number(reference.out, terms[t]);
+        /* the fast kernels run in sb_real (float by default) */
+        TU_ASSERT_NEAR(json_number(fast.out, terms[t]), expected, 1e-5 * fabs(expected));
+    }
+    assert_false(json_has(fast.out, "spring"));
+    result_free(&fast);
+    result_free(&reference);
+}
+
 /* A field of the forces CSV: a number that %.17g prints back unchanged. */
 static double csv_number(char** cursor) {
     char* end;
@@ -555,6 +577,7 @@ int main(void) {
         cmocka_unit_test(test_eval_terms_with_zero_constant_are_absent),
         cmocka_unit_test(test_eval_bend_of_a_folded_square),
         cmocka_unit_test(test_eval_forces_csv),
+        cmocka_unit_test(test_eval_fast_agrees_with_the_reference),
         cmocka_unit_test(test_eval_bad_positions),
         cmocka_unit_test(test_eval_bad_input),
         cmocka_unit_test(test_run_writes_frames_and_log),
