@@ -77,6 +77,8 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "unknown integrator %d", (int)def->integrator);
     for (int c = 0; c < 3; c++)
         if (!isfinite(def->gravity[c])) return sb_error_set(err, SB_ERR_INVALID, "gravity must be finite");
+    if (!isfinite(def->drag) || def->drag < 0.0)
+        return sb_error_set(err, SB_ERR_INVALID, "drag must be finite and >= 0 (got %g)", def->drag);
     if (def->threads < 0) return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->threads);
     if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)
         return sb_error_set(err, SB_ERR_INVALID, "unknown kernels %d", (int)def->kernels);

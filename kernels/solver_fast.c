@@ -124,28 +124,29 @@ static void sb_gravity_pass(sb_solver* s, const sb_partial_layout* p) {
     sb_state* st = &s->state;
     const sb_real* mass = s->fast->mass;
     const sb_real gx = (sb_real)s->def.gravity[0], gy = (sb_real)s->def.gravity[1], gz = (sb_real)s->def.gravity[2];
+    const sb_real drag = (sb_real)s->def.drag;
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
         uint32_t begin, end;
         sb_vertex_range(st->vertex_count, c, &begin, &end);
 #pragma omp simd
         for (uint32_t i = begin; i < end; i++) {
-            st->fx[i] = mass[i] * gx;
-            st->fy[i] = mass[i] * gy;
-            st->fz[i] = mass[i] * gz;
+            st->fx[i] = mass[i] * (gx - drag * st->vx[i]);
+            st->fy[i] = mass[i] * (gy - drag * st->vy[i]);
+            st->fz[i] = mass[i] * (gz - drag * st->vz[i]);
         }
     }
 }
 
 /* Drift for both Verlet forms (see kernels/integrators.c for the
- * formulas), fused with the gravity initialisation of the forces. */
+ * formulas), fused with initialising the forces to gravity and drag. */
 static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, bool stormer) {
     sb_state* st = &s->state;
     const sb_real *mass = s->fast->mass, *inv_mass = s->fast->inv_mass;
     const sb_real gx = (sb_real)s->def.gravity[0], gy = (sb_real)s->def.gravity[1], gz = (sb_real)s->def.gravity[2];
     const sb_real scale = stormer ? (sb_real)(dt / s->prev_dt) : 0;
     const sb_real accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt);
-    const sb_real step = (sb_real)dt, inv_dt = (sb_real)(1.0 / dt);
+    const sb_real step = (sb_real)dt, inv_dt = (sb_real)(1.0 / dt), drag = (sb_real)s->def.drag;
     sb_real* pos[3] = {st->x, st->y, st->z};
     sb_real* disp[3] = {s->disp_x, s->disp_y, s->disp_z};
     sb_real* vel[3] = {st->vx, st->vy, st->vz};
@@ -167,7 +168,7 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, b
                     d[i] = step * v[i];
                 }
                 x[i] = x[i] + d[i];
-                f[i] = mass[i] * g[a];
+                f[i] = mass[i] * (g[a] - drag * v[i]);
             }
         }
     }

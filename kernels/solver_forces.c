@@ -18,7 +18,8 @@ static sb_status sb_reference_step_forces(sb_solver* s) {
     if (status != SB_OK) return status;
     for (uint32_t i = 0; i < n; i++) {
         double* f = s->scratch_f + 3 * i;
-        for (int c = 0; c < 3; c++) f[c] += m->mass[i] * s->def.gravity[c];
+        const double* v = s->scratch_v + 3 * i;
+        for (int c = 0; c < 3; c++) f[c] += m->mass[i] * (s->def.gravity[c] - s->def.drag * v[c]);
         if (s->def.external_force && !m->fixed[i]) sb_add_external(s, i, f);
         st->fx[i] = (sb_real)f[0];
         st->fy[i] = (sb_real)f[1];

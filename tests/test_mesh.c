@@ -13,7 +13,7 @@
 /* ---- temporary files ----------------------------------------------------- */
 
 static char tmp_dir[256];
-static char tmp_files[64][320];
+static char tmp_files[64][512];
 static int tmp_count;
 
 static int setup_dir(void** state)

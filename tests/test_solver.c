@@ -306,6 +306,36 @@ static void test_pinned_sheet_comes_to_rest(void** state) {
     sb_model_destroy(m);
 }
 
+/* A horizontal sheet pinned at two corners settles too once the medium
+ * around it has a little drag (−drag·m·v on every free vertex): the swing
+ * about the pin axis that bond damping cannot reach is damped by it. */
+static void test_horizontal_sheet_settles_with_drag(void** state) {
+    (void)state;
+    enum { NX = 5, NY = 5, N = NX * NY };
+    const int pins[2] = {0, NX - 1};
+    const sheet_consts c = {0.0, 100.0, 1.0, 0.0, 0.0, 0.04};
+    sb_model* m = sheet_model(NX, NY, 0.25, 0.0, 0.0, c, pins, 2, false);
+    for (int k = 0; k < 2; ++k) {
+        sb_solver_def def = sb_default_solver_def();
+        def.integrator = integrators[k];
+        def.drag = 0.5;
+        sb_error err;
+        sb_solver* s = sb_solver_create(m, &def, &err);
+        assert_non_null(s);
+        sb_energies en = sb_solver_energies(s);
+        double u0 = sb_energies_internal(&en) + en.gravity;
+        advance(s, 1e-3, 60000); /* 60 s: the drag time constant is 2 s */
+        en = sb_solver_energies(s);
+        double drop = u0 - (sb_energies_internal(&en) + en.gravity);
+        print_message("horizontal pinned sheet with drag 0.5/s, %s: kinetic %.3g J after 60 s, potential drop %.4g J\n",
+                      sb_integrator_name(integrators[k]), en.kinetic, drop);
+        assert_true(drop > 0);
+        TU_ASSERT_LE(en.kinetic, 1e-6 * drop);
+        sb_solver_destroy(s);
+    }
+    sb_model_destroy(m);
+}
+
 /* ---- exact cases: gravity and an external force on a free particle ------------- */
 
 /* Verlet integrates a constant acceleration exactly, so the only error is
@@ -495,6 +525,7 @@ int main(void) {
         cmocka_unit_test(test_verlet_small_step_precision),
         cmocka_unit_test(test_energy_conservation),
         cmocka_unit_test(test_pinned_sheet_comes_to_rest),
+        cmocka_unit_test(test_horizontal_sheet_settles_with_drag),
         cmocka_unit_test(test_free_fall),
         cmocka_unit_test(test_external_force),
         cmocka_unit_test(test_blow_up_is_caught),

@@ -35,6 +35,7 @@ typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time,
 typedef struct sb_solver_def {
     sb_integrator integrator;
     double gravity[3]; /* m/s² */
+    double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
     int threads;       /* 0 = the runtime's default */
     sb_external_force_fn external_force;
