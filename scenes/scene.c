@@ -29,12 +29,6 @@ bool sb_scene_key_find(const char* name, sb_scene_key* out) {
     return false;
 }
 
-const char* sb_scene_type_name(sb_scene_type type) {
-    static const char* const names[] = {"number", "integer", "string",
-                                        "bool",   "vec3",    "list of integers"};
-    return names[type];
-}
-
 sb_status sb_scene_init(sb_scene* scene, sb_error* err) {
     memset(scene, 0, sizeof *scene);
     for (int i = 0; i < SB_KEY_COUNT; i++) {

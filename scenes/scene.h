@@ -80,8 +80,6 @@ typedef struct sb_scene_key_info {
 const sb_scene_key_info* sb_scene_key_get(sb_scene_key key);
 /* Returns false when no key has this dotted name. */
 bool sb_scene_key_find(const char* name, sb_scene_key* out);
-/* "number", "integer", "string", "bool", "vec3", "list of integers". */
-const char* sb_scene_type_name(sb_scene_type type);
 
 typedef struct sb_scene_value {
     double number;
