@@ -69,7 +69,8 @@ static void sb_usage(FILE* out) {
     fprintf(out,
             "usage: sb_bench [options]\n"
             "  --cases small|all|NAME[,NAME]  small: the ~10k cases (default all)\n"
-            "  --steps N            time N steps per measurement (default: calibrated)\n"
+            "  --steps N            time N steps per measurement (default: calibrated to\n"
+            "                       --target; the reference takes at most the calibrated count)\n"
             "  --threads-list 1,2   thread counts for the fast kernels (default 1,2)\n"
             "  --quick              shorter measurements, 1 repeat, smaller triad arrays\n"
             "  --all-terms          add the damped spring and the hinge bend\n"
@@ -209,6 +210,10 @@ static void sb_print_machine(FILE* out, const char* prefix, const sb_triad_resul
     fprintf(out, "%sdate: %s\n%scommit: %s\n", prefix, date, prefix, commit);
     fprintf(out, "%scpu: %s\n%slogical cores online: %ld\n", prefix, cpu, prefix, sysconf(_SC_NPROCESSORS_ONLN));
     fprintf(out, "%slast-level cache: %.1f MiB\n", prefix, sb_bench_llc_bytes() / 1048576.0);
+    double load[3];
+    if (getloadavg(load, 3) == 3)
+        fprintf(out, "%sload average (1, 5, 15 min; above 0.5 means others shared the cores): %.2f %.2f %.2f\n",
+                prefix, load[0], load[1], load[2]);
     fprintf(out, "%ssimd: %s (SB_SIMD=%s)\n%sprecision: %s (SB_DOUBLE=%d)\n", prefix, sb_simd_level(),
             SB_BENCH_SIMD_OPTION, prefix, SB_DOUBLE ? "double" : "float", SB_DOUBLE);
     fprintf(out, "%sbuild: %s, %s\n", prefix, SB_BENCH_BUILD_TYPE, SB_BENCH_COMPILER);
@@ -265,7 +270,11 @@ static void sb_measure(const sb_bench_setup* setup, const sb_options* o, sb_row*
     }
     double per_step = sb_warm_up(s, setup->dt, fmin(0.3, 0.25 * o->target), row);
     if (per_step > 0.0) {
-        row->steps = o->steps ? o->steps : (uint64_t)fmax(2.0, ceil(o->target / per_step));
+        /* --steps fixes N, except that the slow reference never runs past the
+         * target time (it would take minutes at 1M vertices). */
+        uint64_t calibrated = (uint64_t)fmax(2.0, ceil(o->target / per_step));
+        row->steps = o->steps ? o->steps : calibrated;
+        if (def.kernels == SB_KERNELS_REFERENCE && calibrated < row->steps) row->steps = calibrated;
         row->seconds = INFINITY;
         row->ok = true;
         for (int r = 0; r < o->repeats && row->ok; r++) {

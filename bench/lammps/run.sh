@@ -10,8 +10,9 @@
 #
 # Steps: the step count of sb_bench's fast 2-thread row for the case in
 # bench/results/throughput.csv (so both run the same number of steps), else
-# the reference row's, else 2000 / 200 / 20 by size; capped at
-# LAMMPS_MAX_STEPS (default 20000); --steps N overrides.
+# the reference row's, else 2000 / 200 / 20 by size; at least
+# LAMMPS_MIN_STEPS (default 20, so that LAMMPS' loop time is not a couple of
+# steps) and at most LAMMPS_MAX_STEPS (default 20000); --steps N overrides.
 #
 # Model, per case (see bench/lammps/export_data.c for the data file):
 #   units si; atom_style angle; pair_style none; special_bonds lj/coul 0 0 0
@@ -28,6 +29,7 @@ BUILD=$ROOT/build
 CASES=all
 STEPS=
 MAX_STEPS=${LAMMPS_MAX_STEPS:-20000}
+MIN_STEPS=${LAMMPS_MIN_STEPS:-20}
 while [ $# -gt 0 ]; do
     case $1 in
         --cases) CASES=$2; shift 2 ;;
@@ -93,6 +95,7 @@ steps_for() {
             *) n=20 ;;
         esac
     fi
+    [ "$n" -ge "$MIN_STEPS" ] || n=$MIN_STEPS
     [ "$n" -le "$MAX_STEPS" ] || n=$MAX_STEPS
     echo "$n"
 }
@@ -131,19 +134,20 @@ run_lammps() {
         (cd "$WORK" && mpirun --allow-run-as-root --mca btl_vader_single_copy_mechanism none -np "$2" \
             "$LMP" -in "$1.in" -var steps "$3" -log "$log" -screen none)
     fi
-    awk '/^Loop time of/ { print $4 }' "$log" | tail -n 1
+    awk '/^Loop time of/ { t = $4 } /CPU use with/ { sub("%", "", $1); u = $1 } END { if (t != "") print t, u }' "$log"
 }
 
 # ---- run ---------------------------------------------------------------------
 mkdir -p "$WORK" "$RESULTS"
 CSV=$RESULTS/lammps.csv
-VERSION=$("$LMP" -h 2>/dev/null | awk '/^Large-scale Atomic/ { getline; print; exit }' | sed 's/^ *//')
+VERSION=$("$LMP" -h 2>/dev/null | sed -n 's/^Large-scale Atomic.* - \(.*\)$/\1/p' | head -n 1)
 {
     echo "# LAMMPS peer (bench/lammps/run.sh): bond_style harmonic + angle_style cosine/squared, pair_style none, fix nve + gravity"
-    echo "# lammps: $LMP ${VERSION:-} ($(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo unknown)); mpirun: $(mpirun --version 2>/dev/null | head -n 1)"
+    echo "# lammps: $LMP, ${VERSION:-version unknown} ($(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo unknown)); mpirun: $(mpirun --version 2>/dev/null | head -n 1)"
     echo "# cpu: $(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo); logical cores: $(nproc)"
     echo "# sheets without jitter; no stretch-bend term (softbond's step includes it); softbond columns: the fast kernels with threads = workers from throughput.csv"
-    echo "case,vertices,workers,steps,seconds,ns_per_step,steps_per_s,bond_types,angle_types,softbond_ns_per_step,softbond_speedup"
+    echo "# cpu_use_percent: LAMMPS' own figure per worker; well below 100 means the cores were shared and the time is inflated"
+    echo "case,vertices,workers,steps,seconds,ns_per_step,steps_per_s,cpu_use_percent,bond_types,angle_types,softbond_ns_per_step,softbond_speedup"
 } >"$CSV"
 
 for c in $CASES; do
@@ -154,16 +158,18 @@ for c in $CASES; do
     write_input "$c"
     steps=$(steps_for "$c")
     for workers in 1 2; do
-        seconds=$(run_lammps "$c" "$workers" "$steps" || true)
-        if [ -z "$seconds" ]; then
+        timing=$(run_lammps "$c" "$workers" "$steps" || true)
+        seconds=${timing% *}
+        cpu=${timing#* }
+        if [ -z "$timing" ]; then
             echo "$c: LAMMPS with $workers worker(s) failed; see $WORK/$c.w$workers.log" >&2
             continue
         fi
         ours=$(softbond_value "$c" fast "$workers" 14)
-        echo "$c $vertices $workers $steps $seconds $btypes $atypes ${ours:-}" | awk '{
+        echo "$c $vertices $workers $steps $seconds $cpu $btypes $atypes ${ours:-}" | awk '{
             ns = 1e9 * $5 / $4
-            ratio = ($8 != "") ? sprintf("%.3f", ns / $8) : ""
-            printf "%s,%s,%s,%s,%s,%.1f,%.2f,%s,%s,%s,%s\n", $1, $2, $3, $4, $5, ns, $4 / $5, $6, $7, $8, ratio
+            ratio = ($9 != "") ? sprintf("%.3f", ns / $9) : ""
+            printf "%s,%s,%s,%s,%s,%.1f,%.2f,%s,%s,%s,%s,%s\n", $1, $2, $3, $4, $5, ns, $4 / $5, $6, $7, $8, $9, ratio
         }' | tee -a "$CSV"
     done
 done
