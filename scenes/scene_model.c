@@ -97,6 +97,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     sb_solver_def def = sb_default_solver_def();
     sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &def.integrator);
     memcpy(def.gravity, sb_scene_vec3(scene, SB_KEY_GRAVITY), sizeof def.gravity);
+    def.drag = sb_scene_number(scene, SB_KEY_DRAG);
     bool fast = strcmp(sb_scene_string(scene, SB_KEY_KERNELS), "fast") == 0;
     def.kernels = fast ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
     def.threads = (int)sb_scene_integer(scene, SB_KEY_THREADS);

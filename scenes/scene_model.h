@@ -18,7 +18,8 @@ sb_material_def sb_scene_material(const sb_scene* scene);
 sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source,
                                sb_error* err);
 
-/* Integrator, gravity, kernels and threads (as the scene says; 0 = default). */
+/* Integrator, gravity, drag, kernels and threads (as the scene says; 0 =
+ * the runtime's default). */
 sb_solver_def sb_scene_solver_def(const sb_scene* scene);
 
 #endif

@@ -29,6 +29,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_DT, true},
     {SB_KEY_DURATION, true},
     {SB_KEY_FRAME_INTERVAL, true},
+    {SB_KEY_DRAG, false},
 };
 
 typedef struct integer_rule {

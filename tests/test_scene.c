@@ -284,6 +284,7 @@ static void test_validation_names_where_the_value_was_set(void** state) {
     assert_load_fails("v11.yaml", "mesh: {jitter: 0.5}\n", "1: 'mesh.jitter' must be < 0.5");
     assert_load_fails("v12.yaml", "threads: -1\n", "1: 'threads' must be in [0, 4096], got -1");
     assert_load_fails("v13.yaml", "gravity: [0, nan, 0]\n", "1: 'gravity' must be finite");
+    assert_load_fails("v14.yaml", "drag: -1\n", "1: 'drag' must be >= 0, got -1");
 }
 
 static void test_pin_names(void** state) {
@@ -357,7 +358,7 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     sb_error err;
     const char* text = "bond.k: 3\nangle.k: 0\nstretch_bend.k: 4\nspring: {k: 5, damping: 6}\n"
                        "bend.k: 7\nmass: 8\ndensity: 9\nintegrator: velocity_verlet\n"
-                       "kernels: fast\nthreads: 2\ngravity: [1, 2, 3]\n";
+                       "kernels: fast\nthreads: 2\ngravity: [1, 2, 3]\ndrag: 0.5\n";
     assert_int_equal(load_text(&scene, "mat.yaml", text, &err), SB_OK);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
     sb_material_def m = sb_scene_material(&scene);
@@ -368,6 +369,7 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     assert_int_equal(def.kernels, SB_KERNELS_FAST);
     assert_int_equal(def.threads, 2);
     assert_true(def.gravity[0] == 1 && def.gravity[1] == 2 && def.gravity[2] == 3);
+    assert_true(def.drag == 0.5);
     sb_scene_free(&scene);
 }
 
