@@ -52,7 +52,7 @@ typedef enum sb_scene_type {
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                \
       "right_corners, top_edge, bottom_edge, left_edge or right_edge")                             \
     X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
-    X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")             \
+    X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
     X(INTEGRATOR, "integrator", STRING, "verlet", "verlet or velocity_verlet")                     \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                  \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                      \
