@@ -140,7 +140,7 @@ run_lammps() {
 # ---- run ---------------------------------------------------------------------
 mkdir -p "$WORK" "$RESULTS"
 CSV=$RESULTS/lammps.csv
-VERSION=$("$LMP" -h 2>/dev/null | sed -n 's/^Large-scale Atomic.* - \(.*\)$/\1/p' | head -n 1)
+VERSION=$("$LMP" -h 2>/dev/null | sed -n 's/^Large-scale Atomic[^-]* - //p' | head -n 1)
 {
     echo "# LAMMPS peer (bench/lammps/run.sh): bond_style harmonic + angle_style cosine/squared, pair_style none, fix nve + gravity"
     echo "# lammps: $LMP, ${VERSION:-version unknown} ($(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo unknown)); mpirun: $(mpirun --version 2>/dev/null | head -n 1)"
