@@ -13,12 +13,12 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
         int count = sb_block_count(s, end, step);
         sb_windex i = sb_w_index(m->bond_i + s), j = sb_w_index(m->bond_j + s);
         sb_wvec3 d = sb_wv_sub(sb_wv_gather(fr->x, fr->y, fr->z, j), sb_wv_gather(fr->x, fr->y, fr->z, i));
-        sb_wide r = sb_w_sqrt(sb_wv_dot(d, d)), r0 = sb_w_load(m->bond_r0 + s);
+        sb_wide squared = sb_wv_dot(d, d), inv_r = sb_w_rsqrt(squared);
+        sb_wide r = sb_w_mul(squared, inv_r), r0 = sb_w_load(m->bond_r0 + s);
         collapsed |= sb_w_any(sb_w_less(r, sb_w_mul(ratio, r0)), count);
         sb_wide stretch = sb_w_sub(r, r0);
         sb_wide kb = sb_w_constant(m->bond_k, s), ks = sb_w_constant(m->spring_k, s);
         sb_wide magnitude = sb_w_mul(sb_w_add(kb, ks), stretch);
-        sb_wide inv_r = sb_w_div(sb_w_set(1), r);
         if (m->has_damping) {
             sb_wvec3 dv = sb_wv_sub(sb_wv_gather(fr->vx, fr->vy, fr->vz, j), sb_wv_gather(fr->vx, fr->vy, fr->vz, i));
             sb_wide closing = sb_w_mul(sb_wv_dot(dv, d), inv_r);

@@ -18,9 +18,10 @@ typedef struct sb_fast_frame {
 /* energy[0] bond stretch, energy[1] spring */
 bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                    double energy[2]);
-/* energy[0] angle bend, energy[1] stretch-bend */
+/* energy[0] angle bend, [1] stretch-bend, [2] bond stretch and [3] spring
+ * of the fused bonds */
 bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                     double energy[2]);
+                     double energy[4]);
 /* energy[0] bend */
 bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                     double energy[1]);

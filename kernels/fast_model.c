@@ -5,6 +5,7 @@
 #include "kernels/fast_model.h"
 #include "kernels/error.h"
 #include "kernels/wide.h"
+#include "mesh/edge_map.h"
 
 #include <stdlib.h>
 
@@ -40,14 +41,17 @@ static bool sb_group_layout(sb_element_group* g, const uint8_t* color, uint32_t 
     return true;
 }
 
+/* Colors and lays out `count` elements; subset (or NULL for the identity)
+ * maps them to the model's element numbers, which source[] then holds. */
 static bool sb_group_build(sb_element_group* g, uint32_t vertex_count, uint32_t count, int arity,
-                           const uint32_t* const* vertices) {
+                           const uint32_t* const* vertices, const uint32_t* subset) {
     *g = (sb_element_group){0};
     if (count == 0) return true;
     uint8_t* color = malloc(count);
     bool ok = color && sb_color_elements(vertex_count, count, arity, vertices, color) > 0 &&
               sb_group_layout(g, color, count);
     free(color);
+    for (uint32_t s = 0; ok && subset && s < g->capacity; s++) g->source[s] = subset[g->source[s]];
     return ok;
 }
 
@@ -74,10 +78,25 @@ static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, con
 
 static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
 
-static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m) {
-    const uint32_t* ends[2] = {m->bond_i, m->bond_j};
-    if (!sb_group_build(&f->bonds, m->vertex_count, m->bond_count, 2, ends)) return false;
-    bool ok = true;
+/* The bonds left to the bond kernel: all of them, or those no triangle owns. */
+static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
+    uint32_t count = 0;
+    uint32_t *subset = malloc((m->bond_count ? m->bond_count : 1) * sizeof *subset);
+    uint32_t *ends_i = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_i);
+    uint32_t *ends_j = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_j);
+    bool ok = subset && ends_i && ends_j;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++)
+        if (!owner || owner[b] < 0) {
+            subset[count] = b;
+            ends_i[count] = m->bond_i[b];
+            ends_j[count++] = m->bond_j[b];
+        }
+    const uint32_t* ends[2] = {ends_i, ends_j};
+    ok = ok && sb_group_build(&f->bonds, m->vertex_count, count, 2, ends, subset);
+    free(subset);
+    free(ends_i);
+    free(ends_j);
+    if (!ok) return false;
     f->bond_i = sb_gather_index(m->bond_i, &f->bonds, &ok);
     f->bond_j = sb_gather_index(m->bond_j, &f->bonds, &ok);
     f->bond_r0 = sb_gather_real(m->bond_r0, &f->bonds, &ok);
@@ -90,9 +109,66 @@ static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m) {
     return ok;
 }
 
+static bool sb_uniform(const double* values, uint32_t count) {
+    for (uint32_t e = 1; e < count; e++)
+        if (values[e] != values[0]) return false;
+    return true;
+}
+
+/* Which triangle edge owns each bond: owner[b] = 3 t + c for edge c of
+ * triangle t, −1 for none. Fusion needs uniform, undamped bond constants. */
+static int64_t* sb_bond_owners(const sb_model* m, bool* ok) {
+    bool fusable = m->triangle_count > 0 && m->bond_count > 0 && sb_uniform(m->bond_k, m->bond_count) &&
+                   sb_uniform(m->spring_k, m->bond_count) &&
+                   sb_uniform(m->spring_damping, m->bond_count) && m->spring_damping[0] == 0.0;
+    if (!fusable) return NULL;
+    int64_t* owner = malloc(m->bond_count * sizeof *owner);
+    sb_edge_map map;
+    if (!owner || !sb_edge_map_init(&map, m->bond_count)) {
+        free(owner);
+        *ok = false;
+        return NULL;
+    }
+    bool inserted;
+    for (uint32_t b = 0; b < m->bond_count; b++) {
+        sb_edge_map_upsert(&map, m->bond_i[b], m->bond_j[b], b, &inserted);
+        owner[b] = -1;
+    }
+    for (uint32_t t = 0; t < m->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t* b = sb_edge_map_find(&map, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t]);
+            if (b && owner[*b] < 0) owner[*b] = 3 * (int64_t)t + c;
+        }
+    sb_edge_map_free(&map);
+    return owner;
+}
+
+/* Per triangle edge: weight 1 and the bond's rest length where it owns a bond. */
+static bool sb_fast_fused_edges(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
+    size_t nt = m->triangle_count;
+    double* weight = calloc(3 * nt, sizeof *weight);
+    double* rest = calloc(3 * nt, sizeof *rest);
+    bool ok = weight && rest;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++)
+        if (owner[b] >= 0) {
+            int c = (int)(owner[b] % 3);
+            size_t t = (size_t)(owner[b] / 3);
+            weight[c * nt + t] = 1.0;
+            rest[c * nt + t] = m->bond_r0[b];
+        }
+    for (int c = 0; ok && c < 3; c++) {
+        f->tri_edge_owned[c] = sb_gather_real(weight + c * nt, &f->triangles, &ok);
+        f->tri_edge_r0[c] = sb_gather_real(rest + c * nt, &f->triangles, &ok);
+    }
+    free(weight);
+    free(rest);
+    f->fused_bonds = ok;
+    return ok;
+}
+
 static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
     const uint32_t* corners[3] = {m->tri_v[0], m->tri_v[1], m->tri_v[2]};
-    if (!sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, 3, corners)) return false;
+    if (!sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, 3, corners, NULL)) return false;
     bool ok = true;
     for (int c = 0; c < 3; c++) {
         f->tri_v[c] = sb_gather_index(m->tri_v[c], &f->triangles, &ok);
@@ -107,7 +183,7 @@ static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
 
 static bool sb_fast_hinges(sb_fast_model* f, const sb_model* m) {
     const uint32_t* ids[4] = {m->hinge_e0, m->hinge_e1, m->hinge_o0, m->hinge_o1};
-    if (!sb_group_build(&f->hinges, m->vertex_count, m->hinge_count, 4, ids)) return false;
+    if (!sb_group_build(&f->hinges, m->vertex_count, m->hinge_count, 4, ids, NULL)) return false;
     bool ok = true;
     for (int a = 0; a < 4; a++) f->hinge_v[a] = sb_gather_index(ids[a], &f->hinges, &ok);
     f->hinge_phi0 = sb_gather_real(m->hinge_phi0, &f->hinges, &ok);
@@ -131,7 +207,11 @@ static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
 
 sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     sb_fast_model* f = calloc(1, sizeof *f);
-    bool ok = f && sb_fast_vertices(f, m) && sb_fast_bonds(f, m) && sb_fast_triangles(f, m) && sb_fast_hinges(f, m);
+    bool ok = f != NULL;
+    int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
+    ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m) &&
+         (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m);
+    free(owner);
     if (!ok) {
         sb_fast_model_destroy(f);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing the fast kernels for %u vertices", m->vertex_count);
@@ -151,6 +231,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_v[c]);
         free(f->tri_cos0[c]);
         free(f->tri_len0[c]);
+        free(f->tri_edge_owned[c]);
+        free(f->tri_edge_r0[c]);
     }
     for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
     free(f);

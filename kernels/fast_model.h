@@ -39,7 +39,7 @@ typedef struct sb_fast_model {
     uint32_t vertex_count;
     sb_real *mass, *inv_mass;
 
-    sb_element_group bonds;
+    sb_element_group bonds; /* the bonds no triangle owns */
     uint32_t *bond_i, *bond_j;
     sb_real* bond_r0;
     sb_fast_constant bond_k, spring_k, spring_damping;
@@ -50,6 +50,11 @@ typedef struct sb_fast_model {
     sb_real *tri_cos0[3], *tri_len0[3];
     sb_fast_constant angle_k, stretch_bend_k;
     bool has_corners;
+    /* fused bonds (see kernels/fast_corners.c): edge c of a triangle slot
+     * carries its bond with weight tri_edge_owned[c] (1 or 0), rest length
+     * tri_edge_r0[c] and the uniform bond_k and spring_k */
+    bool fused_bonds;
+    sb_real *tri_edge_owned[3], *tri_edge_r0[3];
 
     sb_element_group hinges;
     uint32_t *hinge_v[4]; /* e0, e1, o0, o1 */

@@ -37,7 +37,7 @@ typedef bool (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint3
 /* Where each pass keeps its per-chunk sums in solver->partials. */
 typedef struct sb_partial_layout {
     double* bonds;     /* 2 per chunk: bond, spring */
-    double* triangles; /* 2 per chunk: angle, stretch-bend */
+    double* triangles; /* 4 per chunk: angle, stretch-bend, fused bond, fused spring */
     double* hinges;    /* 1 per chunk */
     double* vertices;  /* 2 per chunk: kinetic, gravity */
     uint32_t vertex_chunks;
@@ -50,7 +50,7 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     sb_partial_layout p;
     p.bonds = s->partials;
     p.triangles = p.bonds + 2 * (size_t)f->bonds.chunk_count;
-    p.hinges = p.triangles + 2 * (size_t)f->triangles.chunk_count;
+    p.hinges = p.triangles + 4 * (size_t)f->triangles.chunk_count;
     p.vertices = p.hinges + f->hinges.chunk_count;
     p.vertex_chunks = sb_vertex_chunks(f->vertex_count);
     return p;
@@ -62,7 +62,7 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
-    size_t count = 2 * (size_t)f->bonds.chunk_count + 2 * (size_t)f->triangles.chunk_count + f->hinges.chunk_count +
+    size_t count = 2 * (size_t)f->bonds.chunk_count + 4 * (size_t)f->triangles.chunk_count + f->hinges.chunk_count +
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     if (!s->partials) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
@@ -96,7 +96,8 @@ static void sb_force_passes(const sb_solver* s, const sb_partial_layout* p, int*
     const sb_state* st = &s->state;
     sb_fast_frame frame = {st->x, st->y, st->z, st->vx, st->vy, st->vz, st->fx, st->fy, st->fz};
     if (f->has_bond || f->has_spring) sb_group_pass(f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
-    if (f->has_corners) sb_group_pass(f, &f->triangles, sb_fast_corners, 2, &frame, p->triangles, collapsed);
+    if (f->has_corners || f->fused_bonds)
+        sb_group_pass(f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
     if (f->has_hinges) sb_group_pass(f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, collapsed);
 }
 
@@ -218,18 +219,17 @@ static double sb_sum_strided(const double* values, uint32_t count, int stride, i
     return sum;
 }
 
-/* Adds the chunk sums in chunk order into the solver's energies. */
+/* Adds the chunk sums in chunk order into the solver's energies. A pass
+ * that never runs leaves its chunk sums at the zeros they were allocated with. */
 static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool with_vertices) {
     const sb_fast_model* f = s->fast;
     sb_energies* e = &s->energies;
-    e->term[SB_TERM_BOND] = sb_sum_strided(p->bonds, f->bonds.chunk_count, 2, 0);
-    e->term[SB_TERM_SPRING] = sb_sum_strided(p->bonds, f->bonds.chunk_count, 2, 1);
-    e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, f->triangles.chunk_count, 2, 0);
-    e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, f->triangles.chunk_count, 2, 1);
+    uint32_t bond_chunks = f->bonds.chunk_count, triangle_chunks = f->triangles.chunk_count;
+    e->term[SB_TERM_BOND] = sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 4, 2);
+    e->term[SB_TERM_SPRING] = sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 4, 3);
+    e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 4, 0);
+    e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 4, 1);
     e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.chunk_count, 1, 0);
-    if (!f->has_bond && !f->has_spring) e->term[SB_TERM_BOND] = e->term[SB_TERM_SPRING] = 0.0;
-    if (!f->has_corners) e->term[SB_TERM_ANGLE] = e->term[SB_TERM_STRETCH_BEND] = 0.0;
-    if (!f->has_hinges) e->term[SB_TERM_BEND] = 0.0;
     if (with_vertices) {
         e->kinetic = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 0);
         e->gravity = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 1);

@@ -44,6 +44,12 @@ static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm512_sub_ps(a, b
 static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm512_mul_ps(a, b); }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm512_div_ps(a, b); }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm512_sqrt_ps(a); }
+/* 14-bit estimate, one Newton step: ~1 ulp, without a division */
+static inline sb_wide sb_w_rsqrt(sb_wide a) {
+    __m512 y = _mm512_rsqrt14_ps(a);
+    __m512 t = _mm512_mul_ps(_mm512_mul_ps(a, y), y);
+    return _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(0.5f), y), _mm512_sub_ps(_mm512_set1_ps(3.0f), t));
+}
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_ps_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) {
@@ -72,6 +78,15 @@ static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm512_sub_pd(a, b
 static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm512_mul_pd(a, b); }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm512_div_pd(a, b); }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm512_sqrt_pd(a); }
+/* 14-bit estimate, two Newton steps */
+static inline sb_wide sb_w_rsqrt(sb_wide a) {
+    __m512d y = _mm512_rsqrt14_pd(a);
+    for (int step = 0; step < 2; step++) {
+        __m512d t = _mm512_mul_pd(_mm512_mul_pd(a, y), y);
+        y = _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), y), _mm512_sub_pd(_mm512_set1_pd(3.0), t));
+    }
+    return y;
+}
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_pd_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) {
@@ -93,6 +108,7 @@ static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm256_sub_pd(a, b
 static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm256_mul_pd(a, b); }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_pd(a, b); }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_pd(a); }
+static inline sb_wide sb_w_rsqrt(sb_wide a) { return _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(a)); }
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_NGE_UQ)); }
 #else
 #define SB_WIDTH 8
@@ -107,6 +123,12 @@ static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return _mm256_sub_ps(a, b
 static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm256_mul_ps(a, b); }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_ps(a, b); }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_ps(a); }
+/* 12-bit estimate, one Newton step: ~23 bits */
+static inline sb_wide sb_w_rsqrt(sb_wide a) {
+    __m256 y = _mm256_rsqrt_ps(a);
+    __m256 t = _mm256_mul_ps(_mm256_mul_ps(a, y), y);
+    return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), y), _mm256_sub_ps(_mm256_set1_ps(3.0f), t));
+}
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGE_UQ)); }
 #endif
 #define SB_SIMD_NAME "avx2"
@@ -146,6 +168,7 @@ static inline sb_wide sb_w_sub(sb_wide a, sb_wide b) { return a - b; }
 static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return a * b; }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return a / b; }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return (sb_wide)sqrt(a); }
+static inline sb_wide sb_w_rsqrt(sb_wide a) { return (sb_wide)(1.0 / sqrt(a)); }
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return !(a >= b); }
 static inline bool sb_w_any(sb_wmask m, int count) { return m && count; }
 static inline double sb_w_sum(sb_wide v, int count) { return count ? v : 0.0; }

@@ -26,12 +26,26 @@ static uint64_t sb_edge_hash(uint64_t key) {
     return key;
 }
 
-uint32_t* sb_edge_map_upsert(sb_edge_map* map, uint32_t a, uint32_t b, uint32_t value, bool* inserted) {
+/* The slot holding edge (a, b), or the empty slot where it would go. */
+static size_t sb_edge_slot(const sb_edge_map* map, uint32_t a, uint32_t b, uint64_t* key_out) {
     uint64_t lo = a < b ? a : b, hi = a < b ? b : a;
     uint64_t key = (lo << 32 | hi) + 1;
     size_t mask = map->capacity - 1;
     size_t slot = sb_edge_hash(key) & mask;
     while (map->keys[slot] != 0 && map->keys[slot] != key) slot = (slot + 1) & mask;
+    *key_out = key;
+    return slot;
+}
+
+uint32_t* sb_edge_map_find(const sb_edge_map* map, uint32_t a, uint32_t b) {
+    uint64_t key;
+    size_t slot = sb_edge_slot(map, a, b, &key);
+    return map->keys[slot] == key ? &map->values[slot] : NULL;
+}
+
+uint32_t* sb_edge_map_upsert(sb_edge_map* map, uint32_t a, uint32_t b, uint32_t value, bool* inserted) {
+    uint64_t key;
+    size_t slot = sb_edge_slot(map, a, b, &key);
     *inserted = map->keys[slot] == 0;
     if (*inserted) {
         map->keys[slot] = key;

@@ -21,4 +21,7 @@ void sb_edge_map_free(sb_edge_map* map);
  * inserting value if the edge is new; *inserted tells which happened. */
 uint32_t* sb_edge_map_upsert(sb_edge_map* map, uint32_t a, uint32_t b, uint32_t value, bool* inserted);
 
+/* The value of edge (a, b), or NULL when it is not in the map. */
+uint32_t* sb_edge_map_find(const sb_edge_map* map, uint32_t a, uint32_t b);
+
 #endif

@@ -26,13 +26,15 @@ static void make_mesh(shape kind, sb_mesh* mesh) {
     assert_int_equal(status, SB_OK);
 }
 
-static sb_model* make_model(const sb_mesh* mesh) {
+/* With damping every bond goes through the bond kernel; without it the
+ * triangles own their edges' bonds (the fused path). */
+static sb_model* make_model(const sb_mesh* mesh, bool damped) {
     sb_material_def material = sb_default_material_def();
     material.bond_k = 50.0;
     material.angle_k = 0.3;
     material.stretch_bend_k = 2.0;
     material.spring_k = 20.0;
-    material.spring_damping = 0.05;
+    material.spring_damping = damped ? 0.05 : 0.0;
     material.bend_k = 0.01;
     sb_builder* builder = sb_builder_create();
     sb_error err;
@@ -68,10 +70,10 @@ static sb_solver* make_fast_solver(const sb_model* model, int threads) {
     return solver;
 }
 
-static void compare_with_reference(shape kind) {
+static void compare_with_reference(shape kind, bool damped) {
     sb_mesh mesh = {0};
     make_mesh(kind, &mesh);
-    sb_model* model = make_model(&mesh);
+    sb_model* model = make_model(&mesh, damped);
     uint32_t n = mesh.vertex_count;
     double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
     sb_solver* solver = make_fast_solver(model, 2);
@@ -87,8 +89,8 @@ static void compare_with_reference(shape kind) {
             double fast[3] = {st->fx[i], st->fy[i], st->fz[i]};
             for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(fast[c] - f[3 * i + c]));
         }
-        print_message("shape %d seed %llu: largest force error %.3g of the largest force\n", (int)kind,
-                      (unsigned long long)seed, worst / largest);
+        print_message("shape %d%s seed %llu: largest force error %.3g of the largest force\n", (int)kind,
+                      damped ? " damped" : " fused", (unsigned long long)seed, worst / largest);
         TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
         sb_energies fast = sb_solver_energies(solver);
         double scale = 0.0;
@@ -103,11 +105,31 @@ static void compare_with_reference(shape kind) {
     free(f);
 }
 
-static void test_regular_sheet(void** state) { (void)state; compare_with_reference(SHAPE_SHEET); }
-static void test_jittered_sheet(void** state) { (void)state; compare_with_reference(SHAPE_JITTERED); }
-static void test_sliver_triangles(void** state) { (void)state; compare_with_reference(SHAPE_SLIVERS); }
-static void test_nearly_straight_angles(void** state) { (void)state; compare_with_reference(SHAPE_FLATTENED); }
-static void test_icosphere(void** state) { (void)state; compare_with_reference(SHAPE_SPHERE); }
+static void test_regular_sheet(void** state) {
+    (void)state;
+    compare_with_reference(SHAPE_SHEET, true);
+    compare_with_reference(SHAPE_SHEET, false);
+}
+static void test_jittered_sheet(void** state) {
+    (void)state;
+    compare_with_reference(SHAPE_JITTERED, true);
+    compare_with_reference(SHAPE_JITTERED, false);
+}
+static void test_sliver_triangles(void** state) {
+    (void)state;
+    compare_with_reference(SHAPE_SLIVERS, true);
+    compare_with_reference(SHAPE_SLIVERS, false);
+}
+static void test_nearly_straight_angles(void** state) {
+    (void)state;
+    compare_with_reference(SHAPE_FLATTENED, true);
+    compare_with_reference(SHAPE_FLATTENED, false);
+}
+static void test_icosphere(void** state) {
+    (void)state;
+    compare_with_reference(SHAPE_SPHERE, true);
+    compare_with_reference(SHAPE_SPHERE, false);
+}
 
 /* Within a color no two elements share a vertex, and every element of the
  * model appears exactly once among the real slots. */
@@ -138,7 +160,7 @@ static void test_coloring(void** state) {
     (void)state;
     sb_mesh mesh = {0};
     make_mesh(SHAPE_SPHERE, &mesh);
-    sb_model* model = make_model(&mesh);
+    sb_model* model = make_model(&mesh, true);
     sb_error err;
     sb_fast_model* fast = sb_fast_model_create(model, &err);
     assert_non_null(fast);
@@ -149,6 +171,19 @@ static void test_coloring(void** state) {
     print_message("colors: %u bond, %u triangle, %u hinge\n", fast->bonds.color_count, fast->triangles.color_count,
                   fast->hinges.color_count);
     assert_true(fast->triangles.color_count <= 16); /* greedy on a valence-6 mesh needs few */
+    sb_fast_model_destroy(fast);
+    sb_model_destroy(model);
+    /* undamped uniform bonds: every bond is owned by exactly one triangle edge */
+    model = make_model(&mesh, false);
+    fast = sb_fast_model_create(model, &err);
+    assert_non_null(fast);
+    assert_true(fast->fused_bonds);
+    assert_int_equal(fast->bonds.count, 0);
+    double owned = 0.0;
+    for (uint32_t r = 0; r < fast->triangles.color_count; r++)
+        for (uint32_t s = fast->triangles.colors[r].begin; s < fast->triangles.colors[r].end; s++)
+            for (int c = 0; c < 3; c++) owned += fast->tri_edge_owned[c][s];
+    assert_true(owned == (double)sb_model_bond_count(model));
     sb_fast_model_destroy(fast);
     sb_model_destroy(model);
     sb_mesh_free(&mesh);
@@ -217,7 +252,7 @@ static void test_collapse_reported(void** state) {
     (void)state;
     sb_mesh mesh = {0};
     make_mesh(SHAPE_SHEET, &mesh);
-    sb_model* model = make_model(&mesh);
+    sb_model* model = make_model(&mesh, true);
     sb_solver* solver = make_fast_solver(model, 2);
     double* x = malloc(3 * mesh.vertex_count * sizeof *x);
     memcpy(x, mesh.positions, 3 * mesh.vertex_count * sizeof *x);
