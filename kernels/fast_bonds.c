@@ -8,6 +8,7 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
                    double energy[2]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide half = sb_w_set((sb_real)0.5), ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO);
+    sb_wide bond_sum = sb_w_set(0), spring_sum = sb_w_set(0);
     bool collapsed = false;
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
@@ -28,8 +29,10 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
         sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, i, f, count);
         sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, j, sb_wv_neg(f), count);
         sb_wide strain_energy = sb_w_mul(half, sb_w_mul(stretch, stretch));
-        energy[0] += sb_w_sum(sb_w_mul(kb, strain_energy), count);
-        energy[1] += sb_w_sum(sb_w_mul(ks, strain_energy), count);
+        bond_sum = sb_w_add(bond_sum, sb_w_keep(sb_w_mul(kb, strain_energy), count));
+        spring_sum = sb_w_add(spring_sum, sb_w_keep(sb_w_mul(ks, strain_energy), count));
     }
+    energy[0] += sb_w_sum(bond_sum, SB_WIDTH);
+    energy[1] += sb_w_sum(spring_sum, SB_WIDTH);
     return collapsed;
 }

@@ -67,6 +67,7 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
                      double energy[4]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO), zero = sb_w_set(0);
+    sb_wide sums[4] = {zero, zero, zero, zero};
     bool collapsed = false;
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
@@ -93,7 +94,8 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
         if (m->fused_bonds)
             for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, c, length[c], s, &out);
         for (int c = 0; c < 3; c++) sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[c], out.force[c], count);
-        for (int e = 0; e < 4; e++) energy[e] += sb_w_sum(out.energy[e], count);
+        for (int e = 0; e < 4; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     }
+    for (int e = 0; e < 4; e++) energy[e] += sb_w_sum(sums[e], SB_WIDTH);
     return collapsed;
 }

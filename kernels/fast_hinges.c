@@ -32,6 +32,7 @@ bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
                     double energy[1]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide limit_ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
+    sb_wide sum = sb_w_set(0);
     bool collapsed = false;
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
@@ -62,7 +63,8 @@ bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
         sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[1], f_e1, count);
         sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[2], f_o0, count);
         sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[3], f_o1, count);
-        energy[0] += sb_w_sum(sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta), count);
+        sum = sb_w_add(sum, sb_w_keep(sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta), count));
     }
+    energy[0] += sb_w_sum(sum, SB_WIDTH);
     return collapsed;
 }

@@ -8,7 +8,9 @@
  * Elements are processed in blocks of SB_WIDTH. The element arrays are
  * padded to a multiple of SB_WIDTH with copies of a real element, so loads
  * and gathers of a block are always in bounds and finite; `count` (the
- * number of real lanes in the block) masks what is written and summed. */
+ * number of real lanes in the block) masks what is written and summed.
+ * Energies are summed lane-wise over a chunk (sb_w_keep drops the padding
+ * lanes of a last block) and reduced across lanes once per chunk. */
 #ifndef SB_WIDE_H
 #define SB_WIDE_H
 
@@ -55,6 +57,7 @@ static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(coun
 static inline double sb_w_sum(sb_wide v, int count) {
     return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v);
 }
+static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_ps(sb_w_lanes(count), v); }
 
 #elif defined(__AVX512F__) && SB_DOUBLE
 /* ---- AVX-512, double: 8 lanes ------------------------------------------ */
@@ -92,6 +95,7 @@ static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(coun
 static inline double sb_w_sum(sb_wide v, int count) {
     return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v);
 }
+static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_pd(sb_w_lanes(count), v); }
 
 #elif defined(__AVX2__)
 /* ---- AVX2: 8 float or 4 double lanes; scatter is done lane by lane ----- */
@@ -148,6 +152,13 @@ static inline double sb_w_sum(sb_wide v, int count) {
     for (int l = 0; l < count; l++) sum += lanes[l];
     return sum;
 }
+static inline sb_wide sb_w_keep(sb_wide v, int count) {
+    sb_real lanes[SB_WIDTH];
+    memcpy(lanes, &v, sizeof lanes);
+    for (int l = count; l < SB_WIDTH; l++) lanes[l] = 0;
+    memcpy(&v, lanes, sizeof lanes);
+    return v;
+}
 
 #else
 /* ---- scalar: one lane, the same kernels ------------------------------- */
@@ -172,6 +183,7 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) { return (sb_wide)(1.0 / sqrt(a)); }
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return !(a >= b); }
 static inline bool sb_w_any(sb_wmask m, int count) { return m && count; }
 static inline double sb_w_sum(sb_wide v, int count) { return count ? v : 0.0; }
+static inline sb_wide sb_w_keep(sb_wide v, int count) { return count ? v : 0; }
 #endif
 
 /* A 3-vector of wide reals: one lane per element. */
