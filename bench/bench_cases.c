@@ -11,8 +11,10 @@
  * degree D sees at most 2 D kb from its bonds, 18 corners each adding at most
  * 4 kθ / h_min² (|∇c|² ≤ 4/h_min²) and 18 · 6 ksb / h_min from stretch-bend;
  * the springs and hinges of --all-terms add 2 D ks and 18 · 4 kbend / h_min².
- * dt = 0.8 · 2/ω with ω² = that bound / m: 40 % of the explicit limit at
- * worst, and far less in practice. */
+ * dt = 0.8 · 2/ω with ω² = that bound / m: Verlet is stable for ω dt < 2,
+ * and the bound is above the true highest frequency, so dt is at most 80 %
+ * of the limit (far less in practice). 20 000 steps of the 10k cases stay
+ * stable with the fast kernels and gravity. */
 #include "bench/bench_cases.h"
 
 #include <math.h>
