@@ -36,6 +36,9 @@ typedef enum sb_scene_type {
     X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2",                                        \
       "icosphere: subdivisions of the icosahedron (0 to 8)")                                       \
     X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                             \
+    X(MESH_REORDER, "mesh.reorder", BOOL, "false",                                                 \
+      "renumber vertices along a Morton curve for speed (fixed indices then refer to the new "     \
+      "numbering)")                                                                                \
     X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")             \
     X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                \
     X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                               \

@@ -26,7 +26,7 @@ static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     return status;
 }
 
-sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
+static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     const char* generator = sb_scene_string(scene, SB_KEY_MESH_GENERATOR);
     if (strcmp(generator, "file") == 0) return load_file(scene, out, err);
     sb_status status = strcmp(generator, "sheet") == 0
@@ -37,6 +37,13 @@ sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err)
     if (status == SB_OK) return SB_OK;
     const char* where = sb_scene_where(scene, SB_KEY_MESH_GENERATOR);
     return sb_error_prefix(err, status, where ? where : generator);
+}
+
+sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
+    sb_status status = make_mesh(scene, out, err);
+    if (status == SB_OK && sb_scene_bool(scene, SB_KEY_MESH_REORDER)) status = sb_mesh_reorder(out, NULL, err);
+    if (status != SB_OK) sb_mesh_free(out);
+    return status;
 }
 
 sb_material_def sb_scene_material(const sb_scene* scene) {
