@@ -1,35 +1,43 @@
 #include "kernels/coloring.h"
 
 #include <stdlib.h>
+#include <string.h>
 
-/* The least used of the `opened` colors not set in `used`; a new color
- * when all are taken; the overflow color when no new one is left. */
-static int sb_pick_color(uint64_t used, const uint32_t* sizes, uint32_t opened) {
-    int best = -1;
-    for (int c = 0; c < (int)opened; c++)
-        if (!(used >> c & 1u) && (best < 0 || sizes[c] < sizes[best])) best = c;
-    if (best >= 0) return best;
-    return opened < SB_OVERFLOW_COLOR ? (int)opened : SB_OVERFLOW_COLOR;
+bool sb_colorer_init(sb_colorer* c, uint32_t vertex_count) {
+    memset(c, 0, sizeof *c);
+    c->used = calloc(vertex_count ? vertex_count : 1, sizeof *c->used);
+    return c->used != NULL;
 }
 
-uint32_t sb_color_elements(uint32_t vertex_count, uint32_t count, int arity, const uint32_t* const* vertices,
-                           uint8_t* color) {
-    uint64_t* used = calloc(vertex_count ? vertex_count : 1, sizeof *used);
-    if (!used) return 0;
-    uint32_t sizes[SB_MAX_COLORS] = {0};
-    uint32_t opened = 0;
-    for (uint32_t e = 0; e < count; e++) {
-        uint64_t taken = 0;
-        for (int a = 0; a < arity; a++) taken |= used[vertices[a][e]];
-        int c = sb_pick_color(taken, sizes, opened);
-        color[e] = (uint8_t)c;
-        sizes[c]++;
-        if (c != SB_OVERFLOW_COLOR)
-            for (int a = 0; a < arity; a++) used[vertices[a][e]] |= UINT64_C(1) << c;
-        if (c == (int)opened && opened < SB_OVERFLOW_COLOR) opened++;
-    }
-    free(used);
+void sb_colorer_free(sb_colorer* c) {
+    free(c->used);
+    c->used = NULL;
+}
+
+int sb_colorer_pick(sb_colorer* c, uint64_t taken) {
+    int best = -1;
+    for (int k = 0; k < (int)c->opened; k++)
+        if (!(taken >> k & 1u) && (best < 0 || c->sizes[k] < c->sizes[best])) best = k;
+    if (best < 0) best = c->opened < SB_OVERFLOW_COLOR ? (int)c->opened++ : SB_OVERFLOW_COLOR;
+    c->sizes[best]++;
+    return best;
+}
+
+uint32_t sb_colorer_run(sb_colorer* c, uint32_t begin, uint32_t end, int arity, const uint32_t* const* vertices,
+                        uint8_t* color) {
+    memset(c->sizes, 0, sizeof c->sizes);
+    c->opened = 0;
     bool overflow = false;
-    for (uint32_t e = 0; e < count && !overflow; e++) overflow = color[e] == SB_OVERFLOW_COLOR;
-    return overflow ? SB_MAX_COLORS : (opened ? opened : 1);
+    for (uint32_t e = begin; e < end; e++) {
+        uint64_t taken = 0;
+        for (int a = 0; a < arity; a++) taken |= c->used[vertices[a][e]];
+        int k = sb_colorer_pick(c, taken);
+        color[e - begin] = (uint8_t)k;
+        overflow |= k == SB_OVERFLOW_COLOR;
+        if (k != SB_OVERFLOW_COLOR)
+            for (int a = 0; a < arity; a++) c->used[vertices[a][e]] |= UINT64_C(1) << k;
+    }
+    for (uint32_t e = begin; e < end; e++)
+        for (int a = 0; a < arity; a++) c->used[vertices[a][e]] = 0;
+    return overflow ? SB_MAX_COLORS : c->opened;
 }

@@ -11,34 +11,74 @@
 
 static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) / step * step; }
 
-/* Lays out `count` elements of the given colors; fills the group's ranges
- * and source[]. Returns false when out of memory. */
-static bool sb_group_layout(sb_element_group* g, const uint8_t* color, uint32_t count) {
-    uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
-    for (uint32_t e = 0; e < count; e++) sizes[color[e]]++;
-    uint32_t slot = 0, chunks = 0;
-    g->color_count = 0;
-    for (int c = 0; c < SB_MAX_COLORS; c++) {
-        if (!sizes[c]) continue;
-        sb_color_range* r = &g->colors[g->color_count++];
-        *r = (sb_color_range){slot, slot + sizes[c], chunks, c == SB_OVERFLOW_COLOR};
-        cursor[c] = slot;
-        chunks += (sizes[c] + SB_CHUNK - 1) / SB_CHUNK;
-        slot = sb_round_up(r->end, SB_WIDTH);
+/* Elements per block: about 64 blocks, 256 to 2048 elements each (a block's
+ * vertices then fit in L1/L2). Depends on the element count only, never on
+ * the thread count, so the summation order is the same for any. */
+static uint32_t sb_block_size(uint32_t count) {
+    uint32_t size = count / 64;
+    size = size < 256 ? 256 : size > 2048 ? 2048 : size;
+    return sb_round_up(size, SB_WIDTH);
+}
+
+/* Block colors: blocks sharing a vertex get different colors. */
+static bool sb_color_blocks(uint32_t vertex_count, uint32_t count, uint32_t block_size, int arity,
+                            const uint32_t* const* vertices, uint8_t* block_color, uint32_t block_count) {
+    sb_colorer colorer;
+    if (!sb_colorer_init(&colorer, vertex_count)) return false;
+    for (uint32_t b = 0; b < block_count; b++) {
+        uint32_t end = (b + 1) * block_size < count ? (b + 1) * block_size : count;
+        uint64_t taken = 0;
+        for (uint32_t e = b * block_size; e < end; e++)
+            for (int a = 0; a < arity; a++) taken |= colorer.used[vertices[a][e]];
+        int k = sb_colorer_pick(&colorer, taken);
+        block_color[b] = (uint8_t)k;
+        for (uint32_t e = b * block_size; k != SB_OVERFLOW_COLOR && e < end; e++)
+            for (int a = 0; a < arity; a++) colorer.used[vertices[a][e]] |= UINT64_C(1) << k;
     }
-    g->count = count;
-    g->capacity = slot + SB_WIDTH;
-    g->chunk_count = chunks;
-    g->source = malloc(g->capacity * sizeof *g->source);
-    if (!g->source) return false;
-    for (uint32_t e = 0; e < count; e++) g->source[cursor[color[e]]++] = e;
-    /* padding repeats the color's first element: finite, never written */
-    for (uint32_t r = 0; r < g->color_count; r++) {
-        sb_color_range* range = &g->colors[r];
-        uint32_t stop = r + 1 < g->color_count ? g->colors[r + 1].begin : g->capacity;
-        for (uint32_t s = range->end; s < stop; s++) g->source[s] = g->source[range->begin];
-    }
+    sb_colorer_free(&colorer);
     return true;
+}
+
+/* Lays out block b's elements [first, end) by their local colors from
+ * slot *slot on, padding each color to whole SIMD blocks. */
+static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, const uint8_t* color,
+                            uint32_t* slot) {
+    uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
+    for (uint32_t e = first; e < end; e++) sizes[color[e - first]]++;
+    sb_block* block = &g->blocks[g->block_count++];
+    block->first_range = g->range_count;
+    block->range_count = 0;
+    for (int k = 0; k < SB_MAX_COLORS; k++) {
+        if (!sizes[k]) continue;
+        g->ranges[g->range_count++] = (sb_color_range){*slot, *slot + sizes[k], k == SB_OVERFLOW_COLOR};
+        block->range_count++;
+        cursor[k] = *slot;
+        *slot = sb_round_up(*slot + sizes[k], SB_WIDTH);
+    }
+    for (uint32_t e = first; e < end; e++) g->source[cursor[color[e - first]]++] = e;
+    for (uint32_t r = block->first_range; r < g->range_count; r++) /* padding copies the color's first */
+        for (uint32_t s = g->ranges[r].end; s < sb_round_up(g->ranges[r].end, SB_WIDTH); s++)
+            g->source[s] = g->source[g->ranges[r].begin];
+}
+
+/* The slot count: every block's colors padded. Colors each block's
+ * elements into color (count entries) on the way. */
+static uint32_t sb_color_within_blocks(sb_colorer* colorer, uint32_t count, uint32_t block_size, int arity,
+                                       const uint32_t* const* vertices, uint8_t* color, uint32_t* ranges) {
+    uint32_t slots = 0;
+    *ranges = 0;
+    for (uint32_t first = 0; first < count; first += block_size) {
+        uint32_t end = first + block_size < count ? first + block_size : count;
+        sb_colorer_run(colorer, first, end, arity, vertices, color + first);
+        uint32_t sizes[SB_MAX_COLORS] = {0};
+        for (uint32_t e = first; e < end; e++) sizes[color[e]]++;
+        for (int k = 0; k < SB_MAX_COLORS; k++)
+            if (sizes[k]) {
+                slots += sb_round_up(sizes[k], SB_WIDTH);
+                (*ranges)++;
+            }
+    }
+    return slots;
 }
 
 /* Colors and lays out `count` elements; subset (or NULL for the identity)
@@ -47,11 +87,36 @@ static bool sb_group_build(sb_element_group* g, uint32_t vertex_count, uint32_t 
                            const uint32_t* const* vertices, const uint32_t* subset) {
     *g = (sb_element_group){0};
     if (count == 0) return true;
-    uint8_t* color = malloc(count);
-    bool ok = color && sb_color_elements(vertex_count, count, arity, vertices, color) > 0 &&
-              sb_group_layout(g, color, count);
-    free(color);
+    uint32_t block_size = sb_block_size(count), block_count = (count + block_size - 1) / block_size;
+    uint8_t *color = malloc(count), *block_color = malloc(block_count);
+    sb_colorer colorer;
+    bool ok = color && block_color && sb_colorer_init(&colorer, vertex_count);
+    if (ok) {
+        uint32_t ranges;
+        g->capacity = sb_color_within_blocks(&colorer, count, block_size, arity, vertices, color, &ranges) + SB_WIDTH;
+        sb_colorer_free(&colorer);
+        g->ranges = malloc(ranges * sizeof *g->ranges);
+        g->blocks = malloc(block_count * sizeof *g->blocks);
+        g->source = malloc(g->capacity * sizeof *g->source);
+        ok = g->ranges && g->blocks && g->source &&
+             sb_color_blocks(vertex_count, count, block_size, arity, vertices, block_color, block_count);
+    }
+    uint32_t slot = 0;
+    for (int k = 0; ok && k < SB_MAX_COLORS; k++) {
+        g->color_first_block[k] = g->block_count;
+        for (uint32_t b = 0; b < block_count; b++) {
+            if (block_color[b] != k) continue;
+            uint32_t first = b * block_size, end = first + block_size < count ? first + block_size : count;
+            sb_layout_block(g, first, end, color + first, &slot);
+        }
+        if (g->block_count > g->color_first_block[k]) g->block_colors = (uint32_t)k + 1;
+    }
+    g->color_first_block[SB_MAX_COLORS] = g->block_count;
+    for (uint32_t s = slot; ok && s < g->capacity; s++) g->source[s] = g->source[0];
     for (uint32_t s = 0; ok && subset && s < g->capacity; s++) g->source[s] = subset[g->source[s]];
+    g->count = count;
+    free(color);
+    free(block_color);
     return ok;
 }
 
@@ -222,6 +287,11 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
 
 void sb_fast_model_destroy(sb_fast_model* f) {
     if (!f) return;
+    sb_element_group* groups[3] = {&f->bonds, &f->triangles, &f->hinges};
+    for (int g = 0; g < 3; g++) {
+        free(groups[g]->ranges);
+        free(groups[g]->blocks);
+    }
     void* arrays[] = {f->mass,           f->inv_mass,        f->bonds.source,          f->bond_i,
                       f->bond_j,         f->bond_r0,         f->bond_k.values,         f->spring_k.values,
                       f->spring_damping.values, f->triangles.source, f->angle_k.values, f->stretch_bend_k.values,

@@ -7,31 +7,44 @@
 #include "mesh/model_internal.h"
 #include "kernels/coloring.h"
 
-/* Work is split into chunks of this many elements (a multiple of every
- * SIMD width). Chunks, not threads, own the partial energy sums, so the
- * totals are the same for any thread count. */
-#define SB_CHUNK 256
-
 /* A per-element constant: an array, or one value for all when uniform. */
 typedef struct sb_fast_constant {
     sb_real* values;
     sb_real uniform;
 } sb_fast_constant;
 
-/* One color's slice of an element group: real elements [begin, end),
- * padding up to the next multiple of SB_WIDTH after end. */
+/* Blocked coloring. The elements (in model order, which follows the mesh's
+ * vertex order and so space) are cut into blocks of consecutive elements.
+ * Within a block, elements are colored so that no two of a color share a
+ * vertex: SIMD lanes never collide. The blocks themselves are colored the
+ * same way, so that blocks of one block color share no vertex: threads
+ * never collide. A step runs the block colors in order, the blocks of one
+ * color in parallel, and inside a block its element colors in order; every
+ * vertex therefore sums its forces in the same order for any thread count.
+ * A block's vertices stay in cache while all its colors run, which an
+ * element coloring of the whole mesh (every color sweeping every vertex)
+ * does not give. */
+
+/* One element color of one block: slots [begin, end), padded with copies of
+ * a real element up to the next multiple of SB_WIDTH. */
 typedef struct sb_color_range {
     uint32_t begin, end;
-    uint32_t first_chunk; /* index of its first chunk among the group's */
-    bool serial;          /* the overflow color: one element at a time */
+    bool serial; /* the overflow color: one element at a time */
 } sb_color_range;
 
+typedef struct sb_block {
+    uint32_t first_range, range_count;
+} sb_block;
+
 typedef struct sb_element_group {
-    uint32_t count;     /* real elements */
-    uint32_t capacity;  /* with padding */
-    uint32_t color_count;
-    sb_color_range colors[SB_MAX_COLORS];
-    uint32_t chunk_count;
+    uint32_t count;    /* real elements */
+    uint32_t capacity; /* slots, with padding */
+    sb_color_range* ranges;
+    uint32_t range_count;
+    sb_block* blocks; /* in block-color order; energies are summed per block */
+    uint32_t block_count;
+    uint32_t block_colors;
+    uint32_t color_first_block[SB_MAX_COLORS + 1];
     uint32_t* source; /* the model's index of each slot (padding repeats one) */
 } sb_element_group;
 

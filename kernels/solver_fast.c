@@ -6,18 +6,18 @@
  *   1. drift (per vertex): the Verlet position update, fused with setting
  *      each force to m g, so forces need no separate clearing pass;
  *   2. forces: for each element group (bonds, triangles, hinges), for each
- *      color, the SIMD kernel over that color's chunks. Elements of one
- *      color share no vertex, so SIMD lanes and threads scatter-add forces
- *      without atomics; colors run in a fixed order with a barrier between
- *      them, so every vertex sums its contributions in the same order for
- *      any thread count: the state is bitwise the same for 1 or N threads.
- *      The overflow color (elements that fit no color) runs on one thread,
- *      one element at a time;
+ *      block color, its blocks in parallel, and in each block the SIMD
+ *      kernel over each element color (kernels/fast_model.h explains the
+ *      blocked coloring). Neither lanes nor threads ever add to the same
+ *      vertex at once, so no atomics are needed, and every vertex sums its
+ *      contributions in the same order for any thread count: the state is
+ *      bitwise the same for 1 or N threads. A barrier separates block
+ *      colors (a handful), not element colors;
  *   3. external forces (one thread, only when a callback is set);
  *   4. kick (per vertex): the closing half kick of the velocity, fused with
  *      the kinetic and gravitational energy sums and the finiteness check.
- * Energies are summed per fixed-size chunk (SB_CHUNK elements), never per
- * thread, and the chunk sums are added in order after the region.
+ * Energies are summed per block (and per fixed-size chunk of vertices),
+ * never per thread, and those sums are added in order after the region.
  *
  * Alternatives measured against this scheme are in bench/results (see
  * README there); the colored scatter is what the fast path keeps. */
@@ -32,14 +32,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Vertices per chunk of the vertex passes, which own their energy sums. */
+#define SB_CHUNK 256
+
 typedef bool (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
 
-/* Where each pass keeps its per-chunk sums in solver->partials. */
+/* Where each pass keeps its per-block (per-chunk) sums in solver->partials. */
 typedef struct sb_partial_layout {
-    double* bonds;     /* 2 per chunk: bond, spring */
-    double* triangles; /* 4 per chunk: angle, stretch-bend, fused bond, fused spring */
-    double* hinges;    /* 1 per chunk */
-    double* vertices;  /* 2 per chunk: kinetic, gravity */
+    double* bonds;     /* 2 per block: bond, spring */
+    double* triangles; /* 4 per block: angle, stretch-bend, fused bond, fused spring */
+    double* hinges;    /* 1 per block */
+    double* vertices;  /* 2 per vertex chunk: kinetic, gravity */
     uint32_t vertex_chunks;
 } sb_partial_layout;
 
@@ -49,9 +52,9 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     const sb_fast_model* f = s->fast;
     sb_partial_layout p;
     p.bonds = s->partials;
-    p.triangles = p.bonds + 2 * (size_t)f->bonds.chunk_count;
-    p.hinges = p.triangles + 4 * (size_t)f->triangles.chunk_count;
-    p.vertices = p.hinges + f->hinges.chunk_count;
+    p.triangles = p.bonds + 2 * (size_t)f->bonds.block_count;
+    p.hinges = p.triangles + 4 * (size_t)f->triangles.block_count;
+    p.vertices = p.hinges + f->hinges.block_count;
     p.vertex_chunks = sb_vertex_chunks(f->vertex_count);
     return p;
 }
@@ -62,7 +65,7 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
-    size_t count = 2 * (size_t)f->bonds.chunk_count + 4 * (size_t)f->triangles.chunk_count + f->hinges.chunk_count +
+    size_t count = 2 * (size_t)f->bonds.block_count + 4 * (size_t)f->triangles.block_count + f->hinges.block_count +
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     if (!s->partials) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
@@ -70,23 +73,33 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     return SB_OK;
 }
 
-/* Runs one kernel over every color of a group. Called by all threads of
- * the region; returns with all of them past the last color's barrier. */
+static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint32_t b, sb_fast_kernel kernel,
+                         int terms, const sb_fast_frame* frame, double* partials, int* collapsed) {
+    const sb_block block = g->blocks[b];
+    double* energy = partials + (size_t)terms * b;
+    memset(energy, 0, (size_t)terms * sizeof *energy);
+    bool bad = false;
+    for (uint32_t r = block.first_range; r < block.first_range + block.range_count; r++)
+        bad |= kernel(f, frame, g->ranges[r].begin, g->ranges[r].end, g->ranges[r].serial, energy);
+    if (bad) {
+#pragma omp atomic write
+        *collapsed = 1;
+    }
+}
+
+/* Runs one kernel over a whole group. Called by all threads of the region;
+ * returns with all of them past the last block color's barrier. The
+ * overflow block color, whose blocks may share vertices, runs on one thread. */
 static void sb_group_pass(const sb_fast_model* f, const sb_element_group* g, sb_fast_kernel kernel, int terms,
                           const sb_fast_frame* frame, double* partials, int* collapsed) {
-    for (uint32_t r = 0; r < g->color_count; r++) {
-        const sb_color_range range = g->colors[r];
-        int chunks = (int)((range.end - range.begin + SB_CHUNK - 1) / SB_CHUNK);
+    for (uint32_t k = 0; k < g->block_colors; k++) {
+        int first = (int)g->color_first_block[k], last = (int)g->color_first_block[k + 1];
+        if (k == SB_OVERFLOW_COLOR) {
+#pragma omp single
+            for (int b = first; b < last; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+        } else {
 #pragma omp for schedule(static)
-        for (int c = 0; c < chunks; c++) {
-            uint32_t begin = range.begin + (uint32_t)c * SB_CHUNK;
-            uint32_t end = begin + SB_CHUNK < range.end ? begin + SB_CHUNK : range.end;
-            double* energy = partials + (size_t)terms * (range.first_chunk + (uint32_t)c);
-            memset(energy, 0, (size_t)terms * sizeof *energy);
-            if (kernel(f, frame, begin, end, range.serial, energy)) {
-#pragma omp atomic write
-                *collapsed = 1;
-            }
+            for (int b = first; b < last; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
         }
     }
 }
@@ -224,12 +237,12 @@ static double sb_sum_strided(const double* values, uint32_t count, int stride, i
 static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool with_vertices) {
     const sb_fast_model* f = s->fast;
     sb_energies* e = &s->energies;
-    uint32_t bond_chunks = f->bonds.chunk_count, triangle_chunks = f->triangles.chunk_count;
+    uint32_t bond_chunks = f->bonds.block_count, triangle_chunks = f->triangles.block_count;
     e->term[SB_TERM_BOND] = sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 4, 2);
     e->term[SB_TERM_SPRING] = sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 4, 3);
     e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 4, 0);
     e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 4, 1);
-    e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.chunk_count, 1, 0);
+    e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0);
     if (with_vertices) {
         e->kinetic = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 0);
         e->gravity = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 1);

@@ -131,46 +131,70 @@ static void test_icosphere(void** state) {
     compare_with_reference(SHAPE_SPHERE, false);
 }
 
-/* Within a color no two elements share a vertex, and every element of the
- * model appears exactly once among the real slots. */
+/* Marks the vertices of range r's real slots with `mark`; fails on a vertex
+ * already marked with it. */
+static void mark_range(const sb_color_range* range, int arity, uint32_t* const* ids, uint32_t* owner, uint32_t mark,
+                       const char* what) {
+    for (uint32_t s = range->begin; s < range->end; s++)
+        for (int a = 0; a < arity; a++) {
+            if (owner[ids[a][s]] == mark) fail_msg("%s %u: vertex %u taken twice (slot %u)", what, mark, ids[a][s], s);
+            owner[ids[a][s]] = mark;
+        }
+}
+
+/* Every element appears exactly once; within an element color no two
+ * elements share a vertex (SIMD lanes); within a block color no two blocks
+ * share a vertex (threads). */
 static void check_group(const sb_element_group* g, uint32_t element_count, uint32_t vertex_count, int arity,
                         uint32_t* const* ids) {
     assert_int_equal(g->count, element_count);
     uint8_t* seen = calloc(element_count + 1, 1);
-    uint32_t* owner = malloc((vertex_count + 1) * sizeof *owner);
-    for (uint32_t r = 0; r < g->color_count; r++) {
-        const sb_color_range* range = &g->colors[r];
-        for (uint32_t v = 0; v < vertex_count; v++) owner[v] = UINT32_MAX;
-        for (uint32_t s = range->begin; s < range->end; s++) {
-            assert_int_equal(seen[g->source[s]], 0);
-            seen[g->source[s]] = 1;
-            for (int a = 0; a < arity && !range->serial; a++) {
-                if (owner[ids[a][s]] != UINT32_MAX)
-                    fail_msg("color %u: slots %u and %u share vertex %u", r, owner[ids[a][s]], s, ids[a][s]);
-                owner[ids[a][s]] = s;
+    uint32_t* lane_owner = malloc(vertex_count * sizeof *lane_owner);
+    uint32_t* block_owner = malloc(vertex_count * sizeof *block_owner);
+    for (uint32_t v = 0; v < vertex_count; v++) lane_owner[v] = block_owner[v] = UINT32_MAX;
+    for (uint32_t k = 0; k < g->block_colors && k != SB_OVERFLOW_COLOR; k++) {
+        for (uint32_t b = g->color_first_block[k]; b < g->color_first_block[k + 1]; b++) {
+            const sb_block* block = &g->blocks[b];
+            for (uint32_t r = block->first_range; r < block->first_range + block->range_count; r++) {
+                const sb_color_range* range = &g->ranges[r];
+                for (uint32_t s = range->begin; s < range->end; s++) {
+                    assert_int_equal(seen[g->source[s]], 0);
+                    seen[g->source[s]] = 1;
+                    for (int a = 0; a < arity; a++) {
+                        uint32_t owner = block_owner[ids[a][s]];
+                        if (owner != UINT32_MAX && owner != b && owner >= g->color_first_block[k])
+                            fail_msg("block color %u: blocks %u and %u share vertex %u", k, owner, b, ids[a][s]);
+                        block_owner[ids[a][s]] = b;
+                    }
+                }
+                if (!range->serial) mark_range(range, arity, ids, lane_owner, r, "element color range");
             }
         }
     }
     for (uint32_t e = 0; e < element_count; e++) assert_int_equal(seen[e], 1);
     free(seen);
-    free(owner);
+    free(lane_owner);
+    free(block_owner);
 }
 
 static void test_coloring(void** state) {
     (void)state;
     sb_mesh mesh = {0};
-    make_mesh(SHAPE_SPHERE, &mesh);
-    sb_model* model = make_model(&mesh, true);
     sb_error err;
+    assert_int_equal(sb_mesh_generate_icosphere(4, 1.0, &mesh, &err), SB_OK); /* 5120 triangles: 20 blocks */
+    assert_int_equal(sb_mesh_reorder(&mesh, NULL, &err), SB_OK);
+    sb_model* model = make_model(&mesh, true);
     sb_fast_model* fast = sb_fast_model_create(model, &err);
     assert_non_null(fast);
     check_group(&fast->bonds, sb_model_bond_count(model), mesh.vertex_count, 2,
                 (uint32_t* const[]){fast->bond_i, fast->bond_j});
     check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 3, fast->tri_v);
     check_group(&fast->hinges, sb_model_hinge_count(model), mesh.vertex_count, 4, fast->hinge_v);
-    print_message("colors: %u bond, %u triangle, %u hinge\n", fast->bonds.color_count, fast->triangles.color_count,
-                  fast->hinges.color_count);
-    assert_true(fast->triangles.color_count <= 16); /* greedy on a valence-6 mesh needs few */
+    print_message("blocks (block colors): %u (%u) bond, %u (%u) triangle, %u (%u) hinge\n", fast->bonds.block_count,
+                  fast->bonds.block_colors, fast->triangles.block_count, fast->triangles.block_colors,
+                  fast->hinges.block_count, fast->hinges.block_colors);
+    assert_true(fast->triangles.block_count >= 16);
+    assert_true(fast->triangles.block_colors <= 8); /* compact blocks of a surface have few neighbours */
     sb_fast_model_destroy(fast);
     sb_model_destroy(model);
     /* undamped uniform bonds: every bond is owned by exactly one triangle edge */
@@ -180,8 +204,8 @@ static void test_coloring(void** state) {
     assert_true(fast->fused_bonds);
     assert_int_equal(fast->bonds.count, 0);
     double owned = 0.0;
-    for (uint32_t r = 0; r < fast->triangles.color_count; r++)
-        for (uint32_t s = fast->triangles.colors[r].begin; s < fast->triangles.colors[r].end; s++)
+    for (uint32_t r = 0; r < fast->triangles.range_count; r++)
+        for (uint32_t s = fast->triangles.ranges[r].begin; s < fast->triangles.ranges[r].end; s++)
             for (int c = 0; c < 3; c++) owned += fast->tri_edge_owned[c][s];
     assert_true(owned == (double)sb_model_bond_count(model));
     sb_fast_model_destroy(fast);
