@@ -13,7 +13,7 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
         sb_windex i = sb_w_index(m->bond_i + s), j = sb_w_index(m->bond_j + s);
-        sb_wvec3 d = sb_wv_sub(sb_wv_gather(fr->x, fr->y, fr->z, j), sb_wv_gather(fr->x, fr->y, fr->z, i));
+        sb_wvec3 d = sb_wv_sub(sb_wv_load4(fr->positions4, j), sb_wv_load4(fr->positions4, i));
         sb_wide squared = sb_wv_dot(d, d), inv_r = sb_w_rsqrt(squared);
         sb_wide r = sb_w_mul(squared, inv_r), r0 = sb_w_load(m->bond_r0 + s);
         collapsed |= sb_w_any(sb_w_less(r, sb_w_mul(ratio, r0)), count);
@@ -26,8 +26,8 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
             magnitude = sb_w_add(magnitude, sb_w_mul(sb_w_constant(m->spring_damping, s), closing));
         }
         sb_wvec3 f = sb_wv_scale(d, sb_w_mul(magnitude, inv_r));
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, i, f, count);
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, j, sb_wv_neg(f), count);
+        sb_wv_add4(fr->forces4, i, f, count);
+        sb_wv_add4(fr->forces4, j, sb_wv_neg(f), count);
         sb_wide strain_energy = sb_w_mul(half, sb_w_mul(stretch, stretch));
         bond_sum = sb_w_add(bond_sum, sb_w_keep(sb_w_mul(kb, strain_energy), count));
         spring_sum = sb_w_add(spring_sum, sb_w_keep(sb_w_mul(ks, strain_energy), count));

@@ -75,7 +75,7 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
         sb_wvec3 p[3];
         for (int c = 0; c < 3; c++) {
             v[c] = sb_w_index(m->tri_v[c] + s);
-            p[c] = sb_wv_gather(fr->x, fr->y, fr->z, v[c]);
+            p[c] = sb_wv_load4(fr->positions4, v[c]);
         }
         sb_wtriangle t;
         sb_wide length[3];
@@ -93,7 +93,7 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
         for (int c = 0; c < 3; c++) sb_fast_corner(&t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, &out);
         if (m->fused_bonds)
             for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, c, length[c], s, &out);
-        for (int c = 0; c < 3; c++) sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[c], out.force[c], count);
+        for (int c = 0; c < 3; c++) sb_wv_add4(fr->forces4, v[c], out.force[c], count);
         for (int e = 0; e < 4; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     }
     for (int e = 0; e < 4; e++) energy[e] += sb_w_sum(sums[e], SB_WIDTH);

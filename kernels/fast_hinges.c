@@ -40,7 +40,7 @@ bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
         sb_wvec3 p[4]; /* e0, e1, o0, o1 */
         for (int a = 0; a < 4; a++) {
             v[a] = sb_w_index(m->hinge_v[a] + s);
-            p[a] = sb_wv_gather(fr->x, fr->y, fr->z, v[a]);
+            p[a] = sb_wv_load4(fr->positions4, v[a]);
         }
         sb_wvec3 edge = sb_wv_sub(p[1], p[0]);
         sb_wvec3 n0 = sb_wv_cross(sb_wv_sub(p[2], p[0]), sb_wv_sub(p[2], p[1]));
@@ -59,10 +59,10 @@ bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
         sb_wvec3 f_e0 = sb_wv_add(sb_wv_scale(w0, sb_wv_dot(sb_wv_sub(p[2], p[1]), unit)),
                                   sb_wv_scale(w1, sb_wv_dot(sb_wv_sub(p[3], p[1]), unit)));
         sb_wvec3 f_e1 = sb_wv_neg(sb_wv_add(f_o0, sb_wv_add(f_o1, f_e0)));
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[0], f_e0, count);
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[1], f_e1, count);
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[2], f_o0, count);
-        sb_wv_scatter_add(fr->fx, fr->fy, fr->fz, v[3], f_o1, count);
+        sb_wv_add4(fr->forces4, v[0], f_e0, count);
+        sb_wv_add4(fr->forces4, v[1], f_e1, count);
+        sb_wv_add4(fr->forces4, v[2], f_o0, count);
+        sb_wv_add4(fr->forces4, v[3], f_o1, count);
         sum = sb_w_add(sum, sb_w_keep(sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta), count));
     }
     energy[0] += sb_w_sum(sum, SB_WIDTH);

@@ -9,10 +9,12 @@
 
 #include "kernels/fast_model.h"
 
+/* What the kernels read and write: positions and forces packed (x y z w
+ * per vertex, see kernels/wide.h), velocities as the state's arrays. */
 typedef struct sb_fast_frame {
-    const sb_real *x, *y, *z;
+    const sb_real* positions4;
     const sb_real *vx, *vy, *vz; /* for damping */
-    sb_real *fx, *fy, *fz;
+    sb_real* forces4;
 } sb_fast_frame;
 
 /* energy[0] bond stretch, energy[1] spring */

@@ -46,6 +46,8 @@ void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
     sb_fast_model_destroy(s->fast);
     free(s->partials);
+    free(s->positions4);
+    free(s->forces4);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
                       s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};

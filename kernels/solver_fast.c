@@ -68,7 +68,13 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     size_t count = 2 * (size_t)f->bonds.block_count + 4 * (size_t)f->triangles.block_count + f->hinges.block_count +
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
-    if (!s->partials) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
+    size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
+    s->positions4 = aligned_alloc(64, packed);
+    s->forces4 = aligned_alloc(64, packed);
+    if (!s->partials || !s->positions4 || !s->forces4)
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
+    memset(s->positions4, 0, packed);
+    memset(s->forces4, 0, packed);
     sb_runtime_bind(s->threads);
     return SB_OK;
 }
@@ -107,7 +113,7 @@ static void sb_group_pass(const sb_fast_model* f, const sb_element_group* g, sb_
 static void sb_force_passes(const sb_solver* s, const sb_partial_layout* p, int* collapsed) {
     const sb_fast_model* f = s->fast;
     const sb_state* st = &s->state;
-    sb_fast_frame frame = {st->x, st->y, st->z, st->vx, st->vy, st->vz, st->fx, st->fy, st->fz};
+    sb_fast_frame frame = {s->positions4, st->vx, st->vy, st->vz, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
     if (f->has_corners || f->fused_bonds)
         sb_group_pass(f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
@@ -119,12 +125,11 @@ static void sb_external_pass(sb_solver* s) {
     sb_state* st = &s->state;
     for (uint32_t i = 0; i < st->vertex_count; i++) {
         if (s->model->fixed[i]) continue;
+        sb_real* packed = s->forces4 + 4 * (size_t)i;
         double x[3] = {st->x[i], st->y[i], st->z[i]}, v[3] = {st->vx[i], st->vy[i], st->vz[i]};
-        double f[3] = {st->fx[i], st->fy[i], st->fz[i]};
+        double f[3] = {packed[0], packed[1], packed[2]};
         s->def.external_force(s->def.external_user, i, s->time, x, v, f);
-        st->fx[i] = (sb_real)f[0];
-        st->fy[i] = (sb_real)f[1];
-        st->fz[i] = (sb_real)f[2];
+        for (int c = 0; c < 3; c++) packed[c] = (sb_real)f[c];
     }
 }
 
@@ -134,6 +139,7 @@ static void sb_vertex_range(uint32_t n, int c, uint32_t* begin, uint32_t* end) {
     *end = *begin + SB_CHUNK < n ? *begin + SB_CHUNK : n;
 }
 
+/* Packs the positions and sets the packed forces to gravity and drag. */
 static void sb_gravity_pass(sb_solver* s, const sb_partial_layout* p) {
     sb_state* st = &s->state;
     const sb_real* mass = s->fast->mass;
@@ -143,11 +149,15 @@ static void sb_gravity_pass(sb_solver* s, const sb_partial_layout* p) {
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
         uint32_t begin, end;
         sb_vertex_range(st->vertex_count, c, &begin, &end);
+        sb_real *p4 = s->positions4, *f4 = s->forces4;
 #pragma omp simd
         for (uint32_t i = begin; i < end; i++) {
-            st->fx[i] = mass[i] * (gx - drag * st->vx[i]);
-            st->fy[i] = mass[i] * (gy - drag * st->vy[i]);
-            st->fz[i] = mass[i] * (gz - drag * st->vz[i]);
+            p4[4 * i] = st->x[i];
+            p4[4 * i + 1] = st->y[i];
+            p4[4 * i + 2] = st->z[i];
+            f4[4 * i] = mass[i] * (gx - drag * st->vx[i]);
+            f4[4 * i + 1] = mass[i] * (gy - drag * st->vy[i]);
+            f4[4 * i + 2] = mass[i] * (gz - drag * st->vz[i]);
         }
     }
 }
@@ -164,7 +174,8 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, b
     sb_real* pos[3] = {st->x, st->y, st->z};
     sb_real* disp[3] = {s->disp_x, s->disp_y, s->disp_z};
     sb_real* vel[3] = {st->vx, st->vy, st->vz};
-    sb_real* force[3] = {st->fx, st->fy, st->fz};
+    sb_real* force[3] = {st->fx, st->fy, st->fz}; /* the last step's, published by the kick */
+    sb_real *p4 = s->positions4, *f4 = s->forces4;
     const sb_real g[3] = {gx, gy, gz};
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
@@ -182,13 +193,15 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, b
                     d[i] = step * v[i];
                 }
                 x[i] = x[i] + d[i];
-                f[i] = mass[i] * (g[a] - drag * v[i]);
+                p4[4 * i + a] = x[i];
+                f4[4 * i + a] = mass[i] * (g[a] - drag * v[i]);
             }
         }
     }
 }
 
-/* Closing half kick, fused with the energy sums and the state check. */
+/* Closing half kick, fused with publishing the packed forces to the state,
+ * the energy sums and the state check. */
 static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, double dt, int* bad) {
     sb_state* st = &s->state;
     const sb_real *mass = s->fast->mass, *inv_mass = s->fast->inv_mass;
@@ -202,8 +215,12 @@ static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, double dt, in
         sb_vertex_range(st->vertex_count, c, &begin, &end);
         double kinetic = 0.0, gravity = 0.0;
         int outside = 0;
+        const sb_real* f4 = s->forces4;
 #pragma omp simd reduction(+ : kinetic, gravity, outside)
         for (uint32_t i = begin; i < end; i++) {
+            st->fx[i] = f4[4 * i];
+            st->fy[i] = f4[4 * i + 1];
+            st->fz[i] = f4[4 * i + 2];
             sb_real w = half * inv_mass[i];
             sb_real vx = st->vx[i] + w * st->fx[i], vy = st->vy[i] + w * st->fy[i], vz = st->vz[i] + w * st->fz[i];
             st->vx[i] = vx;
@@ -258,6 +275,18 @@ static sb_status sb_report_collapse(sb_solver* s) {
     return SB_ERR_DEGENERATE;
 }
 
+/* Copies the packed forces to the state's arrays. */
+static void sb_publish_pass(sb_solver* s) {
+    sb_state* st = &s->state;
+    const sb_real* f4 = s->forces4;
+#pragma omp for schedule(static)
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        st->fx[i] = f4[4 * i];
+        st->fy[i] = f4[4 * i + 1];
+        st->fz[i] = f4[4 * i + 2];
+    }
+}
+
 sb_status sb_fast_compute_forces(sb_solver* s) {
     sb_partial_layout p = sb_partials_of(s);
     int collapsed = 0;
@@ -267,6 +296,7 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
         sb_force_passes(s, &p, &collapsed);
 #pragma omp single
         if (s->def.external_force) sb_external_pass(s);
+        sb_publish_pass(s);
     }
     sb_collect_energies(s, &p, false);
     return collapsed ? sb_report_collapse(s) : SB_OK;

@@ -18,7 +18,8 @@ struct sb_solver {
     double center[3], runaway; /* a vertex further than runaway from center (any axis) ran away */
     sb_fast_model* fast;       /* NULL with the reference kernels */
     int threads;
-    double* partials;          /* per-chunk energy sums of the fast passes */
+    double* partials;          /* per-block energy sums of the fast passes */
+    sb_real *positions4, *forces4; /* packed x y z w copies for the fast kernels */
     double time;
     uint64_t steps;
     sb_energies energies;
