@@ -21,7 +21,7 @@ bool sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
         sb_wide kb = sb_w_constant(m->bond_k, s), ks = sb_w_constant(m->spring_k, s);
         sb_wide magnitude = sb_w_mul(sb_w_add(kb, ks), stretch);
         if (m->has_damping) {
-            sb_wvec3 dv = sb_wv_sub(sb_wv_gather(fr->vx, fr->vy, fr->vz, j), sb_wv_gather(fr->vx, fr->vy, fr->vz, i));
+            sb_wvec3 dv = sb_wv_sub(sb_wv_load4(fr->velocities4, j), sb_wv_load4(fr->velocities4, i));
             sb_wide closing = sb_w_mul(sb_wv_dot(dv, d), inv_r);
             magnitude = sb_w_add(magnitude, sb_w_mul(sb_w_constant(m->spring_damping, s), closing));
         }

@@ -9,11 +9,11 @@
 
 #include "kernels/fast_model.h"
 
-/* What the kernels read and write: positions and forces packed (x y z w
- * per vertex, see kernels/wide.h), velocities as the state's arrays. */
+/* What the kernels read and write: positions, velocities (for damping) and
+ * forces, packed x y z w per vertex (see kernels/wide.h). */
 typedef struct sb_fast_frame {
     const sb_real* positions4;
-    const sb_real *vx, *vy, *vz; /* for damping */
+    const sb_real* velocities4;
     sb_real* forces4;
 } sb_fast_frame;
 

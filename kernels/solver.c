@@ -47,7 +47,10 @@ void sb_solver_destroy(sb_solver* s) {
     sb_fast_model_destroy(s->fast);
     free(s->partials);
     free(s->positions4);
+    free(s->velocities4);
+    free(s->displacements4);
     free(s->forces4);
+    free(s->weight4);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
                       s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
@@ -199,7 +202,14 @@ double sb_solver_time(const sb_solver* s) { return s->time; }
 uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }
 const sb_model* sb_solver_model(const sb_solver* s) { return s->model; }
 sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
-const sb_state* sb_solver_state(const sb_solver* s) { return &s->state; }
+/* The fast path keeps its working state packed and fills the public arrays
+ * only when asked: a logically const operation. */
+static const sb_state* sb_published_state(const sb_solver* s) {
+    sb_fast_publish((sb_solver*)s);
+    return &s->state;
+}
+
+const sb_state* sb_solver_state(const sb_solver* s) { return sb_published_state(s); }
 
 void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n) {
     for (uint32_t i = 0; i < n; i++) {
@@ -210,9 +220,11 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
 }
 
 void sb_solver_get_positions(const sb_solver* s, double* out) {
-    sb_interleave(out, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
+    const sb_state* st = sb_published_state(s);
+    sb_interleave(out, st->x, st->y, st->z, st->vertex_count);
 }
 
 void sb_solver_get_velocities(const sb_solver* s, double* out) {
-    sb_interleave(out, s->state.vx, s->state.vy, s->state.vz, s->state.vertex_count);
+    const sb_state* st = sb_published_state(s);
+    sb_interleave(out, st->vx, st->vy, st->vz, st->vertex_count);
 }

@@ -69,12 +69,16 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
-    s->positions4 = aligned_alloc(64, packed);
-    s->forces4 = aligned_alloc(64, packed);
-    if (!s->partials || !s->positions4 || !s->forces4)
-        return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
-    memset(s->positions4, 0, packed);
-    memset(s->forces4, 0, packed);
+    sb_real** arrays[5] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4, &s->weight4};
+    bool ok = s->partials != NULL;
+    for (int a = 0; a < 5; a++) {
+        *arrays[a] = aligned_alloc(64, packed);
+        ok = ok && *arrays[a];
+        if (*arrays[a]) memset(*arrays[a], 0, packed);
+    }
+    if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
+    for (size_t k = 0; k < 4 * (size_t)f->vertex_count; k++)
+        s->weight4[k] = (k & 3) == 3 ? 0 : (sb_real)(s->model->mass[k / 4] * s->def.gravity[k & 3]);
     sb_runtime_bind(s->threads);
     return SB_OK;
 }
@@ -112,8 +116,7 @@ static void sb_group_pass(const sb_fast_model* f, const sb_element_group* g, sb_
 
 static void sb_force_passes(const sb_solver* s, const sb_partial_layout* p, int* collapsed) {
     const sb_fast_model* f = s->fast;
-    const sb_state* st = &s->state;
-    sb_fast_frame frame = {s->positions4, st->vx, st->vy, st->vz, s->forces4};
+    sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
     if (f->has_corners || f->fused_bonds)
         sb_group_pass(f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
@@ -122,121 +125,118 @@ static void sb_force_passes(const sb_solver* s, const sb_partial_layout* p, int*
 
 /* Serial, on one thread: the callback need not be thread-safe. */
 static void sb_external_pass(sb_solver* s) {
-    sb_state* st = &s->state;
-    for (uint32_t i = 0; i < st->vertex_count; i++) {
+    for (uint32_t i = 0; i < s->state.vertex_count; i++) {
         if (s->model->fixed[i]) continue;
-        sb_real* packed = s->forces4 + 4 * (size_t)i;
-        double x[3] = {st->x[i], st->y[i], st->z[i]}, v[3] = {st->vx[i], st->vy[i], st->vz[i]};
-        double f[3] = {packed[0], packed[1], packed[2]};
+        const sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
+        sb_real* f4 = s->forces4 + 4 * (size_t)i;
+        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, f[3] = {f4[0], f4[1], f4[2]};
         s->def.external_force(s->def.external_user, i, s->time, x, v, f);
-        for (int c = 0; c < 3; c++) packed[c] = (sb_real)f[c];
+        for (int c = 0; c < 3; c++) f4[c] = (sb_real)f[c];
     }
 }
 
-/* The vertex range of chunk c. */
-static void sb_vertex_range(uint32_t n, int c, uint32_t* begin, uint32_t* end) {
-    *begin = (uint32_t)c * SB_CHUNK;
-    *end = *begin + SB_CHUNK < n ? *begin + SB_CHUNK : n;
+/* The packed range [begin, end) of vertex chunk c (4 reals a vertex). */
+static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
+    size_t first = (size_t)c * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    *begin = 4 * first;
+    *end = 4 * last;
 }
 
-/* Packs the positions and sets the packed forces to gravity and drag. */
-static void sb_gravity_pass(sb_solver* s, const sb_partial_layout* p) {
-    sb_state* st = &s->state;
-    const sb_real* mass = s->fast->mass;
-    const sb_real gx = (sb_real)s->def.gravity[0], gy = (sb_real)s->def.gravity[1], gz = (sb_real)s->def.gravity[2];
+
+/* Packs the state's positions and velocities (after sb_solver_set_state)
+ * and sets the packed forces to gravity and drag. */
+static void sb_pack_pass(sb_solver* s, const sb_partial_layout* p) {
+    const sb_state* st = &s->state;
+    const sb_real *m4 = s->fast->mass4, *w4 = s->weight4;
     const sb_real drag = (sb_real)s->def.drag;
+    const sb_real* soa[2][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}};
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
-        uint32_t begin, end;
-        sb_vertex_range(st->vertex_count, c, &begin, &end);
-        sb_real *p4 = s->positions4, *f4 = s->forces4;
-#pragma omp simd
-        for (uint32_t i = begin; i < end; i++) {
-            p4[4 * i] = st->x[i];
-            p4[4 * i + 1] = st->y[i];
-            p4[4 * i + 2] = st->z[i];
-            f4[4 * i] = mass[i] * (gx - drag * st->vx[i]);
-            f4[4 * i + 1] = mass[i] * (gy - drag * st->vy[i]);
-            f4[4 * i + 2] = mass[i] * (gz - drag * st->vz[i]);
+        size_t begin, end;
+        sb_packed_range(st->vertex_count, c, &begin, &end);
+        for (size_t k = begin; k < end; k++) {
+            size_t i = k / 4;
+            int a = (int)(k & 3);
+            s->positions4[k] = a < 3 ? soa[0][a][i] : 0;
+            s->velocities4[k] = a < 3 ? soa[1][a][i] : 0;
+            s->forces4[k] = w4[k] - drag * m4[k] * s->velocities4[k];
         }
     }
 }
 
-/* Drift for both Verlet forms (see kernels/integrators.c for the
- * formulas), fused with initialising the forces to gravity and drag. */
-static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, double dt, bool stormer) {
-    sb_state* st = &s->state;
-    const sb_real *mass = s->fast->mass, *inv_mass = s->fast->inv_mass;
-    const sb_real gx = (sb_real)s->def.gravity[0], gy = (sb_real)s->def.gravity[1], gz = (sb_real)s->def.gravity[2];
-    const sb_real scale = stormer ? (sb_real)(dt / s->prev_dt) : 0;
-    const sb_real accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt);
-    const sb_real step = (sb_real)dt, inv_dt = (sb_real)(1.0 / dt), drag = (sb_real)s->def.drag;
-    sb_real* pos[3] = {st->x, st->y, st->z};
-    sb_real* disp[3] = {s->disp_x, s->disp_y, s->disp_z};
-    sb_real* vel[3] = {st->vx, st->vy, st->vz};
-    sb_real* force[3] = {st->fx, st->fy, st->fz}; /* the last step's, published by the kick */
-    sb_real *p4 = s->positions4, *f4 = s->forces4;
-    const sb_real g[3] = {gx, gy, gz};
+/* The Verlet constants of one step. */
+typedef struct sb_step_constants {
+    sb_real scale, accel, step, inv_dt, drag, half;
+    bool stormer;
+} sb_step_constants;
+
+/* Drift of packed reals [begin, end) for both Verlet forms (see
+ * kernels/integrators.c for the formulas), fused with initialising the
+ * forces to gravity and drag. The w lanes have zero mass and inverse mass
+ * and stay zero. The arrays are restrict parameters, not locals, because
+ * only then does GCC 12 vectorize the loops (its report says so). */
+static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict w4,
+                           sb_real* restrict x, sb_real* restrict d, sb_real* restrict v, sb_real* restrict f,
+                           const sb_step_constants* k, size_t begin, size_t end) {
+    const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
+    if (k->stormer)
+        for (size_t q = begin; q < end; q++) {
+            d[q] = scale * d[q] + accel * im4[q] * f[q];
+            v[q] = d[q] * inv_dt;
+            x[q] = x[q] + d[q];
+            f[q] = w4[q] - drag * m4[q] * v[q];
+        }
+    else
+        for (size_t q = begin; q < end; q++) {
+            v[q] = v[q] + accel * im4[q] * f[q];
+            d[q] = step * v[q];
+            x[q] = x[q] + d[q];
+            f[q] = w4[q] - drag * m4[q] * v[q];
+        }
+}
+
+static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k) {
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
-        uint32_t begin, end;
-        sb_vertex_range(st->vertex_count, c, &begin, &end);
-        for (int a = 0; a < 3; a++) {
-            sb_real *x = pos[a], *d = disp[a], *v = vel[a], *f = force[a];
-#pragma omp simd
-            for (uint32_t i = begin; i < end; i++) {
-                if (stormer) {
-                    d[i] = scale * d[i] + accel * inv_mass[i] * f[i];
-                    v[i] = d[i] * inv_dt;
-                } else {
-                    v[i] = v[i] + accel * inv_mass[i] * f[i];
-                    d[i] = step * v[i];
-                }
-                x[i] = x[i] + d[i];
-                p4[4 * i + a] = x[i];
-                f4[4 * i + a] = mass[i] * (g[a] - drag * v[i]);
-            }
-        }
+        size_t begin, end;
+        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4,
+                       s->velocities4, s->forces4, k, begin, end);
     }
 }
 
-/* Closing half kick, fused with publishing the packed forces to the state,
- * the energy sums and the state check. */
-static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, double dt, int* bad) {
-    sb_state* st = &s->state;
-    const sb_real *mass = s->fast->mass, *inv_mass = s->fast->inv_mass;
-    const sb_real half = (sb_real)(0.5 * dt);
-    const double* g = s->def.gravity;
-    const sb_real cx = (sb_real)s->center[0], cy = (sb_real)s->center[1], cz = (sb_real)s->center[2];
-    const sb_real limit = (sb_real)s->runaway;
+/* Closing half kick of packed reals [begin, end), fused with the energy
+ * sums (out[0] kinetic, out[1] gravity); returns how many values are not
+ * finite or ran away. */
+static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict w4,
+                         const sb_real* restrict x, sb_real* restrict v, const sb_real* restrict f,
+                         const sb_step_constants* k, sb_real limit, size_t begin, size_t end, double out[2]) {
+    const sb_real half = k->half;
+    sb_real kinetic = 0, gravity = 0;
+    int outside = 0;
+    for (size_t q = begin; q < end; q++) {
+        v[q] = v[q] + half * im4[q] * f[q];
+        sb_real free = im4[q] != 0 ? 1 : 0;
+        kinetic += (sb_real)0.5 * m4[q] * v[q] * v[q];
+        gravity -= free * w4[q] * x[q];
+        /* written so that NaN fails the comparison and counts as outside */
+        outside += !((x[q] <= limit) & (x[q] >= -limit) & (v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
+    }
+    out[0] = kinetic;
+    out[1] = gravity;
+    return outside;
+}
+
+static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k, int* bad) {
+    /* the runaway box measured from the origin: looser than the exact test
+     * of sb_check_state by the model's offset, a millionth of it */
+    const sb_real limit = (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
-        uint32_t begin, end;
-        sb_vertex_range(st->vertex_count, c, &begin, &end);
-        double kinetic = 0.0, gravity = 0.0;
-        int outside = 0;
-        const sb_real* f4 = s->forces4;
-#pragma omp simd reduction(+ : kinetic, gravity, outside)
-        for (uint32_t i = begin; i < end; i++) {
-            st->fx[i] = f4[4 * i];
-            st->fy[i] = f4[4 * i + 1];
-            st->fz[i] = f4[4 * i + 2];
-            sb_real w = half * inv_mass[i];
-            sb_real vx = st->vx[i] + w * st->fx[i], vy = st->vy[i] + w * st->fy[i], vz = st->vz[i] + w * st->fz[i];
-            st->vx[i] = vx;
-            st->vy[i] = vy;
-            st->vz[i] = vz;
-            sb_real free = inv_mass[i] != 0 ? 1 : 0;
-            kinetic += (double)(free * (sb_real)0.5 * mass[i] * (vx * vx + vy * vy + vz * vz));
-            gravity -= (double)(free * mass[i] * ((sb_real)g[0] * st->x[i] + (sb_real)g[1] * st->y[i] + (sb_real)g[2] * st->z[i]));
-            /* written so that NaN fails the comparison and counts as outside */
-            outside += !(fabs(st->x[i] - cx) <= limit && fabs(st->y[i] - cy) <= limit &&
-                         fabs(st->z[i] - cz) <= limit && fabs(vx) <= (sb_real)INFINITY &&
-                         fabs(vy) <= (sb_real)INFINITY && fabs(vz) <= (sb_real)INFINITY);
-        }
-        p->vertices[2 * c] = kinetic;
-        p->vertices[2 * c + 1] = gravity;
-        if (outside) {
+        size_t begin, end;
+        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+        if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->velocities4, s->forces4, k,
+                          limit, begin, end, p->vertices + 2 * c)) {
 #pragma omp atomic write
             *bad = 1;
         }
@@ -275,16 +275,22 @@ static sb_status sb_report_collapse(sb_solver* s) {
     return SB_ERR_DEGENERATE;
 }
 
-/* Copies the packed forces to the state's arrays. */
+/* Copies the packed working state to the state's arrays. */
 static void sb_publish_pass(sb_solver* s) {
     sb_state* st = &s->state;
-    const sb_real* f4 = s->forces4;
+    sb_real* soa[3][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}, {st->fx, st->fy, st->fz}};
+    const sb_real* packed[3] = {s->positions4, s->velocities4, s->forces4};
 #pragma omp for schedule(static)
-    for (uint32_t i = 0; i < st->vertex_count; i++) {
-        st->fx[i] = f4[4 * i];
-        st->fy[i] = f4[4 * i + 1];
-        st->fz[i] = f4[4 * i + 2];
-    }
+    for (uint32_t i = 0; i < st->vertex_count; i++)
+        for (int q = 0; q < 3; q++)
+            for (int a = 0; a < 3; a++) soa[q][a][i] = packed[q][4 * (size_t)i + a];
+}
+
+void sb_fast_publish(sb_solver* s) {
+    if (!s->fast || s->published) return;
+#pragma omp parallel num_threads(s->threads)
+    sb_publish_pass(s);
+    s->published = true;
 }
 
 sb_status sb_fast_compute_forces(sb_solver* s) {
@@ -292,31 +298,43 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
     int collapsed = 0;
 #pragma omp parallel num_threads(s->threads)
     {
-        sb_gravity_pass(s, &p);
+        sb_pack_pass(s, &p);
         sb_force_passes(s, &p, &collapsed);
 #pragma omp single
         if (s->def.external_force) sb_external_pass(s);
         sb_publish_pass(s);
     }
+    s->published = true;
     sb_collect_energies(s, &p, false);
     return collapsed ? sb_report_collapse(s) : SB_OK;
 }
 
 sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_displacement;
+    sb_step_constants k = {
+        .scale = stormer ? (sb_real)(dt / s->prev_dt) : 0,
+        .accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt),
+        .step = (sb_real)dt,
+        .inv_dt = (sb_real)(1.0 / dt),
+        .drag = (sb_real)s->def.drag,
+        .half = (sb_real)(0.5 * dt),
+        .stormer = stormer,
+    };
     sb_partial_layout p = sb_partials_of(s);
     int collapsed = 0, bad = 0;
 #pragma omp parallel num_threads(s->threads)
     {
-        sb_drift_pass(s, &p, dt, stormer);
+        sb_drift_pass(s, &p, &k);
         sb_force_passes(s, &p, &collapsed);
 #pragma omp single
         if (s->def.external_force) sb_external_pass(s);
-        sb_kick_pass(s, &p, dt, &bad);
+        sb_kick_pass(s, &p, &k, &bad);
     }
     s->has_displacement = true;
     s->prev_dt = dt;
+    s->published = false;
     sb_collect_energies(s, &p, true);
+    if (bad || collapsed) sb_fast_publish(s);
     if (bad) return sb_check_state(s);
     return collapsed ? sb_report_collapse(s) : SB_OK;
 }

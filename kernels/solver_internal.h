@@ -19,7 +19,11 @@ struct sb_solver {
     sb_fast_model* fast;       /* NULL with the reference kernels */
     int threads;
     double* partials;          /* per-block energy sums of the fast passes */
-    sb_real *positions4, *forces4; /* packed x y z w copies for the fast kernels */
+    /* The fast path's working state, packed x y z w per vertex; the state's
+     * arrays are filled from it on demand (published). */
+    sb_real *positions4, *velocities4, *displacements4, *forces4;
+    sb_real* weight4; /* m g per vertex, packed */
+    bool published;
     double time;
     uint64_t steps;
     sb_energies energies;
@@ -37,6 +41,8 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
 sb_status sb_fast_compute_forces(sb_solver* solver);
 sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
+/* Fills the state's arrays from the packed working state, when stale. */
+void sb_fast_publish(sb_solver* solver);
 
 /* Fills the solver's error naming the first vertex that is not finite or ran
  * away; SB_OK if there is none. */
