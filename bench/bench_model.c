@@ -1,20 +1,23 @@
-/* Byte model: the least memory traffic one Verlet step needs on the
- * structure-of-arrays layout, with s = sizeof(sb_real) (4 in float, 8 in
- * double) and 4-byte vertex indices. It assumes the gathers of a vertex's
- * neighbours hit cache (vertices reordered for locality), so each per-vertex
- * array crosses the memory bus once per step, read or written:
- *   per vertex   x y z read + written (6 s), previous x y z read + written
- *                (6 s), force x y z written by the kernels and read by the
- *                update (6 s), velocity x y z written (3 s), inverse mass
- *                read (1 s): 22 s; with --all-terms the damping also reads
- *                the velocity (3 s more): 25 s
- *   per bond     i, j (8 B) + r0, k (2 s); --all-terms adds spring_k and
- *                spring_damping (2 s)
- *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
- *                + angle_k, stretch_bend_k (2 s)
- *   per hinge    4 indices (16 B) + φ0, k (2 s)          (--all-terms only)
- * Float, default terms: 88 B per vertex, 16 B per bond, 44 B per triangle;
- * a 1M-vertex sheet (3M bonds, 2M triangles) moves about 224 MB per step.
+/* Byte model: the memory traffic of one Verlet step of the fast path as
+ * it is laid out (kernels/solver_fast.c), with s = sizeof(sb_real) (4 in
+ * float, 8 in double) and 4-byte vertex indices. It assumes the gathers of
+ * a vertex's neighbours hit cache (the blocked coloring keeps a block's
+ * vertices there), so each array crosses the memory bus once per pass that
+ * streams it. The working state is packed x y z w, 4 s per vertex and array:
+ *   per vertex   drift: reads mass, inverse mass, weight, x, Δ, f and writes
+ *                Δ, v, x, f (10 arrays); forces: x read, f read and written
+ *                (3); kick: reads mass, inverse mass, weight, x, f, v and
+ *                writes v (7): 20 arrays of 4 s = 80 s
+ *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s);
+ *                when the bonds are fused into it (uniform, undamped bonds:
+ *                the default terms) 3 edge weights + 3 bond rest lengths (6 s)
+ *   per bond     only the bonds no triangle owns (none on these meshes by
+ *                default; all of them with --all-terms, whose damping keeps
+ *                them in the bond kernel): i, j (8 B) + r0 (s)
+ *   per hinge    4 indices (16 B) + φ0 (s)               (--all-terms only)
+ * Uniform constants are one value, not an array, and cost nothing.
+ * Float, default terms: 320 B per vertex, 60 B per triangle; a 1M-vertex
+ * sheet (2M triangles) moves about 440 MB per step.
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -53,10 +56,11 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = (all_terms ? 25.0 : 22.0) * s;
-    double bond_bytes = 8.0 + (all_terms ? 4.0 : 2.0) * s;
-    double triangle_bytes = 12.0 + 8.0 * s, hinge_bytes = 16.0 + 2.0 * s;
-    c.bytes_per_step = vertex_bytes * c.vertices + bond_bytes * c.bonds + triangle_bytes * c.triangles +
+    double vertex_bytes = 80.0 * s;
+    double fused_bonds = all_terms ? 0.0 : (double)c.bonds, free_bonds = (double)c.bonds - fused_bonds;
+    double triangle_bytes = 12.0 + (fused_bonds > 0 ? 12.0 : 6.0) * s;
+    double bond_bytes = 8.0 + s, hinge_bytes = 16.0 + s;
+    c.bytes_per_step = vertex_bytes * c.vertices + bond_bytes * free_bonds + triangle_bytes * c.triangles +
                        hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
     c.flops_per_step = SB_FLOPS_VERTEX * c.vertices + bond_flops * c.bonds + SB_FLOPS_TRIANGLE * c.triangles +
@@ -65,9 +69,9 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 }
 
 const char* sb_bench_byte_model_text(void) {
-    return "bytes/step = 22s per vertex (x,prev rw; f w+r; v w; 1/m r) + (8+2s) per bond + (12+8s) per triangle"
-           " [+3s per vertex, +2s per bond, (16+2s) per hinge with --all-terms]; s = sizeof(sb_real);"
-           " gathers assumed cached, writes counted once";
+    return "bytes/step = 80s per vertex (20 packed x y z w streams over drift, forces, kick) + (12+12s) per"
+           " triangle with fused bonds [with --all-terms: (12+6s) per triangle, (8+s) per bond, (16+s) per hinge];"
+           " s = sizeof(sb_real); gathers assumed cached, writes counted once";
 }
 
 const char* sb_bench_flop_model_text(void) {
