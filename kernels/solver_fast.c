@@ -19,8 +19,25 @@
  * Energies are summed per block (and per fixed-size chunk of vertices),
  * never per thread, and those sums are added in order after the region.
  *
- * Alternatives measured against this scheme are in bench/results (see
- * README there); the colored scatter is what the fast path keeps. */
+ * Measured alternatives (float, AVX-512, 2-core EPYC VM, jittered sheets,
+ * all molecular-mechanics terms, ms per step on 1 / 2 threads):
+ *
+ *   scheme                                        10k          100k        1M
+ *   colors over the whole mesh, SoA gathers       -            3.3 / 1.58  41 / 23
+ *   blocked colors (kept), SoA gathers            -            3.2 / 1.55  34 / 19
+ *   + packed x y z w loads and adds (kept)        -            2.2 / 1.06  29 / 15
+ *   + packed working state (kept)                 0.18 / 0.105 2.05 / 0.93 24 / 13
+ *   per-thread force buffers + reduction instead
+ *     of block colors (same kernels, packed)      0.21 / 0.158 2.4 / 1.27  31 / 16
+ *
+ * Per-thread buffers need no block coloring but pay for zeroing and adding
+ * up one packed force array per thread every step, and their sums depend on
+ * how blocks fall to threads: the results would differ between thread
+ * counts. The blocked coloring is faster at every size and deterministic.
+ * What bounds a step now: at 100k the gathers and scatters of the triangle
+ * kernel (27 packed loads/adds per triangle); at 1M memory bandwidth (the
+ * byte model in bench/bench_model.c moves ~440 MB a step: 13 ms at the
+ * ~34 GB/s the STREAM triad reaches here). */
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"
