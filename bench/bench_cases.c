@@ -27,13 +27,20 @@
 #define SB_BENCH_SHEET_SIZE 1.0 /* m */
 #define SB_BENCH_SPHERE_RADIUS 0.5 /* m */
 
+/* Sheets keep the generator's row-major order, already local. Icospheres
+ * are Morton-renumbered; the _unordered and _shuffled variants of the
+ * largest keep the generator's numbering (each subdivision's midpoints
+ * after the previous level's, triangles in subdivision order) or a random
+ * one, to measure what the renumbering gains. */
 const sb_bench_case sb_bench_cases[] = {
-    {"sheet_10k", SB_BENCH_SHEET, 100, true},           /* 10 000 vertices */
-    {"icosphere_10k", SB_BENCH_ICOSPHERE, 5, true},     /* 10 242 */
-    {"sheet_100k", SB_BENCH_SHEET, 316, false},         /* 99 856 */
-    {"icosphere_164k", SB_BENCH_ICOSPHERE, 7, false},   /* 163 842 (s = 6 gives 40 962) */
-    {"sheet_1m", SB_BENCH_SHEET, 1000, false},          /* 1 000 000 */
-    {"icosphere_655k", SB_BENCH_ICOSPHERE, 8, false},   /* 655 362 (s = 9 gives 2.6 M) */
+    {"sheet_10k", SB_BENCH_SHEET, 100, true, SB_BENCH_GENERATED},                   /* 10 000 vertices */
+    {"icosphere_10k", SB_BENCH_ICOSPHERE, 5, true, SB_BENCH_MORTON},                /* 10 242 */
+    {"sheet_100k", SB_BENCH_SHEET, 316, false, SB_BENCH_GENERATED},                 /* 99 856 */
+    {"icosphere_164k", SB_BENCH_ICOSPHERE, 7, false, SB_BENCH_MORTON},              /* 163 842 (s = 6: 40 962) */
+    {"sheet_1m", SB_BENCH_SHEET, 1000, false, SB_BENCH_GENERATED},                  /* 1 000 000 */
+    {"icosphere_655k", SB_BENCH_ICOSPHERE, 8, false, SB_BENCH_MORTON},              /* 655 362 (s = 9: 2.6 M) */
+    {"icosphere_655k_unordered", SB_BENCH_ICOSPHERE, 8, false, SB_BENCH_GENERATED}, /* generator numbering */
+    {"icosphere_655k_shuffled", SB_BENCH_ICOSPHERE, 8, false, SB_BENCH_SHUFFLED},   /* random numbering */
 };
 const size_t sb_bench_case_count = sizeof sb_bench_cases / sizeof *sb_bench_cases;
 
@@ -79,15 +86,69 @@ static uint32_t sb_max_degree(const sb_mesh* m) {
     return best + 1;
 }
 
+/* splitmix64: a fixed random sequence. */
+static uint64_t sb_bench_random(uint64_t* state) {
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* Renumbers vertices and reorders triangles at random (Fisher-Yates). */
+static sb_status sb_bench_shuffle(sb_mesh* mesh, sb_error* err) {
+    uint32_t n = mesh->vertex_count, nt = mesh->triangle_count;
+    uint32_t *perm = malloc(n * sizeof *perm), *inverse = malloc(n * sizeof *inverse);
+    double* positions = malloc(3 * (size_t)n * sizeof *positions);
+    if (!perm || !inverse || !positions) {
+        free(perm);
+        free(inverse);
+        free(positions);
+        snprintf(err->message, sizeof err->message, "out of memory shuffling %u vertices", n);
+        return SB_ERR_NOMEM;
+    }
+    uint64_t state = 2024;
+    for (uint32_t i = 0; i < n; i++) perm[i] = i;
+    for (uint32_t i = n - 1; i > 0; i--) {
+        uint32_t j = (uint32_t)(sb_bench_random(&state) % (i + 1)), t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = t;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        memcpy(positions + 3 * (size_t)i, mesh->positions + 3 * (size_t)perm[i], 3 * sizeof *positions);
+        inverse[perm[i]] = i;
+    }
+    memcpy(mesh->positions, positions, 3 * (size_t)n * sizeof *positions);
+    for (size_t k = 0; k < 3 * (size_t)nt; k++) mesh->triangles[k] = inverse[mesh->triangles[k]];
+    for (uint32_t i = nt - 1; nt > 1 && i > 0; i--) {
+        uint32_t j = (uint32_t)(sb_bench_random(&state) % (i + 1));
+        for (int c = 0; c < 3; c++) {
+            uint32_t t = mesh->triangles[3 * (size_t)i + c];
+            mesh->triangles[3 * (size_t)i + c] = mesh->triangles[3 * (size_t)j + c];
+            mesh->triangles[3 * (size_t)j + c] = t;
+        }
+    }
+    free(perm);
+    free(inverse);
+    free(positions);
+    return SB_OK;
+}
+
 static sb_status sb_generate(const sb_bench_case* c, const sb_bench_options* o, sb_mesh* mesh, sb_error* err) {
-    if (c->shape == SB_BENCH_ICOSPHERE)
-        return sb_mesh_generate_icosphere(c->size, SB_BENCH_SPHERE_RADIUS, mesh, err);
-    sb_sheet_def def = sb_default_sheet_def();
-    def.nx = def.ny = c->size;
-    def.width = def.height = SB_BENCH_SHEET_SIZE;
-    def.jitter = o->jitter;
-    def.seed = 12345;
-    return sb_mesh_generate_sheet(&def, mesh, err);
+    sb_status status;
+    if (c->shape == SB_BENCH_ICOSPHERE) {
+        status = sb_mesh_generate_icosphere(c->size, SB_BENCH_SPHERE_RADIUS, mesh, err);
+    } else {
+        sb_sheet_def def = sb_default_sheet_def();
+        def.nx = def.ny = c->size;
+        def.width = def.height = SB_BENCH_SHEET_SIZE;
+        def.jitter = o->jitter;
+        def.seed = 12345;
+        status = sb_mesh_generate_sheet(&def, mesh, err);
+    }
+    /* sheets are never renumbered: their pins are found by row-major index */
+    if (status == SB_OK && c->order == SB_BENCH_MORTON) status = sb_mesh_reorder(mesh, NULL, err);
+    if (status == SB_OK && c->order == SB_BENCH_SHUFFLED) status = sb_bench_shuffle(mesh, err);
+    return status;
 }
 
 sb_status sb_bench_prepare(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s, sb_error* err) {

@@ -13,11 +13,16 @@
 
 typedef enum sb_bench_shape { SB_BENCH_SHEET, SB_BENCH_ICOSPHERE } sb_bench_shape;
 
+/* The generator's numbering, a Morton renumbering (sb_mesh_reorder), or a
+ * random one (the worst case an imported file could bring). */
+typedef enum sb_bench_order { SB_BENCH_GENERATED, SB_BENCH_MORTON, SB_BENCH_SHUFFLED } sb_bench_order;
+
 typedef struct sb_bench_case {
     const char* name;     /* e.g. "sheet_100k" */
     sb_bench_shape shape;
     uint32_t size;        /* sheet: nx = ny; icosphere: subdivisions */
     bool small;           /* part of --cases small */
+    sb_bench_order order; /* vertex and triangle numbering */
 } sb_bench_case;
 
 /* The constants every case shares. */

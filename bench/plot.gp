@@ -24,7 +24,7 @@ set key outside right top box opaque
 set xrange [5e3:2e6]
 
 # Rows of a CSV as "vertices steps_per_s", filtered with awk.
-ours(mesh, kernels, threads) = sprintf("< awk -F, '!/^#/ && $2 == \"%s\" && $10 == \"%s\" && $11 == %d && $15 != \"\" { print $3, $15 }' %s", mesh, kernels, threads, throughput)
+ours(mesh, kernels, threads) = sprintf("< awk -F, '!/^#/ && $1 !~ /unordered/ && $2 == \"%s\" && $10 == \"%s\" && $11 == %d && $15 != \"\" { print $3, $15 }' %s", mesh, kernels, threads, throughput)
 theirs(mesh, workers) = sprintf("< awk -F, '!/^#/ && $1 ~ /^%s_/ && $3 == %d && $7 != \"\" { print $2, $7 }' %s", mesh, workers, lammps)
 
 set style line 1 lc rgb "#1f77b4" lw 2 pt 7 ps 1.3
