@@ -289,12 +289,78 @@ static void test_collapse_reported(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* A constant push on vertex 5, through the external force callback. */
+static void push(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                 double force[3]) {
+    (void)user, (void)time, (void)position, (void)velocity;
+    if (vertex == 5) force[2] += 0.02;
+}
+
+static void run_trajectory(const sb_model* model, sb_kernels kernels, sb_integrator integrator, double* out) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = kernels;
+    def.integrator = integrator;
+    def.threads = 2;
+    def.drag = 0.3;
+    def.external_force = push;
+    sb_error err;
+    sb_solver* solver = sb_solver_create(model, &def, &err);
+    assert_non_null(solver);
+    for (int s = 0; s < 300; s++) assert_int_equal(sb_solver_advance(solver, 2e-4), SB_OK);
+    sb_solver_get_positions(solver, out);
+    sb_solver_destroy(solver);
+}
+
+/* The fused fast step (drift, forces, external forces, kick) follows the
+ * reference integrators: same trajectory, within what float rounding of
+ * the state accumulates over 300 steps (double: 1e-9). */
+static void test_fast_step_follows_reference(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_JITTERED, &mesh);
+    uint32_t n = mesh.vertex_count;
+    for (int damped = 0; damped < 2; damped++) {
+        sb_builder* builder = sb_builder_create();
+        sb_material_def material = sb_default_material_def();
+        material.stretch_bend_k = 1.0;
+        material.spring_k = damped ? 10.0 : 0.0;
+        material.spring_damping = damped ? 0.02 : 0.0;
+        material.bend_k = damped ? 0.001 : 0.0;
+        sb_error err;
+        assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
+        sb_builder_vertex(builder, 0)->fixed = true;
+        sb_model* model = sb_builder_compile(builder, &err);
+        sb_builder_destroy(builder);
+        assert_non_null(model);
+        double *reference = malloc(3 * n * sizeof *reference), *fast = malloc(3 * n * sizeof *fast);
+        for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++) {
+            run_trajectory(model, SB_KERNELS_REFERENCE, (sb_integrator)integrator, reference);
+            run_trajectory(model, SB_KERNELS_FAST, (sb_integrator)integrator, fast);
+            double moved = 0.0, worst = 0.0;
+            for (uint32_t k = 0; k < 3 * n; k++) {
+                moved = fmax(moved, fabs(reference[k] - mesh.positions[k]));
+                worst = fmax(worst, fabs(fast[k] - reference[k]));
+            }
+            print_message("%s%s: fast vs reference after 300 steps: %.3g m (largest displacement %.3g m)\n",
+                          sb_integrator_name((sb_integrator)integrator), damped ? ", damped" : "", worst, moved);
+            assert_true(moved > 1e-4); /* the sheet did move */
+            TU_ASSERT_LE(worst, (sizeof(sb_real) == sizeof(float) ? 1e-4 : 1e-9) * moved);
+            for (int c = 0; c < 3; c++) assert_true(fast[c] == mesh.positions[c]); /* the pin held */
+        }
+        free(reference);
+        free(fast);
+        sb_model_destroy(model);
+    }
+    sb_mesh_free(&mesh);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_regular_sheet),     cmocka_unit_test(test_jittered_sheet),
         cmocka_unit_test(test_sliver_triangles),  cmocka_unit_test(test_nearly_straight_angles),
         cmocka_unit_test(test_icosphere),         cmocka_unit_test(test_coloring),
         cmocka_unit_test(test_determinism),       cmocka_unit_test(test_collapse_reported),
+        cmocka_unit_test(test_fast_step_follows_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
