@@ -27,7 +27,9 @@ int main(int argc, char** argv) {
         return SB_EXIT_OK;
     }
     if (strcmp(command, "--version") == 0) {
-        printf("softbond %s\n", SB_VERSION_STRING);
+        char machine[256];
+        sb_runtime_describe(machine, sizeof machine);
+        printf("softbond %s\nmachine: %s\n", SB_VERSION_STRING, machine);
         return SB_EXIT_OK;
     }
     fprintf(stderr, "softbond: unknown command '%s' (see softbond --help)\n", command);
