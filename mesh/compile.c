@@ -6,6 +6,7 @@
 #include "mesh/model_internal.h"
 #include "kernels/error.h"
 #include "kernels/geometry.h"
+#include "mesh/sort_key.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -56,34 +57,23 @@ static sb_status sb_check_bond(const sb_builder* b, size_t index, sb_error* err)
     return SB_OK;
 }
 
-typedef struct sb_bond_key {
-    uint64_t key;
-    size_t index;
-} sb_bond_key;
-
-static int sb_bond_key_compare(const void* a, const void* b) {
-    const sb_bond_key *x = a, *y = b;
-    if (x->key != y->key) return x->key < y->key ? -1 : 1;
-    return x->index < y->index ? -1 : (x->index > y->index);
-}
-
 /* Duplicates are rejected, never merged: which constants should win is
  * the caller's decision, not ours. */
 static sb_status sb_check_duplicate_bonds(const sb_builder* b, sb_error* err) {
     size_t count = b->bonds.count;
     if (count < 2) return SB_OK;
-    sb_bond_key* keys = malloc(count * sizeof *keys);
+    sb_sort_key* keys = malloc(count * sizeof *keys);
     if (!keys) return sb_error_set(err, SB_ERR_NOMEM, "out of memory checking %zu bonds", count);
     const sb_bond_def* d = SB_ITEMS(b->bonds, sb_bond_def);
     for (size_t i = 0; i < count; i++) {
         uint64_t lo = d[i].i < d[i].j ? d[i].i : d[i].j, hi = d[i].i ^ d[i].j ^ lo;
-        keys[i] = (sb_bond_key){lo << 32 | hi, i};
+        keys[i] = (sb_sort_key){lo << 32 | hi, (uint32_t)i};
     }
-    qsort(keys, count, sizeof *keys, sb_bond_key_compare);
+    qsort(keys, count, sizeof *keys, sb_sort_key_compare);
     sb_status status = SB_OK;
     for (size_t i = 1; i < count && status == SB_OK; i++)
         if (keys[i].key == keys[i - 1].key)
-            status = sb_error_set(err, SB_ERR_INVALID, "bond %zu: duplicates bond %zu (vertices %u and %u)",
+            status = sb_error_set(err, SB_ERR_INVALID, "bond %u: duplicates bond %u (vertices %u and %u)",
                                   keys[i].index, keys[i - 1].index, d[keys[i].index].i, d[keys[i].index].j);
     free(keys);
     return status;

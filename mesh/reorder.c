@@ -1,21 +1,11 @@
 /* Vertex and triangle reordering for locality (Morton / Z-order curve). */
 #include "softbond/mesh.h"
 #include "kernels/error.h"
+#include "mesh/sort_key.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct sb_sort_key {
-    uint64_t key;
-    uint32_t index;
-} sb_sort_key;
-
-static int sb_sort_key_compare(const void* a, const void* b) {
-    const sb_sort_key *x = a, *y = b;
-    if (x->key != y->key) return x->key < y->key ? -1 : 1;
-    return x->index < y->index ? -1 : (x->index > y->index);
-}
 
 /* Spreads the low 21 bits of v three bits apart. */
 static uint64_t sb_spread_bits(uint64_t v) {
