@@ -96,7 +96,10 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
     for (size_t k = 0; k < 4 * (size_t)f->vertex_count; k++)
         s->weight4[k] = (k & 3) == 3 ? 0 : (sb_real)(s->model->mass[k / 4] * s->def.gravity[k & 3]);
-    sb_runtime_bind(s->threads);
+    /* A team is spread one thread per core; a single thread is left to the
+     * scheduler, so that several one-thread solvers in separate processes
+     * do not all end up on core 0. */
+    if (s->threads > 1) sb_runtime_bind(s->threads);
     return SB_OK;
 }
 

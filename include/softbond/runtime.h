@@ -14,7 +14,8 @@ extern "C" {
 int sb_runtime_threads(int requested, sb_error* err);
 
 /* Binds the OpenMP threads of a `threads`-wide team one per core (round
- * robin when there are more threads than cores), with hwloc. Returns false
+ * robin when there are more threads than cores), with hwloc. The fast
+ * solver calls it for teams of two threads or more. Returns false
  * when the topology could not be read or binding is not supported; the
  * simulation still runs, unbound. */
 bool sb_runtime_bind(int threads);
