@@ -47,3 +47,8 @@ void sb_model_initial_velocity(const sb_model* m, uint32_t v, double out[3]) {
 
 double sb_model_mass(const sb_model* m, uint32_t v) { return m->mass[v]; }
 bool sb_model_is_fixed(const sb_model* m, uint32_t v) { return m->fixed[v] != 0; }
+
+sb_bond_info sb_model_bond(const sb_model* m, uint32_t e) {
+    return (sb_bond_info){m->bond_i[e], m->bond_j[e], m->bond_r0[e], m->bond_k[e], m->spring_k[e],
+                          m->spring_damping[e]};
+}

@@ -97,6 +97,36 @@ sb_material_def sb_default_material_def(void);
 sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh,
                               const sb_material_def* material, sb_error* err);
 
+/* The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
+ * vertex (order kept), a damped spring (sb_bond_def spring_k and
+ * spring_damping, bond stretch k = 0) per unique edge, a bend spring across
+ * each edge shared by exactly two triangles (between the two opposite
+ * vertices), and a vicinity spring between each pair of vertices nearer
+ * than `vicinity` that no stretch or bend spring joins already. Rest lengths
+ * are the current distances; no pair is joined twice. Springs whose
+ * stiffness and damping are both 0 are not added (stretch, bend or
+ * vicinity); vicinity = 0 adds none. */
+typedef struct sb_spring_mesh_def {
+    double stretch_k, stretch_damping;   /* N/m, N·s/m: per edge */
+    double bend_k, bend_damping;         /* N/m, N·s/m: across adjacent triangles */
+    double vicinity;                     /* m: join vertices nearer than this; 0 = none */
+    double vicinity_k, vicinity_damping; /* N/m, N·s/m */
+    double mass;                         /* kg per vertex, used when density is 0 */
+    double density;                      /* kg/m², areal: a third of each triangle's mass */
+} sb_spring_mesh_def;
+
+sb_spring_mesh_def sb_default_spring_mesh_def(void);
+sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh,
+                                     const sb_spring_mesh_def* def, sb_error* err);
+
+/* The pairs (i < j) of points nearer than radius (0 < distance < radius),
+ * found with a uniform grid (cells of side radius, sorted by cell) in time
+ * linear in count: *pairs receives 2 * *pair_count indices (caller frees),
+ * i < j in each pair, pairs in a deterministic order (by cell, not sorted).
+ * Coincident points (distance 0) are not paired. */
+sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius,
+                            uint32_t** pairs, size_t* pair_count, sb_error* err);
+
 #ifdef __cplusplus
 }
 #endif

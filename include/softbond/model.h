@@ -38,6 +38,14 @@ void sb_model_initial_velocity(const sb_model* model, uint32_t vertex, double ou
 double sb_model_mass(const sb_model* model, uint32_t vertex);
 bool sb_model_is_fixed(const sb_model* model, uint32_t vertex);
 
+/* A compiled bond: its vertices, rest length (m) and constants. */
+typedef struct sb_bond_info {
+    uint32_t i, j;
+    double rest_length, k, spring_k, spring_damping;
+} sb_bond_info;
+
+sb_bond_info sb_model_bond(const sb_model* model, uint32_t bond);
+
 #ifdef __cplusplus
 }
 #endif
