@@ -1,4 +1,25 @@
-/* The Verlet integrators. Both evaluate forces once per step, at the new
+/* The explicit integrators. Each reads the forces of the current state
+ * (left there by the previous step or by sb_solver_set_state), moves the
+ * state to t + dt and evaluates the forces there through
+ * sb_solver_compute_forces, so they run with either kernel choice. a = f/m
+ * is the total acceleration: internal terms, gravity, drag and external
+ * forces; fixed vertices have zero inverse mass and zero velocity and never
+ * move.
+ *
+ * Explicit (forward) Euler, first order, gains energy on any undamped
+ * oscillation (its amplification factor is |1 + iωdt| > 1):
+ *   x⁺ = x + v dt,  v⁺ = v + a(x, v) dt.
+ * Symplectic Euler (kick then drift), first order, symplectic, stable for
+ * ω dt < 2:
+ *   v⁺ = v + a(x, v) dt,  x⁺ = x + v⁺ dt.
+ * Position Verlet (Trotter split of the Liouville operator: drift ½dt, kick
+ * dt, drift ½dt), second order, symplectic, stable for ω dt < 2:
+ *   x½ = x + v dt/2,  v⁺ = v + a(x½, v) dt,  x⁺ = x½ + v⁺ dt/2.
+ * Its kick needs the forces at x½ (evaluated at t + dt/2, with v for the
+ * damping) and the state's forces at x⁺, so it evaluates forces twice per
+ * step where the other forms evaluate them once.
+ *
+ * The two Verlet forms below evaluate forces once per step, at the new
  * positions, with the half-step velocity for damping, and leave the state
  * at t + dt with its forces (reused by the next step).
  *
@@ -69,4 +90,41 @@ sb_status sb_integrate_velocity_verlet(sb_solver* s, double dt) {
     sb_status status = sb_solver_compute_forces(s);
     if (status == SB_OK) sb_half_kick(s, dt);
     return status;
+}
+
+/* x += v·scale for every vertex (fixed vertices have v = 0). */
+static void sb_drift(sb_solver* s, double scale) {
+    sb_state* st = &s->state;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        st->x[i] = (sb_real)(st->x[i] + scale * st->vx[i]);
+        st->y[i] = (sb_real)(st->y[i] + scale * st->vy[i]);
+        st->z[i] = (sb_real)(st->z[i] + scale * st->vz[i]);
+    }
+}
+
+sb_status sb_integrate_explicit_euler(sb_solver* s, double dt) {
+    sb_drift(s, dt);            /* x⁺ = x + v dt, with the old v */
+    sb_half_kick(s, 2.0 * dt);  /* v⁺ = v + a(x, v) dt, with the old forces */
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
+}
+
+sb_status sb_integrate_symplectic_euler(sb_solver* s, double dt) {
+    sb_half_kick(s, 2.0 * dt); /* v⁺ = v + a(x, v) dt */
+    sb_drift(s, dt);           /* x⁺ = x + v⁺ dt */
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
+}
+
+sb_status sb_integrate_position_verlet(sb_solver* s, double dt) {
+    double end = s->time; /* sb_solver_advance already moved the clock to t + dt */
+    sb_drift(s, 0.5 * dt);
+    s->time = end - 0.5 * dt;
+    sb_status status = sb_solver_compute_forces(s); /* a(x½), with v for the damping */
+    s->time = end;
+    if (status != SB_OK) return status;
+    sb_half_kick(s, 2.0 * dt);
+    sb_drift(s, 0.5 * dt);
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
 }

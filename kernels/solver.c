@@ -12,7 +12,8 @@
  * has run away: no stable simulation of a soft body goes there. */
 #define SB_RUNAWAY_DIAMETERS 1e6
 
-static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {"verlet", "velocity_verlet"};
+static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {
+    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler"};
 
 const char* sb_integrator_name(sb_integrator integrator) {
     return (unsigned)integrator < SB_INTEGRATOR_COUNT ? sb_integrator_names[integrator] : "unknown";
@@ -28,7 +29,12 @@ bool sb_integrator_from_name(const char* name, sb_integrator* out) {
 }
 
 sb_solver_def sb_default_solver_def(void) {
-    return (sb_solver_def){.integrator = SB_INTEGRATOR_VERLET, .gravity = {0.0, 0.0, -9.81}};
+    return (sb_solver_def){.integrator = SB_INTEGRATOR_VERLET,
+                           .gravity = {0.0, 0.0, -9.81},
+                           .implicit_tolerance = 1e-8,
+                           .implicit_newton_iterations = 20,
+                           .implicit_cg_iterations = 200,
+                           .min_dt = 1e-9};
 }
 
 static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
@@ -51,6 +57,9 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->displacements4);
     free(s->forces4);
     free(s->weight4);
+    free(s->external);
+    free(s->implicit_work);
+    sb_snapshot_destroy(s->snapshot);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
                       s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
@@ -84,6 +93,14 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
         if (!isfinite(def->gravity[c])) return sb_error_set(err, SB_ERR_INVALID, "gravity must be finite");
     if (!isfinite(def->drag) || def->drag < 0.0)
         return sb_error_set(err, SB_ERR_INVALID, "drag must be finite and >= 0 (got %g)", def->drag);
+    if (!isfinite(def->implicit_tolerance) || def->implicit_tolerance < 0.0 || def->implicit_newton_iterations < 0 ||
+        def->implicit_cg_iterations < 0)
+        return sb_error_set(err, SB_ERR_INVALID, "implicit tolerance and iteration caps must be >= 0");
+    if (def->adaptive && !(def->min_dt > 0.0 && isfinite(def->min_dt)))
+        return sb_error_set(err, SB_ERR_INVALID, "min_dt must be positive and finite (got %g)", def->min_dt);
+    if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)
+        return sb_error_set(err, SB_ERR_INVALID, "adaptive_tolerance must be finite and >= 0 (got %g)",
+                            def->adaptive_tolerance);
     if (def->threads < 0) return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->threads);
     if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)
         return sb_error_set(err, SB_ERR_INVALID, "unknown kernels %d", (int)def->kernels);
@@ -101,6 +118,11 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     s->model = model;
     s->def = *def;
     sb_runaway_box(s);
+    if (def->external_force && !(s->external = calloc(3 * (size_t)model->vertex_count + 1, sizeof(double)))) {
+        sb_solver_destroy(s);
+        sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
+        return NULL;
+    }
     sb_status status = def->kernels == SB_KERNELS_FAST ? sb_fast_prepare(s, err) : SB_OK;
     if (status != SB_OK) {
         sb_solver_destroy(s);
@@ -153,19 +175,34 @@ static void sb_prefix_step(sb_solver* s) {
                  original.message);
 }
 
-sb_status sb_solver_advance(sb_solver* s, double dt) {
-    if (!(dt > 0.0) || !isfinite(dt))
-        return sb_error_set(&s->error, SB_ERR_INVALID, "time step %g s must be positive and finite", dt);
-    s->steps++;
+static sb_status sb_integrate(sb_solver* s, double dt) {
+    switch (s->def.integrator) {
+    case SB_INTEGRATOR_VERLET:
+    case SB_INTEGRATOR_VELOCITY_VERLET:
+        if (s->fast) return sb_fast_verlet_step(s, dt); /* the fused step */
+        return s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt) : sb_integrate_velocity_verlet(s, dt);
+    case SB_INTEGRATOR_EXPLICIT_EULER: return sb_integrate_explicit_euler(s, dt);
+    case SB_INTEGRATOR_SYMPLECTIC_EULER: return sb_integrate_symplectic_euler(s, dt);
+    case SB_INTEGRATOR_POSITION_VERLET: return sb_integrate_position_verlet(s, dt);
+    case SB_INTEGRATOR_IMPLICIT_EULER: return sb_integrate_implicit_euler(s, dt);
+    default: return sb_error_set(&s->error, SB_ERR_INVALID, "unknown integrator %d", (int)s->def.integrator);
+    }
+}
+
+static bool sb_fused(const sb_solver* s) {
+    return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
+}
+
+sb_status sb_solver_step(sb_solver* s, double dt) {
     s->time += dt; /* forces of this step are evaluated at the new time */
-    sb_status status = s->fast                                        ? sb_fast_verlet_step(s, dt)
-                       : s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt)
-                                                                   : sb_integrate_velocity_verlet(s, dt);
+    sb_status status = sb_integrate(s, dt);
     /* A non-finite state also makes the force terms fail: name the cause. */
-    if (s->fast) { /* the fast step checked the state and summed the energies itself */
+    if (sb_fused(s)) { /* the fused step checked the state and summed the energies itself */
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status;
     }
+    /* The generic integrators leave the state's arrays current (the fast
+     * force evaluation packs them at its start and publishes at its end). */
     sb_status state_status = sb_check_state(s);
     if (state_status != SB_OK) return state_status;
     if (status != SB_OK) {
@@ -174,6 +211,25 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
     }
     sb_update_energies(s);
     return SB_OK;
+}
+
+sb_status sb_solver_advance(sb_solver* s, double dt) {
+    if (!(dt > 0.0) || !isfinite(dt))
+        return sb_error_set(&s->error, SB_ERR_INVALID, "time step %g s must be positive and finite", dt);
+    s->steps++;
+    s->stats = (sb_step_stats){.converged = true};
+    if (s->def.adaptive) return sb_adaptive_advance(s, dt);
+    sb_status status = sb_solver_step(s, dt);
+    if (status == SB_OK) s->stats = (sb_step_stats){s->stats.newton_iterations, s->stats.cg_iterations,
+                                                    s->stats.converged, 1, 0, dt, dt};
+    return status;
+}
+
+sb_step_stats sb_solver_last_step(const sb_solver* s) { return s->stats; }
+
+void sb_solver_last_iterations(const sb_solver* s, int* newton, int* cg) {
+    if (newton) *newton = s->stats.newton_iterations;
+    if (cg) *cg = s->stats.cg_iterations;
 }
 
 sb_status sb_solver_set_state(sb_solver* s, const double* positions, const double* velocities) {

@@ -151,7 +151,10 @@ static void sb_external_pass(sb_solver* s) {
         sb_real* f4 = s->forces4 + 4 * (size_t)i;
         double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, f[3] = {f4[0], f4[1], f4[2]};
         s->def.external_force(s->def.external_user, i, s->time, x, v, f);
-        for (int c = 0; c < 3; c++) f4[c] = (sb_real)f[c];
+        for (int c = 0; c < 3; c++) {
+            if (s->external) s->external[3 * i + c] = f[c] - f4[c]; /* kept for adaptive stepping */
+            f4[c] = (sb_real)f[c];
+        }
     }
 }
 

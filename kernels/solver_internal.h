@@ -1,5 +1,5 @@
-/* Private: the solver's layout, shared by solver.c, solver_forces.c and
- * integrators.c. */
+/* Private: the solver's layout, shared by solver.c, solver_forces.c,
+ * solver_fast.c, integrators.c, implicit_euler.c and adaptive.c. */
 #ifndef SB_SOLVER_INTERNAL_H
 #define SB_SOLVER_INTERNAL_H
 
@@ -24,6 +24,11 @@ struct sb_solver {
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
+    double* external;          /* 3n: the external forces of the last evaluation (NULL without a callback) */
+    struct sb_snapshot* snapshot; /* adaptive stepping: the state before a sub-step */
+    double trial_substep;      /* adaptive: the size the next sub-step tries (0: the whole dt) */
+    double *implicit_work;     /* implicit Euler: 7 arrays of 3n doubles */
+    sb_step_stats stats;
     double time;
     uint64_t steps;
     sb_energies energies;
@@ -49,9 +54,25 @@ void sb_fast_publish(sb_solver* solver);
 sb_status sb_check_state(sb_solver* solver);
 void sb_update_energies(sb_solver* solver);
 
-/* One step of each integrator; both leave forces and velocities at the new
- * positions. */
+/* One step of each integrator; each leaves forces, velocities and term
+ * energies at the new positions (through sb_solver_compute_forces). */
 sb_status sb_integrate_verlet(sb_solver* solver, double dt);
 sb_status sb_integrate_velocity_verlet(sb_solver* solver, double dt);
+sb_status sb_integrate_explicit_euler(sb_solver* solver, double dt);
+sb_status sb_integrate_symplectic_euler(sb_solver* solver, double dt);
+sb_status sb_integrate_position_verlet(sb_solver* solver, double dt);
+sb_status sb_integrate_implicit_euler(sb_solver* solver, double dt);
+
+/* One step of the chosen integrator with the chosen kernels, the state
+ * checked and the energies updated (kernels/solver.c). */
+sb_status sb_solver_step(sb_solver* solver, double dt);
+/* sb_solver_step over sub-steps with energy control (kernels/adaptive.c). */
+sb_status sb_adaptive_advance(sb_solver* solver, double dt);
+void sb_snapshot_destroy(struct sb_snapshot* snapshot);
+
+/* Forces in double at given positions and velocities (3n interleaved):
+ * reference terms, gravity, drag and external forces on free vertices.
+ * Used by the implicit solver's Newton iterations. */
+sb_status sb_solver_forces_at(sb_solver* solver, const double* x, const double* v, double* f);
 
 #endif

@@ -12,12 +12,17 @@ extern "C" {
 #endif
 
 typedef enum sb_integrator {
-    SB_INTEGRATOR_VERLET = 0,      /* Störmer-Verlet, position form (Eq. 12) */
-    SB_INTEGRATOR_VELOCITY_VERLET, /* kick ½dt, drift dt, kick ½dt */
+    SB_INTEGRATOR_VERLET = 0,       /* Störmer-Verlet, position form (Eq. 12) */
+    SB_INTEGRATOR_VELOCITY_VERLET,  /* kick ½dt, drift dt, kick ½dt */
+    SB_INTEGRATOR_EXPLICIT_EULER,   /* x⁺ = x + v dt, v⁺ = v + a(x, v) dt */
+    SB_INTEGRATOR_SYMPLECTIC_EULER, /* kick then drift: v⁺ = v + a dt, x⁺ = x + v⁺ dt */
+    SB_INTEGRATOR_POSITION_VERLET,  /* Trotter split: drift ½dt, kick dt, drift ½dt */
+    SB_INTEGRATOR_IMPLICIT_EULER,   /* backward Euler, Newton-Raphson with matrix-free CG */
     SB_INTEGRATOR_COUNT
 } sb_integrator;
 
-/* "verlet", "velocity_verlet". */
+/* "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
+ * "position_verlet", "implicit_euler". */
 const char* sb_integrator_name(sb_integrator integrator);
 /* Returns false when the name is unknown. */
 bool sb_integrator_from_name(const char* name, sb_integrator* out);
@@ -40,6 +45,24 @@ typedef struct sb_solver_def {
     int threads;       /* 0 = the runtime's default */
     sb_external_force_fn external_force;
     void* external_user;
+    /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
+     * fallen below implicit_tolerance times its first value (or to rounding
+     * level), after at most implicit_newton_iterations; each linear solve is
+     * conjugate gradients of at most implicit_cg_iterations. 0 = default
+     * (1e-8, 20, 200). */
+    double implicit_tolerance;
+    int implicit_newton_iterations;
+    int implicit_cg_iterations;
+    /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
+     * sub-steps; a sub-step whose total energy gain minus the work of the
+     * external forces exceeds adaptive_tolerance × (the magnitudes of the
+     * energies) is undone and retried at half the size, down to min_dt (then
+     * SB_ERR_UNSTABLE); after a success the next sub-step tries twice the size,
+     * never more than what is left of dt. adaptive_tolerance 0 = the
+     * precision's rounding level (1e-5 float, 1e-10 double). */
+    bool adaptive;
+    double min_dt;             /* s, > 0; default 1e-9 */
+    double adaptive_tolerance; /* >= 0 */
 } sb_solver_def;
 
 sb_solver_def sb_default_solver_def(void);
@@ -57,6 +80,21 @@ void sb_solver_destroy(sb_solver* solver);
  * element; the state is then undefined. */
 sb_status sb_solver_advance(sb_solver* solver, double dt);
 const char* sb_solver_error(const sb_solver* solver);
+
+/* What the last sb_solver_advance did. */
+typedef struct sb_step_stats {
+    int newton_iterations; /* implicit_euler: Newton iterations, summed over sub-steps */
+    int cg_iterations;     /* implicit_euler: conjugate-gradient iterations, summed */
+    bool converged;        /* implicit_euler: every Newton solve met its tolerance */
+    uint32_t substeps;     /* sub-steps accepted (1 without adaptive stepping) */
+    uint32_t rejected;     /* adaptive: sub-steps undone and retried at half the size */
+    double last_substep;   /* s, the last accepted sub-step */
+    double min_substep;    /* s, the smallest accepted sub-step */
+} sb_step_stats;
+
+sb_step_stats sb_solver_last_step(const sb_solver* solver);
+/* Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
+void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
 
 double sb_solver_time(const sb_solver* solver);
 uint64_t sb_solver_step_count(const sb_solver* solver);
