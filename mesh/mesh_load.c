@@ -2,7 +2,9 @@
  *
  * Dispatch is on the extension, case-insensitively: ".obj" and ".off" go to
  * softbond's own readers (obj_reader.c, off_reader.c), which keep the file's
- * vertex order and count exactly; every other extension goes through assimp.
+ * vertex order and count exactly; ".node", ".ele" and ".msh" are tetrahedral
+ * meshes (tet_readers.c) whose boundary surface is returned; every other
+ * extension goes through assimp.
  *
  * The assimp path:
  *   - post-processing: Triangulate, JoinIdenticalVertices, SortByPType,
@@ -40,6 +42,7 @@
 #include <assimp/scene.h>
 
 #include "mesh/mesh_readers.h"
+#include "softbond/volume.h"
 
 /* ---- growable mesh arrays ------------------------------------------------ */
 
@@ -224,7 +227,7 @@ static sb_status open_error(const char* path, int code, sb_error* err)
     return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(code));
 }
 
-static sb_status read_whole_file(const char* path, char** text, size_t* size, sb_error* err)
+sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_error* err)
 {
     FILE* file = fopen(path, "rb");
     if (file == NULL) {
@@ -542,9 +545,22 @@ static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
     return SB_OK;
 }
 
+/* ---- tetrahedral meshes: their boundary ---------------------------------- */
+
+static sb_status load_volume_surface(const char* path, sb_mesh* out, sb_error* err)
+{
+    sb_tet_mesh volume;
+    sb_status status = sb_tet_mesh_load(path, &volume, err);
+    if (status == SB_OK) {
+        status = sb_tet_mesh_surface(&volume, out, err);
+    }
+    sb_tet_mesh_free(&volume);
+    return status;
+}
+
 /* ---- dispatch ------------------------------------------------------------ */
 
-static bool has_extension(const char* path, const char* extension)
+bool sb_path_has_extension(const char* path, const char* extension)
 {
     const char* slash = strrchr(path, '/');
     const char* name = slash != NULL ? slash + 1 : path;
@@ -577,14 +593,17 @@ sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err)
         }
         return SB_ERR_INVALID;
     }
-    bool obj = has_extension(path, ".obj");
-    bool off = has_extension(path, ".off");
+    if (sb_tet_mesh_path(path)) {
+        return load_volume_surface(path, out, err);
+    }
+    bool obj = sb_path_has_extension(path, ".obj");
+    bool off = sb_path_has_extension(path, ".off");
     if (!obj && !off) {
         return load_assimp(path, out, err);
     }
     char* text = NULL;
     size_t size = 0;
-    sb_status status = read_whole_file(path, &text, &size, err);
+    sb_status status = sb_read_whole_file(path, &text, &size, err);
     if (status != SB_OK) {
         return status;
     }

@@ -46,6 +46,11 @@ bool sb_text_parse_double(const char* token, size_t length, double* out);
 /* Parses a whole token as a signed decimal integer. */
 bool sb_text_parse_integer(const char* token, size_t length, long long* out);
 
+/* The whole file, NUL-terminated (caller frees); errors name the path. */
+sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_error* err);
+/* Whether the file name ends in extension (".obj"; lower case), ignoring case. */
+bool sb_path_has_extension(const char* path, const char* extension);
+
 sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out,
                        sb_error* err);
 sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out,

@@ -43,8 +43,10 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
 /* Reads a triangle mesh from a file. OBJ and OFF are read by softbond's own
  * readers, which keep the file's vertex order and count exactly (polygons are
  * fan-triangulated); every other format goes through assimp (triangulated,
- * identical vertices joined, all meshes of the file merged). Errors name the
- * file and, where there is one, the line. */
+ * identical vertices joined, all meshes of the file merged). A tetrahedral
+ * mesh (".node"/".ele", ".msh": softbond/volume.h) gives its boundary
+ * surface with every vertex kept. Errors name the file and, where there is
+ * one, the line. */
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
 
 /* Renumbers the vertices along a Morton (Z-order) curve through the

@@ -5,6 +5,7 @@
 #include "softbond/types.h"
 #include "softbond/mesh.h"
 #include "softbond/builder.h"
+#include "softbond/volume.h"
 #include "softbond/model.h"
 #include "softbond/state.h"
 #include "softbond/reference.h"
