@@ -8,9 +8,12 @@
  * W the work of the external callback's forces, estimated by the trapezoid
  * rule along the sub-step's displacement (gravity is a potential and is in
  * E; drag and spring damping only ever remove energy, so they need no term).
- * When gain > tolerance × (kinetic + Σ|term| + |gravity|) — the tolerance is
- * the rounding level of those energies, 1e-5 of them in float and 1e-10 in
- * double unless set — or the sub-step fails (a non-finite, runaway or
+ * When gain > tolerance × S, S the largest kinetic + Σ|term| + |gravity|
+ * of the accepted states since the state was set and of the new one — the tolerance is the rounding level of
+ * those energies, 1e-5 in float and 1e-10 in double unless set; the peak, not
+ * the current value, because a system coming to rest would otherwise be
+ * judged on the rounding noise of energies that tend to zero — or the
+ * sub-step fails (a non-finite, runaway or
  * collapsed state), the state is restored and the sub-step retried at h/2;
  * below min_dt the advance fails with SB_ERR_UNSTABLE (the state then is the
  * last good one). After a success the next sub-step tries 2h, never more
@@ -165,11 +168,14 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
         double h = fmin(trial, remaining);
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
         sb_snapshot_copy(s, true);
-        double e0 = sb_energies_total(&s->energies), scale = sb_energy_scale(&s->energies);
+        s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies));
+        double e0 = sb_energies_total(&s->energies);
         sb_status status = sb_solver_step(s, h);
         if (status != SB_OK && status != SB_ERR_UNSTABLE && status != SB_ERR_DEGENERATE) return status;
         double gain = status == SB_OK ? sb_energies_total(&s->energies) - e0 - sb_external_work(s) : INFINITY;
+        double scale = fmax(s->energy_peak, sb_energy_scale(&s->energies)); /* a blow-up's gain is ~ all of it */
         if (status == SB_OK && gain <= tolerance * scale) {
+            s->energy_peak = scale;
             remaining -= h;
             sb_accepted(s, h);
             if (h >= trial) trial = 2.0 * h; /* a sub-step cut short by what was left does not grow */

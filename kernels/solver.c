@@ -247,6 +247,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
         st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
     }
     s->has_displacement = false;
+    s->trial_substep = s->energy_peak = 0.0;
     sb_status status = sb_check_state(s);
     if (status == SB_OK) status = sb_solver_compute_forces(s);
     if (status == SB_OK) sb_update_energies(s);

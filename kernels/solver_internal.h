@@ -27,6 +27,7 @@ struct sb_solver {
     double* external;          /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_snapshot* snapshot; /* adaptive stepping: the state before a sub-step */
     double trial_substep;      /* adaptive: the size the next sub-step tries (0: the whole dt) */
+    double energy_peak;        /* adaptive: the largest energy scale since the state was set */
     double *implicit_work;     /* implicit Euler: 7 arrays of 3n doubles */
     sb_step_stats stats;
     double time;

@@ -55,8 +55,8 @@ typedef struct sb_solver_def {
     int implicit_cg_iterations;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
-     * external forces exceeds adaptive_tolerance × (the magnitudes of the
-     * energies) is undone and retried at half the size, down to min_dt (then
+     * external forces exceeds adaptive_tolerance × (the largest sum of the
+     * energies' magnitudes since the state was set) is undone and retried at half the size, down to min_dt (then
      * SB_ERR_UNSTABLE); after a success the next sub-step tries twice the size,
      * never more than what is left of dt. adaptive_tolerance 0 = the
      * precision's rounding level (1e-5 float, 1e-10 double). */
