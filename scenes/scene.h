@@ -24,8 +24,8 @@ typedef enum sb_scene_type {
 #define SB_SCENE_KEYS(X)                                                                           \
     X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")               \
     X(MESH_FILE, "mesh.file", STRING, "''",                                                        \
-      "mesh file for generator file (OBJ, OFF or any assimp format), relative to the "             \
-      "scene file")                                                                                \
+      "mesh file for generator file (OBJ, OFF, TetGen .node/.ele, Gmsh .msh or any assimp "        \
+      "format), relative to the scene file")                                                       \
     X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                         \
     X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                         \
     X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                             \
@@ -50,13 +50,47 @@ typedef enum sb_scene_type {
     X(DENSITY, "density", NUMBER, "0",                                                             \
       "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "              \
       "wins over mass")                                                                            \
+    X(FACTORY, "factory", STRING, "molecular",                                                     \
+      "surface model: molecular (bonds, angles, hinges) or springs (stretch, bend and vicinity "   \
+      "springs); a tetrahedral mesh.file always builds the tissue model")                          \
+    X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")             \
+    X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1",                           \
+      "springs: per edge, N s/m")                                                                  \
+    X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10",                                              \
+      "springs: across adjacent triangles, N/m")                                                   \
+    X(SPRINGS_BEND_DAMPING, "springs.bend.damping", NUMBER, "0.01",                                \
+      "springs: across adjacent triangles, N s/m")                                                 \
+    X(SPRINGS_VICINITY_DISTANCE, "springs.vicinity.distance", NUMBER, "0",                         \
+      "springs: join vertices nearer than this, m; 0 = off")                                       \
+    X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "springs: vicinity, N/m")           \
+    X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1",                         \
+      "springs: vicinity, N s/m")                                                                  \
+    X(MATERIAL, "material", STRING, "liver",                                                       \
+      "tetrahedral meshes: liver (E 3.5 kPa) or gallbladder (E 1.5 kPa), 1060 kg/m^3")             \
+    X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500",                                \
+      "tetrahedral meshes: Young's modulus, Pa; when set, wins over the material's")               \
+    X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060",                                            \
+      "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                   \
+    X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1",                                               \
+      "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                     \
     X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")            \
     X(PIN, "pin", STRING, "none",                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                \
       "right_corners, top_edge, bottom_edge, left_edge or right_edge")                             \
     X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
     X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
-    X(INTEGRATOR, "integrator", STRING, "verlet", "verlet or velocity_verlet")                     \
+    X(INTEGRATOR, "integrator", STRING, "verlet",                                                  \
+      "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler or "             \
+      "implicit_euler")                                                                            \
+    X(ADAPTIVE, "adaptive", BOOL, "false",                                                         \
+      "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")\
+    X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                      \
+    X(IMPLICIT_TOLERANCE, "implicit.tolerance", NUMBER, "1e-8",                                    \
+      "implicit_euler: Newton stops at this fraction of the first residual")                       \
+    X(IMPLICIT_NEWTON_ITERATIONS, "implicit.newton_iterations", INTEGER, "20",                     \
+      "implicit_euler: Newton iterations per step, at most")                                       \
+    X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                            \
+      "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")               \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                  \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                      \
     X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                            \

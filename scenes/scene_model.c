@@ -74,10 +74,66 @@ static sb_status fix_vertices(const sb_scene* scene, const sb_mesh* mesh, sb_bui
     return SB_OK;
 }
 
+sb_spring_mesh_def sb_scene_springs(const sb_scene* scene) {
+    sb_spring_mesh_def d = sb_default_spring_mesh_def();
+    d.stretch_k = sb_scene_number(scene, SB_KEY_SPRINGS_STRETCH_K);
+    d.stretch_damping = sb_scene_number(scene, SB_KEY_SPRINGS_STRETCH_DAMPING);
+    d.bend_k = sb_scene_number(scene, SB_KEY_SPRINGS_BEND_K);
+    d.bend_damping = sb_scene_number(scene, SB_KEY_SPRINGS_BEND_DAMPING);
+    d.vicinity = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_DISTANCE);
+    d.vicinity_k = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_K);
+    d.vicinity_damping = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_DAMPING);
+    d.mass = sb_scene_number(scene, SB_KEY_MASS);
+    d.density = sb_scene_number(scene, SB_KEY_DENSITY);
+    return d;
+}
+
+sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
+    sb_tissue_def t = sb_default_tissue_def();
+    sb_tissue_from_name(sb_scene_string(scene, SB_KEY_MATERIAL), &t);
+    if (scene->values[SB_KEY_TISSUE_YOUNG_MODULUS].where[0])
+        t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
+    if (scene->values[SB_KEY_TISSUE_DENSITY].where[0])
+        t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
+    t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
+    return t;
+}
+
+bool sb_scene_volumetric(const sb_scene* scene) {
+    return strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0 &&
+           sb_tet_mesh_path(sb_scene_string(scene, SB_KEY_MESH_FILE));
+}
+
+/* The tetrahedra behind the surface of a .node/.ele/.msh file. */
+static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
+                            sb_error* err) {
+    char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
+    if (!path) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    sb_tet_mesh volume;
+    sb_status status = sb_tet_mesh_load(path, &volume, err);
+    free(path);
+    if (status == SB_OK && volume.vertex_count != mesh->vertex_count)
+        status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+    sb_tissue_def tissue = sb_scene_tissue(scene);
+    if (status == SB_OK) status = sb_builder_add_tet_mesh(builder, &volume, &tissue, err);
+    sb_tet_mesh_free(&volume);
+    return status;
+}
+
+static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
+                          sb_error* err) {
+    if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
+    if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
+        sb_spring_mesh_def springs = sb_scene_springs(scene);
+        return sb_builder_add_spring_mesh(builder, mesh, &springs, err);
+    }
+    sb_material_def material = sb_scene_material(scene);
+    return sb_builder_add_mesh(builder, mesh, &material, err);
+}
+
 static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* source,
                        sb_builder* builder, sb_error* err) {
-    sb_material_def material = sb_scene_material(scene);
-    sb_status status = sb_builder_add_mesh(builder, mesh, &material, err);
+    sb_status status = add_body(scene, mesh, builder, err);
     if (status != SB_OK) {
         sb_error_prefix(err, status, source);
         return NULL;
@@ -108,5 +164,10 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     bool fast = strcmp(sb_scene_string(scene, SB_KEY_KERNELS), "fast") == 0;
     def.kernels = fast ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
     def.threads = (int)sb_scene_integer(scene, SB_KEY_THREADS);
+    def.adaptive = sb_scene_bool(scene, SB_KEY_ADAPTIVE);
+    def.min_dt = sb_scene_number(scene, SB_KEY_MIN_DT);
+    def.implicit_tolerance = sb_scene_number(scene, SB_KEY_IMPLICIT_TOLERANCE);
+    def.implicit_newton_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_NEWTON_ITERATIONS);
+    def.implicit_cg_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_CG_ITERATIONS);
     return def;
 }

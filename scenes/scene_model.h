@@ -10,6 +10,13 @@
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err);
 
 sb_material_def sb_scene_material(const sb_scene* scene);
+/* The springs.* keys with mass and density (factory: springs). */
+sb_spring_mesh_def sb_scene_springs(const sb_scene* scene);
+/* material, then tissue.young_modulus and tissue.density where set, and tissue.damping. */
+sb_tissue_def sb_scene_tissue(const sb_scene* scene);
+/* A file generator with a tetrahedral mesh file (.node, .ele, .msh): the
+ * model is the tissue model of its tetrahedra. */
+bool sb_scene_volumetric(const sb_scene* scene);
 
 /* Adds the mesh with the scene's material, fixes the `fixed` vertices and
  * the `pin` selection, and compiles. On failure returns NULL; err names the

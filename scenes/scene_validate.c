@@ -30,6 +30,18 @@ static const number_rule number_rules[] = {
     {SB_KEY_DURATION, true},
     {SB_KEY_FRAME_INTERVAL, true},
     {SB_KEY_DRAG, false},
+    {SB_KEY_MIN_DT, true},
+    {SB_KEY_IMPLICIT_TOLERANCE, true},
+    {SB_KEY_SPRINGS_STRETCH_K, false},
+    {SB_KEY_SPRINGS_STRETCH_DAMPING, false},
+    {SB_KEY_SPRINGS_BEND_K, false},
+    {SB_KEY_SPRINGS_BEND_DAMPING, false},
+    {SB_KEY_SPRINGS_VICINITY_DISTANCE, false},
+    {SB_KEY_SPRINGS_VICINITY_K, false},
+    {SB_KEY_SPRINGS_VICINITY_DAMPING, false},
+    {SB_KEY_TISSUE_YOUNG_MODULUS, false},
+    {SB_KEY_TISSUE_DENSITY, true},
+    {SB_KEY_TISSUE_DAMPING, false},
 };
 
 typedef struct integer_rule {
@@ -41,6 +53,8 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_MESH_NX, 2, 1 << 16},     {SB_KEY_MESH_NY, 2, 1 << 16},
     {SB_KEY_MESH_SEED, 0, INT64_MAX}, {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
     {SB_KEY_THREADS, 0, 4096},
+    {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
+    {SB_KEY_IMPLICIT_CG_ITERATIONS, 1, 100000},
 };
 
 static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
@@ -94,8 +108,17 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              sb_scene_string(scene, SB_KEY_KERNELS));
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
-                             "'integrator' must be verlet or velocity_verlet, got '%s'",
+                             "'integrator' must be verlet, velocity_verlet, position_verlet, "
+                             "symplectic_euler, explicit_euler or implicit_euler, got '%s'",
                              sb_scene_string(scene, SB_KEY_INTEGRATOR));
+    static const char* const factories[] = {"molecular", "springs", NULL};
+    static const char* const materials[] = {"liver", "gallbladder", NULL};
+    if (!one_of(sb_scene_string(scene, SB_KEY_FACTORY), factories))
+        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular or springs, got '%s'",
+                             sb_scene_string(scene, SB_KEY_FACTORY));
+    if (!one_of(sb_scene_string(scene, SB_KEY_MATERIAL), materials))
+        return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'",
+                             sb_scene_string(scene, SB_KEY_MATERIAL));
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
         return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'",
                              sb_pin_names(), sb_scene_string(scene, SB_KEY_PIN));
