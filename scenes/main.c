@@ -1,5 +1,6 @@
 /* The `softbond` program: `run` a scene, `eval` a mesh's energies and
- * forces. See README.md ("Running a scene", "softbond eval"). */
+ * forces, `info` on a mesh. See README.md ("Running a scene", "softbond
+ * eval", "softbond info"). */
 #include "scenes/cli.h"
 
 #include <string.h>
@@ -9,6 +10,7 @@ static void usage(FILE* stream) {
             "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
             "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
             "                          [--forces OUT.csv] [--fast]\n"
+            "       softbond info MESH\n"
             "       softbond --help | --version\n"
             "Soft bodies with molecular-mechanics bonded terms. `softbond COMMAND --help`\n"
             "describes a command.\n");
@@ -22,6 +24,7 @@ int main(int argc, char** argv) {
     const char* command = argv[1];
     if (strcmp(command, "run") == 0) return sb_cli_run(argc - 1, argv + 1);
     if (strcmp(command, "eval") == 0) return sb_cli_eval(argc - 1, argv + 1);
+    if (strcmp(command, "info") == 0) return sb_cli_info(argc - 1, argv + 1);
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
         usage(stdout);
         return SB_EXIT_OK;
