@@ -74,10 +74,12 @@ typedef struct sb_solver sb_solver;
 sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
 void sb_solver_destroy(sb_solver* solver);
 
-/* Advances the state by one step of dt seconds (dt > 0 and finite). On
- * failure (a collapsed edge, a non-finite or runaway state) the solver keeps
- * the message, which names the step, the time and the first bad vertex or
- * element; the state is then undefined. */
+/* Advances the state by one step of dt seconds (dt > 0 and finite), or,
+ * with def.adaptive, by sub-steps that add up to dt. On failure (a collapsed
+ * edge, a non-finite or runaway state, an adaptive sub-step that still gains
+ * energy at min_dt) the solver keeps the message, which names the step, the
+ * time and the first bad vertex or element; the state is then undefined
+ * (adaptive: the last good sub-step's). */
 sb_status sb_solver_advance(sb_solver* solver, double dt);
 const char* sb_solver_error(const sb_solver* solver);
 
