@@ -9,6 +9,8 @@
  * The state is sb_real (float unless SB_DOUBLE); each tolerance says why it
  * is well above rounding. Measured numbers are printed. */
 #include "tests/test_util.h"
+#include "scenes/scene.h"
+#include "scenes/scene_model.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -612,6 +614,38 @@ static void test_fast_matches_reference(void** state) {
     sb_model_destroy(m);
 }
 
+/* ---- the scene keys reach sb_solver_def ------------------------------------------- */
+static void test_scene_keys(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    assert_int_equal(def.integrator, SB_INTEGRATOR_VERLET);
+    assert_false(def.adaptive);
+    const char* sets[] = {"integrator=implicit_euler", "adaptive=true", "min_dt=1e-6", "implicit.tolerance=1e-10",
+                          "implicit={newton_iterations: 7, cg_iterations: 33}"};
+    for (int i = 0; i < 5; ++i)
+        if (sb_scene_set(&scene, sets[i], &err) != SB_OK) fail_msg("%s: %s", sets[i], err.message);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    def = sb_scene_solver_def(&scene);
+    assert_int_equal(def.integrator, SB_INTEGRATOR_IMPLICIT_EULER);
+    assert_true(def.adaptive);
+    assert_true(def.min_dt == 1e-6 && def.implicit_tolerance == 1e-10);
+    assert_true(def.implicit_newton_iterations == 7 && def.implicit_cg_iterations == 33);
+    for (int k = 0; k < NI; ++k) {
+        char set[64];
+        snprintf(set, sizeof set, "integrator=%s", sb_integrator_name((sb_integrator)k));
+        assert_int_equal(sb_scene_set(&scene, set, &err), SB_OK);
+        assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+        assert_int_equal(sb_scene_solver_def(&scene).integrator, k);
+    }
+    assert_int_equal(sb_scene_set(&scene, "integrator=rk4", &err), SB_OK);
+    assert_int_not_equal(sb_scene_validate(&scene, &err), SB_OK);
+    TU_ASSERT_CONTAINS(err.message, "implicit_euler");
+    sb_scene_free(&scene);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_names),
@@ -624,6 +658,7 @@ int main(void) {
         cmocka_unit_test(test_adaptive_external_work),
         cmocka_unit_test(test_adaptive_min_dt),
         cmocka_unit_test(test_fast_matches_reference),
+        cmocka_unit_test(test_scene_keys),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
