@@ -167,6 +167,7 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
     while (remaining > 0.0) {
         double h = fmin(trial, remaining);
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
+        if (s->external) sb_fast_publish(s); /* the work needs the positions before the sub-step */
         sb_snapshot_copy(s, true);
         s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies));
         double e0 = sb_energies_total(&s->energies);

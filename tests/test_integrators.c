@@ -475,8 +475,8 @@ static void test_adaptive_external_work(void** state) {
     tu_vertex(b, 0, 0, 1, 2.0, false);
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
-    for (int k = 0; k < NI; ++k) {
-        sb_integrator in = (sb_integrator)k;
+    for (int k = 0; k < 2 * NI; ++k) {
+        sb_integrator in = (sb_integrator)(k % NI);
         if (in == SB_INTEGRATOR_IMPLICIT_EULER) continue;
         push p = {{3.0, -1.0, 0.5}, UINT32_MAX, false};
         sb_solver_def def = base_def(in);
@@ -484,6 +484,7 @@ static void test_adaptive_external_work(void** state) {
         def.external_force = push_force;
         def.external_user = &p;
         def.adaptive = true;
+        def.kernels = k < NI ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST; /* the fused step for the Verlet forms */
         sb_solver* s = create(m, &def);
         unsigned rejected = 0;
         for (int c = 0; c < 100; ++c) {
@@ -495,7 +496,8 @@ static void test_adaptive_external_work(void** state) {
          * Euler loses ½ m a² dt² a step against the work, explicit Euler
          * gains it (sub-steps retried until that is below the tolerance). */
         if (in != SB_INTEGRATOR_EXPLICIT_EULER) assert_int_equal(rejected, 0);
-        print_message("adaptive with external work, %-16s: %u sub-steps retried in 100 calls\n", sb_integrator_name(in), rejected);
+        print_message("adaptive with external work, %-16s, %s kernels: %u sub-steps retried in 100 calls\n",
+                      sb_integrator_name(in), k < NI ? "reference" : "fast", rejected);
         sb_solver_destroy(s);
     }
     sb_model_destroy(m);
