@@ -3,26 +3,37 @@
  *
  *   - a vertex per mesh vertex, order kept; mass per vertex, or a third of
  *     each triangle's mass from an areal density;
- *   - a stretch spring per unique edge, in order of first appearance;
+ *   - a stretch spring per unique edge;
  *   - a bend spring across each edge shared by exactly two triangles,
  *     between the two vertices opposite it (an edge of three or more
  *     triangles has no single pair of neighbours and gets none);
  *   - a vicinity spring between each pair of vertices nearer than the
- *     vicinity threshold (sb_vicinity_pairs, vicinity.c: a spatial hash,
+ *     vicinity threshold (sb_vicinity_pairs, vicinity.c: a grid sweep,
  *     linear time) that an edge or a bend spring does not join already.
  *
  * Every spring is an sb_bond_def with spring_k and spring_damping (the
  * classic damped spring, Eq. 2) and bond stretch k = 0; its rest length is
- * the current distance. One hash set of joined pairs (edge_map.h) keeps a
- * pair from being joined twice — sb_builder_compile rejects duplicate
- * bonds — and the order of precedence is edge, then bend, then vicinity.
+ * the current distance. No pair is joined twice — sb_builder_compile
+ * rejects duplicate bonds — and the precedence is edge, then bend, then
+ * vicinity. The pairs live in compressed rows by their lower vertex: the
+ * 3T half-edges are counting-sorted into rows (two passes, no hashing) and
+ * each row, a vertex's few neighbours, is folded onto its distinct
+ * partners; the bend pairs get rows of their own; "is this pair joined?" is
+ * a scan of one short row. Stretch springs come row by row (ordered by
+ * their lower vertex), then the bend springs, then the vicinity springs.
  *
- * Measured (Release, 2-core AMD EPYC build VM): a 1000 × 1000 sheet
- * (1 000 000 vertices, 1 996 002 triangles) with vicinity 1.5 × spacing
- * gets 2 997 001 stretch, 2 994 004 bend and 1 998 000 vicinity springs;
- * the factory takes 0.5 s and sb_builder_compile 0.9 s. */
+ * Measured (Release, -march=native, the 2-core AMD EPYC build VM while
+ * another build ran, load about 2.3; /tmp programs calling the public API):
+ *   - a 1000 × 1000 sheet (1 000 000 vertices, 1 996 002 triangles),
+ *     vicinity 1.5 × the spacing: 2 996 001 stretch and 1 996 001 bend
+ *     springs; the vicinity search finds 3 994 002 pairs, every one already
+ *     an edge or a bend pair, in 0.31 s; the whole factory takes 1.5 s and
+ *     sb_builder_compile 1.6–1.8 s. Most of the factory's time is the
+ *     first touch of the builder's 40-byte bond records (page faults are
+ *     dear on this VM), not the pair search;
+ *   - a 708 × 708 sheet (501 264 vertices, 999 698 triangles): factory
+ *     0.40–0.46 s (it was 1.07 s with a hash set of pairs), compile 0.2–0.3 s. */
 #include "mesh/builder_internal.h"
-#include "mesh/edge_map.h"
 #include "kernels/error.h"
 #include "kernels/geometry.h"
 
@@ -34,20 +45,67 @@ sb_spring_mesh_def sb_default_spring_mesh_def(void) {
                                 .bend_damping = 0.01, .mass = 0.01};
 }
 
-typedef struct sb_spring_edge {
-    uint32_t e0, e1, o0, o1;
-    uint32_t triangles;
-} sb_spring_edge;
+/* Pairs of vertices grouped by their lower vertex (compressed rows): row
+ * lo holds slots start[lo] .. start[lo] + unique[lo] of distinct partners. */
+typedef struct sb_pair_rows {
+    uint32_t* start;  /* vertex_count + 1 */
+    uint32_t* unique; /* distinct partners per row, at the row's front */
+    uint32_t* hi;     /* per slot: the higher vertex */
+    uint32_t* o0;     /* per slot: first opposite vertex (edges only) */
+    uint32_t* o1;     /* per slot: second opposite vertex (edges only) */
+    uint32_t* uses;   /* per slot: triangles on the edge (edges only) */
+} sb_pair_rows;
 
 typedef struct sb_spring_job {
     sb_builder* builder;
     const sb_mesh* mesh;
     const sb_spring_mesh_def* def;
     uint32_t first; /* the builder's index of mesh vertex 0 */
-    sb_edge_map joined;
-    sb_spring_edge* edges;
-    uint32_t edge_count;
+    sb_pair_rows edges, bends;
 } sb_spring_job;
+
+static void sb_rows_free(sb_pair_rows* r) {
+    free(r->start);
+    free(r->unique);
+    free(r->hi);
+    free(r->o0);
+    free(r->o1);
+    free(r->uses);
+}
+
+static bool sb_rows_init(sb_pair_rows* r, uint32_t vertex_count, size_t slots, bool edges) {
+    r->start = calloc((size_t)vertex_count + 1, sizeof *r->start);
+    r->unique = calloc((size_t)vertex_count + 1, sizeof *r->unique);
+    r->hi = malloc((slots ? slots : 1) * sizeof *r->hi);
+    if (edges) {
+        r->o0 = malloc((slots ? slots : 1) * sizeof *r->o0);
+        r->o1 = malloc((slots ? slots : 1) * sizeof *r->o1);
+        r->uses = malloc((slots ? slots : 1) * sizeof *r->uses);
+    }
+    return r->start && r->unique && r->hi && (!edges || (r->o0 && r->o1 && r->uses));
+}
+
+/* Whether row lo holds hi. */
+static bool sb_rows_find(const sb_pair_rows* r, uint32_t lo, uint32_t hi) {
+    for (uint32_t s = r->start[lo], end = s + r->unique[lo]; s < end; s++)
+        if (r->hi[s] == hi) return true;
+    return false;
+}
+
+/* Moves slot s to the row's front unless its partner is there already;
+ * returns the slot that holds the partner. */
+static uint32_t sb_rows_merge(sb_pair_rows* r, uint32_t lo, uint32_t s) {
+    uint32_t front = r->start[lo];
+    for (uint32_t u = front; u < front + r->unique[lo]; u++)
+        if (r->hi[u] == r->hi[s]) return u;
+    uint32_t to = front + r->unique[lo]++;
+    r->hi[to] = r->hi[s];
+    if (r->o0) {
+        r->o0[to] = r->o0[s];
+        r->uses[to] = 0;
+    }
+    return to;
+}
 
 static sb_status sb_spring_check(const sb_mesh* mesh, const sb_spring_mesh_def* d, sb_error* err) {
     double constants[] = {d->stretch_k, d->stretch_damping, d->bend_k, d->bend_damping, d->vicinity,
@@ -87,30 +145,72 @@ static sb_status sb_spring_vertices(sb_spring_job* job, sb_error* err) {
     return SB_OK;
 }
 
-/* Unique edges with their first two opposite vertices, into job->joined. */
+/* The distinct edges, each with its triangle count and first two opposite
+ * vertices: the 3T half-edges are counting-sorted into rows by their lower
+ * vertex, then each row is folded onto its distinct partners. */
 static sb_status sb_spring_edges(sb_spring_job* job, sb_error* err) {
     const sb_mesh* mesh = job->mesh;
+    sb_pair_rows* r = &job->edges;
     size_t half_edges = 3 * (size_t)mesh->triangle_count;
-    job->edges = malloc((half_edges ? half_edges : 1) * sizeof *job->edges);
-    /* unique edges u plus bend pairs b: an edge with a bend pair uses two of
-     * the 3T half-edges, so u + b <= 3T */
-    if (!job->edges || !sb_edge_map_init(&job->joined, half_edges))
-        return sb_error_set(err, SB_ERR_NOMEM, "out of memory finding the edges of %u triangles",
-                            mesh->triangle_count);
-    uint32_t n = 0;
-    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
-        const uint32_t* tri = mesh->triangles + 3 * (size_t)t;
-        for (int c = 0; c < 3; c++) {
-            uint32_t a = tri[c], b = tri[(c + 1) % 3], opposite = tri[(c + 2) % 3];
-            if (a == b) return sb_error_set(err, SB_ERR_INVALID, "mesh triangle %u: vertex %u repeated", t, a);
-            bool inserted;
-            uint32_t id = *sb_edge_map_upsert(&job->joined, a, b, n, &inserted);
-            if (inserted) job->edges[n++] = (sb_spring_edge){a, b, opposite, 0, 0};
-            if (job->edges[id].triangles == 1) job->edges[id].o1 = opposite;
-            job->edges[id].triangles++;
+    if (!sb_rows_init(r, mesh->vertex_count, half_edges, true))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory finding the edges of %u triangles", mesh->triangle_count);
+    for (size_t h = 0; h < half_edges; h++) {
+        uint32_t a = mesh->triangles[h], b = mesh->triangles[h % 3 == 2 ? h - 2 : h + 1];
+        if (a == b) return sb_error_set(err, SB_ERR_INVALID, "mesh triangle %zu: vertex %u repeated", h / 3, a);
+        r->start[(a < b ? a : b) + 1]++;
+    }
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) r->start[v + 1] += r->start[v];
+    for (size_t h = 0; h < half_edges; h++) { /* fill: unique[] counts the slots used so far */
+        size_t t = h / 3 * 3;
+        uint32_t a = mesh->triangles[h], b = mesh->triangles[h % 3 == 2 ? t : h + 1];
+        uint32_t opposite = mesh->triangles[t + (h - t + 2) % 3], lo = a < b ? a : b;
+        uint32_t slot = r->start[lo] + r->unique[lo]++;
+        r->hi[slot] = a ^ b ^ lo;
+        r->o0[slot] = opposite;
+    }
+    for (uint32_t lo = 0; lo < mesh->vertex_count; lo++) {
+        uint32_t slots = r->unique[lo];
+        r->unique[lo] = 0;
+        for (uint32_t s = r->start[lo]; s < r->start[lo] + slots; s++) {
+            uint32_t opposite = r->o0[s], u = sb_rows_merge(r, lo, s);
+            if (r->uses[u] == 1) r->o1[u] = opposite;
+            r->uses[u]++;
         }
     }
-    job->edge_count = n;
+    return SB_OK;
+}
+
+/* The bend pair across edge slot s: the two opposite vertices of an edge
+ * of exactly two triangles, when they are not joined by an edge. */
+static bool sb_bend_pair(const sb_pair_rows* e, uint32_t s, uint32_t* lo, uint32_t* hi) {
+    if (e->uses[s] != 2 || e->o0[s] == e->o1[s]) return false;
+    *lo = e->o0[s] < e->o1[s] ? e->o0[s] : e->o1[s];
+    *hi = e->o0[s] ^ e->o1[s] ^ *lo;
+    return !sb_rows_find(e, *lo, *hi);
+}
+
+/* Distinct bend pairs, in rows like the edges: count, place, fold. */
+static sb_status sb_spring_bends(sb_spring_job* job, sb_error* err) {
+    const sb_pair_rows* e = &job->edges;
+    sb_pair_rows* r = &job->bends;
+    uint32_t n = job->mesh->vertex_count, a, b;
+    size_t count = 0;
+    for (uint32_t lo = 0; lo < n; lo++)
+        for (uint32_t s = e->start[lo]; s < e->start[lo] + e->unique[lo]; s++) count += sb_bend_pair(e, s, &a, &b);
+    if (!sb_rows_init(r, n, count, false))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory finding %zu bend springs", count);
+    for (uint32_t lo = 0; lo < n; lo++)
+        for (uint32_t s = e->start[lo]; s < e->start[lo] + e->unique[lo]; s++)
+            if (sb_bend_pair(e, s, &a, &b)) r->start[a + 1]++;
+    for (uint32_t v = 0; v < n; v++) r->start[v + 1] += r->start[v];
+    for (uint32_t lo = 0; lo < n; lo++)
+        for (uint32_t s = e->start[lo]; s < e->start[lo] + e->unique[lo]; s++)
+            if (sb_bend_pair(e, s, &a, &b)) r->hi[r->start[a] + r->unique[a]++] = b;
+    for (uint32_t lo = 0; lo < n; lo++) {
+        uint32_t slots = r->unique[lo];
+        r->unique[lo] = 0;
+        for (uint32_t s = r->start[lo]; s < r->start[lo] + slots; s++) sb_rows_merge(r, lo, s);
+    }
     return SB_OK;
 }
 
@@ -128,20 +228,14 @@ static sb_status sb_spring_add(sb_spring_job* job, uint32_t i, uint32_t j, doubl
     return SB_OK;
 }
 
-static sb_status sb_spring_stretch_and_bend(sb_spring_job* job, sb_error* err) {
-    const sb_spring_mesh_def* d = job->def;
+/* A spring per pair of the rows, in row order. */
+static sb_status sb_spring_add_rows(sb_spring_job* job, const sb_pair_rows* r, double k, double damping,
+                                    sb_error* err) {
+    if (k <= 0.0 && damping <= 0.0) return SB_OK;
     sb_status status = SB_OK;
-    bool stretch = d->stretch_k > 0.0 || d->stretch_damping > 0.0;
-    bool bend = d->bend_k > 0.0 || d->bend_damping > 0.0;
-    for (uint32_t e = 0; e < job->edge_count && stretch && status == SB_OK; e++)
-        status = sb_spring_add(job, job->edges[e].e0, job->edges[e].e1, d->stretch_k, d->stretch_damping, err);
-    for (uint32_t e = 0; e < job->edge_count && status == SB_OK; e++) {
-        const sb_spring_edge* edge = &job->edges[e];
-        if (edge->triangles != 2 || edge->o0 == edge->o1) continue;
-        bool inserted;
-        sb_edge_map_upsert(&job->joined, edge->o0, edge->o1, UINT32_MAX, &inserted);
-        if (inserted && bend) status = sb_spring_add(job, edge->o0, edge->o1, d->bend_k, d->bend_damping, err);
-    }
+    for (uint32_t lo = 0; lo < job->mesh->vertex_count && status == SB_OK; lo++)
+        for (uint32_t s = r->start[lo]; s < r->start[lo] + r->unique[lo] && status == SB_OK; s++)
+            status = sb_spring_add(job, lo, r->hi[s], k, damping, err);
     return status;
 }
 
@@ -152,9 +246,11 @@ static sb_status sb_spring_vicinity(sb_spring_job* job, sb_error* err) {
     size_t count;
     sb_status status = sb_vicinity_pairs(job->mesh->positions, job->mesh->vertex_count, d->vicinity, &pairs,
                                          &count, err);
-    for (size_t p = 0; p < count && status == SB_OK; p++)
-        if (!sb_edge_map_find(&job->joined, pairs[2 * p], pairs[2 * p + 1]))
-            status = sb_spring_add(job, pairs[2 * p], pairs[2 * p + 1], d->vicinity_k, d->vicinity_damping, err);
+    for (size_t p = 0; p < count && status == SB_OK; p++) {
+        uint32_t lo = pairs[2 * p], hi = pairs[2 * p + 1];
+        if (!sb_rows_find(&job->edges, lo, hi) && !sb_rows_find(&job->bends, lo, hi))
+            status = sb_spring_add(job, lo, hi, d->vicinity_k, d->vicinity_damping, err);
+    }
     free(pairs);
     return status;
 }
@@ -166,9 +262,11 @@ sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, c
     sb_spring_job job = {.builder = builder, .mesh = mesh, .def = def, .first = sb_builder_vertex_count(builder)};
     status = sb_spring_vertices(&job, err);
     if (status == SB_OK) status = sb_spring_edges(&job, err);
-    if (status == SB_OK) status = sb_spring_stretch_and_bend(&job, err);
+    if (status == SB_OK) status = sb_spring_bends(&job, err);
+    if (status == SB_OK) status = sb_spring_add_rows(&job, &job.edges, def->stretch_k, def->stretch_damping, err);
+    if (status == SB_OK) status = sb_spring_add_rows(&job, &job.bends, def->bend_k, def->bend_damping, err);
     if (status == SB_OK) status = sb_spring_vicinity(&job, err);
-    sb_edge_map_free(&job.joined);
-    free(job.edges);
+    sb_rows_free(&job.edges);
+    sb_rows_free(&job.bends);
     return status;
 }
