@@ -260,6 +260,31 @@ static void test_spring_mass_from_density(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* Appended after a vertex already in the builder: indices are offset. A
+ * fin of three triangles on one edge gets no bend spring across it; the
+ * other edges have one triangle each. */
+static void test_offset_and_fin(void** state) {
+    (void)state;
+    double positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+    uint32_t triangles[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    sb_mesh fin = {5, positions, 3, triangles};
+    sb_error err;
+    sb_builder* b = sb_builder_create();
+    assert_true(tu_vertex(b, 9, 9, 9, 1.0, false) == 0);
+    sb_spring_mesh_def d = sb_default_spring_mesh_def();
+    assert_int_equal(sb_builder_add_spring_mesh(b, &fin, &d, &err), SB_OK);
+    sb_model* model = tu_compile(b);
+    assert_int_equal(sb_model_vertex_count(model), 6);
+    assert_int_equal(sb_model_bond_count(model), 7); /* 7 edges, no bend */
+    for (uint32_t e = 0; e < 7; e++) {
+        sb_bond_info info = sb_model_bond(model, e);
+        assert_true(info.i >= 1 && info.j >= 1);
+        TU_ASSERT_NEAR(info.rest_length, tu_dist(positions + 3 * (info.i - 1), positions + 3 * (info.j - 1)), 1e-15);
+    }
+    sb_model_destroy(model);
+    sb_builder_destroy(b);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_icosphere_edges),
@@ -269,6 +294,7 @@ int main(void) {
         cmocka_unit_test(test_vicinity_matches_brute_force),
         cmocka_unit_test(test_vicinity_bad_input),
         cmocka_unit_test(test_spring_mass_from_density),
+        cmocka_unit_test(test_offset_and_fin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
