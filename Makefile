@@ -12,9 +12,9 @@ build: deps
 	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build build -j $(JOBS)
 
+# The program's last line says where the frames and log.csv went.
 demo: build
 	./build/softbond run scenes/default.yaml --output out/demo
-	@echo "softbond: frames and log.csv are in out/demo (open out/demo/frames.pvd in ParaView)"
 
 # Three configurations: float (the default), double, and float under the
 # address and undefined-behaviour sanitizers.
