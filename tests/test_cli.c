@@ -10,54 +10,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "tests/test_util.h"
-
-static char tmp_dir[256];
+#include "tests/test_files.h"
 
 static int setup_dir(void** state) {
     (void)state;
-    const char* base = getenv("TMPDIR");
-    snprintf(tmp_dir, sizeof tmp_dir, "%s/sb_test_cli_XXXXXX", base && *base ? base : "/tmp");
-    return mkdtemp(tmp_dir) ? 0 : -1;
+    return tu_make_tmp_dir("sb_test_cli");
 }
 
-/* Removes the files the tests made (at most two levels deep). */
 static int teardown_dir(void** state) {
     (void)state;
-    char command[400];
-    snprintf(command, sizeof command, "rm -rf '%s'", tmp_dir);
-    return system(command) == 0 ? 0 : -1;
-}
-
-/* tmp_dir/name in a rotating set of buffers, enough for one call's paths. */
-static const char* tmp_path(const char* name) {
-    static char buffers[8][400];
-    static int next;
-    char* path = buffers[next++ % 8];
-    snprintf(path, sizeof buffers[0], "%s/%s", tmp_dir, name);
-    return path;
-}
-
-static void write_file(const char* name, const char* text) {
-    FILE* f = fopen(tmp_path(name), "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
-
-/* The whole file, or NULL when it does not exist. Caller frees. */
-static char* read_file(const char* path) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char* text = malloc((size_t)size + 1);
-    assert_non_null(text);
-    assert_int_equal(fread(text, 1, (size_t)size, f), (size_t)size);
-    text[size] = '\0';
-    fclose(f);
-    return text;
+    return tu_remove_tmp_dir();
 }
 
 static bool exists(const char* path) {
@@ -77,51 +39,8 @@ static int count_occurrences(const char* text, const char* word) {
     return n;
 }
 
-/* What a run of the program left: exit code, stdout, stderr. */
-typedef struct result {
-    int code;
-    char* out;
-    char* err;
-} result;
-
-static void result_free(result* r) {
-    free(r->out);
-    free(r->err);
-}
-
-/* Runs softbond with args (NULL-terminated) in tmp_dir, with the variable
- * env_name (unless NULL) set to env_value in its environment. */
-static result run_env(const char* env_name, const char* env_value, const char* const* args) {
-    const char* argv[32] = {SB_PROGRAM};
-    int argc = 1;
-    for (; args[argc - 1]; argc++) argv[argc] = args[argc - 1];
-    argv[argc] = NULL;
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        bool ok = chdir(tmp_dir) == 0 && freopen("stdout.txt", "w", stdout) &&
-                  freopen("stderr.txt", "w", stderr);
-        if (ok && env_name) ok = setenv(env_name, env_value, 1) == 0;
-        if (ok) execv(SB_PROGRAM, (char* const*)argv);
-        _exit(127);
-    }
-    int status;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    result r = {WEXITSTATUS(status), read_file(tmp_path("stdout.txt")),
-                read_file(tmp_path("stderr.txt"))};
-    assert_int_not_equal(r.code, 127);
-    assert_non_null(r.out);
-    assert_non_null(r.err);
-    return r;
-}
-
-static result run(const char* const* args) {
-    return run_env(NULL, NULL, args);
-}
-
 /* Exit 2, nothing on stdout, and exactly `message` on stderr. */
-static void assert_input_error(const result* r, const char* message) {
+static void assert_input_error(const tu_result* r, const char* message) {
     assert_int_equal(r->code, 2);
     assert_string_equal(r->out, "");
     char expected[600];
@@ -217,9 +136,9 @@ static void assert_one_json_line(const char* out) {
 
 static void test_eval_energies_match_hand_values(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    write_file("tri_pos.csv", tri_pos);
-    result r = run((const char*[]){"eval", "tri.obj", "--set", "bond.k=100", "--set", "angle.k=2",
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("tri_pos.csv", tri_pos);
+    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "bond.k=100", "--set", "angle.k=2",
                                    "--set", "stretch_bend.k=3", "--set", "spring.k=5",
                                    "--positions", "tri_pos.csv", NULL});
     assert_int_equal(r.code, 0);
@@ -234,13 +153,13 @@ static void test_eval_energies_match_hand_values(void** state) {
     ASSERT_REL(json_number(r.out, "total"), edge_energy(105.0) + angle + stretch_bend);
     assert_false(json_has(r.out, "bend")); /* bend.k is 0 by default */
     assert_true(stretch_bend != 0.0 && angle > 0.0);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_eval_terms_with_zero_constant_are_absent(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    result r = run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", NULL});
+    tu_write_file("tri.obj", tri_obj);
+    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", NULL});
     assert_int_equal(r.code, 0);
     assert_one_json_line(r.out);
     assert_true(json_has(r.out, "bond"));
@@ -251,14 +170,14 @@ static void test_eval_terms_with_zero_constant_are_absent(void** state) {
     /* at the file's own positions every term is at rest */
     assert_true(json_number(r.out, "bond") == 0.0);
     assert_true(json_number(r.out, "total") == 0.0);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_eval_bend_of_a_folded_square(void** state) {
     (void)state;
-    write_file("square.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
-    write_file("fold.csv", "x,y,z\n0,0,0\n1,0,0\n0,1,0\n1,1,0.3\n");
-    result r = run((const char*[]){"eval", "square.obj", "--set", "bond.k=0", "--set", "angle.k=0",
+    tu_write_file("square.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+    tu_write_file("fold.csv", "x,y,z\n0,0,0\n1,0,0\n0,1,0\n1,1,0.3\n");
+    tu_result r = tu_run((const char*[]){"eval", "square.obj", "--set", "bond.k=0", "--set", "angle.k=0",
                                    "--set", "bend.k=2", "--positions", "fold.csv", NULL});
     assert_int_equal(r.code, 0);
     vec q[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.3}};
@@ -269,18 +188,18 @@ static void test_eval_bend_of_a_folded_square(void** state) {
     ASSERT_REL(json_number(r.out, "total"), 0.5 * 2.0 * phi * phi);
     assert_false(json_has(r.out, "bond"));
     assert_false(json_has(r.out, "angle"));
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_eval_fast_agrees_with_the_reference(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    write_file("tri_pos.csv", tri_pos);
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("tri_pos.csv", tri_pos);
     const char* sets[] = {"eval", "tri.obj", "--set", "angle.k=2", "--set", "stretch_bend.k=3",
                           "--positions", "tri_pos.csv", "--fast", NULL};
-    result fast = run(sets);
+    tu_result fast = tu_run(sets);
     sets[8] = NULL;
-    result reference = run(sets);
+    tu_result reference = tu_run(sets);
     assert_int_equal(fast.code, 0);
     assert_int_equal(reference.code, 0);
     const char* terms[] = {"bond", "angle", "stretch_bend", "total"};
@@ -290,8 +209,8 @@ static void test_eval_fast_agrees_with_the_reference(void** state) {
         TU_ASSERT_NEAR(json_number(fast.out, terms[t]), expected, 1e-5 * fabs(expected));
     }
     assert_false(json_has(fast.out, "spring"));
-    result_free(&fast);
-    result_free(&reference);
+    tu_result_free(&fast);
+    tu_result_free(&reference);
 }
 
 /* A field of the forces CSV: a number that %.17g prints back unchanged. */
@@ -309,15 +228,15 @@ static double csv_number(char** cursor) {
 
 static void test_eval_forces_csv(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    write_file("tri_pos.csv", tri_pos);
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("tri_pos.csv", tri_pos);
     const double k = 100.0;
-    result r = run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", "--positions",
+    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", "--positions",
                                    "tri_pos.csv", "--forces", "forces.csv", NULL});
     assert_int_equal(r.code, 0);
-    char* csv = read_file(tmp_path("forces.csv"));
+    char* csv = tu_read_file(tu_tmp_path("forces.csv"));
     assert_non_null(csv);
-    assert_false(exists(tmp_path("forces.csv.tmp")));
+    assert_false(exists(tu_tmp_path("forces.csv.tmp")));
     assert_int_equal(count_lines(csv), 4);
     assert_int_equal(strncmp(csv, "id,fx,fy,fz\n", 12), 0);
     char* cursor = csv + 12;
@@ -341,27 +260,27 @@ static void test_eval_forces_csv(void** state) {
     assert_int_equal(*cursor, '\0');
     for (int c = 0; c < 3; c++) TU_ASSERT_NEAR(sum[c], 0.0, 1e-10);
     free(csv);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 /* An eval that must fail with exit 2 and leave no forces file. */
 static void assert_eval_fails(const char* const* args, const char* message) {
-    remove(tmp_path("bad_forces.csv"));
-    result r = run(args);
+    remove(tu_tmp_path("bad_forces.csv"));
+    tu_result r = tu_run(args);
     assert_input_error(&r, message);
-    assert_false(exists(tmp_path("bad_forces.csv")));
-    assert_false(exists(tmp_path("bad_forces.csv.tmp")));
-    result_free(&r);
+    assert_false(exists(tu_tmp_path("bad_forces.csv")));
+    assert_false(exists(tu_tmp_path("bad_forces.csv.tmp")));
+    tu_result_free(&r);
 }
 
 static void test_eval_bad_positions(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    write_file("short.csv", "x,y,z\n0,0,0\n1,0,0\n");
-    write_file("long.csv", "x,y,z\n0,0,0\n1,0,0\n0,1,0\n2,2,2\n");
-    write_file("word.csv", "x,y,z\n0,0,0\n1,zero,0\n0,1,0\n");
-    write_file("inf.csv", "x,y,z\n0,0,0\n1,0,0\n0,inf,0\n");
-    write_file("header.csv", "a,b,c\n0,0,0\n1,0,0\n0,1,0\n");
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("short.csv", "x,y,z\n0,0,0\n1,0,0\n");
+    tu_write_file("long.csv", "x,y,z\n0,0,0\n1,0,0\n0,1,0\n2,2,2\n");
+    tu_write_file("word.csv", "x,y,z\n0,0,0\n1,zero,0\n0,1,0\n");
+    tu_write_file("inf.csv", "x,y,z\n0,0,0\n1,0,0\n0,inf,0\n");
+    tu_write_file("header.csv", "a,b,c\n0,0,0\n1,0,0\n0,1,0\n");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "short.csv", "--forces",
                                       "bad_forces.csv", NULL},
                       "short.csv:4: 2 rows, but the mesh has 3 vertices");
@@ -381,8 +300,8 @@ static void test_eval_bad_positions(void** state) {
 
 static void test_eval_bad_input(void** state) {
     (void)state;
-    write_file("tri.obj", tri_obj);
-    write_file("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--set", "bond.kk=1", "--forces",
                                       "bad_forces.csv", NULL},
                       "--set bond.kk=1: unknown key 'bond.kk'");
@@ -395,11 +314,11 @@ static void test_eval_bad_input(void** state) {
                       "unknown option '--frobnicate' (see softbond eval --help)");
     assert_eval_fails((const char*[]){"eval", NULL}, "missing MESH (see softbond eval --help)");
     /* the mesh reader's own message names the line */
-    result r = run((const char*[]){"eval", "broken.obj", NULL});
+    tu_result r = tu_run((const char*[]){"eval", "broken.obj", NULL});
     assert_int_equal(r.code, 2);
     assert_int_equal(count_lines(r.err), 1);
     assert_int_equal(strncmp(r.err, "softbond: broken.obj:3: ", 24), 0);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 /* ---- run ------------------------------------------------------------------------ */
@@ -437,7 +356,7 @@ static void assert_frames(const char* dir, int frames) {
         assert_false(exists(name));
     }
     snprintf(name, sizeof name, "%s/frame_000000.vtu", dir);
-    char* vtu = read_file(name);
+    char* vtu = tu_read_file(name);
     /* 4 x 3 vertices, 3 x 2 quads of two triangles */
     assert_non_null(strstr(vtu, "<VTKFile type=\"UnstructuredGrid\""));
     assert_non_null(strstr(vtu, "NumberOfPoints=\"12\" NumberOfCells=\"12\""));
@@ -445,7 +364,7 @@ static void assert_frames(const char* dir, int frames) {
     assert_non_null(strstr(vtu, "Name=\"force\""));
     free(vtu);
     snprintf(name, sizeof name, "%s/frames.pvd", dir);
-    char* pvd = read_file(name);
+    char* pvd = tu_read_file(name);
     assert_non_null(pvd);
     assert_int_equal(count_occurrences(pvd, "<DataSet "), frames);
     assert_non_null(strstr(pvd, "file=\"frame_000000.vtu\""));
@@ -455,7 +374,7 @@ static void assert_frames(const char* dir, int frames) {
 static void assert_log(const char* dir, int frames, double duration) {
     char name[400];
     snprintf(name, sizeof name, "%s/log.csv", dir);
-    char* log = read_file(name);
+    char* log = tu_read_file(name);
     assert_non_null(log);
     const char* header = "time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total\n";
     assert_int_equal(strncmp(log, header, strlen(header)), 0);
@@ -480,46 +399,46 @@ static void assert_log(const char* dir, int frames, double duration) {
 
 static void test_run_writes_frames_and_log(void** state) {
     (void)state;
-    write_file("tiny.yaml", tiny_scene);
-    result r = run((const char*[]){"run", "tiny.yaml", NULL});
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", NULL});
     assert_int_equal(r.code, 0);
     assert_string_equal(r.err, ""); /* no progress bar off a terminal */
     assert_int_equal(count_lines(r.out), 1);
     assert_non_null(strstr(r.out, "out/tiny"));
     int frames = (int)floor(0.1 / 0.02 + 1e-9) + 1;
-    assert_frames(tmp_path("out/tiny"), frames);
-    assert_log(tmp_path("out/tiny"), frames, 0.1);
-    result_free(&r);
+    assert_frames(tu_tmp_path("out/tiny"), frames);
+    assert_log(tu_tmp_path("out/tiny"), frames, 0.1);
+    tu_result_free(&r);
 }
 
 static void test_run_set_and_output(void** state) {
     (void)state;
-    write_file("tiny.yaml", tiny_scene);
-    result r = run((const char*[]){"run", "tiny.yaml", "--set", "duration=0.05", "--set",
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "duration=0.05", "--set",
                                    "output.frames=false", "--output", "custom/dir", "--threads",
                                    "1", NULL});
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "custom/dir"));
-    assert_log(tmp_path("custom/dir"), 3, 0.04);
-    assert_false(exists(tmp_path("custom/dir/frames.pvd")));
-    assert_false(exists(tmp_path("custom/dir/frame_000000.vtu")));
-    result_free(&r);
+    assert_log(tu_tmp_path("custom/dir"), 3, 0.04);
+    assert_false(exists(tu_tmp_path("custom/dir/frames.pvd")));
+    assert_false(exists(tu_tmp_path("custom/dir/frame_000000.vtu")));
+    tu_result_free(&r);
 }
 
 /* A run that must fail with exit 2 before creating its output folder. */
 static void assert_run_fails(const char* env_name, const char* env_value, const char* const* args,
                              const char* message) {
-    result r = run_env(env_name, env_value, args);
+    tu_result r = tu_run_env(env_name, env_value, args);
     assert_input_error(&r, message);
-    assert_false(exists(tmp_path("never")));
-    result_free(&r);
+    assert_false(exists(tu_tmp_path("never")));
+    tu_result_free(&r);
 }
 
 static void test_run_bad_input_creates_nothing(void** state) {
     (void)state;
-    write_file("tiny.yaml", tiny_scene);
-    write_file("typo.yaml", "mesh: {nx: 4, ny: 3}\nbond:\n  kk: 1\n");
-    write_file("range.yaml", "mesh: {nx: 4, ny: 3}\nfixed: [3, 12]\n");
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_write_file("typo.yaml", "mesh: {nx: 4, ny: 3}\nbond:\n  kk: 1\n");
+    tu_write_file("range.yaml", "mesh: {nx: 4, ny: 3}\nfixed: [3, 12]\n");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "typo.yaml", "--output", "never", NULL},
                      "typo.yaml:3: unknown key 'bond.kk'");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "range.yaml", "--output", "never", NULL},
@@ -540,35 +459,35 @@ static void test_run_bad_input_creates_nothing(void** state) {
 
 static void test_run_solver_failure_exits_3(void** state) {
     (void)state;
-    write_file("tiny.yaml", tiny_scene);
-    result r = run((const char*[]){"run", "tiny.yaml", "--set", "bond.k=1e6", "--set", "dt=0.01",
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "bond.k=1e6", "--set", "dt=0.01",
                                    "--set", "frame_interval=0.01", "--output", "unstable", NULL});
     assert_int_equal(r.code, 3);
     assert_int_equal(count_lines(r.err), 1);
     assert_int_equal(strncmp(r.err, "softbond: ", 10), 0);
     /* the frames up to the failure stay readable */
-    assert_true(exists(tmp_path("unstable/log.csv")));
-    result_free(&r);
+    assert_true(exists(tu_tmp_path("unstable/log.csv")));
+    tu_result_free(&r);
 }
 
 static void test_help_and_version(void** state) {
     (void)state;
-    result r = run((const char*[]){"--version", NULL});
+    tu_result r = tu_run((const char*[]){"--version", NULL});
     assert_int_equal(r.code, 0);
     assert_int_equal(strncmp(r.out, "softbond ", 9), 0);
     assert_non_null(strstr(r.out, SB_VERSION_STRING));
-    result_free(&r);
-    r = run((const char*[]){"run", "--help", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "--help", NULL});
     assert_int_equal(r.code, 0);
     assert_int_equal(strncmp(r.out, "usage: softbond run SCENE.yaml", 30), 0);
-    result_free(&r);
-    r = run((const char*[]){"--help", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"--help", NULL});
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "softbond eval MESH"));
-    result_free(&r);
-    r = run((const char*[]){"fly", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"fly", NULL});
     assert_input_error(&r, "unknown command 'fly' (see softbond --help)");
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 int main(void) {

@@ -11,56 +11,21 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "tests/test_util.h"
-
-static char tmp_dir[256];
+#include "tests/test_files.h"
 
 static int setup_dir(void** state) {
     (void)state;
-    const char* base = getenv("TMPDIR");
-    snprintf(tmp_dir, sizeof tmp_dir, "%s/sb_test_info_XXXXXX", base && *base ? base : "/tmp");
-    return mkdtemp(tmp_dir) ? 0 : -1;
+    return tu_make_tmp_dir("sb_test_info");
 }
 
 static int teardown_dir(void** state) {
     (void)state;
-    char command[400];
-    snprintf(command, sizeof command, "rm -rf '%s'", tmp_dir);
-    return system(command) == 0 ? 0 : -1;
-}
-
-static const char* tmp_path(const char* name) {
-    static char buffers[8][400];
-    static int next;
-    char* path = buffers[next++ % 8];
-    snprintf(path, sizeof buffers[0], "%s/%s", tmp_dir, name);
-    return path;
-}
-
-static void write_file(const char* name, const char* text) {
-    FILE* f = fopen(tmp_path(name), "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
-
-static char* read_file(const char* path) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char* text = malloc((size_t)size + 1);
-    assert_non_null(text);
-    assert_int_equal(fread(text, 1, (size_t)size, f), (size_t)size);
-    text[size] = '\0';
-    fclose(f);
-    return text;
+    return tu_remove_tmp_dir();
 }
 
 /* An OBJ file of a mesh. */
 static void write_obj(const char* name, const sb_mesh* mesh) {
-    FILE* f = fopen(tmp_path(name), "w");
+    FILE* f = fopen(tu_tmp_path(name), "w");
     assert_non_null(f);
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
         fprintf(f, "v %.17g %.17g %.17g\n", mesh->positions[3 * v], mesh->positions[3 * v + 1],
@@ -69,38 +34,6 @@ static void write_obj(const char* name, const sb_mesh* mesh) {
         fprintf(f, "f %u %u %u\n", mesh->triangles[3 * t] + 1, mesh->triangles[3 * t + 1] + 1,
                 mesh->triangles[3 * t + 2] + 1);
     fclose(f);
-}
-
-typedef struct result {
-    int code;
-    char* out;
-    char* err;
-} result;
-
-static void result_free(result* r) {
-    free(r->out);
-    free(r->err);
-}
-
-static result run(const char* const* args) {
-    const char* argv[32] = {SB_PROGRAM};
-    int argc = 1;
-    for (; args[argc - 1]; argc++) argv[argc] = args[argc - 1];
-    argv[argc] = NULL;
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        bool ok = chdir(tmp_dir) == 0 && freopen("stdout.txt", "w", stdout) && freopen("stderr.txt", "w", stderr);
-        if (ok) execv(SB_PROGRAM, (char* const*)argv);
-        _exit(127);
-    }
-    int status;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    result r = {WEXITSTATUS(status), read_file(tmp_path("stdout.txt")), read_file(tmp_path("stderr.txt"))};
-    assert_non_null(r.out);
-    assert_non_null(r.err);
-    return r;
 }
 
 /* The whole line "name: value\n" is in the output. */
@@ -122,7 +55,7 @@ static void test_icosphere(void** state) {
     assert_int_equal(sb_mesh_generate_icosphere(2, 1.0, &mesh, &err), SB_OK);
     write_obj("sphere.obj", &mesh);
     sb_mesh_free(&mesh);
-    result r = run((const char*[]){"info", "sphere.obj", NULL});
+    tu_result r = tu_run((const char*[]){"info", "sphere.obj", NULL});
     assert_int_equal(r.code, 0);
     assert_string_equal(r.err, "");
     assert_line(r.out, "vertices: 162");
@@ -138,37 +71,37 @@ static void test_icosphere(void** state) {
     assert_non_null(colors);
     int bonds = atoi(colors + strlen("colors: bonds "));
     assert_true(bonds >= 6 && bonds < 64);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_open_and_split_meshes(void** state) {
     (void)state;
     /* a 3 x 3 sheet: 8 boundary edges of 16 */
-    write_file("sheet.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
+    tu_write_file("sheet.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
                             "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\nf 4 5 8\nf 4 8 7\nf 5 6 9\nf 5 9 8\n");
-    result r = run((const char*[]){"info", "sheet.obj", NULL});
+    tu_result r = tu_run((const char*[]){"info", "sheet.obj", NULL});
     assert_int_equal(r.code, 0);
     assert_line(r.out, "vertices: 9");
     assert_line(r.out, "edges: 16");
     assert_line(r.out, "boundary edges: 8");
     assert_line(r.out, "closed: no");
     assert_line(r.out, "bounding box: [0, 0, 0] .. [2, 2, 0] m");
-    result_free(&r);
+    tu_result_free(&r);
     /* two separate triangles and an unused vertex: three components */
-    write_file("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nv 9 9 9\nf 1 2 3\nf 4 5 6\n");
-    r = run((const char*[]){"info", "two.obj", NULL});
+    tu_write_file("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nv 9 9 9\nf 1 2 3\nf 4 5 6\n");
+    r = tu_run((const char*[]){"info", "two.obj", NULL});
     assert_int_equal(r.code, 0);
     assert_line(r.out, "components: 3");
     assert_line(r.out, "colors: bonds 3, triangles 1");
-    result_free(&r);
+    tu_result_free(&r);
     /* a fin: three triangles on the edge 1-2 */
-    write_file("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
-    r = run((const char*[]){"info", "fin.obj", NULL});
+    tu_write_file("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+    r = tu_run((const char*[]){"info", "fin.obj", NULL});
     assert_int_equal(r.code, 0);
     assert_line(r.out, "non-manifold edges: 1");
     assert_line(r.out, "boundary edges: 6");
     assert_line(r.out, "closed: no");
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static const char* const cube_node =
@@ -177,9 +110,9 @@ static const char* const cube_ele = "5 4 0\n0 0 1 2 4\n1 3 2 1 7\n2 5 1 4 7\n3 6
 
 static void test_tetrahedral_cube(void** state) {
     (void)state;
-    write_file("cube.node", cube_node);
-    write_file("cube.ele", cube_ele);
-    result r = run((const char*[]){"info", "cube.node", NULL});
+    tu_write_file("cube.node", cube_node);
+    tu_write_file("cube.ele", cube_ele);
+    tu_result r = tu_run((const char*[]){"info", "cube.node", NULL});
     assert_int_equal(r.code, 0);
     assert_line(r.out, "vertices: 8");
     assert_line(r.out, "triangles: 12 (the boundary)");
@@ -189,27 +122,27 @@ static void test_tetrahedral_cube(void** state) {
     assert_line(r.out, "edges: 18");
     assert_line(r.out, "closed: yes");
     assert_line(r.out, "springs: 18");
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_bad_input(void** state) {
     (void)state;
-    result r = run((const char*[]){"info", "missing.obj", NULL});
+    tu_result r = tu_run((const char*[]){"info", "missing.obj", NULL});
     assert_int_equal(r.code, 2);
     assert_string_equal(r.out, "");
     assert_string_equal(r.err, "softbond: missing.obj: cannot open: No such file or directory\n");
-    result_free(&r);
-    write_file("bad.ele", "1 4 0\n1 1 2 3 4\n");
-    write_file("bad.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 one 0\n4 0 0 1\n");
-    r = run((const char*[]){"info", "bad.node", NULL});
+    tu_result_free(&r);
+    tu_write_file("bad.ele", "1 4 0\n1 1 2 3 4\n");
+    tu_write_file("bad.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 one 0\n4 0 0 1\n");
+    r = tu_run((const char*[]){"info", "bad.node", NULL});
     assert_int_equal(r.code, 2);
     assert_string_equal(r.out, "");
     assert_non_null(strstr(r.err, "bad.node:4: "));
-    result_free(&r);
-    r = run((const char*[]){"info", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"info", NULL});
     assert_int_equal(r.code, 2);
     assert_string_equal(r.err, "softbond: missing MESH (see softbond info --help)\n");
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 /* ---- scenes ---------------------------------------------------------------------- */
@@ -222,48 +155,48 @@ static int count_lines(const char* text) {
 
 static void test_tissue_scene(void** state) {
     (void)state;
-    write_file("cube.node", cube_node);
-    write_file("cube.ele", cube_ele);
-    write_file("tissue.yaml", "mesh: {generator: file, file: cube.node}\nmaterial: gallbladder\n"
+    tu_write_file("cube.node", cube_node);
+    tu_write_file("cube.ele", cube_ele);
+    tu_write_file("tissue.yaml", "mesh: {generator: file, file: cube.node}\nmaterial: gallbladder\n"
                               "pin: bottom_edge\ngravity: [0, -9.81, 0]\ndt: 0.0001\nduration: 0.01\n"
                               "frame_interval: 0.005\noutput: {frames: false}\n");
-    result r = run((const char*[]){"run", "tissue.yaml", "--output", "tissue", NULL});
+    tu_result r = tu_run((const char*[]){"run", "tissue.yaml", "--output", "tissue", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
-    char* log = read_file(tmp_path("tissue/log.csv"));
+    char* log = tu_read_file(tu_tmp_path("tissue/log.csv"));
     assert_non_null(log);
     assert_int_equal(count_lines(log), 4); /* header and frames 0, 1, 2 */
     assert_non_null(strstr(log, "spring"));
     free(log);
-    result_free(&r);
-    r = run((const char*[]){"run", "tissue.yaml", "--set", "material=spleen", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "tissue.yaml", "--set", "material=spleen", NULL});
     assert_int_equal(r.code, 2);
     assert_string_equal(r.err, "softbond: --set material=spleen: 'material' must be liver or gallbladder, got 'spleen'\n");
-    result_free(&r);
+    tu_result_free(&r);
     /* an inverted tetrahedron is named */
-    write_file("cube.ele", "5 4 0\n0 0 1 2 4\n1 3 1 2 7\n2 5 1 4 7\n3 6 4 2 7\n4 1 2 4 7\n");
-    r = run((const char*[]){"run", "tissue.yaml", NULL});
+    tu_write_file("cube.ele", "5 4 0\n0 0 1 2 4\n1 3 1 2 7\n2 5 1 4 7\n3 6 4 2 7\n4 1 2 4 7\n");
+    r = tu_run((const char*[]){"run", "tissue.yaml", NULL});
     assert_int_equal(r.code, 2);
     assert_non_null(strstr(r.err, "tetrahedron 1 "));
     assert_non_null(strstr(r.err, "inverted"));
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 static void test_springs_scene(void** state) {
     (void)state;
-    write_file("springs.yaml", "mesh: {generator: sheet, nx: 6, ny: 6}\nfactory: springs\n"
+    tu_write_file("springs.yaml", "mesh: {generator: sheet, nx: 6, ny: 6}\nfactory: springs\n"
                                "springs: {stretch: {k: 50, damping: 0.1}, bend: {k: 5, damping: 0.01},\n"
                                "          vicinity: {distance: 0.25, k: 5, damping: 0.01}}\n"
                                "pin: top_edge\nduration: 0.01\nframe_interval: 0.01\noutput: {frames: false}\n");
-    result r = run((const char*[]){"run", "springs.yaml", "--output", "springs", NULL});
+    tu_result r = tu_run((const char*[]){"run", "springs.yaml", "--output", "springs", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
-    result_free(&r);
-    r = run((const char*[]){"run", "springs.yaml", "--set", "factory=mm", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "springs.yaml", "--set", "factory=mm", NULL});
     assert_int_equal(r.code, 2);
     assert_string_equal(r.err, "softbond: --set factory=mm: 'factory' must be molecular or springs, got 'mm'\n");
-    result_free(&r);
-    r = run((const char*[]){"run", "springs.yaml", "--set", "springs.vicinity.distance=-1", NULL});
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "springs.yaml", "--set", "springs.vicinity.distance=-1", NULL});
     assert_int_equal(r.code, 2);
-    result_free(&r);
+    tu_result_free(&r);
 }
 
 int main(void) {

@@ -9,39 +9,16 @@
 #include <stdio.h>
 #include <unistd.h>
 
-#include "tests/test_util.h"
-
-static char tmp_dir[256];
+#include "tests/test_files.h"
 
 static int setup_dir(void** state) {
     (void)state;
-    const char* base = getenv("TMPDIR");
-    snprintf(tmp_dir, sizeof tmp_dir, "%s/sb_test_volume_XXXXXX", base && *base ? base : "/tmp");
-    return mkdtemp(tmp_dir) ? 0 : -1;
+    return tu_make_tmp_dir("sb_test_volume");
 }
 
 static int teardown_dir(void** state) {
     (void)state;
-    char command[400];
-    snprintf(command, sizeof command, "rm -rf '%s'", tmp_dir);
-    return system(command) == 0 ? 0 : -1;
-}
-
-static const char* tmp_path(const char* name) {
-    static char buffers[8][400];
-    static int next;
-    char* path = buffers[next++ % 8];
-    snprintf(path, sizeof buffers[0], "%s/%s", tmp_dir, name);
-    return path;
-}
-
-static const char* write_file(const char* name, const char* text) {
-    const char* path = tmp_path(name);
-    FILE* f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-    return path;
+    return tu_remove_tmp_dir();
 }
 
 /* ---- the meshes ---------------------------------------------------------------- */
@@ -97,11 +74,11 @@ static sb_bond_info find_bond(const sb_model* model, uint32_t i, uint32_t j) {
 
 static void test_one_tetrahedron_by_hand(void** state) {
     (void)state;
-    write_file("one.node", one_node);
-    write_file("one.ele", one_ele);
+    tu_write_file("one.node", one_node);
+    tu_write_file("one.ele", one_ele);
     sb_error err;
     sb_tet_mesh mesh;
-    assert_int_equal(sb_tet_mesh_load(tmp_path("one.ele"), &mesh, &err), SB_OK);
+    assert_int_equal(sb_tet_mesh_load(tu_tmp_path("one.ele"), &mesh, &err), SB_OK);
     assert_int_equal(mesh.vertex_count, 4);
     assert_int_equal(mesh.tet_count, 1);
     TU_ASSERT_NEAR(sb_tet_volume(mesh.positions, mesh.positions + 3, mesh.positions + 6, mesh.positions + 9),
@@ -138,7 +115,7 @@ static void test_cube_mass_and_stiffness(void** state) {
     (void)state;
     sb_error err;
     sb_tet_mesh mesh;
-    assert_int_equal(sb_tet_mesh_load(write_file("cube.msh", cube_msh), &mesh, &err), SB_OK);
+    assert_int_equal(sb_tet_mesh_load(tu_write_file("cube.msh", cube_msh), &mesh, &err), SB_OK);
     assert_int_equal(mesh.vertex_count, 8); /* node 9 dropped */
     assert_int_equal(mesh.tet_count, 5);
     for (uint32_t t = 0; t < 5; t++)
@@ -181,7 +158,7 @@ static void test_cube_surface(void** state) {
     (void)state;
     sb_error err;
     sb_mesh surface;
-    assert_int_equal(sb_mesh_load(write_file("cube2.msh", cube_msh), &surface, &err), SB_OK);
+    assert_int_equal(sb_mesh_load(tu_write_file("cube2.msh", cube_msh), &surface, &err), SB_OK);
     assert_int_equal(surface.vertex_count, 8);
     assert_int_equal(surface.triangle_count, 12);
     /* every face points away from the centre */
@@ -201,7 +178,7 @@ static void test_cube_surface(void** state) {
 
 static void cube_mesh(sb_tet_mesh* mesh) {
     sb_error err;
-    assert_int_equal(sb_tet_mesh_load(write_file("cube3.msh", cube_msh), mesh, &err), SB_OK);
+    assert_int_equal(sb_tet_mesh_load(tu_write_file("cube3.msh", cube_msh), mesh, &err), SB_OK);
 }
 
 static void test_inverted_and_flat_reported(void** state) {
@@ -250,42 +227,42 @@ static void expect_parse_error(const char* path, int line, const char* what) {
 
 static void test_malformed_tetgen(void** state) {
     (void)state;
-    write_file("a.node", "4 3 0 0\n1 0 0 0\n2 1 0 x\n3 0 1 0\n4 0 0 1\n");
-    write_file("a.ele", one_ele);
-    expect_parse_error(tmp_path("a.node"), 3, "coordinates");
-    write_file("b.node", one_node);
-    write_file("b.ele", "1 4 0\n\n1 1 2 3 5\n");
-    expect_parse_error(tmp_path("b.ele"), 3, "point 5 does not exist");
-    write_file("c.node", "4 2 0 0\n");
-    expect_parse_error(tmp_path("c.node"), 1, "dimension 2");
-    write_file("d.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
-    write_file("d.ele", one_ele);
-    expect_parse_error(tmp_path("d.node"), 5, "end of file");
-    write_file("e.node", one_node);
-    write_file("e.ele", "2 4 0\n1 1 2 3 4\n3 1 2 3 4\n");
-    expect_parse_error(tmp_path("e.ele"), 3, "numbered 3, expected 2");
+    tu_write_file("a.node", "4 3 0 0\n1 0 0 0\n2 1 0 x\n3 0 1 0\n4 0 0 1\n");
+    tu_write_file("a.ele", one_ele);
+    expect_parse_error(tu_tmp_path("a.node"), 3, "coordinates");
+    tu_write_file("b.node", one_node);
+    tu_write_file("b.ele", "1 4 0\n\n1 1 2 3 5\n");
+    expect_parse_error(tu_tmp_path("b.ele"), 3, "point 5 does not exist");
+    tu_write_file("c.node", "4 2 0 0\n");
+    expect_parse_error(tu_tmp_path("c.node"), 1, "dimension 2");
+    tu_write_file("d.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    tu_write_file("d.ele", one_ele);
+    expect_parse_error(tu_tmp_path("d.node"), 5, "end of file");
+    tu_write_file("e.node", one_node);
+    tu_write_file("e.ele", "2 4 0\n1 1 2 3 4\n3 1 2 3 4\n");
+    expect_parse_error(tu_tmp_path("e.ele"), 3, "numbered 3, expected 2");
     sb_error err;
     sb_tet_mesh mesh;
-    assert_int_equal(sb_tet_mesh_load(tmp_path("missing.node"), &mesh, &err), SB_ERR_IO);
+    assert_int_equal(sb_tet_mesh_load(tu_tmp_path("missing.node"), &mesh, &err), SB_ERR_IO);
     TU_ASSERT_CONTAINS(err.message, "missing.node");
 }
 
 static void test_malformed_gmsh(void** state) {
     (void)state;
-    expect_parse_error(write_file("a.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"), 2, "version 2.2");
-    expect_parse_error(write_file("b.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n"), 2, "binary");
-    expect_parse_error(write_file("c.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
+    expect_parse_error(tu_write_file("a.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"), 2, "version 2.2");
+    expect_parse_error(tu_write_file("b.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n"), 2, "binary");
+    expect_parse_error(tu_write_file("c.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
                                            "3 1 0 1\n1\n0 0 zero\n$EndNodes\n"),
                        8, "coordinates");
-    expect_parse_error(write_file("d.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
+    expect_parse_error(tu_write_file("d.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
                                            "3 1 0 1\n1\n0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n"
                                            "3 1 4 1\n1 1 2 3 4\n$EndElements\n"),
                        13, "node 2 does not exist");
-    expect_parse_error(write_file("e.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Comments\nhello\n"), 4,
+    expect_parse_error(tu_write_file("e.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Comments\nhello\n"), 4,
                        "no $EndComments");
     sb_error err;
     sb_tet_mesh mesh;
-    const char* none = write_file("f.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+    const char* none = tu_write_file("f.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
     assert_int_equal(sb_tet_mesh_load(none, &mesh, &err), SB_ERR_PARSE);
     TU_ASSERT_CONTAINS(err.message, "no tetrahedra");
 }
@@ -296,7 +273,7 @@ static void test_gmsh_40(void** state) {
     (void)state;
     sb_error err;
     sb_tet_mesh mesh;
-    const char* path = write_file("v40.msh",
+    const char* path = tu_write_file("v40.msh",
                                   "$MeshFormat\n4 0 8\n$EndMeshFormat\n$Nodes\n1 4\n1 3 0 4\n"
                                   "10 0 0 0\n11 1 0 0\n12 0 1 0\n13 0 0 1\n$EndNodes\n"
                                   "$Elements\n1 1\n1 3 4 1\n1 10 11 12 13\n$EndElements\n");
