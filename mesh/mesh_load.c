@@ -8,19 +8,25 @@
  *
  * The assimp path:
  *   - post-processing: Triangulate, JoinIdenticalVertices, SortByPType,
- *     FindDegenerates (degenerate triangles become lines/points), DropNormals
- *     (so that per-face normals, as in STL, do not keep corners apart),
- *     FindInvalidData and ValidateDataStructure;
+ *     DropNormals (so that per-face normals, as in STL, do not keep corners
+ *     apart), FindInvalidData and ValidateDataStructure; not FindDegenerates,
+ *     which would turn degenerate triangles into lines and points that could
+ *     no longer be told from the file's own: softbond finds them itself;
  *   - the node hierarchy is walked depth-first from the root and each node's
  *     meshes are placed with the node's accumulated transform (a mesh used by
  *     two nodes is imported twice); if no node references a mesh, every mesh
  *     is taken as is;
- *   - all meshes are merged and vertices with bitwise-identical positions
- *     (after the transform) are joined, across meshes too, so that a seam in
- *     texture coordinates or a split between meshes never tears the body;
- *     vertex order is the order of first appearance in assimp's output;
- *   - only triangles are kept (points and lines are ignored) and a triangle
- *     whose corners join into fewer than three vertices is dropped;
+ *   - merged (the default): all meshes become one and vertices with
+ *     bitwise-identical positions (after the transform) are joined, across
+ *     meshes too, so that a seam in texture coordinates or a split between
+ *     meshes never tears the body; separate (sb_mesh_load_def): each placed
+ *     mesh becomes its own object, joined within itself only, and a mesh with
+ *     no triangle left gives no object; vertex order is the order of first
+ *     appearance in assimp's output;
+ *   - only triangles are kept (points and lines are ignored and counted) and
+ *     a degenerate triangle is dropped and counted: one whose corners join
+ *     into fewer than three vertices, or whose area is zero to rounding,
+ *     |(b - a) x (c - a)| <= 1e-12 * (longest edge)^2 (collinear corners);
  *   - assimp keeps its last error in a process-wide string, so imports are
  *     serialised by a mutex.
  * Assimp reads positions in single precision: a file's coordinates come back
@@ -305,6 +311,11 @@ typedef struct assimp_merge {
     uint32_t* remap; /* per mesh: assimp vertex -> output vertex */
     size_t remap_capacity;
     bool any_node_mesh;
+    bool separate;        /* one object per placed mesh */
+    sb_mesh* objects;     /* separate: the finished objects */
+    size_t object_count, object_capacity;
+    size_t empty_vertices; /* separate: vertices of meshes with no triangle */
+    sb_mesh_load_report* report;
 } assimp_merge;
 
 static void transform_point(const transform4* t, const struct aiVector3D* v, double out[3])
@@ -395,8 +406,68 @@ static bool weld_vertex(assimp_merge* merge, const double p[3], uint32_t* index)
     return true;
 }
 
+/* Two corners joined, or the corners collinear to rounding. */
+static bool degenerate(const double* positions, const uint32_t t[3])
+{
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+        return true;
+    }
+    const double* a = positions + 3 * (size_t)t[0];
+    const double* b = positions + 3 * (size_t)t[1];
+    const double* c = positions + 3 * (size_t)t[2];
+    double u[3], v[3], w[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+        w[k] = c[k] - b[k];
+    }
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    double longest = fmax(uu, fmax(vv, ww));
+    double area2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    return area2 <= 1e-24 * longest * longest;
+}
+
+/* Separate objects: the mesh built so far becomes an object and the next
+ * one starts empty, with an empty join table. */
+static bool flush_object(assimp_merge* merge)
+{
+    if (merge->mesh.triangle_count == 0) {
+        merge->empty_vertices += merge->mesh.vertex_count;
+        sb_mesh_builder_free(&merge->mesh);
+    } else {
+        if (!grow((void**)&merge->objects, &merge->object_capacity, merge->object_count + 1,
+                  sizeof(sb_mesh))) {
+            return false;
+        }
+        sb_mesh_builder_finish(&merge->mesh, &merge->objects[merge->object_count++]);
+    }
+    if (merge->weld.slots != NULL) {
+        memset(merge->weld.slots, 0, merge->weld.capacity * sizeof(uint32_t));
+    }
+    return true;
+}
+
+static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
+                                 const transform4* transform, unsigned mesh_index, sb_error* err);
+
 static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
                             const transform4* transform, unsigned mesh_index, sb_error* err)
+{
+    merge->report->source_meshes++;
+    sb_status status = merge_mesh_into(merge, mesh, transform, mesh_index, err);
+    if (status == SB_OK && merge->separate && !flush_object(merge)) {
+        status = sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
+    }
+    return status;
+}
+
+static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
+                                 const transform4* transform, unsigned mesh_index, sb_error* err)
 {
     if (mesh->mNumVertices == 0 || mesh->mVertices == NULL) {
         return SB_OK;
@@ -421,7 +492,8 @@ static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
     for (unsigned f = 0; f < mesh->mNumFaces && mesh->mFaces != NULL; f++) {
         const struct aiFace* face = &mesh->mFaces[f];
         if (face->mNumIndices != 3 || face->mIndices == NULL) {
-            continue; /* points and lines */
+            merge->report->ignored_primitives++; /* points and lines */
+            continue;
         }
         uint32_t t[3];
         for (int c = 0; c < 3; c++) {
@@ -433,8 +505,9 @@ static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
             }
             t[c] = merge->remap[index];
         }
-        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-            continue; /* collapsed by the join */
+        if (degenerate(merge->mesh.positions, t)) {
+            merge->report->degenerate_faces++;
+            continue;
         }
         if (!sb_mesh_builder_add_triangle(&merge->mesh, t[0], t[1], t[2])) {
             return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
@@ -492,16 +565,29 @@ static sb_status merge_scene(assimp_merge* merge, sb_error* err)
             status = merge_mesh(merge, scene->mMeshes[m], &identity, m, err);
         }
     }
-    if (status == SB_OK && merge->mesh.triangle_count == 0) {
+    if (status == SB_OK && merge->mesh.triangle_count == 0 && merge->object_count == 0) {
         status = sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
-                                    "no triangles (%zu vertices)", merge->mesh.vertex_count);
+                                    "no triangles (%zu vertices, %u degenerate triangles "
+                                    "dropped, %u points and lines)",
+                                    merge->mesh.vertex_count + merge->empty_vertices,
+                                    merge->report->degenerate_faces,
+                                    merge->report->ignored_primitives);
     }
     return status;
 }
 
 static pthread_mutex_t assimp_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
+static void objects_free(sb_mesh* objects, size_t count)
+{
+    for (size_t i = 0; i < count; i++) {
+        sb_mesh_free(&objects[i]);
+    }
+    free(objects);
+}
+
+static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
+                             uint32_t* object_count, sb_mesh_load_report* report, sb_error* err)
 {
     /* Open it ourselves first, for the same missing-file message as the
      * readers (assimp would only say it could not open it). */
@@ -512,9 +598,8 @@ static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
     fclose(file);
 
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_SortByPType | aiProcess_FindDegenerates |
-                           aiProcess_DropNormals | aiProcess_FindInvalidData |
-                           aiProcess_ValidateDataStructure;
+                           aiProcess_SortByPType | aiProcess_DropNormals |
+                           aiProcess_FindInvalidData | aiProcess_ValidateDataStructure;
     pthread_mutex_lock(&assimp_lock);
     const struct aiScene* scene = aiImportFile(path, flags);
     if (scene == NULL) {
@@ -527,7 +612,7 @@ static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
     }
     pthread_mutex_unlock(&assimp_lock);
 
-    assimp_merge merge = {.path = path, .scene = scene};
+    assimp_merge merge = {.path = path, .scene = scene, .separate = separate, .report = report};
     sb_status status = SB_OK;
     if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
         status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "incomplete scene (no meshes)");
@@ -537,11 +622,22 @@ static sb_status load_assimp(const char* path, sb_mesh* out, sb_error* err)
     aiReleaseImport(scene);
     free(merge.weld.slots);
     free(merge.remap);
+    if (status == SB_OK && !separate) {
+        merge.objects = malloc(sizeof(sb_mesh));
+        if (merge.objects == NULL) {
+            status = sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+        } else {
+            sb_mesh_builder_finish(&merge.mesh, &merge.objects[0]);
+            merge.object_count = 1;
+        }
+    }
+    sb_mesh_builder_free(&merge.mesh);
     if (status != SB_OK) {
-        sb_mesh_builder_free(&merge.mesh);
+        objects_free(merge.objects, merge.object_count);
         return status;
     }
-    sb_mesh_builder_finish(&merge.mesh, out);
+    *objects = merge.objects;
+    *object_count = (uint32_t)merge.object_count;
     return SB_OK;
 }
 
@@ -578,6 +674,97 @@ bool sb_path_has_extension(const char* path, const char* extension)
     }
 }
 
+sb_mesh_load_def sb_default_mesh_load_def(void)
+{
+    return (sb_mesh_load_def){.separate_objects = false};
+}
+
+void sb_mesh_objects_free(sb_mesh* objects, uint32_t count)
+{
+    objects_free(objects, count);
+}
+
+/* The formats read by softbond's own readers or as a tetrahedral mesh: one
+ * object, nothing dropped. */
+static sb_status load_single(const char* path, bool obj, sb_mesh* out, sb_error* err)
+{
+    if (sb_tet_mesh_path(path)) {
+        return load_volume_surface(path, out, err);
+    }
+    char* text = NULL;
+    size_t size = 0;
+    sb_status status = sb_read_whole_file(path, &text, &size, err);
+    if (status != SB_OK) {
+        return status;
+    }
+    status = obj ? sb_obj_parse(path, text, size, out, err)
+                 : sb_off_parse(path, text, size, out, err);
+    free(text);
+    if (status != SB_OK) {
+        memset(out, 0, sizeof *out);
+    }
+    return status;
+}
+
+sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects,
+                          uint32_t* object_count, sb_mesh_load_report* report, sb_error* err)
+{
+    sb_mesh_load_report scratch;
+    report = report != NULL ? report : &scratch;
+    memset(report, 0, sizeof *report);
+    if (objects == NULL || object_count == NULL) {
+        if (err != NULL) {
+            snprintf(err->message, sizeof err->message, "sb_mesh_load_ex: no output objects");
+        }
+        return SB_ERR_INVALID;
+    }
+    *objects = NULL;
+    *object_count = 0;
+    if (path == NULL || path[0] == '\0') {
+        if (err != NULL) {
+            snprintf(err->message, sizeof err->message, "sb_mesh_load_ex: empty path");
+        }
+        return SB_ERR_INVALID;
+    }
+    sb_mesh_load_def defaults = sb_default_mesh_load_def();
+    def = def != NULL ? def : &defaults;
+    bool obj = sb_path_has_extension(path, ".obj");
+    bool own = sb_tet_mesh_path(path) || sb_path_has_extension(path, ".off") ||
+               (obj && !def->separate_objects);
+    if (obj && !own) {
+        /* assimp's OBJ reader is lenient: softbond's strict reader checks
+         * the file first, for the same errors as a merged load. */
+        sb_mesh check;
+        sb_status status = load_single(path, true, &check, err);
+        sb_mesh_free(&check);
+        if (status != SB_OK) {
+            return status;
+        }
+    }
+    if (!own) {
+        report->reader = "assimp";
+        sb_status status =
+            load_assimp(path, def->separate_objects, objects, object_count, report, err);
+        report->object_count = *object_count;
+        return status;
+    }
+    report->reader = sb_tet_mesh_path(path) ? "tetrahedral" : obj ? "obj" : "off";
+    sb_mesh* one = calloc(1, sizeof *one);
+    if (one == NULL) {
+        return sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+    }
+    sb_status status = load_single(path, obj, one, err);
+    if (status != SB_OK) {
+        free(one);
+        return status;
+    }
+    report->source_meshes = 1;
+    report->object_count = 1;
+    *objects = one;
+    *object_count = 1;
+    return SB_OK;
+}
+
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err)
 {
     if (out == NULL) {
@@ -593,25 +780,12 @@ sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err)
         }
         return SB_ERR_INVALID;
     }
-    if (sb_tet_mesh_path(path)) {
-        return load_volume_surface(path, out, err);
-    }
-    bool obj = sb_path_has_extension(path, ".obj");
-    bool off = sb_path_has_extension(path, ".off");
-    if (!obj && !off) {
-        return load_assimp(path, out, err);
-    }
-    char* text = NULL;
-    size_t size = 0;
-    sb_status status = sb_read_whole_file(path, &text, &size, err);
-    if (status != SB_OK) {
-        return status;
-    }
-    status = obj ? sb_obj_parse(path, text, size, out, err)
-                 : sb_off_parse(path, text, size, out, err);
-    free(text);
-    if (status != SB_OK) {
-        memset(out, 0, sizeof *out);
+    sb_mesh* objects = NULL;
+    uint32_t count = 0;
+    sb_status status = sb_mesh_load_ex(path, NULL, &objects, &count, NULL, err);
+    if (status == SB_OK) {
+        *out = objects[0];
+        free(objects);
     }
     return status;
 }

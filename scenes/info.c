@@ -26,6 +26,7 @@ typedef struct info_job {
     uint32_t* edges;    /* 2 per unique edge of the surface */
     uint32_t* uses;     /* triangles per edge */
     uint32_t edge_count;
+    sb_mesh_load_report load; /* what the import dropped */
 } info_job;
 
 static int info_finish(info_job* job, int code) {
@@ -105,10 +106,21 @@ static int colors(uint32_t vertex_count, const uint32_t* elements, uint32_t coun
     return used;
 }
 
+/* The file's meshes merged into one, with the import's report. */
+static sb_status load_surface(info_job* job, sb_error* err) {
+    sb_mesh* objects = NULL;
+    uint32_t count = 0;
+    sb_status status = sb_mesh_load_ex(job->args.input, NULL, &objects, &count, &job->load, err);
+    if (status != SB_OK) return status;
+    job->mesh = objects[0];
+    free(objects);
+    return SB_OK;
+}
+
 static sb_status load(info_job* job, sb_error* err) {
     const char* path = job->args.input;
     sb_status status = sb_tet_mesh_path(path) ? sb_tet_mesh_load(path, &job->volume, err)
-                                              : sb_mesh_load(path, &job->mesh, err);
+                                              : load_surface(job, err);
     if (status == SB_OK && job->volume.tets) status = sb_tet_mesh_surface(&job->volume, &job->mesh, err);
     if (status == SB_OK && !unique_edges(job->mesh.triangles, job->mesh.triangle_count, 3, &job->edges,
                                          &job->uses, &job->edge_count))
@@ -171,6 +183,7 @@ static sb_status report(const info_job* job, sb_error* err) {
     printf("vertices: %u\n", job->mesh.vertex_count);
     printf("edges: %u\n", job->edge_count);
     printf("triangles: %u%s\n", job->mesh.triangle_count, job->volume.tets ? " (the boundary)" : "");
+    if (!job->volume.tets) printf("degenerate faces dropped: %u\n", job->load.degenerate_faces);
     if (job->volume.tets) print_volume(job);
     printf("boundary edges: %u\n", boundary);
     printf("non-manifold edges: %u\n", non_manifold);

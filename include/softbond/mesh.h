@@ -49,6 +49,41 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
  * one, the line. */
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
 
+/* Options of sb_mesh_load_ex. */
+typedef struct sb_mesh_load_def {
+    /* false (the default): every mesh of the file is merged into one object,
+     * identical positions joined across meshes (sb_mesh_load's behaviour).
+     * true: each placed mesh of the file (each node's use of a mesh, with
+     * the node's transform) becomes its own object, joined within itself
+     * only; an OBJ file is then checked by softbond's strict reader and
+     * split by assimp (one object per group or material). OFF and
+     * tetrahedral files are always one object. */
+    bool separate_objects;
+} sb_mesh_load_def;
+
+sb_mesh_load_def sb_default_mesh_load_def(void);
+
+/* What an import did. */
+typedef struct sb_mesh_load_report {
+    const char* reader;          /* "assimp", "obj", "off" or "tetrahedral" (static text) */
+    uint32_t source_meshes;      /* meshes placed from the file (1 for the own readers) */
+    uint32_t object_count;       /* objects returned */
+    uint32_t degenerate_faces;   /* triangles dropped (assimp): two corners joined, or
+                                    collinear corners, |(b-a)x(c-a)| <= 1e-12 (longest edge)^2 */
+    uint32_t ignored_primitives; /* points and lines of the file, ignored (assimp) */
+} sb_mesh_load_report;
+
+/* sb_mesh_load with options and a report: *objects receives an array of
+ * *object_count meshes (at least one on success), to release with
+ * sb_mesh_objects_free. def and report may be NULL (defaults; no report).
+ * softbond's own OBJ and OFF readers drop nothing: a face with a repeated
+ * vertex is kept and reported when a model is compiled. */
+sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects,
+                          uint32_t* object_count, sb_mesh_load_report* report, sb_error* err);
+
+/* Frees each mesh and the array; safe on NULL. */
+void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
+
 /* Renumbers the vertices along a Morton (Z-order) curve through the
  * bounding box and sorts the triangles by their lowest vertex, so that
  * vertices near in space are near in memory and the elements built from the
