@@ -17,6 +17,7 @@ typedef enum sb_scene_type {
     SB_SCENE_STRING,
     SB_SCENE_BOOL,   /* true or false */
     SB_SCENE_VEC3,   /* a sequence of three numbers */
+    SB_SCENE_VEC3_OR_NUMBER, /* three numbers, or one number for all three */
     SB_SCENE_INDICES /* a sequence of non-negative integers */
 } sb_scene_type;
 
@@ -39,6 +40,15 @@ typedef enum sb_scene_type {
     X(MESH_REORDER, "mesh.reorder", BOOL, "false",                                                 \
       "renumber vertices along a Morton curve for speed (fixed indices then refer to the new "     \
       "numbering)")                                                                                \
+    X(MESH_SEPARATE_OBJECTS, "mesh.separate_objects", BOOL, "false",                               \
+      "file: keep the file's meshes as separate bodies (joined within each mesh only); false "     \
+      "merges them, joining identical positions across meshes")                                    \
+    X(MESH_SCALE, "mesh.scale", VEC3_OR_NUMBER, "1",                                               \
+      "placement: scale factor, or [sx, sy, sz], about the origin, applied first")                 \
+    X(MESH_ROTATE, "mesh.rotate", VEC3, "[0, 0, 0]",                                               \
+      "placement: degrees about the x, then the y, then the z axis (fixed axes), after scale")     \
+    X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]",                                         \
+      "placement: shift, m, applied last")                                                         \
     X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")             \
     X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                \
     X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                               \

@@ -18,12 +18,55 @@ static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) 
     return sb_mesh_generate_sheet(&def, out, err);
 }
 
+/* The file's objects one after the other in one mesh: separate bodies. */
+static sb_status concatenate(const sb_mesh* objects, uint32_t count, sb_mesh* out, sb_error* err) {
+    size_t vertices = 0, triangles = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        vertices += objects[i].vertex_count;
+        triangles += objects[i].triangle_count;
+    }
+    *out = (sb_mesh){0};
+    if (vertices > UINT32_MAX || triangles > UINT32_MAX)
+        return sb_errorf(err, SB_ERR_INVALID, "more than 2^32-1 vertices or triangles");
+    out->positions = malloc(3 * vertices * sizeof(double));
+    out->triangles = malloc(3 * triangles * sizeof(uint32_t));
+    if (!out->positions || !out->triangles) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    for (uint32_t i = 0; i < count; i++) {
+        const sb_mesh* m = &objects[i];
+        memcpy(out->positions + 3 * (size_t)out->vertex_count, m->positions, 3 * (size_t)m->vertex_count * sizeof(double));
+        for (size_t t = 0; t < 3 * (size_t)m->triangle_count; t++)
+            out->triangles[3 * (size_t)out->triangle_count + t] = m->triangles[t] + out->vertex_count;
+        out->vertex_count += m->vertex_count;
+        out->triangle_count += m->triangle_count;
+    }
+    return SB_OK;
+}
+
 static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
     if (!path) return sb_scene_fail(scene, SB_KEY_MESH_FILE, err, "out of memory");
-    sb_status status = sb_mesh_load(path, out, err);
+    sb_mesh_load_def def = sb_default_mesh_load_def();
+    def.separate_objects = sb_scene_bool(scene, SB_KEY_MESH_SEPARATE_OBJECTS);
+    sb_mesh* objects = NULL;
+    uint32_t count = 0;
+    sb_status status = sb_mesh_load_ex(path, &def, &objects, &count, NULL, err);
     free(path);
+    if (status == SB_OK && count == 1) {
+        *out = objects[0];
+        free(objects);
+        return SB_OK;
+    }
+    if (status == SB_OK) status = concatenate(objects, count, out, err);
+    sb_mesh_objects_free(objects, count);
     return status;
+}
+
+sb_mesh_transform_def sb_scene_placement(const sb_scene* scene) {
+    sb_mesh_transform_def t = sb_default_mesh_transform_def();
+    memcpy(t.scale, sb_scene_vec3(scene, SB_KEY_MESH_SCALE), sizeof t.scale);
+    memcpy(t.rotate, sb_scene_vec3(scene, SB_KEY_MESH_ROTATE), sizeof t.rotate);
+    memcpy(t.translate, sb_scene_vec3(scene, SB_KEY_MESH_TRANSLATE), sizeof t.translate);
+    return t;
 }
 
 static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
@@ -41,6 +84,8 @@ static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
 
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     sb_status status = make_mesh(scene, out, err);
+    sb_mesh_transform_def placement = sb_scene_placement(scene);
+    if (status == SB_OK) status = sb_mesh_transform(out, &placement, err);
     if (status == SB_OK && sb_scene_bool(scene, SB_KEY_MESH_REORDER)) status = sb_mesh_reorder(out, NULL, err);
     if (status != SB_OK) sb_mesh_free(out);
     return status;
@@ -114,6 +159,9 @@ static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_build
     free(path);
     if (status == SB_OK && volume.vertex_count != mesh->vertex_count)
         status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+    sb_mesh_transform_def placement = sb_scene_placement(scene);
+    sb_mesh points = {.vertex_count = volume.vertex_count, .positions = volume.positions};
+    if (status == SB_OK) status = sb_mesh_transform(&points, &placement, err);
     sb_tissue_def tissue = sb_scene_tissue(scene);
     if (status == SB_OK) status = sb_builder_add_tet_mesh(builder, &volume, &tissue, err);
     sb_tet_mesh_free(&volume);

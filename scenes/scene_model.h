@@ -5,9 +5,14 @@
 
 #include "scenes/scene.h"
 
-/* The mesh the scene asks for: a sheet, an icosphere or a file. Errors name
- * the file (and line), or where the generator's settings came from. */
+/* The mesh the scene asks for: a sheet, an icosphere or a file (its
+ * objects merged, or kept apart as separate bodies with
+ * mesh.separate_objects), then placed (mesh.scale, mesh.rotate,
+ * mesh.translate), then reordered if asked. Errors name the file (and
+ * line), or where the generator's settings came from. */
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err);
+/* mesh.scale, mesh.rotate and mesh.translate as a transform. */
+sb_mesh_transform_def sb_scene_placement(const sb_scene* scene);
 
 sb_material_def sb_scene_material(const sb_scene* scene);
 /* The springs.* keys with mass and density (factory: springs). */

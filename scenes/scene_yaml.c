@@ -163,6 +163,12 @@ static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_
         return read_string(src, node, key, out);
     case SB_SCENE_VEC3:
         return read_vec3(src, node, key, out);
+    case SB_SCENE_VEC3_OR_NUMBER:
+        if (node->type != YAML_SCALAR_NODE) return read_vec3(src, node, key, out);
+        if (!parse_number(node, &out->vec3[0]))
+            return type_fail(src, node, key, "a number or a sequence of 3 numbers");
+        out->vec3[1] = out->vec3[2] = out->vec3[0];
+        return SB_OK;
     case SB_SCENE_INDICES:
         return read_indices(src, node, key, out);
     }

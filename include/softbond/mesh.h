@@ -84,6 +84,21 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
 /* Frees each mesh and the array; safe on NULL. */
 void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
 
+/* Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per
+ * axis about the origin first, then rotate by rotate[0] degrees about x,
+ * rotate[1] about y, rotate[2] about z (fixed world axes, in that order,
+ * right-handed), then translate (m). An odd number of negative scale
+ * factors mirrors the mesh and reverses the triangles' winding so that
+ * outward stays outward. Errors: a non-finite value or a zero scale. */
+typedef struct sb_mesh_transform_def {
+    double scale[3];     /* default 1, 1, 1 */
+    double rotate[3];    /* degrees about x, y, z; default 0 */
+    double translate[3]; /* m; default 0 */
+} sb_mesh_transform_def;
+
+sb_mesh_transform_def sb_default_mesh_transform_def(void);
+sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err);
+
 /* Renumbers the vertices along a Morton (Z-order) curve through the
  * bounding box and sorts the triangles by their lowest vertex, so that
  * vertices near in space are near in memory and the elements built from the
