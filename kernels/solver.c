@@ -13,7 +13,7 @@
 #define SB_RUNAWAY_DIAMETERS 1e6
 
 static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {
-    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler"};
+    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler", "pbd", "xpbd"};
 
 const char* sb_integrator_name(sb_integrator integrator) {
     return (unsigned)integrator < SB_INTEGRATOR_COUNT ? sb_integrator_names[integrator] : "unknown";
@@ -34,6 +34,7 @@ sb_solver_def sb_default_solver_def(void) {
                            .implicit_tolerance = 1e-8,
                            .implicit_newton_iterations = 20,
                            .implicit_cg_iterations = 200,
+                           .pbd_iterations = 10,
                            .min_dt = 1e-9};
 }
 
@@ -59,6 +60,8 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->weight4);
     free(s->external);
     free(s->implicit_work);
+    free(s->stretch4);
+    sb_pbd_destroy(s->pbd);
     sb_snapshot_destroy(s->snapshot);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
@@ -96,6 +99,8 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!isfinite(def->implicit_tolerance) || def->implicit_tolerance < 0.0 || def->implicit_newton_iterations < 0 ||
         def->implicit_cg_iterations < 0)
         return sb_error_set(err, SB_ERR_INVALID, "implicit tolerance and iteration caps must be >= 0");
+    if (def->pbd_iterations < 0)
+        return sb_error_set(err, SB_ERR_INVALID, "pbd_iterations must be >= 0 (got %d)", def->pbd_iterations);
     if (def->adaptive && !(def->min_dt > 0.0 && isfinite(def->min_dt)))
         return sb_error_set(err, SB_ERR_INVALID, "min_dt must be positive and finite (got %g)", def->min_dt);
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)
@@ -185,6 +190,8 @@ static sb_status sb_integrate(sb_solver* s, double dt) {
     case SB_INTEGRATOR_SYMPLECTIC_EULER: return sb_integrate_symplectic_euler(s, dt);
     case SB_INTEGRATOR_POSITION_VERLET: return sb_integrate_position_verlet(s, dt);
     case SB_INTEGRATOR_IMPLICIT_EULER: return sb_integrate_implicit_euler(s, dt);
+    case SB_INTEGRATOR_PBD:
+    case SB_INTEGRATOR_XPBD: return sb_integrate_pbd(s, dt);
     default: return sb_error_set(&s->error, SB_ERR_INVALID, "unknown integrator %d", (int)s->def.integrator);
     }
 }
@@ -193,13 +200,77 @@ static bool sb_fused(const sb_solver* s) {
     return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
 }
 
+/* The first of `count` edges (a[e], b[e]) with rest length r0[e] > 0 that is
+ * longer than SB_STRETCH_LIMIT r0, or UINT32_MAX. Positions p + stride·v. */
+static uint32_t sb_first_overstretched(const sb_real* p, size_t stride, const uint32_t* a, const uint32_t* b,
+                                       const double* r0, uint32_t count, int threads) {
+    uint32_t first = UINT32_MAX;
+    const double limit2 = SB_STRETCH_LIMIT * SB_STRETCH_LIMIT;
+#pragma omp parallel for reduction(min : first) num_threads(threads) schedule(static)
+    for (int64_t e = 0; e < (int64_t)count; e++) {
+        const sb_real *pa = p + stride * a[e], *pb = p + stride * b[e];
+        double dx = (double)pa[0] - pb[0], dy = (double)pa[1] - pb[1], dz = (double)pa[2] - pb[2];
+        if (dx * dx + dy * dy + dz * dz > limit2 * r0[e] * r0[e] && r0[e] > 0 && (uint32_t)e < first)
+            first = (uint32_t)e;
+    }
+    return first;
+}
+
+/* The blow-up rule (softbond/solver.h): no bond, or in a model without
+ * bonds no triangle edge, past SB_STRETCH_LIMIT times its rest length. A
+ * tangled, exploding mesh stays inside the runaway box long after its
+ * energy has grown a billionfold; its bonds do not stay short. One pass
+ * over the bonds every SB_STRETCH_INTERVAL-th advance keeps the cost out
+ * of the fused fast step. */
+static sb_status sb_check_stretch(sb_solver* s) {
+    if (s->steps % SB_STRETCH_INTERVAL != 0) return SB_OK;
+    const sb_model* m = s->model;
+    /* the fast path's packed positions are current after any step */
+    const sb_real* p = s->fast ? s->positions4 : NULL;
+    size_t stride = 4;
+    int threads = s->threads > 0 ? s->threads : 1;
+    if (!s->fast) { /* the reference path: the state's arrays, gathered into x y z w */
+        if (!s->stretch4 && !(s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))))
+            return SB_OK; /* the check is a safeguard: without memory, skip it */
+        for (uint32_t i = 0; i < m->vertex_count; i++) {
+            s->stretch4[4 * (size_t)i] = s->state.x[i];
+            s->stretch4[4 * (size_t)i + 1] = s->state.y[i];
+            s->stretch4[4 * (size_t)i + 2] = s->state.z[i];
+        }
+        p = s->stretch4;
+    }
+    if (m->bond_count > 0) {
+        uint32_t b = sb_first_overstretched(p, stride, m->bond_i, m->bond_j, m->bond_r0, m->bond_count, threads);
+        if (b == UINT32_MAX) return SB_OK;
+        const sb_real *pi = p + stride * m->bond_i[b], *pj = p + stride * m->bond_j[b];
+        double r = sqrt(((double)pi[0] - pj[0]) * ((double)pi[0] - pj[0]) + ((double)pi[1] - pj[1]) * ((double)pi[1] - pj[1]) +
+                        ((double)pi[2] - pj[2]) * ((double)pi[2] - pj[2]));
+        return sb_error_set(&s->error, SB_ERR_UNSTABLE,
+                            "step %llu (t = %.9g s): bond %u (vertices %u and %u) is %.3g times its rest length "
+                            "(limit %g); the time step is too large for the stiffness",
+                            (unsigned long long)s->steps, s->time, b, m->bond_i[b], m->bond_j[b], r / m->bond_r0[b],
+                            SB_STRETCH_LIMIT);
+    }
+    for (int c = 0; c < 3; c++) {
+        uint32_t t = sb_first_overstretched(p, stride, m->tri_v[c], m->tri_v[(c + 1) % 3], m->tri_len0[c],
+                                            m->triangle_count, threads);
+        if (t != UINT32_MAX)
+            return sb_error_set(&s->error, SB_ERR_UNSTABLE,
+                                "step %llu (t = %.9g s): triangle %u, edge from vertex %u to %u, is over %g times its "
+                                "rest length; the time step is too large for the stiffness",
+                                (unsigned long long)s->steps, s->time, t, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t],
+                                SB_STRETCH_LIMIT);
+    }
+    return SB_OK;
+}
+
 sb_status sb_solver_step(sb_solver* s, double dt) {
     s->time += dt; /* forces of this step are evaluated at the new time */
     sb_status status = sb_integrate(s, dt);
     /* A non-finite state also makes the force terms fail: name the cause. */
     if (sb_fused(s)) { /* the fused step checked the state and summed the energies itself */
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
-        return status;
+        return status == SB_OK ? sb_check_stretch(s) : status;
     }
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */
@@ -210,7 +281,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
         return status;
     }
     sb_update_energies(s);
-    return SB_OK;
+    return sb_check_stretch(s);
 }
 
 sb_status sb_solver_advance(sb_solver* s, double dt) {

@@ -29,6 +29,8 @@ struct sb_solver {
     double trial_substep;      /* adaptive: the size the next sub-step tries (0: the whole dt) */
     double energy_peak;        /* adaptive: the largest energy scale since the state was set */
     double *implicit_work;     /* implicit Euler: 7 arrays of 3n doubles */
+    sb_real* stretch4;         /* the blow-up rule's packed copy of the positions (generic integrators) */
+    struct sb_pbd* pbd;        /* pbd, xpbd: colored constraints and work arrays (made on the first step) */
     sb_step_stats stats;
     double time;
     uint64_t steps;
@@ -63,6 +65,10 @@ sb_status sb_integrate_explicit_euler(sb_solver* solver, double dt);
 sb_status sb_integrate_symplectic_euler(sb_solver* solver, double dt);
 sb_status sb_integrate_position_verlet(sb_solver* solver, double dt);
 sb_status sb_integrate_implicit_euler(sb_solver* solver, double dt);
+/* pbd and xpbd (kernels/pbd.c). */
+sb_status sb_integrate_pbd(sb_solver* solver, double dt);
+void sb_pbd_destroy(struct sb_pbd* pbd);
+int sb_pbd_iterations(const sb_solver_def* def);
 
 /* One step of the chosen integrator with the chosen kernels, the state
  * checked and the energies updated (kernels/solver.c). */

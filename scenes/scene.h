@@ -49,6 +49,12 @@ typedef enum sb_scene_type {
       "placement: degrees about the x, then the y, then the z axis (fixed axes), after scale")     \
     X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]",                                         \
       "placement: shift, m, applied last")                                                         \
+    X(MESH_TARGET_VERTICES, "mesh.target_vertices", INTEGER, "0",                                  \
+      "level of detail: simplify a surface to about this many vertices (meshoptimizer; boundary "  \
+      "and fixed vertices kept); 0 = off")                                                         \
+    X(MESH_TARGET_ERROR, "mesh.target_error", NUMBER, "0",                                         \
+      "level of detail: simplify while the error stays below this fraction of the mesh's extent; " \
+      "0 = off")                                                                                   \
     X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")             \
     X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                \
     X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                               \
@@ -90,8 +96,8 @@ typedef enum sb_scene_type {
     X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
     X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                  \
-      "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler or "             \
-      "implicit_euler")                                                                            \
+      "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "               \
+      "implicit_euler, pbd or xpbd")                                                               \
     X(ADAPTIVE, "adaptive", BOOL, "false",                                                         \
       "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")\
     X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                      \
@@ -101,6 +107,8 @@ typedef enum sb_scene_type {
       "implicit_euler: Newton iterations per step, at most")                                       \
     X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                            \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")               \
+    X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10",                                             \
+      "pbd, xpbd: constraint projection sweeps per step")                                          \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                  \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                      \
     X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                            \

@@ -217,5 +217,6 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.implicit_tolerance = sb_scene_number(scene, SB_KEY_IMPLICIT_TOLERANCE);
     def.implicit_newton_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_NEWTON_ITERATIONS);
     def.implicit_cg_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_CG_ITERATIONS);
+    def.pbd_iterations = (int)sb_scene_integer(scene, SB_KEY_PBD_ITERATIONS);
     return def;
 }

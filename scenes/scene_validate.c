@@ -55,6 +55,7 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_THREADS, 0, 4096},
     {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
     {SB_KEY_IMPLICIT_CG_ITERATIONS, 1, 100000},
+    {SB_KEY_PBD_ITERATIONS, 1, 100000},
 };
 
 static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
@@ -109,7 +110,7 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
                              "'integrator' must be verlet, velocity_verlet, position_verlet, "
-                             "symplectic_euler, explicit_euler or implicit_euler, got '%s'",
+                             "symplectic_euler, explicit_euler, implicit_euler, pbd or xpbd, got '%s'",
                              sb_scene_string(scene, SB_KEY_INTEGRATOR));
     static const char* const factories[] = {"molecular", "springs", NULL};
     static const char* const materials[] = {"liver", "gallbladder", NULL};

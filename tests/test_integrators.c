@@ -15,7 +15,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-enum { NI = SB_INTEGRATOR_COUNT };
+/* The force-based integrators; pbd and xpbd (constraint projection, not a
+ * discretisation of f = ma with an order) are tested in tests/test_pbd.c. */
+enum { NI = SB_INTEGRATOR_PBD };
 
 static bool first_order(sb_integrator i) {
     return i == SB_INTEGRATOR_EXPLICIT_EULER || i == SB_INTEGRATOR_SYMPLECTIC_EULER ||
@@ -366,12 +368,14 @@ static void test_stability_limit_sheet(void** state) {
             if (f == 0) {
                 assert_int_equal(st, SB_OK);
                 TU_ASSERT_LE(largest, 20.0);
-            } else if (!(st == SB_ERR_UNSTABLE || largest > 1e3)) {
-                /* past the line the energy explodes; the state may then stay
-                 * tangled within the runaway box (the bonds hold it), so a
-                 * thousandfold energy counts as a blow-up too */
-                fail_msg("%s at 1.05 x 2/omega_max: %s, largest E/E0 %.3g: no blow-up", sb_integrator_name(verlets[k]),
-                         sb_status_name(st), largest);
+            } else {
+                /* past the line the energy explodes while the state may stay
+                 * tangled within the runaway box (the bonds hold it): the
+                 * blow-up rule on bond lengths (softbond/solver.h) catches it */
+                print_message("  %s\n", sb_solver_error(s));
+                if (st != SB_ERR_UNSTABLE)
+                    fail_msg("%s at 1.05 x 2/omega_max: %s, largest E/E0 %.3g: no blow-up", sb_integrator_name(verlets[k]),
+                             sb_status_name(st), largest);
             }
             sb_solver_destroy(s);
         }

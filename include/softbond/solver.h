@@ -18,14 +18,22 @@ typedef enum sb_integrator {
     SB_INTEGRATOR_SYMPLECTIC_EULER, /* kick then drift: v⁺ = v + a dt, x⁺ = x + v⁺ dt */
     SB_INTEGRATOR_POSITION_VERLET,  /* Trotter split: drift ½dt, kick dt, drift ½dt */
     SB_INTEGRATOR_IMPLICIT_EULER,   /* backward Euler, Newton-Raphson with matrix-free CG */
+    SB_INTEGRATOR_PBD,              /* position-based: predict, project bond and corner constraints */
+    SB_INTEGRATOR_XPBD,             /* its compliant form: compliance 1/k, λ accumulated */
     SB_INTEGRATOR_COUNT
 } sb_integrator;
 
 /* "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
- * "position_verlet", "implicit_euler". */
+ * "position_verlet", "implicit_euler", "pbd", "xpbd". */
 const char* sb_integrator_name(sb_integrator integrator);
 /* Returns false when the name is unknown. */
 bool sb_integrator_from_name(const char* name, sb_integrator* out);
+
+/* The blow-up rule: a bond (or, in a model without bonds, a triangle edge)
+ * longer than SB_STRETCH_LIMIT times its rest length means an unstable run
+ * (SB_ERR_UNSTABLE); checked on every SB_STRETCH_INTERVAL-th advance. */
+#define SB_STRETCH_LIMIT 10.0
+#define SB_STRETCH_INTERVAL 16
 
 typedef enum sb_kernels {
     SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
@@ -53,6 +61,9 @@ typedef struct sb_solver_def {
     double implicit_tolerance;
     int implicit_newton_iterations;
     int implicit_cg_iterations;
+    /* pbd, xpbd: constraint projection sweeps per step (0 = default 10);
+     * see kernels/pbd.c for the constraints and the stiffness mapping. */
+    int pbd_iterations;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
      * external forces exceeds adaptive_tolerance × (the largest sum of the
@@ -76,7 +87,9 @@ void sb_solver_destroy(sb_solver* solver);
 
 /* Advances the state by one step of dt seconds (dt > 0 and finite), or,
  * with def.adaptive, by sub-steps that add up to dt. On failure (a collapsed
- * edge, a non-finite or runaway state, an adaptive sub-step that still gains
+ * edge, a non-finite or runaway state, a bond stretched past
+ * SB_STRETCH_LIMIT times its rest length (checked every
+ * SB_STRETCH_INTERVAL-th advance), an adaptive sub-step that still gains
  * energy at min_dt) the solver keeps the message, which names the step, the
  * time and the first bad vertex or element; the state is then undefined
  * (adaptive: the last good sub-step's). */

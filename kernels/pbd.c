@@ -1,0 +1,311 @@
+/* Position-based dynamics: pbd (Müller et al. 2007) and xpbd, its compliant
+ * form (Macklin, Müller and Chentanez 2016).
+ *
+ * A step of dt:
+ *   1. predict: v += dt (g + f_ext/m − drag v) on free vertices, x* = x + dt v
+ *      (f_ext the external callback's forces of the last evaluation, at the
+ *      start of the step, as the symplectic Euler kick uses them);
+ *   2. project, `pbd_iterations` times, Gauss-Seidel in a fixed order:
+ *      - every bond with k = bond k + spring k > 0 carries a distance
+ *        constraint C = |x_i − x_j| − r0: stretch (C > 0) and compress
+ *        (C < 0) in one, so a bond resists both;
+ *      - every triangle with an angle constant kθ > 0 carries a direction
+ *        constraint per corner, C = cos θ − cos θ0 (the angle term's rest
+ *        cosine; gradients as in DESIGN.md): the corner angles, hence the
+ *        triangle's shape, are kept;
+ *      the stretch-bend and dihedral (bend) terms are not projected: they
+ *      are couplings, not constraints, and only count in the energies;
+ *   3. v = (x − x_prev)/dt; forces and energies at the new state through
+ *      sb_solver_compute_forces, as the other integrators do.
+ *
+ * Projection of one constraint with compliance α = 1/k (1/kθ for a corner),
+ * α̃ = α/dt², W = Σ w_v |∇_v C|² (w = inverse mass, 0 when fixed, so fixed
+ * vertices never move) and, for bonds, the spring damping d as the
+ * constraint's damping β = d, γ = α̃ β dt = d/(k dt) (Macklin et al., Eq. 26):
+ *   Δλ = (−C − α̃ λ − γ ∇C·(x − x_prev)) / ((1 + γ) W + α̃),
+ *   x_v += w_v ∇_v C Δλ.
+ * xpbd accumulates λ (per constraint, zero at the start of a step): as the
+ * iterations grow it converges to the implicit compliant solution, whose
+ * static stretch is the physical one (k Δx = F), whatever the count.
+ * pbd forgets λ between iterations (λ = 0 in the formula): each iteration
+ * moves a lone constraint by the fraction s = W/(W + α̃) = k dt² W/(1 +
+ * k dt² W) ∈ [0, 1) of its error — the stiffness in [0, 1] of Müller's PBD,
+ * derived per iteration from the bond's constants — so after n iterations
+ * (1 − s)^n of the error is left: pbd gets stiffer with more iterations and
+ * with longer steps (the dependence xpbd removes), and rigid (s → 1) when
+ * k dt² W ≫ 1.
+ *
+ * Parallel and deterministic: bonds and triangles are colored
+ * (kernels/coloring.h) so that those of one color share no vertex; each
+ * iteration runs the bond colors then the triangle colors in order, the
+ * constraints of one color in parallel (a triangle's three corners one after
+ * another in one work item), the overflow color on one thread. A vertex is
+ * written by one work item per color and read by no other, so the result is
+ * bitwise the same for any thread count. The projection works in double on
+ * its own copy of the positions. */
+#include "kernels/solver_internal.h"
+#include "kernels/coloring.h"
+#include "kernels/error.h"
+#include "softbond/runtime.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* One kind of constraint item (bonds or triangles), sorted by color. */
+typedef struct sb_pbd_group {
+    uint32_t count;
+    uint32_t* items; /* model indices, color by color, model order within a color */
+    uint32_t first[SB_MAX_COLORS + 1];
+    double* lambda; /* xpbd: 1 per bond, 3 per triangle (one per corner) */
+} sb_pbd_group;
+
+typedef struct sb_pbd {
+    int threads;
+    sb_pbd_group bonds, triangles;
+    double *x, *x0; /* 3n: positions being projected, positions at the start */
+} sb_pbd;
+
+static void sb_pbd_group_free(sb_pbd_group* g) {
+    free(g->items);
+    free(g->lambda);
+}
+
+void sb_pbd_destroy(sb_pbd* p) {
+    if (!p) return;
+    sb_pbd_group_free(&p->bonds);
+    sb_pbd_group_free(&p->triangles);
+    free(p->x);
+    free(p->x0);
+    free(p);
+}
+
+/* Colors the `count` items whose vertices are ends[a][e] (items[e] their
+ * model indices) and sorts them by color into g. */
+static bool sb_pbd_group_build(sb_pbd_group* g, uint32_t vertex_count, uint32_t count, int arity,
+                               const uint32_t* const* ends, const uint32_t* items, int lambdas) {
+    g->count = count;
+    g->items = malloc((count ? count : 1) * sizeof *g->items);
+    g->lambda = calloc((size_t)(count ? count : 1) * (size_t)lambdas, sizeof *g->lambda);
+    uint8_t* color = malloc(count ? count : 1);
+    sb_colorer colorer;
+    bool ok = g->items && g->lambda && color && sb_colorer_init(&colorer, vertex_count);
+    if (ok) {
+        sb_colorer_run(&colorer, 0, count, arity, ends, color);
+        sb_colorer_free(&colorer);
+        uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
+        for (uint32_t e = 0; e < count; e++) sizes[color[e]]++;
+        g->first[0] = 0;
+        for (int k = 0; k < SB_MAX_COLORS; k++) g->first[k + 1] = g->first[k] + sizes[k];
+        memcpy(cursor, g->first, sizeof cursor);
+        for (uint32_t e = 0; e < count; e++) g->items[cursor[color[e]]++] = items[e];
+    }
+    free(color);
+    return ok;
+}
+
+/* The bonds with a stiffness and a free end; the triangles with an angle constant. */
+static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
+    size_t nb = m->bond_count ? m->bond_count : 1, nt = m->triangle_count ? m->triangle_count : 1;
+    uint32_t *bi = malloc(nb * sizeof *bi), *bj = malloc(nb * sizeof *bj), *bid = malloc(nb * sizeof *bid);
+    uint32_t *tv[3], *tid = malloc(nt * sizeof *tid);
+    for (int c = 0; c < 3; c++) tv[c] = malloc(nt * sizeof *tv[c]);
+    bool ok = bi && bj && bid && tid && tv[0] && tv[1] && tv[2];
+    uint32_t bonds = 0, triangles = 0;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
+        bool free_end = m->inv_mass[m->bond_i[b]] > 0 || m->inv_mass[m->bond_j[b]] > 0;
+        if (m->bond_k[b] + m->spring_k[b] <= 0 || !free_end) continue;
+        bi[bonds] = m->bond_i[b];
+        bj[bonds] = m->bond_j[b];
+        bid[bonds++] = b;
+    }
+    for (uint32_t t = 0; ok && t < m->triangle_count; t++) {
+        if (!(m->angle_k[t] > 0)) continue;
+        for (int c = 0; c < 3; c++) tv[c][triangles] = m->tri_v[c][t];
+        tid[triangles++] = t;
+    }
+    const uint32_t* bond_ends[2] = {bi, bj};
+    const uint32_t* tri_ends[3] = {tv[0], tv[1], tv[2]};
+    ok = ok && sb_pbd_group_build(&p->bonds, m->vertex_count, bonds, 2, bond_ends, bid, 1) &&
+         sb_pbd_group_build(&p->triangles, m->vertex_count, triangles, 3, tri_ends, tid, 3);
+    free(bi), free(bj), free(bid), free(tid);
+    for (int c = 0; c < 3; c++) free(tv[c]);
+    return ok;
+}
+
+static sb_status sb_pbd_prepare(sb_solver* s) {
+    if (s->pbd) return SB_OK;
+    sb_pbd* p = calloc(1, sizeof *p);
+    size_t n3 = 3 * (size_t)s->model->vertex_count + 1;
+    if (p) {
+        p->x = malloc(n3 * sizeof *p->x);
+        p->x0 = malloc(n3 * sizeof *p->x0);
+    }
+    if (!p || !p->x || !p->x0 || !sb_pbd_build(p, s->model)) {
+        sb_pbd_destroy(p);
+        return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory preparing the position-based solver");
+    }
+    p->threads = sb_runtime_threads(s->def.threads, &s->error);
+    if (p->threads < 1) {
+        sb_pbd_destroy(p);
+        return SB_ERR_INVALID;
+    }
+    s->pbd = p;
+    return SB_OK;
+}
+
+/* The constants of one step's projections. */
+typedef struct sb_pbd_step {
+    const sb_model* m;
+    double *x, *x0;
+    double inv_dt2, dt;
+    bool xpbd;
+} sb_pbd_step;
+
+/* Δλ for a constraint of value C, compliance alpha (α̃ = alpha/dt²), W, the
+ * damping γ and the constraint's rate term ∇C·(x − x_prev); updates λ. */
+static double sb_pbd_delta(const sb_pbd_step* k, double C, double alpha, double W, double gamma, double rate,
+                           double* lambda) {
+    double at = alpha * k->inv_dt2, l = k->xpbd ? *lambda : 0.0;
+    double denominator = (1.0 + gamma) * W + at;
+    if (!(denominator > 0)) return 0.0;
+    double d = (-C - at * l - gamma * rate) / denominator;
+    if (k->xpbd) *lambda = l + d;
+    return d;
+}
+
+static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
+    const sb_model* m = k->m;
+    uint32_t i = m->bond_i[b], j = m->bond_j[b];
+    double *xi = k->x + 3 * (size_t)i, *xj = k->x + 3 * (size_t)j;
+    double n[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+    double r = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(r > 0)) return; /* coincident ends: no direction; the force pass reports it */
+    double stiffness = m->bond_k[b] + m->spring_k[b], wi = m->inv_mass[i], wj = m->inv_mass[j];
+    double rate = 0.0;
+    for (int c = 0; c < 3; c++) {
+        n[c] /= r;
+        rate += n[c] * ((xi[c] - k->x0[3 * (size_t)i + c]) - (xj[c] - k->x0[3 * (size_t)j + c]));
+    }
+    double gamma = m->spring_damping[b] / (stiffness * k->dt);
+    double d = sb_pbd_delta(k, r - m->bond_r0[b], 1.0 / stiffness, wi + wj, gamma, rate, lambda);
+    for (int c = 0; c < 3; c++) {
+        xi[c] += wi * d * n[c];
+        xj[c] -= wj * d * n[c];
+    }
+}
+
+/* Corner at vertex v[0] of the triangle (v[0], v[1], v[2]): C = â·b̂ − cos θ0. */
+static void sb_pbd_corner(const sb_pbd_step* k, const uint32_t v[3], double cos0, double kt, double* lambda) {
+    const sb_model* m = k->m;
+    double *p0 = k->x + 3 * (size_t)v[0], *p1 = k->x + 3 * (size_t)v[1], *p2 = k->x + 3 * (size_t)v[2];
+    double a[3], b[3], A = 0, B = 0;
+    for (int c = 0; c < 3; c++) {
+        a[c] = p1[c] - p0[c];
+        b[c] = p2[c] - p0[c];
+        A += a[c] * a[c];
+        B += b[c] * b[c];
+    }
+    A = sqrt(A), B = sqrt(B);
+    if (!(A > 0 && B > 0)) return; /* a collapsed edge: the force pass reports it */
+    double cosine = 0, g1[3], g2[3], g0[3];
+    for (int c = 0; c < 3; c++) cosine += (a[c] / A) * (b[c] / B);
+    double w[3] = {m->inv_mass[v[0]], m->inv_mass[v[1]], m->inv_mass[v[2]]}, W = 0;
+    for (int c = 0; c < 3; c++) {
+        g1[c] = (b[c] / B - cosine * a[c] / A) / A;
+        g2[c] = (a[c] / A - cosine * b[c] / B) / B;
+        g0[c] = -g1[c] - g2[c];
+    }
+    const double* grads[3] = {g0, g1, g2};
+    for (int q = 0; q < 3; q++)
+        W += w[q] * (grads[q][0] * grads[q][0] + grads[q][1] * grads[q][1] + grads[q][2] * grads[q][2]);
+    double d = sb_pbd_delta(k, cosine - cos0, 1.0 / kt, W, 0.0, 0.0, lambda);
+    double* points[3] = {p0, p1, p2};
+    for (int q = 0; q < 3; q++)
+        for (int c = 0; c < 3; c++) points[q][c] += w[q] * d * grads[q][c];
+}
+
+static void sb_pbd_triangle(const sb_pbd_step* k, uint32_t t, double* lambda) {
+    const sb_model* m = k->m;
+    for (int c = 0; c < 3; c++) {
+        uint32_t v[3] = {m->tri_v[c][t], m->tri_v[(c + 1) % 3][t], m->tri_v[(c + 2) % 3][t]};
+        sb_pbd_corner(k, v, m->tri_cos0[c][t], m->angle_k[t], lambda + c);
+    }
+}
+
+typedef void (*sb_pbd_project_fn)(const sb_pbd_step*, uint32_t, double*);
+
+/* All colors of a group in order; called by every thread of the region. */
+static void sb_pbd_group_pass(const sb_pbd_step* k, sb_pbd_group* g, sb_pbd_project_fn project, int lambdas) {
+    for (int color = 0; color < SB_MAX_COLORS; color++) {
+        int first = (int)g->first[color], last = (int)g->first[color + 1];
+        if (first == last) continue;
+        if (color == SB_OVERFLOW_COLOR) {
+#pragma omp single
+            for (int e = first; e < last; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
+        } else {
+#pragma omp for schedule(static)
+            for (int e = first; e < last; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
+        }
+    }
+}
+
+/* Predicts x* into p->x (and keeps x in p->x0) from the state. */
+static void sb_pbd_predict(sb_solver* s, double dt) {
+    const sb_model* m = s->model;
+    sb_state* st = &s->state;
+    sb_pbd* p = s->pbd;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        sb_real* v[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
+        const sb_real* x[3] = {&st->x[i], &st->y[i], &st->z[i]};
+        for (int c = 0; c < 3; c++) {
+            size_t q = 3 * (size_t)i + c;
+            double vc = *v[c];
+            if (!m->fixed[i]) {
+                double external = s->external ? s->external[q] * m->inv_mass[i] : 0.0;
+                vc += dt * (s->def.gravity[c] + external - s->def.drag * vc);
+            }
+            p->x0[q] = *x[c];
+            p->x[q] = *x[c] + dt * vc;
+        }
+    }
+}
+
+/* v = (x − x_prev)/dt and the new positions into the state. */
+static void sb_pbd_finish(sb_solver* s, double dt) {
+    sb_state* st = &s->state;
+    const sb_pbd* p = s->pbd;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        sb_real* x[3] = {&st->x[i], &st->y[i], &st->z[i]};
+        sb_real* v[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
+        for (int c = 0; c < 3; c++) {
+            size_t q = 3 * (size_t)i + c;
+            if (s->model->fixed[i]) continue; /* inverse mass 0: never moved */
+            *v[c] = (sb_real)((p->x[q] - p->x0[q]) / dt);
+            *x[c] = (sb_real)p->x[q];
+        }
+    }
+}
+
+int sb_pbd_iterations(const sb_solver_def* def) { return def->pbd_iterations > 0 ? def->pbd_iterations : 10; }
+
+sb_status sb_integrate_pbd(sb_solver* s, double dt) {
+    sb_status status = sb_pbd_prepare(s);
+    if (status != SB_OK) return status;
+    sb_fast_publish(s); /* the state's arrays current */
+    sb_pbd* p = s->pbd;
+    sb_pbd_predict(s, dt);
+    sb_pbd_step k = {s->model, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
+    memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
+    memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
+    int iterations = sb_pbd_iterations(&s->def);
+#pragma omp parallel num_threads(p->threads)
+    for (int it = 0; it < iterations; it++) {
+        sb_pbd_group_pass(&k, &p->bonds, sb_pbd_bond, 1);
+        sb_pbd_group_pass(&k, &p->triangles, sb_pbd_triangle, 3);
+    }
+    sb_pbd_finish(s, dt);
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
+}

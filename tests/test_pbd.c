@@ -1,0 +1,293 @@
+/* The position-based integrators pbd and xpbd (kernels/pbd.c): names and
+ * scene keys, fixed vertices, convergence of the projection with the
+ * iteration count, xpbd's static stretch of a hanging chain (k Δx = m g),
+ * the same state for 1 and 2 threads, and the blow-up rule on bond lengths
+ * (softbond/solver.h) under pbd too. Measured numbers are printed. */
+#include "tests/test_util.h"
+#include "scenes/scene.h"
+#include "scenes/scene_model.h"
+
+#include <stdio.h>
+
+static const sb_integrator position_based[2] = {SB_INTEGRATOR_PBD, SB_INTEGRATOR_XPBD};
+
+static sb_solver* create(const sb_model* m, const sb_solver_def* def) {
+    sb_error err;
+    memset(&err, 0, sizeof err);
+    sb_solver* s = sb_solver_create(m, def, &err);
+    if (!s) fail_msg("sb_solver_create failed: %s", err.message);
+    return s;
+}
+
+static void advance(sb_solver* s, double dt, int steps) {
+    for (int i = 0; i < steps; ++i) {
+        sb_status st = sb_solver_advance(s, dt);
+        if (st != SB_OK) fail_msg("step %d failed (%s): %s", i, sb_status_name(st), sb_solver_error(s));
+    }
+}
+
+static sb_solver_def pbd_def(sb_integrator integrator, sb_kernels kernels) {
+    sb_solver_def def = sb_default_solver_def();
+    def.integrator = integrator;
+    def.kernels = kernels;
+    return def;
+}
+
+static void test_names_and_keys(void** state) {
+    (void)state;
+    const char* names[2] = {"pbd", "xpbd"};
+    for (int i = 0; i < 2; ++i) {
+        sb_integrator out = SB_INTEGRATOR_COUNT;
+        assert_true(sb_integrator_from_name(names[i], &out));
+        assert_int_equal(out, position_based[i]);
+        assert_string_equal(sb_integrator_name(position_based[i]), names[i]);
+    }
+    assert_int_equal(sb_default_solver_def().pbd_iterations, 10);
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_solver_def(&scene).pbd_iterations, 10);
+    assert_int_equal(sb_scene_set(&scene, "integrator=xpbd", &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "pbd.iterations=25", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    assert_int_equal(def.integrator, SB_INTEGRATOR_XPBD);
+    assert_int_equal(def.pbd_iterations, 25);
+    assert_int_equal(sb_scene_set(&scene, "pbd.iterations=0", &err), SB_OK);
+    assert_int_not_equal(sb_scene_validate(&scene, &err), SB_OK);
+    TU_ASSERT_CONTAINS(err.message, "pbd.iterations");
+    sb_scene_free(&scene);
+    /* a negative count is rejected by the library */
+    def.pbd_iterations = -1;
+    sb_builder* b = sb_builder_create();
+    tu_vertex(b, 0, 0, 0, 1, false);
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    assert_null(sb_solver_create(m, &def, &err));
+    TU_ASSERT_CONTAINS(err.message, "pbd_iterations");
+    sb_model_destroy(m);
+}
+
+/* An S × S sheet in the xy plane, spacing h, mass 0.01 per vertex, bonds
+ * (k) along rows, columns and one diagonal, two triangles per cell with
+ * angle constant kt and stretch-bend 0.5, the top corners pinned. */
+static sb_model* sheet(int S, double h, double k, double kt) {
+    sb_builder* b = sb_builder_create();
+    for (int r = 0; r < S; ++r)
+        for (int c = 0; c < S; ++c) tu_vertex(b, h * c, h * r, 0, 0.01, r == S - 1 && (c == 0 || c == S - 1));
+    for (int r = 0; r < S; ++r)
+        for (int c = 0; c < S; ++c) {
+            uint32_t a = (uint32_t)(r * S + c);
+            if (c + 1 < S) tu_bond(b, a, a + 1, -1, k, 0, 0);
+            if (r + 1 < S) tu_bond(b, a, a + S, -1, k, 0, 0);
+            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + S + 1, -1, k, 0, 0);
+        }
+    for (int r = 0; r + 1 < S; ++r)
+        for (int c = 0; c + 1 < S; ++c) {
+            uint32_t a = (uint32_t)(r * S + c);
+            tu_triangle(b, a, a + 1, a + S + 1, kt, 0.5);
+            tu_triangle(b, a, a + S + 1, a + S, kt, 0.5);
+        }
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    return m;
+}
+
+/* A constant push on every free vertex: the external force under pbd. */
+static void push_force(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                       double force[3]) {
+    (void)user, (void)vertex, (void)time, (void)position, (void)velocity;
+    force[0] += 0.02;
+    force[2] += 0.01;
+}
+
+/* A sheet falling under gravity and a push, held by its two pinned corners:
+ * the pinned vertices stay bitwise at rest while the rest moves. */
+static void test_fixed_vertices(void** state) {
+    (void)state;
+    enum { S = 8 };
+    sb_model* m = sheet(S, 0.05, 200, 0.05);
+    for (int k = 0; k < 4; ++k) {
+        sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
+        def.external_force = push_force;
+        sb_solver* s = create(m, &def);
+        advance(s, 2e-3, 300);
+        double x[3 * S * S], rest[3], moved = 0;
+        sb_solver_get_positions(s, x);
+        for (uint32_t i = 0; i < S * S; ++i) {
+            sb_model_rest_position(m, i, rest);
+            if (sb_model_is_fixed(m, i))
+                assert_true(x[3 * i] == (sb_real)rest[0] && x[3 * i + 1] == (sb_real)rest[1] && x[3 * i + 2] == (sb_real)rest[2]);
+            else
+                moved = fmax(moved, tu_dist(rest, x + 3 * i));
+        }
+        print_message("fixed vertices, %-4s (%s kernels): pinned corners unmoved, the sheet moved up to %.3g m\n",
+                      sb_integrator_name(def.integrator), k < 2 ? "reference" : "fast", moved);
+        assert_true(moved > 0.05);
+        sb_solver_destroy(s);
+    }
+    sb_model_destroy(m);
+}
+
+/* A chain of NB rigid bonds (k = 1e9 N/m: k dt² w ≈ 2e5, so the pbd
+ * stiffness is 1 − 5e-6 and xpbd's compliance negligible), its first vertex
+ * fixed, every bond stretched to 1.5 r0, at rest, no gravity: one step's
+ * projection is Gauss-Seidel on the chain, whose error falls by about
+ * cos²(π/(2 NB + 1)) ≈ 0.92 a sweep (measured ~0.91), so the worst
+ * relative bond error must fall as the iterations grow and be below 1e-3
+ * after 256. */
+static void test_convergence(void** state) {
+    (void)state;
+    enum { NB = 5 };
+    const double r0 = 0.1;
+    sb_builder* b = sb_builder_create();
+    for (int i = 0; i <= NB; ++i) tu_vertex(b, 1.5 * r0 * i, 0, 0, 0.01, i == 0);
+    for (int i = 0; i < NB; ++i) tu_bond(b, (uint32_t)i, (uint32_t)i + 1, r0, 1e9, 0, 0);
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    for (int k = 0; k < 2; ++k) {
+        const int counts[5] = {1, 4, 16, 64, 256};
+        double errors[5];
+        for (int c = 0; c < 5; ++c) {
+            sb_solver_def def = pbd_def(position_based[k], SB_KERNELS_REFERENCE);
+            def.gravity[2] = 0;
+            def.pbd_iterations = counts[c];
+            sb_solver* s = create(m, &def);
+            advance(s, 1e-3, 1);
+            double x[3 * (NB + 1)];
+            sb_solver_get_positions(s, x);
+            errors[c] = 0;
+            for (int i = 0; i < NB; ++i) errors[c] = fmax(errors[c], fabs(tu_dist(x + 3 * i, x + 3 * i + 3) - r0) / r0);
+            sb_solver_destroy(s);
+        }
+        print_message("convergence, %-4s: worst |r - r0|/r0 after one step with 1, 4, 16, 64, 256 iterations: "
+                      "%.3g %.3g %.3g %.3g %.3g (from 0.5)\n",
+                      sb_integrator_name(position_based[k]), errors[0], errors[1], errors[2], errors[3], errors[4]);
+        /* (one sweep may overshoot: moving a vertex lengthens the next bond) */
+        for (int c = 1; c < 5; ++c) TU_ASSERT_LE(errors[c], errors[c - 1]);
+        TU_ASSERT_LE(errors[4], 1e-3);
+    }
+    sb_model_destroy(m);
+}
+
+/* Three masses m hanging in a vertical chain from a fixed vertex on bonds
+ * of k = 100 N/m, r0 = 0.1 m: at rest bond j (from the top) carries the
+ * weight below it, (3 − j) m g, so it is stretched by (3 − j) m g / k
+ * (0.0294, 0.0196, 0.0098 m for m = 0.1 kg). xpbd's fixed point is that
+ * static equilibrium whatever the iteration count; drag (10/s, zero at
+ * rest) settles the swing within 3 s (amplitude × e^-15). Tolerance 1e-3 of
+ * the stretch: far above rounding, far below pbd's error. pbd, stiffer at
+ * more iterations, is printed beside it. */
+static void test_xpbd_static_stretch(void** state) {
+    (void)state;
+    const double mass = 0.1, k = 100, r0 = 0.1, g = 9.81;
+    sb_builder* b = sb_builder_create();
+    for (int i = 0; i < 4; ++i) tu_vertex(b, 0, 0, -r0 * i, i ? mass : 1.0, i == 0);
+    for (int i = 0; i < 3; ++i) tu_bond(b, (uint32_t)i, (uint32_t)i + 1, r0, k, 0, 0);
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    for (int q = 0; q < 4; ++q) {
+        sb_solver_def def = pbd_def(position_based[q / 2], SB_KERNELS_REFERENCE);
+        def.drag = 10;
+        def.pbd_iterations = q % 2 ? 50 : 10;
+        sb_solver* s = create(m, &def);
+        advance(s, 1e-3, 3000);
+        double x[12], worst = 0;
+        sb_solver_get_positions(s, x);
+        char line[256];
+        int used = 0;
+        for (int j = 0; j < 3; ++j) {
+            double stretch = tu_dist(x + 3 * j, x + 3 * j + 3) - r0, expect = (3 - j) * mass * g / k;
+            worst = fmax(worst, fabs(stretch - expect) / expect);
+            used += snprintf(line + used, sizeof line - (size_t)used, " %.6g (k dx/m g = %.4f)", stretch,
+                             k * stretch / ((3 - j) * mass * g));
+        }
+        print_message("hanging chain, %-4s, %2d iterations: stretches%s m; worst relative error %.3g\n",
+                      sb_integrator_name(def.integrator), def.pbd_iterations, line, worst);
+        if (def.integrator == SB_INTEGRATOR_XPBD) TU_ASSERT_LE(worst, 1e-3);
+        sb_solver_destroy(s);
+    }
+    sb_model_destroy(m);
+}
+
+/* FNV-1a over the positions and velocities as stored. */
+static uint64_t state_hash(const sb_solver* s) {
+    const sb_state* st = sb_solver_state(s);
+    uint64_t h = 1469598103934665603ull;
+    const sb_real* arrays[6] = {st->x, st->y, st->z, st->vx, st->vy, st->vz};
+    for (int a = 0; a < 6; ++a) {
+        const unsigned char* bytes = (const unsigned char*)arrays[a];
+        for (size_t i = 0; i < st->vertex_count * sizeof(sb_real); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+    }
+    return h;
+}
+
+/* A 40 × 40 sheet (4600 bonds, 3042 triangles: hundreds of constraints per
+ * color, so both threads work on every color), 100 steps: the state's hash
+ * is the same for 1 and 2 threads, with either kernel choice. */
+static void test_threads_deterministic(void** state) {
+    (void)state;
+    sb_model* m = sheet(40, 0.025, 500, 0.05);
+    for (int k = 0; k < 4; ++k) {
+        uint64_t hashes[2];
+        for (int t = 0; t < 2; ++t) {
+            sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
+            def.threads = t + 1;
+            sb_solver* s = create(m, &def);
+            advance(s, 2e-3, 100);
+            hashes[t] = state_hash(s);
+            sb_solver_destroy(s);
+        }
+        print_message("threads, %-4s (%s kernels): state hash %016llx (1 thread), %016llx (2 threads)\n",
+                      sb_integrator_name(position_based[k % 2]), k < 2 ? "reference" : "fast",
+                      (unsigned long long)hashes[0], (unsigned long long)hashes[1]);
+        assert_true(hashes[0] == hashes[1]);
+    }
+    sb_model_destroy(m);
+}
+
+/* The blow-up rule under pbd: a bond stretched past SB_STRETCH_LIMIT (set
+ * as the state) is reported on the SB_STRETCH_INTERVAL-th advance, naming
+ * the step, the time and the bond, with SB_ERR_UNSTABLE; the same chain
+ * stretched to 5 × r0 (inside the limit) and pulled back by soft bonds runs. */
+static void test_blow_up_rule(void** state) {
+    (void)state;
+    sb_builder* b = sb_builder_create();
+    for (int i = 0; i < 3; ++i) tu_vertex(b, 0.1 * i, 0, 0, 0.01, i == 0);
+    for (int i = 0; i < 2; ++i) tu_bond(b, (uint32_t)i, (uint32_t)i + 1, 0.1, 1e-3, 0, 0);
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    for (int k = 0; k < 3; ++k) {
+        sb_solver_def def = pbd_def(k < 2 ? position_based[k] : SB_INTEGRATOR_VERLET, SB_KERNELS_REFERENCE);
+        def.gravity[2] = 0;
+        sb_solver* s = create(m, &def);
+        double x[9] = {0, 0, 0, 0.5, 0, 0, 0.5 + 1.2, 0, 0}; /* bond 1 at 12 r0 */
+        assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
+        sb_status st = SB_OK;
+        int i;
+        for (i = 1; i <= SB_STRETCH_INTERVAL && st == SB_OK; ++i) st = sb_solver_advance(s, 1e-3);
+        print_message("blow-up rule, %-6s: %s after %d advances: %s\n", sb_integrator_name(def.integrator),
+                      sb_status_name(st), i - 1, sb_solver_error(s));
+        assert_int_equal(st, SB_ERR_UNSTABLE);
+        assert_int_equal(i - 1, SB_STRETCH_INTERVAL);
+        TU_ASSERT_CONTAINS(sb_solver_error(s), "step 16 (t = 0.016");
+        TU_ASSERT_CONTAINS(sb_solver_error(s), "bond 1 (vertices 1 and 2)");
+        x[6] = 0.5 + 0.5; /* 5 r0 */
+        assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
+        advance(s, 1e-3, 4 * SB_STRETCH_INTERVAL);
+        sb_solver_destroy(s);
+    }
+    sb_model_destroy(m);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_names_and_keys),
+        cmocka_unit_test(test_fixed_vertices),
+        cmocka_unit_test(test_convergence),
+        cmocka_unit_test(test_xpbd_static_stretch),
+        cmocka_unit_test(test_threads_deterministic),
+        cmocka_unit_test(test_blow_up_rule),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
