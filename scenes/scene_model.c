@@ -61,6 +61,32 @@ static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     return status;
 }
 
+bool sb_scene_lod(const sb_scene* scene) {
+    return sb_scene_integer(scene, SB_KEY_MESH_TARGET_VERTICES) > 0 ||
+           sb_scene_number(scene, SB_KEY_MESH_TARGET_ERROR) > 0.0;
+}
+
+/* mesh.target_vertices / mesh.target_error (target_vertices when not 0
+ * wins over the scene's): the fixed vertices are locked and keep their
+ * indices, so `fixed` still names them. */
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices,
+                            sb_simplify_report* report, sb_error* err) {
+    if (sb_scene_volumetric(scene))
+        return sb_scene_fail(scene, SB_KEY_MESH_TARGET_VERTICES, err,
+                             "level of detail applies to surface meshes, not tetrahedral files");
+    sb_simplify_def def = sb_default_simplify_def();
+    def.target_vertices = target_vertices ? target_vertices : (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_TARGET_VERTICES);
+    def.target_error = sb_scene_number(scene, SB_KEY_MESH_TARGET_ERROR);
+    def.locked = sb_scene_indices(scene, SB_KEY_FIXED, &def.locked_count);
+    for (uint32_t i = 0; i < def.locked_count; i++)
+        if (def.locked[i] >= mesh->vertex_count)
+            return sb_scene_fail(scene, SB_KEY_FIXED, err,
+                                 "'fixed': vertex %u out of range (the mesh has %u vertices)",
+                                 def.locked[i], mesh->vertex_count);
+    def.keep_locked_indices = true;
+    return sb_mesh_simplify(mesh, &def, NULL, report, err);
+}
+
 sb_mesh_transform_def sb_scene_placement(const sb_scene* scene) {
     sb_mesh_transform_def t = sb_default_mesh_transform_def();
     memcpy(t.scale, sb_scene_vec3(scene, SB_KEY_MESH_SCALE), sizeof t.scale);
@@ -84,6 +110,7 @@ static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
 
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     sb_status status = make_mesh(scene, out, err);
+    if (status == SB_OK && sb_scene_lod(scene)) status = sb_scene_simplify(scene, out, 0, NULL, err);
     sb_mesh_transform_def placement = sb_scene_placement(scene);
     if (status == SB_OK) status = sb_mesh_transform(out, &placement, err);
     if (status == SB_OK && sb_scene_bool(scene, SB_KEY_MESH_REORDER)) status = sb_mesh_reorder(out, NULL, err);

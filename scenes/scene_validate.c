@@ -42,6 +42,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_TISSUE_YOUNG_MODULUS, false},
     {SB_KEY_TISSUE_DENSITY, true},
     {SB_KEY_TISSUE_DAMPING, false},
+    {SB_KEY_MESH_TARGET_ERROR, false},
 };
 
 typedef struct integer_rule {
@@ -53,6 +54,7 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_MESH_NX, 2, 1 << 16},     {SB_KEY_MESH_NY, 2, 1 << 16},
     {SB_KEY_MESH_SEED, 0, INT64_MAX}, {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
     {SB_KEY_THREADS, 0, 4096},
+    {SB_KEY_MESH_TARGET_VERTICES, 0, UINT32_MAX},
     {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
     {SB_KEY_IMPLICIT_CG_ITERATIONS, 1, 100000},
     {SB_KEY_PBD_ITERATIONS, 1, 100000},
