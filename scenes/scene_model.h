@@ -7,10 +7,18 @@
 
 /* The mesh the scene asks for: a sheet, an icosphere or a file (its
  * objects merged, or kept apart as separate bodies with
- * mesh.separate_objects), then placed (mesh.scale, mesh.rotate,
+ * mesh.separate_objects), simplified (mesh.target_vertices,
+ * mesh.target_error), then placed (mesh.scale, mesh.rotate,
  * mesh.translate), then reordered if asked. Errors name the file (and
  * line), or where the generator's settings came from. */
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err);
+/* Whether mesh.target_vertices or mesh.target_error asks for a level of detail. */
+bool sb_scene_lod(const sb_scene* scene);
+/* Simplifies a surface mesh as the scene asks (target_vertices, when not 0,
+ * overrides mesh.target_vertices): fixed vertices locked at their indices,
+ * the boundary kept. An error for a tetrahedral file. */
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices,
+                            sb_simplify_report* report, sb_error* err);
 /* mesh.scale, mesh.rotate and mesh.translate as a transform. */
 sb_mesh_transform_def sb_scene_placement(const sb_scene* scene);
 

@@ -99,6 +99,34 @@ typedef struct sb_mesh_transform_def {
 sb_mesh_transform_def sb_default_mesh_transform_def(void);
 sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err);
 
+/* Level of detail: fewer vertices, by quadric edge collapse
+ * (meshoptimizer). Vertices on the boundary (an edge of one triangle) are
+ * never moved or removed, nor are the locked vertices and their ring of
+ * neighbours. Give a vertex count, an error, or both (the count is then
+ * reached only while the error stays below target_error). The result keeps
+ * the vertices still used in their original order; when origin is not NULL
+ * it receives for each new vertex its old index (room for the old vertex
+ * count). With keep_locked_indices each locked vertex keeps its own index
+ * (an error if that index is beyond the new vertex count). A target at or
+ * above the vertex count leaves the mesh as it is, minus unused vertices. */
+typedef struct sb_simplify_def {
+    uint32_t target_vertices; /* 0 = no count target */
+    double target_error;      /* relative to the mesh's extent (0.01 = 1%); 0 = none */
+    const uint32_t* locked;   /* vertices to keep, e.g. the fixed ones */
+    uint32_t locked_count;
+    bool keep_locked_indices;
+} sb_simplify_def;
+
+typedef struct sb_simplify_report {
+    uint32_t vertices_before, vertices_after;
+    uint32_t triangles_before, triangles_after;
+    double error; /* meshopt's resulting error, relative to the extent */
+} sb_simplify_report;
+
+sb_simplify_def sb_default_simplify_def(void);
+sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin,
+                           sb_simplify_report* report, sb_error* err);
+
 /* Renumbers the vertices along a Morton (Z-order) curve through the
  * bounding box and sorts the triangles by their lowest vertex, so that
  * vertices near in space are near in memory and the elements built from the
