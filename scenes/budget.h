@@ -4,6 +4,9 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
+
+#include "scenes/scene.h"
 
 typedef struct sb_budget_level {
     uint32_t vertices; /* the model's size at this level */
@@ -14,5 +17,15 @@ typedef struct sb_budget_level {
  * when none fits, the level with the fewest vertices, and *fits (if not
  * NULL) is false. count >= 1. */
 int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms, bool* fits);
+
+/* The scene's mesh at the resolution that fits: the mesh the scene asks
+ * for, then simplified to 1/2, 1/4, ... of its vertices (down to about 64,
+ * at most 6 levels; boundary and fixed vertices kept). Each level's model
+ * gets a solver with the scene's settings but the fast kernels, takes 3
+ * warm-up steps, then is timed over steps until 30 ms or 200 steps have
+ * passed. The level chosen by sb_budget_choose is returned in out; the table
+ * and the choice are printed on stream when not NULL. */
+sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double budget_ms,
+                         sb_mesh* out, FILE* stream, sb_error* err);
 
 #endif

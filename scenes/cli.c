@@ -20,6 +20,7 @@ static const option_spec option_specs[] = {
     {"--positions", offsetof(sb_cli_args, positions), false},
     {"--forces", offsetof(sb_cli_args, forces), false},
     {"--fast", offsetof(sb_cli_args, fast), true},
+    {"--budget-ms", offsetof(sb_cli_args, budget_ms), false},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {

@@ -25,6 +25,7 @@ typedef struct sb_cli_args {
     const char* positions; /* eval --positions POS.csv */
     const char* forces;    /* eval --forces OUT.csv */
     bool fast;             /* eval --fast */
+    const char* budget_ms; /* run --budget-ms X */
     bool help;             /* --help, -h */
 } sb_cli_args;
 

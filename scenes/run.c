@@ -4,6 +4,7 @@
  * output.frames is false), frames.pvd listing them, and a row of log.csv.
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
+#include "scenes/budget.h"
 #include "scenes/cli.h"
 #include "scenes/energy_log.h"
 #include "scenes/errorf.h"
@@ -20,10 +21,14 @@
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream,
             "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+            "                    [--budget-ms X]\n"
             "Runs a scene and writes its frames (.vtu, listed in frames.pvd) and log.csv\n"
             "(the energy of each term per frame) to DIR, by default out/<scene name>.\n"
             "--set overrides any scene key (see README.md, \"Running a scene\");\n"
-            "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n");
+            "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
+            "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
+            "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
+            "(the smallest if none does); it prints what it measured and picked.\n");
 }
 
 typedef struct run_job {
@@ -49,8 +54,27 @@ static int run_finish(run_job* job, int code) {
     return code;
 }
 
-static sb_status make_model(run_job* job, sb_error* err) {
-    sb_status status = sb_scene_make_mesh(&job->scene, &job->mesh, err);
+/* --budget-ms: a positive finite number of milliseconds. */
+static sb_status budget(const run_job* job, double* ms, sb_error* err) {
+    char* end;
+    *ms = strtod(job->args.budget_ms, &end);
+    if (end == job->args.budget_ms || *end != '\0' || !(*ms > 0.0) || !isfinite(*ms))
+        return sb_errorf(err, SB_ERR_INVALID, "--budget-ms: expected a number of milliseconds > 0, got '%s'",
+                         job->args.budget_ms);
+    return SB_OK;
+}
+
+static sb_status make_mesh(run_job* job, const sb_solver_def* def, sb_error* err) {
+    if (!job->args.budget_ms) return sb_scene_make_mesh(&job->scene, &job->mesh, err);
+    double ms;
+    sb_status status = budget(job, &ms, err);
+    if (status == SB_OK) status = sb_budget_mesh(&job->scene, def, ms, &job->mesh, stdout, err);
+    fflush(stdout);
+    return status;
+}
+
+static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* err) {
+    sb_status status = make_mesh(job, def, err);
     if (status != SB_OK) return status;
     bool from_file = strcmp(sb_scene_string(&job->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     char* source = from_file ? sb_scene_path(&job->scene, SB_KEY_MESH_FILE) : NULL;
@@ -66,7 +90,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
-    if (status == SB_OK) status = make_model(job, err);
+    if (status == SB_OK) status = make_model(job, &def, err);
     if (status != SB_OK) return status;
     job->solver = sb_solver_create(job->model, &def, err);
     if (!job->solver) return SB_ERR_INVALID;
@@ -175,7 +199,7 @@ static int execute(run_job* job, sb_error* err) {
 }
 
 int sb_cli_run(int argc, char** argv) {
-    static const char* const accepted[] = {"--output", "--threads", NULL};
+    static const char* const accepted[] = {"--output", "--threads", "--budget-ms", NULL};
     run_job job = {0};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

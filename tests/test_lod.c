@@ -2,9 +2,11 @@
  * asked, keeps every boundary vertex and the locked ones (at their index
  * when asked), and an error target alone simplifies a flat sheet a lot;
  * the --budget-ms choice, with injected timings (no test times itself). */
+#define _POSIX_C_SOURCE 200809L
+
 #include "scenes/budget.h"
 #include "scenes/scene_model.h"
-#include "tests/test_util.h"
+#include "tests/test_files.h"
 
 static void assert_valid(const sb_mesh* m) {
     assert_true(m->vertex_count > 0 && m->triangle_count > 0);
@@ -141,6 +143,31 @@ static void test_scene_keys(void** state) {
     sb_scene_free(&scene);
 }
 
+/* softbond run --budget-ms: a budget nothing misses picks the full mesh, one
+ * nothing meets picks the smallest and says so; a bad value is refused.
+ * (The choice depends on the timings only through these extremes.) */
+static void test_run_budget(void** state) {
+    (void)state;
+    assert_int_equal(tu_make_tmp_dir("sb_test_lod"), 0);
+    tu_write_file("s.yaml", "mesh: {nx: 24, ny: 24}\nduration: 0.0002\noutput: {frames: false}\n");
+    const char* args[] = {"run", "s.yaml", "--budget-ms", "1e9", "--output", "out", NULL};
+    tu_result r = tu_run(args);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "softbond: picked 576 vertices ("));
+    tu_result_free(&r);
+    args[3] = "1e-9";
+    r = tu_run(args);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "nothing fits 1e-09 ms: the smallest"));
+    tu_result_free(&r);
+    args[3] = "-3";
+    r = tu_run(args);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "--budget-ms: expected a number of milliseconds > 0, got '-3'"));
+    tu_result_free(&r);
+    assert_int_equal(tu_remove_tmp_dir(), 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vertex_target),
@@ -148,6 +175,7 @@ int main(void) {
         cmocka_unit_test(test_error_target),
         cmocka_unit_test(test_budget_choice),
         cmocka_unit_test(test_scene_keys),
+        cmocka_unit_test(test_run_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
