@@ -200,20 +200,30 @@ static bool sb_fused(const sb_solver* s) {
     return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
 }
 
-/* The first of `count` edges (a[e], b[e]) with rest length r0[e] > 0 that is
- * longer than SB_STRETCH_LIMIT r0, or UINT32_MAX. Positions p + stride·v. */
-static uint32_t sb_first_overstretched(const sb_real* p, size_t stride, const uint32_t* a, const uint32_t* b,
-                                       const double* r0, uint32_t count, int threads) {
-    uint32_t first = UINT32_MAX;
-    const double limit2 = SB_STRETCH_LIMIT * SB_STRETCH_LIMIT;
-#pragma omp parallel for reduction(min : first) num_threads(threads) schedule(static)
+/* Whether any of `count` edges (a[e], b[e]) with rest length r0[e] is longer
+ * than SB_STRETCH_LIMIT r0: a branch-free pass (in sb_real) that vectorizes. */
+static bool sb_any_overstretched(const sb_real* p, const uint32_t* a, const uint32_t* b, const double* r0,
+                                 uint32_t count, int threads) {
+    int any = 0;
+    const sb_real limit2 = (sb_real)(SB_STRETCH_LIMIT * SB_STRETCH_LIMIT);
+#pragma omp parallel for reduction(| : any) num_threads(threads) schedule(static)
     for (int64_t e = 0; e < (int64_t)count; e++) {
-        const sb_real *pa = p + stride * a[e], *pb = p + stride * b[e];
-        double dx = (double)pa[0] - pb[0], dy = (double)pa[1] - pb[1], dz = (double)pa[2] - pb[2];
-        if (dx * dx + dy * dy + dz * dz > limit2 * r0[e] * r0[e] && r0[e] > 0 && (uint32_t)e < first)
-            first = (uint32_t)e;
+        const sb_real *pa = p + 4 * (size_t)a[e], *pb = p + 4 * (size_t)b[e];
+        sb_real dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2], r = (sb_real)r0[e];
+        any |= (dx * dx + dy * dy + dz * dz > limit2 * r * r) & (r > 0); /* r0 = 0: no ratio */
     }
-    return first;
+    return any != 0;
+}
+
+/* The first such edge (in double), or UINT32_MAX; runs only after a hit. */
+static uint32_t sb_first_overstretched(const sb_real* p, const uint32_t* a, const uint32_t* b, const double* r0,
+                                       uint32_t count) {
+    for (uint32_t e = 0; e < count; e++) {
+        const sb_real *pa = p + 4 * (size_t)a[e], *pb = p + 4 * (size_t)b[e];
+        double dx = (double)pa[0] - pb[0], dy = (double)pa[1] - pb[1], dz = (double)pa[2] - pb[2];
+        if (r0[e] > 0 && sqrt(dx * dx + dy * dy + dz * dz) > SB_STRETCH_LIMIT * r0[e]) return e;
+    }
+    return UINT32_MAX;
 }
 
 /* The blow-up rule (softbond/solver.h): no bond, or in a model without
@@ -227,7 +237,6 @@ static sb_status sb_check_stretch(sb_solver* s) {
     const sb_model* m = s->model;
     /* the fast path's packed positions are current after any step */
     const sb_real* p = s->fast ? s->positions4 : NULL;
-    size_t stride = 4;
     int threads = s->threads > 0 ? s->threads : 1;
     if (!s->fast) { /* the reference path: the state's arrays, gathered into x y z w */
         if (!s->stretch4 && !(s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))))
@@ -240,26 +249,26 @@ static sb_status sb_check_stretch(sb_solver* s) {
         p = s->stretch4;
     }
     if (m->bond_count > 0) {
-        uint32_t b = sb_first_overstretched(p, stride, m->bond_i, m->bond_j, m->bond_r0, m->bond_count, threads);
-        if (b == UINT32_MAX) return SB_OK;
-        const sb_real *pi = p + stride * m->bond_i[b], *pj = p + stride * m->bond_j[b];
-        double r = sqrt(((double)pi[0] - pj[0]) * ((double)pi[0] - pj[0]) + ((double)pi[1] - pj[1]) * ((double)pi[1] - pj[1]) +
-                        ((double)pi[2] - pj[2]) * ((double)pi[2] - pj[2]));
+        if (!sb_any_overstretched(p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count, threads)) return SB_OK;
+        uint32_t b = sb_first_overstretched(p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count);
+        if (b == UINT32_MAX) return SB_OK; /* a float rounding at the limit */
+        const sb_real *pi = p + 4 * (size_t)m->bond_i[b], *pj = p + 4 * (size_t)m->bond_j[b];
+        double dx = (double)pi[0] - pj[0], dy = (double)pi[1] - pj[1], dz = (double)pi[2] - pj[2];
         return sb_error_set(&s->error, SB_ERR_UNSTABLE,
                             "step %llu (t = %.9g s): bond %u (vertices %u and %u) is %.3g times its rest length "
                             "(limit %g); the time step is too large for the stiffness",
-                            (unsigned long long)s->steps, s->time, b, m->bond_i[b], m->bond_j[b], r / m->bond_r0[b],
-                            SB_STRETCH_LIMIT);
+                            (unsigned long long)s->steps, s->time, b, m->bond_i[b], m->bond_j[b],
+                            sqrt(dx * dx + dy * dy + dz * dz) / m->bond_r0[b], SB_STRETCH_LIMIT);
     }
     for (int c = 0; c < 3; c++) {
-        uint32_t t = sb_first_overstretched(p, stride, m->tri_v[c], m->tri_v[(c + 1) % 3], m->tri_len0[c],
-                                            m->triangle_count, threads);
+        const uint32_t *a = m->tri_v[c], *b = m->tri_v[(c + 1) % 3];
+        if (!sb_any_overstretched(p, a, b, m->tri_len0[c], m->triangle_count, threads)) continue;
+        uint32_t t = sb_first_overstretched(p, a, b, m->tri_len0[c], m->triangle_count);
         if (t != UINT32_MAX)
             return sb_error_set(&s->error, SB_ERR_UNSTABLE,
                                 "step %llu (t = %.9g s): triangle %u, edge from vertex %u to %u, is over %g times its "
                                 "rest length; the time step is too large for the stiffness",
-                                (unsigned long long)s->steps, s->time, t, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t],
-                                SB_STRETCH_LIMIT);
+                                (unsigned long long)s->steps, s->time, t, a[t], b[t], SB_STRETCH_LIMIT);
     }
     return SB_OK;
 }

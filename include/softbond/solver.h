@@ -33,7 +33,7 @@ bool sb_integrator_from_name(const char* name, sb_integrator* out);
  * longer than SB_STRETCH_LIMIT times its rest length means an unstable run
  * (SB_ERR_UNSTABLE); checked on every SB_STRETCH_INTERVAL-th advance. */
 #define SB_STRETCH_LIMIT 10.0
-#define SB_STRETCH_INTERVAL 16
+#define SB_STRETCH_INTERVAL 64
 
 typedef enum sb_kernels {
     SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
