@@ -15,6 +15,7 @@ int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms,
 }
 
 /* ---- calibration ----------------------------------------------------------- */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -56,14 +57,19 @@ static sb_status time_step(const sb_scene* scene, const sb_solver_def* def, cons
     }
     double dt = sb_scene_number(scene, SB_KEY_DT);
     for (int i = 0; i < 3; i++) sb_solver_advance(solver, dt);
-    int steps = 0;
-    double start = seconds_now(), elapsed = 0.0;
-    while (steps < 200 && elapsed < 0.03) {
-        sb_solver_advance(solver, dt); /* a blow-up costs the same: time it anyway */
-        steps++;
-        elapsed = seconds_now() - start;
+    /* The best of 3 rounds: another process taking the cores for a while
+     * makes a round slow, never fast. */
+    *step_ms = INFINITY;
+    for (int round = 0; round < 3; round++) {
+        int steps = 0;
+        double start = seconds_now(), elapsed = 0.0;
+        while (steps < 100 && elapsed < 0.01) {
+            sb_solver_advance(solver, dt); /* a blow-up costs the same: time it anyway */
+            steps++;
+            elapsed = seconds_now() - start;
+        }
+        *step_ms = fmin(*step_ms, 1e3 * elapsed / steps);
     }
-    *step_ms = 1e3 * elapsed / steps;
     sb_solver_destroy(solver);
     sb_model_destroy(model);
     return SB_OK;
