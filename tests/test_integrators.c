@@ -36,22 +36,6 @@ static sb_solver_def base_def(sb_integrator integrator) {
     return def;
 }
 
-static sb_solver* create(const sb_model* m, const sb_solver_def* def) {
-    sb_error err;
-    memset(&err, 0, sizeof err);
-    sb_solver* s = sb_solver_create(m, def, &err);
-    if (!s) fail_msg("sb_solver_create failed: %s", err.message);
-    return s;
-}
-
-static void advance(sb_solver* s, double dt, uint64_t steps) {
-    for (uint64_t i = 0; i < steps; ++i) {
-        sb_status st = sb_solver_advance(s, dt);
-        if (st != SB_OK)
-            fail_msg("sb_solver_advance failed (%s): %s", sb_status_name(st), sb_solver_error(s));
-    }
-}
-
 static double total_energy(const sb_solver* s) {
     sb_energies e = sb_solver_energies(s);
     return sb_energies_total(&e);
@@ -88,8 +72,8 @@ static sb_model* oscillator(void) {
 
 static double oscillator_error(const sb_model* m, sb_integrator integrator, double dt, double T) {
     sb_solver_def def = base_def(integrator);
-    sb_solver* s = create(m, &def);
-    advance(s, dt, (uint64_t)llround(T / dt));
+    sb_solver* s = tu_solver(m, &def);
+    tu_advance(s, dt, (uint64_t)llround(T / dt));
     double x[6], v[6], w = 2 * M_PI;
     sb_solver_get_positions(s, x);
     sb_solver_get_velocities(s, v);
@@ -142,11 +126,11 @@ static void test_energy(void** state) {
     for (int k = 0; k < NI; ++k) {
         sb_integrator in = (sb_integrator)k;
         sb_solver_def def = base_def(in);
-        sb_solver* s = create(m, &def);
+        sb_solver* s = tu_solver(m, &def);
         double e0 = total_energy(s);
         assert_true(e0 > 0.1);
         if (!symplectic(in)) {
-            advance(s, dt, 100);
+            tu_advance(s, dt, 100);
             double ratio = total_energy(s) / e0;
             print_message("energy, %-16s: E(100 steps)/E0 = %.4f (expected %.3f)\n", sb_integrator_name(in),
                           ratio, pow(1.01, in == SB_INTEGRATOR_EXPLICIT_EULER ? 100 : -100));
@@ -233,7 +217,7 @@ static double power_iteration_omega_max(const sb_model* m) { return power_iterat
  * 1e-3 L; returns the status and the largest displacement over initial. */
 static sb_status chain_run(const sb_model* m, sb_integrator in, double dt, int steps, int* taken, double* growth) {
     sb_solver_def def = base_def(in);
-    sb_solver* s = create(m, &def);
+    sb_solver* s = tu_solver(m, &def);
     double x[3 * NC];
     tu_rng r = {11};
     for (int i = 0; i < NC; ++i) {
@@ -346,7 +330,7 @@ static void test_stability_limit_sheet(void** state) {
         for (int f = 0; f < 2; ++f) {
             double factor = f ? 1.05 : 0.95, x[3 * N], largest = 0;
             sb_solver_def def = base_def(verlets[k]);
-            sb_solver* s = create(m, &def);
+            sb_solver* s = tu_solver(m, &def);
             tu_rng r = {3};
             for (int v = 0; v < N; ++v) {
                 sb_model_rest_position(m, (uint32_t)v, x + 3 * v);
@@ -421,8 +405,8 @@ static void test_fixed_gravity_external(void** state) {
         memcpy(def.gravity, g, sizeof g);
         def.external_force = push_force;
         def.external_user = &p;
-        sb_solver* s = create(m, &def);
-        advance(s, dt, (uint64_t)n);
+        sb_solver* s = tu_solver(m, &def);
+        tu_advance(s, dt, (uint64_t)n);
         double x[6], v[6];
         sb_solver_get_positions(s, x);
         sb_solver_get_velocities(s, v);
@@ -447,12 +431,12 @@ static void test_implicit_iterations(void** state) {
     (void)state;
     sb_model* m = chain(0.0);
     sb_solver_def def = base_def(SB_INTEGRATOR_IMPLICIT_EULER);
-    sb_solver* s = create(m, &def);
+    sb_solver* s = tu_solver(m, &def);
     double x[3 * NC];
     for (int i = 0; i < NC; ++i) sb_model_rest_position(m, (uint32_t)i, x + 3 * i);
     x[3 * 3] += 0.01;
     assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
-    advance(s, 0.05, 1); /* ω_max dt ≈ 10 */
+    tu_advance(s, 0.05, 1); /* ω_max dt ≈ 10 */
     int newton = -1, cg = -1;
     sb_solver_last_iterations(s, &newton, &cg);
     sb_step_stats stats = sb_solver_last_step(s);
@@ -469,17 +453,17 @@ static void test_implicit_iterations(void** state) {
     sb_solver_destroy(s);
     def.implicit_newton_iterations = 1;
     def.implicit_tolerance = 1e-14;
-    s = create(m, &def);
+    s = tu_solver(m, &def);
     assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
-    advance(s, 0.05, 1);
+    tu_advance(s, 0.05, 1);
     stats = sb_solver_last_step(s);
     assert_int_equal(stats.newton_iterations, 1);
     assert_false(stats.converged);
     sb_solver_destroy(s);
     /* An explicit method reports none. */
     def = base_def(SB_INTEGRATOR_VERLET);
-    s = create(m, &def);
-    advance(s, 0.001, 1);
+    s = tu_solver(m, &def);
+    tu_advance(s, 0.001, 1);
     sb_solver_last_iterations(s, &newton, &cg);
     assert_true(newton == 0 && cg == 0);
     sb_solver_destroy(s);
@@ -514,7 +498,7 @@ static void test_adaptive(void** state) {
         if (in == SB_INTEGRATOR_IMPLICIT_EULER) continue;
         sb_solver_def def = base_def(in);
         def.adaptive = true;
-        sb_solver* s = create(m, &def);
+        sb_solver* s = tu_solver(m, &def);
         double x[3 * NC];
         tu_rng r = {5};
         for (int i = 0; i < NC; ++i) {
@@ -579,7 +563,7 @@ static void test_adaptive_external_work(void** state) {
         def.external_user = &p;
         def.adaptive = true;
         def.kernels = k < NI ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST; /* the fused step for the Verlet forms */
-        sb_solver* s = create(m, &def);
+        sb_solver* s = tu_solver(m, &def);
         unsigned rejected = 0;
         for (int c = 0; c < 100; ++c) {
             assert_int_equal(sb_solver_advance(s, 0.01), SB_OK);
@@ -607,7 +591,7 @@ static void test_adaptive_min_dt(void** state) {
     sb_solver_def def = base_def(SB_INTEGRATOR_EXPLICIT_EULER);
     def.adaptive = true;
     def.min_dt = 0.1 * limit;
-    sb_solver* s = create(m, &def);
+    sb_solver* s = tu_solver(m, &def);
     double x[3 * NC];
     for (int i = 0; i < NC; ++i) sb_model_rest_position(m, (uint32_t)i, x + 3 * i);
     x[3 * 2] += 0.002;
@@ -681,8 +665,8 @@ static void test_fast_matches_reference(void** state) {
             def.external_user = &p;
             def.kernels = kernels ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
             def.threads = 2;
-            sb_solver* s = create(m, &def);
-            advance(s, dt, 200);
+            sb_solver* s = tu_solver(m, &def);
+            tu_advance(s, dt, 200);
             sb_solver_get_positions(s, x[kernels]);
             sb_solver_get_velocities(s, v[kernels]);
             const sb_state* st = sb_solver_state(s);

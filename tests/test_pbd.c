@@ -11,21 +11,6 @@
 
 static const sb_integrator position_based[2] = {SB_INTEGRATOR_PBD, SB_INTEGRATOR_XPBD};
 
-static sb_solver* create(const sb_model* m, const sb_solver_def* def) {
-    sb_error err;
-    memset(&err, 0, sizeof err);
-    sb_solver* s = sb_solver_create(m, def, &err);
-    if (!s) fail_msg("sb_solver_create failed: %s", err.message);
-    return s;
-}
-
-static void advance(sb_solver* s, double dt, int steps) {
-    for (int i = 0; i < steps; ++i) {
-        sb_status st = sb_solver_advance(s, dt);
-        if (st != SB_OK) fail_msg("step %d failed (%s): %s", i, sb_status_name(st), sb_solver_error(s));
-    }
-}
-
 static sb_solver_def pbd_def(sb_integrator integrator, sb_kernels kernels) {
     sb_solver_def def = sb_default_solver_def();
     def.integrator = integrator;
@@ -110,8 +95,8 @@ static void test_fixed_vertices(void** state) {
     for (int k = 0; k < 4; ++k) {
         sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
         def.external_force = push_force;
-        sb_solver* s = create(m, &def);
-        advance(s, 2e-3, 300);
+        sb_solver* s = tu_solver(m, &def);
+        tu_advance(s, 2e-3, 300);
         double x[3 * S * S], rest[3], moved = 0;
         sb_solver_get_positions(s, x);
         for (uint32_t i = 0; i < S * S; ++i) {
@@ -152,8 +137,8 @@ static void test_convergence(void** state) {
             sb_solver_def def = pbd_def(position_based[k], SB_KERNELS_REFERENCE);
             def.gravity[2] = 0;
             def.pbd_iterations = counts[c];
-            sb_solver* s = create(m, &def);
-            advance(s, 1e-3, 1);
+            sb_solver* s = tu_solver(m, &def);
+            tu_advance(s, 1e-3, 1);
             double x[3 * (NB + 1)];
             sb_solver_get_positions(s, x);
             errors[c] = 0;
@@ -190,8 +175,8 @@ static void test_xpbd_static_stretch(void** state) {
         sb_solver_def def = pbd_def(position_based[q / 2], SB_KERNELS_REFERENCE);
         def.drag = 10;
         def.pbd_iterations = q % 2 ? 50 : 10;
-        sb_solver* s = create(m, &def);
-        advance(s, 1e-3, 3000);
+        sb_solver* s = tu_solver(m, &def);
+        tu_advance(s, 1e-3, 3000);
         double x[12], worst = 0;
         sb_solver_get_positions(s, x);
         char line[256];
@@ -234,8 +219,8 @@ static void test_threads_deterministic(void** state) {
         for (int t = 0; t < 2; ++t) {
             sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
             def.threads = t + 1;
-            sb_solver* s = create(m, &def);
-            advance(s, 2e-3, 20);
+            sb_solver* s = tu_solver(m, &def);
+            tu_advance(s, 2e-3, 20);
             hashes[t] = state_hash(s);
             sb_solver_destroy(s);
         }
@@ -261,7 +246,7 @@ static void test_blow_up_rule(void** state) {
     for (int k = 0; k < 3; ++k) {
         sb_solver_def def = pbd_def(k < 2 ? position_based[k] : SB_INTEGRATOR_VERLET, SB_KERNELS_REFERENCE);
         def.gravity[2] = 0;
-        sb_solver* s = create(m, &def);
+        sb_solver* s = tu_solver(m, &def);
         double x[9] = {0, 0, 0, 0.5, 0, 0, 0.5 + 1.2, 0, 0}; /* bond 1 at 12 r0 */
         assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
         sb_status st = SB_OK;
@@ -277,7 +262,7 @@ static void test_blow_up_rule(void** state) {
         TU_ASSERT_CONTAINS(sb_solver_error(s), "bond 1 (vertices 1 and 2)");
         x[6] = 0.5 + 0.5; /* 5 r0 */
         assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
-        advance(s, 1e-3, 4 * SB_STRETCH_INTERVAL);
+        tu_advance(s, 1e-3, 4 * SB_STRETCH_INTERVAL);
         sb_solver_destroy(s);
     }
     sb_model_destroy(m);

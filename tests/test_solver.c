@@ -29,14 +29,6 @@ static sb_solver* make_solver(const sb_model* m, sb_integrator integrator, doubl
     return s;
 }
 
-static void advance(sb_solver* s, double dt, uint64_t steps) {
-    for (uint64_t i = 0; i < steps; ++i) {
-        sb_status st = sb_solver_advance(s, dt);
-        if (st != SB_OK)
-            fail_msg("sb_solver_advance failed (%s): %s", sb_status_name(st), sb_solver_error(s));
-    }
-}
-
 /* ---- order of accuracy -------------------------------------------------------- */
 
 /* Two masses m = 1 on a bond with k = 2π² (reduced mass ½, so ω = 2π, period
@@ -51,7 +43,7 @@ static double spring_error(sb_integrator integrator, double dt, double T) {
     sb_builder_destroy(b);
     sb_solver* s = make_solver(m, integrator, 0.0, NULL, NULL);
     uint64_t n = (uint64_t)llround(T / dt);
-    advance(s, dt, n);
+    tu_advance(s, dt, n);
     assert_true(sb_solver_step_count(s) == n);
     TU_ASSERT_NEAR(sb_solver_time(s), T, 1e-9 * T);
     double x[6];
@@ -113,7 +105,7 @@ static void triangle_run(const sb_model* m, sb_integrator integrator, double dt,
     double x[9] = {-0.45, -0.3, 0.05, 0.7, -0.28, -0.02, -0.1, 0.55, 0.0};
     double v[9] = {0.0, 0.1, 0.3, 0.0, 0.0, -0.2, -0.2, 0.1, 0.0};
     assert_int_equal(sb_solver_set_state(s, x, v), SB_OK);
-    advance(s, dt, (uint64_t)llround(T / dt));
+    tu_advance(s, dt, (uint64_t)llround(T / dt));
     sb_solver_get_positions(s, out);
     sb_solver_destroy(s);
 }
@@ -278,7 +270,7 @@ static void test_pinned_sheet_comes_to_rest(void** state) {
         double ke = 0, drop = 0, x[3 * N], t_end = 0;
         /* Up to 60 s; stop early once far below the bound. */
         for (int second = 1; second <= 60; ++second) {
-            advance(s, dt, 1000);
+            tu_advance(s, dt, 1000);
             en = sb_solver_energies(s);
             ke = en.kinetic;
             drop = u0 - (sb_energies_internal(&en) + en.gravity);
@@ -324,7 +316,7 @@ static void test_horizontal_sheet_settles_with_drag(void** state) {
         assert_non_null(s);
         sb_energies en = sb_solver_energies(s);
         double u0 = sb_energies_internal(&en) + en.gravity;
-        advance(s, 1e-3, 60000); /* 60 s: the drag time constant is 2 s */
+        tu_advance(s, 1e-3, 60000); /* 60 s: the drag time constant is 2 s */
         en = sb_solver_energies(s);
         double drop = u0 - (sb_energies_internal(&en) + en.gravity);
         print_message("horizontal pinned sheet with drag 0.5/s, %s: kinetic %.3g J after 60 s, potential drop %.4g J\n",
@@ -352,7 +344,7 @@ static void test_free_fall(void** state) {
     for (int k = 0; k < 2; ++k) {
         sb_solver* s = make_solver(m, integrators[k], -g, NULL, NULL);
         for (int i = 1; i <= n; ++i) {
-            advance(s, dt, 1);
+            tu_advance(s, dt, 1);
             double t = i * dt, x[3], v[3];
             sb_solver_get_positions(s, x);
             sb_solver_get_velocities(s, v);
@@ -408,7 +400,7 @@ static void test_external_force(void** state) {
     for (int k = 0; k < 2; ++k) {
         force_log log = {{F[0], F[1], F[2]}, UINT32_MAX, 0, false, false, UINT32_MAX, n * dt};
         sb_solver* s = make_solver(m, integrators[k], 0.0, constant_force, &log);
-        advance(s, dt, (uint64_t)n);
+        tu_advance(s, dt, (uint64_t)n);
         double x[3], v[3], t = n * dt;
         sb_solver_get_positions(s, x);
         sb_solver_get_velocities(s, v);
@@ -434,7 +426,7 @@ static void test_external_force(void** state) {
     for (int k = 0; k < 2; ++k) {
         force_log log = {{F[0], F[1], F[2]}, 1, 0, false, false, 0, n * dt};
         sb_solver* s = make_solver(m, integrators[k], 0.0, constant_force, &log);
-        advance(s, dt, (uint64_t)n);
+        tu_advance(s, dt, (uint64_t)n);
         double x[6];
         sb_solver_get_positions(s, x);
         assert_true(x[0] == 0.0 && x[1] == 0.0 && x[2] == 0.0);
@@ -481,7 +473,7 @@ static void test_invalid_dt(void** state) {
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
     sb_solver* s = make_solver(m, SB_INTEGRATOR_VERLET, -9.81, NULL, NULL);
-    advance(s, 0.01, 3);
+    tu_advance(s, 0.01, 3);
     const double bad[5] = {0.0, -0.0, -1e-3, NAN, INFINITY};
     for (int i = 0; i < 5; ++i) {
         sb_status st = sb_solver_advance(s, bad[i]);
@@ -492,7 +484,7 @@ static void test_invalid_dt(void** state) {
         TU_ASSERT_NEAR(sb_solver_time(s), 0.03, 1e-15);
     }
     /* The solver still works after a rejected call. */
-    advance(s, 0.01, 1);
+    tu_advance(s, 0.01, 1);
     assert_true(sb_solver_step_count(s) == 4);
     sb_solver_destroy(s);
     sb_model_destroy(m);

@@ -175,4 +175,24 @@ static inline double* tu_rest_positions(const sb_model* m) {
     return p;
 }
 
+/* ---- solvers -------------------------------------------------------------- */
+
+/* A solver, failing the test (with the library's message) when it cannot be made. */
+static inline sb_solver* tu_solver(const sb_model* m, const sb_solver_def* def) {
+    sb_error err;
+    memset(&err, 0, sizeof err);
+    sb_solver* s = sb_solver_create(m, def, &err);
+    if (!s) fail_msg("sb_solver_create failed: %s", err.message);
+    return s;
+}
+
+/* `steps` steps of dt, failing the test at the first that does not succeed. */
+static inline void tu_advance(sb_solver* s, double dt, uint64_t steps) {
+    for (uint64_t i = 0; i < steps; ++i) {
+        sb_status st = sb_solver_advance(s, dt);
+        if (st != SB_OK)
+            fail_msg("step %llu failed (%s): %s", (unsigned long long)i, sb_status_name(st), sb_solver_error(s));
+    }
+}
+
 #endif
