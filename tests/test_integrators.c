@@ -293,6 +293,25 @@ static void test_stability_limit(void** state) {
     sb_model_destroy(m);
 }
 
+/* The bonds (along rows, columns and one diagonal) and the two triangles of
+ * every cell of an S x S grid of vertices already added row by row. */
+static void add_grid_elements(sb_builder* b, int S, double bond_k, double spring_k, double damping, double angle_k,
+                              double stretch_bend_k) {
+    for (int r = 0; r < S; ++r)
+        for (int c = 0; c < S; ++c) {
+            uint32_t a = (uint32_t)(r * S + c);
+            if (c + 1 < S) tu_bond(b, a, a + 1, -1, bond_k, spring_k, damping);
+            if (r + 1 < S) tu_bond(b, a, a + (uint32_t)S, -1, bond_k, spring_k, damping);
+            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + (uint32_t)S + 1, -1, bond_k, spring_k, damping);
+        }
+    for (int r = 0; r + 1 < S; ++r)
+        for (int c = 0; c + 1 < S; ++c) {
+            uint32_t a = (uint32_t)(r * S + c);
+            tu_triangle(b, a, a + 1, a + (uint32_t)S + 1, angle_k, stretch_bend_k);
+            tu_triangle(b, a, a + (uint32_t)S + 1, a + (uint32_t)S, angle_k, stretch_bend_k);
+        }
+}
+
 /* The same on a 4 × 4 sheet with bonds, angle bend and stretch-bend, fixed
  * along its left edge (the Sudhamani scene), perturbed in 3D by 1e-3 of the
  * spacing: no closed form for ω_max here, so it comes from power iteration
@@ -306,19 +325,7 @@ static void test_stability_limit_sheet(void** state) {
     sb_builder* b = sb_builder_create();
     for (int r = 0; r < S; ++r)
         for (int c = 0; c < S; ++c) tu_vertex(b, h * c, h * r, 0, 0.01, c == 0);
-    for (int r = 0; r < S; ++r)
-        for (int c = 0; c < S; ++c) {
-            uint32_t a = (uint32_t)(r * S + c);
-            if (c + 1 < S) tu_bond(b, a, a + 1, -1, 100, 0, 0);
-            if (r + 1 < S) tu_bond(b, a, a + S, -1, 100, 0, 0);
-            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + S + 1, -1, 100, 0, 0);
-        }
-    for (int r = 0; r + 1 < S; ++r)
-        for (int c = 0; c + 1 < S; ++c) {
-            uint32_t a = (uint32_t)(r * S + c);
-            tu_triangle(b, a, a + 1, a + S + 1, 0.5, 2.0);
-            tu_triangle(b, a, a + S + 1, a + S, 0.5, 2.0);
-        }
+    add_grid_elements(b, S, 100, 0, 0, 0.5, 2.0);
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
     double omega = power_iteration(m, h, 3000), omega2 = power_iteration(m, h, 6000);
@@ -630,19 +637,7 @@ static sb_model* small_sheet(void) {
     const double h = 0.25;
     for (int r = 0; r < S; ++r)
         for (int c = 0; c < S; ++c) tu_vertex(b, h * c, h * r, 0.01 * ((r * 7 + c * 3) % 5), 0.04, r == S - 1 && (c == 0 || c == S - 1));
-    for (int r = 0; r < S; ++r)
-        for (int c = 0; c < S; ++c) {
-            uint32_t a = (uint32_t)(r * S + c);
-            if (c + 1 < S) tu_bond(b, a, a + 1, -1, 100, 20, 0.05);
-            if (r + 1 < S) tu_bond(b, a, a + S, -1, 100, 20, 0.05);
-            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + S + 1, -1, 100, 20, 0.05);
-        }
-    for (int r = 0; r + 1 < S; ++r)
-        for (int c = 0; c + 1 < S; ++c) {
-            uint32_t a = (uint32_t)(r * S + c);
-            tu_triangle(b, a, a + 1, a + S + 1, 0.2, 0.5);
-            tu_triangle(b, a, a + S + 1, a + S, 0.2, 0.5);
-        }
+    add_grid_elements(b, S, 100, 20, 0.05, 0.2, 0.5);
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
     return m;
