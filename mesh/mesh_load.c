@@ -3,8 +3,9 @@
  * Dispatch is on the extension, case-insensitively: ".obj" and ".off" go to
  * softbond's own readers (obj_reader.c, off_reader.c), which keep the file's
  * vertex order and count exactly; ".node", ".ele" and ".msh" are tetrahedral
- * meshes (tet_readers.c) whose boundary surface is returned; every other
- * extension goes through assimp.
+ * meshes (tet_readers.c) whose boundary surface is returned; ".itd" and
+ * ".irit" are IRIT text data (irit_reader.c) and ".pov" POV-Ray mesh2
+ * objects (pov_reader.c); every other extension goes through assimp.
  *
  * The assimp path:
  *   - post-processing: Triangulate, JoinIdenticalVertices, SortByPType,
@@ -278,13 +279,6 @@ sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_err
 
 /* ---- assimp -------------------------------------------------------------- */
 
-/* Joins vertices with bitwise-identical positions: open addressing over the
- * output vertex indices, kept at most half full. */
-typedef struct weld_table {
-    uint32_t* slots; /* output index + 1; 0 = empty */
-    size_t capacity; /* a power of two */
-} weld_table;
-
 static uint64_t hash_position(const double p[3])
 {
     uint64_t h = 0x9e3779b97f4a7c15u;
@@ -307,7 +301,7 @@ typedef struct assimp_merge {
     const char* path;
     const struct aiScene* scene;
     sb_mesh_builder mesh;
-    weld_table weld;
+    sb_weld_table weld;
     uint32_t* remap; /* per mesh: assimp vertex -> output vertex */
     size_t remap_capacity;
     bool any_node_mesh;
@@ -348,7 +342,7 @@ static void transform_compose(const transform4* parent, const struct aiMatrix4x4
     }
 }
 
-static void weld_insert(weld_table* weld, const double* positions, uint32_t index)
+static void weld_insert(sb_weld_table* weld, const double* positions, uint32_t index)
 {
     size_t mask = weld->capacity - 1;
     size_t slot = (size_t)hash_position(positions + 3 * (size_t)index) & mask;
@@ -358,7 +352,7 @@ static void weld_insert(weld_table* weld, const double* positions, uint32_t inde
     weld->slots[slot] = index + 1;
 }
 
-static bool weld_reserve(weld_table* weld, const sb_mesh_builder* mesh, size_t count)
+static bool weld_reserve(sb_weld_table* weld, const sb_mesh_builder* mesh, size_t count)
 {
     if (count <= weld->capacity / 2) {
         return true;
@@ -383,26 +377,27 @@ static bool weld_reserve(weld_table* weld, const sb_mesh_builder* mesh, size_t c
     return true;
 }
 
-static bool weld_vertex(assimp_merge* merge, const double p[3], uint32_t* index)
+bool sb_mesh_builder_weld_vertex(sb_mesh_builder* mesh, sb_weld_table* weld, const double p[3],
+                                 uint32_t* index)
 {
     double q[3] = {p[0] + 0.0, p[1] + 0.0, p[2] + 0.0}; /* -0 joins +0 */
-    if (!weld_reserve(&merge->weld, &merge->mesh, merge->mesh.vertex_count + 1)) {
+    if (!weld_reserve(weld, mesh, mesh->vertex_count + 1)) {
         return false;
     }
-    size_t mask = merge->weld.capacity - 1;
+    size_t mask = weld->capacity - 1;
     size_t slot = (size_t)hash_position(q) & mask;
-    for (uint32_t entry; (entry = merge->weld.slots[slot]) != 0; slot = (slot + 1) & mask) {
-        const double* e = merge->mesh.positions + 3 * (size_t)(entry - 1);
+    for (uint32_t entry; (entry = weld->slots[slot]) != 0; slot = (slot + 1) & mask) {
+        const double* e = mesh->positions + 3 * (size_t)(entry - 1);
         if (e[0] == q[0] && e[1] == q[1] && e[2] == q[2]) {
             *index = entry - 1;
             return true;
         }
     }
-    if (!sb_mesh_builder_add_vertex(&merge->mesh, q[0], q[1], q[2])) {
+    if (!sb_mesh_builder_add_vertex(mesh, q[0], q[1], q[2])) {
         return false;
     }
-    *index = (uint32_t)(merge->mesh.vertex_count - 1);
-    merge->weld.slots[slot] = *index + 1;
+    *index = (uint32_t)(mesh->vertex_count - 1);
+    weld->slots[slot] = *index + 1;
     return true;
 }
 
@@ -484,7 +479,7 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
                                       "non-finite position at vertex %u of mesh %u", v,
                                       mesh_index);
         }
-        if (!weld_vertex(merge, p, &merge->remap[v])) {
+        if (!sb_mesh_builder_weld_vertex(&merge->mesh, &merge->weld, p, &merge->remap[v])) {
             return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
                                       "out of memory or more than 2^32-1 vertices");
         }
@@ -728,6 +723,19 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     }
     sb_mesh_load_def defaults = sb_default_mesh_load_def();
     def = def != NULL ? def : &defaults;
+    if (sb_path_has_extension(path, ".itd") || sb_path_has_extension(path, ".irit")) {
+        report->reader = "irit";
+        sb_status status = sb_irit_load(path, def->separate_objects, objects, object_count,
+                                        &report->degenerate_faces, err);
+        report->source_meshes = report->object_count = *object_count;
+        return status;
+    }
+    if (sb_path_has_extension(path, ".pov")) {
+        report->reader = "pov";
+        sb_status status = sb_pov_load_meshes(path, def->separate_objects, objects, object_count, err);
+        report->source_meshes = report->object_count = *object_count;
+        return status;
+    }
     bool obj = sb_path_has_extension(path, ".obj");
     bool own = sb_tet_mesh_path(path) || sb_path_has_extension(path, ".off") ||
                (obj && !def->separate_objects);

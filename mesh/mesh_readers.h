@@ -20,6 +20,19 @@ typedef struct sb_mesh_builder {
 /* Return false when out of memory or past the uint32 limit. */
 bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z);
 bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, uint32_t k);
+/* Joins vertices with bitwise-identical positions (-0 equals +0): open
+ * addressing over the builder's vertex indices, kept at most half full.
+ * Zero-initialise; free slots with free(). */
+typedef struct sb_weld_table {
+    uint32_t* slots; /* vertex index + 1; 0 = empty */
+    size_t capacity; /* a power of two */
+} sb_weld_table;
+
+/* The index of the vertex at p: an earlier one at the same position, or a
+ * new one added to b. False when out of memory or past the uint32 limit.
+ * Every vertex of b must have been added through the same table. */
+bool sb_mesh_builder_weld_vertex(sb_mesh_builder* b, sb_weld_table* weld, const double p[3],
+                                 uint32_t* index);
 /* Moves the arrays into out (which then owns them) and resets b. */
 void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out);
 void sb_mesh_builder_free(sb_mesh_builder* b);
@@ -55,5 +68,15 @@ sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh*
                        sb_error* err);
 sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out,
                        sb_error* err);
+
+/* IRIT text data (irit_reader.c): each OBJECT's polygons a mesh
+ * (separate) or all in one (merged), vertices joined, polygons
+ * fan-triangulated; *dropped counts triangles whose corners joined. */
+sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
+                       uint32_t* dropped, sb_error* err);
+/* POV-Ray mesh2 objects (pov_reader.c, softbond/pov.h): each a mesh
+ * (separate) or all concatenated, nothing joined (merged). */
+sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count,
+                             sb_error* err);
 
 #endif

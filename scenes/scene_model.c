@@ -18,30 +18,6 @@ static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) 
     return sb_mesh_generate_sheet(&def, out, err);
 }
 
-/* The file's objects one after the other in one mesh: separate bodies. */
-static sb_status concatenate(const sb_mesh* objects, uint32_t count, sb_mesh* out, sb_error* err) {
-    size_t vertices = 0, triangles = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        vertices += objects[i].vertex_count;
-        triangles += objects[i].triangle_count;
-    }
-    *out = (sb_mesh){0};
-    if (vertices > UINT32_MAX || triangles > UINT32_MAX)
-        return sb_errorf(err, SB_ERR_INVALID, "more than 2^32-1 vertices or triangles");
-    out->positions = malloc(3 * vertices * sizeof(double));
-    out->triangles = malloc(3 * triangles * sizeof(uint32_t));
-    if (!out->positions || !out->triangles) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
-    for (uint32_t i = 0; i < count; i++) {
-        const sb_mesh* m = &objects[i];
-        memcpy(out->positions + 3 * (size_t)out->vertex_count, m->positions, 3 * (size_t)m->vertex_count * sizeof(double));
-        for (size_t t = 0; t < 3 * (size_t)m->triangle_count; t++)
-            out->triangles[3 * (size_t)out->triangle_count + t] = m->triangles[t] + out->vertex_count;
-        out->vertex_count += m->vertex_count;
-        out->triangle_count += m->triangle_count;
-    }
-    return SB_OK;
-}
-
 static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
     if (!path) return sb_scene_fail(scene, SB_KEY_MESH_FILE, err, "out of memory");
@@ -56,7 +32,7 @@ static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
         free(objects);
         return SB_OK;
     }
-    if (status == SB_OK) status = concatenate(objects, count, out, err);
+    if (status == SB_OK) status = sb_mesh_concatenate(objects, count, out, err);
     sb_mesh_objects_free(objects, count);
     return status;
 }

@@ -45,8 +45,12 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
  * fan-triangulated); every other format goes through assimp (triangulated,
  * identical vertices joined, all meshes of the file merged). A tetrahedral
  * mesh (".node"/".ele", ".msh": softbond/volume.h) gives its boundary
- * surface with every vertex kept. Errors name the file and, where there is
- * one, the line. */
+ * surface with every vertex kept. IRIT text data (".itd", ".irit"): the
+ * polygons of every OBJECT, fan-triangulated, identical vertices joined,
+ * freeform geometry refused. POV-Ray (".pov"): every mesh2 object
+ * (softbond/pov.h), vertices as in the file, merged by concatenation
+ * (nothing joined). Errors name the file and, where there is one, the
+ * line. */
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
 
 /* Options of sb_mesh_load_ex. */
@@ -65,11 +69,13 @@ sb_mesh_load_def sb_default_mesh_load_def(void);
 
 /* What an import did. */
 typedef struct sb_mesh_load_report {
-    const char* reader;          /* "assimp", "obj", "off" or "tetrahedral" (static text) */
+    const char* reader;          /* "assimp", "obj", "off", "tetrahedral", "irit" or "pov"
+                                    (static text) */
     uint32_t source_meshes;      /* meshes placed from the file (1 for the own readers) */
     uint32_t object_count;       /* objects returned */
     uint32_t degenerate_faces;   /* triangles dropped (assimp): two corners joined, or
-                                    collinear corners, |(b-a)x(c-a)| <= 1e-12 (longest edge)^2 */
+                                    collinear corners, |(b-a)x(c-a)| <= 1e-12 (longest edge)^2;
+                                    (irit): two corners joined */
     uint32_t ignored_primitives; /* points and lines of the file, ignored (assimp) */
 } sb_mesh_load_report;
 
@@ -83,6 +89,11 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
 
 /* Frees each mesh and the array; safe on NULL. */
 void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
+
+/* The meshes one after the other in one mesh (separate bodies, nothing
+ * joined): mesh i's vertices follow mesh i-1's and its triangles' indices
+ * are shifted by as much. On failure *out is left empty. */
+sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err);
 
 /* Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per
  * axis about the origin first, then rotate by rotate[0] degrees about x,

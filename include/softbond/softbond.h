@@ -6,6 +6,7 @@
 #include "softbond/mesh.h"
 #include "softbond/builder.h"
 #include "softbond/volume.h"
+#include "softbond/pov.h"
 #include "softbond/model.h"
 #include "softbond/state.h"
 #include "softbond/reference.h"
