@@ -1,13 +1,15 @@
 /* `softbond run SCENE.yaml`: advances the scene's model with a fixed dt
  * until its duration, writing frame k at step round(k frame_interval / dt)
- * for k = 0 .. floor(duration / frame_interval): a .vtu file each (unless
- * output.frames is false), frames.pvd listing them, and a row of log.csv.
+ * for k = 0 .. floor(duration / frame_interval): a file each in every
+ * format of output.formats (unless output.frames is false; frame_export.c),
+ * frames.pvd listing the .vtu frames, and a row of log.csv.
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/budget.h"
 #include "scenes/cli.h"
 #include "scenes/energy_log.h"
 #include "scenes/errorf.h"
+#include "scenes/frame_export.h"
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
 #include "scenes/scene_model.h"
@@ -22,7 +24,8 @@ void sb_cli_run_usage(FILE* stream) {
     fprintf(stream,
             "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
             "                    [--budget-ms X]\n"
-            "Runs a scene and writes its frames (.vtu, listed in frames.pvd) and log.csv\n"
+            "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
+            "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
             "(the energy of each term per frame) to DIR, by default out/<scene name>.\n"
             "--set overrides any scene key (see README.md, \"Running a scene\");\n"
             "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
@@ -39,6 +42,7 @@ typedef struct run_job {
     sb_solver* solver;
     sb_output_dir out;
     sb_energy_log log;
+    sb_frame_formats formats;
     double* buffers; /* positions, velocities, forces: 3n each */
 } run_job;
 
@@ -88,6 +92,9 @@ static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* er
 static sb_status prepare(run_job* job, sb_error* err) {
     sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
     if (status != SB_OK) return status;
+    char bad[64];
+    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), &job->formats, bad,
+                           sizeof bad); /* checked by sb_scene_validate */
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
     if (status == SB_OK) status = make_model(job, &def, err);
@@ -111,9 +118,7 @@ static sb_status write_frame(run_job* job, sb_error* err) {
         job->buffers[2 * n + 3 * v + 1] = state->fy[v];
         job->buffers[2 * n + 3 * v + 2] = state->fz[v];
     }
-    char name[32];
-    sb_vtk_frame_name(job->log.count, name, sizeof name);
-    return sb_vtk_write_frame(sb_output_dir_path(&job->out, name), &frame, err);
+    return sb_frame_export(job->formats, &job->out, job->log.count, &frame, err);
 }
 
 static int record_frame(run_job* job, sb_error* err) {
@@ -154,9 +159,13 @@ static int simulate(run_job* job, sb_error* err) {
     return code;
 }
 
+static bool writes_vtu(const run_job* job) {
+    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->formats & SB_FRAME_VTU);
+}
+
 static int write_index(run_job* job, sb_error* err) {
     sb_status status = SB_OK;
-    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+    if (writes_vtu(job))
         status = sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"),
                                          job->log.times, job->log.count, err);
     if (status == SB_OK)
@@ -166,10 +175,14 @@ static int write_index(run_job* job, sb_error* err) {
 
 static void report(const run_job* job, double seconds) {
     const char* dir = job->out.dir;
-    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+    if (writes_vtu(job))
         printf("softbond: %u frame%s and log.csv in %s (open %s/frames.pvd in ParaView), "
                "%.1f s\n",
                job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
+    else if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+        printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", job->log.count,
+               job->log.count == 1 ? "" : "s", sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS),
+               dir, seconds);
     else
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
 }

@@ -18,7 +18,8 @@ typedef enum sb_scene_type {
     SB_SCENE_BOOL,   /* true or false */
     SB_SCENE_VEC3,   /* a sequence of three numbers */
     SB_SCENE_VEC3_OR_NUMBER, /* three numbers, or one number for all three */
-    SB_SCENE_INDICES /* a sequence of non-negative integers */
+    SB_SCENE_INDICES, /* a sequence of non-negative integers */
+    SB_SCENE_NAMES    /* a sequence of names, or one "a,b" text; kept as the string "a,b" */
 } sb_scene_type;
 
 /* X(id, name, type, default, meaning) */
@@ -117,7 +118,10 @@ typedef enum sb_scene_type {
       "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")                             \
     X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")                \
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true",                                                \
-      "write .vtu frames and frames.pvd; false writes log.csv only")
+      "write frames (output.formats); false writes log.csv only")                                 \
+    X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]",                                            \
+      "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "    \
+      "irit, pov")
 
 typedef enum sb_scene_key {
 #define SB_SCENE_KEY_ENUM(id, name, type, def, meaning) SB_KEY_##id,

@@ -3,6 +3,7 @@
  * (frame_interval >= dt, a file for the file generator, some mass). Vertex
  * indices are checked when the mesh is known (scene_model.c). */
 #include "scenes/scene.h"
+#include "scenes/frame_export.h"
 #include "scenes/pin.h"
 
 #include <math.h>
@@ -125,6 +126,12 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
         return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'",
                              sb_pin_names(), sb_scene_string(scene, SB_KEY_PIN));
+    sb_frame_formats formats;
+    char bad[64];
+    if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))
+        return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err,
+                             "'output.formats': unknown format '%s' (known: %s)", bad,
+                             sb_frame_formats_known());
     return SB_OK;
 }
 

@@ -150,6 +150,25 @@ static sb_status read_string(const yaml_source* src, const yaml_node_t* node, sb
     return out->string ? SB_OK : source_fail(src, node, "out of memory");
 }
 
+/* A scalar as it is, or a sequence of scalars joined with commas. */
+static sb_status read_names(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
+                            sb_scene_value* out) {
+    if (node->type == YAML_SCALAR_NODE) return read_string(src, node, key, out);
+    if (node->type != YAML_SEQUENCE_NODE) return type_fail(src, node, key, "a sequence of names");
+    size_t size = 1;
+    for (size_t i = 0; i < item_count(node); i++) {
+        yaml_node_t* item = item_node(src, node, i);
+        if (item->type != YAML_SCALAR_NODE) return type_fail(src, item, key, "a name");
+        size += item->data.scalar.length + 1;
+    }
+    if (!(out->string = calloc(size, 1))) return source_fail(src, node, "out of memory");
+    for (size_t i = 0; i < item_count(node); i++) {
+        if (i) strcat(out->string, ",");
+        strcat(out->string, scalar_text(item_node(src, node, i)));
+    }
+    return SB_OK;
+}
+
 static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
                             sb_scene_value* out) {
     switch (sb_scene_key_get(key)->type) {
@@ -171,6 +190,8 @@ static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_
         return SB_OK;
     case SB_SCENE_INDICES:
         return read_indices(src, node, key, out);
+    case SB_SCENE_NAMES:
+        return read_names(src, node, key, out);
     }
     return SB_ERR_INVALID;
 }

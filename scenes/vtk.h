@@ -1,5 +1,6 @@
-/* Frames ParaView opens: VTK XML UnstructuredGrid files (.vtu, ASCII), one
- * per frame, and a .pvd collection that lists them with their times. */
+/* Frames ParaView opens: VTK XML UnstructuredGrid files (.vtu, ASCII), two
+ * per frame (the surface and the bonds), and a .pvd collection that lists
+ * them with their times, the surface as part 0 and the bonds as part 1. */
 #ifndef SB_VTK_H
 #define SB_VTK_H
 
@@ -17,9 +18,17 @@ typedef struct sb_vtk_frame {
 
 /* "frame_000012.vtu": the name of frame `index` inside the output folder. */
 void sb_vtk_frame_name(uint32_t index, char* out, size_t size);
+/* "frame_000012_bonds.vtu": the frame's bonds. */
+void sb_vtk_bonds_name(uint32_t index, char* out, size_t size);
 
 sb_status sb_vtk_write_frame(const char* path, const sb_vtk_frame* frame, sb_error* err);
-/* Lists frames 0 .. count-1 (named by sb_vtk_frame_name) at times[]. */
+/* The model's bonds as VTK_LINE cells over the frame's points, with cell
+ * data `strain` = (l - l0) / l0 and `energy` = ½ (k + spring_k) (l - l0)²,
+ * J: the bond's share of the bond-stretch (Eq. 3) and spring (Eq. 2)
+ * energies. */
+sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_error* err);
+/* Lists frames 0 .. count-1 at times[]: each one's surface (part 0, named by
+ * sb_vtk_frame_name) and bonds (part 1, sb_vtk_bonds_name). */
 sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count,
                                   sb_error* err);
 

@@ -366,8 +366,9 @@ static void assert_frames(const char* dir, int frames) {
     snprintf(name, sizeof name, "%s/frames.pvd", dir);
     char* pvd = tu_read_file(name);
     assert_non_null(pvd);
-    assert_int_equal(count_occurrences(pvd, "<DataSet "), frames);
+    assert_int_equal(count_occurrences(pvd, "<DataSet "), 2 * frames); /* surface and bonds */
     assert_non_null(strstr(pvd, "file=\"frame_000000.vtu\""));
+    assert_non_null(strstr(pvd, "part=\"1\" file=\"frame_000000_bonds.vtu\""));
     free(pvd);
 }
 

@@ -1,0 +1,140 @@
+/* sb_mesh_export: one table maps a format name to its extension and its
+ * writer, either an assimp exporter id or one of softbond's text writers
+ * (IRIT, POV-Ray). Files are written in place; making a set of frames
+ * appear atomically is the caller's business (softbond run stages them).
+ *
+ * Assimp is given a scene built here in C: one mesh of triangles (float
+ * positions, assimp's ai_real), one empty material (the OBJ and glTF
+ * exporters index it), one root node with the identity transform. It is
+ * freed here too; assimp only reads it. Assimp's C export call keeps no
+ * error text, so a failed export is reported by format and path, after
+ * checking that the path can be opened for writing (which names the
+ * system's reason when it cannot). */
+#define _POSIX_C_SOURCE 200809L
+#include "mesh/mesh_writers.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <assimp/cexport.h>
+#include <assimp/scene.h>
+
+#include "kernels/error.h"
+
+typedef struct export_format {
+    const char* name;
+    const char* extension;
+    const char* assimp_id; /* NULL: a text writer */
+    void (*write_text)(FILE* f, const sb_mesh* mesh, const double* positions);
+} export_format;
+
+static const export_format formats[] = {
+    {"ply", ".ply", "plyb", NULL},   {"obj", ".obj", "obj", NULL},
+    {"gltf", ".gltf", "gltf2", NULL}, {"glb", ".glb", "glb2", NULL},
+    {"irit", ".itd", NULL, sb_irit_write}, {"pov", ".pov", NULL, sb_pov_write},
+};
+
+static const export_format* find_format(const char* name) {
+    for (size_t i = 0; i < sizeof formats / sizeof formats[0]; i++)
+        if (strcmp(formats[i].name, name) == 0) return &formats[i];
+    return NULL;
+}
+
+const char* sb_mesh_export_extension(const char* format) {
+    const export_format* f = format ? find_format(format) : NULL;
+    return f ? f->extension : NULL;
+}
+
+/* ---- assimp --------------------------------------------------------------- */
+
+typedef struct assimp_scene {
+    struct aiScene scene;
+    struct aiNode root;
+    struct aiMesh mesh;
+    struct aiMaterial material;
+    struct aiMesh* mesh_list[1];
+    struct aiMaterial* material_list[1];
+    unsigned int root_meshes[1];
+} assimp_scene;
+
+static void assimp_scene_free(assimp_scene* s) {
+    free(s->mesh.mVertices);
+    free(s->mesh.mFaces);
+    free(s);
+}
+
+static void fill_geometry(struct aiMesh* m, const sb_mesh* mesh, const double* positions,
+                          unsigned int* indices) {
+    for (uint32_t v = 0; v < mesh->vertex_count; v++)
+        m->mVertices[v] = (struct aiVector3D){(ai_real)positions[3 * v],
+                                              (ai_real)positions[3 * v + 1],
+                                              (ai_real)positions[3 * v + 2]};
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
+        for (int c = 0; c < 3; c++) indices[3 * t + c] = mesh->triangles[3 * t + c];
+        m->mFaces[t] = (struct aiFace){3, indices + 3 * t};
+    }
+}
+
+/* The faces' index arrays live in one block after the faces. */
+static assimp_scene* assimp_scene_make(const sb_mesh* mesh, const double* positions) {
+    assimp_scene* s = calloc(1, sizeof *s);
+    size_t faces = mesh->triangle_count;
+    if (!s) return NULL;
+    s->mesh.mVertices = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof(struct aiVector3D));
+    s->mesh.mFaces = malloc((faces ? faces : 1) * (sizeof(struct aiFace) + 3 * sizeof(unsigned int)));
+    if (!s->mesh.mVertices || !s->mesh.mFaces) {
+        assimp_scene_free(s);
+        return NULL;
+    }
+    s->mesh.mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    s->mesh.mNumVertices = mesh->vertex_count;
+    s->mesh.mNumFaces = mesh->triangle_count;
+    fill_geometry(&s->mesh, mesh, positions, (unsigned int*)(s->mesh.mFaces + faces));
+    s->mesh_list[0] = &s->mesh;
+    s->material_list[0] = &s->material;
+    s->root.mTransformation = (struct aiMatrix4x4){.a1 = 1, .b2 = 1, .c3 = 1, .d4 = 1};
+    s->root.mNumMeshes = 1;
+    s->root.mMeshes = s->root_meshes;
+    s->scene = (struct aiScene){.mRootNode = &s->root, .mNumMeshes = 1, .mMeshes = s->mesh_list,
+                                .mNumMaterials = 1, .mMaterials = s->material_list};
+    return s;
+}
+
+sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh,
+                          const double* positions, sb_error* err) {
+    assimp_scene* s = assimp_scene_make(mesh, positions);
+    if (!s) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    enum aiReturn result = aiExportScene(&s->scene, format_id, path, 0);
+    assimp_scene_free(s);
+    if (result == aiReturn_SUCCESS) return SB_OK;
+    remove(path);
+    return sb_error_set(err, SB_ERR_IO, "%s: assimp's '%s' exporter failed", path, format_id);
+}
+
+/* ---- entry point ---------------------------------------------------------- */
+
+static sb_status write_text(const char* path, const export_format* format, const sb_mesh* mesh,
+                            const double* positions, FILE* f, sb_error* err) {
+    format->write_text(f, mesh, positions);
+    bool written = fflush(f) == 0 && !ferror(f);
+    if (fclose(f) == 0 && written) return SB_OK;
+    int error = errno;
+    remove(path);
+    return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(error));
+}
+
+sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
+                         const double* positions, sb_error* err) {
+    const export_format* f = format ? find_format(format) : NULL;
+    if (!f)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: unknown export format '%s' (ply, obj, gltf, glb, irit or pov)",
+                            path, format ? format : "(null)");
+    FILE* stream = fopen(path, "wb");
+    if (!stream) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    if (!positions) positions = mesh->positions;
+    if (f->write_text) return write_text(path, f, mesh, positions, stream, err);
+    fclose(stream);
+    return sb_assimp_write(path, f->assimp_id, mesh, positions, err);
+}

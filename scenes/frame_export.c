@@ -1,0 +1,190 @@
+/* Frame formats and atomic frames (see frame_export.h).
+ *
+ * One table maps a format's name to its extension and writer: vtu writes
+ * the surface and the bonds (vtk.c), every other format goes through
+ * sb_mesh_export (ply, obj, gltf, glb by assimp; irit and pov by softbond).
+ *
+ * A frame in one format can be several files: the .vtu and its bonds .vtu,
+ * an OBJ and its .mtl, a glTF and its .bin. They are written under their
+ * final names into a staging folder DIR/.frame_000042.<ext>.tmp, then
+ * renamed into DIR one by one (a rename within one file system is atomic),
+ * companions first and the main file last; the staging folder is then
+ * removed. A failed write removes the staging folder and what it held. A
+ * crash may leave a staging folder or a companion behind, never a main file
+ * half written or without its companions; a later run clears a stale
+ * staging folder of the same name before it uses it. */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/frame_export.h"
+#include "scenes/errorf.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+typedef struct staging {
+    char dir[4096];  /* DIR/.frame_000042.<ext>.tmp */
+    char main[4096]; /* the main file inside it */
+    const char* out; /* DIR */
+    const char* main_name;
+} staging;
+
+typedef sb_status (*frame_writer)(const char* format, const staging* stage, uint32_t index,
+                                  const sb_vtk_frame* frame, sb_error* err);
+
+static sb_status write_vtu(const char* format, const staging* stage, uint32_t index,
+                           const sb_vtk_frame* frame, sb_error* err);
+static sb_status write_mesh(const char* format, const staging* stage, uint32_t index,
+                            const sb_vtk_frame* frame, sb_error* err);
+
+typedef struct frame_format {
+    const char* name;
+    const char* extension; /* NULL: sb_mesh_export_extension's */
+    frame_writer write;
+} frame_format;
+
+static const frame_format formats[] = {
+    {"vtu", ".vtu", write_vtu},   {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh},
+    {"gltf", NULL, write_mesh},   {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh},
+    {"pov", NULL, write_mesh},
+};
+enum { FORMAT_COUNT = sizeof formats / sizeof formats[0] };
+
+const char* sb_frame_formats_known(void) { return "vtu, ply, obj, gltf, glb, irit, pov"; }
+
+static bool find_format(const char* name, size_t length, uint32_t* index) {
+    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
+        if (strlen(formats[i].name) == length && strncmp(formats[i].name, name, length) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    return false;
+}
+
+bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, size_t bad_size) {
+    *out = 0;
+    for (const char* name = text;; name++) {
+        size_t length = strcspn(name, ",");
+        uint32_t index;
+        if (!find_format(name, length, &index)) {
+            snprintf(bad, bad_size, "%.*s", (int)length, name);
+            return false;
+        }
+        *out |= 1u << index;
+        name += length;
+        if (*name == '\0') return true;
+    }
+}
+
+/* ---- paths and the staging folder ------------------------------------------ */
+
+static sb_status join(char* out, const char* dir, const char* name, sb_error* err) {
+    int length = snprintf(out, 4096, "%s/%s", dir, name);
+    if (length >= 0 && length < 4096) return SB_OK;
+    return sb_errorf(err, SB_ERR_IO, "%s/%s: path too long", dir, name);
+}
+
+static bool is_entry(const char* name) {
+    return strcmp(name, ".") != 0 && strcmp(name, "..") != 0;
+}
+
+/* Removes the staging folder and everything in it; quiet when absent. */
+static void stage_remove(const staging* stage) {
+    DIR* dir = opendir(stage->dir);
+    struct dirent* entry;
+    char path[4096];
+    while (dir && (entry = readdir(dir)))
+        if (is_entry(entry->d_name) && join(path, stage->dir, entry->d_name, NULL) == SB_OK)
+            remove(path);
+    if (dir) closedir(dir);
+    rmdir(stage->dir);
+}
+
+static sb_status stage_create(staging* stage, const char* out, const char* main_name,
+                              sb_error* err) {
+    char name[64];
+    snprintf(name, sizeof name, ".%.40s.tmp", main_name);
+    stage->out = out;
+    stage->main_name = main_name;
+    sb_status status = join(stage->dir, out, name, err);
+    if (status == SB_OK) status = join(stage->main, stage->dir, main_name, err);
+    if (status != SB_OK) return status;
+    stage_remove(stage);
+    if (mkdir(stage->dir, 0777) == 0) return SB_OK;
+    return sb_errorf(err, SB_ERR_IO, "%s: cannot create: %s", stage->dir, strerror(errno));
+}
+
+static sb_status move_out(const staging* stage, const char* name, sb_error* err) {
+    char from[4096], to[4096];
+    sb_status status = join(from, stage->dir, name, err);
+    if (status == SB_OK) status = join(to, stage->out, name, err);
+    if (status != SB_OK || rename(from, to) == 0) return status;
+    return sb_errorf(err, SB_ERR_IO, "%s: cannot rename to %s: %s", from, to, strerror(errno));
+}
+
+static sb_status move_companions(const staging* stage, sb_error* err) {
+    DIR* dir = opendir(stage->dir);
+    if (!dir) return sb_errorf(err, SB_ERR_IO, "%s: cannot list: %s", stage->dir, strerror(errno));
+    sb_status status = SB_OK;
+    struct dirent* entry;
+    while (status == SB_OK && (entry = readdir(dir)))
+        if (is_entry(entry->d_name) && strcmp(entry->d_name, stage->main_name) != 0)
+            status = move_out(stage, entry->d_name, err);
+    closedir(dir);
+    return status;
+}
+
+/* Companions first, the main file last. */
+static sb_status stage_publish(const staging* stage, sb_error* err) {
+    sb_status status = move_companions(stage, err);
+    if (status == SB_OK) status = move_out(stage, stage->main_name, err);
+    stage_remove(stage);
+    return status;
+}
+
+/* ---- writers --------------------------------------------------------------- */
+
+static sb_status write_vtu(const char* format, const staging* stage, uint32_t index,
+                           const sb_vtk_frame* frame, sb_error* err) {
+    (void)format;
+    char name[64], path[4096];
+    sb_vtk_bonds_name(index, name, sizeof name);
+    sb_status status = join(path, stage->dir, name, err);
+    if (status == SB_OK) status = sb_vtk_write_bonds(path, frame, err);
+    if (status == SB_OK) status = sb_vtk_write_frame(stage->main, frame, err);
+    return status;
+}
+
+static sb_status write_mesh(const char* format, const staging* stage, uint32_t index,
+                            const sb_vtk_frame* frame, sb_error* err) {
+    (void)index;
+    return sb_mesh_export(stage->main, format, frame->mesh, frame->positions, err);
+}
+
+static sb_status export_one(const frame_format* format, const char* out, uint32_t index,
+                            const sb_vtk_frame* frame, sb_error* err) {
+    const char* extension =
+        format->extension ? format->extension : sb_mesh_export_extension(format->name);
+    char main_name[64];
+    snprintf(main_name, sizeof main_name, "frame_%06u%s", index, extension);
+    staging stage;
+    sb_status status = stage_create(&stage, out, main_name, err);
+    if (status != SB_OK) return status;
+    status = format->write(format->name, &stage, index, frame, err);
+    if (status == SB_OK) return stage_publish(&stage, err);
+    stage_remove(&stage);
+    return status;
+}
+
+sb_status sb_frame_export(sb_frame_formats set, const sb_output_dir* out, uint32_t index,
+                          const sb_vtk_frame* frame, sb_error* err) {
+    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
+        if (!(set & (1u << i))) continue;
+        sb_status status = export_one(&formats[i], out->dir, index, frame, err);
+        if (status != SB_OK) return status;
+    }
+    return SB_OK;
+}
