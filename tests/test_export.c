@@ -1,11 +1,12 @@
 /* Export: sb_mesh_export round trips through sb_mesh_load (PLY, OBJ, glTF,
- * GLB: counts, positions within float rounding, total area); the bonds
- * .vtu's strain and energy against values computed here from positions and
- * rest lengths; IRIT and POV-Ray files checked for structure (counts,
- * unit planes); a POV-Ray frame rendered by povray and found not blank;
- * the output.formats key (lists, --set text, unknown names with file:line);
- * and `softbond run` writing every format with no staging left behind, a
- * failed write reported with exit 1, an unknown format with exit 2. */
+ * GLB, IRIT, POV-Ray: counts, positions within float rounding, total
+ * area); the bonds .vtu's strain and energy against values computed here
+ * from positions and rest lengths; IRIT and POV-Ray files checked for
+ * structure (counts, unit planes); a POV-Ray frame rendered by povray and
+ * found not blank; the output.formats key (lists, --set text, unknown names
+ * with file:line); and `softbond run` writing every format with no staging
+ * left behind, a failed write reported with exit 1, an unknown format with
+ * exit 2. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <ctype.h>
@@ -97,6 +98,8 @@ static void test_round_trips(void** state) {
     round_trip("obj");
     round_trip("gltf");
     round_trip("glb");
+    round_trip("irit");
+    round_trip("pov");
     assert_true(exists(tu_tmp_path("trip.mtl")));
     assert_true(exists(tu_tmp_path("trip.bin")));
 }
