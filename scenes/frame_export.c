@@ -31,54 +31,6 @@ typedef struct staging {
     const char* main_name;
 } staging;
 
-typedef sb_status (*frame_writer)(const char* format, const staging* stage, uint32_t index,
-                                  const sb_vtk_frame* frame, sb_error* err);
-
-static sb_status write_vtu(const char* format, const staging* stage, uint32_t index,
-                           const sb_vtk_frame* frame, sb_error* err);
-static sb_status write_mesh(const char* format, const staging* stage, uint32_t index,
-                            const sb_vtk_frame* frame, sb_error* err);
-
-typedef struct frame_format {
-    const char* name;
-    const char* extension; /* NULL: sb_mesh_export_extension's */
-    frame_writer write;
-} frame_format;
-
-static const frame_format formats[] = {
-    {"vtu", ".vtu", write_vtu},   {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh},
-    {"gltf", NULL, write_mesh},   {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh},
-    {"pov", NULL, write_mesh},
-};
-enum { FORMAT_COUNT = sizeof formats / sizeof formats[0] };
-
-const char* sb_frame_formats_known(void) { return "vtu, ply, obj, gltf, glb, irit, pov"; }
-
-static bool find_format(const char* name, size_t length, uint32_t* index) {
-    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
-        if (strlen(formats[i].name) == length && strncmp(formats[i].name, name, length) == 0) {
-            *index = i;
-            return true;
-        }
-    }
-    return false;
-}
-
-bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, size_t bad_size) {
-    *out = 0;
-    for (const char* name = text;; name++) {
-        size_t length = strcspn(name, ",");
-        uint32_t index;
-        if (!find_format(name, length, &index)) {
-            snprintf(bad, bad_size, "%.*s", (int)length, name);
-            return false;
-        }
-        *out |= 1u << index;
-        name += length;
-        if (*name == '\0') return true;
-    }
-}
-
 /* ---- paths and the staging folder ------------------------------------------ */
 
 static sb_status join(char* out, const char* dir, const char* name, sb_error* err) {
@@ -162,6 +114,59 @@ static sb_status write_mesh(const char* format, const staging* stage, uint32_t i
                             const sb_vtk_frame* frame, sb_error* err) {
     (void)index;
     return sb_mesh_export(stage->main, format, frame->mesh, frame->positions, err);
+}
+
+/* ---- the table ------------------------------------------------------------- */
+
+typedef sb_status (*frame_writer)(const char* format, const staging* stage, uint32_t index,
+                                  const sb_vtk_frame* frame, sb_error* err);
+
+typedef struct frame_format {
+    const char* name;
+    const char* extension; /* NULL: sb_mesh_export_extension's */
+    frame_writer write;
+} frame_format;
+
+static const frame_format formats[] = {
+    {"vtu", ".vtu", write_vtu},   {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh},
+    {"gltf", NULL, write_mesh},   {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh},
+    {"pov", NULL, write_mesh},
+};
+enum { FORMAT_COUNT = sizeof formats / sizeof formats[0] };
+
+/* The table's names joined by ", ", made on the first call. */
+const char* sb_frame_formats_known(void) {
+    static char known[96];
+    if (known[0]) return known;
+    for (uint32_t i = 0; i < FORMAT_COUNT; i++)
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "",
+                 formats[i].name);
+    return known;
+}
+
+static bool find_format(const char* name, size_t length, uint32_t* index) {
+    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
+        if (strlen(formats[i].name) == length && strncmp(formats[i].name, name, length) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    return false;
+}
+
+bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, size_t bad_size) {
+    *out = 0;
+    for (const char* name = text;; name++) {
+        size_t length = strcspn(name, ",");
+        uint32_t index;
+        if (!find_format(name, length, &index)) {
+            snprintf(bad, bad_size, "%.*s", (int)length, name);
+            return false;
+        }
+        *out |= 1u << index;
+        name += length;
+        if (*name == '\0') return true;
+    }
 }
 
 static sb_status export_one(const frame_format* format, const char* out, uint32_t index,
