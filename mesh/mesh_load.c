@@ -49,6 +49,7 @@
 #include <assimp/scene.h>
 
 #include "mesh/mesh_readers.h"
+#include "softbond/pov.h"
 #include "softbond/volume.h"
 
 /* ---- growable mesh arrays ------------------------------------------------ */
@@ -730,7 +731,7 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
         report->source_meshes = report->object_count = *object_count;
         return status;
     }
-    if (sb_path_has_extension(path, ".pov")) {
+    if (sb_pov_path(path)) {
         report->reader = "pov";
         sb_status status = sb_pov_load_meshes(path, def->separate_objects, objects, object_count, err);
         report->source_meshes = report->object_count = *object_count;

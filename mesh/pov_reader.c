@@ -505,6 +505,11 @@ static sb_status read_file(pov_reader* r)
     return status;
 }
 
+bool sb_pov_path(const char* path)
+{
+    return sb_path_has_extension(path, ".pov");
+}
+
 void sb_pov_objects_free(sb_pov_object* objects, uint32_t count)
 {
     for (uint32_t i = 0; objects != NULL && i < count; i++) {

@@ -51,8 +51,11 @@ int sb_cli_fail(int code, const sb_error* err);
 int sb_cli_run(int argc, char** argv);
 int sb_cli_eval(int argc, char** argv);
 int sb_cli_info(int argc, char** argv);
+/* `softbond tetra IN OUT` (tetra.c): its own arguments, two positional. */
+int sb_cli_tetra(int argc, char** argv);
 void sb_cli_run_usage(FILE* stream);
 void sb_cli_eval_usage(FILE* stream);
 void sb_cli_info_usage(FILE* stream);
+void sb_cli_tetra_usage(FILE* stream);
 
 #endif

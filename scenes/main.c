@@ -1,6 +1,6 @@
 /* The `softbond` program: `run` a scene, `eval` a mesh's energies and
- * forces, `info` on a mesh. See README.md ("Running a scene", "softbond
- * eval", "softbond info"). */
+ * forces, `info` on a mesh, `tetra` a closed surface. See README.md
+ * ("Running a scene", "softbond eval", "softbond info", "softbond tetra"). */
 #include "scenes/cli.h"
 
 #include <string.h>
@@ -11,6 +11,7 @@ static void usage(FILE* stream) {
             "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
             "                          [--forces OUT.csv] [--fast]\n"
             "       softbond info MESH\n"
+            "       softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
             "       softbond --help | --version\n"
             "Soft bodies with molecular-mechanics bonded terms. `softbond COMMAND --help`\n"
             "describes a command.\n");
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
     if (strcmp(command, "run") == 0) return sb_cli_run(argc - 1, argv + 1);
     if (strcmp(command, "eval") == 0) return sb_cli_eval(argc - 1, argv + 1);
     if (strcmp(command, "info") == 0) return sb_cli_info(argc - 1, argv + 1);
+    if (strcmp(command, "tetra") == 0) return sb_cli_tetra(argc - 1, argv + 1);
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
         usage(stdout);
         return SB_EXIT_OK;

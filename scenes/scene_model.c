@@ -171,9 +171,60 @@ static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_build
     return status;
 }
 
+bool sb_scene_pov(const sb_scene* scene) {
+    return strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0 &&
+           sb_pov_path(sb_scene_string(scene, SB_KEY_MESH_FILE));
+}
+
+/* One mesh2 object: its triangles over its part of the (placed) mesh,
+ * which starts at vertex `first`; a fixed object has every vertex fixed. */
+static sb_status add_pov_object(const sb_pov_object* object, const sb_mesh* mesh, uint32_t first,
+                                const sb_spring_mesh_def* defaults, sb_builder* builder, sb_error* err) {
+    sb_mesh part = {.vertex_count = object->mesh.vertex_count, .positions = mesh->positions + 3 * (size_t)first,
+                    .triangle_count = object->mesh.triangle_count, .triangles = object->mesh.triangles};
+    sb_spring_mesh_def springs = sb_pov_object_springs(object, defaults);
+    uint32_t base = sb_builder_vertex_count(builder);
+    sb_status status = sb_builder_add_spring_mesh(builder, &part, &springs, err);
+    for (uint32_t v = 0; status == SB_OK && object->fixed && v < part.vertex_count; v++)
+        sb_builder_vertex(builder, base + v)->fixed = true;
+    if (status == SB_OK) return SB_OK;
+    char where[128];
+    snprintf(where, sizeof where, "mesh2 %s%s(line %zu)", object->name, object->name[0] ? " " : "", object->line);
+    return sb_error_prefix(err, status, where);
+}
+
+/* The mesh2 objects of a .pov file, each with its own locals over the
+ * scene's springs.* keys, mass and density. The mesh is the objects
+ * concatenated and placed, so object i's vertices follow object i-1's. */
+static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
+    if (sb_scene_lod(scene) || sb_scene_bool(scene, SB_KEY_MESH_REORDER))
+        return sb_scene_fail(scene, SB_KEY_MESH_FILE, err,
+                             "a .pov file's objects keep their vertices: mesh.target_vertices, "
+                             "mesh.target_error and mesh.reorder do not apply");
+    char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
+    if (!path) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    sb_pov_object* objects = NULL;
+    uint32_t count = 0, first = 0;
+    sb_status status = sb_pov_load(path, &objects, &count, err);
+    free(path);
+    sb_spring_mesh_def defaults = sb_scene_springs(scene);
+    for (uint32_t i = 0; i < count && status == SB_OK; i++) {
+        if (objects[i].mesh.vertex_count > mesh->vertex_count - first)
+            status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+        else
+            status = add_pov_object(&objects[i], mesh, first, &defaults, builder, err);
+        first += objects[i].mesh.vertex_count;
+    }
+    if (status == SB_OK && first != mesh->vertex_count)
+        status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+    sb_pov_objects_free(objects, count);
+    return status;
+}
+
 static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
                           sb_error* err) {
     if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
+    if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
         sb_spring_mesh_def springs = sb_scene_springs(scene);
         return sb_builder_add_spring_mesh(builder, mesh, &springs, err);

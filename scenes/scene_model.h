@@ -31,6 +31,12 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene);
  * model is the tissue model of its tetrahedra. */
 bool sb_scene_volumetric(const sb_scene* scene);
 
+/* A file generator with a POV-Ray mesh.file (.pov): a body per mesh2
+ * object, built by the spring factory with the object's spring_system_*
+ * locals over the springs.* keys, mass and density (whatever `factory`
+ * says); a fixed object has every vertex fixed. */
+bool sb_scene_pov(const sb_scene* scene);
+
 /* Adds the mesh with the scene's material, fixes the `fixed` vertices and
  * the `pin` selection, and compiles. On failure returns NULL; err names the
  * bad index or element, prefixed with `source` (the mesh's file or the

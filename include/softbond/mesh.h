@@ -95,6 +95,16 @@ void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
  * are shifted by as much. On failure *out is left empty. */
 sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err);
 
+/* How a triangle mesh's edges are shared: unique edges, boundary edges (on
+ * one triangle) and non-manifold edges (on three or more). The surface is
+ * closed when it has triangles and neither of the two. */
+typedef struct sb_mesh_edge_counts {
+    uint32_t edges, boundary, non_manifold;
+    bool closed;
+} sb_mesh_edge_counts;
+
+sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err);
+
 /* Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per
  * axis about the origin first, then rotate by rotate[0] degrees about x,
  * rotate[1] about y, rotate[2] about z (fixed world axes, in that order,

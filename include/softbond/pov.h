@@ -56,6 +56,9 @@ typedef struct sb_pov_object {
 sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count,
                       sb_error* err);
 
+/* Whether the path names a POV-Ray file (".pov", ignoring case). */
+bool sb_pov_path(const char* path);
+
 /* Frees each object's mesh and the array; safe on NULL. */
 void sb_pov_objects_free(sb_pov_object* objects, uint32_t count);
 
