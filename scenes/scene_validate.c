@@ -130,8 +130,9 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     char bad[64];
     if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))
         return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err,
-                             "'output.formats': unknown format '%s' (known: %s)", bad,
-                             sb_frame_formats_known());
+                             "'output.formats': %s%s%s (known: %s)",
+                             bad[0] ? "unknown format '" : "an empty format name", bad,
+                             bad[0] ? "'" : "", sb_frame_formats_known());
     return SB_OK;
 }
 

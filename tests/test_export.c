@@ -333,6 +333,9 @@ static void test_formats_key(void** state) {
     assert_int_equal(sb_scene_load(&scene, path, &err), SB_OK);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_ERR_INVALID);
     TU_ASSERT_CONTAINS(err.message, "formats.yaml:3: 'output.formats': unknown format 'stl'");
+    assert_int_equal(sb_scene_set(&scene, "output.formats=[]", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_ERR_INVALID);
+    TU_ASSERT_CONTAINS(err.message, "--set output.formats=[]: 'output.formats': an empty format name (known: vtu,");
     assert_int_equal(sb_scene_set(&scene, "output.formats={a: 1}", &err), SB_ERR_PARSE);
     sb_scene_free(&scene);
 }
