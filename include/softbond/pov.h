@@ -50,7 +50,8 @@ typedef struct sb_pov_object {
  * true/false, on/off, yes/no or a number) sets the object's locals. Every
  * other statement (camera, light_source, plane, #include, ...) is skipped:
  * #include is not followed, as in the film maker. Numbers are literals
- * (no expressions). Coordinates are taken as they are (POV-Ray's up is +y). Errors are "FILE:LINE: what": a count that disagrees
+ * (no expressions). Coordinates are taken as they are (POV-Ray's up is
+ * +y). Errors are "FILE:LINE: what": a count that disagrees
  * with the list, an index out of range, a non-number, an unclosed brace,
  * a mesh2 without vertices or faces, a file without any mesh2. */
 sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count,
