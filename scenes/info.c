@@ -23,42 +23,39 @@ typedef struct info_job {
     sb_cli_args args;
     sb_mesh mesh;
     sb_tet_mesh volume; /* for a tetrahedral file */
-    uint32_t* edges;    /* 2 per unique edge of the surface */
-    uint32_t* uses;     /* triangles per edge */
+    uint32_t* edges;    /* 2 per unique edge of the model: the triangles', or the tetrahedra's */
     uint32_t edge_count;
+    sb_mesh_edge_counts surface; /* how the surface's edges are shared */
     sb_mesh_load_report load; /* what the import dropped */
 } info_job;
 
 static int info_finish(info_job* job, int code) {
     free(job->edges);
-    free(job->uses);
     sb_tet_mesh_free(&job->volume);
     sb_mesh_free(&job->mesh);
     sb_cli_args_free(&job->args);
     return code;
 }
 
-/* Unique edges (pairs in edges[2e], edges[2e + 1]) and how many triangles
- * (or, with arity 4, tetrahedra) use each. */
+/* Unique edges (pairs in edges[2e], edges[2e + 1]) of `count` triangles
+ * (arity 3) or tetrahedra (arity 4). */
 static bool unique_edges(const uint32_t* elements, uint32_t count, int arity, uint32_t** edges,
-                         uint32_t** uses, uint32_t* edge_count) {
+                         uint32_t* edge_count) {
     size_t most = (size_t)count * (size_t)(arity * (arity - 1) / 2);
     sb_edge_map map;
     *edges = malloc((2 * most + 2) * sizeof **edges);
-    *uses = calloc(most + 1, sizeof **uses);
-    if (!*edges || !*uses || !sb_edge_map_init(&map, most)) return false;
+    if (!*edges || !sb_edge_map_init(&map, most)) return false;
     uint32_t n = 0;
     for (uint32_t e = 0; e < count; e++) {
         const uint32_t* v = elements + (size_t)arity * e;
         for (int a = 0; a < arity; a++)
             for (int b = a + 1; b < arity; b++) {
                 bool inserted;
-                uint32_t id = *sb_edge_map_upsert(&map, v[a], v[b], n, &inserted);
+                sb_edge_map_upsert(&map, v[a], v[b], n, &inserted);
                 if (inserted) {
                     (*edges)[2 * n] = v[a];
                     (*edges)[2 * n++ + 1] = v[b];
                 }
-                (*uses)[id]++;
             }
     }
     sb_edge_map_free(&map);
@@ -71,7 +68,8 @@ static uint32_t find_root(uint32_t* parent, uint32_t v) {
     return v;
 }
 
-/* Connected components through the edges; a vertex on no edge is one. */
+/* Connected components through the model's edges (a volume's interior
+ * vertices join through its tetrahedra); a vertex on no edge is one. */
 static uint32_t components(const info_job* job) {
     uint32_t n = job->mesh.vertex_count, count = 0;
     uint32_t* parent = malloc((n ? n : 1) * sizeof *parent);
@@ -122,10 +120,12 @@ static sb_status load(info_job* job, sb_error* err) {
     sb_status status = sb_tet_mesh_path(path) ? sb_tet_mesh_load(path, &job->volume, err)
                                               : load_surface(job, err);
     if (status == SB_OK && job->volume.tets) status = sb_tet_mesh_surface(&job->volume, &job->mesh, err);
-    if (status == SB_OK && !unique_edges(job->mesh.triangles, job->mesh.triangle_count, 3, &job->edges,
-                                         &job->uses, &job->edge_count))
-        status = sb_errorf(err, SB_ERR_NOMEM, "out of memory");
-    return status;
+    if (status == SB_OK) status = sb_mesh_count_edges(&job->mesh, &job->surface, err);
+    if (status != SB_OK) return status;
+    bool ok = job->volume.tets
+                  ? unique_edges(job->volume.tets, job->volume.tet_count, 4, &job->edges, &job->edge_count)
+                  : unique_edges(job->mesh.triangles, job->mesh.triangle_count, 3, &job->edges, &job->edge_count);
+    return ok ? SB_OK : sb_errorf(err, SB_ERR_NOMEM, "out of memory");
 }
 
 static void print_box(const sb_mesh* mesh) {
@@ -156,13 +156,9 @@ static void print_volume(const info_job* job) {
  * triangles for a surface. */
 static sb_status print_colors(const info_job* job, sb_error* err) {
     if (job->volume.tets) {
-        uint32_t *edges = NULL, *uses = NULL, count = 0;
-        bool ok = unique_edges(job->volume.tets, job->volume.tet_count, 4, &edges, &uses, &count);
-        int springs = ok ? colors(job->volume.vertex_count, edges, count, 2) : -1;
-        free(edges);
-        free(uses);
+        int springs = colors(job->volume.vertex_count, job->edges, job->edge_count, 2);
         if (springs < 0) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
-        printf("springs: %u\ncolors: springs %d\n", count, springs);
+        printf("springs: %u\ncolors: springs %d\n", job->edge_count, springs);
         return SB_OK;
     }
     int bonds = colors(job->mesh.vertex_count, job->edges, job->edge_count, 2);
@@ -173,23 +169,17 @@ static sb_status print_colors(const info_job* job, sb_error* err) {
 }
 
 static sb_status report(const info_job* job, sb_error* err) {
-    uint32_t boundary = 0, non_manifold = 0;
-    for (uint32_t e = 0; e < job->edge_count; e++) {
-        boundary += job->uses[e] == 1;
-        non_manifold += job->uses[e] > 2;
-    }
-    bool closed = job->mesh.triangle_count > 0 && boundary == 0 && non_manifold == 0;
     printf("file: %s\n", job->args.input);
     printf("vertices: %u\n", job->mesh.vertex_count);
-    printf("edges: %u\n", job->edge_count);
+    printf("edges: %u\n", job->surface.edges);
     printf("triangles: %u%s\n", job->mesh.triangle_count, job->volume.tets ? " (the boundary)" : "");
     if (!job->volume.tets) printf("degenerate faces dropped: %u\n", job->load.degenerate_faces);
     if (job->volume.tets) print_volume(job);
-    printf("boundary edges: %u\n", boundary);
-    printf("non-manifold edges: %u\n", non_manifold);
+    printf("boundary edges: %u\n", job->surface.boundary);
+    printf("non-manifold edges: %u\n", job->surface.non_manifold);
     printf("components: %u\n", components(job));
     print_box(&job->mesh);
-    printf("closed: %s\n", closed ? "yes" : "no");
+    printf("closed: %s\n", job->surface.closed ? "yes" : "no");
     return print_colors(job, err);
 }
 

@@ -125,6 +125,22 @@ static void test_tetrahedral_cube(void** state) {
     tu_result_free(&r);
 }
 
+/* A tetrahedron split at an interior vertex (4) into four: the interior
+ * vertex is on no surface edge but joins the body through its tetrahedra. */
+static void test_interior_vertex(void** state) {
+    (void)state;
+    tu_write_file("split.node", "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 0.25 0.25 0.25\n");
+    tu_write_file("split.ele", "4 4 0\n0 0 2 1 4\n1 0 1 3 4\n2 0 3 2 4\n3 1 2 3 4\n");
+    tu_result r = tu_run((const char*[]){"info", "split.node", NULL});
+    assert_int_equal(r.code, 0);
+    assert_line(r.out, "tetrahedra check: ok");
+    assert_line(r.out, "edges: 6");
+    assert_line(r.out, "springs: 10");
+    assert_line(r.out, "components: 1");
+    assert_line(r.out, "closed: yes");
+    tu_result_free(&r);
+}
+
 static void test_bad_input(void** state) {
     (void)state;
     tu_result r = tu_run((const char*[]){"info", "missing.obj", NULL});
@@ -204,6 +220,7 @@ int main(void) {
         cmocka_unit_test(test_icosphere),
         cmocka_unit_test(test_open_and_split_meshes),
         cmocka_unit_test(test_tetrahedral_cube),
+        cmocka_unit_test(test_interior_vertex),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_tissue_scene),
         cmocka_unit_test(test_springs_scene),
