@@ -37,8 +37,8 @@ static void write_polygon(FILE* f, const sb_mesh* mesh, const double* positions,
     fprintf(f, "    ]\n");
 }
 
-void sb_irit_write(FILE* f, const sb_mesh* mesh, const double* positions) {
+void sb_irit_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def) {
     fprintf(f, "[OBJECT softbond\n");
-    for (uint32_t t = 0; t < mesh->triangle_count; t++) write_polygon(f, mesh, positions, t);
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) write_polygon(f, mesh, def->positions, t);
     fprintf(f, "]\n");
 }

@@ -26,7 +26,7 @@ typedef struct export_format {
     const char* name;
     const char* extension;
     const char* assimp_id; /* NULL: a text writer */
-    void (*write_text)(FILE* f, const sb_mesh* mesh, const double* positions);
+    void (*write_text)(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def);
 } export_format;
 
 static const export_format formats[] = {
@@ -114,9 +114,13 @@ sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh
 
 /* ---- entry point ---------------------------------------------------------- */
 
+sb_mesh_export_def sb_default_mesh_export_def(void) {
+    return (sb_mesh_export_def){.positions = NULL, .up = {0.0, 0.0, 1.0}};
+}
+
 static sb_status write_text(const char* path, const export_format* format, const sb_mesh* mesh,
-                            const double* positions, FILE* f, sb_error* err) {
-    format->write_text(f, mesh, positions);
+                            const sb_mesh_export_def* def, FILE* f, sb_error* err) {
+    format->write_text(f, mesh, def);
     bool written = fflush(f) == 0 && !ferror(f);
     if (fclose(f) == 0 && written) return SB_OK;
     int error = errno;
@@ -125,7 +129,7 @@ static sb_status write_text(const char* path, const export_format* format, const
 }
 
 sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
-                         const double* positions, sb_error* err) {
+                         const sb_mesh_export_def* def, sb_error* err) {
     const export_format* f = format ? find_format(format) : NULL;
     if (!f)
         return sb_error_set(err, SB_ERR_INVALID,
@@ -133,8 +137,9 @@ sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* me
                             path, format ? format : "(null)");
     FILE* stream = fopen(path, "wb");
     if (!stream) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-    if (!positions) positions = mesh->positions;
-    if (f->write_text) return write_text(path, f, mesh, positions, stream, err);
+    sb_mesh_export_def options = def ? *def : sb_default_mesh_export_def();
+    if (!options.positions) options.positions = mesh->positions;
+    if (f->write_text) return write_text(path, f, mesh, &options, stream, err);
     fclose(stream);
-    return sb_assimp_write(path, f->assimp_id, mesh, positions, err);
+    return sb_assimp_write(path, f->assimp_id, mesh, options.positions, err);
 }

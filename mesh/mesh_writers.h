@@ -1,6 +1,7 @@
-/* Private to mesh/: the writers behind sb_mesh_export. Each writes the mesh,
- * at `positions` (3 * vertex_count, never NULL here), to path in place; on
- * failure it removes what it wrote and fills err naming the path. */
+/* Private to mesh/: the writers behind sb_mesh_export. Each writes the mesh
+ * at the given positions (never NULL here) in place; the assimp writer
+ * removes what it wrote on failure and fills err naming the path, the text
+ * writers leave errors to their stream. */
 #ifndef SB_MESH_WRITERS_H
 #define SB_MESH_WRITERS_H
 
@@ -12,8 +13,8 @@
 sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh,
                           const double* positions, sb_error* err);
 /* IRIT text polygons (irit_writer.c). */
-void sb_irit_write(FILE* f, const sb_mesh* mesh, const double* positions);
-/* A POV-Ray scene that renders as is (pov_writer.c). */
-void sb_pov_write(FILE* f, const sb_mesh* mesh, const double* positions);
+void sb_irit_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def);
+/* A POV-Ray scene that renders as is, def->up shown up (pov_writer.c). */
+void sb_pov_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def);
 
 #endif

@@ -4,9 +4,14 @@
  *   - the mesh as `#declare softbond_mesh = mesh2 { vertex_vectors { n, <x,
  *     y, z>, ... } face_indices { m, <i, j, k>, ... } }`, the positions
  *     exactly as softbond has them, so a reader gets them back unchanged;
- *   - one `object` using it with a matrix that swaps y and z: softbond is
- *     right-handed with z up (gravity along -z), POV-Ray left-handed with y
- *     up, and a swap of two axes maps one onto the other without mirroring;
+ *   - one `object` using it with a `matrix` that permutes the axes so that
+ *     the axis nearest to def->up becomes POV-Ray's up, +y: the other two
+ *     keep their order (and both change sign when up points along a
+ *     negative axis). Up +z (softbond's default, gravity along -z) swaps y
+ *     and z, which also turns softbond's right-handed frame into POV-Ray's
+ *     left-handed one without mirroring; up +y (a film-maker scene read
+ *     from a .pov file with gravity along -y) is the identity, so its
+ *     frames render as the scene it came from;
  *   - a white background, a plain orange texture with some ambient light so
  *     that faces turned away stay visible, a perspective camera looking at
  *     the centre of the bounding box from the front, above and the right,
@@ -22,24 +27,45 @@
 
 #define SB_POV_DISTANCE 3.5
 
+/* POV-Ray's coordinate k is sign[k] times softbond's coordinate axis[k]. */
+typedef struct pov_axes {
+    int axis[3];
+    double sign[3];
+} pov_axes;
+
+static pov_axes axes_for(const double up[3]) {
+    int a = 2;
+    for (int k = 0; k < 2; k++)
+        if (fabs(up[k]) > fabs(up[a])) a = k;
+    double s = up[a] < 0.0 ? -1.0 : 1.0;
+    int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2; /* the other two, in order */
+    return (pov_axes){{b, a, c}, {1.0, s, s}};
+}
+
+static void to_pov(const pov_axes* axes, const double p[3], double out[3]) {
+    for (int k = 0; k < 3; k++) out[k] = axes->sign[k] * p[axes->axis[k]];
+}
+
 typedef struct pov_view {
     double center[3]; /* POV-Ray coordinates */
     double radius;
 } pov_view;
 
-/* The bounding box's centre and half diagonal, in POV-Ray's axes. */
-static pov_view view_of(const sb_mesh* mesh, const double* positions) {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+/* The bounding box's centre and half diagonal. */
+static pov_view view_of(const sb_mesh* mesh, const double* positions, const pov_axes* axes) {
+    double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
         for (int k = 0; k < 3; k++) {
-            lo[k] = fmin(lo[k], positions[3 * v + k]);
-            hi[k] = fmax(hi[k], positions[3 * v + k]);
+            double x = positions[3 * v + k];
+            lo[k] = v == 0 || x < lo[k] ? x : lo[k];
+            hi[k] = v == 0 || x > hi[k] ? x : hi[k];
         }
-    if (mesh->vertex_count == 0) lo[0] = lo[1] = lo[2] = hi[0] = hi[1] = hi[2] = 0.0;
     double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    double center[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     double radius = 0.5 * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    return (pov_view){{0.5 * (lo[0] + hi[0]), 0.5 * (lo[2] + hi[2]), 0.5 * (lo[1] + hi[1])},
-                      radius > 0.0 ? radius : 1.0};
+    pov_view view = {{0.0, 0.0, 0.0}, radius > 0.0 ? radius : 1.0};
+    to_pov(axes, center, view.center);
+    return view;
 }
 
 static void write_setting(FILE* f, const pov_view* view) {
@@ -71,14 +97,23 @@ static void write_mesh2(FILE* f, const sb_mesh* mesh, const double* positions) {
     fprintf(f, "\n  }\n}\n");
 }
 
-void sb_pov_write(FILE* f, const sb_mesh* mesh, const double* positions) {
-    pov_view view = view_of(mesh, positions);
-    fprintf(f, "// softbond frame: %u vertices, %u triangles (softbond's z up)\n",
-            mesh->vertex_count, mesh->triangle_count);
-    write_setting(f, &view);
-    write_mesh2(f, mesh, positions);
-    fprintf(f, "object {\n  softbond_mesh\n"
-               "  matrix <1, 0, 0,  0, 0, 1,  0, 1, 0,  0, 0, 0> // z up -> y up\n"
+/* POV-Ray's matrix maps <x, y, z> to x m[0] + y m[1] + z m[2] (rows of 3). */
+static void write_object(FILE* f, const pov_axes* axes) {
+    double m[3][3] = {{0.0}};
+    for (int k = 0; k < 3; k++) m[axes->axis[k]][k] = axes->sign[k];
+    fprintf(f, "object {\n  softbond_mesh\n  matrix <");
+    for (int j = 0; j < 3; j++) fprintf(f, "%g, %g, %g,  ", m[j][0], m[j][1], m[j][2]);
+    fprintf(f, "0, 0, 0> // softbond's up -> +y\n"
                "  texture {\n    pigment { color rgb <0.9, 0.45, 0.15> }\n"
                "    finish { ambient 0.25 diffuse 0.75 }\n  }\n}\n");
+}
+
+void sb_pov_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def) {
+    pov_axes axes = axes_for(def->up);
+    pov_view view = view_of(mesh, def->positions, &axes);
+    fprintf(f, "// softbond frame: %u vertices, %u triangles, up <%g, %g, %g>\n",
+            mesh->vertex_count, mesh->triangle_count, def->up[0], def->up[1], def->up[2]);
+    write_setting(f, &view);
+    write_mesh2(f, mesh, def->positions);
+    write_object(f, &axes);
 }

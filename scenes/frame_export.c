@@ -99,27 +99,34 @@ static sb_status stage_publish(const staging* stage, sb_error* err) {
 
 /* ---- writers --------------------------------------------------------------- */
 
-static sb_status write_vtu(const char* format, const staging* stage, uint32_t index,
-                           const sb_vtk_frame* frame, sb_error* err) {
-    (void)format;
+/* One frame in one format, to write into its staging folder. */
+typedef struct frame_job {
+    const char* format;
+    const staging* stage;
+    uint32_t index;
+    const sb_vtk_frame* frame;
+    const double* up;
+} frame_job;
+
+static sb_status write_vtu(const frame_job* job, sb_error* err) {
     char name[64], path[4096];
-    sb_vtk_bonds_name(index, name, sizeof name);
-    sb_status status = join(path, stage->dir, name, err);
-    if (status == SB_OK) status = sb_vtk_write_bonds(path, frame, err);
-    if (status == SB_OK) status = sb_vtk_write_frame(stage->main, frame, err);
+    sb_vtk_bonds_name(job->index, name, sizeof name);
+    sb_status status = join(path, job->stage->dir, name, err);
+    if (status == SB_OK) status = sb_vtk_write_bonds(path, job->frame, err);
+    if (status == SB_OK) status = sb_vtk_write_frame(job->stage->main, job->frame, err);
     return status;
 }
 
-static sb_status write_mesh(const char* format, const staging* stage, uint32_t index,
-                            const sb_vtk_frame* frame, sb_error* err) {
-    (void)index;
-    return sb_mesh_export(stage->main, format, frame->mesh, frame->positions, err);
+static sb_status write_mesh(const frame_job* job, sb_error* err) {
+    sb_mesh_export_def def = sb_default_mesh_export_def();
+    def.positions = job->frame->positions;
+    for (int k = 0; k < 3; k++) def.up[k] = job->up[k];
+    return sb_mesh_export(job->stage->main, job->format, job->frame->mesh, &def, err);
 }
 
 /* ---- the table ------------------------------------------------------------- */
 
-typedef sb_status (*frame_writer)(const char* format, const staging* stage, uint32_t index,
-                                  const sb_vtk_frame* frame, sb_error* err);
+typedef sb_status (*frame_writer)(const frame_job* job, sb_error* err);
 
 typedef struct frame_format {
     const char* name;
@@ -169,8 +176,9 @@ bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, 
     }
 }
 
-static sb_status export_one(const frame_format* format, const char* out, uint32_t index,
-                            const sb_vtk_frame* frame, sb_error* err) {
+static sb_status export_one(const frame_format* format, const sb_frame_export_def* def,
+                            const char* out, uint32_t index, const sb_vtk_frame* frame,
+                            sb_error* err) {
     const char* extension =
         format->extension ? format->extension : sb_mesh_export_extension(format->name);
     char main_name[64];
@@ -178,17 +186,17 @@ static sb_status export_one(const frame_format* format, const char* out, uint32_
     staging stage;
     sb_status status = stage_create(&stage, out, main_name, err);
     if (status != SB_OK) return status;
-    status = format->write(format->name, &stage, index, frame, err);
+    status = format->write(&(frame_job){format->name, &stage, index, frame, def->up}, err);
     if (status == SB_OK) return stage_publish(&stage, err);
     stage_remove(&stage);
     return status;
 }
 
-sb_status sb_frame_export(sb_frame_formats set, const sb_output_dir* out, uint32_t index,
+sb_status sb_frame_export(const sb_frame_export_def* def, const sb_output_dir* out, uint32_t index,
                           const sb_vtk_frame* frame, sb_error* err) {
     for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
-        if (!(set & (1u << i))) continue;
-        sb_status status = export_one(&formats[i], out->dir, index, frame, err);
+        if (!(def->formats & (1u << i))) continue;
+        sb_status status = export_one(&formats[i], def, out->dir, index, frame, err);
         if (status != SB_OK) return status;
     }
     return SB_OK;

@@ -20,9 +20,16 @@ const char* sb_frame_formats_known(void);
  * into bad. */
 bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, size_t bad_size);
 
+/* What to write: the formats, and for pov the direction shown up
+ * (sb_mesh_export_def's up; `softbond run` gives the one against gravity). */
+typedef struct sb_frame_export_def {
+    sb_frame_formats formats;
+    double up[3];
+} sb_frame_export_def;
+
 /* Writes frame `index` (frame_000042.<ext>) in each format of the set into
  * the output folder. */
-sb_status sb_frame_export(sb_frame_formats formats, const sb_output_dir* out, uint32_t index,
+sb_status sb_frame_export(const sb_frame_export_def* def, const sb_output_dir* out, uint32_t index,
                           const sb_vtk_frame* frame, sb_error* err);
 
 #endif

@@ -42,7 +42,7 @@ typedef struct run_job {
     sb_solver* solver;
     sb_output_dir out;
     sb_energy_log log;
-    sb_frame_formats formats;
+    sb_frame_export_def export;
     double* buffers; /* positions, velocities, forces: 3n each */
 } run_job;
 
@@ -88,13 +88,22 @@ static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* er
     return job->model ? SB_OK : SB_ERR_INVALID;
 }
 
+/* The frame formats (checked by sb_scene_validate), shown with up against
+ * gravity (+z without gravity). */
+static void set_export(run_job* job) {
+    char bad[64];
+    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS),
+                           &job->export.formats, bad, sizeof bad);
+    const double* g = sb_scene_vec3(&job->scene, SB_KEY_GRAVITY);
+    bool none = g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0;
+    for (int k = 0; k < 3; k++) job->export.up[k] = none ? (k == 2) : -g[k];
+}
+
 /* The scene, its model and a solver for it: all the input, checked. */
 static sb_status prepare(run_job* job, sb_error* err) {
     sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
     if (status != SB_OK) return status;
-    char bad[64];
-    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), &job->formats, bad,
-                           sizeof bad); /* checked by sb_scene_validate */
+    set_export(job);
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
     if (status == SB_OK) status = make_model(job, &def, err);
@@ -118,7 +127,7 @@ static sb_status write_frame(run_job* job, sb_error* err) {
         job->buffers[2 * n + 3 * v + 1] = state->fy[v];
         job->buffers[2 * n + 3 * v + 2] = state->fz[v];
     }
-    return sb_frame_export(job->formats, &job->out, job->log.count, &frame, err);
+    return sb_frame_export(&job->export, &job->out, job->log.count, &frame, err);
 }
 
 static int record_frame(run_job* job, sb_error* err) {
@@ -160,7 +169,7 @@ static int simulate(run_job* job, sb_error* err) {
 }
 
 static bool writes_vtu(const run_job* job) {
-    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->formats & SB_FRAME_VTU);
+    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
 }
 
 static int write_index(run_job* job, sb_error* err) {

@@ -2,8 +2,8 @@
  * GLB, IRIT, POV-Ray: counts, positions within float rounding, total
  * area); the bonds .vtu's strain and energy against values computed here
  * from positions and rest lengths; IRIT and POV-Ray files checked for
- * structure (counts, unit planes); a POV-Ray frame rendered by povray and
- * found not blank; the output.formats key (lists, --set text, unknown names
+ * structure (counts, unit planes) and the POV-Ray object's axes for each
+ * up direction; a POV-Ray frame rendered by povray and found not blank; the output.formats key (lists, --set text, unknown names
  * with file:line); and `softbond run` writing every format with no staging
  * left behind, a failed write reported with exit 1, an unknown format with
  * exit 2. */
@@ -235,13 +235,41 @@ static void test_pov_structure(void** state) {
     assert_non_null(p);
     assert_int_equal(sscanf(p, "face_indices { %u", &faces), 1);
     assert_int_equal(faces, mesh.triangle_count);
-    /* one <...> per vertex and face, and seven more: background, camera
-     * location and look_at, light position and colour, matrix, pigment */
-    assert_int_equal(count_of(text, "<"), mesh.vertex_count + mesh.triangle_count + 7);
+    /* one <...> per vertex and face, and eight more: the up in the first
+     * comment, background, camera location and look_at, light position and
+     * colour, matrix, pigment */
+    assert_int_equal(count_of(text, "<"), mesh.vertex_count + mesh.triangle_count + 8);
     TU_ASSERT_CONTAINS(text, "mesh2 {");
     TU_ASSERT_CONTAINS(text, "camera {");
     TU_ASSERT_CONTAINS(text, "light_source {");
+    TU_ASSERT_CONTAINS(text, "matrix <1, 0, 0,  0, 0, 1,  0, 1, 0,  0, 0, 0>"); /* z up: y, z swapped */
     free(text);
+    sb_mesh_free(&mesh);
+}
+
+/* The object's matrix for other up directions: the nearest axis goes to +y. */
+static void test_pov_up(void** state) {
+    (void)state;
+    static const struct {
+        double up[3];
+        const char* matrix;
+    } cases[] = {
+        {{0.1, 9.8, 0.0}, "matrix <1, 0, 0,  0, 1, 0,  0, 0, 1,  0, 0, 0>"},   /* y: as it is */
+        {{0.0, 0.0, -1.0}, "matrix <1, 0, 0,  0, 0, -1,  0, -1, 0,  0, 0, 0>"}, /* -z */
+        {{2.0, 1.0, 0.0}, "matrix <0, 1, 0,  1, 0, 0,  0, 0, 1,  0, 0, 0>"},   /* x */
+    };
+    sb_mesh mesh = {0};
+    sb_error err;
+    bent_sheet(&mesh);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        sb_mesh_export_def def = sb_default_mesh_export_def();
+        memcpy(def.up, cases[i].up, sizeof def.up);
+        const char* path = tu_tmp_path("up.pov");
+        if (sb_mesh_export(path, "pov", &mesh, &def, &err) != SB_OK) fail_msg("%s", err.message);
+        char* text = tu_read_file(path);
+        TU_ASSERT_CONTAINS(text, cases[i].matrix);
+        free(text);
+    }
     sb_mesh_free(&mesh);
 }
 
@@ -362,6 +390,9 @@ static void test_run_every_format(void** state) {
             assert_true(exists(tu_tmp_path(name)));
         }
     assert_true(exists(tu_tmp_path("all/frames.pvd")));
+    char* pov = tu_read_file(tu_tmp_path("all/frame_000000.pov")); /* gravity -z: z up */
+    TU_ASSERT_CONTAINS(pov, "matrix <1, 0, 0,  0, 0, 1,  0, 1, 0,  0, 0, 0>");
+    free(pov);
     DIR* dir = opendir(tu_tmp_path("all"));
     assert_non_null(dir);
     for (struct dirent* entry; (entry = readdir(dir));)
@@ -369,6 +400,20 @@ static void test_run_every_format(void** state) {
             if (entry->d_name[0] == '.' || strstr(entry->d_name, ".tmp"))
                 fail_msg("left behind: %s", entry->d_name);
     closedir(dir);
+}
+
+/* A film-maker style scene, gravity along -y: its POV-Ray frames as they are. */
+static void test_run_pov_up(void** state) {
+    (void)state;
+    tu_write_file("up.yaml", scene_text);
+    tu_result r = tu_run((const char*[]){"run", "up.yaml", "--output", "up", "--set", "output.formats=pov",
+                                         "--set", "gravity=[0, -9.8, 0]", NULL});
+    if (r.code != 0) fail_msg("run failed: %s", r.err);
+    tu_result_free(&r);
+    char* pov = tu_read_file(tu_tmp_path("up/frame_000001.pov"));
+    TU_ASSERT_CONTAINS(pov, "matrix <1, 0, 0,  0, 1, 0,  0, 0, 1,  0, 0, 0>");
+    free(pov);
+    assert_false(exists(tu_tmp_path("up/frames.pvd"))); /* no vtu, no index */
 }
 
 static void test_run_failures(void** state) {
@@ -395,7 +440,8 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trips),     cmocka_unit_test(test_export_errors),
         cmocka_unit_test(test_bond_cells),      cmocka_unit_test(test_irit_structure),
-        cmocka_unit_test(test_pov_structure),   cmocka_unit_test(test_pov_render),
+        cmocka_unit_test(test_pov_structure),   cmocka_unit_test(test_pov_up),
+        cmocka_unit_test(test_pov_render),      cmocka_unit_test(test_run_pov_up),
         cmocka_unit_test(test_formats_key),     cmocka_unit_test(test_run_every_format),
         cmocka_unit_test(test_run_failures),
     };

@@ -156,8 +156,18 @@ sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* 
  * old index (vertex_count entries). */
 sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err);
 
-/* Writes the mesh to path, at `positions` (3 * vertex_count interleaved, m;
- * NULL for the mesh's own), in one of these formats:
+/* Options of sb_mesh_export. */
+typedef struct sb_mesh_export_def {
+    const double* positions; /* 3 * vertex_count interleaved, m; NULL (the
+                                default): the mesh's own */
+    double up[3];            /* pov: the direction shown up, e.g. against
+                                gravity; the nearest axis is used; default
+                                0, 0, 1 */
+} sb_mesh_export_def;
+
+sb_mesh_export_def sb_default_mesh_export_def(void);
+
+/* Writes the mesh to path (def NULL: the defaults) in one of these formats:
  *   "ply"   binary PLY (assimp's "plyb")
  *   "obj"   Wavefront OBJ (assimp), with a material library NAME.mtl beside it
  *   "gltf"  glTF 2.0 JSON (assimp's "gltf2"), with its buffer NAME.bin beside it
@@ -165,12 +175,13 @@ sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err);
  *   "irit"  IRIT text polygons (.itd): one object, a POLYGON with its PLANE
  *           per triangle, as the Spring Systems demo dumps its frames
  *   "pov"   a POV-Ray 3.7 scene: the mesh as a mesh2 object (positions as
- *           they are), a camera framing its bounding box, a light and a plain
- *           texture, so that `povray frame.pov` renders it
+ *           they are), placed by an axis permutation that turns def->up into
+ *           POV-Ray's up (+y), a camera framing its bounding box, a light and
+ *           a plain texture, so that `povray frame.pov` renders it
  * The assimp formats store positions as float. The file is written in place,
  * not atomically. Errors name the path. */
 sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
-                         const double* positions, sb_error* err);
+                         const sb_mesh_export_def* def, sb_error* err);
 
 /* The file extension of an export format (".ply", ".obj", ".gltf", ".glb",
  * ".itd", ".pov"); NULL when sb_mesh_export does not know the format. */
