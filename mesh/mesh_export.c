@@ -4,16 +4,19 @@
  * appear atomically is the caller's business (softbond run stages them).
  *
  * Assimp is given a scene built here in C: one mesh of triangles (float
- * positions, assimp's ai_real), one empty material (the OBJ and glTF
- * exporters index it), one root node with the identity transform. It is
- * freed here too; assimp only reads it. Assimp's C export call keeps no
- * error text, so a failed export is reported by format and path, after
- * checking that the path can be opened for writing (which names the
- * system's reason when it cannot). */
+ * positions, assimp's ai_real, and area-weighted vertex normals: without
+ * them the OBJ exporter runs assimp's normal generation, which gave a
+ * vertex of a bent 3 x 3 sheet one face's normal instead of a blend), one
+ * empty material (the OBJ and glTF exporters index it), one root node with
+ * the identity transform. It is freed here too; assimp only reads it.
+ * Assimp's C export call keeps no error text, so a failed export is
+ * reported by format and path, after checking that the path can be opened
+ * for writing (which names the system's reason when it cannot). */
 #define _POSIX_C_SOURCE 200809L
 #include "mesh/mesh_writers.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -60,8 +63,32 @@ typedef struct assimp_scene {
 
 static void assimp_scene_free(assimp_scene* s) {
     free(s->mesh.mVertices);
+    free(s->mesh.mNormals);
     free(s->mesh.mFaces);
     free(s);
+}
+
+/* Each vertex's normal: the sum of its triangles' (b - a) x (c - a), made
+ * unit; m->mNormals starts zeroed. */
+static void fill_normals(struct aiMesh* m, const sb_mesh* mesh, const double* x) {
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
+        const uint32_t* v = mesh->triangles + 3 * t;
+        const double *a = x + 3 * (size_t)v[0], *b = x + 3 * (size_t)v[1], *c = x + 3 * (size_t)v[2];
+        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        struct aiVector3D f = {(ai_real)(u[1] * w[2] - u[2] * w[1]), (ai_real)(u[2] * w[0] - u[0] * w[2]),
+                               (ai_real)(u[0] * w[1] - u[1] * w[0])};
+        for (int corner = 0; corner < 3; corner++) {
+            struct aiVector3D* n = &m->mNormals[v[corner]];
+            *n = (struct aiVector3D){n->x + f.x, n->y + f.y, n->z + f.z};
+        }
+    }
+    for (uint32_t i = 0; i < mesh->vertex_count; i++) {
+        struct aiVector3D* n = &m->mNormals[i];
+        double length = sqrt((double)n->x * n->x + (double)n->y * n->y + (double)n->z * n->z);
+        ai_real s = length > 0.0 ? (ai_real)(1.0 / length) : 0;
+        *n = (struct aiVector3D){n->x * s, n->y * s, n->z * s};
+    }
 }
 
 static void fill_geometry(struct aiMesh* m, const sb_mesh* mesh, const double* positions,
@@ -81,9 +108,11 @@ static assimp_scene* assimp_scene_make(const sb_mesh* mesh, const double* positi
     assimp_scene* s = calloc(1, sizeof *s);
     size_t faces = mesh->triangle_count;
     if (!s) return NULL;
-    s->mesh.mVertices = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof(struct aiVector3D));
+    size_t vertices = mesh->vertex_count ? mesh->vertex_count : 1;
+    s->mesh.mVertices = malloc(vertices * sizeof(struct aiVector3D));
+    s->mesh.mNormals = calloc(vertices, sizeof(struct aiVector3D));
     s->mesh.mFaces = malloc((faces ? faces : 1) * (sizeof(struct aiFace) + 3 * sizeof(unsigned int)));
-    if (!s->mesh.mVertices || !s->mesh.mFaces) {
+    if (!s->mesh.mVertices || !s->mesh.mNormals || !s->mesh.mFaces) {
         assimp_scene_free(s);
         return NULL;
     }
@@ -91,6 +120,7 @@ static assimp_scene* assimp_scene_make(const sb_mesh* mesh, const double* positi
     s->mesh.mNumVertices = mesh->vertex_count;
     s->mesh.mNumFaces = mesh->triangle_count;
     fill_geometry(&s->mesh, mesh, positions, (unsigned int*)(s->mesh.mFaces + faces));
+    fill_normals(&s->mesh, mesh, positions);
     s->mesh_list[0] = &s->mesh;
     s->material_list[0] = &s->material;
     s->root.mTransformation = (struct aiMatrix4x4){.a1 = 1, .b2 = 1, .c3 = 1, .d4 = 1};

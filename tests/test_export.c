@@ -1,6 +1,6 @@
 /* Export: sb_mesh_export round trips through sb_mesh_load (PLY, OBJ, glTF,
  * GLB, IRIT, POV-Ray: counts, positions within float rounding, total
- * area); the bonds .vtu's strain and energy against values computed here
+ * area) and the OBJ's vertex normals; the bonds .vtu's strain and energy against values computed here
  * from positions and rest lengths; IRIT and POV-Ray files checked for
  * structure (counts, unit planes) and the POV-Ray object's axes for each
  * up direction; a POV-Ray frame rendered by povray and found not blank; the output.formats key (lists, --set text, unknown names
@@ -102,6 +102,57 @@ static void test_round_trips(void** state) {
     round_trip("pov");
     assert_true(exists(tu_tmp_path("trip.mtl")));
     assert_true(exists(tu_tmp_path("trip.bin")));
+}
+
+/* The OBJ's normals (assimp writes the ones it is given; it renumbers the
+ * vertices) against the area-weighted normals of the file's own geometry. */
+typedef struct obj_file {
+    double v[64][3], vn[64][3];
+    unsigned f[64][3], fn[64][3];
+    int vertices, normals, faces;
+} obj_file;
+
+static void parse_obj(char* text, obj_file* o) {
+    memset(o, 0, sizeof *o);
+    for (char* line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        double* v = o->v[o->vertices % 64];
+        double* n = o->vn[o->normals % 64];
+        unsigned* f = o->f[o->faces % 64];
+        unsigned* fn = o->fn[o->faces % 64];
+        if (sscanf(line, "v %lf %lf %lf", &v[0], &v[1], &v[2]) == 3) o->vertices++;
+        if (sscanf(line, "vn %lf %lf %lf", &n[0], &n[1], &n[2]) == 3) o->normals++;
+        if (sscanf(line, "f %u//%u %u//%u %u//%u", &f[0], &fn[0], &f[1], &fn[1], &f[2], &fn[2]) == 6) o->faces++;
+    }
+    assert_true(o->vertices <= 64 && o->normals <= 64 && o->faces <= 64);
+}
+
+static void test_obj_normals(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_error err;
+    bent_sheet(&mesh);
+    const char* path = tu_tmp_path("normals.obj");
+    if (sb_mesh_export(path, "obj", &mesh, NULL, &err) != SB_OK) fail_msg("%s", err.message);
+    char* text = tu_read_file(path);
+    obj_file o;
+    parse_obj(text, &o);
+    assert_int_equal(o.faces, mesh.triangle_count);
+    double sum[64][3] = {{0.0}};
+    for (int t = 0; t < o.faces; t++) {
+        const double *a = o.v[o.f[t][0] - 1], *b = o.v[o.f[t][1] - 1], *c = o.v[o.f[t][2] - 1];
+        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, n[3];
+        tu_cross(u, w, n);
+        for (int corner = 0; corner < 3; corner++)
+            for (int k = 0; k < 3; k++) sum[o.f[t][corner] - 1][k] += n[k];
+    }
+    for (int t = 0; t < o.faces; t++)
+        for (int corner = 0; corner < 3; corner++) {
+            const double* e = sum[o.f[t][corner] - 1];
+            const double* n = o.vn[o.fn[t][corner] - 1];
+            for (int k = 0; k < 3; k++) TU_ASSERT_NEAR(n[k], e[k] / tu_norm(e), 1e-5);
+        }
+    free(text);
+    sb_mesh_free(&mesh);
 }
 
 static void test_export_errors(void** state) {
@@ -438,7 +489,8 @@ static void test_run_failures(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_round_trips),     cmocka_unit_test(test_export_errors),
+        cmocka_unit_test(test_round_trips),     cmocka_unit_test(test_obj_normals),
+        cmocka_unit_test(test_export_errors),
         cmocka_unit_test(test_bond_cells),      cmocka_unit_test(test_irit_structure),
         cmocka_unit_test(test_pov_structure),   cmocka_unit_test(test_pov_up),
         cmocka_unit_test(test_pov_render),      cmocka_unit_test(test_run_pov_up),
