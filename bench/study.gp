@@ -1,11 +1,12 @@
-# The integrator study's two charts, from bench/results/stability.csv and
-# work_precision.csv (written by sb_study; bench/study.sh runs both).
+# The integrator study's charts, from the CSVs in bench/results written by
+# sb_study (bench/study.sh runs both): stability.png, work_precision.png
+# (push at the middle), work_precision_corner.png (push at a free corner)
+# and model_accuracy.png.
 #
 #   gnuplot bench/study.gp                      (from the repository root)
 #   gnuplot -e "results='DIR'" bench/study.gp
 if (!exists("results")) results = "bench/results"
 stability = results . "/stability.csv"
-precision = results . "/work_precision.csv"
 names = "verlet velocity_verlet position_verlet symplectic_euler explicit_euler implicit_euler pbd xpbd"
 
 set terminal pngcairo size 1000,700 enhanced font "sans,11"
@@ -16,9 +17,11 @@ set format y "10^{%L}"
 set grid xtics ytics mxtics mytics lc rgb "#dddddd"
 set key outside right top box opaque
 
-# Rows of integrator `name` as "x y" from columns cx and cy of a CSV.
-rows(file, name, cx, cy) = sprintf("< awk -F, '!/^#/ && $0 !~ /^k,|^integrator,/ && $%d == \"%s\" { print $%d, $%d }' %s", \
-                                   (file eq stability ? 4 : 1), name, cx, cy, file)
+# Rows whose column `ckey` equals `name`, as "x y" from columns cx and cy
+# of a CSV (comment lines and the header skipped).
+rows_by(file, ckey, name, cx, cy) = sprintf("< awk -F, '!/^#/ && NR > 1 && $%d == \"%s\" { print $%d, $%d }' %s", \
+                                            ckey, name, cx, cy, file)
+rows(file, name, cx, cy) = rows_by(file, (file eq stability ? 4 : 1), name, cx, cy)
 
 set output results . "/stability.png"
 set title "Largest stable step against stiffness (12 x 12 sheet, left edge fixed; capped at 100 x 2/{/Symbol w}_{max})"
@@ -27,8 +30,35 @@ set ylabel "largest stable dt (s)"
 plot for [i=1:words(names)] rows(stability, word(names, i), 1, 5) using 1:2 with linespoints lw 2 pt i title word(names, i) noenhanced, \
      rows(stability, "verlet", 1, 3) using 1:2 with lines lw 3 dt 2 lc rgb "black" title "2/{/Symbol w}_{max}"
 
-set output results . "/work_precision.png"
-set title "Work-precision: error after 0.2 s of a 0.5 N push at the sheet's middle, against CPU time"
 set xlabel "CPU time of the run (s)"
 set ylabel "largest vertex error (m)"
-plot for [i=1:words(names)] rows(precision, word(names, i), 5, 6) using 1:2 with linespoints lw 2 pt i title word(names, i) noenhanced
+do for [where in "middle corner"] {
+    precision = results . (where eq "middle" ? "/work_precision.csv" : "/work_precision_corner.csv")
+    set output results . (where eq "middle" ? "/work_precision.png" : "/work_precision_corner.png")
+    set title "Work-precision: error after 0.2 s of a 0.5 N push at the sheet's " . (where eq "middle" ? "middle" : "free corner") . ", against CPU time"
+    plot for [i=1:words(names)] rows(precision, word(names, i), 5, 6) using 1:2 with linespoints lw 2 pt i title word(names, i) noenhanced
+}
+
+# Model accuracy: three panels against the load, a curve per model and load.
+accuracy = results . "/model_accuracy.csv"
+cases(model, load, cy) = sprintf("< awk -F, '!/^#/ && NR > 1 && $1 == \"%s\" && $2 == \"%s\" { print $3, $%d }' %s", \
+                                 model, load, cy, accuracy)
+models = "springs springs+angle"
+loads = "stretch shear"
+set output results . "/model_accuracy.png"
+set terminal pngcairo size 1500,520 enhanced font "sans,11"
+unset logscale
+set format x "%g"
+set format y "%g"
+set key inside left top box opaque
+set multiplot layout 1,3 title "Shape kept at static equilibrium: 12 x 12 sheet, left edge fixed, total force F on the right edge (stretch: +x, shear: +y)"
+panel_cols = "4 5 7"
+panel_titles = "'loaded edge displacement (m)' 'RMS relative triangle area change' 'RMS corner angle change (degrees)'"
+do for [p=1:3] {
+    set title word(panel_titles, p)
+    set xlabel "total force F (N)"
+    set ylabel word(panel_titles, p)
+    plot for [m=1:2] for [l=1:2] cases(word(models, m), word(loads, l), int(word(panel_cols, p))) using 1:2 \
+         with linespoints lw 2 pt (2 * m + l) dt l lc m title word(models, m) . ", " . word(loads, l) noenhanced
+}
+unset multiplot

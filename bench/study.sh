@@ -1,7 +1,9 @@
 #!/bin/sh
 # The integrator study in one command: builds a double-precision Release in
 # build-study/ (so the converged reference is not limited by float), runs
-# sb_study, and draws bench/results/stability.png and work_precision.png.
+# sb_study (stability, work-precision at the middle and at a corner, the
+# paper's tables in paper_tables.md, model accuracy), and draws the charts
+# in bench/results with bench/study.gp.
 #
 #   bench/study.sh [--quick]
 set -eu
