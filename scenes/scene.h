@@ -26,8 +26,8 @@ typedef enum sb_scene_type {
 #define SB_SCENE_KEYS(X)                                                                           \
     X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")               \
     X(MESH_FILE, "mesh.file", STRING, "''",                                                        \
-      "mesh file for generator file (OBJ, OFF, TetGen .node/.ele, Gmsh .msh or any assimp "        \
-      "format), relative to the scene file")                                                       \
+      "mesh file for generator file (OBJ, OFF, IRIT .itd, POV-Ray .pov, TetGen .node/.ele, Gmsh "  \
+      ".msh or any assimp format), relative to the scene file")                                    \
     X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                         \
     X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                         \
     X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                             \
@@ -69,7 +69,8 @@ typedef enum sb_scene_type {
       "wins over mass")                                                                            \
     X(FACTORY, "factory", STRING, "molecular",                                                     \
       "surface model: molecular (bonds, angles, hinges) or springs (stretch, bend and vicinity "   \
-      "springs); a tetrahedral mesh.file always builds the tissue model")                          \
+      "springs); a tetrahedral mesh.file always builds the tissue model, a .pov one springs with "  \
+      "each object's spring_system_* locals")                                                      \
     X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")             \
     X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1",                           \
       "springs: per edge, N s/m")                                                                  \
