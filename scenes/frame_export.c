@@ -110,7 +110,7 @@ typedef struct frame_job {
 
 static sb_status write_vtu(const frame_job* job, sb_error* err) {
     char name[64], path[4096];
-    sb_vtk_bonds_name(job->index, name, sizeof name);
+    sb_vtk_frame_name(job->index, "_bonds.vtu", name, sizeof name);
     sb_status status = join(path, job->stage->dir, name, err);
     if (status == SB_OK) status = sb_vtk_write_bonds(path, job->frame, err);
     if (status == SB_OK) status = sb_vtk_write_frame(job->stage->main, job->frame, err);
@@ -182,7 +182,7 @@ static sb_status export_one(const frame_format* format, const sb_frame_export_de
     const char* extension =
         format->extension ? format->extension : sb_mesh_export_extension(format->name);
     char main_name[64];
-    snprintf(main_name, sizeof main_name, "frame_%06u%s", index, extension);
+    sb_vtk_frame_name(index, extension, main_name, sizeof main_name);
     staging stage;
     sb_status status = stage_create(&stage, out, main_name, err);
     if (status != SB_OK) return status;

@@ -18,12 +18,8 @@
 
 enum { VTK_LINE = 3, VTK_TRIANGLE = 5 };
 
-void sb_vtk_frame_name(uint32_t index, char* out, size_t size) {
-    snprintf(out, size, "frame_%06u.vtu", index);
-}
-
-void sb_vtk_bonds_name(uint32_t index, char* out, size_t size) {
-    snprintf(out, size, "frame_%06u_bonds.vtu", index);
+void sb_vtk_frame_name(uint32_t index, const char* suffix, char* out, size_t size) {
+    snprintf(out, size, "frame_%06u%s", index, suffix);
 }
 
 static void write_vectors(FILE* f, const char* name, const double* data, uint32_t n) {
@@ -184,9 +180,9 @@ sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_
                          "byte_order=\"LittleEndian\">\n  <Collection>\n");
     for (uint32_t i = 0; i < count; i++) {
         char name[32];
-        sb_vtk_frame_name(i, name, sizeof name);
+        sb_vtk_frame_name(i, ".vtu", name, sizeof name);
         write_dataset(file.stream, times[i], 0, name);
-        sb_vtk_bonds_name(i, name, sizeof name);
+        sb_vtk_frame_name(i, "_bonds.vtu", name, sizeof name);
         write_dataset(file.stream, times[i], 1, name);
     }
     fprintf(file.stream, "  </Collection>\n</VTKFile>\n");

@@ -16,10 +16,10 @@ typedef struct sb_vtk_frame {
     const double* forces;
 } sb_vtk_frame;
 
-/* "frame_000012.vtu": the name of frame `index` inside the output folder. */
-void sb_vtk_frame_name(uint32_t index, char* out, size_t size);
-/* "frame_000012_bonds.vtu": the frame's bonds. */
-void sb_vtk_bonds_name(uint32_t index, char* out, size_t size);
+/* "frame_000012" and suffix: the name of a file of frame `index` inside the
+ * output folder ("frame_000012.vtu", the bonds "frame_000012_bonds.vtu",
+ * and the other formats' "frame_000012.pov", ...). */
+void sb_vtk_frame_name(uint32_t index, const char* suffix, char* out, size_t size);
 
 sb_status sb_vtk_write_frame(const char* path, const sb_vtk_frame* frame, sb_error* err);
 /* The model's bonds as VTK_LINE cells over the frame's points, with cell
@@ -27,8 +27,8 @@ sb_status sb_vtk_write_frame(const char* path, const sb_vtk_frame* frame, sb_err
  * J: the bond's share of the bond-stretch (Eq. 3) and spring (Eq. 2)
  * energies. */
 sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_error* err);
-/* Lists frames 0 .. count-1 at times[]: each one's surface (part 0, named by
- * sb_vtk_frame_name) and bonds (part 1, sb_vtk_bonds_name). */
+/* Lists frames 0 .. count-1 at times[]: each one's surface (part 0, .vtu)
+ * and bonds (part 1, _bonds.vtu). */
 sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count,
                                   sb_error* err);
 
