@@ -1,18 +1,36 @@
-/* The per-frame energy log of a run, kept in memory and written as
- * log.csv: time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total. */
+/* The per-frame log of a run, kept in memory and written as log.csv:
+ * time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total (the
+ * energies of the frame's state, J) then
+ * steps,substeps,rejected,newton,cg,unconverged (the solver's work since
+ * the previous frame, from sb_solver_last_step; all 0 on frame 0). */
 #ifndef SB_ENERGY_LOG_H
 #define SB_ENERGY_LOG_H
 
 #include "softbond/softbond.h"
 
+/* The solver's work over some steps, summed. */
+typedef struct sb_step_work {
+    uint64_t steps;       /* sb_solver_advance calls */
+    uint64_t substeps;    /* sub-steps accepted (= steps without adaptive) */
+    uint64_t rejected;    /* adaptive: sub-steps retried at half the size */
+    uint64_t newton;      /* implicit_euler: Newton iterations */
+    uint64_t cg;          /* implicit_euler: conjugate-gradient iterations */
+    uint64_t unconverged; /* implicit_euler: steps whose Newton solve missed its tolerance */
+} sb_step_work;
+
+/* Adds one step's statistics to `work`. */
+void sb_step_work_add(sb_step_work* work, const sb_step_stats* stats);
+
 typedef struct sb_energy_log {
     double* times;
     sb_energies* energies;
+    sb_step_work* work;
     uint32_t count, capacity;
 } sb_energy_log;
 
 /* Returns false when out of memory. */
-bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies);
+bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies,
+                       const sb_step_work* work);
 void sb_energy_log_free(sb_energy_log* log);
 /* One row per frame, 17 significant digits; written atomically. */
 sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_error* err);

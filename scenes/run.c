@@ -42,6 +42,7 @@ typedef struct run_job {
     sb_solver* solver;
     sb_output_dir out;
     sb_energy_log log;
+    sb_step_work work; /* the solver's work since the last frame */
     sb_frame_export_def export;
     double* buffers; /* positions, velocities, forces: 3n each */
 } run_job;
@@ -134,7 +135,10 @@ static int record_frame(run_job* job, sb_error* err) {
     if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK)
         return SB_EXIT_FAILURE;
     sb_energies energies = sb_solver_energies(job->solver);
-    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies)) return SB_EXIT_OK;
+    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work)) {
+        job->work = (sb_step_work){0};
+        return SB_EXIT_OK;
+    }
     sb_errorf(err, SB_ERR_NOMEM, "out of memory");
     return SB_EXIT_FAILURE;
 }
@@ -146,6 +150,8 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
             sb_errorf(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
             return SB_EXIT_SOLVER;
         }
+        sb_step_stats stats = sb_solver_last_step(job->solver);
+        sb_step_work_add(&job->work, &stats);
         sb_progress_update(progress, sb_solver_step_count(job->solver));
     }
     return SB_EXIT_OK;

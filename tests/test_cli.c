@@ -372,18 +372,21 @@ static void assert_frames(const char* dir, int frames) {
     free(pvd);
 }
 
+enum { LOG_COLUMNS = 15, LOG_STEPS = 9, LOG_SUBSTEPS, LOG_REJECTED, LOG_NEWTON, LOG_CG, LOG_UNCONVERGED };
+static const char* const log_header = "time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total,"
+                                      "steps,substeps,rejected,newton,cg,unconverged\n";
+
 static void assert_log(const char* dir, int frames, double duration) {
     char name[400];
     snprintf(name, sizeof name, "%s/log.csv", dir);
     char* log = tu_read_file(name);
     assert_non_null(log);
-    const char* header = "time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total\n";
-    assert_int_equal(strncmp(log, header, strlen(header)), 0);
+    assert_int_equal(strncmp(log, log_header, strlen(log_header)), 0);
     assert_int_equal(count_lines(log), frames + 1);
-    const char* row = log + strlen(header);
-    double values[10], first_time = -1.0;
+    const char* row = log + strlen(log_header);
+    double values[LOG_COLUMNS + 1], first_time = -1.0;
     for (int i = 0; i < frames; i++) {
-        assert_int_equal(csv_fields(row, values, 10), 9);
+        assert_int_equal(csv_fields(row, values, LOG_COLUMNS + 1), LOG_COLUMNS);
         if (i == 0) first_time = values[0];
         /* total = kinetic + the five terms + gravity */
         double sum = 0.0;
@@ -410,6 +413,61 @@ static void test_run_writes_frames_and_log(void** state) {
     assert_frames(tu_tmp_path("out/tiny"), frames);
     assert_log(tu_tmp_path("out/tiny"), frames, 0.1);
     tu_result_free(&r);
+}
+
+/* Reads the rows of DIR/log.csv (at most `max`, LOG_COLUMNS each). */
+static int read_log(const char* dir, double rows[][LOG_COLUMNS], int max) {
+    char name[400];
+    snprintf(name, sizeof name, "%s/log.csv", dir);
+    char* log = tu_read_file(name);
+    assert_non_null(log);
+    assert_int_equal(strncmp(log, log_header, strlen(log_header)), 0);
+    int n = 0;
+    for (const char* row = log + strlen(log_header); *row && n < max; row = strchr(row, '\n') + 1)
+        assert_int_equal(csv_fields(row, rows[n++], LOG_COLUMNS), LOG_COLUMNS);
+    free(log);
+    return n;
+}
+
+/* The solver's work since the previous frame: 20 steps of 1 ms per 20 ms
+ * frame (none before frame 0); implicit Euler's Newton and CG iterations
+ * (at least one of each per step, CG at least once per Newton iteration);
+ * adaptive sub-steps at least one per step, and many where dt = 20 ms is
+ * far past Verlet's limit: with bonds of 5000 N/m on 0.01 kg vertices,
+ * omega_max > 2 sqrt(k/m) = 1400 rad/s, 2/omega_max < 1.4 ms, so
+ * 5 steps take well over 25 sub-steps. */
+static void test_run_logs_solver_work(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    const char* const cases[][3] = {{"integrator=verlet", "dt=0.001", "bond.k=50"},
+                                    {"integrator=implicit_euler", "dt=0.001", "bond.k=50"},
+                                    {"adaptive=true", "dt=0.02", "bond.k=5000"}};
+    for (int c = 0; c < 3; c++) {
+        tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", cases[c][0], "--set", cases[c][1],
+                                             "--set", cases[c][2], "--set", "output.frames=false", "--output", "work", NULL});
+        if (r.code != 0) fail_msg("%s: %s", cases[c][0], r.err);
+        tu_result_free(&r);
+        double rows[8][LOG_COLUMNS];
+        assert_int_equal(read_log(tu_tmp_path("work"), rows, 8), 6);
+        for (int col = LOG_STEPS; col < LOG_COLUMNS; col++) assert_true(rows[0][col] == 0.0);
+        double substeps = 0;
+        for (int i = 1; i < 6; i++) {
+            const double* w = rows[i];
+            assert_true(w[LOG_STEPS] == (c == 2 ? 1.0 : 20.0));
+            assert_true(w[LOG_UNCONVERGED] == 0.0);
+            substeps += w[LOG_SUBSTEPS];
+            if (c == 1) {
+                assert_true(w[LOG_NEWTON] >= w[LOG_STEPS]);
+                assert_true(w[LOG_CG] >= w[LOG_NEWTON]);
+            } else {
+                assert_true(w[LOG_NEWTON] == 0.0 && w[LOG_CG] == 0.0);
+            }
+            if (c == 2) assert_true(w[LOG_SUBSTEPS] >= w[LOG_STEPS]);
+            else assert_true(w[LOG_SUBSTEPS] == w[LOG_STEPS] && w[LOG_REJECTED] == 0.0);
+        }
+        print_message("%s: %g sub-steps in 5 frames\n", cases[c][0], substeps);
+        if (c == 2) TU_ASSERT_LE(25.0, substeps);
+    }
 }
 
 static void test_run_set_and_output(void** state) {
@@ -504,6 +562,7 @@ int main(void) {
         cmocka_unit_test(test_run_set_and_output),
         cmocka_unit_test(test_run_bad_input_creates_nothing),
         cmocka_unit_test(test_run_solver_failure_exits_3),
+        cmocka_unit_test(test_run_logs_solver_work),
         cmocka_unit_test(test_help_and_version),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
