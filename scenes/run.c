@@ -10,6 +10,7 @@
 #include "scenes/energy_log.h"
 #include "scenes/errorf.h"
 #include "scenes/frame_export.h"
+#include "scenes/point_load.h"
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
 #include "scenes/scene_model.h"
@@ -40,6 +41,7 @@ typedef struct run_job {
     sb_mesh mesh;
     sb_model* model;
     sb_solver* solver;
+    sb_point_load load; /* the solver's external force reads it */
     sb_output_dir out;
     sb_energy_log log;
     sb_step_work work; /* the solver's work since the last frame */
@@ -108,7 +110,9 @@ static sb_status prepare(run_job* job, sb_error* err) {
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
     if (status == SB_OK) status = make_model(job, &def, err);
+    if (status == SB_OK) status = sb_point_load_prepare(&job->scene, job->model, &job->load, err);
     if (status != SB_OK) return status;
+    sb_point_load_attach(&job->load, &def);
     job->solver = sb_solver_create(job->model, &def, err);
     if (!job->solver) return SB_ERR_INVALID;
     size_t n = 3 * (size_t)job->mesh.vertex_count;

@@ -97,6 +97,10 @@ typedef enum sb_scene_type {
       "right_corners, top_edge, bottom_edge, left_edge or right_edge")                             \
     X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
     X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
+    X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]",                                                 \
+      "a constant force, N, on the free vertex nearest load.at, from t = 0; [0, 0, 0] = none")     \
+    X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                       \
+      "where load.force acts: the vertex nearest this point of the placed rest shape, m")          \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                  \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "               \
       "implicit_euler, pbd or xpbd")                                                               \

@@ -141,10 +141,11 @@ static sb_scene_key blame(const sb_scene* scene, sb_scene_key first, sb_scene_ke
     return scene->values[first].where[0] ? first : second;
 }
 
-/* mesh.scale, mesh.rotate, mesh.translate: finite, and no zero scale. */
-static sb_status check_placement(const sb_scene* scene, sb_error* err) {
-    static const sb_scene_key keys[] = {SB_KEY_MESH_SCALE, SB_KEY_MESH_ROTATE, SB_KEY_MESH_TRANSLATE};
-    for (size_t i = 0; i < 3; i++) {
+/* The vectors (placement, gravity, load): finite, and no zero scale. */
+static sb_status check_vectors(const sb_scene* scene, sb_error* err) {
+    static const sb_scene_key keys[] = {SB_KEY_MESH_SCALE, SB_KEY_MESH_ROTATE, SB_KEY_MESH_TRANSLATE,
+                                        SB_KEY_GRAVITY,    SB_KEY_LOAD_FORCE,  SB_KEY_LOAD_AT};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         const double* v = sb_scene_vec3(scene, keys[i]);
         const char* name = sb_scene_key_get(keys[i])->name;
         for (int k = 0; k < 3; k++) {
@@ -157,11 +158,8 @@ static sb_status check_placement(const sb_scene* scene, sb_error* err) {
 }
 
 static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
-    sb_status placement = check_placement(scene, err);
-    if (placement != SB_OK) return placement;
-    const double* g = sb_scene_vec3(scene, SB_KEY_GRAVITY);
-    if (!isfinite(g[0]) || !isfinite(g[1]) || !isfinite(g[2]))
-        return sb_scene_fail(scene, SB_KEY_GRAVITY, err, "'gravity' must be finite");
+    sb_status vectors = check_vectors(scene, err);
+    if (vectors != SB_OK) return vectors;
     if (sb_scene_number(scene, SB_KEY_MESH_JITTER) >= 0.5)
         return sb_scene_fail(scene, SB_KEY_MESH_JITTER, err, "'mesh.jitter' must be < 0.5");
     double dt = sb_scene_number(scene, SB_KEY_DT);

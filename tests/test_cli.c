@@ -5,6 +5,7 @@
  * frames.pvd, the .vtu frames and log.csv with one row per frame. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <dirent.h>
 #include <stdio.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -470,6 +471,105 @@ static void test_run_logs_solver_work(void** state) {
     }
 }
 
+/* Reads a point array of a .vtu frame, 3 values per point: the one named
+ * `name`, or the positions for "Points". */
+static int vtu_array(const char* path, const char* name, double* out, int max) {
+    char* vtu = tu_read_file(path);
+    assert_non_null(vtu);
+    char tag[64];
+    bool points = strcmp(name, "Points") == 0;
+    snprintf(tag, sizeof tag, points ? "<Points>" : "Name=\"%s\"", name);
+    const char* p = strstr(vtu, tag);
+    assert_non_null(p);
+    if (points) p = strstr(p, "<DataArray");
+    p = strchr(p, '>') + 1;
+    int n = 0;
+    for (char* end; n < max; p = end, n++) {
+        out[n] = strtod(p, &end);
+        if (end == p) break;
+    }
+    free(vtu);
+    return n;
+}
+
+/* load.force acts on the free vertex nearest load.at, and on no other: at
+ * rest, without gravity, the elastic forces vanish and frame 0's total
+ * force is the load alone; the vertex then moves along it. */
+static void test_run_point_load(void** state) {
+    (void)state;
+    tu_write_file("load.yaml",
+                  "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+                  "bond: {k: 50}\nmass: 0.01\npin: left_edge\ngravity: [0, 0, 0]\n"
+                  "load:\n  force: [0, 0.1, 0.25]\n  at: [0.29, 0.19, 0.05]\n"
+                  "dt: 0.001\nduration: 0.02\nframe_interval: 0.01\n");
+    tu_result r = tu_run((const char*[]){"run", "load.yaml", "--output", "load", NULL});
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    enum { N = 12, CORNER = 11 }; /* the sheet's vertices row by row: [0.3, 0.2, 0] is the last */
+    double force[3 * N + 1], start[3 * N + 1], end[3 * N + 1];
+    assert_int_equal(vtu_array(tu_tmp_path("load/frame_000000.vtu"), "force", force, 3 * N + 1), 3 * N);
+    for (int v = 0; v < N; v++) {
+        double expected[3] = {0, v == CORNER ? 0.1 : 0, v == CORNER ? 0.25 : 0};
+        for (int k = 0; k < 3; k++) TU_ASSERT_NEAR(force[3 * v + k], expected[k], 1e-5);
+    }
+    vtu_array(tu_tmp_path("load/frame_000000.vtu"), "Points", start, 3 * N + 1);
+    vtu_array(tu_tmp_path("load/frame_000002.vtu"), "Points", end, 3 * N + 1);
+    /* a free particle would move ½ (F/m) t² = 5 mm along z in 20 ms */
+    TU_ASSERT_LE(1e-3, end[3 * CORNER + 2] - start[3 * CORNER + 2]);
+    TU_ASSERT_LE(end[3 * CORNER + 2] - start[3 * CORNER + 2], 5e-3 * 1.001);
+    TU_ASSERT_LE(0.0, end[3 * CORNER + 1] - start[3 * CORNER + 1]);
+
+    /* a load on a held vertex is refused, naming the key's place */
+    r = tu_run((const char*[]){"run", "load.yaml", "--set", "load.at=[0, 0.1, 0]", NULL});
+    assert_input_error(&r, "--set load.at=[0, 0.1, 0]: 'load.at' [0, 0.1, 0]: the nearest vertex, 4 at "
+                           "[0, 0.1, 0], is fixed, so the load would do nothing");
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "load.yaml", "--set", "load.force=[0, nan, 0]", NULL});
+    assert_input_error(&r, "--set load.force=[0, nan, 0]: 'load.force' must be finite");
+    tu_result_free(&r);
+}
+
+/* Every scene under scenes/ runs (its first 10 ms) as committed. */
+static void test_committed_scenes_run(void** state) {
+    (void)state;
+    DIR* dir = opendir(SB_SOURCE_DIR "/scenes");
+    assert_non_null(dir);
+    int scenes = 0;
+    for (struct dirent* e; (e = readdir(dir));) {
+        size_t n = strlen(e->d_name);
+        if (n < 6 || strcmp(e->d_name + n - 5, ".yaml") != 0) continue;
+        char path[600];
+        snprintf(path, sizeof path, SB_SOURCE_DIR "/scenes/%s", e->d_name);
+        tu_result r = tu_run((const char*[]){"run", path, "--set", "duration=0.01", "--set", "output.frames=false",
+                                             "--output", "committed", NULL});
+        if (r.code != 0) fail_msg("%s: %s", e->d_name, r.err);
+        tu_result_free(&r);
+        double rows[2][LOG_COLUMNS];
+        assert_true(read_log(tu_tmp_path("committed"), rows, 2) >= 1);
+        scenes++;
+    }
+    closedir(dir);
+    assert_true(scenes >= 2); /* default.yaml and sudhamani_sheet.yaml at least */
+}
+
+/* The Sudhamani scene's comment says it settles within its duration: the
+ * kinetic energy at the end is below 1e-6 of its peak. */
+static void test_sudhamani_scene_settles(void** state) {
+    (void)state;
+    tu_result r = tu_run((const char*[]){"run", SB_SOURCE_DIR "/scenes/sudhamani_sheet.yaml", "--set",
+                                         "output.frames=false", "--output", "sudhamani", NULL});
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    static double rows[200][LOG_COLUMNS];
+    int n = read_log(tu_tmp_path("sudhamani"), rows, 200);
+    assert_int_equal(n, 126);
+    double peak = 0;
+    for (int i = 0; i < n; i++) peak = fmax(peak, rows[i][1]);
+    print_message("sudhamani scene: peak kinetic energy %.3g J, at the end %.3g J\n", peak, rows[n - 1][1]);
+    assert_true(peak > 0);
+    TU_ASSERT_LE(rows[n - 1][1], 1e-6 * peak);
+}
+
 static void test_run_set_and_output(void** state) {
     (void)state;
     tu_write_file("tiny.yaml", tiny_scene);
@@ -563,6 +663,9 @@ int main(void) {
         cmocka_unit_test(test_run_bad_input_creates_nothing),
         cmocka_unit_test(test_run_solver_failure_exits_3),
         cmocka_unit_test(test_run_logs_solver_work),
+        cmocka_unit_test(test_run_point_load),
+        cmocka_unit_test(test_committed_scenes_run),
+        cmocka_unit_test(test_sudhamani_scene_settles),
         cmocka_unit_test(test_help_and_version),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
