@@ -265,7 +265,7 @@ static void sb_measure(const sb_bench_setup* setup, const sb_options* o, sb_row*
     sb_error err = {{0}};
     sb_solver* s = sb_solver_create(setup->model, &def, &err);
     if (!s) {
-        snprintf(row->note, sizeof row->note, "unavailable: %s", err.message);
+        snprintf(row->note, sizeof row->note, "unavailable: %.120s", err.message); /* a note is short */
         return;
     }
     double per_step = sb_warm_up(s, setup->dt, fmin(0.3, 0.25 * o->target), row);

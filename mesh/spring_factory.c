@@ -41,8 +41,12 @@
 #include <stdlib.h>
 
 sb_spring_mesh_def sb_default_spring_mesh_def(void) {
+    /* vicinity springs are off (distance 0) but, once a distance is set,
+     * as stiff as the stretch springs: a zero default would add springs of
+     * no stiffness, silently */
     return (sb_spring_mesh_def){.stretch_k = 100.0, .stretch_damping = 0.1, .bend_k = 10.0,
-                                .bend_damping = 0.01, .mass = 0.01};
+                                .bend_damping = 0.01, .vicinity_k = 100.0,
+                                .vicinity_damping = 0.1, .mass = 0.01};
 }
 
 /* Pairs of vertices grouped by their lower vertex (compressed rows): row

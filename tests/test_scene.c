@@ -375,6 +375,41 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     sb_scene_free(&scene);
 }
 
+/* The key table states its defaults as YAML text; the library has its own
+ * sb_default_*_def(). A scene that sets nothing must build what a library
+ * user who changes nothing gets, so the two must agree key by key. */
+static void test_defaults_match_the_library(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    sb_material_def m = sb_scene_material(&scene), lm = sb_default_material_def();
+    assert_true(m.bond_k == lm.bond_k && m.angle_k == lm.angle_k && m.stretch_bend_k == lm.stretch_bend_k);
+    assert_true(m.spring_k == lm.spring_k && m.spring_damping == lm.spring_damping && m.bend_k == lm.bend_k);
+    assert_true(m.mass == lm.mass && m.density == lm.density);
+    sb_spring_mesh_def sp = sb_scene_springs(&scene), lsp = sb_default_spring_mesh_def();
+    assert_true(sp.stretch_k == lsp.stretch_k && sp.stretch_damping == lsp.stretch_damping);
+    assert_true(sp.bend_k == lsp.bend_k && sp.bend_damping == lsp.bend_damping);
+    assert_true(sp.vicinity == lsp.vicinity && sp.vicinity_k == lsp.vicinity_k);
+    assert_true(sp.vicinity_damping == lsp.vicinity_damping);
+    assert_true(sp.mass == lsp.mass && sp.density == lsp.density);
+    sb_tissue_def lt = sb_default_tissue_def();
+    assert_true(sb_scene_number(&scene, SB_KEY_TISSUE_YOUNG_MODULUS) == lt.young_modulus);
+    assert_true(sb_scene_number(&scene, SB_KEY_TISSUE_DENSITY) == lt.density);
+    assert_true(sb_scene_number(&scene, SB_KEY_TISSUE_DAMPING) == lt.damping);
+    sb_solver_def d = sb_scene_solver_def(&scene), ld = sb_default_solver_def();
+    assert_int_equal(d.integrator, ld.integrator);
+    assert_int_equal(d.kernels, ld.kernels);
+    assert_int_equal(d.threads, ld.threads);
+    for (int k = 0; k < 3; k++) assert_true(d.gravity[k] == ld.gravity[k]);
+    assert_true(d.drag == ld.drag && d.adaptive == ld.adaptive && d.min_dt == ld.min_dt);
+    assert_true(d.implicit_tolerance == ld.implicit_tolerance);
+    assert_int_equal(d.implicit_newton_iterations, ld.implicit_newton_iterations);
+    assert_int_equal(d.implicit_cg_iterations, ld.implicit_cg_iterations);
+    assert_int_equal(d.pbd_iterations, ld.pbd_iterations);
+    sb_scene_free(&scene);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults_are_valid_and_from_nowhere),
@@ -393,6 +428,7 @@ int main(void) {
         cmocka_unit_test(test_pins_select_by_place),
         cmocka_unit_test(test_fixed_index_out_of_range),
         cmocka_unit_test(test_material_and_solver_follow_the_scene),
+        cmocka_unit_test(test_defaults_match_the_library),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
