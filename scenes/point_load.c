@@ -33,6 +33,18 @@ sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb
                          at[0], at[1], at[2], load->vertex, x[0], x[1], x[2]);
 }
 
+void sb_point_load_print(const sb_point_load* load, const sb_scene* scene, const sb_model* model,
+                         FILE* stream) {
+    if (!load->active) return;
+    const double *f = load->force, *at = sb_scene_vec3(scene, SB_KEY_LOAD_AT);
+    double x[3];
+    sb_model_rest_position(model, load->vertex, x);
+    double d = sqrt((x[0] - at[0]) * (x[0] - at[0]) + (x[1] - at[1]) * (x[1] - at[1]) +
+                    (x[2] - at[2]) * (x[2] - at[2]));
+    fprintf(stream, "softbond: load [%g, %g, %g] N on vertex %u at [%g, %g, %g] m (%g m from load.at)\n", f[0],
+            f[1], f[2], load->vertex, x[0], x[1], x[2], d);
+}
+
 static void apply(void* user, uint32_t vertex, double time, const double position[3],
                   const double velocity[3], double force[3]) {
     (void)time, (void)position, (void)velocity;

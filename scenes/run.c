@@ -241,6 +241,7 @@ int sb_cli_run(int argc, char** argv) {
         return run_finish(&job, SB_EXIT_OK);
     }
     if (prepare(&job, &err) != SB_OK) return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    sb_point_load_print(&job.load, &job.scene, job.model, stdout);
     int code = execute(&job, &err);
     if (code != SB_EXIT_OK) sb_cli_fail(code, &err);
     return run_finish(&job, code);

@@ -504,6 +504,9 @@ static void test_run_point_load(void** state) {
                   "dt: 0.001\nduration: 0.02\nframe_interval: 0.01\n");
     tu_result r = tu_run((const char*[]){"run", "load.yaml", "--output", "load", NULL});
     if (r.code != 0) fail_msg("%s", r.err);
+    /* 0.01, 0.01 and 0.05 m from the corner: √27 × 0.01 */
+    assert_non_null(strstr(r.out, "softbond: load [0, 0.1, 0.25] N on vertex 11 at [0.3, 0.2, 0] m "
+                                  "(0.0519615 m from load.at)\n"));
     tu_result_free(&r);
     enum { N = 12, CORNER = 11 }; /* the sheet's vertices row by row: [0.3, 0.2, 0] is the last */
     double force[3 * N + 1], start[3 * N + 1], end[3 * N + 1];
