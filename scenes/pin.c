@@ -5,18 +5,26 @@
 #include <math.h>
 #include <string.h>
 
+typedef enum pin_kind {
+    PIN_EDGE,    /* every vertex of the side */
+    PIN_CORNERS, /* only the side's two end vertices */
+    PIN_CLAMP    /* the side and its neighbours along the triangles */
+} pin_kind;
+
 typedef struct pin_rule {
     const char* name;
-    int axis;     /* 0 = x, 1 = y: the side is where this coordinate is extreme */
-    bool at_max;  /* the max face (top, right) or the min face (bottom, left) */
-    bool corners; /* only the side's two end vertices */
+    int axis;    /* 0 = x, 1 = y: the side is where this coordinate is extreme */
+    bool at_max; /* the max face (top, right) or the min face (bottom, left) */
+    pin_kind kind;
 } pin_rule;
 
 static const pin_rule rules[] = {
-    {"top_corners", 1, true, true},   {"bottom_corners", 1, false, true},
-    {"left_corners", 0, false, true}, {"right_corners", 0, true, true},
-    {"top_edge", 1, true, false},     {"bottom_edge", 1, false, false},
-    {"left_edge", 0, false, false},   {"right_edge", 0, true, false},
+    {"top_corners", 1, true, PIN_CORNERS}, {"bottom_corners", 1, false, PIN_CORNERS},
+    {"left_corners", 0, false, PIN_CORNERS}, {"right_corners", 0, true, PIN_CORNERS},
+    {"top_edge", 1, true, PIN_EDGE},       {"bottom_edge", 1, false, PIN_EDGE},
+    {"left_edge", 0, false, PIN_EDGE},     {"right_edge", 0, true, PIN_EDGE},
+    {"top_clamp", 1, true, PIN_CLAMP},     {"bottom_clamp", 1, false, PIN_CLAMP},
+    {"left_clamp", 0, false, PIN_CLAMP},   {"right_clamp", 0, true, PIN_CLAMP},
 };
 enum { RULE_COUNT = sizeof rules / sizeof rules[0] };
 
@@ -32,7 +40,7 @@ bool sb_pin_known(const char* name) {
 
 const char* sb_pin_names(void) {
     return "none, top_corners, bottom_corners, left_corners, right_corners, top_edge, "
-           "bottom_edge, left_edge, right_edge";
+           "bottom_edge, left_edge, right_edge, top_clamp, bottom_clamp, left_clamp, right_clamp";
 }
 
 typedef struct box {
@@ -79,15 +87,29 @@ static void pin_corners(const pin_rule* rule, const sb_mesh* mesh, const box* b,
     if (last >= 0) pin(builder, (uint32_t)last);
 }
 
+/* Every vertex of a triangle that touches the side: on a triangle mesh,
+ * the side's vertices and their neighbours. */
+static void pin_clamp(const pin_rule* rule, const sb_mesh* mesh, const box* b, double tol,
+                      sb_builder* builder) {
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
+        const uint32_t* tri = &mesh->triangles[3 * t];
+        bool touches = false;
+        for (int c = 0; c < 3; c++) touches |= on_side(rule, b, tol, &mesh->positions[3 * tri[c]]);
+        if (touches)
+            for (int c = 0; c < 3; c++) pin(builder, tri[c]);
+    }
+}
+
 void sb_pin_apply(const char* name, const sb_mesh* mesh, sb_builder* builder) {
     const pin_rule* rule = find_rule(name);
     if (!rule || mesh->vertex_count == 0) return;
     box b = bounding_box(mesh);
     double tol = box_tolerance(&b);
-    if (rule->corners) {
+    if (rule->kind == PIN_CORNERS) {
         pin_corners(rule, mesh, &b, tol, builder);
         return;
     }
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
         if (on_side(rule, &b, tol, &mesh->positions[3 * v])) pin(builder, v);
+    if (rule->kind == PIN_CLAMP) pin_clamp(rule, mesh, &b, tol, builder);
 }

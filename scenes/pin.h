@@ -6,7 +6,10 @@
  * left = min x, right = max x. `<side>_edge` pins all of them;
  * `<side>_corners` pins the two at the ends of the side (min and max x for
  * top and bottom, min and max y for left and right; the first in vertex
- * order on a tie). `none` pins nothing. */
+ * order on a tie). `<side>_clamp` pins the side and every vertex of a
+ * triangle touching it (its neighbours along the mesh): a single line of
+ * held points lets a sheet turn about it at no cost in energy, two rows
+ * hold the rotation too. `none` pins nothing. */
 #ifndef SB_PIN_H
 #define SB_PIN_H
 

@@ -94,7 +94,8 @@ typedef enum sb_scene_type {
     X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")            \
     X(PIN, "pin", STRING, "none",                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                \
-      "right_corners, top_edge, bottom_edge, left_edge or right_edge")                             \
+      "right_corners, <side>_edge or <side>_clamp (the side and its neighbours), side top, "       \
+      "bottom, left or right")                                                                     \
     X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
     X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
     X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]",                                                 \

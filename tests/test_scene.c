@@ -334,6 +334,11 @@ static void test_pins_select_by_place(void** state) {
     assert_int_equal(fixed_mask((const char*[]){"pin=right_edge"}, 1), (1u << 2) | (1u << 5));
     assert_int_equal(fixed_mask((const char*[]){"pin=top_edge"}, 1), 7u << 3);
     assert_int_equal(fixed_mask((const char*[]){"pin=left_corners"}, 1), (1u << 0) | (1u << 3));
+    /* a side and its neighbours along the triangles, whichever way the
+     * sheet's cells are split: the 3 x 2 sheet's middle column joins both */
+    assert_int_equal(fixed_mask((const char*[]){"pin=left_clamp"}, 1), 0x1bu); /* 0 1 3 4 */
+    assert_int_equal(fixed_mask((const char*[]){"pin=right_clamp"}, 1), 0x36u); /* 1 2 4 5 */
+    assert_int_equal(fixed_mask((const char*[]){"pin=bottom_clamp"}, 1), 0x3fu);
     assert_int_equal(fixed_mask((const char*[]){"fixed=[1, 4]", "pin=bottom_corners"}, 2),
                      (1u << 0) | (1u << 1) | (1u << 2) | (1u << 4));
 }
