@@ -23,8 +23,8 @@
 #include <string.h>
 
 #define SB_BENCH_BOND_K 100.0
-#define SB_BENCH_DENSITY 0.1 /* kg/m² */
-#define SB_BENCH_SHEET_SIZE 1.0 /* m */
+#define SB_BENCH_DENSITY 0.1       /* kg/m² */
+#define SB_BENCH_SHEET_SIZE 1.0    /* m */
 #define SB_BENCH_SPHERE_RADIUS 0.5 /* m */
 
 /* Sheets keep the generator's row-major order, already local. Icospheres

@@ -18,7 +18,7 @@ typedef enum sb_bench_shape { SB_BENCH_SHEET, SB_BENCH_ICOSPHERE } sb_bench_shap
 typedef enum sb_bench_order { SB_BENCH_GENERATED, SB_BENCH_MORTON, SB_BENCH_SHUFFLED } sb_bench_order;
 
 typedef struct sb_bench_case {
-    const char* name;     /* e.g. "sheet_100k" */
+    const char* name; /* e.g. "sheet_100k" */
     sb_bench_shape shape;
     uint32_t size;        /* sheet: nx = ny; icosphere: subdivisions */
     bool small;           /* part of --cases small */
@@ -27,8 +27,8 @@ typedef struct sb_bench_case {
 
 /* The constants every case shares. */
 typedef struct sb_bench_options {
-    bool all_terms;  /* add the damped spring and the hinge bend */
-    double jitter;   /* sheet jitter, a fraction of the spacing */
+    bool all_terms; /* add the damped spring and the hinge bend */
+    double jitter;  /* sheet jitter, a fraction of the spacing */
 } sb_bench_options;
 
 /* A built case: its mesh, material, model and step. */
@@ -52,11 +52,9 @@ extern const size_t sb_bench_case_count;
 const sb_bench_case* sb_bench_find_case(const char* name);
 
 /* Generates the mesh and chooses material and dt; model stays NULL. */
-sb_status sb_bench_prepare(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s,
-                           sb_error* err);
+sb_status sb_bench_prepare(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s, sb_error* err);
 /* Prepares, then builds and compiles the model (with the pins). */
-sb_status sb_bench_build(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s,
-                         sb_error* err);
+sb_status sb_bench_build(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s, sb_error* err);
 void sb_bench_setup_free(sb_bench_setup* s);
 
 #endif

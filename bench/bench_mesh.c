@@ -25,7 +25,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#define SHEET_SIDE 708   /* 2 · 707² = 999 698 triangles */
+#define SHEET_SIDE 708 /* 2 · 707² = 999 698 triangles */
 #define CLOUD_SIZE 1000000
 
 typedef struct phase_times {
@@ -121,11 +121,16 @@ int main(int argc, char** argv) {
     const char* dir = NULL;
     int trials = 5, cold = 0;
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csv_path = argv[++i];
-        else if (strcmp(argv[i], "--trials") == 0 && i + 1 < argc) trials = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--keep") == 0 && i + 1 < argc) dir = argv[++i];
-        else if (strcmp(argv[i], "--cold") == 0) cold = 1;
-        else return fprintf(stderr, "usage: sb_bench_mesh [--csv FILE] [--trials N] [--cold] [--keep DIR]\n"), 2;
+        if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc)
+            csv_path = argv[++i];
+        else if (strcmp(argv[i], "--trials") == 0 && i + 1 < argc)
+            trials = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--keep") == 0 && i + 1 < argc)
+            dir = argv[++i];
+        else if (strcmp(argv[i], "--cold") == 0)
+            cold = 1;
+        else
+            return fprintf(stderr, "usage: sb_bench_mesh [--csv FILE] [--trials N] [--cold] [--keep DIR]\n"), 2;
     }
     if (trials < 1) return fprintf(stderr, "sb_bench_mesh: --trials must be at least 1\n"), 2;
     char obj[4096];
@@ -178,8 +183,8 @@ int main(int argc, char** argv) {
             total.best);
     fprintf(csv, "%s,%u,%u,spring_factory_compile,%.4f,%.4f,\n", sheet_case, vertices, triangles, springs.first,
             springs.best);
-    fprintf(csv, "sheet_1000_vicinity_1.5h,%u,%zu,vicinity,%.4f,%.4f,1\n", grid.vertex_count, grid_pairs,
-            grid_t.first, grid_t.best);
+    fprintf(csv, "sheet_1000_vicinity_1.5h,%u,%zu,vicinity,%.4f,%.4f,1\n", grid.vertex_count, grid_pairs, grid_t.first,
+            grid_t.best);
     fprintf(csv, "cloud_1m_vicinity_0.01,%u,%zu,vicinity,%.4f,%.4f,1\n", CLOUD_SIZE, cloud_pairs, cloud_t.first,
             cloud_t.best);
     fclose(csv);

@@ -60,8 +60,8 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     double fused_bonds = all_terms ? 0.0 : (double)c.bonds, free_bonds = (double)c.bonds - fused_bonds;
     double triangle_bytes = 12.0 + (fused_bonds > 0 ? 12.0 : 6.0) * s;
     double bond_bytes = 8.0 + s, hinge_bytes = 16.0 + s;
-    c.bytes_per_step = vertex_bytes * c.vertices + bond_bytes * free_bonds + triangle_bytes * c.triangles +
-                       hinge_bytes * c.hinges;
+    c.bytes_per_step =
+        vertex_bytes * c.vertices + bond_bytes * free_bonds + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
     c.flops_per_step = SB_FLOPS_VERTEX * c.vertices + bond_flops * c.bonds + SB_FLOPS_TRIANGLE * c.triangles +
                        SB_FLOPS_HINGE * c.hinges;

@@ -8,7 +8,7 @@
 
 typedef struct sb_bench_counts {
     uint64_t vertices, bonds, triangles, hinges;
-    uint64_t elements;     /* bonds + angles (3 per triangle) + hinges */
+    uint64_t elements; /* bonds + angles (3 per triangle) + hinges */
     double bytes_per_step;
     double flops_per_step;
 } sb_bench_counts;

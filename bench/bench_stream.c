@@ -27,8 +27,8 @@ size_t sb_bench_llc_bytes(void) {
     return size > 0 ? (size_t)size : 0;
 }
 
-static void sb_triad_pass(double* restrict a, const double* restrict b, const double* restrict c, size_t n,
-                          double s, int threads) {
+static void sb_triad_pass(double* restrict a, const double* restrict b, const double* restrict c, size_t n, double s,
+                          int threads) {
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (size_t i = 0; i < n; i++) a[i] = b[i] + s * c[i];
 }

@@ -8,7 +8,7 @@
 typedef struct sb_triad_result {
     size_t array_bytes; /* each of the three arrays */
     int threads;
-    double gb_per_s;    /* best of the repetitions, 24 bytes per element (STREAM's count) */
+    double gb_per_s; /* best of the repetitions, 24 bytes per element (STREAM's count) */
 } sb_triad_result;
 
 /* Last-level cache size in bytes (0 when unknown). */

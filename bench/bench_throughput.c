@@ -52,8 +52,8 @@ typedef struct sb_row {
     bool ok;
     char note[160];
     uint64_t steps;
-    double seconds; /* best of the repeats, N steps */
-    double triad;   /* GB/s with the same thread count */
+    double seconds;             /* best of the repeats, N steps */
+    double triad;               /* GB/s with the same thread count */
     double speedup, efficiency; /* NAN where not applicable */
 } sb_row;
 
@@ -112,27 +112,40 @@ static void sb_list_cases(void) {
 static sb_options sb_parse(int argc, char** argv) {
     static char default_csv[4096];
     snprintf(default_csv, sizeof default_csv, "%s/bench/results/throughput.csv", SB_BENCH_SOURCE_DIR);
-    sb_options o = {.threads = {1, 2}, .thread_count = 2, .reference = true, .target = -1.0,
-                    .jitter = SB_BENCH_DEFAULT_JITTER, .repeats = -1, .csv = default_csv};
+    sb_options o = {.threads = {1, 2},
+                    .thread_count = 2,
+                    .reference = true,
+                    .target = -1.0,
+                    .jitter = SB_BENCH_DEFAULT_JITTER,
+                    .repeats = -1,
+                    .csv = default_csv};
     for (int i = 1; i < argc; i++) {
         const char* a = argv[i];
         if (!strcmp(a, "--cases")) {
             const char* v = sb_value(argc, argv, &i);
             o.small_only = !strcmp(v, "small");
             o.case_list = strcmp(v, "small") && strcmp(v, "all") ? v : NULL;
-        } else if (!strcmp(a, "--steps")) o.steps = strtoull(sb_value(argc, argv, &i), NULL, 10);
+        } else if (!strcmp(a, "--steps"))
+            o.steps = strtoull(sb_value(argc, argv, &i), NULL, 10);
         else if (!strcmp(a, "--threads-list")) {
             if (!sb_parse_threads(sb_value(argc, argv, &i), &o)) {
                 fprintf(stderr, "sb_bench: --threads-list wants positive integers like 1,2\n");
                 exit(2);
             }
-        } else if (!strcmp(a, "--quick")) o.quick = true;
-        else if (!strcmp(a, "--all-terms")) o.all_terms = true;
-        else if (!strcmp(a, "--no-reference")) o.reference = false;
-        else if (!strcmp(a, "--target")) o.target = atof(sb_value(argc, argv, &i));
-        else if (!strcmp(a, "--repeats")) o.repeats = atoi(sb_value(argc, argv, &i));
-        else if (!strcmp(a, "--jitter")) o.jitter = atof(sb_value(argc, argv, &i));
-        else if (!strcmp(a, "--csv")) o.csv = sb_value(argc, argv, &i);
+        } else if (!strcmp(a, "--quick"))
+            o.quick = true;
+        else if (!strcmp(a, "--all-terms"))
+            o.all_terms = true;
+        else if (!strcmp(a, "--no-reference"))
+            o.reference = false;
+        else if (!strcmp(a, "--target"))
+            o.target = atof(sb_value(argc, argv, &i));
+        else if (!strcmp(a, "--repeats"))
+            o.repeats = atoi(sb_value(argc, argv, &i));
+        else if (!strcmp(a, "--jitter"))
+            o.jitter = atof(sb_value(argc, argv, &i));
+        else if (!strcmp(a, "--csv"))
+            o.csv = sb_value(argc, argv, &i);
         else if (!strcmp(a, "--list")) {
             sb_list_cases();
             exit(0);
@@ -195,8 +208,10 @@ static void sb_git_commit(char* out, size_t size) {
     snprintf(command, sizeof command, "git -C '%s' rev-parse --short HEAD 2>/dev/null", SB_BENCH_SOURCE_DIR);
     FILE* p = popen(command, "r");
     if (!p) return;
-    if (fgets(out, (int)size, p)) out[strcspn(out, "\n")] = '\0';
-    else snprintf(out, size, "unknown");
+    if (fgets(out, (int)size, p))
+        out[strcspn(out, "\n")] = '\0';
+    else
+        snprintf(out, size, "unknown");
     pclose(p);
 }
 
@@ -212,8 +227,8 @@ static void sb_print_machine(FILE* out, const char* prefix, const sb_triad_resul
     fprintf(out, "%slast-level cache: %.1f MiB\n", prefix, sb_bench_llc_bytes() / 1048576.0);
     double load[3];
     if (getloadavg(load, 3) == 3)
-        fprintf(out, "%sload average (1, 5, 15 min; above 0.5 means others shared the cores): %.2f %.2f %.2f\n",
-                prefix, load[0], load[1], load[2]);
+        fprintf(out, "%sload average (1, 5, 15 min; above 0.5 means others shared the cores): %.2f %.2f %.2f\n", prefix,
+                load[0], load[1], load[2]);
     fprintf(out, "%ssimd: %s (SB_SIMD=%s)\n%sprecision: %s (SB_DOUBLE=%d)\n", prefix, sb_simd_level(),
             SB_BENCH_SIMD_OPTION, prefix, SB_DOUBLE ? "double" : "float", SB_DOUBLE);
     fprintf(out, "%sbuild: %s, %s\n", prefix, SB_BENCH_BUILD_TYPE, SB_BENCH_COMPILER);
@@ -321,13 +336,17 @@ static void sb_print_row(const sb_row* r) {
         return;
     }
     double sps = sb_steps_per_s(r), gbs = r->counts.bytes_per_step * sps * 1e-9;
-    printf("%7llu %12.0f %10.1f %9.1f %7.2f %7.2f %5.0f%% %7.2f ", (unsigned long long)r->steps,
-           sb_ns_per_step(r), sps, r->counts.elements * sps * 1e-6, gbs, r->triad, 100.0 * gbs / r->triad,
+    printf("%7llu %12.0f %10.1f %9.1f %7.2f %7.2f %5.0f%% %7.2f ", (unsigned long long)r->steps, sb_ns_per_step(r), sps,
+           r->counts.elements * sps * 1e-6, gbs, r->triad, 100.0 * gbs / r->triad,
            r->counts.flops_per_step * sps * 1e-9);
-    if (isnan(r->speedup)) printf("%7s ", "-");
-    else printf("%6.2fx ", r->speedup);
-    if (isnan(r->efficiency)) printf("%6s\n", "-");
-    else printf("%6.2f\n", r->efficiency);
+    if (isnan(r->speedup))
+        printf("%7s ", "-");
+    else
+        printf("%6.2fx ", r->speedup);
+    if (isnan(r->efficiency))
+        printf("%6s\n", "-");
+    else
+        printf("%6.2f\n", r->efficiency);
 }
 
 static void sb_csv_number(FILE* f, double v, const char* format) {
@@ -443,7 +462,10 @@ static void sb_run_case(const sb_bench_case* c, const sb_options* o, const sb_tr
         bool ref = t == o->thread_count;
         if (ref && !o->reference) break;
         sb_row* r = &rows[(*count)++];
-        *r = (sb_row){.bcase = c, .counts = counts, .dt = setup.dt, .kernels = ref ? "reference" : "fast",
+        *r = (sb_row){.bcase = c,
+                      .counts = counts,
+                      .dt = setup.dt,
+                      .kernels = ref ? "reference" : "fast",
                       .threads = ref ? 1 : o->threads[t]};
         r->triad = sb_triad_for(triads, triad_count, r->threads);
         if (isnan(r->triad)) r->triad = sb_bench_triad(triads[0].array_bytes, r->threads, 3).gb_per_s;
@@ -464,7 +486,8 @@ int main(int argc, char** argv) {
     printf("\n");
     sb_print_header();
     for (size_t i = 0; i < sb_bench_case_count; i++)
-        if (sb_case_selected(&sb_bench_cases[i], &o)) sb_run_case(&sb_bench_cases[i], &o, triads, triad_count, rows, &count);
+        if (sb_case_selected(&sb_bench_cases[i], &o))
+            sb_run_case(&sb_bench_cases[i], &o, triads, triad_count, rows, &count);
     if (count == 0) {
         fprintf(stderr, "sb_bench: no case selected (try --list)\n");
         return 2;

@@ -34,13 +34,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SHEET_N 12        /* vertices per side */
-#define PUSH_FORCE 0.5    /* N, out of plane */
-#define PUSH_TIME 0.2     /* s */
+#define SHEET_N 12     /* vertices per side */
+#define PUSH_FORCE 0.5 /* N, out of plane */
+#define PUSH_TIME 0.2  /* s */
 
 static void stability(FILE* csv, bool quick, double stable_at_100[SB_INTEGRATOR_COUNT]) {
-    fprintf(csv, "# largest stable step of each integrator (bench/study.c): %u x %u sheet, left edge fixed, "
-                 "bond k, angle 1e-3 k, %g kg per vertex; %d steps from a perturbed state, energy growth <= 10x\n",
+    fprintf(csv,
+            "# largest stable step of each integrator (bench/study.c): %u x %u sheet, left edge fixed, "
+            "bond k, angle 1e-3 k, %g kg per vertex; %d steps from a perturbed state, energy growth <= 10x\n",
             SHEET_N, SHEET_N, STUDY_MASS, STUDY_STABLE_STEPS);
     fprintf(csv, "k,omega_max,verlet_limit,integrator,stable_dt,ratio_to_limit\n");
     double ks[] = {1, 10, 100, 1000, 10000};
@@ -73,8 +74,9 @@ static void work_precision(FILE* csv, bool quick, const double stable_at_100[SB_
     double *reference = malloc(3 * n * sizeof *reference), *x = malloc(3 * n * sizeof *x);
     sb_solver_def def = study_solver_def(SB_INTEGRATOR_VELOCITY_VERLET);
     study_load_run(&s, &def, &push, study_dividing_step(PUSH_TIME, limit / 512), PUSH_TIME, reference);
-    fprintf(csv, "# error after %g s of a %g N push at the %s of the %u x %u sheet (bond k 100 N/m) against "
-                 "velocity Verlet at 2/omega_max / 512; CPU seconds of the run (bench/study.c)\n",
+    fprintf(csv,
+            "# error after %g s of a %g N push at the %s of the %u x %u sheet (bond k 100 N/m) against "
+            "velocity Verlet at 2/omega_max / 512; CPU seconds of the run (bench/study.c)\n",
             PUSH_TIME, PUSH_FORCE, corner ? "free corner (x = 1 m, y = 0)" : "middle", SHEET_N, SHEET_N);
     fprintf(csv, "integrator,dt,dt_over_limit,steps,cpu_seconds,max_error_m\n");
     double fractions[] = {20, 10, 5, 2, 0.8, 0.4, 0.2, 0.1, 0.05, 0.025, 0.0125};
@@ -98,9 +100,12 @@ int main(int argc, char** argv) {
     bool quick = false;
     const char* out = SB_STUDY_RESULTS;
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--quick") == 0) quick = true;
-        else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out = argv[++i];
-        else return fprintf(stderr, "usage: sb_study [--quick] [--out DIR]\n"), 2;
+        if (strcmp(argv[i], "--quick") == 0)
+            quick = true;
+        else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else
+            return fprintf(stderr, "usage: sb_study [--quick] [--out DIR]\n"), 2;
     }
     double stable_at_100[SB_INTEGRATOR_COUNT];
     FILE* csv = study_open(out, "stability.csv");

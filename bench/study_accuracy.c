@@ -87,7 +87,8 @@ static double residual(const study_sheet* s, const double* x, const study_load* 
     double largest = 0.0;
     for (uint32_t v = 0; v < s->mesh.vertex_count; v++)
         if (!sb_model_is_fixed(s->model, v))
-            largest = fmax(largest, sqrt(f[3 * v] * f[3 * v] + f[3 * v + 1] * f[3 * v + 1] + f[3 * v + 2] * f[3 * v + 2]));
+            largest =
+                fmax(largest, sqrt(f[3 * v] * f[3 * v] + f[3 * v + 1] * f[3 * v + 1] + f[3 * v + 2] * f[3 * v + 2]));
     return largest;
 }
 
@@ -115,9 +116,10 @@ static double settle(const study_sheet* s, const study_load* load, double dt, do
 
 void study_model_accuracy(const char* out, bool quick) {
     FILE* csv = study_open(out, "model_accuracy.csv");
-    fprintf(csv, "# shape kept at static equilibrium (bench/study_accuracy.c): %u x %u sheet, 1 m^2, left edge fixed, "
-                 "bond k %g N/m; springs+angle adds angle 0.5 k h^2 and stretch-bend 0.1 k h; total force on the right "
-                 "edge along +x (stretch) or +y (shear); drag %g /s until the residual < %g of a vertex's load\n",
+    fprintf(csv,
+            "# shape kept at static equilibrium (bench/study_accuracy.c): %u x %u sheet, 1 m^2, left edge fixed, "
+            "bond k %g N/m; springs+angle adds angle 0.5 k h^2 and stretch-bend 0.1 k h; total force on the right "
+            "edge along +x (stretch) or +y (shear); drag %g /s until the residual < %g of a vertex's load\n",
             ACCURACY_SIDE, ACCURACY_SIDE, ACCURACY_K, ACCURACY_DRAG, ACCURACY_TOLERANCE);
     fprintf(csv, "model,load,force_n,edge_displacement_m,area_rms,area_total_change,angle_rms_deg,settle_time_s,"
                  "residual_n\n");

@@ -64,7 +64,8 @@ double study_omega_max(const study_sheet* s) {
     uint32_t n3 = 3 * s->mesh.vertex_count;
     double *p = malloc(n3 * sizeof *p), *q = malloc(n3 * sizeof *q), *work = malloc(3 * n3 * sizeof *work);
     unsigned seed = 7;
-    for (uint32_t i = 0; i < n3; i++) p[i] = sb_model_is_fixed(s->model, i / 3) ? 0.0 : (double)rand_r(&seed) / RAND_MAX - 0.5;
+    for (uint32_t i = 0; i < n3; i++)
+        p[i] = sb_model_is_fixed(s->model, i / 3) ? 0.0 : (double)rand_r(&seed) / RAND_MAX - 0.5;
     double lambda = 0.0, scale = 1.0 / sqrt(STUDY_MASS);
     for (int it = 0; it < 2000; it++) {
         double norm = 0.0;
@@ -143,8 +144,10 @@ double study_largest_stable_step(const study_sheet* s, const sb_solver_def* def,
         double mid = sqrt(lo * hi);
         bool ok = study_survives(s, def, mid, trial);
         found |= ok;
-        if (ok) lo = mid;
-        else hi = mid;
+        if (ok)
+            lo = mid;
+        else
+            hi = mid;
     }
     return found || study_survives(s, def, lo, trial) ? lo : 0.0;
 }

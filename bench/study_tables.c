@@ -25,12 +25,12 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define TABLE_K 100.0    /* N/m */
-#define TABLE_DRAG 20.0  /* 1/s */
-#define TABLE_SIDE 12    /* vertices per side, Tables 2.2.2 and 2.2.3 */
-#define COST_TIME 1.0    /* s simulated by the timing runs */
-#define COST_FORCE 0.5   /* N at the middle, out of plane, in the timing runs */
-#define ERROR_TIME 0.2   /* s: the deformation error's end time */
+#define TABLE_K 100.0   /* N/m */
+#define TABLE_DRAG 20.0 /* 1/s */
+#define TABLE_SIDE 12   /* vertices per side, Tables 2.2.2 and 2.2.3 */
+#define COST_TIME 1.0   /* s simulated by the timing runs */
+#define COST_FORCE 0.5  /* N at the middle, out of plane, in the timing runs */
+#define ERROR_TIME 0.2  /* s: the deformation error's end time */
 /* A stable run lasts 1 s and starts perturbed in plane too, so that the
  * in-plane modes that limit the step start with some energy. */
 static const study_trial table_trial = {.duration = 1.0, .in_plane = true};
@@ -70,7 +70,7 @@ static sb_solver_def damped_def(sb_integrator integrator, sb_kernels kernels) {
 static double cost(const study_sheet* s, sb_integrator integrator, double dt, int repeats) {
     sb_solver_def def = damped_def(integrator, SB_KERNELS_FAST);
     study_load push = {.vertices = &s->middle, .count = 1, .force = {0.0, 0.0, COST_FORCE}};
-    double* x = malloc(3 * s->mesh.vertex_count * sizeof *x), best = INFINITY;
+    double *x = malloc(3 * s->mesh.vertex_count * sizeof *x), best = INFINITY;
     for (int r = 0; r < repeats; r++) {
         double seconds = study_load_run(s, &def, &push, dt, COST_TIME, x);
         best = seconds < 0 ? seconds : fmin(best, seconds);
@@ -96,9 +96,9 @@ static void csv_row(FILE* csv, const char* table, double key, const char* method
 typedef struct table_context {
     FILE *csv, *md;
     bool quick;
-    double omega, limit;                       /* of the 12 x 12 sheet */
-    double stable[3];                          /* s, step_methods' largest stable steps */
-    double common_dt;                          /* s, ½ of explicit Euler's */
+    double omega, limit; /* of the 12 x 12 sheet */
+    double stable[3];    /* s, step_methods' largest stable steps */
+    double common_dt;    /* s, ½ of explicit Euler's */
 } table_context;
 
 /* The steps of a ladder (1 to 100 times 2/ω_max) at which implicit Euler
@@ -122,8 +122,8 @@ static void step_table(table_context* t) {
         sb_solver_def def = damped_def(step_methods[m], SB_KERNELS_REFERENCE);
         t->stable[m] = study_largest_stable_step(&s, &def, 1e-3 * t->limit, cap, &table_trial);
         costs[m] = cost(&s, step_methods[m], study_dividing_step(COST_TIME, t->stable[m]), t->quick ? 1 : 3);
-        csv_row(t->csv, "2.2.2", 0, sb_integrator_name(step_methods[m]), "largest_stable_step", "ms",
-                paper_step_ms[m], 1e3 * t->stable[m]);
+        csv_row(t->csv, "2.2.2", 0, sb_integrator_name(step_methods[m]), "largest_stable_step", "ms", paper_step_ms[m],
+                1e3 * t->stable[m]);
         csv_row(t->csv, "2.2.2", 0, sb_integrator_name(step_methods[m]), "computation_time", "ms", paper_cost_ms[m],
                 1e3 * costs[m]);
     }
@@ -154,15 +154,16 @@ static void step_table(table_context* t) {
             "- implicit_euler: %.3g ms, against 49 ms, but this is no stability limit: backward Euler is "
             "unconditionally stable, and what fails is the Newton-Raphson solve (at most 20 iterations, no line "
             "search), which stops converging at large steps and lets the state run away (on a ladder of steps "
-            "from 1 to 100 x 2/ω_max it failed at %s); the paper's 49 ms is presumably the same kind of limit. It costs %.3g ms for %g s in %.0f steps, against the paper's "
+            "from 1 to 100 x 2/ω_max it failed at %s); the paper's 49 ms is presumably the same kind of limit. It "
+            "costs %.3g ms for %g s in %.0f steps, against the paper's "
             "172 ms.\n"
             "- verlet: %.3g ms = %.3f x 2/ω_max, against 11.5 ms; 2/ω_max scales as √(m/k), so the two agree for "
             "a sheet about %.2g times as stiff per unit mass as ours. Euler's step over Verlet's: ours %.3f, the "
             "paper's %.3f. Verlet needs %.0f times fewer steps than explicit Euler and so is %.0f times cheaper, "
             "where the paper found it only 1.1 times cheaper (its Euler time cannot have been for the same "
             "simulated duration).\n\n",
-            1e3 * t->stable[0], 1e3 * TABLE_DRAG / (t->omega * t->omega), 1e3 * t->stable[1], failures,
-            1e3 * costs[1], COST_TIME, COST_TIME / study_dividing_step(COST_TIME, t->stable[1]), 1e3 * t->stable[2],
+            1e3 * t->stable[0], 1e3 * TABLE_DRAG / (t->omega * t->omega), 1e3 * t->stable[1], failures, 1e3 * costs[1],
+            COST_TIME, COST_TIME / study_dividing_step(COST_TIME, t->stable[1]), 1e3 * t->stable[2],
             t->stable[2] / t->limit, pow(t->stable[2] / 11.5e-3, 2), t->stable[0] / t->stable[2], 0.5 / 11.5,
             t->stable[2] / t->stable[0], costs[0] / costs[2]);
     study_sheet_free(&s);
@@ -187,11 +188,12 @@ static void points_table(table_context* t) {
         double euler = cost(&s, SB_INTEGRATOR_EXPLICIT_EULER, t->common_dt, t->quick ? 1 : 3);
         double verlet = cost(&s, SB_INTEGRATOR_VERLET, t->common_dt, t->quick ? 1 : 3);
         uint32_t points = s.mesh.vertex_count;
-        csv_row(t->csv, "2.2.1", paper_points[r], "explicit_euler", "computation_time", "s", paper_time_euler[r], euler);
+        csv_row(t->csv, "2.2.1", paper_points[r], "explicit_euler", "computation_time", "s", paper_time_euler[r],
+                euler);
         csv_row(t->csv, "2.2.1", paper_points[r], "verlet", "computation_time", "s", paper_time_verlet[r], verlet);
         char a[32], b[32];
-        fprintf(t->md, "| %g | %u | %.1f | %g | %s | %g | %s |\n", paper_points[r], points, omega,
-                paper_time_euler[r], cell(a, euler, 1), paper_time_verlet[r], cell(b, verlet, 1));
+        fprintf(t->md, "| %g | %u | %.1f | %g | %s | %g | %s |\n", paper_points[r], points, omega, paper_time_euler[r],
+                cell(a, euler, 1), paper_time_verlet[r], cell(b, verlet, 1));
         if (r == 0) first[0] = euler, first[1] = verlet;
         last[0] = euler, last[1] = verlet;
         ratio_min = fmin(ratio_min, euler / verlet), ratio_max = fmax(ratio_max, euler / verlet);
@@ -202,8 +204,10 @@ static void points_table(table_context* t) {
     }
     double points_ratio = (double)(table_sides[rows - 1] * table_sides[rows - 1]) / (table_sides[0] * table_sides[0]);
     char ratio[64];
-    if (ratio_max - ratio_min < 0.005) snprintf(ratio, sizeof ratio, "%.2f times", ratio_min);
-    else snprintf(ratio, sizeof ratio, "%.2f to %.2f times", ratio_min, ratio_max);
+    if (ratio_max - ratio_min < 0.005)
+        snprintf(ratio, sizeof ratio, "%.2f times", ratio_min);
+    else
+        snprintf(ratio, sizeof ratio, "%.2f to %.2f times", ratio_min, ratio_max);
     fprintf(t->md,
             "\nFrom %u to %u points (x %.1f) our time grows x %.1f for Euler and x %.1f for Verlet, the paper's "
             "x 7.9 and x 10.4 for x 20 the points: both less than in proportion, ours because a fixed cost per "
@@ -229,7 +233,8 @@ static void error_table(table_context* t) {
     study_sheet s = table_sheet(TABLE_SIDE);
     uint32_t n = s.mesh.vertex_count;
     double *reference = malloc(3 * n * sizeof *reference), *x = malloc(3 * n * sizeof *x);
-    double fine = study_dividing_step(ERROR_TIME, t->limit / 512), own = study_dividing_step(ERROR_TIME, 0.5 * t->stable[2]);
+    double fine = study_dividing_step(ERROR_TIME, t->limit / 512),
+           own = study_dividing_step(ERROR_TIME, 0.5 * t->stable[2]);
     double common = study_dividing_step(ERROR_TIME, t->common_dt);
     fprintf(t->md,
             "## Table 2.2.3: deformation error against applied force\n\n"
@@ -254,7 +259,8 @@ static void error_table(table_context* t) {
         double euler = deformation_error(&s, SB_INTEGRATOR_EXPLICIT_EULER, common, &push, reference, x);
         double verlet = deformation_error(&s, SB_INTEGRATOR_VERLET, common, &push, reference, x);
         double verlet_own = deformation_error(&s, SB_INTEGRATOR_VERLET, own, &push, reference, x);
-        csv_row(t->csv, "2.2.3", forces[f], "explicit_euler", "deformation_error", "mm", paper_error_euler[f], 1e3 * euler);
+        csv_row(t->csv, "2.2.3", forces[f], "explicit_euler", "deformation_error", "mm", paper_error_euler[f],
+                1e3 * euler);
         csv_row(t->csv, "2.2.3", forces[f], "verlet", "deformation_error", "mm", paper_error_verlet[f], 1e3 * verlet);
         csv_row(t->csv, "2.2.3", forces[f], "verlet_own_step", "deformation_error", "mm", NAN, 1e3 * verlet_own);
         char a[32], b[32], c[32];
@@ -283,17 +289,20 @@ static void error_table(table_context* t) {
 }
 
 void study_paper_tables(const char* out, bool quick) {
-    table_context t = {.csv = study_open(out, "paper_tables.csv"), .md = study_open(out, "paper_tables.md"), .quick = quick};
+    table_context t = {
+        .csv = study_open(out, "paper_tables.csv"), .md = study_open(out, "paper_tables.md"), .quick = quick};
     fprintf(t.csv, "# Sudhamani & Merriliance (2019) Tables 2.2.1-2.2.3, the paper's numbers and ours "
                    "(bench/study_tables.c; paper_tables.md says how each was measured)\n");
     fprintf(t.csv, "table,key,method,quantity,unit,paper,ours\n");
-    fprintf(t.md, "# The paper's tables redone\n\n"
-                  "Sudhamani & Merriliance (2019), Tables 2.2.1-2.2.3, with softbond on the study's sheet "
-                  "(1 m², left edge fixed, 0.01 kg per vertex, bond stretch k = %g N/m, angle bend %g J on 12 x 12 vertices) in a "
-                  "viscous medium, drag %g /s: undamped, explicit Euler is never stable (stability.csv), so the "
-                  "paper's model must have been damped. \"Euler\" is explicit Euler, \"Verlet\" the position "
-                  "form (Eq. 12). Written by `sb_study` (bench/study_tables.c)%s; the numbers are in "
-                  "paper_tables.csv.\n\n",
+    fprintf(t.md,
+            "# The paper's tables redone\n\n"
+            "Sudhamani & Merriliance (2019), Tables 2.2.1-2.2.3, with softbond on the study's sheet "
+            "(1 m², left edge fixed, 0.01 kg per vertex, bond stretch k = %g N/m, angle bend %g J on 12 x 12 vertices) "
+            "in a "
+            "viscous medium, drag %g /s: undamped, explicit Euler is never stable (stability.csv), so the "
+            "paper's model must have been damped. \"Euler\" is explicit Euler, \"Verlet\" the position "
+            "form (Eq. 12). Written by `sb_study` (bench/study_tables.c)%s; the numbers are in "
+            "paper_tables.csv.\n\n",
             TABLE_K, 1e-3 * TABLE_K, TABLE_DRAG, quick ? " with --quick" : "");
     step_table(&t);
     points_table(&t);

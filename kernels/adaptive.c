@@ -45,7 +45,8 @@ typedef struct sb_snapshot {
 static int sb_step_arrays(sb_solver* s, sb_real** arrays, size_t* lengths) {
     size_t n = s->state.vertex_count;
     sb_state* st = &s->state;
-    sb_real* soa[12] = {st->x, st->y, st->z, st->vx, st->vy, st->vz, st->fx, st->fy, st->fz, s->disp_x, s->disp_y, s->disp_z};
+    sb_real* soa[12] = {st->x,  st->y,  st->z,  st->vx,    st->vy,    st->vz,
+                        st->fx, st->fy, st->fz, s->disp_x, s->disp_y, s->disp_z};
     int count = 0;
     for (int a = 0; a < 12; a++) {
         arrays[count] = soa[a];
@@ -91,8 +92,10 @@ static void sb_snapshot_copy(sb_solver* s, bool save) {
     int count = sb_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) {
         sb_real* saved = snap->reals + offset;
-        if (save) memcpy(saved, arrays[a], lengths[a] * sizeof(sb_real));
-        else memcpy(arrays[a], saved, lengths[a] * sizeof(sb_real));
+        if (save)
+            memcpy(saved, arrays[a], lengths[a] * sizeof(sb_real));
+        else
+            memcpy(arrays[a], saved, lengths[a] * sizeof(sb_real));
         offset += lengths[a];
     }
     size_t external = 3 * (size_t)s->state.vertex_count * sizeof(double);
@@ -167,7 +170,7 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
     while (remaining > 0.0) {
         double h = fmin(trial, remaining);
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
-        if (s->external) sb_fast_publish(s); /* the work needs the positions before the sub-step */
+        if (s->external) sb_fast_publish(s);           /* the work needs the positions before the sub-step */
         sb_snapshot_copy(s, true);
         s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies));
         double e0 = sb_energies_total(&s->energies);

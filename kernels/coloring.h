@@ -29,7 +29,7 @@ int sb_colorer_pick(sb_colorer* colorer, uint64_t taken);
 /* Colors elements [begin, end) of `arity` vertices each (vertices[a][e]),
  * writes color[e − begin], and then clears the marks it made, so the next
  * call starts afresh. Returns the number of colors used. */
-uint32_t sb_colorer_run(sb_colorer* colorer, uint32_t begin, uint32_t end, int arity,
-                        const uint32_t* const* vertices, uint8_t* color);
+uint32_t sb_colorer_run(sb_colorer* colorer, uint32_t begin, uint32_t end, int arity, const uint32_t* const* vertices,
+                        uint8_t* color);
 
 #endif

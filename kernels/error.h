@@ -6,7 +6,6 @@
 
 /* printf-style; err may be NULL. Returns status so callers can write
  * `return sb_error_set(err, SB_ERR_INVALID, "bond %u: ...", b);` */
-sb_status sb_error_set(sb_error* err, sb_status status, const char* format, ...)
-    __attribute__((format(printf, 3, 4)));
+sb_status sb_error_set(sb_error* err, sb_status status, const char* format, ...) __attribute__((format(printf, 3, 4)));
 
 #endif

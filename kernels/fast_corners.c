@@ -51,8 +51,8 @@ static inline void sb_fast_corner(const sb_wtriangle* t, int c, sb_wide cos0, sb
 }
 
 /* Adds the stretch of edge c (owned with weight w, rest length r0). */
-static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t, int c, sb_wide length,
-                                      uint32_t s, sb_wtriangle_out* out) {
+static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t, int c, sb_wide length, uint32_t s,
+                                      sb_wtriangle_out* out) {
     sb_wide w = sb_w_load(m->tri_edge_owned[c] + s), stretch = sb_w_sub(length, sb_w_load(m->tri_edge_r0[c] + s));
     sb_wide kb = sb_w_mul(w, sb_w_set(m->bond_k.uniform)), ks = sb_w_mul(w, sb_w_set(m->spring_k.uniform));
     sb_wvec3 f = sb_wv_scale(t->unit[c], sb_w_mul(sb_w_add(kb, ks), stretch));

@@ -41,8 +41,7 @@ static bool sb_color_blocks(uint32_t vertex_count, uint32_t count, uint32_t bloc
 
 /* Lays out block b's elements [first, end) by their local colors from
  * slot *slot on, padding each color to whole SIMD blocks. */
-static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, const uint8_t* color,
-                            uint32_t* slot) {
+static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, const uint8_t* color, uint32_t* slot) {
     uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
     for (uint32_t e = first; e < end; e++) sizes[color[e - first]]++;
     sb_block* block = &g->blocks[g->block_count++];
@@ -146,9 +145,9 @@ static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform !=
 /* The bonds left to the bond kernel: all of them, or those no triangle owns. */
 static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
     uint32_t count = 0;
-    uint32_t *subset = malloc((m->bond_count ? m->bond_count : 1) * sizeof *subset);
-    uint32_t *ends_i = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_i);
-    uint32_t *ends_j = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_j);
+    uint32_t* subset = malloc((m->bond_count ? m->bond_count : 1) * sizeof *subset);
+    uint32_t* ends_i = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_i);
+    uint32_t* ends_j = malloc((m->bond_count ? m->bond_count : 1) * sizeof *ends_j);
     bool ok = subset && ends_i && ends_j;
     for (uint32_t b = 0; ok && b < m->bond_count; b++)
         if (!owner || owner[b] < 0) {
@@ -184,8 +183,8 @@ static bool sb_uniform(const double* values, uint32_t count) {
  * triangle t, −1 for none. Fusion needs uniform, undamped bond constants. */
 static int64_t* sb_bond_owners(const sb_model* m, bool* ok) {
     bool fusable = m->triangle_count > 0 && m->bond_count > 0 && sb_uniform(m->bond_k, m->bond_count) &&
-                   sb_uniform(m->spring_k, m->bond_count) &&
-                   sb_uniform(m->spring_damping, m->bond_count) && m->spring_damping[0] == 0.0;
+                   sb_uniform(m->spring_k, m->bond_count) && sb_uniform(m->spring_damping, m->bond_count) &&
+                   m->spring_damping[0] == 0.0;
     if (!fusable) return NULL;
     int64_t* owner = malloc(m->bond_count * sizeof *owner);
     sb_edge_map map;
@@ -293,10 +292,21 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(groups[g]->ranges);
         free(groups[g]->blocks);
     }
-    void* arrays[] = {f->mass4,          f->inv_mass4,        f->bonds.source,          f->bond_i,
-                      f->bond_j,         f->bond_r0,         f->bond_k.values,         f->spring_k.values,
-                      f->spring_damping.values, f->triangles.source, f->angle_k.values, f->stretch_bend_k.values,
-                      f->hinges.source,  f->hinge_phi0,      f->hinge_k.values};
+    void* arrays[] = {f->mass4,
+                      f->inv_mass4,
+                      f->bonds.source,
+                      f->bond_i,
+                      f->bond_j,
+                      f->bond_r0,
+                      f->bond_k.values,
+                      f->spring_k.values,
+                      f->spring_damping.values,
+                      f->triangles.source,
+                      f->angle_k.values,
+                      f->stretch_bend_k.values,
+                      f->hinges.source,
+                      f->hinge_phi0,
+                      f->hinge_k.values};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);

@@ -70,7 +70,7 @@ typedef struct sb_fast_model {
     sb_real *tri_edge_owned[3], *tri_edge_r0[3];
 
     sb_element_group hinges;
-    uint32_t *hinge_v[4]; /* e0, e1, o0, o1 */
+    uint32_t* hinge_v[4]; /* e0, e1, o0, o1 */
     sb_real* hinge_phi0;
     sb_fast_constant hinge_k;
     bool has_hinges;

@@ -92,8 +92,7 @@ static sb_status sb_jacobian_product(sb_newton* w, const double* d, double* out)
         sb_status status = sb_solver_forces_at(w->s, a[W_XP], a[W_VP], a[sign > 0 ? W_FP : W_FM]);
         if (status != SB_OK) return status;
     }
-    for (size_t k = 0; k < w->n3; k++)
-        out[k] = mass[k / 3] * d[k] - dt * (a[W_FP][k] - a[W_FM][k]) / (2.0 * eps);
+    for (size_t k = 0; k < w->n3; k++) out[k] = mass[k / 3] * d[k] - dt * (a[W_FP][k] - a[W_FM][k]) / (2.0 * eps);
     sb_mask_fixed(w->s->model, out);
     return SB_OK;
 }
@@ -117,7 +116,7 @@ static sb_status sb_conjugate_gradients(sb_newton* w, int cap, int* iterations) 
         sb_status status = sb_jacobian_product(w, d, q);
         if (status != SB_OK) return status;
         double curvature = sb_dot(d, q, n3);
-        if (!(curvature > 0.0)) { /* not positive definite here: keep what we have */
+        if (!(curvature > 0.0)) {                          /* not positive definite here: keep what we have */
             if (it == 0) memcpy(sol, z, n3 * sizeof *sol); /* J ≈ M: a mass-scaled step */
             break;
         }
@@ -182,8 +181,7 @@ static void sb_store_state(sb_solver* s, const sb_newton* w) {
 }
 
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
-    if (!sb_newton_allocate(s))
-        return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory for the implicit solver");
+    if (!sb_newton_allocate(s)) return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory for the implicit solver");
     sb_newton w = sb_newton_init(s, dt);
     const double tolerance = s->def.implicit_tolerance > 0 ? s->def.implicit_tolerance : 1e-8;
     const int newton_cap = s->def.implicit_newton_iterations > 0 ? s->def.implicit_newton_iterations : 20;

@@ -103,8 +103,8 @@ static void sb_drift(sb_solver* s, double scale) {
 }
 
 sb_status sb_integrate_explicit_euler(sb_solver* s, double dt) {
-    sb_drift(s, dt);            /* x⁺ = x + v dt, with the old v */
-    sb_half_kick(s, 2.0 * dt);  /* v⁺ = v + a(x, v) dt, with the old forces */
+    sb_drift(s, dt);           /* x⁺ = x + v dt, with the old v */
+    sb_half_kick(s, 2.0 * dt); /* v⁺ = v + a(x, v) dt, with the old forces */
     s->has_displacement = false;
     return sb_solver_compute_forces(s);
 }

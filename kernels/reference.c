@@ -11,9 +11,7 @@ double sb_energies_internal(const sb_energies* e) {
     return sum;
 }
 
-double sb_energies_total(const sb_energies* e) {
-    return sb_energies_internal(e) + e->kinetic + e->gravity;
-}
+double sb_energies_total(const sb_energies* e) { return sb_energies_internal(e) + e->kinetic + e->gravity; }
 
 sb_status sb_reference_term(const sb_model* m, sb_term term, const double* x, const double* v, double* f,
                             double* energy, sb_error* err) {
@@ -29,8 +27,8 @@ sb_status sb_reference_term(const sb_model* m, sb_term term, const double* x, co
     }
 }
 
-sb_status sb_reference_forces(const sb_model* m, const double* x, const double* v, double* f,
-                              sb_energies* energies, sb_error* err) {
+sb_status sb_reference_forces(const sb_model* m, const double* x, const double* v, double* f, sb_energies* energies,
+                              sb_error* err) {
     memset(f, 0, 3 * (size_t)m->vertex_count * sizeof *f);
     memset(energies, 0, sizeof *energies);
     for (int t = 0; t < SB_TERM_COUNT; t++) {

@@ -49,8 +49,8 @@ static double sb_corner_apply(const sb_corner* q, const double* x, double* f) {
     return 0.5 * q->k_angle * dc * dc + q->k_sb * dc * S;
 }
 
-sb_status sb_reference_corners(const sb_model* m, double angle_weight, double stretch_bend_weight,
-                               const double* x, double* f, double* energy, sb_error* err) {
+sb_status sb_reference_corners(const sb_model* m, double angle_weight, double stretch_bend_weight, const double* x,
+                               double* f, double* energy, sb_error* err) {
     double total = 0.0;
     for (uint32_t t = 0; t < m->triangle_count; t++)
         for (int c = 0; c < 3; c++) {
@@ -58,9 +58,8 @@ sb_status sb_reference_corners(const sb_model* m, double angle_weight, double st
             if (q.k_angle == 0.0 && q.k_sb == 0.0) continue;
             double e = sb_corner_apply(&q, x, f);
             if (isnan(e))
-                return sb_error_set(err, SB_ERR_DEGENERATE,
-                                    "triangle %u (%u, %u, %u): an edge at corner %u collapsed", t,
-                                    m->tri_v[0][t], m->tri_v[1][t], m->tri_v[2][t], q.i);
+                return sb_error_set(err, SB_ERR_DEGENERATE, "triangle %u (%u, %u, %u): an edge at corner %u collapsed",
+                                    t, m->tri_v[0][t], m->tri_v[1][t], m->tri_v[2][t], q.i);
             total += e;
         }
     *energy = total;

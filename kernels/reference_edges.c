@@ -18,8 +18,8 @@ sb_status sb_reference_edges(const sb_model* m, bool spring, const double* x, co
         sb_vec3 delta = sb_v3_sub(sb_v3(x + 3 * j), sb_v3(x + 3 * i));
         double r = sb_v3_length(delta), r0 = m->bond_r0[e];
         if (!(r >= SB_COLLAPSE_RATIO * r0))
-            return sb_error_set(err, SB_ERR_DEGENERATE, "bond %u (%u, %u) collapsed: length %g m, rest %g m", e, i,
-                                j, r, r0);
+            return sb_error_set(err, SB_ERR_DEGENERATE, "bond %u (%u, %u) collapsed: length %g m, rest %g m", e, i, j,
+                                r, r0);
         sb_vec3 u = sb_v3_scale(delta, 1.0 / r);
         double magnitude = k * (r - r0);
         if (v && d != 0.0) magnitude += d * sb_v3_dot(sb_v3_sub(sb_v3(v + 3 * j), sb_v3(v + 3 * i)), u);

@@ -15,8 +15,8 @@ sb_status sb_reference_edges(const sb_model* m, bool spring, const double* x, co
 
 /* Angle bend (Eq. 4) and stretch-bend (Eq. 5) per corner, each scaled by its
  * weight (1 to include the term, 0 to leave it out). */
-sb_status sb_reference_corners(const sb_model* m, double angle_weight, double stretch_bend_weight,
-                               const double* x, double* f, double* energy, sb_error* err);
+sb_status sb_reference_corners(const sb_model* m, double angle_weight, double stretch_bend_weight, const double* x,
+                               double* f, double* energy, sb_error* err);
 
 /* Dihedral hinges. */
 sb_status sb_reference_hinges(const sb_model* m, const double* x, double* f, double* energy, sb_error* err);

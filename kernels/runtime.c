@@ -60,9 +60,8 @@ void sb_runtime_describe(char* out, size_t size) {
         snprintf(out, size, "topology unknown; SIMD %s; %s", SB_SIMD_NAME, SB_DOUBLE ? "double" : "float");
         return;
     }
-    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s",
-             sb_core_count(topology), hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU),
-             sb_cache_kib(topology, HWLOC_OBJ_L2CACHE), sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME,
-             SB_WIDTH, SB_DOUBLE ? "double" : "float");
+    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s", sb_core_count(topology),
+             hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU), sb_cache_kib(topology, HWLOC_OBJ_L2CACHE),
+             sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME, SB_WIDTH, SB_DOUBLE ? "double" : "float");
     hwloc_topology_destroy(topology);
 }

@@ -13,7 +13,8 @@
 #define SB_RUNAWAY_DIAMETERS 1e6
 
 static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {
-    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler", "pbd", "xpbd"};
+    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler", "pbd",
+    "xpbd"};
 
 const char* sb_integrator_name(sb_integrator integrator) {
     return (unsigned)integrator < SB_INTEGRATOR_COUNT ? sb_integrator_names[integrator] : "unknown";
@@ -39,8 +40,8 @@ sb_solver_def sb_default_solver_def(void) {
 }
 
 static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
-    sb_real** arrays[] = {&s->state.x, &s->state.y, &s->state.z, &s->state.vx, &s->state.vy, &s->state.vz,
-                          &s->state.fx, &s->state.fy, &s->state.fz, &s->disp_x, &s->disp_y, &s->disp_z};
+    sb_real** arrays[] = {&s->state.x,  &s->state.y,  &s->state.z,  &s->state.vx, &s->state.vy, &s->state.vz,
+                          &s->state.fx, &s->state.fy, &s->state.fz, &s->disp_x,   &s->disp_y,   &s->disp_z};
     bool ok = true;
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) ok &= (*arrays[a] = calloc(n, sizeof(sb_real))) != NULL;
     double** scratch[] = {&s->scratch_x, &s->scratch_v, &s->scratch_f};
@@ -63,8 +64,8 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->stretch4);
     sb_pbd_destroy(s->pbd);
     sb_snapshot_destroy(s->snapshot);
-    void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx, s->state.vy,
-                      s->state.vz, s->state.fx, s->state.fy, s->state.fz, s->disp_x,
+    void* arrays[] = {s->state.x,  s->state.y,  s->state.z,   s->state.vx,  s->state.vy,
+                      s->state.vz, s->state.fx, s->state.fy,  s->state.fz,  s->disp_x,
                       s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(s);
@@ -185,7 +186,8 @@ static sb_status sb_integrate(sb_solver* s, double dt) {
     case SB_INTEGRATOR_VERLET:
     case SB_INTEGRATOR_VELOCITY_VERLET:
         if (s->fast) return sb_fast_verlet_step(s, dt); /* the fused step */
-        return s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt) : sb_integrate_velocity_verlet(s, dt);
+        return s->def.integrator == SB_INTEGRATOR_VERLET ? sb_integrate_verlet(s, dt)
+                                                         : sb_integrate_velocity_verlet(s, dt);
     case SB_INTEGRATOR_EXPLICIT_EULER: return sb_integrate_explicit_euler(s, dt);
     case SB_INTEGRATOR_SYMPLECTIC_EULER: return sb_integrate_symplectic_euler(s, dt);
     case SB_INTEGRATOR_POSITION_VERLET: return sb_integrate_position_verlet(s, dt);
@@ -300,8 +302,9 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
     s->stats = (sb_step_stats){.converged = true};
     if (s->def.adaptive) return sb_adaptive_advance(s, dt);
     sb_status status = sb_solver_step(s, dt);
-    if (status == SB_OK) s->stats = (sb_step_stats){s->stats.newton_iterations, s->stats.cg_iterations,
-                                                    s->stats.converged, 1, 0, dt, dt};
+    if (status == SB_OK)
+        s->stats =
+            (sb_step_stats){s->stats.newton_iterations, s->stats.cg_iterations, s->stats.converged, 1, 0, dt, dt};
     return status;
 }
 

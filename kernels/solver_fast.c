@@ -126,10 +126,12 @@ static void sb_group_pass(const sb_fast_model* f, const sb_element_group* g, sb_
         int first = (int)g->color_first_block[k], last = (int)g->color_first_block[k + 1];
         if (k == SB_OVERFLOW_COLOR) {
 #pragma omp single
-            for (int b = first; b < last; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+            for (int b = first; b < last; b++)
+                sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
         } else {
 #pragma omp for schedule(static)
-            for (int b = first; b < last; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+            for (int b = first; b < last; b++)
+                sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
         }
     }
 }
@@ -164,7 +166,6 @@ static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
     *begin = 4 * first;
     *end = 4 * last;
 }
-
 
 /* Packs the state's positions and velocities (after sb_solver_set_state)
  * and sets the packed forces to gravity and drag. */
@@ -223,8 +224,8 @@ static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, const sb_ste
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4,
-                       s->velocities4, s->forces4, k, begin, end);
+        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4, s->velocities4,
+                       s->forces4, k, begin, end);
     }
 }
 
@@ -253,7 +254,8 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
 static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k, int* bad) {
     /* the runaway box measured from the origin: looser than the exact test
      * of sb_check_state by the model's offset, a millionth of it */
-    const sb_real limit = (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
+    const sb_real limit =
+        (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
 #pragma omp for schedule(static)
     for (int c = 0; c < (int)p->vertex_chunks; c++) {
         size_t begin, end;
@@ -278,8 +280,10 @@ static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool w
     const sb_fast_model* f = s->fast;
     sb_energies* e = &s->energies;
     uint32_t bond_chunks = f->bonds.block_count, triangle_chunks = f->triangles.block_count;
-    e->term[SB_TERM_BOND] = sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 4, 2);
-    e->term[SB_TERM_SPRING] = sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 4, 3);
+    e->term[SB_TERM_BOND] =
+        sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 4, 2);
+    e->term[SB_TERM_SPRING] =
+        sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 4, 3);
     e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 4, 0);
     e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 4, 1);
     e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0);
@@ -294,7 +298,8 @@ static sb_status sb_report_collapse(sb_solver* s) {
     sb_interleave(s->scratch_x, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
     sb_energies ignored;
     sb_status status = sb_reference_forces(s->model, s->scratch_x, NULL, s->scratch_f, &ignored, &s->error);
-    if (status == SB_OK) sb_error_set(&s->error, SB_ERR_DEGENERATE, "an edge collapsed (below %g of its rest length)", 1e-9);
+    if (status == SB_OK)
+        sb_error_set(&s->error, SB_ERR_DEGENERATE, "an edge collapsed (below %g of its rest length)", 1e-9);
     return SB_ERR_DEGENERATE;
 }
 

@@ -15,22 +15,22 @@ struct sb_solver {
     bool has_displacement;
     double prev_dt;
     double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
-    double center[3], runaway; /* a vertex further than runaway from center (any axis) ran away */
-    sb_fast_model* fast;       /* NULL with the reference kernels */
+    double center[3], runaway;                 /* a vertex further than runaway from center (any axis) ran away */
+    sb_fast_model* fast;                       /* NULL with the reference kernels */
     int threads;
-    double* partials;          /* per-block energy sums of the fast passes */
+    double* partials; /* per-block energy sums of the fast passes */
     /* The fast path's working state, packed x y z w per vertex; the state's
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
-    double* external;          /* 3n: the external forces of the last evaluation (NULL without a callback) */
+    double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_snapshot* snapshot; /* adaptive stepping: the state before a sub-step */
-    double trial_substep;      /* adaptive: the size the next sub-step tries (0: the whole dt) */
-    double energy_peak;        /* adaptive: the largest energy scale since the state was set */
-    double *implicit_work;     /* implicit Euler: 7 arrays of 3n doubles */
-    sb_real* stretch4;         /* the blow-up rule's packed copy of the positions (generic integrators) */
-    struct sb_pbd* pbd;        /* pbd, xpbd: colored constraints and work arrays (made on the first step) */
+    double trial_substep;         /* adaptive: the size the next sub-step tries (0: the whole dt) */
+    double energy_peak;           /* adaptive: the largest energy scale since the state was set */
+    double* implicit_work;        /* implicit Euler: 7 arrays of 3n doubles */
+    sb_real* stretch4;            /* the blow-up rule's packed copy of the positions (generic integrators) */
+    struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays (made on the first step) */
     sb_step_stats stats;
     double time;
     uint64_t steps;

@@ -49,9 +49,7 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
 }
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_ps_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
-static inline double sb_w_sum(sb_wide v, int count) {
-    return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v);
-}
+static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v); }
 static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_ps(sb_w_lanes(count), v); }
 
 #elif defined(__AVX512F__) && SB_DOUBLE
@@ -82,9 +80,7 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
 }
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_pd_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
-static inline double sb_w_sum(sb_wide v, int count) {
-    return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v);
-}
+static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v); }
 static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_pd(sb_w_lanes(count), v); }
 
 #elif defined(__AVX2__)

@@ -5,21 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-sb_vertex_def sb_default_vertex_def(void) {
-    return (sb_vertex_def){.mass = 1.0};
-}
+sb_vertex_def sb_default_vertex_def(void) { return (sb_vertex_def){.mass = 1.0}; }
 
-sb_bond_def sb_default_bond_def(void) {
-    return (sb_bond_def){.rest_length = -1.0};
-}
+sb_bond_def sb_default_bond_def(void) { return (sb_bond_def){.rest_length = -1.0}; }
 
-sb_triangle_def sb_default_triangle_def(void) {
-    return (sb_triangle_def){0};
-}
+sb_triangle_def sb_default_triangle_def(void) { return (sb_triangle_def){0}; }
 
-sb_builder* sb_builder_create(void) {
-    return calloc(1, sizeof(sb_builder));
-}
+sb_builder* sb_builder_create(void) { return calloc(1, sizeof(sb_builder)); }
 
 void sb_builder_destroy(sb_builder* builder) {
     if (!builder) return;
@@ -61,9 +53,7 @@ int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def) {
     return sb_array_push(&builder->hinges, def, sizeof *def);
 }
 
-uint32_t sb_builder_vertex_count(const sb_builder* builder) {
-    return (uint32_t)builder->vertices.count;
-}
+uint32_t sb_builder_vertex_count(const sb_builder* builder) { return (uint32_t)builder->vertices.count; }
 
 sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index) {
     if (index >= builder->vertices.count) return NULL;

@@ -15,13 +15,9 @@
  * is degenerate: its corner angles are then meaningless. */
 #define SB_MIN_AREA_RATIO 1e-12
 
-static bool sb_finite3(const double* v) {
-    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
-}
+static bool sb_finite3(const double* v) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
 
-static bool sb_constant_ok(double k) {
-    return isfinite(k) && k >= 0.0;
-}
+static bool sb_constant_ok(double k) { return isfinite(k) && k >= 0.0; }
 
 static sb_status sb_check_vertices(const sb_builder* b, sb_error* err) {
     const sb_vertex_def* v = SB_ITEMS(b->vertices, sb_vertex_def);
@@ -29,8 +25,8 @@ static sb_status sb_check_vertices(const sb_builder* b, sb_error* err) {
         if (!sb_finite3(v[i].position) || !sb_finite3(v[i].velocity) || !isfinite(v[i].mass))
             return sb_error_set(err, SB_ERR_INVALID, "vertex %zu: non-finite position, velocity or mass", i);
         if (v[i].mass < 0.0 || (!v[i].fixed && v[i].mass == 0.0))
-            return sb_error_set(err, SB_ERR_INVALID,
-                                "vertex %zu: mass %g kg (a free vertex needs a positive mass)", i, v[i].mass);
+            return sb_error_set(err, SB_ERR_INVALID, "vertex %zu: mass %g kg (a free vertex needs a positive mass)", i,
+                                v[i].mass);
     }
     return SB_OK;
 }
@@ -44,16 +40,15 @@ static sb_status sb_check_bond(const sb_builder* b, size_t index, sb_error* err)
     const sb_bond_def* d = SB_ITEMS(b->bonds, sb_bond_def) + index;
     uint32_t n = (uint32_t)b->vertices.count;
     if (d->i >= n || d->j >= n)
-        return sb_error_set(err, SB_ERR_INVALID, "bond %zu: vertex index %u out of range (%u vertices)",
-                            index, d->i >= n ? d->i : d->j, n);
-    if (d->i == d->j)
-        return sb_error_set(err, SB_ERR_INVALID, "bond %zu: joins vertex %u to itself", index, d->i);
+        return sb_error_set(err, SB_ERR_INVALID, "bond %zu: vertex index %u out of range (%u vertices)", index,
+                            d->i >= n ? d->i : d->j, n);
+    if (d->i == d->j) return sb_error_set(err, SB_ERR_INVALID, "bond %zu: joins vertex %u to itself", index, d->i);
     if (!sb_constant_ok(d->k) || !sb_constant_ok(d->spring_k) || !sb_constant_ok(d->spring_damping))
         return sb_error_set(err, SB_ERR_INVALID, "bond %zu: constants must be finite and >= 0", index);
     double r0 = d->rest_length < 0.0 ? sb_distance(b, d->i, d->j) : d->rest_length;
     if (!isfinite(r0) || r0 <= 0.0)
-        return sb_error_set(err, SB_ERR_INVALID, "bond %zu (%u, %u): rest length %g m must be positive",
-                            index, d->i, d->j, r0);
+        return sb_error_set(err, SB_ERR_INVALID, "bond %zu (%u, %u): rest length %g m must be positive", index, d->i,
+                            d->j, r0);
     return SB_OK;
 }
 
@@ -89,12 +84,12 @@ static bool sb_triangle_proper(const sb_builder* b, uint32_t i, uint32_t j, uint
     return sb_v3_length(sb_v3_cross(a, c)) > SB_MIN_AREA_RATIO * longest && longest > 0.0;
 }
 
-static sb_status sb_check_indices(const char* kind, size_t index, const uint32_t* ids, int count,
-                                  uint32_t n, sb_error* err) {
+static sb_status sb_check_indices(const char* kind, size_t index, const uint32_t* ids, int count, uint32_t n,
+                                  sb_error* err) {
     for (int a = 0; a < count; a++) {
         if (ids[a] >= n)
-            return sb_error_set(err, SB_ERR_INVALID, "%s %zu: vertex index %u out of range (%u vertices)",
-                                kind, index, ids[a], n);
+            return sb_error_set(err, SB_ERR_INVALID, "%s %zu: vertex index %u out of range (%u vertices)", kind, index,
+                                ids[a], n);
         for (int c = 0; c < a; c++)
             if (ids[a] == ids[c])
                 return sb_error_set(err, SB_ERR_INVALID, "%s %zu: vertex %u repeated", kind, index, ids[a]);
@@ -228,7 +223,8 @@ static void sb_fill_hinges(sb_model* m, const sb_builder* b) {
         m->hinge_o0[h] = d[h].o0;
         m->hinge_o1[h] = d[h].o1;
         m->hinge_phi0[h] = sb_hinge_measure(sb_v3(v[d[h].e0].position), sb_v3(v[d[h].e1].position),
-                                            sb_v3(v[d[h].o0].position), sb_v3(v[d[h].o1].position)).phi;
+                                            sb_v3(v[d[h].o0].position), sb_v3(v[d[h].o1].position))
+                               .phi;
         m->hinge_k[h] = d[h].k;
         m->term_enabled[SB_TERM_BEND] |= d[h].k > 0.0;
     }

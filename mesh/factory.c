@@ -27,8 +27,7 @@ static double sb_mesh_triangle_area(const sb_mesh* mesh, const uint32_t* t) {
     return 0.5 * sb_v3_length(sb_v3_cross(a, b));
 }
 
-static sb_status sb_add_vertices(sb_builder* b, const sb_mesh* mesh, const sb_material_def* mat,
-                                 sb_error* err) {
+static sb_status sb_add_vertices(sb_builder* b, const sb_mesh* mesh, const sb_material_def* mat, sb_error* err) {
     uint32_t first = sb_builder_vertex_count(b);
     for (uint32_t v = 0; v < mesh->vertex_count; v++) {
         sb_vertex_def def = sb_default_vertex_def();
@@ -102,14 +101,15 @@ static sb_status sb_add_triangles(sb_builder* b, uint32_t first, const sb_mesh* 
     for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t* tri = mesh->triangles + 3 * t;
         sb_triangle_def def = {first + tri[0], first + tri[1], first + tri[2], mat->angle_k, mat->stretch_bend_k};
-        if (sb_builder_add_triangle(b, &def) < 0) return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding triangles");
+        if (sb_builder_add_triangle(b, &def) < 0)
+            return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding triangles");
     }
     return SB_OK;
 }
 
 static sb_status sb_check_mesh(const sb_mesh* mesh, const sb_material_def* mat, sb_error* err) {
-    double constants[] = {mat->bond_k, mat->angle_k, mat->stretch_bend_k, mat->spring_k,
-                          mat->spring_damping, mat->bend_k, mat->mass, mat->density};
+    double constants[] = {mat->bond_k,         mat->angle_k, mat->stretch_bend_k, mat->spring_k,
+                          mat->spring_damping, mat->bend_k,  mat->mass,           mat->density};
     for (size_t c = 0; c < sizeof constants / sizeof *constants; c++)
         if (!isfinite(constants[c]) || constants[c] < 0.0)
             return sb_error_set(err, SB_ERR_INVALID, "material constants must be finite and >= 0");

@@ -32,16 +32,14 @@
 
 #include "softbond/mesh.h"
 
-static sb_status invalid(sb_error* err, const char* message)
-{
+static sb_status invalid(sb_error* err, const char* message) {
     if (err != NULL) {
         snprintf(err->message, sizeof err->message, "%s", message);
     }
     return SB_ERR_INVALID;
 }
 
-static sb_status out_of_memory(sb_error* err, const char* what)
-{
+static sb_status out_of_memory(sb_error* err, const char* what) {
     if (err != NULL) {
         snprintf(err->message, sizeof err->message, "%s: out of memory", what);
     }
@@ -50,14 +48,12 @@ static sb_status out_of_memory(sb_error* err, const char* what)
 
 /* ---- sheet --------------------------------------------------------------- */
 
-sb_sheet_def sb_default_sheet_def(void)
-{
+sb_sheet_def sb_default_sheet_def(void) {
     sb_sheet_def def = {.nx = 10, .ny = 10, .width = 1.0, .height = 1.0, .jitter = 0.0, .seed = 1};
     return def;
 }
 
-static uint64_t splitmix64(uint64_t* state)
-{
+static uint64_t splitmix64(uint64_t* state) {
     uint64_t z = (*state += 0x9e3779b97f4a7c15u);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
@@ -65,47 +61,38 @@ static uint64_t splitmix64(uint64_t* state)
 }
 
 /* Uniform in [-1, 1). */
-static double uniform_signed(uint64_t* state)
-{
-    return (double)(splitmix64(state) >> 11) * 0x1.0p-52 - 1.0;
-}
+static double uniform_signed(uint64_t* state) { return (double)(splitmix64(state) >> 11) * 0x1.0p-52 - 1.0; }
 
-static sb_status check_sheet(const sb_sheet_def* def, sb_error* err)
-{
+static sb_status check_sheet(const sb_sheet_def* def, sb_error* err) {
     char message[256];
     if (def->nx < 2 || def->ny < 2) {
-        snprintf(message, sizeof message, "sheet: nx and ny must be at least 2 (got %u x %u)",
-                 def->nx, def->ny);
+        snprintf(message, sizeof message, "sheet: nx and ny must be at least 2 (got %u x %u)", def->nx, def->ny);
         return invalid(err, message);
     }
     if (!(isfinite(def->width) && def->width > 0) || !(isfinite(def->height) && def->height > 0)) {
-        snprintf(message, sizeof message,
-                 "sheet: width and height must be positive and finite (got %g x %g)", def->width,
-                 def->height);
+        snprintf(message, sizeof message, "sheet: width and height must be positive and finite (got %g x %g)",
+                 def->width, def->height);
         return invalid(err, message);
     }
     if (!(def->jitter >= 0 && def->jitter < 0.5)) {
-        snprintf(message, sizeof message, "sheet: jitter must be in [0, 0.5) (got %g)",
-                 def->jitter);
+        snprintf(message, sizeof message, "sheet: jitter must be in [0, 0.5) (got %g)", def->jitter);
         return invalid(err, message);
     }
     uint64_t vertices = (uint64_t)def->nx * def->ny;
     uint64_t triangles = 2 * (uint64_t)(def->nx - 1) * (def->ny - 1);
     if (vertices > UINT32_MAX || triangles > UINT32_MAX) {
-        snprintf(message, sizeof message,
-                 "sheet: %u x %u needs more than 2^32-1 vertices or triangles", def->nx, def->ny);
+        snprintf(message, sizeof message, "sheet: %u x %u needs more than 2^32-1 vertices or triangles", def->nx,
+                 def->ny);
         return invalid(err, message);
     }
     return SB_OK;
 }
 
-static double grid_coordinate(uint32_t index, uint32_t count, double length)
-{
+static double grid_coordinate(uint32_t index, uint32_t count, double length) {
     return index == count - 1 ? length : (double)index * length / (double)(count - 1);
 }
 
-static void sheet_positions(const sb_sheet_def* def, double* positions)
-{
+static void sheet_positions(const sb_sheet_def* def, double* positions) {
     uint32_t nx = def->nx, ny = def->ny;
     double dx = def->width / (nx - 1), dy = def->height / (ny - 1);
     uint64_t rng = def->seed;
@@ -124,8 +111,7 @@ static void sheet_positions(const sb_sheet_def* def, double* positions)
     }
 }
 
-static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles)
-{
+static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles) {
     uint32_t* t = triangles;
     for (uint32_t row = 0; row + 1 < ny; row++) {
         for (uint32_t col = 0; col + 1 < nx; col++) {
@@ -147,8 +133,7 @@ static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles)
     }
 }
 
-sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err)
-{
+sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
         return invalid(err, "sheet: no output mesh");
     }
@@ -182,8 +167,7 @@ sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error
 
 enum { ICOSPHERE_MAX_SUBDIVISIONS = 10 }; /* 10,485,762 vertices */
 
-static void icosahedron_vertices(double* p)
-{
+static void icosahedron_vertices(double* p) {
     const double phi = (1.0 + sqrt(5.0)) / 2.0;
     const double s = 1.0 / sqrt(1.0 + phi * phi); /* onto the unit sphere */
     int v = 0;
@@ -200,15 +184,13 @@ static void icosahedron_vertices(double* p)
     }
 }
 
-static double distance2(const double* a, const double* b)
-{
+static double distance2(const double* a, const double* b) {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
     return dx * dx + dy * dy + dz * dz;
 }
 
 /* The 20 faces: triples of vertices at edge distance from each other. */
-static void icosahedron_faces(const double* p, uint32_t* t)
-{
+static void icosahedron_faces(const double* p, uint32_t* t) {
     double edge2 = INFINITY;
     for (int i = 1; i < 12; i++) {
         edge2 = fmin(edge2, distance2(p, p + 3 * i));
@@ -225,10 +207,9 @@ static void icosahedron_faces(const double* p, uint32_t* t)
                 }
                 double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
                 double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-                double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                               u[0] * w[1] - u[1] * w[0]};
-                bool outward = n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) +
-                                   n[2] * (a[2] + b[2] + c[2]) > 0;
+                double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+                bool outward =
+                    n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2]) > 0;
                 t[3 * f + 0] = i;
                 t[3 * f + 1] = outward ? j : k;
                 t[3 * f + 2] = outward ? k : j;
@@ -248,15 +229,13 @@ typedef struct edge_lists {
     uint32_t* mid;
 } edge_lists;
 
-static void edge_lists_free(edge_lists* e)
-{
+static void edge_lists_free(edge_lists* e) {
     free(e->first);
     free(e->upper);
     free(e->mid);
 }
 
-static bool edge_lists_alloc(edge_lists* e, uint32_t vertex_count, uint32_t triangle_count)
-{
+static bool edge_lists_alloc(edge_lists* e, uint32_t vertex_count, uint32_t triangle_count) {
     size_t edges = (size_t)triangle_count * 3 / 2;
     e->first = calloc((size_t)vertex_count + 1, sizeof(uint32_t));
     e->upper = malloc(edges * sizeof(uint32_t));
@@ -270,9 +249,8 @@ static bool edge_lists_alloc(edge_lists* e, uint32_t vertex_count, uint32_t tria
 
 /* Creates the midpoint of every edge, numbered in order of the triangles
  * that walk the edge upwards, and appends its position. */
-static void make_midpoints(edge_lists* e, double* positions, uint32_t* vertex_count,
-                           const uint32_t* triangles, uint32_t triangle_count)
-{
+static void make_midpoints(edge_lists* e, double* positions, uint32_t* vertex_count, const uint32_t* triangles,
+                           uint32_t triangle_count) {
     uint32_t n = *vertex_count;
     for (size_t i = 0; i < 3 * (size_t)triangle_count; i++) {
         uint32_t a = triangles[i], b = triangles[i % 3 == 2 ? i - 2 : i + 1];
@@ -307,8 +285,7 @@ static void make_midpoints(edge_lists* e, double* positions, uint32_t* vertex_co
     e->first[0] = 0;
 }
 
-static uint32_t midpoint(const edge_lists* e, uint32_t a, uint32_t b)
-{
+static uint32_t midpoint(const edge_lists* e, uint32_t a, uint32_t b) {
     uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
     uint32_t i = e->first[lo];
     while (e->upper[i] != hi) {
@@ -319,9 +296,8 @@ static uint32_t midpoint(const edge_lists* e, uint32_t a, uint32_t b)
 
 /* One level: `triangle_count` triangles in `from` become four times as many
  * in `to`; new vertices are appended to positions. */
-static void subdivide(edge_lists* e, double* positions, uint32_t* vertex_count,
-                      const uint32_t* from, uint32_t triangle_count, uint32_t* to)
-{
+static void subdivide(edge_lists* e, double* positions, uint32_t* vertex_count, const uint32_t* from,
+                      uint32_t triangle_count, uint32_t* to) {
     make_midpoints(e, positions, vertex_count, from, triangle_count);
     for (uint32_t f = 0; f < triangle_count; f++) {
         uint32_t a = from[3 * f], b = from[3 * f + 1], c = from[3 * f + 2];
@@ -333,9 +309,7 @@ static void subdivide(edge_lists* e, double* positions, uint32_t* vertex_count,
     }
 }
 
-sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out,
-                                     sb_error* err)
-{
+sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
         return invalid(err, "icosphere: no output mesh");
     }
@@ -347,8 +321,7 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
         return invalid(err, message);
     }
     if (!(isfinite(radius) && radius > 0)) {
-        snprintf(message, sizeof message, "icosphere: radius must be positive and finite (got %g)",
-                 radius);
+        snprintf(message, sizeof message, "icosphere: radius must be positive and finite (got %g)", radius);
         return invalid(err, message);
     }
     size_t levels = (size_t)1 << (2 * subdivisions); /* 4^s */

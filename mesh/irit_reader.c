@@ -66,13 +66,9 @@ typedef struct irit_reader {
 
 /* ---- tokens -------------------------------------------------------------- */
 
-static bool is_space(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
+static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
-static void skip_blanks(irit_reader* r)
-{
+static void skip_blanks(irit_reader* r) {
     while (r->p < r->end) {
         if (*r->p == '#') {
             while (r->p < r->end && *r->p != '\n') {
@@ -87,26 +83,22 @@ static void skip_blanks(irit_reader* r)
     }
 }
 
-static sb_status fail(irit_reader* r, size_t line, const char* what)
-{
+static sb_status fail(irit_reader* r, size_t line, const char* what) {
     return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line, "%s", what);
 }
 
 /* "what 'token'" at the token's line, the token cut at 40 characters. */
-static sb_status fail_token(irit_reader* r, const char* what)
-{
+static sb_status fail_token(irit_reader* r, const char* what) {
     const irit_token* t = &r->tok;
     if (t->kind == IRIT_END) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line,
-                                  "%s the end of the file", what);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
     }
     int shown = t->length > 40 ? 40 : (int)t->length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown,
-                              t->text, t->length > 40 ? "..." : "");
+    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
+                              t->length > 40 ? "..." : "");
 }
 
-static sb_status next(irit_reader* r)
-{
+static sb_status next(irit_reader* r) {
     skip_blanks(r);
     irit_token* t = &r->tok;
     *t = (irit_token){.kind = IRIT_END, .text = r->p, .length = 0, .line = r->line};
@@ -133,8 +125,8 @@ static sb_status next(irit_reader* r)
         r->p = close + 1;
         return SB_OK;
     }
-    while (r->p < r->end && !is_space(*r->p) && *r->p != '\0' && *r->p != '[' && *r->p != ']' &&
-           *r->p != '"' && *r->p != '#') {
+    while (r->p < r->end && !is_space(*r->p) && *r->p != '\0' && *r->p != '[' && *r->p != ']' && *r->p != '"' &&
+           *r->p != '#') {
         r->p++;
     }
     t->kind = IRIT_WORD;
@@ -142,14 +134,11 @@ static sb_status next(irit_reader* r)
     return SB_OK;
 }
 
-static bool word_is(const irit_token* t, const char* word)
-{
-    return t->kind == IRIT_WORD && strlen(word) == t->length &&
-           memcmp(t->text, word, t->length) == 0;
+static bool word_is(const irit_token* t, const char* word) {
+    return t->kind == IRIT_WORD && strlen(word) == t->length && memcmp(t->text, word, t->length) == 0;
 }
 
-static bool word_in(const irit_token* t, const char* const* words)
-{
+static bool word_in(const irit_token* t, const char* const* words) {
     for (; *words != NULL; words++) {
         if (word_is(t, *words)) {
             return true;
@@ -160,8 +149,7 @@ static bool word_in(const irit_token* t, const char* const* words)
 
 /* Skips up to and including the ']' that closes a '[' already read (at
  * open_line), nested lists included. */
-static sb_status skip_rest(irit_reader* r, size_t open_line)
-{
+static sb_status skip_rest(irit_reader* r, size_t open_line) {
     size_t depth = 1;
     while (depth > 0) {
         if (r->tok.kind == IRIT_END) {
@@ -179,15 +167,13 @@ static sb_status skip_rest(irit_reader* r, size_t open_line)
 }
 
 /* The current token opens a list: skips it. */
-static sb_status skip_list(irit_reader* r)
-{
+static sb_status skip_list(irit_reader* r) {
     size_t open_line = r->tok.line;
     sb_status status = next(r);
     return status == SB_OK ? skip_rest(r, open_line) : status;
 }
 
-static sb_status skip_attributes(irit_reader* r)
-{
+static sb_status skip_attributes(irit_reader* r) {
     sb_status status = SB_OK;
     while (status == SB_OK && r->tok.kind == IRIT_OPEN) {
         status = skip_list(r);
@@ -197,15 +183,13 @@ static sb_status skip_attributes(irit_reader* r)
 
 /* ---- polygons ------------------------------------------------------------ */
 
-static sb_status nomem(irit_reader* r)
-{
+static sb_status nomem(irit_reader* r) {
     return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
                               "out of memory or more than 2^32-1 vertices or triangles");
 }
 
 /* [{ATTRS} x y z]: the current token is its '['. */
-static sb_status read_vertex(irit_reader* r, irit_object* object, size_t k)
-{
+static sb_status read_vertex(irit_reader* r, irit_object* object, size_t k) {
     sb_status status = next(r);
     if (status == SB_OK) {
         status = skip_attributes(r);
@@ -213,8 +197,7 @@ static sb_status read_vertex(irit_reader* r, irit_object* object, size_t k)
     double xyz[3];
     for (int c = 0; c < 3 && status == SB_OK; c++) {
         if (r->tok.kind != IRIT_WORD || !sb_text_parse_double(r->tok.text, r->tok.length, &xyz[c])) {
-            return fail_token(r, r->tok.kind == IRIT_CLOSE ? "polygon vertex needs x y z, found"
-                                                            : "malformed number");
+            return fail_token(r, r->tok.kind == IRIT_CLOSE ? "polygon vertex needs x y z, found" : "malformed number");
         }
         if (!isfinite(xyz[c])) {
             return fail_token(r, "non-finite coordinate");
@@ -242,8 +225,7 @@ static sb_status read_vertex(irit_reader* r, irit_object* object, size_t k)
     return next(r);
 }
 
-static sb_status add_fan(irit_reader* r, irit_object* object, size_t count)
-{
+static sb_status add_fan(irit_reader* r, irit_object* object, size_t count) {
     const uint32_t* c = r->corners;
     for (size_t k = 1; k + 1 < count; k++) {
         if (c[0] == c[k] || c[k] == c[k + 1] || c[k + 1] == c[0]) {
@@ -255,22 +237,19 @@ static sb_status add_fan(irit_reader* r, irit_object* object, size_t count)
     return SB_OK;
 }
 
-static sb_status read_count(irit_reader* r, long long* count)
-{
+static sb_status read_count(irit_reader* r, long long* count) {
     if (r->tok.kind != IRIT_WORD || !sb_text_parse_integer(r->tok.text, r->tok.length, count)) {
         return fail_token(r, "POLYGON: expected the vertex count, found");
     }
     if (*count < 3 || *count > (long long)UINT32_MAX) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                  "POLYGON with %lld vertices (a polygon needs 3 to 2^32-1)",
-                                  *count);
+                                  "POLYGON with %lld vertices (a polygon needs 3 to 2^32-1)", *count);
     }
     return next(r);
 }
 
 /* [POLYGON {ATTRS} N vertices...]: the current token is POLYGON. */
-static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line)
-{
+static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line) {
     long long count = 0;
     sb_status status = next(r);
     if (status == SB_OK) {
@@ -282,8 +261,7 @@ static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line)
     for (long long k = 0; k < count && status == SB_OK; k++) {
         if (r->tok.kind != IRIT_OPEN) {
             return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                      "POLYGON (line %zu) lists %lld of its %lld vertices",
-                                      open_line, k, count);
+                                      "POLYGON (line %zu) lists %lld of its %lld vertices", open_line, k, count);
         }
         status = read_vertex(r, &r->objects[object], (size_t)k);
     }
@@ -292,8 +270,7 @@ static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line)
     }
     if (r->tok.kind == IRIT_OPEN) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                  "POLYGON (line %zu) has more vertices than its count %lld",
-                                  open_line, count);
+                                  "POLYGON (line %zu) has more vertices than its count %lld", open_line, count);
     }
     if (r->tok.kind != IRIT_CLOSE) {
         return fail_token(r, "POLYGON: expected ']', found");
@@ -305,8 +282,7 @@ static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line)
 /* ---- objects ------------------------------------------------------------- */
 
 /* Separate: a new mesh per object; merged: all in the first. */
-static sb_status object_slot(irit_reader* r, size_t* slot)
-{
+static sb_status object_slot(irit_reader* r, size_t* slot) {
     if (r->object_count > 0 && !r->separate) {
         *slot = 0;
         return SB_OK;
@@ -325,16 +301,15 @@ static sb_status object_slot(irit_reader* r, size_t* slot)
     return SB_OK;
 }
 
-static const char* const freeform[] = {"CURVE", "SURFACE", "TRIMSRF", "TRIVAR", "TRISRF",
-                                       "MULTIVAR", "MODEL", "INSTANCE", NULL};
+static const char* const freeform[] = {"CURVE",    "SURFACE", "TRIMSRF",  "TRIVAR", "TRISRF",
+                                       "MULTIVAR", "MODEL",   "INSTANCE", NULL};
 static const char* const ignored[] = {"POLYLINE", "POINTLIST", "NUMBER", "POINT", "VECTOR",
-                                      "CTLPT", "STRING", "MATRIX", NULL};
+                                      "CTLPT",    "STRING",    "MATRIX", NULL};
 
 static sb_status read_object(irit_reader* r, size_t open_line, int depth);
 
 /* One item of an object: the current token is the word after '['. */
-static sb_status read_item(irit_reader* r, size_t object, size_t open_line, int depth)
-{
+static sb_status read_item(irit_reader* r, size_t object, size_t open_line, int depth) {
     if (word_is(&r->tok, "POLYGON")) {
         return read_polygon(r, object, open_line);
     }
@@ -350,8 +325,7 @@ static sb_status read_item(irit_reader* r, size_t object, size_t open_line, int 
     return skip_rest(r, open_line);
 }
 
-static sb_status read_contents(irit_reader* r, size_t object, size_t object_line, int depth)
-{
+static sb_status read_contents(irit_reader* r, size_t object, size_t object_line, int depth) {
     for (;;) {
         if (r->tok.kind == IRIT_CLOSE) {
             return next(r);
@@ -376,11 +350,10 @@ static sb_status read_contents(irit_reader* r, size_t object, size_t object_line
 }
 
 /* [OBJECT {ATTRS} NAME items...]: the current token is OBJECT. */
-static sb_status read_object(irit_reader* r, size_t open_line, int depth)
-{
+static sb_status read_object(irit_reader* r, size_t open_line, int depth) {
     if (depth >= IRIT_MAX_DEPTH) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, open_line,
-                                  "objects nested deeper than %d", IRIT_MAX_DEPTH);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, open_line, "objects nested deeper than %d",
+                                  IRIT_MAX_DEPTH);
     }
     sb_status status = next(r);
     if (status == SB_OK) {
@@ -400,8 +373,7 @@ static sb_status read_object(irit_reader* r, size_t open_line, int depth)
     return status == SB_OK ? read_contents(r, slot, open_line, depth) : status;
 }
 
-static sb_status read_file(irit_reader* r)
-{
+static sb_status read_file(irit_reader* r) {
     sb_status status = next(r);
     while (status == SB_OK && r->tok.kind != IRIT_END) {
         if (r->tok.kind != IRIT_OPEN) {
@@ -421,8 +393,7 @@ static sb_status read_file(irit_reader* r)
 
 /* ---- results ------------------------------------------------------------- */
 
-static void reader_free(irit_reader* r)
-{
+static void reader_free(irit_reader* r) {
     for (size_t i = 0; i < r->object_count; i++) {
         sb_mesh_builder_free(&r->objects[i].mesh);
         free(r->objects[i].weld.slots);
@@ -432,16 +403,15 @@ static void reader_free(irit_reader* r)
 }
 
 /* The objects with triangles, in order; the others are dropped. */
-static sb_status finish(irit_reader* r, sb_mesh** objects, uint32_t* object_count)
-{
+static sb_status finish(irit_reader* r, sb_mesh** objects, uint32_t* object_count) {
     size_t kept = 0;
     for (size_t i = 0; i < r->object_count; i++) {
         kept += r->objects[i].mesh.triangle_count > 0;
     }
     if (kept == 0) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0,
-                                  "no polygons (%zu objects, %u degenerate triangles dropped)",
-                                  r->object_count, r->dropped);
+                                  "no polygons (%zu objects, %u degenerate triangles dropped)", r->object_count,
+                                  r->dropped);
     }
     sb_mesh* out = calloc(kept, sizeof *out);
     if (out == NULL) {
@@ -458,12 +428,9 @@ static sb_status finish(irit_reader* r, sb_mesh** objects, uint32_t* object_coun
     return SB_OK;
 }
 
-static sb_status irit_parse(const char* path, const char* text, size_t size, bool separate,
-                            sb_mesh** objects, uint32_t* object_count, uint32_t* dropped,
-                            sb_error* err)
-{
-    irit_reader r = {.path = path, .p = text, .end = text + size, .line = 1,
-                     .separate = separate, .err = err};
+static sb_status irit_parse(const char* path, const char* text, size_t size, bool separate, sb_mesh** objects,
+                            uint32_t* object_count, uint32_t* dropped, sb_error* err) {
+    irit_reader r = {.path = path, .p = text, .end = text + size, .line = 1, .separate = separate, .err = err};
     sb_status status = read_file(&r);
     if (status == SB_OK) {
         status = finish(&r, objects, object_count);
@@ -473,9 +440,8 @@ static sb_status irit_parse(const char* path, const char* text, size_t size, boo
     return status;
 }
 
-sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
-                       uint32_t* dropped, sb_error* err)
-{
+sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count, uint32_t* dropped,
+                       sb_error* err) {
     char* text = NULL;
     size_t size = 0;
     *dropped = 0;

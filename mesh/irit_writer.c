@@ -32,8 +32,7 @@ static void write_polygon(FILE* f, const sb_mesh* mesh, const double* positions,
     double p[4];
     plane(corner[0], corner[1], corner[2], p);
     fprintf(f, "    [POLYGON [PLANE %.9g %.9g %.9g %.9g] 3\n", p[0], p[1], p[2], p[3]);
-    for (int c = 0; c < 3; c++)
-        fprintf(f, "        [%.9g %.9g %.9g]\n", corner[c][0], corner[c][1], corner[c][2]);
+    for (int c = 0; c < 3; c++) fprintf(f, "        [%.9g %.9g %.9g]\n", corner[c][0], corner[c][1], corner[c][2]);
     fprintf(f, "    ]\n");
 }
 

@@ -5,8 +5,7 @@
 
 #include "softbond/mesh.h"
 
-void sb_mesh_free(sb_mesh* mesh)
-{
+void sb_mesh_free(sb_mesh* mesh) {
     if (mesh == NULL) {
         return;
     }

@@ -5,8 +5,7 @@
 
 #include "softbond/mesh.h"
 
-static sb_status concatenate_fail(sb_mesh* out, sb_error* err, sb_status status, const char* what)
-{
+static sb_status concatenate_fail(sb_mesh* out, sb_error* err, sb_status status, const char* what) {
     sb_mesh_free(out);
     if (err != NULL) {
         snprintf(err->message, sizeof err->message, "%s", what);
@@ -14,8 +13,7 @@ static sb_status concatenate_fail(sb_mesh* out, sb_error* err, sb_status status,
     return status;
 }
 
-sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err)
-{
+sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err) {
     size_t vertices = 0, triangles = 0;
     for (uint32_t i = 0; i < count; i++) {
         vertices += meshes[i].vertex_count;

@@ -6,8 +6,7 @@
 #include "mesh/edge_map.h"
 #include "softbond/mesh.h"
 
-sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err)
-{
+sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err) {
     *out = (sb_mesh_edge_counts){0};
     size_t half_edges = 3 * (size_t)mesh->triangle_count;
     uint32_t* uses = calloc(half_edges + 1, sizeof *uses);

@@ -33,9 +33,8 @@ typedef struct export_format {
 } export_format;
 
 static const export_format formats[] = {
-    {"ply", ".ply", "plyb", NULL},   {"obj", ".obj", "obj", NULL},
-    {"gltf", ".gltf", "gltf2", NULL}, {"glb", ".glb", "glb2", NULL},
-    {"irit", ".itd", NULL, sb_irit_write}, {"pov", ".pov", NULL, sb_pov_write},
+    {"ply", ".ply", "plyb", NULL}, {"obj", ".obj", "obj", NULL},          {"gltf", ".gltf", "gltf2", NULL},
+    {"glb", ".glb", "glb2", NULL}, {"irit", ".itd", NULL, sb_irit_write}, {"pov", ".pov", NULL, sb_pov_write},
 };
 
 static const export_format* find_format(const char* name) {
@@ -91,11 +90,9 @@ static void fill_normals(struct aiMesh* m, const sb_mesh* mesh, const double* x)
     }
 }
 
-static void fill_geometry(struct aiMesh* m, const sb_mesh* mesh, const double* positions,
-                          unsigned int* indices) {
+static void fill_geometry(struct aiMesh* m, const sb_mesh* mesh, const double* positions, unsigned int* indices) {
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
-        m->mVertices[v] = (struct aiVector3D){(ai_real)positions[3 * v],
-                                              (ai_real)positions[3 * v + 1],
+        m->mVertices[v] = (struct aiVector3D){(ai_real)positions[3 * v], (ai_real)positions[3 * v + 1],
                                               (ai_real)positions[3 * v + 2]};
     for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         for (int c = 0; c < 3; c++) indices[3 * t + c] = mesh->triangles[3 * t + c];
@@ -126,13 +123,16 @@ static assimp_scene* assimp_scene_make(const sb_mesh* mesh, const double* positi
     s->root.mTransformation = (struct aiMatrix4x4){.a1 = 1, .b2 = 1, .c3 = 1, .d4 = 1};
     s->root.mNumMeshes = 1;
     s->root.mMeshes = s->root_meshes;
-    s->scene = (struct aiScene){.mRootNode = &s->root, .mNumMeshes = 1, .mMeshes = s->mesh_list,
-                                .mNumMaterials = 1, .mMaterials = s->material_list};
+    s->scene = (struct aiScene){.mRootNode = &s->root,
+                                .mNumMeshes = 1,
+                                .mMeshes = s->mesh_list,
+                                .mNumMaterials = 1,
+                                .mMaterials = s->material_list};
     return s;
 }
 
-sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh,
-                          const double* positions, sb_error* err) {
+sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh, const double* positions,
+                          sb_error* err) {
     assimp_scene* s = assimp_scene_make(mesh, positions);
     if (!s) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     enum aiReturn result = aiExportScene(&s->scene, format_id, path, 0);
@@ -158,12 +158,11 @@ static sb_status write_text(const char* path, const export_format* format, const
     return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(error));
 }
 
-sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
-                         const sb_mesh_export_def* def, sb_error* err) {
+sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
+                         sb_error* err) {
     const export_format* f = format ? find_format(format) : NULL;
     if (!f)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "%s: unknown export format '%s' (ply, obj, gltf, glb, irit or pov)",
+        return sb_error_set(err, SB_ERR_INVALID, "%s: unknown export format '%s' (ply, obj, gltf, glb, irit or pov)",
                             path, format ? format : "(null)");
     FILE* stream = fopen(path, "wb");
     if (!stream) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));

@@ -54,8 +54,7 @@
 
 /* ---- growable mesh arrays ------------------------------------------------ */
 
-static bool grow(void** data, size_t* capacity, size_t needed, size_t element_size)
-{
+static bool grow(void** data, size_t* capacity, size_t needed, size_t element_size) {
     if (needed <= *capacity) {
         return true;
     }
@@ -78,11 +77,9 @@ static bool grow(void** data, size_t* capacity, size_t needed, size_t element_si
     return true;
 }
 
-bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z)
-{
+bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z) {
     if (b->vertex_count >= UINT32_MAX ||
-        !grow((void**)&b->positions, &b->vertex_capacity, b->vertex_count + 1,
-              3 * sizeof(double))) {
+        !grow((void**)&b->positions, &b->vertex_capacity, b->vertex_count + 1, 3 * sizeof(double))) {
         return false;
     }
     double* p = b->positions + 3 * b->vertex_count++;
@@ -92,11 +89,9 @@ bool sb_mesh_builder_add_vertex(sb_mesh_builder* b, double x, double y, double z
     return true;
 }
 
-bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, uint32_t k)
-{
+bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, uint32_t k) {
     if (b->triangle_count >= UINT32_MAX ||
-        !grow((void**)&b->triangles, &b->triangle_capacity, b->triangle_count + 1,
-              3 * sizeof(uint32_t))) {
+        !grow((void**)&b->triangles, &b->triangle_capacity, b->triangle_count + 1, 3 * sizeof(uint32_t))) {
         return false;
     }
     uint32_t* t = b->triangles + 3 * b->triangle_count++;
@@ -106,8 +101,7 @@ bool sb_mesh_builder_add_triangle(sb_mesh_builder* b, uint32_t i, uint32_t j, ui
     return true;
 }
 
-void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out)
-{
+void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out) {
     /* Shrink to fit; a failed shrink keeps the larger block. */
     if (b->vertex_count > 0 && b->vertex_count < b->vertex_capacity) {
         double* p = realloc(b->positions, b->vertex_count * 3 * sizeof(double));
@@ -128,8 +122,7 @@ void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out)
     memset(b, 0, sizeof *b);
 }
 
-void sb_mesh_builder_free(sb_mesh_builder* b)
-{
+void sb_mesh_builder_free(sb_mesh_builder* b) {
     free(b->positions);
     free(b->triangles);
     memset(b, 0, sizeof *b);
@@ -137,9 +130,7 @@ void sb_mesh_builder_free(sb_mesh_builder* b)
 
 /* ---- errors and text ----------------------------------------------------- */
 
-sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line,
-                             const char* fmt, ...)
-{
+sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line, const char* fmt, ...) {
     if (err == NULL) {
         return status;
     }
@@ -157,13 +148,9 @@ sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, 
     return status;
 }
 
-static bool is_blank(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f' || c == '\0';
-}
+static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f' || c == '\0'; }
 
-bool sb_text_next_token(sb_text_line* line, const char** token, size_t* length)
-{
+bool sb_text_next_token(sb_text_line* line, const char** token, size_t* length) {
     while (line->p < line->end && is_blank(*line->p)) {
         line->p++;
     }
@@ -179,8 +166,7 @@ bool sb_text_next_token(sb_text_line* line, const char** token, size_t* length)
     return true;
 }
 
-bool sb_text_parse_double(const char* token, size_t length, double* out)
-{
+bool sb_text_parse_double(const char* token, size_t length, double* out) {
     char buffer[128];
     if (length == 0 || length >= sizeof buffer) {
         return false;
@@ -203,8 +189,7 @@ bool sb_text_parse_double(const char* token, size_t length, double* out)
     return true;
 }
 
-bool sb_text_parse_integer(const char* token, size_t length, long long* out)
-{
+bool sb_text_parse_integer(const char* token, size_t length, long long* out) {
     size_t i = 0;
     bool negative = false;
     if (i < length && (token[i] == '+' || token[i] == '-')) {
@@ -230,13 +215,11 @@ bool sb_text_parse_integer(const char* token, size_t length, long long* out)
 
 /* ---- reading a file ------------------------------------------------------ */
 
-static sb_status open_error(const char* path, int code, sb_error* err)
-{
+static sb_status open_error(const char* path, int code, sb_error* err) {
     return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(code));
 }
 
-sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_error* err)
-{
+sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_error* err) {
     FILE* file = fopen(path, "rb");
     if (file == NULL) {
         return open_error(path, errno, err);
@@ -280,8 +263,7 @@ sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_err
 
 /* ---- assimp -------------------------------------------------------------- */
 
-static uint64_t hash_position(const double p[3])
-{
+static uint64_t hash_position(const double p[3]) {
     uint64_t h = 0x9e3779b97f4a7c15u;
     for (int c = 0; c < 3; c++) {
         uint64_t bits;
@@ -306,15 +288,14 @@ typedef struct assimp_merge {
     uint32_t* remap; /* per mesh: assimp vertex -> output vertex */
     size_t remap_capacity;
     bool any_node_mesh;
-    bool separate;        /* one object per placed mesh */
-    sb_mesh* objects;     /* separate: the finished objects */
+    bool separate;    /* one object per placed mesh */
+    sb_mesh* objects; /* separate: the finished objects */
     size_t object_count, object_capacity;
     size_t empty_vertices; /* separate: vertices of meshes with no triangle */
     sb_mesh_load_report* report;
 } assimp_merge;
 
-static void transform_point(const transform4* t, const struct aiVector3D* v, double out[3])
-{
+static void transform_point(const transform4* t, const struct aiVector3D* v, double out[3]) {
     const double* m = t->m;
     double x = v->x, y = v->y, z = v->z;
     out[0] = m[0] * x + m[1] * y + m[2] * z + m[3];
@@ -328,9 +309,7 @@ static void transform_point(const transform4* t, const struct aiVector3D* v, dou
     }
 }
 
-static void transform_compose(const transform4* parent, const struct aiMatrix4x4* local,
-                              transform4* out)
-{
+static void transform_compose(const transform4* parent, const struct aiMatrix4x4* local, transform4* out) {
     const ai_real* l = &local->a1; /* a1..d4 are contiguous, row-major */
     for (int i = 0; i < 4; i++) {
         for (int j = 0; j < 4; j++) {
@@ -343,8 +322,7 @@ static void transform_compose(const transform4* parent, const struct aiMatrix4x4
     }
 }
 
-static void weld_insert(sb_weld_table* weld, const double* positions, uint32_t index)
-{
+static void weld_insert(sb_weld_table* weld, const double* positions, uint32_t index) {
     size_t mask = weld->capacity - 1;
     size_t slot = (size_t)hash_position(positions + 3 * (size_t)index) & mask;
     while (weld->slots[slot] != 0) {
@@ -353,8 +331,7 @@ static void weld_insert(sb_weld_table* weld, const double* positions, uint32_t i
     weld->slots[slot] = index + 1;
 }
 
-static bool weld_reserve(sb_weld_table* weld, const sb_mesh_builder* mesh, size_t count)
-{
+static bool weld_reserve(sb_weld_table* weld, const sb_mesh_builder* mesh, size_t count) {
     if (count <= weld->capacity / 2) {
         return true;
     }
@@ -378,9 +355,7 @@ static bool weld_reserve(sb_weld_table* weld, const sb_mesh_builder* mesh, size_
     return true;
 }
 
-bool sb_mesh_builder_weld_vertex(sb_mesh_builder* mesh, sb_weld_table* weld, const double p[3],
-                                 uint32_t* index)
-{
+bool sb_mesh_builder_weld_vertex(sb_mesh_builder* mesh, sb_weld_table* weld, const double p[3], uint32_t* index) {
     double q[3] = {p[0] + 0.0, p[1] + 0.0, p[2] + 0.0}; /* -0 joins +0 */
     if (!weld_reserve(weld, mesh, mesh->vertex_count + 1)) {
         return false;
@@ -403,8 +378,7 @@ bool sb_mesh_builder_weld_vertex(sb_mesh_builder* mesh, sb_weld_table* weld, con
 }
 
 /* Two corners joined, or the corners collinear to rounding. */
-static bool degenerate(const double* positions, const uint32_t t[3])
-{
+static bool degenerate(const double* positions, const uint32_t t[3]) {
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
         return true;
     }
@@ -430,14 +404,12 @@ static bool degenerate(const double* positions, const uint32_t t[3])
 
 /* Separate objects: the mesh built so far becomes an object and the next
  * one starts empty, with an empty join table. */
-static bool flush_object(assimp_merge* merge)
-{
+static bool flush_object(assimp_merge* merge) {
     if (merge->mesh.triangle_count == 0) {
         merge->empty_vertices += merge->mesh.vertex_count;
         sb_mesh_builder_free(&merge->mesh);
     } else {
-        if (!grow((void**)&merge->objects, &merge->object_capacity, merge->object_count + 1,
-                  sizeof(sb_mesh))) {
+        if (!grow((void**)&merge->objects, &merge->object_capacity, merge->object_count + 1, sizeof(sb_mesh))) {
             return false;
         }
         sb_mesh_builder_finish(&merge->mesh, &merge->objects[merge->object_count++]);
@@ -448,12 +420,11 @@ static bool flush_object(assimp_merge* merge)
     return true;
 }
 
-static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
-                                 const transform4* transform, unsigned mesh_index, sb_error* err);
+static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh, const transform4* transform,
+                                 unsigned mesh_index, sb_error* err);
 
-static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
-                            const transform4* transform, unsigned mesh_index, sb_error* err)
-{
+static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh, const transform4* transform,
+                            unsigned mesh_index, sb_error* err) {
     merge->report->source_meshes++;
     sb_status status = merge_mesh_into(merge, mesh, transform, mesh_index, err);
     if (status == SB_OK && merge->separate && !flush_object(merge)) {
@@ -462,27 +433,23 @@ static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh,
     return status;
 }
 
-static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
-                                 const transform4* transform, unsigned mesh_index, sb_error* err)
-{
+static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh, const transform4* transform,
+                                 unsigned mesh_index, sb_error* err) {
     if (mesh->mNumVertices == 0 || mesh->mVertices == NULL) {
         return SB_OK;
     }
-    if (!grow((void**)&merge->remap, &merge->remap_capacity, mesh->mNumVertices,
-              sizeof(uint32_t))) {
+    if (!grow((void**)&merge->remap, &merge->remap_capacity, mesh->mNumVertices, sizeof(uint32_t))) {
         return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
     }
     for (unsigned v = 0; v < mesh->mNumVertices; v++) {
         double p[3];
         transform_point(transform, &mesh->mVertices[v], p);
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
-            return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
-                                      "non-finite position at vertex %u of mesh %u", v,
-                                      mesh_index);
+            return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "non-finite position at vertex %u of mesh %u",
+                                      v, mesh_index);
         }
         if (!sb_mesh_builder_weld_vertex(&merge->mesh, &merge->weld, p, &merge->remap[v])) {
-            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
-                                      "out of memory or more than 2^32-1 vertices");
+            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 vertices");
         }
     }
     for (unsigned f = 0; f < mesh->mNumFaces && mesh->mFaces != NULL; f++) {
@@ -495,9 +462,8 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
         for (int c = 0; c < 3; c++) {
             unsigned index = face->mIndices[c];
             if (index >= mesh->mNumVertices) {
-                return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
-                                          "face %u of mesh %u uses vertex %u of %u", f,
-                                          mesh_index, index, mesh->mNumVertices);
+                return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "face %u of mesh %u uses vertex %u of %u",
+                                          f, mesh_index, index, mesh->mNumVertices);
             }
             t[c] = merge->remap[index];
         }
@@ -506,8 +472,7 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
             continue;
         }
         if (!sb_mesh_builder_add_triangle(&merge->mesh, t[0], t[1], t[2])) {
-            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0,
-                                      "out of memory or more than 2^32-1 triangles");
+            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 triangles");
         }
     }
     return SB_OK;
@@ -515,12 +480,10 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
 
 enum { MAX_NODE_DEPTH = 256 };
 
-static sb_status merge_node(assimp_merge* merge, const struct aiNode* node,
-                            const transform4* parent, int depth, sb_error* err)
-{
+static sb_status merge_node(assimp_merge* merge, const struct aiNode* node, const transform4* parent, int depth,
+                            sb_error* err) {
     if (depth > MAX_NODE_DEPTH) {
-        return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
-                                  "node hierarchy deeper than %d", MAX_NODE_DEPTH);
+        return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "node hierarchy deeper than %d", MAX_NODE_DEPTH);
     }
     transform4 transform;
     transform_compose(parent, &node->mTransformation, &transform);
@@ -546,16 +509,14 @@ static sb_status merge_node(assimp_merge* merge, const struct aiNode* node,
     return SB_OK;
 }
 
-static sb_status merge_scene(assimp_merge* merge, sb_error* err)
-{
+static sb_status merge_scene(assimp_merge* merge, sb_error* err) {
     const struct aiScene* scene = merge->scene;
     transform4 identity = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
     sb_status status = SB_OK;
     if (scene->mRootNode != NULL) {
         status = merge_node(merge, scene->mRootNode, &identity, 0, err);
     }
-    for (unsigned m = 0; status == SB_OK && !merge->any_node_mesh && m < scene->mNumMeshes &&
-                         scene->mMeshes != NULL;
+    for (unsigned m = 0; status == SB_OK && !merge->any_node_mesh && m < scene->mNumMeshes && scene->mMeshes != NULL;
          m++) {
         if (scene->mMeshes[m] != NULL) {
             status = merge_mesh(merge, scene->mMeshes[m], &identity, m, err);
@@ -565,8 +526,7 @@ static sb_status merge_scene(assimp_merge* merge, sb_error* err)
         status = sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
                                     "no triangles (%zu vertices, %u degenerate triangles "
                                     "dropped, %u points and lines)",
-                                    merge->mesh.vertex_count + merge->empty_vertices,
-                                    merge->report->degenerate_faces,
+                                    merge->mesh.vertex_count + merge->empty_vertices, merge->report->degenerate_faces,
                                     merge->report->ignored_primitives);
     }
     return status;
@@ -574,17 +534,15 @@ static sb_status merge_scene(assimp_merge* merge, sb_error* err)
 
 static pthread_mutex_t assimp_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static void objects_free(sb_mesh* objects, size_t count)
-{
+static void objects_free(sb_mesh* objects, size_t count) {
     for (size_t i = 0; i < count; i++) {
         sb_mesh_free(&objects[i]);
     }
     free(objects);
 }
 
-static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
-                             uint32_t* object_count, sb_mesh_load_report* report, sb_error* err)
-{
+static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
+                             sb_mesh_load_report* report, sb_error* err) {
     /* Open it ourselves first, for the same missing-file message as the
      * readers (assimp would only say it could not open it). */
     FILE* file = fopen(path, "rb");
@@ -593,16 +551,14 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
     }
     fclose(file);
 
-    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_SortByPType | aiProcess_DropNormals |
-                           aiProcess_FindInvalidData | aiProcess_ValidateDataStructure;
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                           aiProcess_DropNormals | aiProcess_FindInvalidData | aiProcess_ValidateDataStructure;
     pthread_mutex_lock(&assimp_lock);
     const struct aiScene* scene = aiImportFile(path, flags);
     if (scene == NULL) {
         const char* why = aiGetErrorString();
         sb_status status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "%s",
-                                              why != NULL && why[0] != '\0' ? why
-                                                                            : "assimp cannot read it");
+                                              why != NULL && why[0] != '\0' ? why : "assimp cannot read it");
         pthread_mutex_unlock(&assimp_lock);
         return status;
     }
@@ -639,8 +595,7 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
 
 /* ---- tetrahedral meshes: their boundary ---------------------------------- */
 
-static sb_status load_volume_surface(const char* path, sb_mesh* out, sb_error* err)
-{
+static sb_status load_volume_surface(const char* path, sb_mesh* out, sb_error* err) {
     sb_tet_mesh volume;
     sb_status status = sb_tet_mesh_load(path, &volume, err);
     if (status == SB_OK) {
@@ -652,8 +607,7 @@ static sb_status load_volume_surface(const char* path, sb_mesh* out, sb_error* e
 
 /* ---- dispatch ------------------------------------------------------------ */
 
-bool sb_path_has_extension(const char* path, const char* extension)
-{
+bool sb_path_has_extension(const char* path, const char* extension) {
     const char* slash = strrchr(path, '/');
     const char* name = slash != NULL ? slash + 1 : path;
     const char* dot = strrchr(name, '.');
@@ -670,20 +624,13 @@ bool sb_path_has_extension(const char* path, const char* extension)
     }
 }
 
-sb_mesh_load_def sb_default_mesh_load_def(void)
-{
-    return (sb_mesh_load_def){.separate_objects = false};
-}
+sb_mesh_load_def sb_default_mesh_load_def(void) { return (sb_mesh_load_def){.separate_objects = false}; }
 
-void sb_mesh_objects_free(sb_mesh* objects, uint32_t count)
-{
-    objects_free(objects, count);
-}
+void sb_mesh_objects_free(sb_mesh* objects, uint32_t count) { objects_free(objects, count); }
 
 /* The formats read by softbond's own readers or as a tetrahedral mesh: one
  * object, nothing dropped. */
-static sb_status load_single(const char* path, bool obj, sb_mesh* out, sb_error* err)
-{
+static sb_status load_single(const char* path, bool obj, sb_mesh* out, sb_error* err) {
     if (sb_tet_mesh_path(path)) {
         return load_volume_surface(path, out, err);
     }
@@ -693,8 +640,7 @@ static sb_status load_single(const char* path, bool obj, sb_mesh* out, sb_error*
     if (status != SB_OK) {
         return status;
     }
-    status = obj ? sb_obj_parse(path, text, size, out, err)
-                 : sb_off_parse(path, text, size, out, err);
+    status = obj ? sb_obj_parse(path, text, size, out, err) : sb_off_parse(path, text, size, out, err);
     free(text);
     if (status != SB_OK) {
         memset(out, 0, sizeof *out);
@@ -702,9 +648,8 @@ static sb_status load_single(const char* path, bool obj, sb_mesh* out, sb_error*
     return status;
 }
 
-sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects,
-                          uint32_t* object_count, sb_mesh_load_report* report, sb_error* err)
-{
+sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects, uint32_t* object_count,
+                          sb_mesh_load_report* report, sb_error* err) {
     sb_mesh_load_report scratch;
     report = report != NULL ? report : &scratch;
     memset(report, 0, sizeof *report);
@@ -726,8 +671,8 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     def = def != NULL ? def : &defaults;
     if (sb_path_has_extension(path, ".itd") || sb_path_has_extension(path, ".irit")) {
         report->reader = "irit";
-        sb_status status = sb_irit_load(path, def->separate_objects, objects, object_count,
-                                        &report->degenerate_faces, err);
+        sb_status status =
+            sb_irit_load(path, def->separate_objects, objects, object_count, &report->degenerate_faces, err);
         report->source_meshes = report->object_count = *object_count;
         return status;
     }
@@ -738,8 +683,7 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
         return status;
     }
     bool obj = sb_path_has_extension(path, ".obj");
-    bool own = sb_tet_mesh_path(path) || sb_path_has_extension(path, ".off") ||
-               (obj && !def->separate_objects);
+    bool own = sb_tet_mesh_path(path) || sb_path_has_extension(path, ".off") || (obj && !def->separate_objects);
     if (obj && !own) {
         /* assimp's OBJ reader is lenient: softbond's strict reader checks
          * the file first, for the same errors as a merged load. */
@@ -752,8 +696,7 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     }
     if (!own) {
         report->reader = "assimp";
-        sb_status status =
-            load_assimp(path, def->separate_objects, objects, object_count, report, err);
+        sb_status status = load_assimp(path, def->separate_objects, objects, object_count, report, err);
         report->object_count = *object_count;
         return status;
     }
@@ -774,8 +717,7 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     return SB_OK;
 }
 
-sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err)
-{
+sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
         if (err != NULL) {
             snprintf(err->message, sizeof err->message, "sb_mesh_load: no output mesh");

@@ -31,16 +31,14 @@ typedef struct sb_weld_table {
 /* The index of the vertex at p: an earlier one at the same position, or a
  * new one added to b. False when out of memory or past the uint32 limit.
  * Every vertex of b must have been added through the same table. */
-bool sb_mesh_builder_weld_vertex(sb_mesh_builder* b, sb_weld_table* weld, const double p[3],
-                                 uint32_t* index);
+bool sb_mesh_builder_weld_vertex(sb_mesh_builder* b, sb_weld_table* weld, const double p[3], uint32_t* index);
 /* Moves the arrays into out (which then owns them) and resets b. */
 void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out);
 void sb_mesh_builder_free(sb_mesh_builder* b);
 
 /* Writes "PATH:LINE: message" (line 0: "PATH: message") into err (if any)
  * and returns status. */
-sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line,
-                             const char* fmt, ...)
+sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line, const char* fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 5, 6)))
 #endif
@@ -64,19 +62,16 @@ sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_err
 /* Whether the file name ends in extension (".obj"; lower case), ignoring case. */
 bool sb_path_has_extension(const char* path, const char* extension);
 
-sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out,
-                       sb_error* err);
-sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out,
-                       sb_error* err);
+sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out, sb_error* err);
+sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out, sb_error* err);
 
 /* IRIT text data (irit_reader.c): each OBJECT's polygons a mesh
  * (separate) or all in one (merged), vertices joined, polygons
  * fan-triangulated; *dropped counts triangles whose corners joined. */
-sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
-                       uint32_t* dropped, sb_error* err);
+sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count, uint32_t* dropped,
+                       sb_error* err);
 /* POV-Ray mesh2 objects (pov_reader.c, softbond/pov.h): each a mesh
  * (separate) or all concatenated, nothing joined (merged). */
-sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count,
-                             sb_error* err);
+sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count, sb_error* err);
 
 #endif

@@ -13,13 +13,11 @@
 
 #include "softbond/mesh.h"
 
-sb_mesh_transform_def sb_default_mesh_transform_def(void)
-{
+sb_mesh_transform_def sb_default_mesh_transform_def(void) {
     return (sb_mesh_transform_def){.scale = {1, 1, 1}, .rotate = {0, 0, 0}, .translate = {0, 0, 0}};
 }
 
-static sb_status invalid(sb_error* err, const char* what)
-{
+static sb_status invalid(sb_error* err, const char* what) {
     if (err != NULL) {
         snprintf(err->message, sizeof err->message, "sb_mesh_transform: %s", what);
     }
@@ -27,20 +25,24 @@ static sb_status invalid(sb_error* err, const char* what)
 }
 
 /* The rotation matrix R = Rz Ry Rx, row-major. */
-static void rotation(const double degrees[3], double r[9])
-{
+static void rotation(const double degrees[3], double r[9]) {
     const double to_radians = 3.14159265358979323846 / 180.0;
     double cx = cos(degrees[0] * to_radians), sx = sin(degrees[0] * to_radians);
     double cy = cos(degrees[1] * to_radians), sy = sin(degrees[1] * to_radians);
     double cz = cos(degrees[2] * to_radians), sz = sin(degrees[2] * to_radians);
-    double m[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,
-                   sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,
-                   -sy,     cy * sx,                cy * cx};
+    double m[9] = {cz * cy,
+                   cz * sy * sx - sz * cx,
+                   cz * sy * cx + sz * sx,
+                   sz * cy,
+                   sz * sy * sx + cz * cx,
+                   sz * sy * cx - cz * sx,
+                   -sy,
+                   cy * sx,
+                   cy * cx};
     memcpy(r, m, sizeof m);
 }
 
-sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err)
-{
+sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err) {
     if (mesh == NULL || def == NULL) {
         return invalid(err, "no mesh or no transform");
     }

@@ -10,8 +10,8 @@
 #include "softbond/mesh.h"
 
 /* Through assimp's exporter; format_id is assimp's ("plyb", "obj", ...). */
-sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh,
-                          const double* positions, sb_error* err);
+sb_status sb_assimp_write(const char* path, const char* format_id, const sb_mesh* mesh, const double* positions,
+                          sb_error* err);
 /* IRIT text polygons (irit_writer.c). */
 void sb_irit_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def);
 /* A POV-Ray scene that renders as is, def->up shown up (pov_writer.c). */

@@ -30,8 +30,8 @@ struct sb_model {
      * neighbours tri_v[(c+1)%3] and tri_v[(c+2)%3]. */
     uint32_t triangle_count;
     uint32_t* tri_v[3];
-    double* tri_cos0[3];  /* rest cosine at each corner */
-    double* tri_len0[3];  /* rest length of edge (v[c], v[(c+1)%3]) */
+    double* tri_cos0[3];    /* rest cosine at each corner */
+    double* tri_len0[3];    /* rest length of edge (v[c], v[(c+1)%3]) */
     double* angle_k;        /* J */
     double* stretch_bend_k; /* J/m */
 

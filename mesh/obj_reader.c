@@ -25,19 +25,16 @@ typedef struct obj_reader {
     sb_error* err;
 } obj_reader;
 
-static sb_status fail(obj_reader* r, sb_status status, const char* what, const char* token,
-                      size_t length)
-{
+static sb_status fail(obj_reader* r, sb_status status, const char* what, const char* token, size_t length) {
     if (token == NULL) {
         return sb_mesh_read_error(r->err, status, r->path, r->line, "%s", what);
     }
     int shown = length > 40 ? 40 : (int)length;
-    return sb_mesh_read_error(r->err, status, r->path, r->line, "%s '%.*s%s'", what, shown,
-                              token, length > 40 ? "..." : "");
+    return sb_mesh_read_error(r->err, status, r->path, r->line, "%s '%.*s%s'", what, shown, token,
+                              length > 40 ? "..." : "");
 }
 
-static sb_status read_vertex(obj_reader* r, sb_text_line* line)
-{
+static sb_status read_vertex(obj_reader* r, sb_text_line* line) {
     double xyz[3];
     int count = 0;
     const char* token;
@@ -65,14 +62,12 @@ static sb_status read_vertex(obj_reader* r, sb_text_line* line)
 }
 
 /* Checks that [p, end) is empty or an integer (a texture or normal index). */
-static bool optional_integer(const char* p, const char* end)
-{
+static bool optional_integer(const char* p, const char* end) {
     long long ignored;
     return p == end || sb_text_parse_integer(p, (size_t)(end - p), &ignored);
 }
 
-static sb_status read_corner(obj_reader* r, const char* token, size_t length, uint32_t* index)
-{
+static sb_status read_corner(obj_reader* r, const char* token, size_t length, uint32_t* index) {
     const char* end = token + length;
     const char* slash1 = memchr(token, '/', length);
     const char* vertex_end = slash1 != NULL ? slash1 : end;
@@ -95,15 +90,13 @@ static sb_status read_corner(obj_reader* r, const char* token, size_t length, ui
     long long resolved = i > 0 ? i - 1 : defined + i;
     if (i == 0 || resolved < 0 || resolved >= defined) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "vertex index %lld out of range (%lld vertices defined so far)",
-                                  i, defined);
+                                  "vertex index %lld out of range (%lld vertices defined so far)", i, defined);
     }
     *index = (uint32_t)resolved;
     return SB_OK;
 }
 
-static sb_status read_face(obj_reader* r, sb_text_line* line)
-{
+static sb_status read_face(obj_reader* r, sb_text_line* line) {
     r->corner_count = 0;
     const char* token;
     size_t length;
@@ -125,25 +118,21 @@ static sb_status read_face(obj_reader* r, sb_text_line* line)
     }
     if (r->corner_count < 3) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "face with %zu vertices (a face needs at least 3)",
-                                  r->corner_count);
+                                  "face with %zu vertices (a face needs at least 3)", r->corner_count);
     }
     for (size_t k = 1; k + 1 < r->corner_count; k++) {
-        if (!sb_mesh_builder_add_triangle(&r->mesh, r->corners[0], r->corners[k],
-                                          r->corners[k + 1])) {
+        if (!sb_mesh_builder_add_triangle(&r->mesh, r->corners[0], r->corners[k], r->corners[k + 1])) {
             return fail(r, SB_ERR_NOMEM, "out of memory or more than 2^32-1 triangles", NULL, 0);
         }
     }
     return SB_OK;
 }
 
-static bool keyword_is(const char* token, size_t length, const char* keyword)
-{
+static bool keyword_is(const char* token, size_t length, const char* keyword) {
     return strlen(keyword) == length && memcmp(token, keyword, length) == 0;
 }
 
-static sb_status read_line(obj_reader* r, const char* begin, const char* end)
-{
+static sb_status read_line(obj_reader* r, const char* begin, const char* end) {
     const char* hash = memchr(begin, '#', (size_t)(end - begin));
     sb_text_line line = {begin, hash != NULL ? hash : end};
     const char* keyword;
@@ -160,9 +149,7 @@ static sb_status read_line(obj_reader* r, const char* begin, const char* end)
     return SB_OK;
 }
 
-sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out,
-                       sb_error* err)
-{
+sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh* out, sb_error* err) {
     obj_reader r = {.path = path, .err = err};
     sb_status status = SB_OK;
     const char* p = text;

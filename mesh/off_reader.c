@@ -28,20 +28,17 @@ typedef struct off_reader {
     sb_error* err;
 } off_reader;
 
-static sb_status fail_token(off_reader* r, const char* what, const char* token, size_t length)
-{
+static sb_status fail_token(off_reader* r, const char* what, const char* token, size_t length) {
     int shown = length > 40 ? 40 : (int)length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "%s '%.*s%s'", what, shown,
-                              token, length > 40 ? "..." : "");
+    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "%s '%.*s%s'", what, shown, token,
+                              length > 40 ? "..." : "");
 }
 
-static bool ends_with_off(const char* token, size_t length)
-{
+static bool ends_with_off(const char* token, size_t length) {
     return length >= 3 && memcmp(token + length - 3, "OFF", 3) == 0;
 }
 
-static sb_status read_counts(off_reader* r, sb_text_line* line, const char* token, size_t length)
-{
+static sb_status read_counts(off_reader* r, sb_text_line* line, const char* token, size_t length) {
     long long counts[2];
     for (int c = 0; c < 2; c++) {
         if (c > 0 && !sb_text_next_token(line, &token, &length)) {
@@ -53,8 +50,7 @@ static sb_status read_counts(off_reader* r, sb_text_line* line, const char* toke
         }
     }
     if (counts[0] > (long long)UINT32_MAX || counts[1] > (long long)UINT32_MAX) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "more than 2^32-1 vertices or faces");
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "more than 2^32-1 vertices or faces");
     }
     r->vertices_expected = counts[0];
     r->faces_expected = counts[1];
@@ -62,8 +58,7 @@ static sb_status read_counts(off_reader* r, sb_text_line* line, const char* toke
     return SB_OK;
 }
 
-static sb_status read_header(off_reader* r, sb_text_line* line, const char* token, size_t length)
-{
+static sb_status read_header(off_reader* r, sb_text_line* line, const char* token, size_t length) {
     long long ignored;
     if (sb_text_parse_integer(token, length, &ignored)) {
         return read_counts(r, line, token, length); /* header omitted */
@@ -77,22 +72,19 @@ static sb_status read_header(off_reader* r, sb_text_line* line, const char* toke
     r->stage = OFF_COUNTS;
     if (sb_text_next_token(line, &token, &length)) {
         if (length == 6 && memcmp(token, "BINARY", 6) == 0) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "binary OFF is not supported");
+            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "binary OFF is not supported");
         }
         return read_counts(r, line, token, length);
     }
     return SB_OK;
 }
 
-static sb_status read_vertex(off_reader* r, sb_text_line* line, const char* token, size_t length)
-{
+static sb_status read_vertex(off_reader* r, sb_text_line* line, const char* token, size_t length) {
     double xyz[3];
     for (int c = 0; c < 3; c++) {
         if (c > 0 && !sb_text_next_token(line, &token, &length)) {
             return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "vertex %zu needs three coordinates x y z",
-                                      r->mesh.vertex_count);
+                                      "vertex %zu needs three coordinates x y z", r->mesh.vertex_count);
         }
         if (!sb_text_parse_double(token, length, &xyz[c])) {
             return fail_token(r, "malformed number", token, length);
@@ -110,8 +102,7 @@ static sb_status read_vertex(off_reader* r, sb_text_line* line, const char* toke
     return SB_OK;
 }
 
-static sb_status read_face(off_reader* r, sb_text_line* line, const char* token, size_t length)
-{
+static sb_status read_face(off_reader* r, sb_text_line* line, const char* token, size_t length) {
     long long n;
     if (!sb_text_parse_integer(token, length, &n)) {
         return fail_token(r, "malformed vertex count", token, length);
@@ -124,16 +115,15 @@ static sb_status read_face(off_reader* r, sb_text_line* line, const char* token,
     for (long long k = 0; k < n; k++) {
         long long index;
         if (!sb_text_next_token(line, &token, &length)) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "face lists %lld of its %lld vertices", k, n);
+            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "face lists %lld of its %lld vertices", k,
+                                      n);
         }
         if (!sb_text_parse_integer(token, length, &index)) {
             return fail_token(r, "malformed vertex index", token, length);
         }
         if (index < 0 || index >= r->vertices_expected) {
             return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "vertex index %lld out of range (%lld vertices)", index,
-                                      r->vertices_expected);
+                                      "vertex index %lld out of range (%lld vertices)", index, r->vertices_expected);
         }
         uint32_t current = (uint32_t)index;
         if (k == 0) {
@@ -150,8 +140,7 @@ static sb_status read_face(off_reader* r, sb_text_line* line, const char* token,
     return SB_OK;
 }
 
-static sb_status read_line(off_reader* r, const char* begin, const char* end)
-{
+static sb_status read_line(off_reader* r, const char* begin, const char* end) {
     const char* hash = memchr(begin, '#', (size_t)(end - begin));
     sb_text_line line = {begin, hash != NULL ? hash : end};
     const char* token;
@@ -160,49 +149,35 @@ static sb_status read_line(off_reader* r, const char* begin, const char* end)
         return SB_OK;
     }
     switch (r->stage) {
-    case OFF_HEADER:
-        return read_header(r, &line, token, length);
-    case OFF_COUNTS:
-        return read_counts(r, &line, token, length);
-    case OFF_VERTICES:
-        return read_vertex(r, &line, token, length);
-    case OFF_FACES:
-        return read_face(r, &line, token, length);
-    case OFF_DONE:
-        break;
+    case OFF_HEADER: return read_header(r, &line, token, length);
+    case OFF_COUNTS: return read_counts(r, &line, token, length);
+    case OFF_VERTICES: return read_vertex(r, &line, token, length);
+    case OFF_FACES: return read_face(r, &line, token, length);
+    case OFF_DONE: break;
     }
     return SB_OK;
 }
 
-static sb_status check_complete(off_reader* r)
-{
+static sb_status check_complete(off_reader* r) {
     switch (r->stage) {
-    case OFF_HEADER:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "empty file (no OFF header)");
-    case OFF_COUNTS:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "file ends before the counts");
+    case OFF_HEADER: return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "empty file (no OFF header)");
+    case OFF_COUNTS: return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends before the counts");
     case OFF_VERTICES:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "file ends after %zu of %lld vertices", r->mesh.vertex_count,
-                                  r->vertices_expected);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %zu of %lld vertices",
+                                  r->mesh.vertex_count, r->vertices_expected);
     case OFF_FACES:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "file ends after %lld of %lld faces", r->faces_read,
-                                  r->faces_expected);
-    case OFF_DONE:
-        break;
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %lld of %lld faces",
+                                  r->faces_read, r->faces_expected);
+    case OFF_DONE: break;
     }
     if (r->mesh.triangle_count == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0,
-                                  "no triangles (%zu vertices, no faces)", r->mesh.vertex_count);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "no triangles (%zu vertices, no faces)",
+                                  r->mesh.vertex_count);
     }
     return SB_OK;
 }
 
-sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out,
-                       sb_error* err)
-{
+sb_status sb_off_parse(const char* path, const char* text, size_t size, sb_mesh* out, sb_error* err) {
     off_reader r = {.path = path, .err = err, .stage = OFF_HEADER};
     sb_status status = SB_OK;
     const char* p = text;

@@ -42,8 +42,7 @@ static bool is_digit(char c) { return c >= '0' && c <= '9'; }
 static bool is_name_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
 static bool is_name_char(char c) { return is_name_start(c) || is_digit(c); }
 
-static void skip_until(pov_reader* r, const char* stop)
-{
+static void skip_until(pov_reader* r, const char* stop) {
     size_t n = strlen(stop);
     while (r->p < r->end && !((size_t)(r->end - r->p) >= n && memcmp(r->p, stop, n) == 0)) {
         r->line += *r->p == '\n';
@@ -52,8 +51,7 @@ static void skip_until(pov_reader* r, const char* stop)
     r->p = r->p + n <= r->end ? r->p + n : r->end;
 }
 
-static void skip_blanks(pov_reader* r)
-{
+static void skip_blanks(pov_reader* r) {
     while (r->p < r->end) {
         char c = *r->p;
         if (c == '/' && r->p + 1 < r->end && r->p[1] == '/') {
@@ -71,8 +69,7 @@ static void skip_blanks(pov_reader* r)
     }
 }
 
-static bool starts_number(const char* p, const char* end)
-{
+static bool starts_number(const char* p, const char* end) {
     if (p < end && (*p == '+' || *p == '-')) {
         p++;
     }
@@ -80,21 +77,18 @@ static bool starts_number(const char* p, const char* end)
 }
 
 /* A number literal: digits, '.', an exponent; parsed whole. */
-static void read_number(pov_reader* r, pov_token* t)
-{
+static void read_number(pov_reader* r, pov_token* t) {
     const char* q = r->p + (*r->p == '+' || *r->p == '-');
     while (q < r->end && (is_digit(*q) || *q == '.' || *q == 'e' || *q == 'E' ||
                           ((*q == '+' || *q == '-') && (q[-1] == 'e' || q[-1] == 'E')))) {
         q++;
     }
     t->length = (size_t)(q - r->p);
-    t->kind = sb_text_parse_double(r->p, t->length, &t->number) && isfinite(t->number) ? POV_NUMBER
-                                                                                      : POV_PUNCT;
+    t->kind = sb_text_parse_double(r->p, t->length, &t->number) && isfinite(t->number) ? POV_NUMBER : POV_PUNCT;
     r->p = q;
 }
 
-static void next(pov_reader* r)
-{
+static void next(pov_reader* r) {
     skip_blanks(r);
     pov_token* t = &r->tok;
     *t = (pov_token){.kind = POV_END, .text = r->p, .line = r->line};
@@ -125,26 +119,22 @@ static void next(pov_reader* r)
     }
 }
 
-static bool token_is(const pov_token* t, const char* text)
-{
+static bool token_is(const pov_token* t, const char* text) {
     return t->kind != POV_END && t->kind != POV_STRING && strlen(text) == t->length &&
            memcmp(t->text, text, t->length) == 0;
 }
 
-static sb_status fail_token(pov_reader* r, const char* what)
-{
+static sb_status fail_token(pov_reader* r, const char* what) {
     const pov_token* t = &r->tok;
     if (t->kind == POV_END) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file",
-                                  what);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
     }
     int shown = t->length > 40 ? 40 : (int)t->length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown,
-                              t->text, t->length > 40 ? "..." : "");
+    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
+                              t->length > 40 ? "..." : "");
 }
 
-static sb_status expect(pov_reader* r, const char* text, const char* where)
-{
+static sb_status expect(pov_reader* r, const char* text, const char* where) {
     if (!token_is(&r->tok, text)) {
         char what[96];
         snprintf(what, sizeof what, "%s: expected '%s', found", where, text);
@@ -154,8 +144,7 @@ static sb_status expect(pov_reader* r, const char* text, const char* where)
     return SB_OK;
 }
 
-static sb_status read_number_token(pov_reader* r, const char* where, double* out)
-{
+static sb_status read_number_token(pov_reader* r, const char* where, double* out) {
     if (r->tok.kind != POV_NUMBER) {
         char what[96];
         snprintf(what, sizeof what, "%s: expected a number, found", where);
@@ -167,16 +156,14 @@ static sb_status read_number_token(pov_reader* r, const char* where, double* out
 }
 
 /* Skips commas (POV separates list items with them; some writers omit them). */
-static void skip_commas(pov_reader* r)
-{
+static void skip_commas(pov_reader* r) {
     while (token_is(&r->tok, ",")) {
         next(r);
     }
 }
 
 /* A block that opens at the current '{': skipped, nested blocks included. */
-static sb_status skip_block(pov_reader* r)
-{
+static sb_status skip_block(pov_reader* r) {
     size_t open_line = r->tok.line, depth = 0;
     do {
         if (r->tok.kind == POV_END) {
@@ -198,15 +185,13 @@ typedef struct pov_mesh {
     sb_pov_object* object;
 } pov_mesh;
 
-static sb_status nomem(pov_reader* r)
-{
+static sb_status nomem(pov_reader* r) {
     return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
                               "out of memory or more than 2^32-1 vertices or triangles");
 }
 
 /* <a, b, c> */
-static sb_status read_vector(pov_reader* r, const char* where, double v[3])
-{
+static sb_status read_vector(pov_reader* r, const char* where, double v[3]) {
     sb_status status = expect(r, "<", where);
     for (int c = 0; c < 3 && status == SB_OK; c++) {
         if (c > 0) {
@@ -220,8 +205,7 @@ static sb_status read_vector(pov_reader* r, const char* where, double v[3])
 }
 
 /* "{ n," of a list; n a whole number in [0, 2^32-1]. */
-static sb_status read_list_count(pov_reader* r, const char* where, long long* count)
-{
+static sb_status read_list_count(pov_reader* r, const char* where, long long* count) {
     double value = 0.0;
     sb_status status = expect(r, "{", where);
     size_t line = r->tok.line;
@@ -230,8 +214,7 @@ static sb_status read_list_count(pov_reader* r, const char* where, long long* co
     }
     if (status == SB_OK && (value != floor(value) || value < 0 || value > (double)UINT32_MAX)) {
         return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                  "%s: the count %.17g is not a whole number in [0, 2^32-1]", where,
-                                  value);
+                                  "%s: the count %.17g is not a whole number in [0, 2^32-1]", where, value);
     }
     *count = (long long)value;
     skip_commas(r);
@@ -239,23 +222,20 @@ static sb_status read_list_count(pov_reader* r, const char* where, long long* co
 }
 
 /* After the last of `count` items: '}', else a count mismatch. */
-static sb_status end_list(pov_reader* r, const char* where, long long count)
-{
+static sb_status end_list(pov_reader* r, const char* where, long long count) {
     if (token_is(&r->tok, "<")) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                  "%s lists more than its count %lld", where, count);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists more than its count %lld",
+                                  where, count);
     }
     return expect(r, "}", where);
 }
 
-static sb_status list_short(pov_reader* r, const char* where, long long k, long long count)
-{
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                              "%s lists %lld of its %lld items", where, k, count);
+static sb_status list_short(pov_reader* r, const char* where, long long k, long long count) {
+    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists %lld of its %lld items", where, k,
+                              count);
 }
 
-static sb_status read_vertices(pov_reader* r, pov_mesh* m)
-{
+static sb_status read_vertices(pov_reader* r, pov_mesh* m) {
     long long count = 0;
     sb_status status = read_list_count(r, "vertex_vectors", &count);
     for (long long k = 0; k < count && status == SB_OK; k++) {
@@ -275,8 +255,7 @@ static sb_status read_vertices(pov_reader* r, pov_mesh* m)
 
 /* <a, b, c> with each a whole number naming a vertex, then up to three
  * texture indices (skipped). */
-static sb_status read_face(pov_reader* r, pov_mesh* m)
-{
+static sb_status read_face(pov_reader* r, pov_mesh* m) {
     size_t line = r->tok.line;
     double v[3];
     sb_status status = read_vector(r, "face_indices", v);
@@ -302,8 +281,7 @@ static sb_status read_face(pov_reader* r, pov_mesh* m)
     return status;
 }
 
-static sb_status read_faces(pov_reader* r, pov_mesh* m)
-{
+static sb_status read_faces(pov_reader* r, pov_mesh* m) {
     if (!m->vertices) {
         return fail_token(r, "mesh2: face_indices before vertex_vectors at");
     }
@@ -333,8 +311,7 @@ static const pov_local pov_locals[] = {
     {"spring_system_vicinity", SB_POV_VICINITY, offsetof(sb_pov_object, vicinity)},
 };
 
-static sb_status read_fixed(pov_reader* r, sb_pov_object* o)
-{
+static sb_status read_fixed(pov_reader* r, sb_pov_object* o) {
     static const char* const truths[] = {"true", "on", "yes"};
     static const char* const lies[] = {"false", "off", "no"};
     if (r->tok.kind == POV_NUMBER) {
@@ -352,14 +329,13 @@ static sb_status read_fixed(pov_reader* r, sb_pov_object* o)
     return fail_token(r, "spring_system_fixed: expected true or false, found");
 }
 
-static sb_status read_value(pov_reader* r, sb_pov_object* o, const pov_local* local)
-{
+static sb_status read_value(pov_reader* r, sb_pov_object* o, const pov_local* local) {
     size_t line = r->tok.line;
     double value = 0.0;
     sb_status status = read_number_token(r, local->name, &value);
     if (status == SB_OK && value < 0.0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                  "%s = %.17g: expected a number >= 0", local->name, value);
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line, "%s = %.17g: expected a number >= 0",
+                                  local->name, value);
     }
     *(double*)((char*)o + local->offset) = value;
     o->given |= local->bit;
@@ -368,8 +344,7 @@ static sb_status read_value(pov_reader* r, sb_pov_object* o, const pov_local* lo
 
 /* #local NAME = VALUE; inside a mesh2 (the current token is the directive).
  * A local that is not the film maker's is skipped up to its ';'. */
-static sb_status read_local(pov_reader* r, sb_pov_object* o)
-{
+static sb_status read_local(pov_reader* r, sb_pov_object* o) {
     next(r);
     pov_token name = r->tok;
     bool fixed = token_is(&name, "spring_system_fixed");
@@ -399,8 +374,7 @@ static sb_status read_local(pov_reader* r, sb_pov_object* o)
 
 /* ---- objects ------------------------------------------------------------- */
 
-static sb_status new_object(pov_reader* r, const pov_token* name, size_t line, sb_pov_object** out)
-{
+static sb_status new_object(pov_reader* r, const pov_token* name, size_t line, sb_pov_object** out) {
     if (r->object_count == r->object_capacity) {
         size_t capacity = r->object_capacity ? 2 * r->object_capacity : 8;
         sb_pov_object* grown = realloc(r->objects, capacity * sizeof *grown);
@@ -421,8 +395,7 @@ static sb_status new_object(pov_reader* r, const pov_token* name, size_t line, s
     return SB_OK;
 }
 
-static sb_status read_mesh2_item(pov_reader* r, pov_mesh* m)
-{
+static sb_status read_mesh2_item(pov_reader* r, pov_mesh* m) {
     if (token_is(&r->tok, "vertex_vectors")) {
         next(r);
         return read_vertices(r, m);
@@ -441,19 +414,16 @@ static sb_status read_mesh2_item(pov_reader* r, pov_mesh* m)
     return SB_OK;
 }
 
-static sb_status check_mesh2(pov_reader* r, pov_mesh* m)
-{
+static sb_status check_mesh2(pov_reader* r, pov_mesh* m) {
     if (!m->vertices || !m->faces || m->mesh.triangle_count == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, m->object->line,
-                                  "mesh2 without %s", !m->vertices ? "vertex_vectors"
-                                                                   : "triangles (face_indices)");
+        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, m->object->line, "mesh2 without %s",
+                                  !m->vertices ? "vertex_vectors" : "triangles (face_indices)");
     }
     return SB_OK;
 }
 
 /* mesh2 { ... }: the current token is `mesh2`. */
-static sb_status read_mesh2(pov_reader* r, const pov_token* name)
-{
+static sb_status read_mesh2(pov_reader* r, const pov_token* name) {
     pov_mesh m = {0};
     size_t line = r->tok.line;
     sb_status status = new_object(r, name, line, &m.object);
@@ -462,10 +432,9 @@ static sb_status read_mesh2(pov_reader* r, const pov_token* name)
         status = expect(r, "{", "mesh2");
     }
     while (status == SB_OK && !token_is(&r->tok, "}")) {
-        status = r->tok.kind == POV_END
-                     ? sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                          "mesh2 has no closing '}' before the end of the file")
-                     : read_mesh2_item(r, &m);
+        status = r->tok.kind == POV_END ? sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
+                                                             "mesh2 has no closing '}' before the end of the file")
+                                        : read_mesh2_item(r, &m);
     }
     if (status == SB_OK) {
         status = check_mesh2(r, &m);
@@ -480,8 +449,7 @@ static sb_status read_mesh2(pov_reader* r, const pov_token* name)
 }
 
 /* Top level: `#declare NAME = mesh2` names the object; everything but mesh2 is passed over. */
-static sb_status read_file(pov_reader* r)
-{
+static sb_status read_file(pov_reader* r) {
     pov_token name = {0}, previous[3] = {{0}};
     next(r);
     sb_status status = SB_OK;
@@ -505,22 +473,16 @@ static sb_status read_file(pov_reader* r)
     return status;
 }
 
-bool sb_pov_path(const char* path)
-{
-    return sb_path_has_extension(path, ".pov");
-}
+bool sb_pov_path(const char* path) { return sb_path_has_extension(path, ".pov"); }
 
-void sb_pov_objects_free(sb_pov_object* objects, uint32_t count)
-{
+void sb_pov_objects_free(sb_pov_object* objects, uint32_t count) {
     for (uint32_t i = 0; objects != NULL && i < count; i++) {
         sb_mesh_free(&objects[i].mesh);
     }
     free(objects);
 }
 
-sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count,
-                      sb_error* err)
-{
+sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count, sb_error* err) {
     *objects = NULL;
     *object_count = 0;
     char* text = NULL;
@@ -541,9 +503,7 @@ sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* objec
     return SB_OK;
 }
 
-sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object,
-                                         const sb_spring_mesh_def* defaults)
-{
+sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object, const sb_spring_mesh_def* defaults) {
     sb_spring_mesh_def d = *defaults;
     unsigned given = object->given;
     d.stretch_k = given & SB_POV_KS ? object->stretch_k : d.stretch_k;
@@ -562,9 +522,7 @@ sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object,
     return d;
 }
 
-sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count,
-                             sb_error* err)
-{
+sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count, sb_error* err) {
     sb_pov_object* objects = NULL;
     uint32_t object_count = 0;
     sb_status status = sb_pov_load(path, &objects, &object_count, err);

@@ -81,15 +81,13 @@ static void write_setting(FILE* f, const pov_view* view) {
             "  right x * image_width / image_height\n  angle 50\n"
             "  look_at <%.9g, %.9g, %.9g>\n}\n"
             "light_source { <%.9g, %.9g, %.9g> color rgb <1, 1, 1> }\n",
-            eye[0], eye[1], eye[2], view->center[0], view->center[1], view->center[2], lamp[0],
-            lamp[1], lamp[2]);
+            eye[0], eye[1], eye[2], view->center[0], view->center[1], view->center[2], lamp[0], lamp[1], lamp[2]);
 }
 
 static void write_mesh2(FILE* f, const sb_mesh* mesh, const double* positions) {
     fprintf(f, "#declare softbond_mesh = mesh2 {\n  vertex_vectors {\n    %u", mesh->vertex_count);
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
-        fprintf(f, ",\n    <%.9g, %.9g, %.9g>", positions[3 * v], positions[3 * v + 1],
-                positions[3 * v + 2]);
+        fprintf(f, ",\n    <%.9g, %.9g, %.9g>", positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
     fprintf(f, "\n  }\n  face_indices {\n    %u", mesh->triangle_count);
     for (uint32_t t = 0; t < mesh->triangle_count; t++)
         fprintf(f, ",\n    <%u, %u, %u>", mesh->triangles[3 * t], mesh->triangles[3 * t + 1],
@@ -111,8 +109,8 @@ static void write_object(FILE* f, const pov_axes* axes) {
 void sb_pov_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def) {
     pov_axes axes = axes_for(def->up);
     pov_view view = view_of(mesh, def->positions, &axes);
-    fprintf(f, "// softbond frame: %u vertices, %u triangles, up <%g, %g, %g>\n",
-            mesh->vertex_count, mesh->triangle_count, def->up[0], def->up[1], def->up[2]);
+    fprintf(f, "// softbond frame: %u vertices, %u triangles, up <%g, %g, %g>\n", mesh->vertex_count,
+            mesh->triangle_count, def->up[0], def->up[1], def->up[2]);
     write_setting(f, &view);
     write_mesh2(f, mesh, def->positions);
     write_object(f, &axes);

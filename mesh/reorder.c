@@ -29,7 +29,8 @@ static void sb_morton_keys(const sb_mesh* mesh, sb_sort_key* keys) {
     double scale = extent > 0.0 ? 2097151.0 / extent : 0.0; /* 21 bits per axis, one cube */
     for (uint32_t i = 0; i < mesh->vertex_count; i++) {
         uint64_t key = 0;
-        for (int c = 0; c < 3; c++) key |= sb_spread_bits((uint64_t)((mesh->positions[3 * i + c] - lo[c]) * scale)) << c;
+        for (int c = 0; c < 3; c++)
+            key |= sb_spread_bits((uint64_t)((mesh->positions[3 * i + c] - lo[c]) * scale)) << c;
         keys[i] = (sb_sort_key){key, i};
     }
 }
@@ -66,7 +67,8 @@ sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err) {
         }
         memcpy(mesh->positions, positions, 3 * (size_t)n * sizeof *positions);
         sb_renumber_triangles(mesh, new_index, keys);
-        for (uint32_t f = 0; f < nt; f++) memcpy(triangles + 3 * f, mesh->triangles + 3 * keys[f].index, 3 * sizeof *triangles);
+        for (uint32_t f = 0; f < nt; f++)
+            memcpy(triangles + 3 * f, mesh->triangles + 3 * keys[f].index, 3 * sizeof *triangles);
         memcpy(mesh->triangles, triangles, 3 * (size_t)nt * sizeof *triangles);
     }
     free(keys);

@@ -29,13 +29,9 @@
 
 #include "softbond/mesh.h"
 
-sb_simplify_def sb_default_simplify_def(void)
-{
-    return (sb_simplify_def){.target_vertices = 0, .target_error = 0.0};
-}
+sb_simplify_def sb_default_simplify_def(void) { return (sb_simplify_def){.target_vertices = 0, .target_error = 0.0}; }
 
-static sb_status fail(sb_error* err, sb_status status, const char* what)
-{
+static sb_status fail(sb_error* err, sb_status status, const char* what) {
     if (err != NULL) {
         snprintf(err->message, sizeof err->message, "sb_mesh_simplify: %s", what);
     }
@@ -51,15 +47,13 @@ typedef struct work {
     size_t vertex_count, index_count;
 } work;
 
-static void work_free(work* w)
-{
+static void work_free(work* w) {
     free(w->positions);
     free(w->indices);
     free(w->copy_of);
 }
 
-static bool work_build(const sb_mesh* mesh, const bool* locked, work* w)
-{
+static bool work_build(const sb_mesh* mesh, const bool* locked, work* w) {
     size_t n = mesh->vertex_count, ni = 3 * (size_t)mesh->triangle_count, extra = 0;
     for (size_t i = 0; i < ni; i++) {
         extra += locked[mesh->triangles[i]];
@@ -93,9 +87,7 @@ static bool work_build(const sb_mesh* mesh, const bool* locked, work* w)
 }
 
 /* Vertices used by the indices (source numbering). */
-static size_t count_used(const work* w, const unsigned* indices, size_t count, uint8_t* used,
-                         size_t n)
-{
+static size_t count_used(const work* w, const unsigned* indices, size_t count, uint8_t* used, size_t n) {
     memset(used, 0, n);
     size_t total = 0;
     for (size_t i = 0; i < count; i++) {
@@ -108,8 +100,7 @@ static size_t count_used(const work* w, const unsigned* indices, size_t count, u
 
 /* Twice the area squared against the longest edge: zero to rounding. The
  * middle vertex (opposite the longest edge) is returned in *middle. */
-static bool sliver(const double* p, const uint32_t* t, int* middle)
-{
+static bool sliver(const double* p, const uint32_t* t, int* middle) {
     const double *a = p + 3 * (size_t)t[0], *b = p + 3 * (size_t)t[1], *c = p + 3 * (size_t)t[2];
     double u[3], v[3], w[3];
     for (int k = 0; k < 3; k++) {
@@ -129,8 +120,7 @@ static bool sliver(const double* p, const uint32_t* t, int* middle)
  * neighbour across a-c, (a, c, x), and it form the quad a b c x: flipping
  * the diagonal gives (a, b, x) and (b, c, x), both with area. A sliver with
  * no neighbour across its long edge is left for the compile to report. */
-static size_t repair_pass(const double* positions, uint32_t* tri, size_t triangle_count)
-{
+static size_t repair_pass(const double* positions, uint32_t* tri, size_t triangle_count) {
     size_t flips = 0;
     for (size_t s = 0; s < triangle_count; s++) {
         int m;
@@ -159,17 +149,14 @@ static size_t repair_pass(const double* positions, uint32_t* tri, size_t triangl
 }
 
 /* Flips until no sliver is left or a pass changes nothing (at most 16). */
-static void repair_slivers(const double* positions, uint32_t* tri, size_t triangle_count)
-{
+static void repair_slivers(const double* positions, uint32_t* tri, size_t triangle_count) {
     for (int pass = 0; pass < 16 && repair_pass(positions, tri, triangle_count) > 0; pass++) {
     }
 }
 
 /* The new mesh from the simplified indices; origin[new] = old. */
-static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, size_t count,
-                         const uint8_t* used, size_t kept, const sb_simplify_def* def,
-                         uint32_t* origin_out, sb_error* err)
-{
+static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, size_t count, const uint8_t* used,
+                         size_t kept, const sb_simplify_def* def, uint32_t* origin_out, sb_error* err) {
     size_t n = mesh->vertex_count;
     uint32_t* origin = malloc((kept ? kept : 1) * sizeof(uint32_t));
     uint32_t* place = malloc(n * sizeof(uint32_t));
@@ -218,9 +205,8 @@ static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, 
     return SB_OK;
 }
 
-sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin,
-                           sb_simplify_report* report, sb_error* err)
-{
+sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
+                           sb_error* err) {
     if (mesh == NULL || def == NULL) {
         return fail(err, SB_ERR_INVALID, "no mesh or no settings");
     }
@@ -233,8 +219,7 @@ sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* 
             return fail(err, SB_ERR_INVALID, "a locked vertex is out of range");
         }
     }
-    sb_simplify_report r = {.vertices_before = mesh->vertex_count,
-                            .triangles_before = mesh->triangle_count};
+    sb_simplify_report r = {.vertices_before = mesh->vertex_count, .triangles_before = mesh->triangle_count};
     bool* locked = calloc(n ? n : 1, sizeof(bool));
     uint8_t* used = malloc(n ? n : 1);
     work w = {0};
@@ -255,17 +240,15 @@ sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* 
     size_t count = w.index_count, kept = count_used(&w, w.indices, count, used, n);
     float error = 0.0f;
     if (def->target_vertices == 0 && def->target_error > 0.0) {
-        count = meshopt_simplify(out, w.indices, w.index_count, w.positions, w.vertex_count,
-                                 3 * sizeof(float), 0, target_error, meshopt_SimplifyLockBorder,
-                                 &error);
+        count = meshopt_simplify(out, w.indices, w.index_count, w.positions, w.vertex_count, 3 * sizeof(float), 0,
+                                 target_error, meshopt_SimplifyLockBorder, &error);
         kept = count_used(&w, out, count, used, n);
     } else if (def->target_vertices > 0 && def->target_vertices < kept) {
         double want = def->target_vertices, triangles = (double)mesh->triangle_count * want / (double)kept;
         for (int pass = 0; pass < 6; pass++) {
             size_t target = 3 * (size_t)fmax(1.0, floor(triangles));
-            count = meshopt_simplify(out, w.indices, w.index_count, w.positions, w.vertex_count,
-                                     3 * sizeof(float), target, target_error,
-                                     meshopt_SimplifyLockBorder, &error);
+            count = meshopt_simplify(out, w.indices, w.index_count, w.positions, w.vertex_count, 3 * sizeof(float),
+                                     target, target_error, meshopt_SimplifyLockBorder, &error);
             kept = count_used(&w, out, count, used, n);
             if (kept <= want * 1.02 || count <= 3 || count > target * 1.5) {
                 break; /* near enough, or locked vertices stop it */

@@ -44,9 +44,13 @@ sb_spring_mesh_def sb_default_spring_mesh_def(void) {
     /* vicinity springs are off (distance 0) but, once a distance is set,
      * as stiff as the stretch springs: a zero default would add springs of
      * no stiffness, silently */
-    return (sb_spring_mesh_def){.stretch_k = 100.0, .stretch_damping = 0.1, .bend_k = 10.0,
-                                .bend_damping = 0.01, .vicinity_k = 100.0,
-                                .vicinity_damping = 0.1, .mass = 0.01};
+    return (sb_spring_mesh_def){.stretch_k = 100.0,
+                                .stretch_damping = 0.1,
+                                .bend_k = 10.0,
+                                .bend_damping = 0.01,
+                                .vicinity_k = 100.0,
+                                .vicinity_damping = 0.1,
+                                .mass = 0.01};
 }
 
 /* Pairs of vertices grouped by their lower vertex (compressed rows): row
@@ -112,8 +116,8 @@ static uint32_t sb_rows_merge(sb_pair_rows* r, uint32_t lo, uint32_t s) {
 }
 
 static sb_status sb_spring_check(const sb_mesh* mesh, const sb_spring_mesh_def* d, sb_error* err) {
-    double constants[] = {d->stretch_k, d->stretch_damping, d->bend_k, d->bend_damping, d->vicinity,
-                          d->vicinity_k, d->vicinity_damping, d->mass, d->density};
+    double constants[] = {d->stretch_k,  d->stretch_damping,  d->bend_k, d->bend_damping, d->vicinity,
+                          d->vicinity_k, d->vicinity_damping, d->mass,   d->density};
     for (size_t c = 0; c < sizeof constants / sizeof *constants; c++)
         if (!isfinite(constants[c]) || constants[c] < 0.0)
             return sb_error_set(err, SB_ERR_INVALID, "spring mesh constants must be finite and >= 0");
@@ -218,8 +222,7 @@ static sb_status sb_spring_bends(sb_spring_job* job, sb_error* err) {
     return SB_OK;
 }
 
-static sb_status sb_spring_add(sb_spring_job* job, uint32_t i, uint32_t j, double k, double damping,
-                               sb_error* err) {
+static sb_status sb_spring_add(sb_spring_job* job, uint32_t i, uint32_t j, double k, double damping, sb_error* err) {
     sb_bond_def def = sb_default_bond_def();
     def.i = job->first + i;
     def.j = job->first + j;
@@ -248,8 +251,8 @@ static sb_status sb_spring_vicinity(sb_spring_job* job, sb_error* err) {
     if (d->vicinity <= 0.0 || (d->vicinity_k <= 0.0 && d->vicinity_damping <= 0.0)) return SB_OK;
     uint32_t* pairs;
     size_t count;
-    sb_status status = sb_vicinity_pairs(job->mesh->positions, job->mesh->vertex_count, d->vicinity, &pairs,
-                                         &count, err);
+    sb_status status =
+        sb_vicinity_pairs(job->mesh->positions, job->mesh->vertex_count, d->vicinity, &pairs, &count, err);
     for (size_t p = 0; p < count && status == SB_OK; p++) {
         uint32_t lo = pairs[2 * p], hi = pairs[2 * p + 1];
         if (!sb_rows_find(&job->edges, lo, hi) && !sb_rows_find(&job->bends, lo, hi))

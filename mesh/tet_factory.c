@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SB_LIVER_E 3500.0       /* Pa, Sudhamani & Merriliance (2019) */
-#define SB_GALLBLADDER_E 1500.0 /* Pa, same source */
+#define SB_LIVER_E 3500.0        /* Pa, Sudhamani & Merriliance (2019) */
+#define SB_GALLBLADDER_E 1500.0  /* Pa, same source */
 #define SB_TISSUE_DENSITY 1060.0 /* kg/m³, ICRU Report 46: adult liver 1.06 g/cm³ */
 
 sb_tissue_def sb_default_tissue_def(void) {
@@ -22,8 +22,10 @@ sb_tissue_def sb_default_tissue_def(void) {
 bool sb_tissue_from_name(const char* name, sb_tissue_def* out) {
     sb_tissue_def def = sb_default_tissue_def();
     if (!name) return false;
-    if (strcmp(name, "gallbladder") == 0) def.young_modulus = SB_GALLBLADDER_E;
-    else if (strcmp(name, "liver") != 0) return false;
+    if (strcmp(name, "gallbladder") == 0)
+        def.young_modulus = SB_GALLBLADDER_E;
+    else if (strcmp(name, "liver") != 0)
+        return false;
     *out = def;
     return true;
 }
@@ -53,8 +55,8 @@ static sb_status sb_tet_edges(const sb_tet_mesh* m, double modulus, sb_tet_edge*
     for (uint32_t t = 0; t < m->tet_count; t++) {
         const uint32_t* v = m->tets + 4 * (size_t)t;
         const double* p = m->positions;
-        double volume = fabs(sb_tet_volume(p + 3 * (size_t)v[0], p + 3 * (size_t)v[1], p + 3 * (size_t)v[2],
-                                           p + 3 * (size_t)v[3]));
+        double volume =
+            fabs(sb_tet_volume(p + 3 * (size_t)v[0], p + 3 * (size_t)v[1], p + 3 * (size_t)v[2], p + 3 * (size_t)v[3]));
         double length = cbrt(6.0 * sqrt(2.0) * volume); /* the regular tetrahedron's edge */
         double k = sqrt(2.0) / 25.0 * length * modulus;
         for (int e = 0; e < 6; e++) {
@@ -78,8 +80,10 @@ static sb_status sb_tet_masses(const sb_tet_mesh* m, double density, double** ou
     for (uint32_t t = 0; t < m->tet_count; t++) {
         const uint32_t* v = m->tets + 4 * (size_t)t;
         const double* p = m->positions;
-        double share = density * fabs(sb_tet_volume(p + 3 * (size_t)v[0], p + 3 * (size_t)v[1],
-                                                    p + 3 * (size_t)v[2], p + 3 * (size_t)v[3])) / 4.0;
+        double share = density *
+                       fabs(sb_tet_volume(p + 3 * (size_t)v[0], p + 3 * (size_t)v[1], p + 3 * (size_t)v[2],
+                                          p + 3 * (size_t)v[3])) /
+                       4.0;
         for (int c = 0; c < 4; c++) mass[v[c]] += share;
     }
     for (uint32_t i = 0; i < m->vertex_count; i++)

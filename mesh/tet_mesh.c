@@ -41,8 +41,8 @@ sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err) {
     bool node = sb_path_has_extension(path, ".node");
     char* other = sb_swap_extension(path, node ? ".ele" : ".node");
     if (!other) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    sb_status status = node ? sb_tet_mesh_load_tetgen(path, other, out, err)
-                            : sb_tet_mesh_load_tetgen(other, path, out, err);
+    sb_status status =
+        node ? sb_tet_mesh_load_tetgen(path, other, out, err) : sb_tet_mesh_load_tetgen(other, path, out, err);
     free(other);
     return status;
 }
@@ -55,7 +55,8 @@ double sb_tet_volume(const double* a, const double* b, const double* c, const do
         w[k] = d[k] - a[k];
     }
     return (u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) +
-            u[2] * (v[0] * w[1] - v[1] * w[0])) / 6.0;
+            u[2] * (v[0] * w[1] - v[1] * w[0])) /
+           6.0;
 }
 
 static double sb_tet_of(const sb_tet_mesh* m, uint32_t t) {
@@ -70,7 +71,8 @@ static double sb_longest_edge(const sb_tet_mesh* m, uint32_t t) {
     for (int a = 0; a < 4; a++)
         for (int b = a + 1; b < 4; b++) {
             const double *p = m->positions + 3 * (size_t)v[a], *q = m->positions + 3 * (size_t)v[b];
-            double d = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+            double d =
+                sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
             longest = fmax(longest, d);
         }
     return longest;
@@ -86,7 +88,8 @@ static int sb_tet_defect(const sb_tet_mesh* m, uint32_t t, int sign, double* vol
 
 static sb_status sb_tet_check_indices(const sb_tet_mesh* m, sb_error* err) {
     for (size_t i = 0; i < 3 * (size_t)m->vertex_count; i++)
-        if (!isfinite(m->positions[i])) return sb_error_set(err, SB_ERR_INVALID, "vertex %zu: non-finite position", i / 3);
+        if (!isfinite(m->positions[i]))
+            return sb_error_set(err, SB_ERR_INVALID, "vertex %zu: non-finite position", i / 3);
     for (uint32_t t = 0; t < m->tet_count; t++) {
         const uint32_t* v = m->tets + 4 * (size_t)t;
         for (int a = 0; a < 4; a++) {
@@ -94,7 +97,8 @@ static sb_status sb_tet_check_indices(const sb_tet_mesh* m, sb_error* err) {
                 return sb_error_set(err, SB_ERR_INVALID, "tetrahedron %u: vertex index %u out of range (%u vertices)",
                                     t, v[a], m->vertex_count);
             for (int b = 0; b < a; b++)
-                if (v[a] == v[b]) return sb_error_set(err, SB_ERR_INVALID, "tetrahedron %u: vertex %u repeated", t, v[a]);
+                if (v[a] == v[b])
+                    return sb_error_set(err, SB_ERR_INVALID, "tetrahedron %u: vertex %u repeated", t, v[a]);
         }
     }
     return SB_OK;

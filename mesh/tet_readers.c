@@ -49,8 +49,7 @@ static bool tet_integer(tet_text* t, long long* out) {
 static bool tet_double(tet_text* t, double* out) {
     const char* token;
     size_t length;
-    return sb_text_next_token(&t->cur, &token, &length) && sb_text_parse_double(token, length, out) &&
-           isfinite(*out);
+    return sb_text_next_token(&t->cur, &token, &length) && sb_text_parse_double(token, length, out) && isfinite(*out);
 }
 
 /* The current line's first token equals word. */
@@ -58,8 +57,7 @@ static bool tet_line_is(const tet_text* t, const char* word) {
     sb_text_line probe = t->cur;
     const char* token;
     size_t length;
-    return sb_text_next_token(&probe, &token, &length) && length == strlen(word) &&
-           memcmp(token, word, length) == 0;
+    return sb_text_next_token(&probe, &token, &length) && length == strlen(word) && memcmp(token, word, length) == 0;
 }
 
 #define TET_ERROR(t, err, ...) sb_mesh_read_error(err, SB_ERR_PARSE, (t)->path, (t)->line, __VA_ARGS__)
@@ -106,13 +104,13 @@ static sb_status tet_nomem(const tet_text* t, sb_error* err) {
 /* ---- TetGen ------------------------------------------------------------------ */
 
 /* "<count> <a> <b> <c>" header: count and the second number. */
-static sb_status tetgen_header(tet_text* t, const char* what, long long* count, long long* second,
-                               sb_error* err) {
+static sb_status tetgen_header(tet_text* t, const char* what, long long* count, long long* second, sb_error* err) {
     if (!tet_next_line(t)) return TET_ERROR(t, err, "empty file: expected the %s header", what);
     if (!tet_integer(t, count) || *count < 1 || *count > UINT32_MAX)
         return TET_ERROR(t, err, "expected the number of %s (1 to 2^32-1)", what);
-    if (!tet_integer(t, second)) return TET_ERROR(t, err, "header: expected %s", strcmp(what, "points") == 0
-                                                          ? "the dimension" : "the nodes per tetrahedron");
+    if (!tet_integer(t, second))
+        return TET_ERROR(t, err, "header: expected %s",
+                         strcmp(what, "points") == 0 ? "the dimension" : "the nodes per tetrahedron");
     return SB_OK;
 }
 
@@ -120,7 +118,8 @@ static sb_status tetgen_header(tet_text* t, const char* what, long long* count, 
 static sb_status tetgen_number(tet_text* t, const char* what, long long k, long long* base, sb_error* err) {
     long long number;
     if (!tet_integer(t, &number)) return TET_ERROR(t, err, "expected the %s number", what);
-    if (k == 0 && number != 0 && number != 1) return TET_ERROR(t, err, "first %s is numbered %lld: expected 0 or 1", what, number);
+    if (k == 0 && number != 0 && number != 1)
+        return TET_ERROR(t, err, "first %s is numbered %lld: expected 0 or 1", what, number);
     if (k == 0) *base = number;
     if (number != *base + k) return TET_ERROR(t, err, "%s numbered %lld, expected %lld", what, number, *base + k);
     return SB_OK;
@@ -137,7 +136,8 @@ static sb_status tetgen_nodes(tet_text* t, tet_build* b, long long* base, sb_err
         if (status != SB_OK) return status;
         double p[3];
         for (int c = 0; c < 3; c++)
-            if (!tet_double(t, &p[c])) return TET_ERROR(t, err, "point %lld: expected three finite coordinates", *base + k);
+            if (!tet_double(t, &p[c]))
+                return TET_ERROR(t, err, "point %lld: expected three finite coordinates", *base + k);
         if (!tet_add_vertex(b, p)) return tet_nomem(t, err);
     }
     return SB_OK;
@@ -147,15 +147,18 @@ static sb_status tetgen_elements(tet_text* t, tet_build* b, long long node_base,
     long long count, corners, base = 0;
     sb_status status = tetgen_header(t, "tetrahedra", &count, &corners, err);
     if (status != SB_OK) return status;
-    if (corners != 4 && corners != 10) return TET_ERROR(t, err, "%lld nodes per tetrahedron: expected 4 or 10", corners);
+    if (corners != 4 && corners != 10)
+        return TET_ERROR(t, err, "%lld nodes per tetrahedron: expected 4 or 10", corners);
     for (long long k = 0; k < count; k++) {
-        if (!tet_next_line(t)) return TET_ERROR(t, err, "unexpected end of file: %lld of %lld tetrahedra read", k, count);
+        if (!tet_next_line(t))
+            return TET_ERROR(t, err, "unexpected end of file: %lld of %lld tetrahedra read", k, count);
         status = tetgen_number(t, "tetrahedron", k, &base, err);
         if (status != SB_OK) return status;
         uint32_t v[4];
         for (int c = 0; c < 4; c++) {
             long long node;
-            if (!tet_integer(t, &node)) return TET_ERROR(t, err, "tetrahedron %lld: expected %lld point numbers", base + k, corners);
+            if (!tet_integer(t, &node))
+                return TET_ERROR(t, err, "tetrahedron %lld: expected %lld point numbers", base + k, corners);
             if (node < node_base || node - node_base >= b->mesh.vertex_count)
                 return TET_ERROR(t, err, "tetrahedron %lld: point %lld does not exist", base + k, node);
             v[c] = (uint32_t)(node - node_base);
@@ -198,10 +201,10 @@ sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, s
 typedef struct gmsh_state {
     tet_text t;
     tet_build b;
-    bool v41;             /* 4.1, else 4.0 */
-    long long* tags;      /* per node read */
+    bool v41;        /* 4.1, else 4.0 */
+    long long* tags; /* per node read */
     size_t tag_capacity;
-    uint32_t* by_tag;     /* tag -> node index + 1 (0: none) */
+    uint32_t* by_tag; /* tag -> node index + 1 (0: none) */
     long long max_tag;
     bool nodes, elements; /* sections seen */
 } gmsh_state;
@@ -251,7 +254,8 @@ static sb_status gmsh_point(gmsh_state* g, double p[3], sb_error* err) {
 static sb_status gmsh_node_block(gmsh_state* g, sb_error* err) {
     tet_text* t = &g->t;
     long long h[4];
-    if (!tet_next_line(t) || !gmsh_counts(t, 4, h)) return TET_ERROR(t, err, "expected a node block header (4 numbers)");
+    if (!tet_next_line(t) || !gmsh_counts(t, 4, h))
+        return TET_ERROR(t, err, "expected a node block header (4 numbers)");
     long long count = h[3], parametric = h[2];
     sb_status status = SB_OK;
     if (!g->v41) {
@@ -268,8 +272,10 @@ static sb_status gmsh_node_block(gmsh_state* g, sb_error* err) {
     size_t tag_capacity = (size_t)(count < 1 << 20 ? count : 1 << 20) + 1;
     if (!tags) return tet_nomem(t, err);
     for (long long k = 0; k < count && status == SB_OK; k++) {
-        if (!tet_grow((void**)&tags, &tag_capacity, (size_t)k + 1, sizeof *tags)) status = tet_nomem(t, err);
-        else if (!tet_next_line(t) || !tet_integer(t, &tags[k])) status = TET_ERROR(t, err, "expected a node tag");
+        if (!tet_grow((void**)&tags, &tag_capacity, (size_t)k + 1, sizeof *tags))
+            status = tet_nomem(t, err);
+        else if (!tet_next_line(t) || !tet_integer(t, &tags[k]))
+            status = TET_ERROR(t, err, "expected a node tag");
     }
     for (long long k = 0; k < count && status == SB_OK; k++) {
         double p[3];
@@ -334,7 +340,8 @@ static sb_status gmsh_elements(gmsh_state* g, sb_error* err) {
         return TET_ERROR(t, err, "expected the $Elements header (%d numbers)", g->v41 ? 4 : 2);
     for (long long block = 0; block < h[0]; block++) {
         long long b[4];
-        if (!tet_next_line(t) || !gmsh_counts(t, 4, b)) return TET_ERROR(t, err, "expected an element block header (4 numbers)");
+        if (!tet_next_line(t) || !gmsh_counts(t, 4, b))
+            return TET_ERROR(t, err, "expected an element block header (4 numbers)");
         bool tets = b[2] == 4 || b[2] == 11; /* linear and quadratic tetrahedra */
         for (long long k = 0; k < b[3]; k++) {
             if (!tet_next_line(t)) return TET_ERROR(t, err, "unexpected end of file in an element block");
@@ -381,10 +388,14 @@ static void gmsh_compact(tet_build* b) {
 static sb_status gmsh_parse(gmsh_state* g, sb_error* err) {
     sb_status status = gmsh_format(g, err);
     while (status == SB_OK && tet_next_line(&g->t)) {
-        if (tet_line_is(&g->t, "$Nodes")) status = gmsh_nodes(g, err);
-        else if (tet_line_is(&g->t, "$Elements")) status = gmsh_elements(g, err);
-        else if (g->t.cur.p < g->t.cur.end && *g->t.cur.p == '$') status = gmsh_skip(g, err);
-        else status = TET_ERROR(&g->t, err, "expected a section ($Name)");
+        if (tet_line_is(&g->t, "$Nodes"))
+            status = gmsh_nodes(g, err);
+        else if (tet_line_is(&g->t, "$Elements"))
+            status = gmsh_elements(g, err);
+        else if (g->t.cur.p < g->t.cur.end && *g->t.cur.p == '$')
+            status = gmsh_skip(g, err);
+        else
+            status = TET_ERROR(&g->t, err, "expected a section ($Name)");
     }
     if (status != SB_OK) return status;
     if (g->b.mesh.tet_count == 0)

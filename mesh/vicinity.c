@@ -127,7 +127,8 @@ static sb_status sb_grid_build(sb_grid* g, const double* p, uint32_t n, double r
     uint64_t max_key = 0;
     sb_status status = sb_grid_keys(g, p, n, radius, &max_key, err);
     if (status != SB_OK) return status;
-    if (!sb_radix_sort(&g->key, &g->index, n, max_key)) return sb_error_set(err, SB_ERR_NOMEM, "vicinity: out of memory");
+    if (!sb_radix_sort(&g->key, &g->index, n, max_key))
+        return sb_error_set(err, SB_ERR_NOMEM, "vicinity: out of memory");
     g->cell_count = 0;
     for (uint32_t s = 0; s < n; s++) {
         memcpy(g->p + 3 * (size_t)s, p + 3 * (size_t)g->index[s], 3 * sizeof(double));
@@ -160,8 +161,8 @@ static bool sb_pair_push(sb_pair_list* list, uint32_t i, uint32_t j) {
 }
 
 /* Pairs between sorted points [a0, a1) and [b0, b1); same = one range. */
-static bool sb_range_pairs(const sb_grid* g, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, bool same,
-                           double r2, sb_pair_list* list) {
+static bool sb_range_pairs(const sb_grid* g, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, bool same, double r2,
+                           sb_pair_list* list) {
     for (uint32_t a = a0; a < a1; a++) {
         const double* pa = g->p + 3 * (size_t)a;
         for (uint32_t b = same ? a + 1 : b0; b < b1; b++) {

@@ -7,8 +7,7 @@ int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms,
     int best = -1, smallest = 0;
     for (int i = 0; i < count; i++) {
         if (levels[i].vertices < levels[smallest].vertices) smallest = i;
-        if (levels[i].step_ms <= budget_ms && (best < 0 || levels[i].vertices > levels[best].vertices))
-            best = i;
+        if (levels[i].step_ms <= budget_ms && (best < 0 || levels[i].vertices > levels[best].vertices)) best = i;
     }
     if (fits) *fits = best >= 0;
     return best >= 0 ? best : smallest;
@@ -32,8 +31,8 @@ static double seconds_now(void) {
 }
 
 static sb_status copy_mesh(const sb_mesh* in, sb_mesh* out, sb_error* err) {
-    *out = (sb_mesh){in->vertex_count, malloc(3 * (size_t)in->vertex_count * sizeof(double) + 1),
-                     in->triangle_count, malloc(3 * (size_t)in->triangle_count * sizeof(uint32_t) + 1)};
+    *out = (sb_mesh){in->vertex_count, malloc(3 * (size_t)in->vertex_count * sizeof(double) + 1), in->triangle_count,
+                     malloc(3 * (size_t)in->triangle_count * sizeof(uint32_t) + 1)};
     if (!out->positions || !out->triangles) {
         sb_mesh_free(out);
         return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
@@ -44,8 +43,8 @@ static sb_status copy_mesh(const sb_mesh* in, sb_mesh* out, sb_error* err) {
 }
 
 /* Milliseconds per step of the fast step on this mesh. */
-static sb_status time_step(const sb_scene* scene, const sb_solver_def* def, const sb_mesh* mesh,
-                           double* step_ms, sb_error* err) {
+static sb_status time_step(const sb_scene* scene, const sb_solver_def* def, const sb_mesh* mesh, double* step_ms,
+                           sb_error* err) {
     sb_model* model = sb_scene_build_model(scene, mesh, "budget", err);
     if (!model) return SB_ERR_INVALID;
     sb_solver_def fast = *def;
@@ -75,14 +74,15 @@ static sb_status time_step(const sb_scene* scene, const sb_solver_def* def, cons
     return SB_OK;
 }
 
-sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double budget_ms,
-                         sb_mesh* out, FILE* stream, sb_error* err) {
+sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double budget_ms, sb_mesh* out, FILE* stream,
+                         sb_error* err) {
     sb_mesh meshes[MAX_LEVELS] = {{0}};
     sb_budget_level levels[MAX_LEVELS];
     int count = 0;
     sb_status status = sb_scene_make_mesh(scene, &meshes[0], err);
     if (status == SB_OK && sb_scene_volumetric(scene))
-        status = sb_errorf(err, SB_ERR_INVALID, "--budget-ms: level of detail applies to surface meshes, not tetrahedral files");
+        status = sb_errorf(err, SB_ERR_INVALID,
+                           "--budget-ms: level of detail applies to surface meshes, not tetrahedral files");
     if (status == SB_OK) count = 1;
     while (status == SB_OK && count < MAX_LEVELS && meshes[count - 1].vertex_count / 2 >= 64) {
         uint32_t target = meshes[count - 1].vertex_count / 2;
@@ -103,13 +103,14 @@ sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double
         bool fits;
         int pick = sb_budget_choose(levels, count, budget_ms, &fits);
         if (stream) {
-            fprintf(stream, "softbond: --budget-ms %g: calibrated the fast step at %d resolution%s\n", budget_ms,
-                    count, count == 1 ? "" : "s");
+            fprintf(stream, "softbond: --budget-ms %g: calibrated the fast step at %d resolution%s\n", budget_ms, count,
+                    count == 1 ? "" : "s");
             for (int i = 0; i < count; i++)
                 fprintf(stream, "  %8u vertices %8u triangles %10.4f ms/step%s\n", levels[i].vertices,
                         meshes[i].triangle_count, levels[i].step_ms, i == pick ? "  <- picked" : "");
-            fprintf(stream, fits ? "softbond: picked %u vertices (%.4f ms/step <= %g ms)\n"
-                                 : "softbond: picked %u vertices (%.4f ms/step; nothing fits %g ms: the smallest)\n",
+            fprintf(stream,
+                    fits ? "softbond: picked %u vertices (%.4f ms/step <= %g ms)\n"
+                         : "softbond: picked %u vertices (%.4f ms/step; nothing fits %g ms: the smallest)\n",
                     levels[pick].vertices, levels[pick].step_ms, budget_ms);
         }
         *out = meshes[pick];

@@ -23,9 +23,9 @@ int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms,
  * at most 6 levels; boundary and fixed vertices kept). Each level's model
  * gets a solver with the scene's settings but the fast kernels, takes 3
  * warm-up steps, then is timed in 3 rounds of steps (each until 10 ms or
- * 100 steps have passed); its time is the best round's per step. The level chosen by sb_budget_choose is returned in out; the table
- * and the choice are printed on stream when not NULL. */
-sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double budget_ms,
-                         sb_mesh* out, FILE* stream, sb_error* err);
+ * 100 steps have passed); its time is the best round's per step. The level chosen by sb_budget_choose is returned in
+ * out; the table and the choice are printed on stream when not NULL. */
+sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double budget_ms, sb_mesh* out, FILE* stream,
+                         sb_error* err);
 
 #endif

@@ -38,22 +38,21 @@ static const char* option_value(int argc, char** argv, int* i, size_t name_lengt
 static const option_spec* find_option(const char* arg, const char* const* accepted) {
     for (size_t s = 0; s < sizeof option_specs / sizeof option_specs[0]; s++) {
         size_t n = strlen(option_specs[s].name);
-        bool match = strncmp(arg, option_specs[s].name, n) == 0 &&
-                     (arg[n] == '\0' || (arg[n] == '=' && !option_specs[s].flag));
+        bool match =
+            strncmp(arg, option_specs[s].name, n) == 0 && (arg[n] == '\0' || (arg[n] == '=' && !option_specs[s].flag));
         if (match && accepts(accepted, option_specs[s].name)) return &option_specs[s];
     }
     return NULL;
 }
 
-static sb_status usage_fail(sb_error* err, const char* command, const char* format,
-                            const char* what) {
+static sb_status usage_fail(sb_error* err, const char* command, const char* format, const char* what) {
     char message[sizeof err->message];
     snprintf(message, sizeof message, format, what);
     return sb_errorf(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
 }
 
-static sb_status parse_option(int argc, char** argv, int* i, const char* const* accepted,
-                              sb_cli_args* out, sb_error* err) {
+static sb_status parse_option(int argc, char** argv, int* i, const char* const* accepted, sb_cli_args* out,
+                              sb_error* err) {
     const char* arg = argv[*i];
     bool is_set = strncmp(arg, "--set", 5) == 0 && (arg[5] == '\0' || arg[5] == '=');
     const option_spec* spec = is_set ? NULL : find_option(arg, accepted);
@@ -71,8 +70,8 @@ static sb_status parse_option(int argc, char** argv, int* i, const char* const* 
     return SB_OK;
 }
 
-static sb_status parse_arg(int argc, char** argv, int* i, const char* const* accepted,
-                           sb_cli_args* out, sb_error* err) {
+static sb_status parse_arg(int argc, char** argv, int* i, const char* const* accepted, sb_cli_args* out,
+                           sb_error* err) {
     const char* arg = argv[*i];
     if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
         out->help = true;
@@ -84,8 +83,7 @@ static sb_status parse_arg(int argc, char** argv, int* i, const char* const* acc
     return SB_OK;
 }
 
-sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out,
-                       sb_error* err) {
+sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out, sb_error* err) {
     *out = (sb_cli_args){.sets = malloc((size_t)argc * sizeof *out->sets)};
     if (!out->sets) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
     for (int i = 1; i < argc; i++) {
@@ -93,8 +91,7 @@ sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cl
         if (status != SB_OK) return status;
     }
     if (!out->input && !out->help)
-        return usage_fail(err, argv[0], "missing %s",
-                          strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
+        return usage_fail(err, argv[0], "missing %s", strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
     return SB_OK;
 }
 
@@ -103,11 +100,9 @@ void sb_cli_args_free(sb_cli_args* args) {
     args->sets = NULL;
 }
 
-static sb_status fill_scene(const char* path, const sb_cli_args* args, sb_scene* scene,
-                            sb_error* err) {
+static sb_status fill_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err) {
     sb_status status = path ? sb_scene_load(scene, path, err) : SB_OK;
-    for (int i = 0; i < args->set_count && status == SB_OK; i++)
-        status = sb_scene_set(scene, args->sets[i], err);
+    for (int i = 0; i < args->set_count && status == SB_OK; i++) status = sb_scene_set(scene, args->sets[i], err);
     return status == SB_OK ? sb_scene_validate(scene, err) : status;
 }
 
@@ -133,12 +128,10 @@ sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* ou
     const char* env = getenv("SOFTBOND_THREADS");
     *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
     if (args->threads && !parse_threads(args->threads, out))
-        return sb_errorf(err, SB_ERR_INVALID,
-                         "--threads: expected an integer in [0, 4096], got '%s'", args->threads);
+        return sb_errorf(err, SB_ERR_INVALID, "--threads: expected an integer in [0, 4096], got '%s'", args->threads);
     if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
     if (parse_threads(env, out)) return SB_OK;
-    return sb_errorf(err, SB_ERR_INVALID,
-                     "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
+    return sb_errorf(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
 }
 
 int sb_cli_fail(int code, const sb_error* err) {

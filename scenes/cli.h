@@ -33,8 +33,7 @@ typedef struct sb_cli_args {
  * options the command takes ("--output", ...; --set and --help always).
  * Fails on an unknown option, a missing value or a missing or extra
  * positional argument (unless --help). */
-sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out,
-                       sb_error* err);
+sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out, sb_error* err);
 void sb_cli_args_free(sb_cli_args* args);
 
 /* Defaults, then the file (when path is not NULL), then every --set, then

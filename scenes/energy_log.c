@@ -26,8 +26,7 @@ void sb_step_work_add(sb_step_work* work, const sb_step_stats* stats) {
     work->unconverged += !stats->converged;
 }
 
-bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies,
-                       const sb_step_work* work) {
+bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work) {
     if (log->count == log->capacity && !grow(log)) return false;
     log->times[log->count] = time;
     log->energies[log->count] = *energies;
@@ -47,9 +46,8 @@ static void write_row(FILE* f, double time, const sb_energies* e, const sb_step_
     fprintf(f, "%.17g,%.17g", time, e->kinetic);
     for (int t = 0; t < SB_TERM_COUNT; t++) fprintf(f, ",%.17g", e->term[t]);
     fprintf(f, ",%.17g,%.17g", e->gravity, sb_energies_total(e));
-    fprintf(f, ",%llu,%llu,%llu,%llu,%llu,%llu\n", (unsigned long long)w->steps,
-            (unsigned long long)w->substeps, (unsigned long long)w->rejected,
-            (unsigned long long)w->newton, (unsigned long long)w->cg,
+    fprintf(f, ",%llu,%llu,%llu,%llu,%llu,%llu\n", (unsigned long long)w->steps, (unsigned long long)w->substeps,
+            (unsigned long long)w->rejected, (unsigned long long)w->newton, (unsigned long long)w->cg,
             (unsigned long long)w->unconverged);
 }
 
@@ -60,7 +58,6 @@ sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_err
     fprintf(file.stream, "time,kinetic");
     for (int t = 0; t < SB_TERM_COUNT; t++) fprintf(file.stream, ",%s", sb_term_name((sb_term)t));
     fprintf(file.stream, ",gravity,total,steps,substeps,rejected,newton,cg,unconverged\n");
-    for (uint32_t i = 0; i < log->count; i++)
-        write_row(file.stream, log->times[i], &log->energies[i], &log->work[i]);
+    for (uint32_t i = 0; i < log->count; i++) write_row(file.stream, log->times[i], &log->energies[i], &log->work[i]);
     return sb_atomic_commit(&file, err);
 }

@@ -29,8 +29,7 @@ typedef struct sb_energy_log {
 } sb_energy_log;
 
 /* Returns false when out of memory. */
-bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies,
-                       const sb_step_work* work);
+bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work);
 void sb_energy_log_free(sb_energy_log* log);
 /* One row per frame, 17 significant digits; written atomically. */
 sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_error* err);

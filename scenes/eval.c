@@ -85,8 +85,8 @@ static sb_status write_forces(const eval_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     fprintf(file.stream, "id,fx,fy,fz\n");
     for (uint32_t v = 0; v < job->mesh.vertex_count; v++)
-        fprintf(file.stream, "%u,%.17g,%.17g,%.17g\n", v, job->forces[3 * v],
-                job->forces[3 * v + 1], job->forces[3 * v + 2]);
+        fprintf(file.stream, "%u,%.17g,%.17g,%.17g\n", v, job->forces[3 * v], job->forces[3 * v + 1],
+                job->forces[3 * v + 2]);
     return sb_atomic_commit(&file, err);
 }
 
@@ -112,11 +112,9 @@ static sb_status prepare(eval_job* job, sb_error* err) {
 static int evaluate(eval_job* job, sb_error* err) {
     if (job->args.fast) {
         if (evaluate_fast(job, err) != SB_OK) return SB_EXIT_FAILURE;
-    } else if (sb_reference_forces(job->model, job->positions, NULL, job->forces, &job->energies,
-                                   err) != SB_OK) {
+    } else if (sb_reference_forces(job->model, job->positions, NULL, job->forces, &job->energies, err) != SB_OK) {
         /* a collapsed edge at the given positions */
-        sb_error_prefix(err, SB_ERR_DEGENERATE,
-                        job->args.positions ? job->args.positions : job->args.input);
+        sb_error_prefix(err, SB_ERR_DEGENERATE, job->args.positions ? job->args.positions : job->args.input);
         return SB_EXIT_INPUT;
     }
     if (job->args.forces && write_forces(job, err) != SB_OK) return SB_EXIT_FAILURE;

@@ -39,9 +39,7 @@ static sb_status join(char* out, const char* dir, const char* name, sb_error* er
     return sb_errorf(err, SB_ERR_IO, "%s/%s: path too long", dir, name);
 }
 
-static bool is_entry(const char* name) {
-    return strcmp(name, ".") != 0 && strcmp(name, "..") != 0;
-}
+static bool is_entry(const char* name) { return strcmp(name, ".") != 0 && strcmp(name, "..") != 0; }
 
 /* Removes the staging folder and everything in it; quiet when absent. */
 static void stage_remove(const staging* stage) {
@@ -49,14 +47,12 @@ static void stage_remove(const staging* stage) {
     struct dirent* entry;
     char path[4096];
     while (dir && (entry = readdir(dir)))
-        if (is_entry(entry->d_name) && join(path, stage->dir, entry->d_name, NULL) == SB_OK)
-            remove(path);
+        if (is_entry(entry->d_name) && join(path, stage->dir, entry->d_name, NULL) == SB_OK) remove(path);
     if (dir) closedir(dir);
     rmdir(stage->dir);
 }
 
-static sb_status stage_create(staging* stage, const char* out, const char* main_name,
-                              sb_error* err) {
+static sb_status stage_create(staging* stage, const char* out, const char* main_name, sb_error* err) {
     char name[64];
     snprintf(name, sizeof name, ".%.40s.tmp", main_name);
     stage->out = out;
@@ -135,9 +131,8 @@ typedef struct frame_format {
 } frame_format;
 
 static const frame_format formats[] = {
-    {"vtu", ".vtu", write_vtu},   {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh},
-    {"gltf", NULL, write_mesh},   {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh},
-    {"pov", NULL, write_mesh},
+    {"vtu", ".vtu", write_vtu}, {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh}, {"gltf", NULL, write_mesh},
+    {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh}, {"pov", NULL, write_mesh},
 };
 enum { FORMAT_COUNT = sizeof formats / sizeof formats[0] };
 
@@ -146,8 +141,7 @@ const char* sb_frame_formats_known(void) {
     static char known[96];
     if (known[0]) return known;
     for (uint32_t i = 0; i < FORMAT_COUNT; i++)
-        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "",
-                 formats[i].name);
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "", formats[i].name);
     return known;
 }
 
@@ -176,11 +170,9 @@ bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, 
     }
 }
 
-static sb_status export_one(const frame_format* format, const sb_frame_export_def* def,
-                            const char* out, uint32_t index, const sb_vtk_frame* frame,
-                            sb_error* err) {
-    const char* extension =
-        format->extension ? format->extension : sb_mesh_export_extension(format->name);
+static sb_status export_one(const frame_format* format, const sb_frame_export_def* def, const char* out, uint32_t index,
+                            const sb_vtk_frame* frame, sb_error* err) {
+    const char* extension = format->extension ? format->extension : sb_mesh_export_extension(format->name);
     char main_name[64];
     sb_vtk_frame_name(index, extension, main_name, sizeof main_name);
     staging stage;

@@ -26,7 +26,7 @@ typedef struct info_job {
     uint32_t* edges;    /* 2 per unique edge of the model: the triangles', or the tetrahedra's */
     uint32_t edge_count;
     sb_mesh_edge_counts surface; /* how the surface's edges are shared */
-    sb_mesh_load_report load; /* what the import dropped */
+    sb_mesh_load_report load;    /* what the import dropped */
 } info_job;
 
 static int info_finish(info_job* job, int code) {
@@ -39,8 +39,7 @@ static int info_finish(info_job* job, int code) {
 
 /* Unique edges (pairs in edges[2e], edges[2e + 1]) of `count` triangles
  * (arity 3) or tetrahedra (arity 4). */
-static bool unique_edges(const uint32_t* elements, uint32_t count, int arity, uint32_t** edges,
-                         uint32_t* edge_count) {
+static bool unique_edges(const uint32_t* elements, uint32_t count, int arity, uint32_t** edges, uint32_t* edge_count) {
     size_t most = (size_t)count * (size_t)(arity * (arity - 1) / 2);
     sb_edge_map map;
     *edges = malloc((2 * most + 2) * sizeof **edges);
@@ -117,8 +116,7 @@ static sb_status load_surface(info_job* job, sb_error* err) {
 
 static sb_status load(info_job* job, sb_error* err) {
     const char* path = job->args.input;
-    sb_status status = sb_tet_mesh_path(path) ? sb_tet_mesh_load(path, &job->volume, err)
-                                              : load_surface(job, err);
+    sb_status status = sb_tet_mesh_path(path) ? sb_tet_mesh_load(path, &job->volume, err) : load_surface(job, err);
     if (status == SB_OK && job->volume.tets) status = sb_tet_mesh_surface(&job->volume, &job->mesh, err);
     if (status == SB_OK) status = sb_mesh_count_edges(&job->mesh, &job->surface, err);
     if (status != SB_OK) return status;
@@ -134,8 +132,10 @@ static void print_box(const sb_mesh* mesh) {
         lo[i % 3] = fmin(lo[i % 3], mesh->positions[i]);
         hi[i % 3] = fmax(hi[i % 3], mesh->positions[i]);
     }
-    if (mesh->vertex_count == 0) printf("bounding box: none\n");
-    else printf("bounding box: [%.9g, %.9g, %.9g] .. [%.9g, %.9g, %.9g] m\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (mesh->vertex_count == 0)
+        printf("bounding box: none\n");
+    else
+        printf("bounding box: [%.9g, %.9g, %.9g] .. [%.9g, %.9g, %.9g] m\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
 }
 
 static void print_volume(const info_job* job) {

@@ -6,15 +6,14 @@
 #include <string.h>
 
 static void usage(FILE* stream) {
-    fprintf(stream,
-            "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
-            "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
-            "                          [--forces OUT.csv] [--fast]\n"
-            "       softbond info MESH\n"
-            "       softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
-            "       softbond --help | --version\n"
-            "Soft bodies with molecular-mechanics bonded terms. `softbond COMMAND --help`\n"
-            "describes a command.\n");
+    fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+                    "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
+                    "                          [--forces OUT.csv] [--fast]\n"
+                    "       softbond info MESH\n"
+                    "       softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
+                    "       softbond --help | --version\n"
+                    "Soft bodies with molecular-mechanics bonded terms. `softbond COMMAND --help`\n"
+                    "describes a command.\n");
 }
 
 int main(int argc, char** argv) {

@@ -26,8 +26,7 @@ static bool make_parents(char* path) {
     return make_one(path);
 }
 
-sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const char* scene_name,
-                               sb_error* err) {
+sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const char* scene_name, sb_error* err) {
     size_t size = requested ? strlen(requested) + 1 : strlen(scene_name) + 5;
     out->dir = malloc(size);
     if (!out->dir) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
@@ -36,8 +35,7 @@ sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const 
     else
         snprintf(out->dir, size, "out/%s", scene_name);
     if (make_parents(out->dir)) return SB_OK;
-    return sb_errorf(err, SB_ERR_IO, "%s: cannot create the output folder: %s", out->dir,
-                     strerror(errno));
+    return sb_errorf(err, SB_ERR_IO, "%s: cannot create the output folder: %s", out->dir, strerror(errno));
 }
 
 const char* sb_output_dir_path(sb_output_dir* out, const char* file) {

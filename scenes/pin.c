@@ -19,12 +19,12 @@ typedef struct pin_rule {
 } pin_rule;
 
 static const pin_rule rules[] = {
-    {"top_corners", 1, true, PIN_CORNERS}, {"bottom_corners", 1, false, PIN_CORNERS},
+    {"top_corners", 1, true, PIN_CORNERS},   {"bottom_corners", 1, false, PIN_CORNERS},
     {"left_corners", 0, false, PIN_CORNERS}, {"right_corners", 0, true, PIN_CORNERS},
-    {"top_edge", 1, true, PIN_EDGE},       {"bottom_edge", 1, false, PIN_EDGE},
-    {"left_edge", 0, false, PIN_EDGE},     {"right_edge", 0, true, PIN_EDGE},
-    {"top_clamp", 1, true, PIN_CLAMP},     {"bottom_clamp", 1, false, PIN_CLAMP},
-    {"left_clamp", 0, false, PIN_CLAMP},   {"right_clamp", 0, true, PIN_CLAMP},
+    {"top_edge", 1, true, PIN_EDGE},         {"bottom_edge", 1, false, PIN_EDGE},
+    {"left_edge", 0, false, PIN_EDGE},       {"right_edge", 0, true, PIN_EDGE},
+    {"top_clamp", 1, true, PIN_CLAMP},       {"bottom_clamp", 1, false, PIN_CLAMP},
+    {"left_clamp", 0, false, PIN_CLAMP},     {"right_clamp", 0, true, PIN_CLAMP},
 };
 enum { RULE_COUNT = sizeof rules / sizeof rules[0] };
 
@@ -34,9 +34,7 @@ static const pin_rule* find_rule(const char* name) {
     return NULL;
 }
 
-bool sb_pin_known(const char* name) {
-    return strcmp(name, "none") == 0 || find_rule(name) != NULL;
-}
+bool sb_pin_known(const char* name) { return strcmp(name, "none") == 0 || find_rule(name) != NULL; }
 
 const char* sb_pin_names(void) {
     return "none, top_corners, bottom_corners, left_corners, right_corners, top_edge, "
@@ -69,12 +67,9 @@ static bool on_side(const pin_rule* rule, const box* b, double tol, const double
     return fabs(p[rule->axis] - face) <= tol;
 }
 
-static void pin(sb_builder* builder, uint32_t v) {
-    sb_builder_vertex(builder, v)->fixed = true;
-}
+static void pin(sb_builder* builder, uint32_t v) { sb_builder_vertex(builder, v)->fixed = true; }
 
-static void pin_corners(const pin_rule* rule, const sb_mesh* mesh, const box* b, double tol,
-                        sb_builder* builder) {
+static void pin_corners(const pin_rule* rule, const sb_mesh* mesh, const box* b, double tol, sb_builder* builder) {
     int along = 1 - rule->axis;
     int64_t first = -1, last = -1;
     for (uint32_t v = 0; v < mesh->vertex_count; v++) {
@@ -89,8 +84,7 @@ static void pin_corners(const pin_rule* rule, const sb_mesh* mesh, const box* b,
 
 /* Every vertex of a triangle that touches the side: on a triangle mesh,
  * the side's vertices and their neighbours. */
-static void pin_clamp(const pin_rule* rule, const sb_mesh* mesh, const box* b, double tol,
-                      sb_builder* builder) {
+static void pin_clamp(const pin_rule* rule, const sb_mesh* mesh, const box* b, double tol, sb_builder* builder) {
     for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t* tri = &mesh->triangles[3 * t];
         bool touches = false;

@@ -22,8 +22,7 @@ static uint32_t nearest_vertex(const sb_model* model, const double at[3]) {
     return best;
 }
 
-sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb_point_load* load,
-                                sb_error* err) {
+sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb_point_load* load, sb_error* err) {
     const double* force = sb_scene_vec3(scene, SB_KEY_LOAD_FORCE);
     bool nonzero = force[0] != 0.0 || force[1] != 0.0 || force[2] != 0.0;
     *load = (sb_point_load){.active = nonzero && sb_model_vertex_count(model) > 0};
@@ -40,17 +39,16 @@ sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb
                          at[0], at[1], at[2], load->vertex, x[0], x[1], x[2]);
 }
 
-void sb_point_load_print(const sb_point_load* load, const sb_scene* scene, const sb_model* model,
-                         FILE* stream) {
+void sb_point_load_print(const sb_point_load* load, const sb_scene* scene, const sb_model* model, FILE* stream) {
     if (!load->active) return;
     const double *f = load->force, *at = sb_scene_vec3(scene, SB_KEY_LOAD_AT);
     double x[3], d = sqrt(distance2(model, load->vertex, at, x));
-    fprintf(stream, "softbond: load [%g, %g, %g] N on vertex %u at [%g, %g, %g] m (%g m from load.at)\n", f[0],
-            f[1], f[2], load->vertex, x[0], x[1], x[2], d);
+    fprintf(stream, "softbond: load [%g, %g, %g] N on vertex %u at [%g, %g, %g] m (%g m from load.at)\n", f[0], f[1],
+            f[2], load->vertex, x[0], x[1], x[2], d);
 }
 
-static void apply(void* user, uint32_t vertex, double time, const double position[3],
-                  const double velocity[3], double force[3]) {
+static void apply(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                  double force[3]) {
     (void)time, (void)position, (void)velocity;
     const sb_point_load* load = user;
     if (vertex != load->vertex) return;

@@ -18,13 +18,11 @@ typedef struct sb_point_load {
 /* Finds the loaded vertex of `model` (the lowest index on a tie). A load
  * whose nearest vertex is fixed is an error naming load.at's place, the
  * vertex and why. */
-sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb_point_load* load,
-                                sb_error* err);
+sb_status sb_point_load_prepare(const sb_scene* scene, const sb_model* model, sb_point_load* load, sb_error* err);
 /* Says which vertex an active load acts on, one line, e.g. "softbond: load
  * [0, 0, 0.5] N on vertex 84 at [0.5, 0.5, 0] m (0 m from load.at)": the
  * vertex is chosen by distance, so a point given in the wrong unit shows. */
-void sb_point_load_print(const sb_point_load* load, const sb_scene* scene, const sb_model* model,
-                         FILE* stream);
+void sb_point_load_print(const sb_point_load* load, const sb_scene* scene, const sb_model* model, FILE* stream);
 /* Makes `def` apply an active load (kept by pointer: it must outlive the
  * solver). */
 void sb_point_load_attach(sb_point_load* load, sb_solver_def* def);

@@ -66,8 +66,7 @@ static sb_status parse_row(const csv_reader* r, double* xyz) {
         xyz[c] = strtod(p, &end);
         while (isspace((unsigned char)*end)) end++;
         bool separated = c < 2 ? *end == ',' : *end == '\0';
-        if (end == p || !separated)
-            return csv_fail(r, "expected three numbers x,y,z, got '%.60s'", r->line);
+        if (end == p || !separated) return csv_fail(r, "expected three numbers x,y,z, got '%.60s'", r->line);
         if (!isfinite(xyz[c])) return csv_fail(r, "non-finite number in '%.60s'", r->line);
         p = end + 1;
     }
@@ -76,19 +75,16 @@ static sb_status parse_row(const csv_reader* r, double* xyz) {
 
 static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
     if (!next_line(r)) return csv_fail(r, "empty file: expected the header 'x,y,z'");
-    if (!is_header(r->line))
-        return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
+    if (!is_header(r->line)) return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
     uint32_t rows = 0;
     while (next_line(r)) {
-        if (rows == vertex_count)
-            return csv_fail(r, "more rows than the mesh's %u vertices", vertex_count);
+        if (rows == vertex_count) return csv_fail(r, "more rows than the mesh's %u vertices", vertex_count);
         sb_status status = parse_row(r, &out[3 * (size_t)rows]);
         if (status != SB_OK) return status;
         rows++;
     }
     if (ferror(r->file)) return csv_fail(r, "read error: %s", strerror(errno));
-    if (rows < vertex_count)
-        return csv_fail(r, "%u rows, but the mesh has %u vertices", rows, vertex_count);
+    if (rows < vertex_count) return csv_fail(r, "%u rows, but the mesh has %u vertices", rows, vertex_count);
     return SB_OK;
 }
 

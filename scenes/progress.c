@@ -8,8 +8,7 @@
 enum { BAR_WIDTH = 40 };
 
 sb_progress sb_progress_start(uint64_t total) {
-    return (sb_progress){
-        .total = total ? total : 1, .shown = -1, .enabled = isatty(fileno(stderr)) != 0};
+    return (sb_progress){.total = total ? total : 1, .shown = -1, .enabled = isatty(fileno(stderr)) != 0};
 }
 
 static void draw(int percent) {

@@ -22,18 +22,17 @@
 #include <time.h>
 
 void sb_cli_run_usage(FILE* stream) {
-    fprintf(stream,
-            "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
-            "                    [--budget-ms X]\n"
-            "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
-            "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
-            "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
-            "iterations) to DIR, by default out/<scene name>.\n"
-            "--set overrides any scene key (see README.md, \"Running a scene\");\n"
-            "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
-            "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
-            "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
-            "(the smallest if none does); it prints what it measured and picked.\n");
+    fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+                    "                    [--budget-ms X]\n"
+                    "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
+                    "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
+                    "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
+                    "iterations) to DIR, by default out/<scene name>.\n"
+                    "--set overrides any scene key (see README.md, \"Running a scene\");\n"
+                    "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
+                    "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
+                    "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
+                    "(the smallest if none does); it prints what it measured and picked.\n");
 }
 
 typedef struct run_job {
@@ -86,8 +85,7 @@ static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* er
     if (status != SB_OK) return status;
     bool from_file = strcmp(sb_scene_string(&job->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     char* source = from_file ? sb_scene_path(&job->scene, SB_KEY_MESH_FILE) : NULL;
-    job->model =
-        sb_scene_build_model(&job->scene, &job->mesh, source ? source : job->scene.path, err);
+    job->model = sb_scene_build_model(&job->scene, &job->mesh, source ? source : job->scene.path, err);
     free(source);
     return job->model ? SB_OK : SB_ERR_INVALID;
 }
@@ -96,8 +94,7 @@ static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* er
  * gravity (+z without gravity). */
 static void set_export(run_job* job) {
     char bad[64];
-    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS),
-                           &job->export.formats, bad, sizeof bad);
+    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), &job->export.formats, bad, sizeof bad);
     const double* g = sb_scene_vec3(&job->scene, SB_KEY_GRAVITY);
     bool none = g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0;
     for (int k = 0; k < 3; k++) job->export.up[k] = none ? (k == 2) : -g[k];
@@ -123,8 +120,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
 
 static sb_status write_frame(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)job->mesh.vertex_count;
-    sb_vtk_frame frame = {&job->mesh, job->model, job->buffers, job->buffers + n,
-                          job->buffers + 2 * n};
+    sb_vtk_frame frame = {&job->mesh, job->model, job->buffers, job->buffers + n, job->buffers + 2 * n};
     const sb_state* state = sb_solver_state(job->solver);
     sb_solver_get_positions(job->solver, job->buffers);
     sb_solver_get_velocities(job->solver, job->buffers + n);
@@ -137,8 +133,7 @@ static sb_status write_frame(run_job* job, sb_error* err) {
 }
 
 static int record_frame(run_job* job, sb_error* err) {
-    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK)
-        return SB_EXIT_FAILURE;
+    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK) return SB_EXIT_FAILURE;
     sb_energies energies = sb_solver_energies(job->solver);
     if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work)) {
         job->work = (sb_step_work){0};
@@ -186,10 +181,9 @@ static bool writes_vtu(const run_job* job) {
 static int write_index(run_job* job, sb_error* err) {
     sb_status status = SB_OK;
     if (writes_vtu(job))
-        status = sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"),
-                                         job->log.times, job->log.count, err);
-    if (status == SB_OK)
-        status = sb_energy_log_write(&job->log, sb_output_dir_path(&job->out, "log.csv"), err);
+        status =
+            sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"), job->log.times, job->log.count, err);
+    if (status == SB_OK) status = sb_energy_log_write(&job->log, sb_output_dir_path(&job->out, "log.csv"), err);
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
 }
 
@@ -200,9 +194,8 @@ static void report(const run_job* job, double seconds) {
                "%.1f s\n",
                job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
     else if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
-        printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", job->log.count,
-               job->log.count == 1 ? "" : "s", sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS),
-               dir, seconds);
+        printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", job->log.count, job->log.count == 1 ? "" : "s",
+               sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), dir, seconds);
     else
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
 }
@@ -217,8 +210,7 @@ static double now(void) {
  * the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
     double start = now();
-    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK)
-        return SB_EXIT_FAILURE;
+    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK) return SB_EXIT_FAILURE;
     int code = simulate(job, err);
     sb_error index_err;
     int index_code = write_index(job, &index_err);

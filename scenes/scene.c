@@ -15,9 +15,7 @@ static const sb_scene_key_info key_table[SB_KEY_COUNT] = {
 #undef SB_SCENE_KEY_INFO
 };
 
-const sb_scene_key_info* sb_scene_key_get(sb_scene_key key) {
-    return &key_table[key];
-}
+const sb_scene_key_info* sb_scene_key_get(sb_scene_key key) { return &key_table[key]; }
 
 bool sb_scene_key_find(const char* name, sb_scene_key* out) {
     for (int i = 0; i < SB_KEY_COUNT; i++) {
@@ -33,8 +31,7 @@ sb_status sb_scene_init(sb_scene* scene, sb_error* err) {
     memset(scene, 0, sizeof *scene);
     for (int i = 0; i < SB_KEY_COUNT; i++) {
         char assignment[256];
-        snprintf(assignment, sizeof assignment, "%s=%s", key_table[i].name,
-                 key_table[i].default_value);
+        snprintf(assignment, sizeof assignment, "%s=%s", key_table[i].name, key_table[i].default_value);
         sb_status status = sb_scene_set(scene, assignment, err);
         if (status != SB_OK) {
             sb_scene_free(scene);
@@ -56,25 +53,15 @@ void sb_scene_free(sb_scene* scene) {
     memset(scene, 0, sizeof *scene);
 }
 
-double sb_scene_number(const sb_scene* scene, sb_scene_key key) {
-    return scene->values[key].number;
-}
+double sb_scene_number(const sb_scene* scene, sb_scene_key key) { return scene->values[key].number; }
 
-int64_t sb_scene_integer(const sb_scene* scene, sb_scene_key key) {
-    return scene->values[key].integer;
-}
+int64_t sb_scene_integer(const sb_scene* scene, sb_scene_key key) { return scene->values[key].integer; }
 
-bool sb_scene_bool(const sb_scene* scene, sb_scene_key key) {
-    return scene->values[key].boolean;
-}
+bool sb_scene_bool(const sb_scene* scene, sb_scene_key key) { return scene->values[key].boolean; }
 
-const char* sb_scene_string(const sb_scene* scene, sb_scene_key key) {
-    return scene->values[key].string;
-}
+const char* sb_scene_string(const sb_scene* scene, sb_scene_key key) { return scene->values[key].string; }
 
-const double* sb_scene_vec3(const sb_scene* scene, sb_scene_key key) {
-    return scene->values[key].vec3;
-}
+const double* sb_scene_vec3(const sb_scene* scene, sb_scene_key key) { return scene->values[key].vec3; }
 
 const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32_t* count) {
     *count = scene->values[key].index_count;
@@ -85,8 +72,7 @@ const char* sb_scene_where(const sb_scene* scene, sb_scene_key key) {
     return scene->values[key].where[0] ? scene->values[key].where : scene->path;
 }
 
-sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format,
-                        ...) {
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format, ...) {
     const char* where = sb_scene_where(scene, key);
     va_list args;
     va_start(args, format);

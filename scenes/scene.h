@@ -15,118 +15,107 @@ typedef enum sb_scene_type {
     SB_SCENE_NUMBER,  /* a finite or non-finite double; validation decides */
     SB_SCENE_INTEGER, /* a whole number */
     SB_SCENE_STRING,
-    SB_SCENE_BOOL,   /* true or false */
-    SB_SCENE_VEC3,   /* a sequence of three numbers */
+    SB_SCENE_BOOL,           /* true or false */
+    SB_SCENE_VEC3,           /* a sequence of three numbers */
     SB_SCENE_VEC3_OR_NUMBER, /* three numbers, or one number for all three */
-    SB_SCENE_INDICES, /* a sequence of non-negative integers */
-    SB_SCENE_NAMES    /* a sequence of names, or one "a,b" text; kept as the string "a,b" */
+    SB_SCENE_INDICES,        /* a sequence of non-negative integers */
+    SB_SCENE_NAMES           /* a sequence of names, or one "a,b" text; kept as the string "a,b" */
 } sb_scene_type;
 
 /* X(id, name, type, default, meaning) */
-#define SB_SCENE_KEYS(X)                                                                           \
-    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")               \
-    X(MESH_FILE, "mesh.file", STRING, "''",                                                        \
-      "mesh file for generator file (OBJ, OFF, IRIT .itd, POV-Ray .pov, TetGen .node/.ele, Gmsh "  \
-      ".msh or any assimp format), relative to the scene file")                                    \
-    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                         \
-    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                         \
-    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                             \
-    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                           \
-    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                                     \
-      "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")                     \
-    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                           \
-    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2",                                        \
-      "icosphere: subdivisions of the icosahedron (0 to 8)")                                       \
-    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                             \
-    X(MESH_REORDER, "mesh.reorder", BOOL, "false",                                                 \
-      "renumber vertices along a Morton curve for speed (fixed indices then refer to the new "     \
-      "numbering)")                                                                                \
-    X(MESH_SEPARATE_OBJECTS, "mesh.separate_objects", BOOL, "false",                               \
-      "file: keep the file's meshes as separate bodies (joined within each mesh only); false "     \
-      "merges them, joining identical positions across meshes")                                    \
-    X(MESH_SCALE, "mesh.scale", VEC3_OR_NUMBER, "1",                                               \
-      "placement: scale factor, or [sx, sy, sz], about the origin, applied first")                 \
-    X(MESH_ROTATE, "mesh.rotate", VEC3, "[0, 0, 0]",                                               \
-      "placement: degrees about the x, then the y, then the z axis (fixed axes), after scale")     \
-    X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]",                                         \
-      "placement: shift, m, applied last")                                                         \
-    X(MESH_TARGET_VERTICES, "mesh.target_vertices", INTEGER, "0",                                  \
-      "level of detail: simplify a surface to about this many vertices (meshoptimizer; boundary "  \
-      "and fixed vertices kept); 0 = off")                                                         \
-    X(MESH_TARGET_ERROR, "mesh.target_error", NUMBER, "0",                                         \
-      "level of detail: simplify while the error stays below this fraction of the mesh's extent; " \
-      "0 = off")                                                                                   \
-    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")             \
-    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                \
-    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0",                                               \
-      "stretch-bend constant, J/m (Eq. 5); 0 = off")                                               \
-    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")          \
-    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")               \
-    X(BEND_K, "bend.k", NUMBER, "0", "dihedral bending across interior edges, J/rad^2; 0 = off")   \
-    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")                \
-    X(DENSITY, "density", NUMBER, "0",                                                             \
-      "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "              \
-      "wins over mass")                                                                            \
-    X(FACTORY, "factory", STRING, "molecular",                                                     \
-      "surface model: molecular (bonds, angles, hinges) or springs (stretch, bend and vicinity "   \
-      "springs); a tetrahedral mesh.file always builds the tissue model, a .pov one springs with "  \
-      "each object's spring_system_* locals")                                                      \
-    X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")             \
-    X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1",                           \
-      "springs: per edge, N s/m")                                                                  \
-    X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10",                                              \
-      "springs: across adjacent triangles, N/m")                                                   \
-    X(SPRINGS_BEND_DAMPING, "springs.bend.damping", NUMBER, "0.01",                                \
-      "springs: across adjacent triangles, N s/m")                                                 \
-    X(SPRINGS_VICINITY_DISTANCE, "springs.vicinity.distance", NUMBER, "0",                         \
-      "springs: join vertices nearer than this, m; 0 = off")                                       \
-    X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "springs: vicinity, N/m")           \
-    X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1",                         \
-      "springs: vicinity, N s/m")                                                                  \
-    X(MATERIAL, "material", STRING, "liver",                                                       \
-      "tetrahedral meshes: liver (E 3.5 kPa) or gallbladder (E 1.5 kPa), 1060 kg/m^3")             \
-    X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500",                                \
-      "tetrahedral meshes: Young's modulus, Pa; when set, wins over the material's")               \
-    X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060",                                            \
-      "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                   \
-    X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1",                                               \
-      "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                     \
-    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")            \
-    X(PIN, "pin", STRING, "none",                                                                  \
-      "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                \
-      "right_corners, <side>_edge or <side>_clamp (the side and its neighbours), side top, "       \
-      "bottom, left or right")                                                                     \
-    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                 \
-    X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")            \
-    X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]",                                                 \
-      "a constant force, N, on the free vertex nearest load.at, from t = 0; [0, 0, 0] = none")     \
-    X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                       \
-      "where load.force acts: the vertex nearest this point of the placed rest shape, m")          \
-    X(INTEGRATOR, "integrator", STRING, "verlet",                                                  \
-      "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "               \
-      "implicit_euler, pbd or xpbd")                                                               \
-    X(ADAPTIVE, "adaptive", BOOL, "false",                                                         \
-      "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")\
-    X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                      \
-    X(IMPLICIT_TOLERANCE, "implicit.tolerance", NUMBER, "1e-8",                                    \
-      "implicit_euler: Newton stops at this fraction of the first residual")                       \
-    X(IMPLICIT_NEWTON_ITERATIONS, "implicit.newton_iterations", INTEGER, "20",                     \
-      "implicit_euler: Newton iterations per step, at most")                                       \
-    X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                            \
-      "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")               \
-    X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10",                                             \
-      "pbd, xpbd: constraint projection sweeps per step")                                          \
-    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                  \
-    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                      \
-    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04",                                            \
-      "simulated time between frames, s (>= dt)")                                                  \
-    X(THREADS, "threads", INTEGER, "0",                                                            \
-      "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")                             \
-    X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")                \
-    X(OUTPUT_FRAMES, "output.frames", BOOL, "true",                                                \
-      "write frames (output.formats); false writes log.csv only")                                 \
-    X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]",                                            \
-      "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "    \
+#define SB_SCENE_KEYS(X)                                                                                               \
+    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")                                   \
+    X(MESH_FILE, "mesh.file", STRING, "''",                                                                            \
+      "mesh file for generator file (OBJ, OFF, IRIT .itd, POV-Ray .pov, TetGen .node/.ele, Gmsh "                      \
+      ".msh or any assimp format), relative to the scene file")                                                        \
+    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                                             \
+    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                                             \
+    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                                                 \
+    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                                               \
+    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                                                         \
+      "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")                                         \
+    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                                               \
+    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2", "icosphere: subdivisions of the icosahedron (0 to 8)")     \
+    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                                                 \
+    X(MESH_REORDER, "mesh.reorder", BOOL, "false",                                                                     \
+      "renumber vertices along a Morton curve for speed (fixed indices then refer to the new "                         \
+      "numbering)")                                                                                                    \
+    X(MESH_SEPARATE_OBJECTS, "mesh.separate_objects", BOOL, "false",                                                   \
+      "file: keep the file's meshes as separate bodies (joined within each mesh only); false "                         \
+      "merges them, joining identical positions across meshes")                                                        \
+    X(MESH_SCALE, "mesh.scale", VEC3_OR_NUMBER, "1",                                                                   \
+      "placement: scale factor, or [sx, sy, sz], about the origin, applied first")                                     \
+    X(MESH_ROTATE, "mesh.rotate", VEC3, "[0, 0, 0]",                                                                   \
+      "placement: degrees about the x, then the y, then the z axis (fixed axes), after scale")                         \
+    X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]", "placement: shift, m, applied last")                        \
+    X(MESH_TARGET_VERTICES, "mesh.target_vertices", INTEGER, "0",                                                      \
+      "level of detail: simplify a surface to about this many vertices (meshoptimizer; boundary "                      \
+      "and fixed vertices kept); 0 = off")                                                                             \
+    X(MESH_TARGET_ERROR, "mesh.target_error", NUMBER, "0",                                                             \
+      "level of detail: simplify while the error stays below this fraction of the mesh's extent; "                     \
+      "0 = off")                                                                                                       \
+    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")                                 \
+    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                                    \
+    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0", "stretch-bend constant, J/m (Eq. 5); 0 = off")                    \
+    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")                              \
+    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")                                   \
+    X(BEND_K, "bend.k", NUMBER, "0", "dihedral bending across interior edges, J/rad^2; 0 = off")                       \
+    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")                                    \
+    X(DENSITY, "density", NUMBER, "0",                                                                                 \
+      "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "                                  \
+      "wins over mass")                                                                                                \
+    X(FACTORY, "factory", STRING, "molecular",                                                                         \
+      "surface model: molecular (bonds, angles, hinges) or springs (stretch, bend and vicinity "                       \
+      "springs); a tetrahedral mesh.file always builds the tissue model, a .pov one springs with "                     \
+      "each object's spring_system_* locals")                                                                          \
+    X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")                                 \
+    X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "springs: per edge, N s/m")                   \
+    X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "springs: across adjacent triangles, N/m")                       \
+    X(SPRINGS_BEND_DAMPING, "springs.bend.damping", NUMBER, "0.01", "springs: across adjacent triangles, N s/m")       \
+    X(SPRINGS_VICINITY_DISTANCE, "springs.vicinity.distance", NUMBER, "0",                                             \
+      "springs: join vertices nearer than this, m; 0 = off")                                                           \
+    X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "springs: vicinity, N/m")                               \
+    X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1", "springs: vicinity, N s/m")                 \
+    X(MATERIAL, "material", STRING, "liver",                                                                           \
+      "tetrahedral meshes: liver (E 3.5 kPa) or gallbladder (E 1.5 kPa), 1060 kg/m^3")                                 \
+    X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500",                                                    \
+      "tetrahedral meshes: Young's modulus, Pa; when set, wins over the material's")                                   \
+    X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060",                                                                \
+      "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
+    X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1",                                                                   \
+      "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
+    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")                                \
+    X(PIN, "pin", STRING, "none",                                                                                      \
+      "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                                    \
+      "right_corners, <side>_edge or <side>_clamp (the side and its neighbours), side top, "                           \
+      "bottom, left or right")                                                                                         \
+    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                                     \
+    X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")                                \
+    X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]",                                                                     \
+      "a constant force, N, on the free vertex nearest load.at, from t = 0; [0, 0, 0] = none")                         \
+    X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                                           \
+      "where load.force acts: the vertex nearest this point of the placed rest shape, m")                              \
+    X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
+      "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
+      "implicit_euler, pbd or xpbd")                                                                                   \
+    X(ADAPTIVE, "adaptive", BOOL, "false",                                                                             \
+      "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")                    \
+    X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                                          \
+    X(IMPLICIT_TOLERANCE, "implicit.tolerance", NUMBER, "1e-8",                                                        \
+      "implicit_euler: Newton stops at this fraction of the first residual")                                           \
+    X(IMPLICIT_NEWTON_ITERATIONS, "implicit.newton_iterations", INTEGER, "20",                                         \
+      "implicit_euler: Newton iterations per step, at most")                                                           \
+    X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
+      "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
+    X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
+    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
+    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
+    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "simulated time between frames, s (>= dt)")                    \
+    X(THREADS, "threads", INTEGER, "0", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")               \
+    X(KERNELS, "kernels", STRING, "reference", "reference (double scalar) or fast")                                    \
+    X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "write frames (output.formats); false writes log.csv only")        \
+    X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]",                                                                \
+      "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
       "irit, pov")
 
 typedef enum sb_scene_key {
@@ -190,8 +179,7 @@ const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32
 const char* sb_scene_where(const sb_scene* scene, sb_scene_key key);
 /* Formats "WHERE: message" into err, WHERE being where key was set (the
  * message alone when there is no WHERE); returns SB_ERR_INVALID. */
-sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format,
-                        ...);
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format, ...);
 
 /* A path value made usable: relative paths are joined to the directory of
  * the file that set it (the current directory for --set). Caller frees. */

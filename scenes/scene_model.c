@@ -45,19 +45,19 @@ bool sb_scene_lod(const sb_scene* scene) {
 /* mesh.target_vertices / mesh.target_error (target_vertices when not 0
  * wins over the scene's): the fixed vertices are locked and keep their
  * indices, so `fixed` still names them. */
-sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices,
-                            sb_simplify_report* report, sb_error* err) {
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, sb_simplify_report* report,
+                            sb_error* err) {
     if (sb_scene_volumetric(scene))
         return sb_scene_fail(scene, SB_KEY_MESH_TARGET_VERTICES, err,
                              "level of detail applies to surface meshes, not tetrahedral files");
     sb_simplify_def def = sb_default_simplify_def();
-    def.target_vertices = target_vertices ? target_vertices : (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_TARGET_VERTICES);
+    def.target_vertices =
+        target_vertices ? target_vertices : (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_TARGET_VERTICES);
     def.target_error = sb_scene_number(scene, SB_KEY_MESH_TARGET_ERROR);
     def.locked = sb_scene_indices(scene, SB_KEY_FIXED, &def.locked_count);
     for (uint32_t i = 0; i < def.locked_count; i++)
         if (def.locked[i] >= mesh->vertex_count)
-            return sb_scene_fail(scene, SB_KEY_FIXED, err,
-                                 "'fixed': vertex %u out of range (the mesh has %u vertices)",
+            return sb_scene_fail(scene, SB_KEY_FIXED, err, "'fixed': vertex %u out of range (the mesh has %u vertices)",
                                  def.locked[i], mesh->vertex_count);
     def.keep_locked_indices = true;
     return sb_mesh_simplify(mesh, &def, NULL, report, err);
@@ -76,9 +76,8 @@ static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     if (strcmp(generator, "file") == 0) return load_file(scene, out, err);
     sb_status status = strcmp(generator, "sheet") == 0
                            ? make_sheet(scene, out, err)
-                           : sb_mesh_generate_icosphere(
-                                 (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_SUBDIVISIONS),
-                                 sb_scene_number(scene, SB_KEY_MESH_RADIUS), out, err);
+                           : sb_mesh_generate_icosphere((uint32_t)sb_scene_integer(scene, SB_KEY_MESH_SUBDIVISIONS),
+                                                        sb_scene_number(scene, SB_KEY_MESH_RADIUS), out, err);
     if (status == SB_OK) return SB_OK;
     const char* where = sb_scene_where(scene, SB_KEY_MESH_GENERATOR);
     return sb_error_prefix(err, status, where ? where : generator);
@@ -107,14 +106,12 @@ sb_material_def sb_scene_material(const sb_scene* scene) {
     return m;
 }
 
-static sb_status fix_vertices(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
-                              sb_error* err) {
+static sb_status fix_vertices(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
     uint32_t count;
     const uint32_t* fixed = sb_scene_indices(scene, SB_KEY_FIXED, &count);
     for (uint32_t i = 0; i < count; i++) {
         if (fixed[i] >= mesh->vertex_count)
-            return sb_scene_fail(scene, SB_KEY_FIXED, err,
-                                 "'fixed': vertex %u out of range (the mesh has %u vertices)",
+            return sb_scene_fail(scene, SB_KEY_FIXED, err, "'fixed': vertex %u out of range (the mesh has %u vertices)",
                                  fixed[i], mesh->vertex_count);
         sb_builder_vertex(builder, fixed[i])->fixed = true;
     }
@@ -141,8 +138,7 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
     sb_tissue_from_name(sb_scene_string(scene, SB_KEY_MATERIAL), &t);
     if (scene->values[SB_KEY_TISSUE_YOUNG_MODULUS].where[0])
         t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
-    if (scene->values[SB_KEY_TISSUE_DENSITY].where[0])
-        t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
+    if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
     return t;
 }
@@ -153,8 +149,7 @@ bool sb_scene_volumetric(const sb_scene* scene) {
 }
 
 /* The tetrahedra behind the surface of a .node/.ele/.msh file. */
-static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
-                            sb_error* err) {
+static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
     if (!path) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
     sb_tet_mesh volume;
@@ -180,8 +175,10 @@ bool sb_scene_pov(const sb_scene* scene) {
  * which starts at vertex `first`; a fixed object has every vertex fixed. */
 static sb_status add_pov_object(const sb_pov_object* object, const sb_mesh* mesh, uint32_t first,
                                 const sb_spring_mesh_def* defaults, sb_builder* builder, sb_error* err) {
-    sb_mesh part = {.vertex_count = object->mesh.vertex_count, .positions = mesh->positions + 3 * (size_t)first,
-                    .triangle_count = object->mesh.triangle_count, .triangles = object->mesh.triangles};
+    sb_mesh part = {.vertex_count = object->mesh.vertex_count,
+                    .positions = mesh->positions + 3 * (size_t)first,
+                    .triangle_count = object->mesh.triangle_count,
+                    .triangles = object->mesh.triangles};
     sb_spring_mesh_def springs = sb_pov_object_springs(object, defaults);
     uint32_t base = sb_builder_vertex_count(builder);
     sb_status status = sb_builder_add_spring_mesh(builder, &part, &springs, err);
@@ -221,8 +218,7 @@ static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder*
     return status;
 }
 
-static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder,
-                          sb_error* err) {
+static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
     if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
     if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
@@ -233,8 +229,8 @@ static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder
     return sb_builder_add_mesh(builder, mesh, &material, err);
 }
 
-static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* source,
-                       sb_builder* builder, sb_error* err) {
+static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* source, sb_builder* builder,
+                       sb_error* err) {
     sb_status status = add_body(scene, mesh, builder, err);
     if (status != SB_OK) {
         sb_error_prefix(err, status, source);
@@ -246,8 +242,7 @@ static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* s
     return model;
 }
 
-sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source,
-                               sb_error* err) {
+sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source, sb_error* err) {
     sb_builder* builder = sb_builder_create();
     if (!builder) {
         sb_errorf(err, SB_ERR_NOMEM, "out of memory");

@@ -17,8 +17,8 @@ bool sb_scene_lod(const sb_scene* scene);
 /* Simplifies a surface mesh as the scene asks (target_vertices, when not 0,
  * overrides mesh.target_vertices): fixed vertices locked at their indices,
  * the boundary kept. An error for a tetrahedral file. */
-sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices,
-                            sb_simplify_report* report, sb_error* err);
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, sb_simplify_report* report,
+                            sb_error* err);
 /* mesh.scale, mesh.rotate and mesh.translate as a transform. */
 sb_mesh_transform_def sb_scene_placement(const sb_scene* scene);
 
@@ -41,8 +41,7 @@ bool sb_scene_pov(const sb_scene* scene);
  * the `pin` selection, and compiles. On failure returns NULL; err names the
  * bad index or element, prefixed with `source` (the mesh's file or the
  * scene) for errors of the mesh itself. */
-sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source,
-                               sb_error* err);
+sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source, sb_error* err);
 
 /* Integrator, gravity, drag, kernels and threads (as the scene says; 0 =
  * the runtime's default). */

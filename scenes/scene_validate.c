@@ -52,8 +52,10 @@ typedef struct integer_rule {
 } integer_rule;
 
 static const integer_rule integer_rules[] = {
-    {SB_KEY_MESH_NX, 2, 1 << 16},     {SB_KEY_MESH_NY, 2, 1 << 16},
-    {SB_KEY_MESH_SEED, 0, INT64_MAX}, {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
+    {SB_KEY_MESH_NX, 2, 1 << 16},
+    {SB_KEY_MESH_NY, 2, 1 << 16},
+    {SB_KEY_MESH_SEED, 0, INT64_MAX},
+    {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
     {SB_KEY_THREADS, 0, 4096},
     {SB_KEY_MESH_TARGET_VERTICES, 0, UINT32_MAX},
     {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
@@ -64,8 +66,7 @@ static const integer_rule integer_rules[] = {
 static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
     double value = sb_scene_number(scene, rule->key);
     const char* name = sb_scene_key_get(rule->key)->name;
-    if (!isfinite(value))
-        return sb_scene_fail(scene, rule->key, err, "'%s' must be finite, got %g", name, value);
+    if (!isfinite(value)) return sb_scene_fail(scene, rule->key, err, "'%s' must be finite, got %g", name, value);
     if (rule->positive ? value <= 0.0 : value < 0.0)
         return sb_scene_fail(scene, rule->key, err, "'%s' must be %s 0, got %g", name,
                              rule->positive ? ">" : ">=", value);
@@ -76,8 +77,8 @@ static sb_status check_integer(const sb_scene* scene, const integer_rule* rule, 
     int64_t value = sb_scene_integer(scene, rule->key);
     if (value >= rule->min && value <= rule->max) return SB_OK;
     return sb_scene_fail(scene, rule->key, err, "'%s' must be in [%lld, %lld], got %lld",
-                         sb_scene_key_get(rule->key)->name, (long long)rule->min,
-                         (long long)rule->max, (long long)value);
+                         sb_scene_key_get(rule->key)->name, (long long)rule->min, (long long)rule->max,
+                         (long long)value);
 }
 
 static sb_status check_ranges(const sb_scene* scene, sb_error* err) {
@@ -107,8 +108,7 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              "'mesh.generator' must be sheet, icosphere or file, got '%s'",
                              sb_scene_string(scene, SB_KEY_MESH_GENERATOR));
     if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
-        return sb_scene_fail(scene, SB_KEY_KERNELS, err,
-                             "'kernels' must be reference or fast, got '%s'",
+        return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'",
                              sb_scene_string(scene, SB_KEY_KERNELS));
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
@@ -124,15 +124,14 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'",
                              sb_scene_string(scene, SB_KEY_MATERIAL));
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
-        return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'",
-                             sb_pin_names(), sb_scene_string(scene, SB_KEY_PIN));
+        return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'", sb_pin_names(),
+                             sb_scene_string(scene, SB_KEY_PIN));
     sb_frame_formats formats;
     char bad[64];
     if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))
-        return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err,
-                             "'output.formats': %s%s%s (known: %s)",
-                             bad[0] ? "unknown format '" : "an empty format name", bad,
-                             bad[0] ? "'" : "", sb_frame_formats_known());
+        return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err, "'output.formats': %s%s%s (known: %s)",
+                             bad[0] ? "unknown format '" : "an empty format name", bad, bad[0] ? "'" : "",
+                             sb_frame_formats_known());
     return SB_OK;
 }
 
@@ -172,8 +171,7 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
                              "'mass' and 'density' are both 0: free vertices need a mass");
     bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     if (file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] == '\0')
-        return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err,
-                             "'mesh.generator' is file but 'mesh.file' is not set");
+        return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err, "'mesh.generator' is file but 'mesh.file' is not set");
     return SB_OK;
 }
 

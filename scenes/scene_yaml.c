@@ -35,8 +35,7 @@ static void node_where(const yaml_source* src, const yaml_node_t* node, char* ou
         snprintf(out, size, "%s", src->name);
 }
 
-static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, const char* format,
-                             ...) {
+static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, const char* format, ...) {
     char where[320];
     node_where(src, node, where, sizeof where);
     va_list args;
@@ -48,9 +47,7 @@ static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, co
 
 /* ---- scalars -------------------------------------------------------------- */
 
-static const char* scalar_text(const yaml_node_t* node) {
-    return (const char*)node->data.scalar.value;
-}
+static const char* scalar_text(const yaml_node_t* node) { return (const char*)node->data.scalar.value; }
 
 static bool is_plain_scalar(const yaml_node_t* node) {
     return node->type == YAML_SCALAR_NODE && node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE &&
@@ -103,18 +100,15 @@ static void describe_node(const yaml_node_t* node, char* out, size_t size) {
         snprintf(out, size, "'%.80s'", scalar_text(node));
 }
 
-static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                           const char* expected) {
+static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, const char* expected) {
     char got[100];
     describe_node(node, got, sizeof got);
-    return source_fail(src, node, "'%s' expects %s, got %s", sb_scene_key_get(key)->name, expected,
-                       got);
+    return source_fail(src, node, "'%s' expects %s, got %s", sb_scene_key_get(key)->name, expected, got);
 }
 
 /* ---- values of each type -------------------------------------------------- */
 
-static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                           sb_scene_value* out) {
+static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
     if (node->type != YAML_SEQUENCE_NODE || item_count(node) != 3)
         return type_fail(src, node, key, "a sequence of 3 numbers");
     for (size_t i = 0; i < 3; i++) {
@@ -124,10 +118,8 @@ static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_s
     return SB_OK;
 }
 
-static sb_status read_indices(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                              sb_scene_value* out) {
-    if (node->type != YAML_SEQUENCE_NODE)
-        return type_fail(src, node, key, "a sequence of vertex indices");
+static sb_status read_indices(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
+    if (node->type != YAML_SEQUENCE_NODE) return type_fail(src, node, key, "a sequence of vertex indices");
     size_t count = item_count(node);
     if (count > UINT32_MAX) return source_fail(src, node, "too many indices");
     out->indices = malloc((count ? count : 1) * sizeof *out->indices);
@@ -143,16 +135,14 @@ static sb_status read_indices(const yaml_source* src, const yaml_node_t* node, s
     return SB_OK;
 }
 
-static sb_status read_string(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                             sb_scene_value* out) {
+static sb_status read_string(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
     if (node->type != YAML_SCALAR_NODE) return type_fail(src, node, key, "a string");
     out->string = strdup(scalar_text(node));
     return out->string ? SB_OK : source_fail(src, node, "out of memory");
 }
 
 /* A scalar as it is, or a sequence of scalars joined with commas. */
-static sb_status read_names(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                            sb_scene_value* out) {
+static sb_status read_names(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
     if (node->type == YAML_SCALAR_NODE) return read_string(src, node, key, out);
     if (node->type != YAML_SEQUENCE_NODE) return type_fail(src, node, key, "a sequence of names");
     size_t size = 1;
@@ -169,29 +159,20 @@ static sb_status read_names(const yaml_source* src, const yaml_node_t* node, sb_
     return SB_OK;
 }
 
-static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_scene_key key,
-                            sb_scene_value* out) {
+static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
     switch (sb_scene_key_get(key)->type) {
-    case SB_SCENE_NUMBER:
-        return parse_number(node, &out->number) ? SB_OK : type_fail(src, node, key, "a number");
-    case SB_SCENE_INTEGER:
-        return parse_integer(node, &out->integer) ? SB_OK : type_fail(src, node, key, "an integer");
-    case SB_SCENE_BOOL:
-        return parse_bool(node, &out->boolean) ? SB_OK : type_fail(src, node, key, "true or false");
-    case SB_SCENE_STRING:
-        return read_string(src, node, key, out);
-    case SB_SCENE_VEC3:
-        return read_vec3(src, node, key, out);
+    case SB_SCENE_NUMBER: return parse_number(node, &out->number) ? SB_OK : type_fail(src, node, key, "a number");
+    case SB_SCENE_INTEGER: return parse_integer(node, &out->integer) ? SB_OK : type_fail(src, node, key, "an integer");
+    case SB_SCENE_BOOL: return parse_bool(node, &out->boolean) ? SB_OK : type_fail(src, node, key, "true or false");
+    case SB_SCENE_STRING: return read_string(src, node, key, out);
+    case SB_SCENE_VEC3: return read_vec3(src, node, key, out);
     case SB_SCENE_VEC3_OR_NUMBER:
         if (node->type != YAML_SCALAR_NODE) return read_vec3(src, node, key, out);
-        if (!parse_number(node, &out->vec3[0]))
-            return type_fail(src, node, key, "a number or a sequence of 3 numbers");
+        if (!parse_number(node, &out->vec3[0])) return type_fail(src, node, key, "a number or a sequence of 3 numbers");
         out->vec3[1] = out->vec3[2] = out->vec3[0];
         return SB_OK;
-    case SB_SCENE_INDICES:
-        return read_indices(src, node, key, out);
-    case SB_SCENE_NAMES:
-        return read_names(src, node, key, out);
+    case SB_SCENE_INDICES: return read_indices(src, node, key, out);
+    case SB_SCENE_NAMES: return read_names(src, node, key, out);
     }
     return SB_ERR_INVALID;
 }
@@ -204,11 +185,10 @@ static void value_release(sb_scene_value* value) {
 
 /* ---- walking the document ------------------------------------------------- */
 
-static sb_status assign(yaml_source* src, const yaml_node_t* key_node, const yaml_node_t* node,
-                        sb_scene_key key) {
+static sb_status assign(yaml_source* src, const yaml_node_t* key_node, const yaml_node_t* node, sb_scene_key key) {
     if (src->seen[key])
-        return source_fail(src, key_node, "duplicate key '%s' (first set at line %zu)",
-                           sb_scene_key_get(key)->name, src->seen_line[key]);
+        return source_fail(src, key_node, "duplicate key '%s' (first set at line %zu)", sb_scene_key_get(key)->name,
+                           src->seen_line[key]);
     src->seen[key] = true;
     src->seen_line[key] = key_node->start_mark.line + 1;
     sb_scene_value value = {0};
@@ -227,12 +207,11 @@ static sb_status assign(yaml_source* src, const yaml_node_t* key_node, const yam
 
 static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* prefix);
 
-static sb_status apply(yaml_source* src, const yaml_node_t* key_node, const char* name,
-                       const yaml_node_t* node) {
+static sb_status apply(yaml_source* src, const yaml_node_t* key_node, const char* name, const yaml_node_t* node) {
     sb_scene_key key;
     if (sb_scene_key_find(name, &key)) return assign(src, key_node, node, key);
-    bool nonempty_map = node->type == YAML_MAPPING_NODE &&
-                        node->data.mapping.pairs.top > node->data.mapping.pairs.start;
+    bool nonempty_map =
+        node->type == YAML_MAPPING_NODE && node->data.mapping.pairs.top > node->data.mapping.pairs.start;
     if (nonempty_map) return walk_map(src, node, name);
     return source_fail(src, key_node, "unknown key '%s'", name);
 }
@@ -240,19 +219,15 @@ static sb_status apply(yaml_source* src, const yaml_node_t* key_node, const char
 static sb_status walk_pair(yaml_source* src, const yaml_node_pair_t* pair, const char* prefix) {
     const yaml_node_t* key_node = yaml_document_get_node(src->doc, pair->key);
     const yaml_node_t* value = yaml_document_get_node(src->doc, pair->value);
-    if (key_node->type != YAML_SCALAR_NODE)
-        return source_fail(src, key_node, "a key must be a plain name");
+    if (key_node->type != YAML_SCALAR_NODE) return source_fail(src, key_node, "a key must be a plain name");
     char name[256];
-    int length =
-        snprintf(name, sizeof name, "%s%s%s", prefix, prefix[0] ? "." : "", scalar_text(key_node));
-    if (length < 0 || (size_t)length >= sizeof name)
-        return source_fail(src, key_node, "key too long");
+    int length = snprintf(name, sizeof name, "%s%s%s", prefix, prefix[0] ? "." : "", scalar_text(key_node));
+    if (length < 0 || (size_t)length >= sizeof name) return source_fail(src, key_node, "key too long");
     return apply(src, key_node, name, value);
 }
 
 static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* prefix) {
-    for (const yaml_node_pair_t* pair = map->data.mapping.pairs.start;
-         pair < map->data.mapping.pairs.top; pair++) {
+    for (const yaml_node_pair_t* pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
         sb_status status = walk_pair(src, pair, prefix);
         if (status != SB_OK) return status;
     }
@@ -264,8 +239,8 @@ static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* 
 static sb_status yaml_fail(const yaml_source* src, const yaml_parser_t* parser) {
     const char* problem = parser->problem ? parser->problem : "unreadable";
     if (src->has_lines)
-        return sb_errorf(src->err, SB_ERR_PARSE, "%s:%zu: malformed YAML: %s", src->name,
-                         parser->problem_mark.line + 1, problem);
+        return sb_errorf(src->err, SB_ERR_PARSE, "%s:%zu: malformed YAML: %s", src->name, parser->problem_mark.line + 1,
+                         problem);
     return sb_errorf(src->err, SB_ERR_PARSE, "%s: malformed value: %s", src->name, problem);
 }
 
@@ -273,8 +248,7 @@ static sb_status yaml_fail(const yaml_source* src, const yaml_parser_t* parser) 
 static sb_status walk_file(yaml_source* src, yaml_parser_t* parser) {
     yaml_node_t* root = yaml_document_get_root_node(src->doc);
     if (!root) return SB_OK;
-    if (root->type != YAML_MAPPING_NODE)
-        return source_fail(src, root, "a scene must be a map of keys");
+    if (root->type != YAML_MAPPING_NODE) return source_fail(src, root, "a scene must be a map of keys");
     sb_status status = walk_map(src, root, "");
     if (status != SB_OK) return status;
     yaml_document_t next;
@@ -302,8 +276,7 @@ static char* name_of(const char* path) {
 
 static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_error* err) {
     char* dir = directory_of(path);
-    yaml_source src = {
-        .scene = scene, .name = path, .has_lines = true, .base_dir = dir, .err = err};
+    yaml_source src = {.scene = scene, .name = path, .has_lines = true, .base_dir = dir, .err = err};
     yaml_parser_t parser;
     yaml_document_t doc;
     yaml_parser_initialize(&parser);
@@ -346,8 +319,7 @@ static sb_status set_value(yaml_source* src, const char* name, const char* text)
     } else {
         src->doc = &doc;
         yaml_node_t* root = yaml_document_get_root_node(&doc);
-        status = root ? apply(src, root, name, root)
-                      : source_fail(src, &(yaml_node_t){0}, "missing value after '='");
+        status = root ? apply(src, root, name, root) : source_fail(src, &(yaml_node_t){0}, "missing value after '='");
         yaml_document_delete(&doc);
     }
     yaml_parser_delete(&parser);
@@ -359,8 +331,7 @@ sb_status sb_scene_set(sb_scene* scene, const char* assignment, sb_error* err) {
     snprintf(where, sizeof where, "--set %s", assignment);
     yaml_source src = {.scene = scene, .name = where, .err = err};
     const char* equals = strchr(assignment, '=');
-    if (!equals || equals == assignment)
-        return source_fail(&src, &(yaml_node_t){0}, "expected key=value");
+    if (!equals || equals == assignment) return source_fail(&src, &(yaml_node_t){0}, "expected key=value");
     char name[256];
     snprintf(name, sizeof name, "%.*s", (int)(equals - assignment), assignment);
     return set_value(&src, name, equals + 1);

@@ -42,13 +42,12 @@
 extern char** environ;
 
 void sb_cli_tetra_usage(FILE* stream) {
-    fprintf(stream,
-            "usage: softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
-            "Fills the closed surface IN (any mesh format) with tetrahedra by running TetGen\n"
-            "(`tetgen -pq<Q>a<V>`; Debian: apt-get install tetgen) and writes OUT.node and\n"
-            "OUT.ele (OUT ends in .node or .ele). --quality: radius-edge ratio bound, > 1\n"
-            "(default 1.414; nearer 1 gives rounder tetrahedra and more of them);\n"
-            "--max-volume: largest tetrahedron volume, m^3 (default: no bound).\n");
+    fprintf(stream, "usage: softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
+                    "Fills the closed surface IN (any mesh format) with tetrahedra by running TetGen\n"
+                    "(`tetgen -pq<Q>a<V>`; Debian: apt-get install tetgen) and writes OUT.node and\n"
+                    "OUT.ele (OUT ends in .node or .ele). --quality: radius-edge ratio bound, > 1\n"
+                    "(default 1.414; nearer 1 gives rounder tetrahedra and more of them);\n"
+                    "--max-volume: largest tetrahedron volume, m^3 (default: no bound).\n");
 }
 
 typedef struct tetra_job {
@@ -70,8 +69,8 @@ static sb_status number_option(const char* name, const char* text, double* out, 
     errno = 0;
     *out = text ? strtod(text, &end) : NAN;
     if (!text || end == text || *end != '\0' || errno != 0 || !isfinite(*out))
-        return sb_errorf(err, SB_ERR_INVALID, "%s: expected a number, got '%s' (see softbond tetra --help)",
-                         name, text ? text : "");
+        return sb_errorf(err, SB_ERR_INVALID, "%s: expected a number, got '%s' (see softbond tetra --help)", name,
+                         text ? text : "");
     return SB_OK;
 }
 
@@ -87,16 +86,20 @@ static const char* option_value(int argc, char** argv, int* i, const char* name)
 static sb_status parse_arg(int argc, char** argv, int* i, tetra_job* job, sb_error* err) {
     const char* arg = argv[*i];
     const char* value;
-    if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) job->help = true;
+    if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)
+        job->help = true;
     else if ((value = option_value(argc, argv, i, "--quality")))
         return number_option("--quality", value, &job->quality, err);
     else if ((value = option_value(argc, argv, i, "--max-volume")))
         return number_option("--max-volume", value, &job->max_volume, err);
     else if (arg[0] == '-' && arg[1] != '\0')
         return sb_errorf(err, SB_ERR_INVALID, "unknown option '%s' (see softbond tetra --help)", arg);
-    else if (!job->in) job->in = arg;
-    else if (!job->out) job->out = arg;
-    else return sb_errorf(err, SB_ERR_INVALID, "unexpected argument '%s' (see softbond tetra --help)", arg);
+    else if (!job->in)
+        job->in = arg;
+    else if (!job->out)
+        job->out = arg;
+    else
+        return sb_errorf(err, SB_ERR_INVALID, "unexpected argument '%s' (see softbond tetra --help)", arg);
     return SB_OK;
 }
 
@@ -189,7 +192,8 @@ static sb_status run_tetgen(tetra_job* job, sb_error* err) {
     char* switches = job->switches;
     char input[600];
     int used = snprintf(switches, sizeof job->switches, "-pq%g", job->quality);
-    if (job->max_volume > 0.0) used += snprintf(switches + used, sizeof job->switches - (size_t)used, "a%g", job->max_volume);
+    if (job->max_volume > 0.0)
+        used += snprintf(switches + used, sizeof job->switches - (size_t)used, "a%g", job->max_volume);
     snprintf(switches + used, sizeof job->switches - (size_t)used, "F");
     char* argv[] = {(char*)program, switches, (char*)in_dir(job, "surface.off", input, sizeof input), NULL};
     pid_t pid;
@@ -202,7 +206,8 @@ static sb_status run_tetgen(tetra_job* job, sb_error* err) {
     char message[512];
     last_message(job, message, sizeof message);
     if (WIFEXITED(wait_status))
-        return sb_errorf(err, SB_ERR_IO, "%s %s failed (exit %d): %s", program, switches, WEXITSTATUS(wait_status), message);
+        return sb_errorf(err, SB_ERR_IO, "%s %s failed (exit %d): %s", program, switches, WEXITSTATUS(wait_status),
+                         message);
     return sb_errorf(err, SB_ERR_IO,
                      "%s %s was killed by signal %d (%s); TetGen aborts so on a self-intersecting "
                      "surface: `tetgen -d` finds the intersections",
@@ -262,7 +267,8 @@ static sb_status make_dir(tetra_job* job, sb_error* err) {
     const char* base = getenv("TMPDIR");
     snprintf(job->dir, sizeof job->dir, "%s/softbond_tetra_XXXXXX", base && *base ? base : "/tmp");
     if (mkdtemp(job->dir)) return SB_OK;
-    sb_status status = sb_errorf(err, SB_ERR_IO, "%s: cannot make a temporary directory: %s", job->dir, strerror(errno));
+    sb_status status =
+        sb_errorf(err, SB_ERR_IO, "%s: cannot make a temporary directory: %s", job->dir, strerror(errno));
     job->dir[0] = '\0';
     return status;
 }

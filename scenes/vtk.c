@@ -54,8 +54,7 @@ static void write_cells(FILE* f, const uint32_t* nodes, uint32_t count, uint32_t
     }
     fprintf(f, "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" "
                "format=\"ascii\">\n");
-    for (uint32_t c = 0; c < count; c++)
-        fprintf(f, "%s%u", c % 16 ? " " : "\n          ", corners * (c + 1));
+    for (uint32_t c = 0; c < count; c++) fprintf(f, "%s%u", c % 16 ? " " : "\n          ", corners * (c + 1));
     fprintf(f, "\n        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" "
                "format=\"ascii\">\n");
     for (uint32_t c = 0; c < count; c++) fprintf(f, "%s%d", c % 32 ? " " : "\n          ", type);
@@ -84,9 +83,7 @@ static void write_points(FILE* f, const sb_vtk_frame* frame) {
     fprintf(f, "      </Points>\n");
 }
 
-static void write_piece_end(FILE* f) {
-    fprintf(f, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
-}
+static void write_piece_end(FILE* f) { fprintf(f, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n"); }
 
 static void write_grid(FILE* f, const sb_vtk_frame* frame) {
     const sb_mesh* mesh = frame->mesh;
@@ -123,15 +120,13 @@ static void measure_bond(const sb_vtk_frame* frame, uint32_t e, bond_cells* b) {
 
 static bool bond_cells_make(const sb_vtk_frame* frame, uint32_t count, bond_cells* b) {
     size_t n = count ? count : 1;
-    *b = (bond_cells){malloc(2 * n * sizeof *b->nodes), malloc(n * sizeof(double)),
-                      malloc(n * sizeof(double))};
+    *b = (bond_cells){malloc(2 * n * sizeof *b->nodes), malloc(n * sizeof(double)), malloc(n * sizeof(double))};
     if (!b->nodes || !b->strain || !b->energy) return false;
     for (uint32_t e = 0; e < count; e++) measure_bond(frame, e, b);
     return true;
 }
 
-static void write_bond_grid(FILE* f, const sb_vtk_frame* frame, const bond_cells* b,
-                            uint32_t count) {
+static void write_bond_grid(FILE* f, const sb_vtk_frame* frame, const bond_cells* b, uint32_t count) {
     write_piece_start(f, frame, count);
     fprintf(f, "      <CellData Scalars=\"strain\">\n");
     write_scalars(f, "strain", b->strain, count);
@@ -154,9 +149,8 @@ sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_err
     uint32_t count = sb_model_bond_count(frame->model);
     bond_cells bonds;
     sb_atomic_file file;
-    sb_status status = bond_cells_make(frame, count, &bonds)
-                           ? sb_atomic_open(&file, path, err)
-                           : sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    sb_status status = bond_cells_make(frame, count, &bonds) ? sb_atomic_open(&file, path, err)
+                                                             : sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
     if (status == SB_OK) {
         write_bond_grid(file.stream, frame, &bonds, count);
         status = sb_atomic_commit(&file, err);
@@ -166,12 +160,10 @@ sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_err
 }
 
 static void write_dataset(FILE* f, double time, int part, const char* name) {
-    fprintf(f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"%d\" file=\"%s\"/>\n", time,
-            part, name);
+    fprintf(f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"%d\" file=\"%s\"/>\n", time, part, name);
 }
 
-sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count,
-                                  sb_error* err) {
+sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count, sb_error* err) {
     sb_atomic_file file;
     sb_status status = sb_atomic_open(&file, path, err);
     if (status != SB_OK) return status;

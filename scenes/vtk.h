@@ -29,7 +29,6 @@ sb_status sb_vtk_write_frame(const char* path, const sb_vtk_frame* frame, sb_err
 sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_error* err);
 /* Lists frames 0 .. count-1 at times[]: each one's surface (part 0, .vtu)
  * and bonds (part 1, _bonds.vtu). */
-sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count,
-                                  sb_error* err);
+sb_status sb_vtk_write_collection(const char* path, const double* times, uint32_t count, sb_error* err);
 
 #endif

@@ -386,8 +386,7 @@ static void test_add_mesh_density(void** state) {
     sb_error err;
     assert_int_equal(sb_builder_add_mesh(b, &mesh, &mat, &err), SB_OK);
     sb_model* m = tu_compile(b);
-    const double expected[4] = {2 * 1.0 * 3.0 / 3, 1.0 * 3.0 / 3, 2 * 1.0 * 3.0 / 3,
-                                1.0 * 3.0 / 3};
+    const double expected[4] = {2 * 1.0 * 3.0 / 3, 1.0 * 3.0 / 3, 2 * 1.0 * 3.0 / 3, 1.0 * 3.0 / 3};
     double total = 0;
     for (uint32_t v = 0; v < 4; ++v) {
         TU_ASSERT_NEAR(sb_model_mass(m, v), expected[v], 1e-14);

@@ -55,21 +55,13 @@ typedef struct vec {
     double x, y, z;
 } vec;
 
-static vec sub(vec a, vec b) {
-    return (vec){a.x - b.x, a.y - b.y, a.z - b.z};
-}
+static vec sub(vec a, vec b) { return (vec){a.x - b.x, a.y - b.y, a.z - b.z}; }
 
-static double dot(vec a, vec b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
+static double dot(vec a, vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-static double len(vec a) {
-    return sqrt(dot(a, a));
-}
+static double len(vec a) { return sqrt(dot(a, a)); }
 
-static vec cross(vec a, vec b) {
-    return (vec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+static vec cross(vec a, vec b) { return (vec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 
 /* The triangle used by most tests: rest and moved positions. */
 static const vec tri_rest[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -139,9 +131,9 @@ static void test_eval_energies_match_hand_values(void** state) {
     (void)state;
     tu_write_file("tri.obj", tri_obj);
     tu_write_file("tri_pos.csv", tri_pos);
-    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "bond.k=100", "--set", "angle.k=2",
-                                   "--set", "stretch_bend.k=3", "--set", "spring.k=5",
-                                   "--positions", "tri_pos.csv", NULL});
+    tu_result r =
+        tu_run((const char*[]){"eval", "tri.obj", "--set", "bond.k=100", "--set", "angle.k=2", "--set",
+                               "stretch_bend.k=3", "--set", "spring.k=5", "--positions", "tri_pos.csv", NULL});
     assert_int_equal(r.code, 0);
     assert_string_equal(r.err, "");
     assert_one_json_line(r.out);
@@ -178,8 +170,8 @@ static void test_eval_bend_of_a_folded_square(void** state) {
     (void)state;
     tu_write_file("square.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
     tu_write_file("fold.csv", "x,y,z\n0,0,0\n1,0,0\n0,1,0\n1,1,0.3\n");
-    tu_result r = tu_run((const char*[]){"eval", "square.obj", "--set", "bond.k=0", "--set", "angle.k=0",
-                                   "--set", "bend.k=2", "--positions", "fold.csv", NULL});
+    tu_result r = tu_run((const char*[]){"eval", "square.obj", "--set", "bond.k=0", "--set", "angle.k=0", "--set",
+                                         "bend.k=2", "--positions", "fold.csv", NULL});
     assert_int_equal(r.code, 0);
     vec q[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.3}};
     vec n1 = cross(sub(q[1], q[0]), sub(q[2], q[0]));
@@ -196,7 +188,7 @@ static void test_eval_fast_agrees_with_the_reference(void** state) {
     (void)state;
     tu_write_file("tri.obj", tri_obj);
     tu_write_file("tri_pos.csv", tri_pos);
-    const char* sets[] = {"eval", "tri.obj", "--set", "angle.k=2", "--set", "stretch_bend.k=3",
+    const char* sets[] = {"eval",        "tri.obj",     "--set",  "angle.k=2", "--set", "stretch_bend.k=3",
                           "--positions", "tri_pos.csv", "--fast", NULL};
     tu_result fast = tu_run(sets);
     sets[8] = NULL;
@@ -232,8 +224,8 @@ static void test_eval_forces_csv(void** state) {
     tu_write_file("tri.obj", tri_obj);
     tu_write_file("tri_pos.csv", tri_pos);
     const double k = 100.0;
-    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", "--positions",
-                                   "tri_pos.csv", "--forces", "forces.csv", NULL});
+    tu_result r = tu_run((const char*[]){"eval", "tri.obj", "--set", "angle.k=0", "--positions", "tri_pos.csv",
+                                         "--forces", "forces.csv", NULL});
     assert_int_equal(r.code, 0);
     char* csv = tu_read_file(tu_tmp_path("forces.csv"));
     assert_non_null(csv);
@@ -282,35 +274,31 @@ static void test_eval_bad_positions(void** state) {
     tu_write_file("word.csv", "x,y,z\n0,0,0\n1,zero,0\n0,1,0\n");
     tu_write_file("inf.csv", "x,y,z\n0,0,0\n1,0,0\n0,inf,0\n");
     tu_write_file("header.csv", "a,b,c\n0,0,0\n1,0,0\n0,1,0\n");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "short.csv", "--forces",
-                                      "bad_forces.csv", NULL},
-                      "short.csv:4: 2 rows, but the mesh has 3 vertices");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "long.csv", "--forces",
-                                      "bad_forces.csv", NULL},
+    assert_eval_fails(
+        (const char*[]){"eval", "tri.obj", "--positions", "short.csv", "--forces", "bad_forces.csv", NULL},
+        "short.csv:4: 2 rows, but the mesh has 3 vertices");
+    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "long.csv", "--forces", "bad_forces.csv", NULL},
                       "long.csv:5: more rows than the mesh's 3 vertices");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "word.csv", "--forces",
-                                      "bad_forces.csv", NULL},
+    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "word.csv", "--forces", "bad_forces.csv", NULL},
                       "word.csv:3: expected three numbers x,y,z, got '1,zero,0'");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "inf.csv", "--forces",
-                                      "bad_forces.csv", NULL},
+    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "inf.csv", "--forces", "bad_forces.csv", NULL},
                       "inf.csv:4: non-finite number in '0,inf,0'");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "header.csv", "--forces",
-                                      "bad_forces.csv", NULL},
-                      "header.csv:1: expected the header 'x,y,z', got 'a,b,c'");
+    assert_eval_fails(
+        (const char*[]){"eval", "tri.obj", "--positions", "header.csv", "--forces", "bad_forces.csv", NULL},
+        "header.csv:1: expected the header 'x,y,z', got 'a,b,c'");
 }
 
 static void test_eval_bad_input(void** state) {
     (void)state;
     tu_write_file("tri.obj", tri_obj);
     tu_write_file("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--set", "bond.kk=1", "--forces",
-                                      "bad_forces.csv", NULL},
+    assert_eval_fails((const char*[]){"eval", "tri.obj", "--set", "bond.kk=1", "--forces", "bad_forces.csv", NULL},
                       "--set bond.kk=1: unknown key 'bond.kk'");
     assert_eval_fails((const char*[]){"eval", "missing.obj", "--forces", "bad_forces.csv", NULL},
                       "missing.obj: cannot open: No such file or directory");
-    assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "missing.csv", "--forces",
-                                      "bad_forces.csv", NULL},
-                      "missing.csv: cannot open: No such file or directory");
+    assert_eval_fails(
+        (const char*[]){"eval", "tri.obj", "--positions", "missing.csv", "--forces", "bad_forces.csv", NULL},
+        "missing.csv: cannot open: No such file or directory");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--frobnicate", NULL},
                       "unknown option '--frobnicate' (see softbond eval --help)");
     assert_eval_fails((const char*[]){"eval", NULL}, "missing MESH (see softbond eval --help)");
@@ -324,16 +312,15 @@ static void test_eval_bad_input(void** state) {
 
 /* ---- run ------------------------------------------------------------------------ */
 
-static const char* const tiny_scene =
-    "# a tiny sheet, pinned at its top corners\n"
-    "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
-    "bond: {k: 50}\n"
-    "spring: {k: 10, damping: 0.01}\n"
-    "mass: 0.01\n"
-    "pin: top_corners\n"
-    "dt: 0.001\n"
-    "duration: 0.1\n"
-    "frame_interval: 0.02\n";
+static const char* const tiny_scene = "# a tiny sheet, pinned at its top corners\n"
+                                      "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+                                      "bond: {k: 50}\n"
+                                      "spring: {k: 10, damping: 0.01}\n"
+                                      "mass: 0.01\n"
+                                      "pin: top_corners\n"
+                                      "dt: 0.001\n"
+                                      "duration: 0.1\n"
+                                      "frame_interval: 0.02\n";
 
 /* Splits a CSV row into fields, returning how many there were. */
 static int csv_fields(const char* row, double* values, int max) {
@@ -439,8 +426,8 @@ static void test_run_logs_solver_work(void** state) {
                                     {"integrator=implicit_euler", "dt=0.001", "bond.k=50"},
                                     {"adaptive=true", "dt=0.02", "bond.k=5000"}};
     for (int c = 0; c < 3; c++) {
-        tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", cases[c][0], "--set", cases[c][1],
-                                             "--set", cases[c][2], "--set", "output.frames=false", "--output", "work", NULL});
+        tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", cases[c][0], "--set", cases[c][1], "--set",
+                                             cases[c][2], "--set", "output.frames=false", "--output", "work", NULL});
         if (r.code != 0) fail_msg("%s: %s", cases[c][0], r.err);
         tu_result_free(&r);
         double rows[8][LOG_COLUMNS];
@@ -458,8 +445,10 @@ static void test_run_logs_solver_work(void** state) {
             } else {
                 assert_true(w[LOG_NEWTON] == 0.0 && w[LOG_CG] == 0.0);
             }
-            if (c == 2) assert_true(w[LOG_SUBSTEPS] >= w[LOG_STEPS]);
-            else assert_true(w[LOG_SUBSTEPS] == w[LOG_STEPS] && w[LOG_REJECTED] == 0.0);
+            if (c == 2)
+                assert_true(w[LOG_SUBSTEPS] >= w[LOG_STEPS]);
+            else
+                assert_true(w[LOG_SUBSTEPS] == w[LOG_STEPS] && w[LOG_REJECTED] == 0.0);
         }
         print_message("%s: %g sub-steps in 5 frames\n", cases[c][0], substeps);
         if (c == 2) TU_ASSERT_LE(25.0, substeps);
@@ -492,11 +481,10 @@ static int vtu_array(const char* path, const char* name, double* out, int max) {
  * force is the load alone; the vertex then moves along it. */
 static void test_run_point_load(void** state) {
     (void)state;
-    tu_write_file("load.yaml",
-                  "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
-                  "bond: {k: 50}\nmass: 0.01\npin: left_edge\ngravity: [0, 0, 0]\n"
-                  "load:\n  force: [0, 0.1, 0.25]\n  at: [0.29, 0.19, 0.05]\n"
-                  "dt: 0.001\nduration: 0.02\nframe_interval: 0.01\n");
+    tu_write_file("load.yaml", "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+                               "bond: {k: 50}\nmass: 0.01\npin: left_edge\ngravity: [0, 0, 0]\n"
+                               "load:\n  force: [0, 0.1, 0.25]\n  at: [0.29, 0.19, 0.05]\n"
+                               "dt: 0.001\nduration: 0.02\nframe_interval: 0.01\n");
     tu_result r = tu_run((const char*[]){"run", "load.yaml", "--output", "load", NULL});
     if (r.code != 0) fail_msg("%s", r.err);
     /* 0.01, 0.01 and 0.05 m from the corner: √27 × 0.01 */
@@ -571,9 +559,8 @@ static void test_sudhamani_scene_settles(void** state) {
 static void test_run_set_and_output(void** state) {
     (void)state;
     tu_write_file("tiny.yaml", tiny_scene);
-    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "duration=0.05", "--set",
-                                   "output.frames=false", "--output", "custom/dir", "--threads",
-                                   "1", NULL});
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "duration=0.05", "--set", "output.frames=false",
+                                         "--output", "custom/dir", "--threads", "1", NULL});
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "custom/dir"));
     assert_log(tu_tmp_path("custom/dir"), 3, 0.04);
@@ -602,23 +589,19 @@ static void test_run_bad_input_creates_nothing(void** state) {
                      "range.yaml:2: 'fixed': vertex 12 out of range (the mesh has 12 vertices)");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "nothere.yaml", "--output", "never", NULL},
                      "nothere.yaml: cannot open: No such file or directory");
-    assert_run_fails(
-        NULL, NULL, (const char*[]){"run", "tiny.yaml", "--set", "dt=0", "--output", "never", NULL},
-        "--set dt=0: 'dt' must be > 0, got 0");
-    assert_run_fails("SOFTBOND_THREADS", "many",
-                     (const char*[]){"run", "tiny.yaml", "--output", "never", NULL},
+    assert_run_fails(NULL, NULL, (const char*[]){"run", "tiny.yaml", "--set", "dt=0", "--output", "never", NULL},
+                     "--set dt=0: 'dt' must be > 0, got 0");
+    assert_run_fails("SOFTBOND_THREADS", "many", (const char*[]){"run", "tiny.yaml", "--output", "never", NULL},
                      "SOFTBOND_THREADS: expected an integer in [0, 4096], got 'many'");
-    assert_run_fails(
-        NULL, NULL,
-        (const char*[]){"run", "tiny.yaml", "--threads", "-2", "--output", "never", NULL},
-        "--threads: expected an integer in [0, 4096], got '-2'");
+    assert_run_fails(NULL, NULL, (const char*[]){"run", "tiny.yaml", "--threads", "-2", "--output", "never", NULL},
+                     "--threads: expected an integer in [0, 4096], got '-2'");
 }
 
 static void test_run_solver_failure_exits_3(void** state) {
     (void)state;
     tu_write_file("tiny.yaml", tiny_scene);
-    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "bond.k=1e6", "--set", "dt=0.01",
-                                   "--set", "frame_interval=0.01", "--output", "unstable", NULL});
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "bond.k=1e6", "--set", "dt=0.01", "--set",
+                                         "frame_interval=0.01", "--output", "unstable", NULL});
     assert_int_equal(r.code, 3);
     assert_int_equal(count_lines(r.err), 1);
     assert_int_equal(strncmp(r.err, "softbond: ", 10), 0);

@@ -3,10 +3,9 @@
  * area) and the OBJ's vertex normals; the bonds .vtu's strain and energy against values computed here
  * from positions and rest lengths; IRIT and POV-Ray files checked for
  * structure (counts, unit planes) and the POV-Ray object's axes for each
- * up direction; a POV-Ray frame rendered by povray and found not blank; the output.formats key (lists, --set text, unknown names
- * with file:line); and `softbond run` writing every format with no staging
- * left behind, a failed write reported with exit 1, an unknown format with
- * exit 2. */
+ * up direction; a POV-Ray frame rendered by povray and found not blank; the output.formats key (lists, --set text,
+ * unknown names with file:line); and `softbond run` writing every format with no staging left behind, a failed write
+ * reported with exit 1, an unknown format with exit 2. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <ctype.h>
@@ -254,10 +253,9 @@ static void test_irit_structure(void** state) {
     for (uint32_t t = 0; t < mesh.triangle_count; t++) {
         double plane[4], corner[3][3];
         p = strstr(p, "[PLANE ") + 7;
-        assert_int_equal(sscanf(p, "%lf %lf %lf %lf] 3 [%lf %lf %lf] [%lf %lf %lf] [%lf %lf %lf]", &plane[0],
-                                &plane[1], &plane[2], &plane[3], &corner[0][0], &corner[0][1], &corner[0][2],
-                                &corner[1][0], &corner[1][1], &corner[1][2], &corner[2][0], &corner[2][1],
-                                &corner[2][2]),
+        assert_int_equal(sscanf(p, "%lf %lf %lf %lf] 3 [%lf %lf %lf] [%lf %lf %lf] [%lf %lf %lf]", &plane[0], &plane[1],
+                                &plane[2], &plane[3], &corner[0][0], &corner[0][1], &corner[0][2], &corner[1][0],
+                                &corner[1][1], &corner[1][2], &corner[2][0], &corner[2][1], &corner[2][2]),
                          13);
         TU_ASSERT_NEAR(tu_norm(plane), 1.0, 1e-8);
         for (int c = 0; c < 3; c++) {
@@ -305,9 +303,9 @@ static void test_pov_up(void** state) {
         double up[3];
         const char* matrix;
     } cases[] = {
-        {{0.1, 9.8, 0.0}, "matrix <1, 0, 0,  0, 1, 0,  0, 0, 1,  0, 0, 0>"},   /* y: as it is */
+        {{0.1, 9.8, 0.0}, "matrix <1, 0, 0,  0, 1, 0,  0, 0, 1,  0, 0, 0>"},    /* y: as it is */
         {{0.0, 0.0, -1.0}, "matrix <1, 0, 0,  0, 0, -1,  0, -1, 0,  0, 0, 0>"}, /* -z */
-        {{2.0, 1.0, 0.0}, "matrix <0, 1, 0,  1, 0, 0,  0, 0, 1,  0, 0, 0>"},   /* x */
+        {{2.0, 1.0, 0.0}, "matrix <0, 1, 0,  1, 0, 0,  0, 0, 1,  0, 0, 0>"},    /* x */
     };
     sb_mesh mesh = {0};
     sb_error err;
@@ -372,8 +370,8 @@ static void test_pov_render(void** state) {
     if (sb_mesh_export(tu_tmp_path("ball.pov"), "pov", &mesh, NULL, &err) != SB_OK) fail_msg("%s", err.message);
     char command[600];
     snprintf(command, sizeof command,
-             "cd '%s' && HOME='%s' povray +Iball.pov +Oball.ppm +FP +W64 +H48 -D -V > povray.txt 2>&1",
-             tu_tmp_dir, tu_tmp_dir);
+             "cd '%s' && HOME='%s' povray +Iball.pov +Oball.ppm +FP +W64 +H48 -D -V > povray.txt 2>&1", tu_tmp_dir,
+             tu_tmp_dir);
     if (system(command) != 0) fail_msg("povray failed:\n%s", tu_read_file(tu_tmp_path("povray.txt")));
     int width, height;
     unsigned char* pixels = read_ppm(tu_tmp_path("ball.ppm"), &width, &height);
@@ -432,8 +430,8 @@ static void test_run_every_format(void** state) {
                                          "output.formats=[vtu, ply, obj, gltf, glb, irit, pov]", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
     tu_result_free(&r);
-    static const char* const names[] = {".vtu", "_bonds.vtu", ".ply", ".obj", ".mtl", ".gltf",
-                                         ".bin", ".glb", ".itd", ".pov"};
+    static const char* const names[] = {".vtu",  "_bonds.vtu", ".ply", ".obj", ".mtl",
+                                        ".gltf", ".bin",       ".glb", ".itd", ".pov"};
     char name[64];
     for (int frame = 0; frame < 3; frame++)
         for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
@@ -448,8 +446,7 @@ static void test_run_every_format(void** state) {
     assert_non_null(dir);
     for (struct dirent* entry; (entry = readdir(dir));)
         if (strcmp(entry->d_name, ".") != 0 && strcmp(entry->d_name, "..") != 0)
-            if (entry->d_name[0] == '.' || strstr(entry->d_name, ".tmp"))
-                fail_msg("left behind: %s", entry->d_name);
+            if (entry->d_name[0] == '.' || strstr(entry->d_name, ".tmp")) fail_msg("left behind: %s", entry->d_name);
     closedir(dir);
 }
 
@@ -457,8 +454,8 @@ static void test_run_every_format(void** state) {
 static void test_run_pov_up(void** state) {
     (void)state;
     tu_write_file("up.yaml", scene_text);
-    tu_result r = tu_run((const char*[]){"run", "up.yaml", "--output", "up", "--set", "output.formats=pov",
-                                         "--set", "gravity=[0, -9.8, 0]", NULL});
+    tu_result r = tu_run((const char*[]){"run", "up.yaml", "--output", "up", "--set", "output.formats=pov", "--set",
+                                         "gravity=[0, -9.8, 0]", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
     tu_result_free(&r);
     char* pov = tu_read_file(tu_tmp_path("up/frame_000001.pov"));
@@ -489,13 +486,12 @@ static void test_run_failures(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_round_trips),     cmocka_unit_test(test_obj_normals),
-        cmocka_unit_test(test_export_errors),
-        cmocka_unit_test(test_bond_cells),      cmocka_unit_test(test_irit_structure),
-        cmocka_unit_test(test_pov_structure),   cmocka_unit_test(test_pov_up),
-        cmocka_unit_test(test_pov_render),      cmocka_unit_test(test_run_pov_up),
-        cmocka_unit_test(test_formats_key),     cmocka_unit_test(test_run_every_format),
-        cmocka_unit_test(test_run_failures),
+        cmocka_unit_test(test_round_trips),      cmocka_unit_test(test_obj_normals),
+        cmocka_unit_test(test_export_errors),    cmocka_unit_test(test_bond_cells),
+        cmocka_unit_test(test_irit_structure),   cmocka_unit_test(test_pov_structure),
+        cmocka_unit_test(test_pov_up),           cmocka_unit_test(test_pov_render),
+        cmocka_unit_test(test_run_pov_up),       cmocka_unit_test(test_formats_key),
+        cmocka_unit_test(test_run_every_format), cmocka_unit_test(test_run_failures),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -261,8 +261,8 @@ static void test_determinism(void** state) {
         uint64_t again = run_steps(model, 2, (sb_integrator)integrator);
         uint64_t three = run_steps(model, 3, (sb_integrator)integrator);
         print_message("%s: hash %016llx (1 thread) %016llx (2) %016llx (2 again) %016llx (3)\n",
-                      sb_integrator_name((sb_integrator)integrator), (unsigned long long)one,
-                      (unsigned long long)two, (unsigned long long)again, (unsigned long long)three);
+                      sb_integrator_name((sb_integrator)integrator), (unsigned long long)one, (unsigned long long)two,
+                      (unsigned long long)again, (unsigned long long)three);
         assert_true(one == two);
         assert_true(two == again);
         assert_true(one == three);
@@ -356,10 +356,14 @@ static void test_fast_step_follows_reference(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_regular_sheet),     cmocka_unit_test(test_jittered_sheet),
-        cmocka_unit_test(test_sliver_triangles),  cmocka_unit_test(test_nearly_straight_angles),
-        cmocka_unit_test(test_icosphere),         cmocka_unit_test(test_coloring),
-        cmocka_unit_test(test_determinism),       cmocka_unit_test(test_collapse_reported),
+        cmocka_unit_test(test_regular_sheet),
+        cmocka_unit_test(test_jittered_sheet),
+        cmocka_unit_test(test_sliver_triangles),
+        cmocka_unit_test(test_nearly_straight_angles),
+        cmocka_unit_test(test_icosphere),
+        cmocka_unit_test(test_coloring),
+        cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_collapse_reported),
         cmocka_unit_test(test_fast_step_follows_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -211,9 +211,8 @@ static void test_degenerate_count_and_info(void** state) {
     assert_non_null(strstr(run.out, "\ndegenerate faces dropped: 2\n"));
     tu_result_free(&run);
     /* Only degenerate facets: an error that says so. */
-    tu_write_file("flat.stl",
-                  "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 2 2 0\n"
-                  "endloop\nendfacet\nendsolid t\n");
+    tu_write_file("flat.stl", "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 2 2 0\n"
+                              "endloop\nendfacet\nendsolid t\n");
     sb_error err = {{0}};
     assert_int_equal(sb_mesh_load(tu_tmp_path("flat.stl"), &m, &err), SB_ERR_PARSE);
     assert_non_null(strstr(err.message, "1 degenerate triangles dropped"));
@@ -221,12 +220,9 @@ static void test_degenerate_count_and_info(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_wuson_formats_agree),
-        cmocka_unit_test(test_spider_degenerates),
-        cmocka_unit_test(test_sphere_with_hole),
-        cmocka_unit_test(test_3ds_files),
-        cmocka_unit_test(test_separate_objects),
-        cmocka_unit_test(test_invalid_folder),
+        cmocka_unit_test(test_wuson_formats_agree),       cmocka_unit_test(test_spider_degenerates),
+        cmocka_unit_test(test_sphere_with_hole),          cmocka_unit_test(test_3ds_files),
+        cmocka_unit_test(test_separate_objects),          cmocka_unit_test(test_invalid_folder),
         cmocka_unit_test(test_degenerate_count_and_info),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

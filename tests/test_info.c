@@ -78,7 +78,7 @@ static void test_open_and_split_meshes(void** state) {
     (void)state;
     /* a 3 x 3 sheet: 8 boundary edges of 16 */
     tu_write_file("sheet.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
-                            "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\nf 4 5 8\nf 4 8 7\nf 5 6 9\nf 5 9 8\n");
+                               "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\nf 4 5 8\nf 4 8 7\nf 5 6 9\nf 5 9 8\n");
     tu_result r = tu_run((const char*[]){"info", "sheet.obj", NULL});
     assert_int_equal(r.code, 0);
     assert_line(r.out, "vertices: 9");
@@ -174,8 +174,8 @@ static void test_tissue_scene(void** state) {
     tu_write_file("cube.node", cube_node);
     tu_write_file("cube.ele", cube_ele);
     tu_write_file("tissue.yaml", "mesh: {generator: file, file: cube.node}\nmaterial: gallbladder\n"
-                              "pin: bottom_edge\ngravity: [0, -9.81, 0]\ndt: 0.0001\nduration: 0.01\n"
-                              "frame_interval: 0.005\noutput: {frames: false}\n");
+                                 "pin: bottom_edge\ngravity: [0, -9.81, 0]\ndt: 0.0001\nduration: 0.01\n"
+                                 "frame_interval: 0.005\noutput: {frames: false}\n");
     tu_result r = tu_run((const char*[]){"run", "tissue.yaml", "--output", "tissue", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
     char* log = tu_read_file(tu_tmp_path("tissue/log.csv"));
@@ -186,7 +186,8 @@ static void test_tissue_scene(void** state) {
     tu_result_free(&r);
     r = tu_run((const char*[]){"run", "tissue.yaml", "--set", "material=spleen", NULL});
     assert_int_equal(r.code, 2);
-    assert_string_equal(r.err, "softbond: --set material=spleen: 'material' must be liver or gallbladder, got 'spleen'\n");
+    assert_string_equal(r.err,
+                        "softbond: --set material=spleen: 'material' must be liver or gallbladder, got 'spleen'\n");
     tu_result_free(&r);
     /* an inverted tetrahedron is named */
     tu_write_file("cube.ele", "5 4 0\n0 0 1 2 4\n1 3 1 2 7\n2 5 1 4 7\n3 6 4 2 7\n4 1 2 4 7\n");
@@ -200,9 +201,9 @@ static void test_tissue_scene(void** state) {
 static void test_springs_scene(void** state) {
     (void)state;
     tu_write_file("springs.yaml", "mesh: {generator: sheet, nx: 6, ny: 6}\nfactory: springs\n"
-                               "springs: {stretch: {k: 50, damping: 0.1}, bend: {k: 5, damping: 0.01},\n"
-                               "          vicinity: {distance: 0.25, k: 5, damping: 0.01}}\n"
-                               "pin: top_edge\nduration: 0.01\nframe_interval: 0.01\noutput: {frames: false}\n");
+                                  "springs: {stretch: {k: 50, damping: 0.1}, bend: {k: 5, damping: 0.01},\n"
+                                  "          vicinity: {distance: 0.25, k: 5, damping: 0.01}}\n"
+                                  "pin: top_edge\nduration: 0.01\nframe_interval: 0.01\noutput: {frames: false}\n");
     tu_result r = tu_run((const char*[]){"run", "springs.yaml", "--output", "springs", NULL});
     if (r.code != 0) fail_msg("run failed: %s", r.err);
     tu_result_free(&r);
@@ -217,12 +218,9 @@ static void test_springs_scene(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_icosphere),
-        cmocka_unit_test(test_open_and_split_meshes),
-        cmocka_unit_test(test_tetrahedral_cube),
-        cmocka_unit_test(test_interior_vertex),
-        cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_tissue_scene),
+        cmocka_unit_test(test_icosphere),        cmocka_unit_test(test_open_and_split_meshes),
+        cmocka_unit_test(test_tetrahedral_cube), cmocka_unit_test(test_interior_vertex),
+        cmocka_unit_test(test_bad_input),        cmocka_unit_test(test_tissue_scene),
         cmocka_unit_test(test_springs_scene),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

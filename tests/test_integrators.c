@@ -43,8 +43,8 @@ static double total_energy(const sb_solver* s) {
 
 static void test_names(void** state) {
     (void)state;
-    const char* names[NI] = {"verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
-                             "position_verlet", "implicit_euler"};
+    const char* names[NI] = {"verlet",           "velocity_verlet", "explicit_euler",
+                             "symplectic_euler", "position_verlet", "implicit_euler"};
     for (int i = 0; i < NI; ++i) {
         sb_integrator out = SB_INTEGRATOR_COUNT;
         assert_true(sb_integrator_from_name(names[i], &out));
@@ -103,8 +103,8 @@ static void test_order(void** state) {
                       sb_integrator_name(in), e[0], e[1], e[2], dt, dt / 2, dt / 4, r1, r2, order);
         double expect = first_order(in) ? 2.0 : 4.0, slack = first_order(in) ? 0.2 : 0.5;
         if (!(fabs(r1 - expect) <= slack && fabs(r2 - expect) <= slack))
-            fail_msg("%s: error ratios %.3f, %.3f, expected %.1f ± %.1f", sb_integrator_name(in), r1,
-                     r2, expect, slack);
+            fail_msg("%s: error ratios %.3f, %.3f, expected %.1f ± %.1f", sb_integrator_name(in), r1, r2, expect,
+                     slack);
     }
     sb_model_destroy(m);
 }
@@ -132,10 +132,12 @@ static void test_energy(void** state) {
         if (!symplectic(in)) {
             tu_advance(s, dt, 100);
             double ratio = total_energy(s) / e0;
-            print_message("energy, %-16s: E(100 steps)/E0 = %.4f (expected %.3f)\n", sb_integrator_name(in),
-                          ratio, pow(1.01, in == SB_INTEGRATOR_EXPLICIT_EULER ? 100 : -100));
-            if (in == SB_INTEGRATOR_EXPLICIT_EULER) TU_ASSERT_LE(2.0, ratio);
-            else TU_ASSERT_LE(ratio, 0.5);
+            print_message("energy, %-16s: E(100 steps)/E0 = %.4f (expected %.3f)\n", sb_integrator_name(in), ratio,
+                          pow(1.01, in == SB_INTEGRATOR_EXPLICIT_EULER ? 100 : -100));
+            if (in == SB_INTEGRATOR_EXPLICIT_EULER)
+                TU_ASSERT_LE(2.0, ratio);
+            else
+                TU_ASSERT_LE(ratio, 0.5);
             sb_solver_destroy(s);
             continue;
         }
@@ -169,7 +171,8 @@ static const double chain_k = 100.0, chain_m = 0.01, chain_L = 0.1;
 static sb_model* chain(double damping) {
     sb_builder* b = sb_builder_create();
     for (int i = 0; i < NC; ++i) tu_vertex(b, i * chain_L, 0, 0, chain_m, i == 0 || i == NC - 1);
-    for (int i = 0; i + 1 < NC; ++i) tu_bond(b, (uint32_t)i, (uint32_t)i + 1, -1, chain_k, damping > 0 ? chain_k : 0, damping);
+    for (int i = 0; i + 1 < NC; ++i)
+        tu_bond(b, (uint32_t)i, (uint32_t)i + 1, -1, chain_k, damping > 0 ? chain_k : 0, damping);
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
     return m;
@@ -244,8 +247,9 @@ static void test_stability_limit(void** state) {
     sb_model* m = chain(0.0);
     double omega = power_iteration_omega_max(m);
     double exact = 2 * sqrt(chain_k / chain_m) * sin(NF * M_PI / (2.0 * (NF + 1)));
-    print_message("chain of %d free masses: omega_max by power iteration %.9g rad/s, analytic %.9g, 2/omega_max = %.6g s\n",
-                  NF, omega, exact, 2 / omega);
+    print_message(
+        "chain of %d free masses: omega_max by power iteration %.9g rad/s, analytic %.9g, 2/omega_max = %.6g s\n", NF,
+        omega, exact, 2 / omega);
     TU_ASSERT_NEAR(omega, exact, 1e-6 * exact);
     const double limit = 2 / omega;
     /* Symplectic methods: stable for ω_max dt < 2, exactly at the line.
@@ -253,23 +257,30 @@ static void test_stability_limit(void** state) {
      * Euler: stable at any step, tried at 100 times the line. */
     for (int k = 0; k < NI; ++k) {
         sb_integrator in = (sb_integrator)k;
-        const double symplectic_factors[] = {0.95, 0.99, 1.01, 1.05}, euler_factors[] = {0.5, 0.95}, implicit_factors[] = {100};
-        const double* factors = symplectic(in) ? symplectic_factors : in == SB_INTEGRATOR_EXPLICIT_EULER ? euler_factors : implicit_factors;
+        const double symplectic_factors[] = {0.95, 0.99, 1.01, 1.05}, euler_factors[] = {0.5, 0.95},
+                     implicit_factors[] = {100};
+        const double* factors = symplectic(in)                       ? symplectic_factors
+                                : in == SB_INTEGRATOR_EXPLICIT_EULER ? euler_factors
+                                                                     : implicit_factors;
         int count = symplectic(in) ? 4 : in == SB_INTEGRATOR_EXPLICIT_EULER ? 2 : 1;
         for (int f = 0; f < count; ++f) {
             int taken;
             double growth;
             sb_status st = chain_run(m, in, factors[f] * limit, 20000, &taken, &growth);
-            print_message("stability, %-16s at %6.2f x 2/omega_max: %s after %d steps (largest displacement %.3g x the initial)\n",
-                          sb_integrator_name(in), factors[f], st == SB_OK ? "stable" : sb_status_name(st), taken, growth);
+            print_message("stability, %-16s at %6.2f x 2/omega_max: %s after %d steps (largest displacement %.3g x the "
+                          "initial)\n",
+                          sb_integrator_name(in), factors[f], st == SB_OK ? "stable" : sb_status_name(st), taken,
+                          growth);
             bool expect_stable = in == SB_INTEGRATOR_IMPLICIT_EULER || (symplectic(in) && factors[f] < 1);
             if (expect_stable) {
-                if (st != SB_OK) fail_msg("%s at %.2f x 2/omega_max: %s", sb_integrator_name(in), factors[f], sb_status_name(st));
+                if (st != SB_OK)
+                    fail_msg("%s at %.2f x 2/omega_max: %s", sb_integrator_name(in), factors[f], sb_status_name(st));
                 /* at ω dt = 1.98 the top mode's amplitude swings up to 1/√(1 − (ωdt/2)²) ≈ 7 times */
                 TU_ASSERT_LE(growth, 20.0);
             } else {
                 if (st != SB_ERR_UNSTABLE)
-                    fail_msg("%s at %.2f x 2/omega_max: expected a blow-up, got %s after %d steps", sb_integrator_name(in), factors[f], sb_status_name(st), taken);
+                    fail_msg("%s at %.2f x 2/omega_max: expected a blow-up, got %s after %d steps",
+                             sb_integrator_name(in), factors[f], sb_status_name(st), taken);
             }
         }
         if (!symplectic(in)) continue;
@@ -284,10 +295,13 @@ static void test_stability_limit(void** state) {
             /* past the line the top mode grows until the chain folds over
              * itself, where the bond's nonlinearity can hold it for a while
              * before it runs away: count a growth past 20 as unstable too */
-            if (chain_run(m, in, mid * limit, 20000, &taken, &growth) == SB_OK && growth <= 20) stable = mid;
-            else unstable = mid;
+            if (chain_run(m, in, mid * limit, 20000, &taken, &growth) == SB_OK && growth <= 20)
+                stable = mid;
+            else
+                unstable = mid;
         }
-        print_message("stability, %-16s: largest stable step %.4f..%.4f x 2/omega_max\n", sb_integrator_name(in), stable, unstable);
+        print_message("stability, %-16s: largest stable step %.4f..%.4f x 2/omega_max\n", sb_integrator_name(in),
+                      stable, unstable);
         TU_ASSERT_NEAR(0.5 * (stable + unstable), 1.0, 0.002); /* the bisection resolves 2e-4 */
     }
     sb_model_destroy(m);
@@ -329,10 +343,12 @@ static void test_stability_limit_sheet(void** state) {
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);
     double omega = power_iteration(m, h, 3000), omega2 = power_iteration(m, h, 6000);
-    print_message("sheet %dx%d (bonds, angles, stretch-bend; left edge fixed): omega_max %.9g rad/s (%.9g after twice the iterations), 2/omega_max = %.6g s\n",
+    print_message("sheet %dx%d (bonds, angles, stretch-bend; left edge fixed): omega_max %.9g rad/s (%.9g after twice "
+                  "the iterations), 2/omega_max = %.6g s\n",
                   S, S, omega, omega2, 2 / omega);
     TU_ASSERT_NEAR(omega, omega2, 1e-6 * omega);
-    const sb_integrator verlets[4] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET, SB_INTEGRATOR_POSITION_VERLET, SB_INTEGRATOR_SYMPLECTIC_EULER};
+    const sb_integrator verlets[4] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET,
+                                      SB_INTEGRATOR_POSITION_VERLET, SB_INTEGRATOR_SYMPLECTIC_EULER};
     for (int k = 0; k < 4; ++k)
         for (int f = 0; f < 2; ++f) {
             double factor = f ? 1.05 : 0.95, x[3 * N], largest = 0;
@@ -365,8 +381,8 @@ static void test_stability_limit_sheet(void** state) {
                  * blow-up rule on bond lengths (softbond/solver.h) catches it */
                 print_message("  %s\n", sb_solver_error(s));
                 if (st != SB_ERR_UNSTABLE)
-                    fail_msg("%s at 1.05 x 2/omega_max: %s, largest E/E0 %.3g: no blow-up", sb_integrator_name(verlets[k]),
-                             sb_status_name(st), largest);
+                    fail_msg("%s at 1.05 x 2/omega_max: %s, largest E/E0 %.3g: no blow-up",
+                             sb_integrator_name(verlets[k]), sb_status_name(st), largest);
             }
             sb_solver_destroy(s);
         }
@@ -387,8 +403,8 @@ typedef struct push {
     bool saw_forbidden;
 } push;
 
-static void push_force(void* user, uint32_t vertex, double time, const double position[3],
-                       const double velocity[3], double force[3]) {
+static void push_force(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                       double force[3]) {
     push* p = (push*)user;
     (void)time, (void)position, (void)velocity;
     if (vertex == p->forbidden) p->saw_forbidden = true;
@@ -499,7 +515,8 @@ static void test_adaptive(void** state) {
     (void)state;
     sb_model* m = chain(0.05);
     double omega = power_iteration_omega_max(m), limit = 2 / omega, Dt = 10 * limit;
-    print_message("adaptive: damped chain, omega_max %.6g rad/s, 2/omega_max = %.6g s, advance by %.6g s\n", omega, limit, Dt);
+    print_message("adaptive: damped chain, omega_max %.6g rad/s, 2/omega_max = %.6g s, advance by %.6g s\n", omega,
+                  limit, Dt);
     for (int k = 0; k < NI; ++k) {
         sb_integrator in = (sb_integrator)k;
         if (in == SB_INTEGRATOR_IMPLICIT_EULER) continue;
@@ -536,7 +553,8 @@ static void test_adaptive(void** state) {
         double median = typical[CALLS / 4];
         print_message("adaptive, %-16s: %u sub-steps, %u retried; second half: typical sub-step %.3f x 2/omega_max "
                       "(accepted from %.3g to %.3g x); E/E0 = %.3g at the end, largest gain in a call %.2g E0\n",
-                      sb_integrator_name(in), substeps, rejected, median / limit, lo / limit, hi / limit, e / e0, worst_gain);
+                      sb_integrator_name(in), substeps, rejected, median / limit, lo / limit, hi / limit, e / e0,
+                      worst_gain);
         /* damping takes out most of it; explicit Euler, held to small steps
          * by its own energy gain, gets less far in the same time */
         TU_ASSERT_LE(e, symplectic(in) ? 0.01 * e0 : e0);
@@ -636,7 +654,8 @@ static sb_model* small_sheet(void) {
     enum { S = 5 };
     const double h = 0.25;
     for (int r = 0; r < S; ++r)
-        for (int c = 0; c < S; ++c) tu_vertex(b, h * c, h * r, 0.01 * ((r * 7 + c * 3) % 5), 0.04, r == S - 1 && (c == 0 || c == S - 1));
+        for (int c = 0; c < S; ++c)
+            tu_vertex(b, h * c, h * r, 0.01 * ((r * 7 + c * 3) % 5), 0.04, r == S - 1 && (c == 0 || c == S - 1));
     add_grid_elements(b, S, 100, 20, 0.05, 0.2, 0.5);
     sb_model* m = tu_compile(b);
     sb_builder_destroy(b);

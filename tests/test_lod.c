@@ -170,12 +170,9 @@ static void test_run_budget(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_vertex_target),
-        cmocka_unit_test(test_boundary_and_locked_kept),
-        cmocka_unit_test(test_error_target),
-        cmocka_unit_test(test_budget_choice),
-        cmocka_unit_test(test_scene_keys),
-        cmocka_unit_test(test_run_budget),
+        cmocka_unit_test(test_vertex_target), cmocka_unit_test(test_boundary_and_locked_kept),
+        cmocka_unit_test(test_error_target),  cmocka_unit_test(test_budget_choice),
+        cmocka_unit_test(test_scene_keys),    cmocka_unit_test(test_run_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,16 +16,14 @@ static char tmp_dir[256];
 static char tmp_files[64][512];
 static int tmp_count;
 
-static int setup_dir(void** state)
-{
+static int setup_dir(void** state) {
     (void)state;
     const char* base = getenv("TMPDIR");
     snprintf(tmp_dir, sizeof tmp_dir, "%s/sb_test_mesh_XXXXXX", base && *base ? base : "/tmp");
     return mkdtemp(tmp_dir) != NULL ? 0 : -1;
 }
 
-static int teardown_dir(void** state)
-{
+static int teardown_dir(void** state) {
     (void)state;
     for (int i = 0; i < tmp_count; i++) {
         remove(tmp_files[i]);
@@ -34,8 +32,7 @@ static int teardown_dir(void** state)
 }
 
 /* Writes text to tmp_dir/name and returns the path (valid until teardown). */
-static const char* write_file(const char* name, const char* text)
-{
+static const char* write_file(const char* name, const char* text) {
     assert_true(tmp_count < 64);
     char* path = tmp_files[tmp_count++];
     snprintf(path, sizeof tmp_files[0], "%s/%s", tmp_dir, name);
@@ -47,21 +44,17 @@ static const char* write_file(const char* name, const char* text)
 }
 
 /* Makes a directory that teardown removes. */
-static int mkdir_for_test(const char* path)
-{
+static int mkdir_for_test(const char* path) {
     assert_true(tmp_count < 64);
     snprintf(tmp_files[tmp_count++], sizeof tmp_files[0], "%s", path);
     return mkdir(path, 0700);
 }
 
-static bool mesh_is_zeroed(const sb_mesh* m)
-{
-    return m->vertex_count == 0 && m->positions == NULL && m->triangle_count == 0 &&
-           m->triangles == NULL;
+static bool mesh_is_zeroed(const sb_mesh* m) {
+    return m->vertex_count == 0 && m->positions == NULL && m->triangle_count == 0 && m->triangles == NULL;
 }
 
-static void triangle_normal(const sb_mesh* m, uint32_t t, double n[3])
-{
+static void triangle_normal(const sb_mesh* m, uint32_t t, double n[3]) {
     const uint32_t* v = m->triangles + 3 * (size_t)t;
     const double *a = m->positions + 3 * (size_t)v[0], *b = m->positions + 3 * (size_t)v[1],
                  *c = m->positions + 3 * (size_t)v[2];
@@ -70,15 +63,13 @@ static void triangle_normal(const sb_mesh* m, uint32_t t, double n[3])
     tu_cross(u, w, n);
 }
 
-static void assert_indices_in_range(const sb_mesh* m)
-{
+static void assert_indices_in_range(const sb_mesh* m) {
     for (size_t i = 0; i < 3 * (size_t)m->triangle_count; i++) {
         assert_true(m->triangles[i] < m->vertex_count);
     }
 }
 
-static void assert_triangle(const sb_mesh* m, uint32_t t, uint32_t a, uint32_t b, uint32_t c)
-{
+static void assert_triangle(const sb_mesh* m, uint32_t t, uint32_t a, uint32_t b, uint32_t c) {
     const uint32_t* v = m->triangles + 3 * (size_t)t;
     if (v[0] != a || v[1] != b || v[2] != c) {
         fail_msg("triangle %u is (%u %u %u), expected (%u %u %u)", t, v[0], v[1], v[2], a, b, c);
@@ -87,8 +78,7 @@ static void assert_triangle(const sb_mesh* m, uint32_t t, uint32_t a, uint32_t b
 
 /* ---- sheet --------------------------------------------------------------- */
 
-static void test_sheet_default_def(void** state)
-{
+static void test_sheet_default_def(void** state) {
     (void)state;
     sb_sheet_def def = sb_default_sheet_def();
     assert_int_equal(def.nx, 10);
@@ -97,8 +87,7 @@ static void test_sheet_default_def(void** state)
     assert_int_equal(def.seed, 1);
 }
 
-static void test_sheet_counts(void** state)
-{
+static void test_sheet_counts(void** state) {
     (void)state;
     const uint32_t sizes[][2] = {{2, 2}, {3, 5}, {7, 2}, {10, 10}, {33, 17}};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
@@ -116,8 +105,7 @@ static void test_sheet_counts(void** state)
     }
 }
 
-static void test_sheet_positions(void** state)
-{
+static void test_sheet_positions(void** state) {
     (void)state;
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = 4;
@@ -140,8 +128,7 @@ static void test_sheet_positions(void** state)
 }
 
 /* Every triangle faces +z and the triangles tile the rectangle exactly. */
-static void assert_sheet_tiles(const sb_sheet_def* def)
-{
+static void assert_sheet_tiles(const sb_sheet_def* def) {
     sb_mesh m;
     sb_error err;
     assert_int_equal(sb_mesh_generate_sheet(def, &m, &err), SB_OK);
@@ -160,8 +147,7 @@ static void assert_sheet_tiles(const sb_sheet_def* def)
     sb_mesh_free(&m);
 }
 
-static void test_sheet_normals_up(void** state)
-{
+static void test_sheet_normals_up(void** state) {
     (void)state;
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = 9;
@@ -174,16 +160,14 @@ static void test_sheet_normals_up(void** state)
     assert_sheet_tiles(&def);
 }
 
-static bool triangle_has_edge(const sb_mesh* m, uint32_t t, uint32_t a, uint32_t b)
-{
+static bool triangle_has_edge(const sb_mesh* m, uint32_t t, uint32_t a, uint32_t b) {
     const uint32_t* v = m->triangles + 3 * (size_t)t;
     bool has_a = v[0] == a || v[1] == a || v[2] == a;
     bool has_b = v[0] == b || v[1] == b || v[2] == b;
     return has_a && has_b;
 }
 
-static void test_sheet_checkerboard(void** state)
-{
+static void test_sheet_checkerboard(void** state) {
     (void)state;
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = 4;
@@ -205,8 +189,7 @@ static void test_sheet_checkerboard(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_sheet_jitter(void** state)
-{
+static void test_sheet_jitter(void** state) {
     (void)state;
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = 12;
@@ -254,8 +237,7 @@ static void test_sheet_jitter(void** state)
     sb_mesh_free(&c);
 }
 
-static void expect_sheet_invalid(sb_sheet_def def, const char* needle)
-{
+static void expect_sheet_invalid(sb_sheet_def def, const char* needle) {
     sb_mesh m;
     memset(&m, 0xab, sizeof m);
     sb_error err;
@@ -266,8 +248,7 @@ static void expect_sheet_invalid(sb_sheet_def def, const char* needle)
     assert_int_equal(sb_mesh_generate_sheet(&def, &m, NULL), SB_ERR_INVALID);
 }
 
-static void test_sheet_invalid(void** state)
-{
+static void test_sheet_invalid(void** state) {
     (void)state;
     sb_sheet_def d = sb_default_sheet_def();
     d.nx = 1;
@@ -305,16 +286,14 @@ typedef struct directed_edge {
     uint32_t a, b;
 } directed_edge;
 
-static int compare_edges(const void* x, const void* y)
-{
+static int compare_edges(const void* x, const void* y) {
     const directed_edge *p = x, *q = y;
     if (p->a != q->a) return p->a < q->a ? -1 : 1;
     if (p->b != q->b) return p->b < q->b ? -1 : 1;
     return 0;
 }
 
-static bool edge_present(const directed_edge* edges, size_t n, uint32_t a, uint32_t b)
-{
+static bool edge_present(const directed_edge* edges, size_t n, uint32_t a, uint32_t b) {
     directed_edge key = {a, b};
     return bsearch(&key, edges, n, sizeof key, compare_edges) != NULL;
 }
@@ -322,8 +301,7 @@ static bool edge_present(const directed_edge* edges, size_t n, uint32_t a, uint3
 /* Closed and consistently oriented: each directed edge once, and its
  * reverse once, so every undirected edge lies in exactly two triangles.
  * Returns the number of undirected edges. */
-static size_t assert_closed(const sb_mesh* m)
-{
+static size_t assert_closed(const sb_mesh* m) {
     size_t n = 3 * (size_t)m->triangle_count;
     directed_edge* edges = malloc(n * sizeof *edges);
     assert_non_null(edges);
@@ -346,8 +324,7 @@ static size_t assert_closed(const sb_mesh* m)
     return n / 2;
 }
 
-static void test_icosphere_counts(void** state)
-{
+static void test_icosphere_counts(void** state) {
     (void)state;
     for (uint32_t s = 0; s <= 5; s++) {
         sb_mesh m;
@@ -361,8 +338,7 @@ static void test_icosphere_counts(void** state)
     }
 }
 
-static void test_icosphere_geometry(void** state)
-{
+static void test_icosphere_geometry(void** state) {
     (void)state;
     const double radius = 2.5;
     for (uint32_t s = 0; s <= 3; s++) {
@@ -400,8 +376,7 @@ static void test_icosphere_geometry(void** state)
     }
 }
 
-static void test_icosphere_large(void** state)
-{
+static void test_icosphere_large(void** state) {
     (void)state;
     sb_mesh m;
     assert_int_equal(sb_mesh_generate_icosphere(8, 1.0, &m, NULL), SB_OK);
@@ -410,8 +385,7 @@ static void test_icosphere_large(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_icosphere_invalid(void** state)
-{
+static void test_icosphere_invalid(void** state) {
     (void)state;
     sb_mesh m;
     sb_error err;
@@ -429,37 +403,34 @@ static void test_icosphere_invalid(void** state)
 
 /* ---- OBJ ----------------------------------------------------------------- */
 
-static void test_obj_read(void** state)
-{
+static void test_obj_read(void** state) {
     (void)state;
-    const char* path = write_file("shapes.obj",
-                                  "# a comment\n"
-                                  "mtllib shapes.mtl\n"
-                                  "o square\n"
-                                  "v 0 0 0\n"
-                                  "v 1 0 0 1.0\n"
-                                  "v 1 1 0\r\n"
-                                  "v 0 1 0 # trailing comment\n"
-                                  "vt 0 0\nvt 1 0\nvt 1 1\n"
-                                  "vn 0 0 1\n"
-                                  "g quad\ns off\nusemtl red\n"
-                                  "\n"
-                                  "f 1 2 3 4\n"
-                                  "v 0.5 0.5 -2.25e-1\n"
-                                  "v 7 8 9\n"
-                                  "f -4 -3 -2\n"
-                                  "f 1/1 2/2 5/3\n"
-                                  "f 2//1 3//1 5//1\n"
-                                  "f\t3/3/1 4/1/1 5/2/1 6/1/1 1/1/1\n"
-                                  "l 1 2\n");
+    const char* path = write_file("shapes.obj", "# a comment\n"
+                                                "mtllib shapes.mtl\n"
+                                                "o square\n"
+                                                "v 0 0 0\n"
+                                                "v 1 0 0 1.0\n"
+                                                "v 1 1 0\r\n"
+                                                "v 0 1 0 # trailing comment\n"
+                                                "vt 0 0\nvt 1 0\nvt 1 1\n"
+                                                "vn 0 0 1\n"
+                                                "g quad\ns off\nusemtl red\n"
+                                                "\n"
+                                                "f 1 2 3 4\n"
+                                                "v 0.5 0.5 -2.25e-1\n"
+                                                "v 7 8 9\n"
+                                                "f -4 -3 -2\n"
+                                                "f 1/1 2/2 5/3\n"
+                                                "f 2//1 3//1 5//1\n"
+                                                "f\t3/3/1 4/1/1 5/2/1 6/1/1 1/1/1\n"
+                                                "l 1 2\n");
     sb_mesh m;
     sb_error err;
     sb_status status = sb_mesh_load(path, &m, &err);
     if (status != SB_OK) fail_msg("%s", err.message);
     /* Vertex order and count kept, the unreferenced vertex 6 too. */
     assert_int_equal(m.vertex_count, 6);
-    const double expected[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},
-                                   {0, 1, 0}, {0.5, 0.5, -0.225}, {7, 8, 9}};
+    const double expected[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, -0.225}, {7, 8, 9}};
     for (int v = 0; v < 6; v++) {
         for (int k = 0; k < 3; k++) {
             assert_true(m.positions[3 * v + k] == expected[v][k]);
@@ -477,8 +448,7 @@ static void test_obj_read(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_obj_extension_case(void** state)
-{
+static void test_obj_extension_case(void** state) {
     (void)state;
     /* ".OBJ" is read by softbond's reader: the unused vertex stays. */
     const char* path = write_file("UPPER.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\n");
@@ -495,8 +465,7 @@ typedef struct bad_file {
     const char* what;
 } bad_file;
 
-static void expect_parse_errors(const char* extension, const bad_file* cases, size_t count)
-{
+static void expect_parse_errors(const char* extension, const bad_file* cases, size_t count) {
     for (size_t i = 0; i < count; i++) {
         char name[64];
         snprintf(name, sizeof name, "bad%zu%s", i, extension);
@@ -509,8 +478,7 @@ static void expect_parse_errors(const char* extension, const bad_file* cases, si
         memset(&err, 0, sizeof err);
         sb_status status = sb_mesh_load(path, &m, &err);
         if (status != SB_ERR_PARSE) {
-            fail_msg("case %zu (%s): status %d, message \"%s\"", i, cases[i].what, (int)status,
-                     err.message);
+            fail_msg("case %zu (%s): status %d, message \"%s\"", i, cases[i].what, (int)status, err.message);
         }
         assert_true(mesh_is_zeroed(&m));
         if (strncmp(err.message, prefix, strlen(prefix)) != 0) {
@@ -522,16 +490,13 @@ static void expect_parse_errors(const char* extension, const bad_file* cases, si
     }
 }
 
-static void test_obj_errors(void** state)
-{
+static void test_obj_errors(void** state) {
     (void)state;
     const char* tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     char texts[16][256];
     const char* bodies[] = {
-        "v 0 0 zero\n",    "f 1 2 7\n",      "f 0 1 2\n",        "f 1 2\n",
-        "v 0 nan 0\n",     "v 1e999 0 0\n",  "f -4 1 2\n",       "f 1/ 2 3\n",
-        "f 1//x 2 3\n",    "f 1/2/3/4 2 3\n", "v 1 2\n",         "f a b c\n",
-        "# only a comment\n",
+        "v 0 0 zero\n", "f 1 2 7\n",    "f 0 1 2\n",       "f 1 2\n", "v 0 nan 0\n", "v 1e999 0 0\n",      "f -4 1 2\n",
+        "f 1/ 2 3\n",   "f 1//x 2 3\n", "f 1/2/3/4 2 3\n", "v 1 2\n", "f a b c\n",   "# only a comment\n",
     };
     bad_file cases[] = {
         {NULL, ":4: ", "malformed number 'zero'"},
@@ -564,22 +529,20 @@ static void test_obj_errors(void** state)
 
 /* ---- OFF ----------------------------------------------------------------- */
 
-static void test_off_read(void** state)
-{
+static void test_off_read(void** state) {
     (void)state;
-    const char* path = write_file("shapes.off",
-                                  "OFF # a square pyramid\n"
-                                  "# counts follow\n"
-                                  "\n"
-                                  "5 3 0\n"
-                                  "0 0 0\n"
-                                  "1 0 0 255 0 0\n"
-                                  "1 1 0\n"
-                                  "0 1 0\r\n"
-                                  "0.5 0.5 1.5e0\n"
-                                  "4 0 3 2 1 0.5 0.5 0.5\n"
-                                  "3 0 1 4\n"
-                                  "3 1 2 4\n");
+    const char* path = write_file("shapes.off", "OFF # a square pyramid\n"
+                                                "# counts follow\n"
+                                                "\n"
+                                                "5 3 0\n"
+                                                "0 0 0\n"
+                                                "1 0 0 255 0 0\n"
+                                                "1 1 0\n"
+                                                "0 1 0\r\n"
+                                                "0.5 0.5 1.5e0\n"
+                                                "4 0 3 2 1 0.5 0.5 0.5\n"
+                                                "3 0 1 4\n"
+                                                "3 1 2 4\n");
     sb_mesh m;
     sb_error err;
     sb_status status = sb_mesh_load(path, &m, &err);
@@ -603,8 +566,7 @@ static void test_off_read(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_off_errors(void** state)
-{
+static void test_off_errors(void** state) {
     (void)state;
     const bad_file cases[] = {
         {"PLY\n3 1 0\n", ":1: ", "expected the OFF header, found 'PLY'"},
@@ -630,25 +592,23 @@ static void test_off_errors(void** state)
 
 /* ---- assimp formats and missing files ------------------------------------ */
 
-static void test_assimp_stl(void** state)
-{
+static void test_assimp_stl(void** state) {
     (void)state;
     /* A tetrahedron: 4 facets of 3 corners each, 4 distinct points. */
-    const char* path = write_file("tetra.stl",
-                                  "solid tetra\n"
-                                  "facet normal 0 0 -1\nouter loop\n"
-                                  "vertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\n"
-                                  "endloop\nendfacet\n"
-                                  "facet normal 0 -1 0\nouter loop\n"
-                                  "vertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\n"
-                                  "endloop\nendfacet\n"
-                                  "facet normal -1 0 0\nouter loop\n"
-                                  "vertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\n"
-                                  "endloop\nendfacet\n"
-                                  "facet normal 1 1 1\nouter loop\n"
-                                  "vertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\n"
-                                  "endloop\nendfacet\n"
-                                  "endsolid tetra\n");
+    const char* path = write_file("tetra.stl", "solid tetra\n"
+                                               "facet normal 0 0 -1\nouter loop\n"
+                                               "vertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\n"
+                                               "endloop\nendfacet\n"
+                                               "facet normal 0 -1 0\nouter loop\n"
+                                               "vertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\n"
+                                               "endloop\nendfacet\n"
+                                               "facet normal -1 0 0\nouter loop\n"
+                                               "vertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\n"
+                                               "endloop\nendfacet\n"
+                                               "facet normal 1 1 1\nouter loop\n"
+                                               "vertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\n"
+                                               "endloop\nendfacet\n"
+                                               "endsolid tetra\n");
     sb_mesh m;
     sb_error err;
     sb_status status = sb_mesh_load(path, &m, &err);
@@ -669,20 +629,18 @@ static void test_assimp_stl(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_assimp_ply(void** state)
-{
+static void test_assimp_ply(void** state) {
     (void)state;
     /* A square of two quads sharing an edge, and a lone point face-less. */
-    const char* path = write_file("strip.ply",
-                                  "ply\nformat ascii 1.0\n"
-                                  "element vertex 6\n"
-                                  "property float x\nproperty float y\nproperty float z\n"
-                                  "element face 2\n"
-                                  "property list uchar int vertex_indices\n"
-                                  "end_header\n"
-                                  "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n"
-                                  "4 0 1 4 3\n"
-                                  "4 1 2 5 4\n");
+    const char* path = write_file("strip.ply", "ply\nformat ascii 1.0\n"
+                                               "element vertex 6\n"
+                                               "property float x\nproperty float y\nproperty float z\n"
+                                               "element face 2\n"
+                                               "property list uchar int vertex_indices\n"
+                                               "end_header\n"
+                                               "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n"
+                                               "4 0 1 4 3\n"
+                                               "4 1 2 5 4\n");
     sb_mesh m;
     sb_error err;
     sb_status status = sb_mesh_load(path, &m, &err);
@@ -701,8 +659,7 @@ static void test_assimp_ply(void** state)
     sb_mesh_free(&m);
 }
 
-static void test_assimp_errors(void** state)
-{
+static void test_assimp_errors(void** state) {
     (void)state;
     const char* path = write_file("garbage.stl", "this is not a mesh at all\n");
     sb_mesh m;
@@ -718,8 +675,7 @@ static void test_assimp_errors(void** state)
     assert_int_equal(sb_mesh_load(path, &m, NULL), SB_ERR_PARSE);
 }
 
-static void test_missing_file(void** state)
-{
+static void test_missing_file(void** state) {
     (void)state;
     const char* names[] = {"missing.obj", "missing.off", "missing.stl", "missing"};
     for (size_t i = 0; i < 4; i++) {
@@ -746,8 +702,7 @@ static void test_missing_file(void** state)
     assert_true(mesh_is_zeroed(&m));
 }
 
-static void test_free_zeroed(void** state)
-{
+static void test_free_zeroed(void** state) {
     (void)state;
     sb_mesh m;
     memset(&m, 0, sizeof m);
@@ -756,29 +711,18 @@ static void test_free_zeroed(void** state)
     assert_true(mesh_is_zeroed(&m));
 }
 
-int main(void)
-{
+int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sheet_default_def),
-        cmocka_unit_test(test_sheet_counts),
-        cmocka_unit_test(test_sheet_positions),
-        cmocka_unit_test(test_sheet_normals_up),
-        cmocka_unit_test(test_sheet_checkerboard),
-        cmocka_unit_test(test_sheet_jitter),
-        cmocka_unit_test(test_sheet_invalid),
-        cmocka_unit_test(test_icosphere_counts),
-        cmocka_unit_test(test_icosphere_geometry),
-        cmocka_unit_test(test_icosphere_large),
-        cmocka_unit_test(test_icosphere_invalid),
-        cmocka_unit_test(test_obj_read),
-        cmocka_unit_test(test_obj_extension_case),
-        cmocka_unit_test(test_obj_errors),
-        cmocka_unit_test(test_off_read),
-        cmocka_unit_test(test_off_errors),
-        cmocka_unit_test(test_assimp_stl),
-        cmocka_unit_test(test_assimp_ply),
-        cmocka_unit_test(test_assimp_errors),
-        cmocka_unit_test(test_missing_file),
+        cmocka_unit_test(test_sheet_default_def),  cmocka_unit_test(test_sheet_counts),
+        cmocka_unit_test(test_sheet_positions),    cmocka_unit_test(test_sheet_normals_up),
+        cmocka_unit_test(test_sheet_checkerboard), cmocka_unit_test(test_sheet_jitter),
+        cmocka_unit_test(test_sheet_invalid),      cmocka_unit_test(test_icosphere_counts),
+        cmocka_unit_test(test_icosphere_geometry), cmocka_unit_test(test_icosphere_large),
+        cmocka_unit_test(test_icosphere_invalid),  cmocka_unit_test(test_obj_read),
+        cmocka_unit_test(test_obj_extension_case), cmocka_unit_test(test_obj_errors),
+        cmocka_unit_test(test_off_read),           cmocka_unit_test(test_off_errors),
+        cmocka_unit_test(test_assimp_stl),         cmocka_unit_test(test_assimp_ply),
+        cmocka_unit_test(test_assimp_errors),      cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_free_zeroed),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

@@ -102,7 +102,8 @@ static void test_fixed_vertices(void** state) {
         for (uint32_t i = 0; i < S * S; ++i) {
             sb_model_rest_position(m, i, rest);
             if (sb_model_is_fixed(m, i))
-                assert_true(x[3 * i] == (sb_real)rest[0] && x[3 * i + 1] == (sb_real)rest[1] && x[3 * i + 2] == (sb_real)rest[2]);
+                assert_true(x[3 * i] == (sb_real)rest[0] && x[3 * i + 1] == (sb_real)rest[1] &&
+                            x[3 * i + 2] == (sb_real)rest[2]);
             else
                 moved = fmax(moved, tu_dist(rest, x + 3 * i));
         }
@@ -270,12 +271,9 @@ static void test_blow_up_rule(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_names_and_keys),
-        cmocka_unit_test(test_fixed_vertices),
-        cmocka_unit_test(test_convergence),
-        cmocka_unit_test(test_xpbd_static_stretch),
-        cmocka_unit_test(test_threads_deterministic),
-        cmocka_unit_test(test_blow_up_rule),
+        cmocka_unit_test(test_names_and_keys),        cmocka_unit_test(test_fixed_vertices),
+        cmocka_unit_test(test_convergence),           cmocka_unit_test(test_xpbd_static_stretch),
+        cmocka_unit_test(test_threads_deterministic), cmocka_unit_test(test_blow_up_rule),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

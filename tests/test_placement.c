@@ -123,8 +123,8 @@ static void test_scene_keys(void** state) {
     bounds(&m, lo, hi);
     for (int k = 0; k < 3; k++) assert_true(fabs(hi[k] - 2) < 1e-9 && fabs(lo[k] + 2) < 1e-9);
     sb_mesh_free(&m);
-    m = scene_mesh((const char*[]){"mesh.generator=icosphere", "mesh.scale=[1, 2, 3]",
-                                   "mesh.translate=[10, 0, -1]", NULL});
+    m = scene_mesh(
+        (const char*[]){"mesh.generator=icosphere", "mesh.scale=[1, 2, 3]", "mesh.translate=[10, 0, -1]", NULL});
     bounds(&m, lo, hi);
     assert_true(fabs(hi[0] - 11) < 1e-9 && fabs(lo[0] - 9) < 1e-9);
     assert_true(fabs(hi[1] - 2) < 1e-9 && fabs(hi[2] - 2) < 1e-9 && fabs(lo[2] + 4) < 1e-9);
@@ -161,10 +161,11 @@ static void test_scene_separate_objects(void** state) {
     FILE* f = fopen(path, "rb");
     if (!f) fail_msg("%s is missing: install Debian's assimp-testmodels (make deps)", path);
     fclose(f);
-    sb_mesh merged = scene_mesh((const char*[]){"mesh.generator=file",
-                                                "mesh.file=/usr/share/assimp/models/STL/Spider_binary.stl", NULL});
-    sb_mesh apart = scene_mesh((const char*[]){"mesh.generator=file", "mesh.file=/usr/share/assimp/models/OBJ/spider.obj",
-                                               "mesh.separate_objects=true", NULL});
+    sb_mesh merged = scene_mesh(
+        (const char*[]){"mesh.generator=file", "mesh.file=/usr/share/assimp/models/STL/Spider_binary.stl", NULL});
+    sb_mesh apart =
+        scene_mesh((const char*[]){"mesh.generator=file", "mesh.file=/usr/share/assimp/models/OBJ/spider.obj",
+                                   "mesh.separate_objects=true", NULL});
     assert_int_equal(apart.triangle_count, merged.triangle_count); /* both 1368 - 56 */
     assert_true(apart.vertex_count > merged.vertex_count);
     sb_mesh_free(&merged);
@@ -173,12 +174,9 @@ static void test_scene_separate_objects(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_each_rotation),
-        cmocka_unit_test(test_order),
-        cmocka_unit_test(test_mirror_and_errors),
-        cmocka_unit_test(test_scene_keys),
-        cmocka_unit_test(test_scene_key_errors),
-        cmocka_unit_test(test_scene_separate_objects),
+        cmocka_unit_test(test_each_rotation),     cmocka_unit_test(test_order),
+        cmocka_unit_test(test_mirror_and_errors), cmocka_unit_test(test_scene_keys),
+        cmocka_unit_test(test_scene_key_errors),  cmocka_unit_test(test_scene_separate_objects),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -31,12 +31,9 @@ static sb_model* build_patch(const double rest[PATCH_DOF], consts c) {
     sb_builder* b = sb_builder_create();
     assert_non_null(b);
     for (int v = 0; v < PATCH_N; ++v)
-        assert_int_equal(tu_vertex(b, rest[3 * v], rest[3 * v + 1], rest[3 * v + 2], 1.0, false),
-                         v);
+        assert_int_equal(tu_vertex(b, rest[3 * v], rest[3 * v + 1], rest[3 * v + 2], 1.0, false), v);
     for (int e = 0; e < 5; ++e)
-        assert_int_equal(tu_bond(b, patch_edges[e][0], patch_edges[e][1], -1.0, c.bond_k,
-                                 c.spring_k, c.damping),
-                         e);
+        assert_int_equal(tu_bond(b, patch_edges[e][0], patch_edges[e][1], -1.0, c.bond_k, c.spring_k, c.damping), e);
     assert_int_equal(tu_triangle(b, 0, 1, 2, c.angle_k, c.sb_k), 0);
     assert_int_equal(tu_triangle(b, 1, 0, 3, c.angle_k, c.sb_k), 1);
     assert_int_equal(tu_hinge(b, 0, 1, 2, 3, c.bend_k), 0);
@@ -62,12 +59,10 @@ static void random_rotation(tu_rng* r, double R[3][3]) {
     R[2][2] = c + a[2] * a[2] * C;
 }
 
-static void rotate(const double R[3][3], const double* in, double* out, int n,
-                   const double t[3]) {
+static void rotate(const double R[3][3], const double* in, double* out, int n, const double t[3]) {
     for (int v = 0; v < n; ++v)
         for (int i = 0; i < 3; ++i)
-            out[3 * v + i] = R[i][0] * in[3 * v] + R[i][1] * in[3 * v + 1] +
-                             R[i][2] * in[3 * v + 2] + (t ? t[i] : 0.0);
+            out[3 * v + i] = R[i][0] * in[3 * v] + R[i][1] * in[3 * v + 1] + R[i][2] * in[3 * v + 2] + (t ? t[i] : 0.0);
 }
 
 /* A random rest patch of scale L (the canonical one perturbed by 15 % and
@@ -104,16 +99,14 @@ static double smallest_length(const double x[PATCH_DOF]) {
 }
 
 /* One term's energy and forces (forces zeroed first); fails on error. */
-static double eval_term(const sb_model* m, sb_term term, const double* x, const double* v,
-                        double* f, size_t dof) {
+static double eval_term(const sb_model* m, sb_term term, const double* x, const double* v, double* f, size_t dof) {
     sb_error err;
     double e = NAN;
     memset(&err, 0, sizeof err);
     for (size_t i = 0; i < dof; ++i) f[i] = 0.0;
     sb_status s = sb_reference_term(m, term, x, v, f, &e, &err);
     if (s != SB_OK)
-        fail_msg("sb_reference_term(%s) failed: %s: %s", sb_term_name(term), sb_status_name(s),
-                 err.message);
+        fail_msg("sb_reference_term(%s) failed: %s: %s", sb_term_name(term), sb_status_name(s), err.message);
     return e;
 }
 
@@ -149,8 +142,7 @@ static double gradient_error(const sb_model* m, sb_term term, const double x[PAT
     return worst / fscale;
 }
 
-static const sb_term all_terms[5] = {SB_TERM_BOND, SB_TERM_ANGLE, SB_TERM_STRETCH_BEND,
-                                     SB_TERM_SPRING, SB_TERM_BEND};
+static const sb_term all_terms[5] = {SB_TERM_BOND, SB_TERM_ANGLE, SB_TERM_STRETCH_BEND, SB_TERM_SPRING, SB_TERM_BEND};
 
 /* Only `term`'s constant is nonzero (the values are arbitrary, not 1). */
 static consts only(sb_term term) {
@@ -159,15 +151,17 @@ static consts only(sb_term term) {
     case SB_TERM_BOND: c.bond_k = 37.0; break;
     case SB_TERM_ANGLE: c.angle_k = 2.3; break;
     case SB_TERM_STRETCH_BEND: c.sb_k = 5.1; break;
-    case SB_TERM_SPRING: c.spring_k = 11.0; c.damping = 0.7; break;
+    case SB_TERM_SPRING:
+        c.spring_k = 11.0;
+        c.damping = 0.7;
+        break;
     case SB_TERM_BEND: c.bend_k = 0.9; break;
     default: break;
     }
     return c;
 }
 
-static void check_gradient(const char* what, const double rest[PATCH_DOF],
-                           const double cur[PATCH_DOF]) {
+static void check_gradient(const char* what, const double rest[PATCH_DOF], const double cur[PATCH_DOF]) {
     for (int t = 0; t < 5; ++t) {
         sb_model* m = build_patch(rest, only(all_terms[t]));
         assert_true(sb_model_term_enabled(m, all_terms[t]));
@@ -299,8 +293,7 @@ static void test_rigid_motion_invariance(void** state) {
         random_patch(seed, rest, cur);
         tu_rng r = {seed + 2000};
         for (int i = 0; i < PATCH_DOF; ++i) vel[i] = tu_uniform(&r, -2, 2);
-        double R[3][3], t[3] = {tu_uniform(&r, -5, 5), tu_uniform(&r, -5, 5),
-                                tu_uniform(&r, -5, 5)};
+        double R[3][3], t[3] = {tu_uniform(&r, -5, 5), tu_uniform(&r, -5, 5), tu_uniform(&r, -5, 5)};
         random_rotation(&r, R);
         double cur2[PATCH_DOF], vel2[PATCH_DOF], f[PATCH_DOF], f2[PATCH_DOF], fr[PATCH_DOF];
         rotate(R, cur, cur2, PATCH_N, t);
@@ -316,11 +309,11 @@ static void test_rigid_motion_invariance(void** state) {
             double fscale = tu_max_abs(f, PATCH_DOF), dmax = 0;
             for (int i = 0; i < PATCH_DOF; ++i) dmax = fmax(dmax, fabs(fr[i] - f2[i]));
             if (!(fabs(e1 - e2) <= 1e-9 * fabs(e1)))
-                fail_msg("seed %u, %s: energy %.17g changed to %.17g by a rigid motion",
-                         (unsigned)seed, sb_term_name(all_terms[term]), e1, e2);
+                fail_msg("seed %u, %s: energy %.17g changed to %.17g by a rigid motion", (unsigned)seed,
+                         sb_term_name(all_terms[term]), e1, e2);
             if (!(dmax <= 1e-9 * fscale))
-                fail_msg("seed %u, %s: forces not rotated with the body: max diff %.3g of %.3g",
-                         (unsigned)seed, sb_term_name(all_terms[term]), dmax, fscale);
+                fail_msg("seed %u, %s: forces not rotated with the body: max diff %.3g of %.3g", (unsigned)seed,
+                         sb_term_name(all_terms[term]), dmax, fscale);
         }
         sb_model_destroy(m);
     }
@@ -338,15 +331,14 @@ static void test_zero_at_rest(void** state) {
         for (int term = 0; term < 5; ++term) {
             /* The force scale of each term: k·L for the edge terms, k/L for
              * the angle and hinge terms (J per m), k for stretch-bend (J/m). */
-            const double scale[5] = {all_on.bond_k * L, all_on.angle_k / L, all_on.sb_k,
-                                     all_on.spring_k * L, all_on.bend_k / L};
+            const double scale[5] = {all_on.bond_k * L, all_on.angle_k / L, all_on.sb_k, all_on.spring_k * L,
+                                     all_on.bend_k / L};
             double e = eval_term(m, all_terms[term], x, NULL, f, PATCH_DOF);
             if (!(tu_max_abs(f, PATCH_DOF) <= 1e-12 * scale[term]))
-                fail_msg("seed %u, %s: force %.3g at rest (scale %.3g)", (unsigned)seed,
-                         sb_term_name(all_terms[term]), tu_max_abs(f, PATCH_DOF), scale[term]);
+                fail_msg("seed %u, %s: force %.3g at rest (scale %.3g)", (unsigned)seed, sb_term_name(all_terms[term]),
+                         tu_max_abs(f, PATCH_DOF), scale[term]);
             if (!(fabs(e) <= 1e-24 * scale[term] * L))
-                fail_msg("seed %u, %s: energy %.3g at rest", (unsigned)seed,
-                         sb_term_name(all_terms[term]), e);
+                fail_msg("seed %u, %s: energy %.3g at rest", (unsigned)seed, sb_term_name(all_terms[term]), e);
         }
         free(x);
         sb_model_destroy(m);
@@ -465,13 +457,12 @@ static void test_collapsed_edge(void** state) {
         memset(&err, 0, sizeof err);
         sb_status s = sb_reference_term(m, terms[t], x, v, f, &e, &err);
         if (s != SB_ERR_DEGENERATE)
-            fail_msg("%s on a collapsed edge: status %s, expected degenerate",
-                     sb_term_name(terms[t]), sb_status_name(s));
+            fail_msg("%s on a collapsed edge: status %s, expected degenerate", sb_term_name(terms[t]),
+                     sb_status_name(s));
         if (terms[t] == SB_TERM_BOND || terms[t] == SB_TERM_SPRING) {
             TU_ASSERT_CONTAINS(err.message, "bond 7");
         } else if (!strstr(err.message, "triangle 2") && !strstr(err.message, "angle")) {
-            fail_msg("%s: message does not name triangle 2 or its angle: \"%s\"",
-                     sb_term_name(terms[t]), err.message);
+            fail_msg("%s: message does not name triangle 2 or its angle: \"%s\"", sb_term_name(terms[t]), err.message);
         }
         assert_true(tu_all_finite(f, 27));
         assert_true(isfinite(e));
@@ -499,8 +490,10 @@ static void test_known_bond_and_spring(void** state) {
         sb_builder* b = sb_builder_create();
         tu_vertex(b, 0, 0, 0, 1, false);
         tu_vertex(b, 1, 0, 0, 1, false);
-        if (which == 0) tu_bond(b, 0, 1, -1, 4.0, 0, 0);
-        else tu_bond(b, 0, 1, -1, 0, 4.0, 0.5);
+        if (which == 0)
+            tu_bond(b, 0, 1, -1, 4.0, 0, 0);
+        else
+            tu_bond(b, 0, 1, -1, 0, 4.0, 0.5);
         sb_model* m = tu_compile(b);
         sb_builder_destroy(b);
         sb_term term = which == 0 ? SB_TERM_BOND : SB_TERM_SPRING;
@@ -542,8 +535,8 @@ static void test_known_bond_and_spring(void** state) {
 
 /* The corner formula of DESIGN.md for one corner (vertex i, neighbours j, k),
  * added to f. */
-static void corner_forces(const double* x, int i, int j, int k, double c0, double A0, double B0,
-                          double kt, double ksb, double* f) {
+static void corner_forces(const double* x, int i, int j, int k, double c0, double A0, double B0, double kt, double ksb,
+                          double* f) {
     double a[3], b[3];
     for (int d = 0; d < 3; ++d) {
         a[d] = x[3 * j + d] - x[3 * i + d];
@@ -655,16 +648,11 @@ static void test_known_hinge(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_gradient_random),
-        cmocka_unit_test(test_gradient_special),
-        cmocka_unit_test(test_net_force_and_torque),
-        cmocka_unit_test(test_rigid_motion_invariance),
-        cmocka_unit_test(test_zero_at_rest),
-        cmocka_unit_test(test_damping_power),
-        cmocka_unit_test(test_forces_sum_of_terms),
-        cmocka_unit_test(test_collapsed_edge),
-        cmocka_unit_test(test_known_bond_and_spring),
-        cmocka_unit_test(test_known_angle_and_stretch_bend),
+        cmocka_unit_test(test_gradient_random),       cmocka_unit_test(test_gradient_special),
+        cmocka_unit_test(test_net_force_and_torque),  cmocka_unit_test(test_rigid_motion_invariance),
+        cmocka_unit_test(test_zero_at_rest),          cmocka_unit_test(test_damping_power),
+        cmocka_unit_test(test_forces_sum_of_terms),   cmocka_unit_test(test_collapsed_edge),
+        cmocka_unit_test(test_known_bond_and_spring), cmocka_unit_test(test_known_angle_and_stretch_bend),
         cmocka_unit_test(test_known_hinge),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

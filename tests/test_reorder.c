@@ -69,7 +69,8 @@ static void test_reorder_keeps_geometry_and_gains_locality(void** state) {
     /* every triangle is still there, with its orientation: map each new
      * triangle back to old numbers, rotate its smallest index first, and
      * compare the sorted lists */
-    uint64_t *mapped = malloc(mesh.triangle_count * sizeof *mapped), *expected = malloc(mesh.triangle_count * sizeof *expected);
+    uint64_t *mapped = malloc(mesh.triangle_count * sizeof *mapped),
+             *expected = malloc(mesh.triangle_count * sizeof *expected);
     for (uint32_t f = 0; f < mesh.triangle_count; f++) {
         uint32_t back[3], old[3];
         for (int c = 0; c < 3; c++) {

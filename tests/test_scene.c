@@ -192,37 +192,31 @@ static void test_unknown_keys(void** state) {
 static void test_wrong_types(void** state) {
     (void)state;
     assert_load_fails("type1.yaml", "\ndt: fast\n", "2: 'dt' expects a number, got 'fast'");
-    assert_load_fails("type2.yaml", "mesh:\n  nx: 2.5\n",
-                      "2: 'mesh.nx' expects an integer, got '2.5'");
+    assert_load_fails("type2.yaml", "mesh:\n  nx: 2.5\n", "2: 'mesh.nx' expects an integer, got '2.5'");
     assert_load_fails("type3.yaml", "output:\n  frames: maybe\n",
                       "2: 'output.frames' expects true or false, got 'maybe'");
     assert_load_fails("type4.yaml", "gravity: [0, 0]\n",
                       "1: 'gravity' expects a sequence of 3 numbers, got a sequence of 2");
-    assert_load_fails("type5.yaml", "gravity:\n  - 0\n  - x\n  - 1\n",
-                      "3: 'gravity' expects a number, got 'x'");
+    assert_load_fails("type5.yaml", "gravity:\n  - 0\n  - x\n  - 1\n", "3: 'gravity' expects a number, got 'x'");
     assert_load_fails("type6.yaml", "fixed: [1, -2]\n",
                       "1: 'fixed' expects a vertex index (an integer >= 0), got '-2'");
-    assert_load_fails("type7.yaml", "bond: {k: [1]}\n",
-                      "1: 'bond.k' expects a number, got a sequence of 1");
+    assert_load_fails("type7.yaml", "bond: {k: [1]}\n", "1: 'bond.k' expects a number, got a sequence of 1");
     assert_load_fails("type8.yaml", "dt: '0.1'\n", "1: 'dt' expects a number, got '0.1'");
     assert_load_fails("type9.yaml", "pin: {a: 1}\n", "1: 'pin' expects a string, got a map");
 }
 
 static void test_duplicate_keys(void** state) {
     (void)state;
-    assert_load_fails("dup1.yaml", "dt: 0.1\ndt: 0.2\n",
-                      "2: duplicate key 'dt' (first set at line 1)");
+    assert_load_fails("dup1.yaml", "dt: 0.1\ndt: 0.2\n", "2: duplicate key 'dt' (first set at line 1)");
     assert_load_fails("dup2.yaml", "bond: {k: 1}\nangle.k: 1\nbond.k: 2\n",
                       "3: duplicate key 'bond.k' (first set at line 1)");
 }
 
 static void test_malformed_yaml(void** state) {
     (void)state;
-    assert_load_fails("bad1.yaml", "dt: 0.1\ngravity: [0, 0\n",
-                      "3: malformed YAML: did not find expected ',' or ']'");
+    assert_load_fails("bad1.yaml", "dt: 0.1\ngravity: [0, 0\n", "3: malformed YAML: did not find expected ',' or ']'");
     assert_load_fails("bad2.yaml", "- dt\n- 0.1\n", "1: a scene must be a map of keys");
-    assert_load_fails("bad3.yaml", "dt: 0.1\n---\ndt: 0.2\n",
-                      "3: a scene file holds one YAML document");
+    assert_load_fails("bad3.yaml", "dt: 0.1\n---\ndt: 0.2\n", "3: a scene file holds one YAML document");
     assert_load_fails("bad4.yaml", "dt: 0.1\n  bond: 3\n",
                       "2: malformed YAML: mapping values are not allowed in this context");
 }
@@ -233,8 +227,7 @@ static void test_missing_file(void** state) {
     sb_error err;
     assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
     assert_int_equal(sb_scene_load(&scene, "/nonexistent/scene.yaml", &err), SB_ERR_IO);
-    assert_string_equal(err.message,
-                        "/nonexistent/scene.yaml: cannot open: No such file or directory");
+    assert_string_equal(err.message, "/nonexistent/scene.yaml: cannot open: No such file or directory");
     sb_scene_free(&scene);
 }
 
@@ -253,8 +246,7 @@ static void test_set_errors_name_the_set(void** state) {
     (void)state;
     assert_set_fails("bond.kk=1", "--set bond.kk=1: unknown key 'bond.kk'");
     assert_set_fails("dt=abc", "--set dt=abc: 'dt' expects a number, got 'abc'");
-    assert_set_fails("gravity=[0,0",
-                     "--set gravity=[0,0: malformed value: did not find expected ',' or ']'");
+    assert_set_fails("gravity=[0,0", "--set gravity=[0,0: malformed value: did not find expected ',' or ']'");
     assert_set_fails("dt", "--set dt: expected key=value");
     assert_set_fails("=1", "--set =1: expected key=value");
     assert_set_fails("dt=", "--set dt=: missing value after '='");
@@ -270,16 +262,14 @@ static void test_validation_names_where_the_value_was_set(void** state) {
     assert_load_fails("v3.yaml", "angle: {k: inf}\n", "1: 'angle.k' must be finite, got inf");
     assert_load_fails("v4.yaml", "dt: 0.01\nframe_interval: 0.001\n",
                       "2: 'frame_interval' (0.001) must be >= 'dt' (0.01)");
-    assert_load_fails("v5.yaml", "mass: 0\n",
-                      "1: 'mass' and 'density' are both 0: free vertices need a mass");
+    assert_load_fails("v5.yaml", "mass: 0\n", "1: 'mass' and 'density' are both 0: free vertices need a mass");
     assert_load_fails("v6.yaml", "mesh: {generator: cube}\n",
                       "1: 'mesh.generator' must be sheet, icosphere or file, got 'cube'");
     assert_load_fails("v7.yaml", "integrator: rk4\n",
                       "1: 'integrator' must be verlet, velocity_verlet, position_verlet, "
                       "symplectic_euler, explicit_euler, implicit_euler, pbd or xpbd, got 'rk4'");
     assert_load_fails("v7b.yaml", "adaptive: true\nmin_dt: 0\n", "2: 'min_dt' must be > 0, got 0");
-    assert_load_fails("v8.yaml", "kernels: gpu\n",
-                      "1: 'kernels' must be reference or fast, got 'gpu'");
+    assert_load_fails("v8.yaml", "kernels: gpu\n", "1: 'kernels' must be reference or fast, got 'gpu'");
     assert_load_fails("v9.yaml", "mesh:\n  generator: file\n",
                       "2: 'mesh.generator' is file but 'mesh.file' is not set");
     assert_load_fails("v10.yaml", "mesh: {nx: 1}\n", "1: 'mesh.nx' must be in [2, 65536], got 1");
@@ -336,7 +326,7 @@ static void test_pins_select_by_place(void** state) {
     assert_int_equal(fixed_mask((const char*[]){"pin=left_corners"}, 1), (1u << 0) | (1u << 3));
     /* a side and its neighbours along the triangles, whichever way the
      * sheet's cells are split: the 3 x 2 sheet's middle column joins both */
-    assert_int_equal(fixed_mask((const char*[]){"pin=left_clamp"}, 1), 0x1bu); /* 0 1 3 4 */
+    assert_int_equal(fixed_mask((const char*[]){"pin=left_clamp"}, 1), 0x1bu);  /* 0 1 3 4 */
     assert_int_equal(fixed_mask((const char*[]){"pin=right_clamp"}, 1), 0x36u); /* 1 2 4 5 */
     assert_int_equal(fixed_mask((const char*[]){"pin=bottom_clamp"}, 1), 0x3fu);
     assert_int_equal(fixed_mask((const char*[]){"fixed=[1, 4]", "pin=bottom_corners"}, 2),
@@ -347,14 +337,12 @@ static void test_fixed_index_out_of_range(void** state) {
     (void)state;
     sb_scene scene;
     sb_error err;
-    assert_int_equal(load_text(&scene, "range.yaml", "mesh: {nx: 2, ny: 2}\nfixed: [0, 4]\n", &err),
-                     SB_OK);
+    assert_int_equal(load_text(&scene, "range.yaml", "mesh: {nx: 2, ny: 2}\nfixed: [0, 4]\n", &err), SB_OK);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
     sb_mesh mesh = {0};
     assert_int_equal(sb_scene_make_mesh(&scene, &mesh, &err), SB_OK);
     assert_null(sb_scene_build_model(&scene, &mesh, "sheet", &err));
-    assert_file_error(&err, "range.yaml",
-                      "2: 'fixed': vertex 4 out of range (the mesh has 4 vertices)");
+    assert_file_error(&err, "range.yaml", "2: 'fixed': vertex 4 out of range (the mesh has 4 vertices)");
     sb_mesh_free(&mesh);
     sb_scene_free(&scene);
 }

@@ -156,12 +156,15 @@ typedef struct bad_file {
 static void assert_rejected(const char* name, const bad_file* bad) {
     const char* path = tu_write_file(name, bad->text);
     char where[512];
-    if (bad->line > 0) snprintf(where, sizeof where, "%s:%d: ", path, bad->line);
-    else snprintf(where, sizeof where, "%s: ", path);
+    if (bad->line > 0)
+        snprintf(where, sizeof where, "%s:%d: ", path, bad->line);
+    else
+        snprintf(where, sizeof where, "%s: ", path);
     sb_mesh m = {0};
     sb_error err = {{0}};
     sb_status status = sb_mesh_load(path, &m, &err);
-    if (status != SB_ERR_PARSE) fail_msg("%s: expected a parse error, got %s: %s", bad->text, sb_status_name(status), err.message);
+    if (status != SB_ERR_PARSE)
+        fail_msg("%s: expected a parse error, got %s: %s", bad->text, sb_status_name(status), err.message);
     TU_ASSERT_CONTAINS(err.message, where);
     TU_ASSERT_CONTAINS(err.message, bad->says);
     assert_null(m.positions);
@@ -214,8 +217,8 @@ static void test_pov_objects_and_locals(void** state) {
     assert_position(&o[0].mesh, 3, -2, 2, 0);
 
     assert_string_equal(o[1].name, "Ball");
-    assert_int_equal(o[1].given, SB_POV_KS | SB_POV_KB | SB_POV_DS | SB_POV_DB | SB_POV_MASS |
-                                     SB_POV_VICINITY | SB_POV_FIXED);
+    assert_int_equal(o[1].given,
+                     SB_POV_KS | SB_POV_KB | SB_POV_DS | SB_POV_DB | SB_POV_MASS | SB_POV_VICINITY | SB_POV_FIXED);
     assert_false(o[1].fixed);
     assert_true(o[1].stretch_k == 600 && o[1].bend_k == 500);
     assert_true(o[1].stretch_damping == 2 && o[1].bend_damping == 1.5);

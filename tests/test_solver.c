@@ -12,8 +12,8 @@
 
 static const sb_integrator integrators[2] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET};
 
-static sb_solver* make_solver(const sb_model* m, sb_integrator integrator, double gz,
-                              sb_external_force_fn fn, void* user) {
+static sb_solver* make_solver(const sb_model* m, sb_integrator integrator, double gz, sb_external_force_fn fn,
+                              void* user) {
     sb_solver_def def = sb_default_solver_def();
     def.integrator = integrator;
     def.gravity[0] = def.gravity[1] = 0.0;
@@ -70,8 +70,7 @@ static void test_order_spring(void** state) {
         double r1 = e[0] / e[1], r2 = e[1] / e[2];
         print_message("order (two-mass spring, analytic), %s: errors %.4g %.4g %.4g m for dt = "
                       "%g, %g, %g s; ratios %.4f %.4f\n",
-                      sb_integrator_name(integrators[k]), e[0], e[1], e[2], dt, dt / 2, dt / 4,
-                      r1, r2);
+                      sb_integrator_name(integrators[k]), e[0], e[1], e[2], dt, dt / 2, dt / 4, r1, r2);
         if (!(r1 >= 3.5 && r1 <= 4.5 && r2 >= 3.5 && r2 <= 4.5))
             fail_msg("%s is not second order: error ratios %.4f, %.4f (expected 3.5..4.5)",
                      sb_integrator_name(integrators[k]), r1, r2);
@@ -98,8 +97,7 @@ static sb_model* triangle_model(void) {
     return m;
 }
 
-static void triangle_run(const sb_model* m, sb_integrator integrator, double dt, double T,
-                         double out[9]) {
+static void triangle_run(const sb_model* m, sb_integrator integrator, double dt, double T, double out[9]) {
     sb_solver* s = make_solver(m, integrator, 0.0, NULL, NULL);
     /* Perturbed and spinning: every term and all three dimensions act. */
     double x[9] = {-0.45, -0.3, 0.05, 0.7, -0.28, -0.02, -0.1, 0.55, 0.0};
@@ -135,8 +133,8 @@ static void test_order_triangle(void** state) {
                       "%.4g %.4g m; ratios %.4f %.4f\n",
                       sb_integrator_name(integrators[k]), e[0], e[1], e[2], r1, r2);
         if (!(r1 >= 3.5 && r1 <= 4.5 && r2 >= 3.5 && r2 <= 4.5))
-            fail_msg("%s is not second order on the triangle: ratios %.4f, %.4f",
-                     sb_integrator_name(integrators[k]), r1, r2);
+            fail_msg("%s is not second order on the triangle: ratios %.4f, %.4f", sb_integrator_name(integrators[k]),
+                     r1, r2);
     }
     sb_model_destroy(m);
 }
@@ -151,13 +149,15 @@ typedef struct sheet_consts {
     double bond_k, spring_k, damping, angle_k, sb_k, mass;
 } sheet_consts;
 
-static sb_model* sheet_model(int nx, int ny, double h, double x0, double y0, sheet_consts c,
-                             const int* fixed, int nfixed, bool vertical) {
+static sb_model* sheet_model(int nx, int ny, double h, double x0, double y0, sheet_consts c, const int* fixed,
+                             int nfixed, bool vertical) {
     sb_builder* b = sb_builder_create();
     for (int r = 0; r < ny; ++r)
         for (int col = 0; col < nx; ++col) {
-            if (vertical) tu_vertex(b, x0 + h * col, 0, y0 - h * r, c.mass, false);
-            else tu_vertex(b, x0 + h * col, y0 + h * r, 0, c.mass, false);
+            if (vertical)
+                tu_vertex(b, x0 + h * col, 0, y0 - h * r, c.mass, false);
+            else
+                tu_vertex(b, x0 + h * col, y0 + h * r, 0, c.mass, false);
         }
     for (int f = 0; f < nfixed; ++f) sb_builder_vertex(b, (uint32_t)fixed[f])->fixed = true;
     for (int r = 0; r < ny; ++r)
@@ -165,8 +165,7 @@ static sb_model* sheet_model(int nx, int ny, double h, double x0, double y0, she
             uint32_t a = (uint32_t)(r * nx + col);
             if (col + 1 < nx) tu_bond(b, a, a + 1, -1, c.bond_k, c.spring_k, c.damping);
             if (r + 1 < ny) tu_bond(b, a, a + nx, -1, c.bond_k, c.spring_k, c.damping);
-            if (col + 1 < nx && r + 1 < ny)
-                tu_bond(b, a, a + nx + 1, -1, c.bond_k, c.spring_k, c.damping);
+            if (col + 1 < nx && r + 1 < ny) tu_bond(b, a, a + nx + 1, -1, c.bond_k, c.spring_k, c.damping);
         }
     for (int r = 0; r + 1 < ny; ++r)
         for (int col = 0; col + 1 < nx; ++col) {
@@ -235,8 +234,8 @@ static void test_energy_conservation(void** state) {
     /* Both integrators run before failing, so both numbers are printed. */
     for (int k = 0; k < 2; ++k)
         if (failed & (1 << k))
-            fail_msg("%s: total energy left the bound %.0e (see the numbers above)",
-                     sb_integrator_name(integrators[k]), bound);
+            fail_msg("%s: total energy left the bound %.0e (see the numbers above)", sb_integrator_name(integrators[k]),
+                     bound);
 }
 
 /* ---- a damped sheet pinned at two corners comes to rest ------------------------ *
@@ -288,8 +287,8 @@ static void test_pinned_sheet_comes_to_rest(void** state) {
         for (int f = 0; f < 2; ++f)
             for (int d = 0; d < 3; ++d)
                 if (x[3 * pins[f] + d] != rest[3 * pins[f] + d])
-                    fail_msg("fixed vertex %d moved: coordinate %d is %.17g, rest %.17g", pins[f],
-                             d, x[3 * pins[f] + d], rest[3 * pins[f] + d]);
+                    fail_msg("fixed vertex %d moved: coordinate %d is %.17g, rest %.17g", pins[f], d,
+                             x[3 * pins[f] + d], rest[3 * pins[f] + d]);
         /* It hangs below its start, and stays in its plane. */
         TU_ASSERT_LE(mean_z, mean_z0 - 0.01);
         for (int v = 0; v < N; ++v) assert_true(x[3 * v + 1] == 0.0);
@@ -376,8 +375,8 @@ typedef struct force_log {
     double t_max;
 } force_log;
 
-static void constant_force(void* user, uint32_t vertex, double time, const double position[3],
-                           const double velocity[3], double force[3]) {
+static void constant_force(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                           double force[3]) {
     force_log* log = (force_log*)user;
     (void)position;
     (void)velocity;
@@ -456,8 +455,8 @@ static void test_blow_up_is_caught(void** state) {
         sb_status st = SB_OK;
         int i;
         for (i = 0; i < 10000 && st == SB_OK; ++i) st = sb_solver_advance(s, 0.01);
-        print_message("blow-up, %s: %s after %d steps: %s\n", sb_integrator_name(integrators[k]),
-                      sb_status_name(st), i, sb_solver_error(s));
+        print_message("blow-up, %s: %s after %d steps: %s\n", sb_integrator_name(integrators[k]), sb_status_name(st), i,
+                      sb_solver_error(s));
         assert_int_equal(st, SB_ERR_UNSTABLE);
         TU_ASSERT_CONTAINS(sb_solver_error(s), "step");
         TU_ASSERT_CONTAINS(sb_solver_error(s), "vertex");
@@ -477,8 +476,7 @@ static void test_invalid_dt(void** state) {
     const double bad[5] = {0.0, -0.0, -1e-3, NAN, INFINITY};
     for (int i = 0; i < 5; ++i) {
         sb_status st = sb_solver_advance(s, bad[i]);
-        if (st != SB_ERR_INVALID)
-            fail_msg("dt = %g: status %s, expected invalid", bad[i], sb_status_name(st));
+        if (st != SB_ERR_INVALID) fail_msg("dt = %g: status %s, expected invalid", bad[i], sb_status_name(st));
         /* Rejected before anything moved. */
         assert_true(sb_solver_step_count(s) == 3);
         TU_ASSERT_NEAR(sb_solver_time(s), 0.03, 1e-15);
@@ -505,8 +503,7 @@ static void test_verlet_small_step_precision(void** state) {
     triangle_run(m, SB_INTEGRATOR_VELOCITY_VERLET, 0.04 / 256, 1.0, b);
     double d = max_diff(a, b, 9);
     sb_model_destroy(m);
-    print_message("verlet vs velocity_verlet at dt = 1.5625e-4 s after 1 s: max difference %.3g m\n",
-                  d);
+    print_message("verlet vs velocity_verlet at dt = 1.5625e-4 s after 1 s: max difference %.3g m\n", d);
     TU_ASSERT_LE(d, 1e-4);
 }
 

@@ -47,7 +47,8 @@ static double enclosed_volume(const sb_mesh* m) {
     double volume = 0.0;
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         double bc[3];
-        tu_cross(m->positions + 3 * (size_t)m->triangles[3 * t + 1], m->positions + 3 * (size_t)m->triangles[3 * t + 2], bc);
+        tu_cross(m->positions + 3 * (size_t)m->triangles[3 * t + 1], m->positions + 3 * (size_t)m->triangles[3 * t + 2],
+                 bc);
         volume += tu_dot(m->positions + 3 * (size_t)m->triangles[3 * t], bc) / 6.0;
     }
     return volume;

@@ -25,29 +25,27 @@
 #define TU_REAL_EPS ((double)(sizeof(sb_real) == sizeof(float) ? FLT_EPSILON : DBL_EPSILON))
 
 /* a <= b, printing both values (cmocka's float asserts round to float). */
-#define TU_ASSERT_LE(a, b)                                                              \
-    do {                                                                                \
-        double tu_a_ = (a), tu_b_ = (b);                                                \
-        if (!(tu_a_ <= tu_b_))                                                          \
-            fail_msg("expected %s <= %s, got %.17g > %.17g", #a, #b, tu_a_, tu_b_);     \
+#define TU_ASSERT_LE(a, b)                                                                                             \
+    do {                                                                                                               \
+        double tu_a_ = (a), tu_b_ = (b);                                                                               \
+        if (!(tu_a_ <= tu_b_)) fail_msg("expected %s <= %s, got %.17g > %.17g", #a, #b, tu_a_, tu_b_);                 \
     } while (0)
 
 /* |a - b| <= tol, printing the values. */
-#define TU_ASSERT_NEAR(a, b, tol)                                                        \
-    do {                                                                                 \
-        double tu_a_ = (a), tu_b_ = (b), tu_t_ = (tol);                                  \
-        if (!(fabs(tu_a_ - tu_b_) <= tu_t_))                                             \
-            fail_msg("expected %s ~= %s within %.3g, got %.17g vs %.17g (diff %.3g)", #a, \
-                     #b, tu_t_, tu_a_, tu_b_, fabs(tu_a_ - tu_b_));                      \
+#define TU_ASSERT_NEAR(a, b, tol)                                                                                      \
+    do {                                                                                                               \
+        double tu_a_ = (a), tu_b_ = (b), tu_t_ = (tol);                                                                \
+        if (!(fabs(tu_a_ - tu_b_) <= tu_t_))                                                                           \
+            fail_msg("expected %s ~= %s within %.3g, got %.17g vs %.17g (diff %.3g)", #a, #b, tu_t_, tu_a_, tu_b_,     \
+                     fabs(tu_a_ - tu_b_));                                                                             \
     } while (0)
 
 /* The message contains the substring. */
-#define TU_ASSERT_CONTAINS(message, needle)                                        \
-    do {                                                                           \
-        const char* tu_m_ = (message);                                             \
-        if (!tu_m_ || !strstr(tu_m_, (needle)))                                    \
-            fail_msg("expected message to contain \"%s\", got \"%s\"", (needle),   \
-                     tu_m_ ? tu_m_ : "(null)");                                    \
+#define TU_ASSERT_CONTAINS(message, needle)                                                                            \
+    do {                                                                                                               \
+        const char* tu_m_ = (message);                                                                                 \
+        if (!tu_m_ || !strstr(tu_m_, (needle)))                                                                        \
+            fail_msg("expected message to contain \"%s\", got \"%s\"", (needle), tu_m_ ? tu_m_ : "(null)");            \
     } while (0)
 
 /* ---- random numbers: splitmix64, deterministic across platforms ---------- */
@@ -70,9 +68,7 @@ static inline double tu_uniform(tu_rng* r, double lo, double hi) {
 
 /* ---- vectors -------------------------------------------------------------- */
 
-static inline double tu_dot(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+static inline double tu_dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static inline double tu_norm(const double a[3]) { return sqrt(tu_dot(a, a)); }
 static inline void tu_cross(const double a[3], const double b[3], double out[3]) {
     out[0] = a[1] * b[2] - a[2] * b[1];
@@ -97,8 +93,7 @@ static inline bool tu_all_finite(const double* v, size_t n) {
 
 /* ---- building models by hand --------------------------------------------- */
 
-static inline int64_t tu_vertex(sb_builder* b, double x, double y, double z, double mass,
-                                bool fixed) {
+static inline int64_t tu_vertex(sb_builder* b, double x, double y, double z, double mass, bool fixed) {
     sb_vertex_def v = sb_default_vertex_def();
     v.position[0] = x;
     v.position[1] = y;
@@ -110,8 +105,8 @@ static inline int64_t tu_vertex(sb_builder* b, double x, double y, double z, dou
 }
 
 /* rest_length < 0: the current distance. */
-static inline int64_t tu_bond(sb_builder* b, uint32_t i, uint32_t j, double rest_length, double k,
-                              double spring_k, double spring_damping) {
+static inline int64_t tu_bond(sb_builder* b, uint32_t i, uint32_t j, double rest_length, double k, double spring_k,
+                              double spring_damping) {
     sb_bond_def d = sb_default_bond_def();
     d.i = i;
     d.j = j;
@@ -122,8 +117,8 @@ static inline int64_t tu_bond(sb_builder* b, uint32_t i, uint32_t j, double rest
     return sb_builder_add_bond(b, &d);
 }
 
-static inline int64_t tu_triangle(sb_builder* b, uint32_t i, uint32_t j, uint32_t k,
-                                  double angle_k, double stretch_bend_k) {
+static inline int64_t tu_triangle(sb_builder* b, uint32_t i, uint32_t j, uint32_t k, double angle_k,
+                                  double stretch_bend_k) {
     sb_triangle_def d = sb_default_triangle_def();
     d.i = i;
     d.j = j;
@@ -133,8 +128,7 @@ static inline int64_t tu_triangle(sb_builder* b, uint32_t i, uint32_t j, uint32_
     return sb_builder_add_triangle(b, &d);
 }
 
-static inline int64_t tu_hinge(sb_builder* b, uint32_t e0, uint32_t e1, uint32_t o0, uint32_t o1,
-                               double k) {
+static inline int64_t tu_hinge(sb_builder* b, uint32_t e0, uint32_t e1, uint32_t o0, uint32_t o1, double k) {
     sb_hinge_def d;
     memset(&d, 0, sizeof d);
     d.e0 = e0;

@@ -23,31 +23,29 @@ static int teardown_dir(void** state) {
 
 /* ---- the meshes ---------------------------------------------------------------- */
 
-static const char* const one_node =
-    "# one tetrahedron\n"
-    "4 3 0 0\n"
-    "1 0 0 0\n"
-    "2 1 0 0   # a comment after the point\n"
-    "\n"
-    "3 0 1 0\n"
-    "4 0 0 1\n";
+static const char* const one_node = "# one tetrahedron\n"
+                                    "4 3 0 0\n"
+                                    "1 0 0 0\n"
+                                    "2 1 0 0   # a comment after the point\n"
+                                    "\n"
+                                    "3 0 1 0\n"
+                                    "4 0 0 1\n";
 static const char* const one_ele = "1 4 0\n1 1 2 3 4\n";
 
 /* The unit cube, vertex x + 2y + 4z at (x, y, z), as four corner
  * tetrahedra (volume 1/6) around a central one (1/3), all positive. */
-static const char* const cube_msh =
-    "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
-    "$Entities\n0 0 0 1\n1 0 0 0 1 1 1 0 0\n$EndEntities\n"
-    "$Nodes\n2 9 1 9\n"
-    "3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n"
-    "0 0 0 0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
-    "0 9 0 1\n9\n5 5 5\n" /* a point no tetrahedron uses: dropped */
-    "$EndNodes\n"
-    "$Elements\n3 7 1 7\n"
-    "1 1 1 1\n1 1 2\n"    /* a line: skipped */
-    "2 1 2 1\n2 1 2 3\n"  /* a triangle: skipped */
-    "3 1 4 5\n3 1 2 3 5\n4 4 3 2 8\n5 6 2 5 8\n6 7 5 3 8\n7 2 3 5 8\n"
-    "$EndElements\n";
+static const char* const cube_msh = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                                    "$Entities\n0 0 0 1\n1 0 0 0 1 1 1 0 0\n$EndEntities\n"
+                                    "$Nodes\n2 9 1 9\n"
+                                    "3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n"
+                                    "0 0 0 0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+                                    "0 9 0 1\n9\n5 5 5\n" /* a point no tetrahedron uses: dropped */
+                                    "$EndNodes\n"
+                                    "$Elements\n3 7 1 7\n"
+                                    "1 1 1 1\n1 1 2\n"   /* a line: skipped */
+                                    "2 1 2 1\n2 1 2 3\n" /* a triangle: skipped */
+                                    "3 1 4 5\n3 1 2 3 5\n4 4 3 2 8\n5 6 2 5 8\n6 7 5 3 8\n7 2 3 5 8\n"
+                                    "$EndElements\n";
 
 static const uint32_t cube_tets[5][4] = {{0, 1, 2, 4}, {3, 2, 1, 7}, {5, 1, 4, 7}, {6, 4, 2, 7}, {1, 2, 4, 7}};
 
@@ -81,8 +79,8 @@ static void test_one_tetrahedron_by_hand(void** state) {
     assert_int_equal(sb_tet_mesh_load(tu_tmp_path("one.ele"), &mesh, &err), SB_OK);
     assert_int_equal(mesh.vertex_count, 4);
     assert_int_equal(mesh.tet_count, 1);
-    TU_ASSERT_NEAR(sb_tet_volume(mesh.positions, mesh.positions + 3, mesh.positions + 6, mesh.positions + 9),
-                   1.0 / 6.0, 1e-15);
+    TU_ASSERT_NEAR(sb_tet_volume(mesh.positions, mesh.positions + 3, mesh.positions + 6, mesh.positions + 9), 1.0 / 6.0,
+                   1e-15);
     sb_tissue_def tissue = {.young_modulus = 3500.0, .density = 1000.0, .damping = 1.0};
     sb_model* model = compile_tet(&mesh, &tissue);
     /* m = ρ V / 4; l = (6√2 V)^(1/3) = 2^(1/6); k = (√2/25) l E; d = √(k (m_i + m_j)) / l0 */
@@ -136,8 +134,8 @@ static void test_cube_mass_and_stiffness(void** state) {
     assert_int_equal(sb_model_bond_count(model), 18);
     double c = sqrt(2.0) / 25.0 * 3500.0;
     double corner_l = pow(2.0, 1.0 / 6.0), centre_l = sqrt(2.0); /* (6√2/6)^(1/3), (6√2/3)^(1/3) */
-    sb_bond_info edge = find_bond(model, 0, 1);      /* one corner tetrahedron */
-    sb_bond_info diagonal = find_bond(model, 1, 2);  /* two corners and the centre */
+    sb_bond_info edge = find_bond(model, 0, 1);                  /* one corner tetrahedron */
+    sb_bond_info diagonal = find_bond(model, 1, 2);              /* two corners and the centre */
     TU_ASSERT_NEAR(edge.spring_k, c * corner_l, 1e-12 * c);
     TU_ASSERT_NEAR(diagonal.spring_k, c * (2.0 * corner_l + centre_l), 1e-12 * c);
     double m1 = sb_model_mass(model, 1), m2 = sb_model_mass(model, 2);
@@ -252,11 +250,11 @@ static void test_malformed_gmsh(void** state) {
     expect_parse_error(tu_write_file("a.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"), 2, "version 2.2");
     expect_parse_error(tu_write_file("b.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n"), 2, "binary");
     expect_parse_error(tu_write_file("c.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
-                                           "3 1 0 1\n1\n0 0 zero\n$EndNodes\n"),
+                                              "3 1 0 1\n1\n0 0 zero\n$EndNodes\n"),
                        8, "coordinates");
     expect_parse_error(tu_write_file("d.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n"
-                                           "3 1 0 1\n1\n0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n"
-                                           "3 1 4 1\n1 1 2 3 4\n$EndElements\n"),
+                                              "3 1 0 1\n1\n0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n"
+                                              "3 1 4 1\n1 1 2 3 4\n$EndElements\n"),
                        13, "node 2 does not exist");
     expect_parse_error(tu_write_file("e.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Comments\nhello\n"), 4,
                        "no $EndComments");
@@ -273,10 +271,9 @@ static void test_gmsh_40(void** state) {
     (void)state;
     sb_error err;
     sb_tet_mesh mesh;
-    const char* path = tu_write_file("v40.msh",
-                                  "$MeshFormat\n4 0 8\n$EndMeshFormat\n$Nodes\n1 4\n1 3 0 4\n"
-                                  "10 0 0 0\n11 1 0 0\n12 0 1 0\n13 0 0 1\n$EndNodes\n"
-                                  "$Elements\n1 1\n1 3 4 1\n1 10 11 12 13\n$EndElements\n");
+    const char* path = tu_write_file("v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n$Nodes\n1 4\n1 3 0 4\n"
+                                                "10 0 0 0\n11 1 0 0\n12 0 1 0\n13 0 0 1\n$EndNodes\n"
+                                                "$Elements\n1 1\n1 3 4 1\n1 10 11 12 13\n$EndElements\n");
     assert_int_equal(sb_tet_mesh_load(path, &mesh, &err), SB_OK);
     assert_int_equal(mesh.vertex_count, 4);
     assert_int_equal(mesh.tet_count, 1);

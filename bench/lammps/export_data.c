@@ -66,8 +66,7 @@ static int sb_index_compare(const void* p, const void* q) {
 
 /* Groups values into types: type[i] in 1..*type_count, type_value[t - 1]
  * the first (smallest) value of type t. */
-static double* sb_assign_types(const double* values, size_t n, double tolerance, uint32_t* type,
-                               size_t* type_count) {
+static double* sb_assign_types(const double* values, size_t n, double tolerance, uint32_t* type, size_t* type_count) {
     size_t* order = malloc(n * sizeof *order);
     double* type_value = malloc(n * sizeof *type_value);
     if (!order || !type_value) {
@@ -108,8 +107,7 @@ static void sb_write_box(FILE* f, const sb_mesh* m, double margin) {
             hi[c] = fmax(hi[c], m->positions[3 * i + c]);
         }
     const char* axis[3] = {"x", "y", "z"};
-    for (int c = 0; c < 3; c++)
-        fprintf(f, "%.17g %.17g %slo %shi\n", lo[c] - margin, hi[c] + margin, axis[c], axis[c]);
+    for (int c = 0; c < 3; c++) fprintf(f, "%.17g %.17g %slo %shi\n", lo[c] - margin, hi[c] + margin, axis[c], axis[c]);
 }
 
 typedef struct sb_export {
@@ -126,8 +124,8 @@ static int sb_write_data(const char* path, const char* name, const sb_export* x)
     FILE* f = fopen(path, "w");
     if (!f) return 1;
     fprintf(f, "LAMMPS data file: softbond benchmark case %s\n\n", name);
-    fprintf(f, "%u atoms\n%zu bonds\n%zu angles\n1 atom types\n%zu bond types\n%zu angle types\n\n",
-            m->vertex_count, x->edge_count, 3 * (size_t)m->triangle_count, x->bond_types, x->angle_types);
+    fprintf(f, "%u atoms\n%zu bonds\n%zu angles\n1 atom types\n%zu bond types\n%zu angle types\n\n", m->vertex_count,
+            x->edge_count, 3 * (size_t)m->triangle_count, x->bond_types, x->angle_types);
     sb_write_box(f, m, 2.0 * x->s->edge_length);
     fprintf(f, "\nMasses\n\n1 %.17g\n", x->s->material.mass);
     fprintf(f, "\nBond Coeffs # harmonic\n\n");
@@ -239,9 +237,8 @@ int main(int argc, char** argv) {
         fprintf(stderr, "sb_lammps_export: cannot write %s or %s\n", data, vars);
         return 1;
     }
-    printf("%s vertices=%u bonds=%zu angles=%zu bond_types=%zu angle_types=%zu dt=%.6g\n", c->name,
-           s.mesh.vertex_count, x.edge_count, 3 * (size_t)s.mesh.triangle_count, x.bond_types, x.angle_types,
-           s.dt);
+    printf("%s vertices=%u bonds=%zu angles=%zu bond_types=%zu angle_types=%zu dt=%.6g\n", c->name, s.mesh.vertex_count,
+           x.edge_count, 3 * (size_t)s.mesh.triangle_count, x.bond_types, x.angle_types, s.dt);
     free(x.edges);
     free(x.bond_type);
     free(x.angle_type);

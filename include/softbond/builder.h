@@ -94,8 +94,7 @@ sb_material_def sb_default_material_def(void);
  * per face (all three corners), a hinge per edge shared by exactly two
  * triangles (only when bend_k > 0). Fails when an edge is shared by more than
  * two triangles and bend_k > 0 (the hinge would be ambiguous). */
-sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh,
-                              const sb_material_def* material, sb_error* err);
+sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material, sb_error* err);
 
 /* The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
  * vertex (order kept), a damped spring (sb_bond_def spring_k and
@@ -119,16 +118,16 @@ typedef struct sb_spring_mesh_def {
  * springs (distance 0; 100 N/m and 0.1 N·s/m once one is set), 0.01 kg per
  * vertex: the scene keys' defaults. */
 sb_spring_mesh_def sb_default_spring_mesh_def(void);
-sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh,
-                                     const sb_spring_mesh_def* def, sb_error* err);
+sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
+                                     sb_error* err);
 
 /* The pairs (i < j) of points nearer than radius (0 < distance < radius),
  * found with a uniform grid (cells of side radius, sorted by cell) in time
  * linear in count: *pairs receives 2 * *pair_count indices (caller frees),
  * i < j in each pair, pairs in a deterministic order (by cell, not sorted).
  * Coincident points (distance 0) are not paired. */
-sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius,
-                            uint32_t** pairs, size_t* pair_count, sb_error* err);
+sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius, uint32_t** pairs,
+                            size_t* pair_count, sb_error* err);
 
 #ifdef __cplusplus
 }

@@ -11,9 +11,9 @@ extern "C" {
 
 typedef struct sb_mesh {
     uint32_t vertex_count;
-    double* positions;    /* 3 * vertex_count, x y z interleaved */
+    double* positions; /* 3 * vertex_count, x y z interleaved */
     uint32_t triangle_count;
-    uint32_t* triangles;  /* 3 * triangle_count vertex indices */
+    uint32_t* triangles; /* 3 * triangle_count vertex indices */
 } sb_mesh;
 
 /* Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
@@ -37,8 +37,7 @@ sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error
 /* An icosphere: an icosahedron subdivided `subdivisions` times, projected
  * onto a sphere of the given radius centred at the origin. It has
  * 10 * 4^s + 2 vertices and 20 * 4^s triangles, outward-facing. */
-sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out,
-                                     sb_error* err);
+sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out, sb_error* err);
 
 /* Reads a triangle mesh from a file. OBJ and OFF are read by softbond's own
  * readers, which keep the file's vertex order and count exactly (polygons are
@@ -84,8 +83,8 @@ typedef struct sb_mesh_load_report {
  * sb_mesh_objects_free. def and report may be NULL (defaults; no report).
  * softbond's own OBJ and OFF readers drop nothing: a face with a repeated
  * vertex is kept and reported when a model is compiled. */
-sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects,
-                          uint32_t* object_count, sb_mesh_load_report* report, sb_error* err);
+sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects, uint32_t* object_count,
+                          sb_mesh_load_report* report, sb_error* err);
 
 /* Frees each mesh and the array; safe on NULL. */
 void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
@@ -145,8 +144,8 @@ typedef struct sb_simplify_report {
 } sb_simplify_report;
 
 sb_simplify_def sb_default_simplify_def(void);
-sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin,
-                           sb_simplify_report* report, sb_error* err);
+sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
+                           sb_error* err);
 
 /* Renumbers the vertices along a Morton (Z-order) curve through the
  * bounding box and sorts the triangles by their lowest vertex, so that
@@ -180,8 +179,8 @@ sb_mesh_export_def sb_default_mesh_export_def(void);
  *           a plain texture, so that `povray frame.pov` renders it
  * The assimp formats store positions as float. The file is written in place,
  * not atomically. Errors name the path. */
-sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
-                         const sb_mesh_export_def* def, sb_error* err);
+sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
+                         sb_error* err);
 
 /* The file extension of an export format (".ply", ".obj", ".gltf", ".glb",
  * ".itd", ".pov"); NULL when sb_mesh_export does not know the format. */

@@ -27,10 +27,10 @@ enum {
  * count, face_indices as triangles) and the locals it gave; a value whose
  * bit is not in `given` is 0 (false for fixed). */
 typedef struct sb_pov_object {
-    char name[64];  /* the #declare'd (or #local'd) name, cut to 63 bytes; "" for a bare mesh2 */
-    size_t line;    /* the line of its `mesh2` keyword */
+    char name[64]; /* the #declare'd (or #local'd) name, cut to 63 bytes; "" for a bare mesh2 */
+    size_t line;   /* the line of its `mesh2` keyword */
     sb_mesh mesh;
-    unsigned given; /* SB_POV_* bits */
+    unsigned given;                       /* SB_POV_* bits */
     double stretch_k, bend_k;             /* N/m */
     double stretch_damping, bend_damping; /* N·s/m */
     double mass;                          /* kg, the whole object */
@@ -54,8 +54,7 @@ typedef struct sb_pov_object {
  * +y). Errors are "FILE:LINE: what": a count that disagrees
  * with the list, an index out of range, a non-number, an unclosed brace,
  * a mesh2 without vertices or faces, a file without any mesh2. */
-sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count,
-                      sb_error* err);
+sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count, sb_error* err);
 
 /* Whether the path names a POV-Ray file (".pov", ignoring case). */
 bool sb_pov_path(const char* path);
@@ -69,8 +68,7 @@ void sb_pov_objects_free(sb_pov_object* objects, uint32_t count);
  * object's stretch constants (the film maker has no others); a given mass
  * is the whole object's, spread evenly: mass / vertex_count per vertex
  * (density 0). spring_system_fixed is not a constant: see `fixed`. */
-sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object,
-                                         const sb_spring_mesh_def* defaults);
+sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object, const sb_spring_mesh_def* defaults);
 
 #ifdef __cplusplus
 }

@@ -29,13 +29,11 @@ double sb_energies_total(const sb_energies* energies);
  * nothing. Returns SB_ERR_DEGENERATE, naming the element, when an edge the
  * term needs has collapsed (length below 1e-9 of its rest length): the
  * direction is then undefined and is never divided by. */
-sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions,
-                            const double* velocities, double* forces, double* energy,
-                            sb_error* err);
+sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions, const double* velocities,
+                            double* forces, double* energy, sb_error* err);
 
 /* All enabled terms: overwrites forces and fills energies->term[]. */
-sb_status sb_reference_forces(const sb_model* model, const double* positions,
-                              const double* velocities, double* forces,
+sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities, double* forces,
                               sb_energies* energies, sb_error* err);
 
 #ifdef __cplusplus

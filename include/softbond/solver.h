@@ -41,16 +41,15 @@ typedef enum sb_kernels {
 } sb_kernels;
 
 /* Called once per free vertex per force evaluation; adds to force[] (N). */
-typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time,
-                                     const double position[3], const double velocity[3],
-                                     double force[3]);
+typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, const double position[3],
+                                     const double velocity[3], double force[3]);
 
 typedef struct sb_solver_def {
     sb_integrator integrator;
     double gravity[3]; /* m/s² */
     double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
-    int threads;       /* 0 = the runtime's default */
+    int threads; /* 0 = the runtime's default */
     sb_external_force_fn external_force;
     void* external_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
@@ -125,8 +124,7 @@ void sb_solver_get_velocities(const sb_solver* solver, double* out);
 /* Replaces positions and velocities (3n interleaved; velocities may be
  * NULL for zero) and recomputes forces. Fixed vertices keep their rest
  * position. */
-sb_status sb_solver_set_state(sb_solver* solver, const double* positions,
-                              const double* velocities);
+sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
 
 #ifdef __cplusplus
 }

@@ -27,8 +27,7 @@ void sb_tet_mesh_free(sb_tet_mesh* mesh);
  * numbering base) and an .ele file (tetrahedra of 4 or 10 nodes: the first
  * four are the corners). Comments (#) and blank lines are skipped; extra
  * columns (attributes, markers) are ignored. Vertex order is the file's. */
-sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, sb_tet_mesh* out,
-                                  sb_error* err);
+sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, sb_tet_mesh* out, sb_error* err);
 
 /* Gmsh .msh version 4 (4.0 or 4.1), ASCII: the nodes and the tetrahedra
  * (element types 4 and 11, corners only); every other element type is
@@ -89,8 +88,8 @@ bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * depends on the length unit (SI here), and it damps strongly for short
  * springs — scale it with `damping`. Fails (nothing added) when the mesh
  * fails sb_tet_mesh_check or a vertex belongs to no tetrahedron. */
-sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh,
-                                  const sb_tissue_def* tissue, sb_error* err);
+sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
+                                  sb_error* err);
 
 #ifdef __cplusplus
 }
