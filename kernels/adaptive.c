@@ -27,7 +27,7 @@
  * Verlet displacement, the fast path's packed working state, the external
  * forces, the clock and the energies. */
 #include "kernels/solver_internal.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
  * the atan2 of the rotation from the rest normal pair, lane by lane. */
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
-#include "kernels/geometry.h"
+#include "common/geometry.h"
 
 #include <float.h>
 

@@ -3,9 +3,9 @@
  * the locality of the vertex order), pad each color to whole SIMD blocks and
  * convert the constants to sb_real, folding uniform ones to one value. */
 #include "kernels/fast_model.h"
-#include "kernels/error.h"
+#include "common/error.h"
 #include "kernels/wide.h"
-#include "mesh/edge_map.h"
+#include "common/edge_map.h"
 
 #include <stdlib.h>
 

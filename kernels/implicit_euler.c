@@ -29,7 +29,7 @@
  * external forces are part of f and so are treated implicitly too; fixed
  * vertices are masked out of every vector and keep Δv = 0. */
 #include "kernels/solver_internal.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -46,7 +46,7 @@
  * its own copy of the positions. */
 #include "kernels/solver_internal.h"
 #include "kernels/coloring.h"
-#include "kernels/error.h"
+#include "common/error.h"
 #include "softbond/runtime.h"
 
 #include <math.h>

@@ -1,7 +1,7 @@
 /* The scalar reference's entry points: one term, or all enabled terms. */
 #include "softbond/reference.h"
 #include "kernels/reference_terms.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <string.h>
 

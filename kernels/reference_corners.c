@@ -10,8 +10,8 @@
  * No 1/sin θ appears: the only singularity is A or B collapsing to zero,
  * which is reported instead of divided by. */
 #include "kernels/reference_terms.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/error.h"
+#include "common/geometry.h"
 
 typedef struct sb_corner {
     uint32_t i, j, k;

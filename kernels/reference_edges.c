@@ -4,8 +4,8 @@
  * u = (x_j − x_i)/r. The damped spring (Eq. 2) adds d (v_j − v_i)·u along u;
  * its dissipation rate is −Σ d ((v_j − v_i)·u)². */
 #include "kernels/reference_terms.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/error.h"
+#include "common/geometry.h"
 
 sb_status sb_reference_edges(const sb_model* m, bool spring, const double* x, const double* v, double* f,
                              double* energy, sb_error* err) {

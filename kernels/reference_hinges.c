@@ -14,8 +14,8 @@
  * (each 1/height of the moving vertex, along its wing's normal; they sum to
  * zero), so F = k (φ − φ0) u. A wing that collapses (|n| → 0) is reported. */
 #include "kernels/reference_terms.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/error.h"
+#include "common/geometry.h"
 
 /* A wing whose height is below this fraction of its edge has collapsed. */
 #define SB_MIN_WING_RATIO 1e-12

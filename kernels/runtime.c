@@ -1,6 +1,6 @@
 /* The parallel runtime: how many threads, and where they run (hwloc). */
 #include "softbond/runtime.h"
-#include "kernels/error.h"
+#include "common/error.h"
 #include "kernels/wide.h"
 
 #include <errno.h>

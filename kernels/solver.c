@@ -2,7 +2,7 @@
  * with the chosen integrator, checking after every step that the state is
  * still finite and bounded. */
 #include "kernels/solver_internal.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -41,7 +41,7 @@
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"
-#include "kernels/error.h"
+#include "common/error.h"
 #include "kernels/wide.h"
 
 #include <math.h>

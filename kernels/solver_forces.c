@@ -2,7 +2,7 @@
  * forces. The external forces of the last evaluation are kept apart
  * (solver->external) so that adaptive stepping can count their work. */
 #include "kernels/solver_internal.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 /* Adds the callback's force to f and remembers it in ext (when not NULL). */
 static void sb_add_external(sb_solver* s, uint32_t i, const double* x, const double* v, double* f, double* ext) {

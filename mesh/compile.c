@@ -4,8 +4,8 @@
  * element by kind and index. */
 #include "mesh/builder_internal.h"
 #include "mesh/model_internal.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/error.h"
+#include "common/geometry.h"
 #include "mesh/sort_key.h"
 
 #include <math.h>

@@ -2,9 +2,9 @@
  * triangle corners and interior edges become vertices, bonds, angles and
  * hinges. A term whose constants are all zero adds no elements. */
 #include "mesh/builder_internal.h"
-#include "mesh/edge_map.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/edge_map.h"
+#include "common/error.h"
+#include "common/geometry.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "mesh/edge_map.h"
+#include "common/edge_map.h"
 #include "softbond/mesh.h"
 
 sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err) {

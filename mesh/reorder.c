@@ -1,6 +1,6 @@
 /* Vertex and triangle reordering for locality (Morton / Z-order curve). */
 #include "softbond/mesh.h"
-#include "kernels/error.h"
+#include "common/error.h"
 #include "mesh/sort_key.h"
 
 #include <math.h>

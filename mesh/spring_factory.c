@@ -34,8 +34,8 @@
  *   - a 708 × 708 sheet (501 264 vertices, 999 698 triangles): factory
  *     0.40–0.46 s (it was 1.07 s with a hash set of pairs), compile 0.2–0.3 s. */
 #include "mesh/builder_internal.h"
-#include "kernels/error.h"
-#include "kernels/geometry.h"
+#include "common/error.h"
+#include "common/geometry.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,9 +3,9 @@
  * stiffness from Young's modulus, damping from the documented rule. See
  * include/softbond/volume.h for the formulas and the materials. */
 #include "mesh/builder_internal.h"
-#include "mesh/edge_map.h"
+#include "common/edge_map.h"
 #include "softbond/volume.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>

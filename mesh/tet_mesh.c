@@ -1,8 +1,7 @@
-/* Tetrahedral meshes: loading by extension, volumes, the validity check and
- * the boundary surface. */
-#include "mesh/mesh_readers.h"
+/* Tetrahedral meshes: volumes, the validity check and the boundary surface
+ * (loading is in mesh/io/tet_readers.c). */
 #include "softbond/volume.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,38 +12,6 @@ void sb_tet_mesh_free(sb_tet_mesh* mesh) {
     free(mesh->positions);
     free(mesh->tets);
     *mesh = (sb_tet_mesh){0};
-}
-
-bool sb_tet_mesh_path(const char* path) {
-    return path && (sb_path_has_extension(path, ".node") || sb_path_has_extension(path, ".ele") ||
-                    sb_path_has_extension(path, ".msh"));
-}
-
-/* path with its extension replaced (caller frees). */
-static char* sb_swap_extension(const char* path, const char* extension) {
-    const char* slash = strrchr(path, '/');
-    const char* dot = strrchr(slash ? slash : path, '.');
-    size_t stem = dot ? (size_t)(dot - path) : strlen(path);
-    char* out = malloc(stem + strlen(extension) + 1);
-    if (!out) return NULL;
-    memcpy(out, path, stem);
-    strcpy(out + stem, extension);
-    return out;
-}
-
-sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err) {
-    memset(out, 0, sizeof *out);
-    if (!path || !sb_tet_mesh_path(path))
-        return sb_error_set(err, SB_ERR_INVALID, "%s: not a tetrahedral mesh file (.node, .ele or .msh)",
-                            path ? path : "(null)");
-    if (sb_path_has_extension(path, ".msh")) return sb_tet_mesh_load_gmsh(path, out, err);
-    bool node = sb_path_has_extension(path, ".node");
-    char* other = sb_swap_extension(path, node ? ".ele" : ".node");
-    if (!other) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    sb_status status =
-        node ? sb_tet_mesh_load_tetgen(path, other, out, err) : sb_tet_mesh_load_tetgen(other, path, out, err);
-    free(other);
-    return status;
 }
 
 double sb_tet_volume(const double* a, const double* b, const double* c, const double* d) {

@@ -22,7 +22,7 @@
  * cube with the radius 0.01 (2 072 589 pairs) in 0.34 s. A first version
  * that hashed each point's 27 cells took 0.79 s and 1.78 s. */
 #include "mesh/builder_internal.h"
-#include "kernels/error.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
 #include "scenes/cli.h"
 #include "scenes/errorf.h"
 #include "kernels/coloring.h"
-#include "mesh/edge_map.h"
+#include "common/edge_map.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,6 +3,8 @@
 #ifndef SOFTBOND_BUILDER_H
 #define SOFTBOND_BUILDER_H
 
+#include "softbond/export.h"
+
 #include "softbond/types.h"
 #include "softbond/mesh.h"
 
@@ -49,23 +51,23 @@ typedef struct sb_hinge_def {
     double k; /* J/rad² */
 } sb_hinge_def;
 
-sb_vertex_def sb_default_vertex_def(void);
-sb_bond_def sb_default_bond_def(void);
-sb_triangle_def sb_default_triangle_def(void);
+SB_API sb_vertex_def sb_default_vertex_def(void);
+SB_API sb_bond_def sb_default_bond_def(void);
+SB_API sb_triangle_def sb_default_triangle_def(void);
 
-sb_builder* sb_builder_create(void);
-void sb_builder_destroy(sb_builder* builder);
+SB_API sb_builder* sb_builder_create(void);
+SB_API void sb_builder_destroy(sb_builder* builder);
 
 /* Each add returns the new element's index, or -1 when out of memory.
  * Nothing is checked here: compile validates everything at once. */
-int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* def);
-int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
-int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
-int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
+SB_API int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* def);
+SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
+SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
+SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
 
-uint32_t sb_builder_vertex_count(const sb_builder* builder);
+SB_API uint32_t sb_builder_vertex_count(const sb_builder* builder);
 /* Changes a vertex after it was added (to pin it, give it a mass, ...). */
-sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
+SB_API sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
 
 /* Validates and compiles. On failure returns NULL and err names the first
  * bad element: an index out of range, a bond from a vertex to itself, a
@@ -73,7 +75,7 @@ sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
  * win), a degenerate triangle or hinge, a non-finite number, a free vertex
  * with zero or negative mass, a negative constant. The builder is unchanged
  * and may be compiled again. */
-sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err);
+SB_API sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err);
 
 /* Constants for the mesh factory: every term is per element, uniform here. */
 typedef struct sb_material_def {
@@ -87,14 +89,14 @@ typedef struct sb_material_def {
     double density;        /* kg/m², areal: each vertex gets a third of its triangles' mass */
 } sb_material_def;
 
-sb_material_def sb_default_material_def(void);
+SB_API sb_material_def sb_default_material_def(void);
 
 /* The mesh factory for molecular mechanics: a vertex per mesh vertex (order
  * kept), a bond per unique edge (in order of first appearance), a triangle
  * per face (all three corners), a hinge per edge shared by exactly two
  * triangles (only when bend_k > 0). Fails when an edge is shared by more than
  * two triangles and bend_k > 0 (the hinge would be ambiguous). */
-sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material, sb_error* err);
+SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material, sb_error* err);
 
 /* The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
  * vertex (order kept), a damped spring (sb_bond_def spring_k and
@@ -117,8 +119,8 @@ typedef struct sb_spring_mesh_def {
 /* stretch 100 N/m and 0.1 N·s/m, bend 10 N/m and 0.01 N·s/m, no vicinity
  * springs (distance 0; 100 N/m and 0.1 N·s/m once one is set), 0.01 kg per
  * vertex: the scene keys' defaults. */
-sb_spring_mesh_def sb_default_spring_mesh_def(void);
-sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
+SB_API sb_spring_mesh_def sb_default_spring_mesh_def(void);
+SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
                                      sb_error* err);
 
 /* The pairs (i < j) of points nearer than radius (0 < distance < radius),
@@ -126,7 +128,7 @@ sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, c
  * linear in count: *pairs receives 2 * *pair_count indices (caller frees),
  * i < j in each pair, pairs in a deterministic order (by cell, not sorted).
  * Coincident points (distance 0) are not paired. */
-sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius, uint32_t** pairs,
+SB_API sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius, uint32_t** pairs,
                             size_t* pair_count, sb_error* err);
 
 #ifdef __cplusplus

@@ -3,6 +3,8 @@
 #ifndef SOFTBOND_MESH_H
 #define SOFTBOND_MESH_H
 
+#include "softbond/export.h"
+
 #include "softbond/types.h"
 
 #ifdef __cplusplus
@@ -17,7 +19,7 @@ typedef struct sb_mesh {
 } sb_mesh;
 
 /* Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
-void sb_mesh_free(sb_mesh* mesh);
+SB_API void sb_mesh_free(sb_mesh* mesh);
 
 /* A rectangular sheet in the z = 0 plane, x in [0, width], y in [0, height],
  * nx × ny vertices in row-major order (vertex = row * nx + column, row along
@@ -31,13 +33,13 @@ typedef struct sb_sheet_def {
     uint64_t seed;
 } sb_sheet_def;
 
-sb_sheet_def sb_default_sheet_def(void);
-sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err);
+SB_API sb_sheet_def sb_default_sheet_def(void);
+SB_API sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err);
 
 /* An icosphere: an icosahedron subdivided `subdivisions` times, projected
  * onto a sphere of the given radius centred at the origin. It has
  * 10 * 4^s + 2 vertices and 20 * 4^s triangles, outward-facing. */
-sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out, sb_error* err);
+SB_API sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out, sb_error* err);
 
 /* Reads a triangle mesh from a file. OBJ and OFF are read by softbond's own
  * readers, which keep the file's vertex order and count exactly (polygons are
@@ -50,7 +52,7 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
  * (softbond/pov.h), vertices as in the file, merged by concatenation
  * (nothing joined). Errors name the file and, where there is one, the
  * line. */
-sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
+SB_API sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err);
 
 /* Options of sb_mesh_load_ex. */
 typedef struct sb_mesh_load_def {
@@ -64,7 +66,7 @@ typedef struct sb_mesh_load_def {
     bool separate_objects;
 } sb_mesh_load_def;
 
-sb_mesh_load_def sb_default_mesh_load_def(void);
+SB_API sb_mesh_load_def sb_default_mesh_load_def(void);
 
 /* What an import did. */
 typedef struct sb_mesh_load_report {
@@ -83,16 +85,16 @@ typedef struct sb_mesh_load_report {
  * sb_mesh_objects_free. def and report may be NULL (defaults; no report).
  * softbond's own OBJ and OFF readers drop nothing: a face with a repeated
  * vertex is kept and reported when a model is compiled. */
-sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects, uint32_t* object_count,
+SB_API sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects, uint32_t* object_count,
                           sb_mesh_load_report* report, sb_error* err);
 
 /* Frees each mesh and the array; safe on NULL. */
-void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
+SB_API void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
 
 /* The meshes one after the other in one mesh (separate bodies, nothing
  * joined): mesh i's vertices follow mesh i-1's and its triangles' indices
  * are shifted by as much. On failure *out is left empty. */
-sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err);
+SB_API sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err);
 
 /* How a triangle mesh's edges are shared: unique edges, boundary edges (on
  * one triangle) and non-manifold edges (on three or more). The surface is
@@ -102,7 +104,7 @@ typedef struct sb_mesh_edge_counts {
     bool closed;
 } sb_mesh_edge_counts;
 
-sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err);
+SB_API sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err);
 
 /* Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per
  * axis about the origin first, then rotate by rotate[0] degrees about x,
@@ -116,8 +118,8 @@ typedef struct sb_mesh_transform_def {
     double translate[3]; /* m; default 0 */
 } sb_mesh_transform_def;
 
-sb_mesh_transform_def sb_default_mesh_transform_def(void);
-sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err);
+SB_API sb_mesh_transform_def sb_default_mesh_transform_def(void);
+SB_API sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err);
 
 /* Level of detail: fewer vertices, by quadric edge collapse
  * (meshoptimizer). Vertices on the boundary (an edge of one triangle) are
@@ -143,8 +145,8 @@ typedef struct sb_simplify_report {
     double error; /* meshopt's resulting error, relative to the extent */
 } sb_simplify_report;
 
-sb_simplify_def sb_default_simplify_def(void);
-sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
+SB_API sb_simplify_def sb_default_simplify_def(void);
+SB_API sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
                            sb_error* err);
 
 /* Renumbers the vertices along a Morton (Z-order) curve through the
@@ -153,7 +155,7 @@ sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* 
  * mesh visit them in order: the fast kernels' gathers and scatters then hit
  * the cache. When order is not NULL it receives, for each new vertex, its
  * old index (vertex_count entries). */
-sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err);
+SB_API sb_status sb_mesh_reorder(sb_mesh* mesh, uint32_t* order, sb_error* err);
 
 /* Options of sb_mesh_export. */
 typedef struct sb_mesh_export_def {
@@ -164,7 +166,7 @@ typedef struct sb_mesh_export_def {
                                 0, 0, 1 */
 } sb_mesh_export_def;
 
-sb_mesh_export_def sb_default_mesh_export_def(void);
+SB_API sb_mesh_export_def sb_default_mesh_export_def(void);
 
 /* Writes the mesh to path (def NULL: the defaults) in one of these formats:
  *   "ply"   binary PLY (assimp's "plyb")
@@ -179,12 +181,12 @@ sb_mesh_export_def sb_default_mesh_export_def(void);
  *           a plain texture, so that `povray frame.pov` renders it
  * The assimp formats store positions as float. The file is written in place,
  * not atomically. Errors name the path. */
-sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
+SB_API sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
                          sb_error* err);
 
 /* The file extension of an export format (".ply", ".obj", ".gltf", ".glb",
  * ".itd", ".pov"); NULL when sb_mesh_export does not know the format. */
-const char* sb_mesh_export_extension(const char* format);
+SB_API const char* sb_mesh_export_extension(const char* format);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,8 @@
 #ifndef SOFTBOND_MODEL_H
 #define SOFTBOND_MODEL_H
 
+#include "softbond/export.h"
+
 #include "softbond/types.h"
 
 #ifdef __cplusplus
@@ -22,21 +24,21 @@ typedef enum sb_term {
 } sb_term;
 
 /* "bond", "angle", "stretch_bend", "spring", "bend". */
-const char* sb_term_name(sb_term term);
+SB_API const char* sb_term_name(sb_term term);
 
-void sb_model_destroy(sb_model* model);
+SB_API void sb_model_destroy(sb_model* model);
 
-uint32_t sb_model_vertex_count(const sb_model* model);
-uint32_t sb_model_bond_count(const sb_model* model);
-uint32_t sb_model_triangle_count(const sb_model* model);
-uint32_t sb_model_hinge_count(const sb_model* model);
-bool sb_model_term_enabled(const sb_model* model, sb_term term);
+SB_API uint32_t sb_model_vertex_count(const sb_model* model);
+SB_API uint32_t sb_model_bond_count(const sb_model* model);
+SB_API uint32_t sb_model_triangle_count(const sb_model* model);
+SB_API uint32_t sb_model_hinge_count(const sb_model* model);
+SB_API bool sb_model_term_enabled(const sb_model* model, sb_term term);
 
 /* Rest (initial) position, initial velocity, mass and pin of a vertex. */
-void sb_model_rest_position(const sb_model* model, uint32_t vertex, double out[3]);
-void sb_model_initial_velocity(const sb_model* model, uint32_t vertex, double out[3]);
-double sb_model_mass(const sb_model* model, uint32_t vertex);
-bool sb_model_is_fixed(const sb_model* model, uint32_t vertex);
+SB_API void sb_model_rest_position(const sb_model* model, uint32_t vertex, double out[3]);
+SB_API void sb_model_initial_velocity(const sb_model* model, uint32_t vertex, double out[3]);
+SB_API double sb_model_mass(const sb_model* model, uint32_t vertex);
+SB_API bool sb_model_is_fixed(const sb_model* model, uint32_t vertex);
 
 /* A compiled bond: its vertices, rest length (m) and constants. */
 typedef struct sb_bond_info {
@@ -44,7 +46,7 @@ typedef struct sb_bond_info {
     double rest_length, k, spring_k, spring_damping;
 } sb_bond_info;
 
-sb_bond_info sb_model_bond(const sb_model* model, uint32_t bond);
+SB_API sb_bond_info sb_model_bond(const sb_model* model, uint32_t bond);
 
 #ifdef __cplusplus
 }

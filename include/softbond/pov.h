@@ -4,6 +4,8 @@
 #ifndef SOFTBOND_POV_H
 #define SOFTBOND_POV_H
 
+#include "softbond/export.h"
+
 #include "softbond/types.h"
 #include "softbond/mesh.h"
 #include "softbond/builder.h"
@@ -54,13 +56,13 @@ typedef struct sb_pov_object {
  * +y). Errors are "FILE:LINE: what": a count that disagrees
  * with the list, an index out of range, a non-number, an unclosed brace,
  * a mesh2 without vertices or faces, a file without any mesh2. */
-sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count, sb_error* err);
+SB_API sb_status sb_pov_load(const char* path, sb_pov_object** objects, uint32_t* object_count, sb_error* err);
 
 /* Whether the path names a POV-Ray file (".pov", ignoring case). */
-bool sb_pov_path(const char* path);
+SB_API bool sb_pov_path(const char* path);
 
 /* Frees each object's mesh and the array; safe on NULL. */
-void sb_pov_objects_free(sb_pov_object* objects, uint32_t count);
+SB_API void sb_pov_objects_free(sb_pov_object* objects, uint32_t count);
 
 /* The spring factory's constants for one object: `defaults` with the
  * object's locals put over it. ks/ds are the stretch springs', kb/db the
@@ -68,7 +70,7 @@ void sb_pov_objects_free(sb_pov_object* objects, uint32_t count);
  * object's stretch constants (the film maker has no others); a given mass
  * is the whole object's, spread evenly: mass / vertex_count per vertex
  * (density 0). spring_system_fixed is not a constant: see `fixed`. */
-sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object, const sb_spring_mesh_def* defaults);
+SB_API sb_spring_mesh_def sb_pov_object_springs(const sb_pov_object* object, const sb_spring_mesh_def* defaults);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,8 @@
 #ifndef SOFTBOND_REFERENCE_H
 #define SOFTBOND_REFERENCE_H
 
+#include "softbond/export.h"
+
 #include "softbond/model.h"
 
 #ifdef __cplusplus
@@ -19,9 +21,9 @@ typedef struct sb_energies {
 } sb_energies;
 
 /* Sum of the term potentials (without kinetic and gravity). */
-double sb_energies_internal(const sb_energies* energies);
+SB_API double sb_energies_internal(const sb_energies* energies);
 /* internal + kinetic + gravity. */
-double sb_energies_total(const sb_energies* energies);
+SB_API double sb_energies_total(const sb_energies* energies);
 
 /* Adds one term's forces to `forces` (3n, x y z interleaved) and stores its
  * energy in *energy. positions are 3n interleaved; velocities (3n or NULL for
@@ -29,11 +31,11 @@ double sb_energies_total(const sb_energies* energies);
  * nothing. Returns SB_ERR_DEGENERATE, naming the element, when an edge the
  * term needs has collapsed (length below 1e-9 of its rest length): the
  * direction is then undefined and is never divided by. */
-sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions, const double* velocities,
+SB_API sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions, const double* velocities,
                             double* forces, double* energy, sb_error* err);
 
 /* All enabled terms: overwrites forces and fills energies->term[]. */
-sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities, double* forces,
+SB_API sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities, double* forces,
                               sb_energies* energies, sb_error* err);
 
 #ifdef __cplusplus

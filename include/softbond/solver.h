@@ -3,6 +3,8 @@
 #ifndef SOFTBOND_SOLVER_H
 #define SOFTBOND_SOLVER_H
 
+#include "softbond/export.h"
+
 #include "softbond/model.h"
 #include "softbond/state.h"
 #include "softbond/reference.h"
@@ -25,9 +27,9 @@ typedef enum sb_integrator {
 
 /* "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
  * "position_verlet", "implicit_euler", "pbd", "xpbd". */
-const char* sb_integrator_name(sb_integrator integrator);
+SB_API const char* sb_integrator_name(sb_integrator integrator);
 /* Returns false when the name is unknown. */
-bool sb_integrator_from_name(const char* name, sb_integrator* out);
+SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
 
 /* The blow-up rule: a bond (or, in a model without bonds, a triangle edge)
  * longer than SB_STRETCH_LIMIT times its rest length means an unstable run
@@ -75,14 +77,14 @@ typedef struct sb_solver_def {
     double adaptive_tolerance; /* >= 0 */
 } sb_solver_def;
 
-sb_solver_def sb_default_solver_def(void);
+SB_API sb_solver_def sb_default_solver_def(void);
 
 typedef struct sb_solver sb_solver;
 
 /* The state starts at the model's rest positions and initial velocities.
  * The model must outlive the solver. */
-sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
-void sb_solver_destroy(sb_solver* solver);
+SB_API sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
+SB_API void sb_solver_destroy(sb_solver* solver);
 
 /* Advances the state by one step of dt seconds (dt > 0 and finite), or,
  * with def.adaptive, by sub-steps that add up to dt. On failure (a collapsed
@@ -92,8 +94,8 @@ void sb_solver_destroy(sb_solver* solver);
  * energy at min_dt) the solver keeps the message, which names the step, the
  * time and the first bad vertex or element; the state is then undefined
  * (adaptive: the last good sub-step's). */
-sb_status sb_solver_advance(sb_solver* solver, double dt);
-const char* sb_solver_error(const sb_solver* solver);
+SB_API sb_status sb_solver_advance(sb_solver* solver, double dt);
+SB_API const char* sb_solver_error(const sb_solver* solver);
 
 /* What the last sb_solver_advance did. */
 typedef struct sb_step_stats {
@@ -106,25 +108,25 @@ typedef struct sb_step_stats {
     double min_substep;    /* s, the smallest accepted sub-step */
 } sb_step_stats;
 
-sb_step_stats sb_solver_last_step(const sb_solver* solver);
+SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
 /* Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
-void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
+SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
 
-double sb_solver_time(const sb_solver* solver);
-uint64_t sb_solver_step_count(const sb_solver* solver);
-const sb_model* sb_solver_model(const sb_solver* solver);
+SB_API double sb_solver_time(const sb_solver* solver);
+SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
+SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 
 /* Energies of the current state: each term, kinetic, gravity. */
-sb_energies sb_solver_energies(const sb_solver* solver);
+SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
-const sb_state* sb_solver_state(const sb_solver* solver);
+SB_API const sb_state* sb_solver_state(const sb_solver* solver);
 /* Copies positions or velocities out as 3n interleaved doubles. */
-void sb_solver_get_positions(const sb_solver* solver, double* out);
-void sb_solver_get_velocities(const sb_solver* solver, double* out);
+SB_API void sb_solver_get_positions(const sb_solver* solver, double* out);
+SB_API void sb_solver_get_velocities(const sb_solver* solver, double* out);
 /* Replaces positions and velocities (3n interleaved; velocities may be
  * NULL for zero) and recomputes forces. Fixed vertices keep their rest
  * position. */
-sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
+SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 #ifndef SOFTBOND_TYPES_H
 #define SOFTBOND_TYPES_H
 
+#include "softbond/export.h"
+
 #include <stddef.h>
 #include <stdint.h>
 #include <stdbool.h>
@@ -37,7 +39,7 @@ typedef struct sb_error {
 } sb_error;
 
 /* A short name for a status code ("invalid", "io", ...). */
-const char* sb_status_name(sb_status status);
+SB_API const char* sb_status_name(sb_status status);
 
 #ifdef __cplusplus
 }

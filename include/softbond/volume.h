@@ -5,6 +5,8 @@
 #ifndef SOFTBOND_VOLUME_H
 #define SOFTBOND_VOLUME_H
 
+#include "softbond/export.h"
+
 #include "softbond/types.h"
 #include "softbond/mesh.h"
 #include "softbond/builder.h"
@@ -21,42 +23,42 @@ typedef struct sb_tet_mesh {
 } sb_tet_mesh;
 
 /* Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
-void sb_tet_mesh_free(sb_tet_mesh* mesh);
+SB_API void sb_tet_mesh_free(sb_tet_mesh* mesh);
 
 /* TetGen: a .node file (points; its first point's number, 0 or 1, is the
  * numbering base) and an .ele file (tetrahedra of 4 or 10 nodes: the first
  * four are the corners). Comments (#) and blank lines are skipped; extra
  * columns (attributes, markers) are ignored. Vertex order is the file's. */
-sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, sb_tet_mesh* out, sb_error* err);
+SB_API sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, sb_tet_mesh* out, sb_error* err);
 
 /* Gmsh .msh version 4 (4.0 or 4.1), ASCII: the nodes and the tetrahedra
  * (element types 4 and 11, corners only); every other element type is
  * skipped. Vertices are the nodes that some tetrahedron uses, in the order
  * of the file. */
-sb_status sb_tet_mesh_load_gmsh(const char* path, sb_tet_mesh* out, sb_error* err);
+SB_API sb_status sb_tet_mesh_load_gmsh(const char* path, sb_tet_mesh* out, sb_error* err);
 
 /* By extension, ignoring case: ".node" or ".ele" (the other file of the
  * pair is the same name with the other extension) or ".msh". Errors are
  * one line naming the file and line. */
-sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err);
+SB_API sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err);
 
 /* Whether sb_tet_mesh_load reads this path (".node", ".ele", ".msh"). */
-bool sb_tet_mesh_path(const char* path);
+SB_API bool sb_tet_mesh_path(const char* path);
 
 /* Signed volume of (a, b, c, d): (b − a) · ((c − a) × (d − a)) / 6, m³. */
-double sb_tet_volume(const double* a, const double* b, const double* c, const double* d);
+SB_API double sb_tet_volume(const double* a, const double* b, const double* c, const double* d);
 
 /* Indices in range and not repeated, positions finite, every tetrahedron
  * with a proper volume: an orientation opposite to the mesh's (the sign
  * most of its tetrahedra share; files differ in convention) is inverted,
  * |V| <= 1e-12 × (longest edge)³ is zero volume. The error names the first
  * bad tetrahedron by index and counts the others. */
-sb_status sb_tet_mesh_check(const sb_tet_mesh* mesh, sb_error* err);
+SB_API sb_status sb_tet_mesh_check(const sb_tet_mesh* mesh, sb_error* err);
 
 /* The boundary: every face that belongs to exactly one tetrahedron, as a
  * triangle facing out of it. All vertices are kept, with their indices, so
  * the surface can stand for the volume in frames, pins and `info`. */
-sb_status sb_tet_mesh_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
+SB_API sb_status sb_tet_mesh_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
 
 /* A soft tissue: Young's modulus, density, and a factor on the default
  * damping rule (1 = the rule, 0 = undamped). */
@@ -67,14 +69,14 @@ typedef struct sb_tissue_def {
 } sb_tissue_def;
 
 /* Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
-sb_tissue_def sb_default_tissue_def(void);
+SB_API sb_tissue_def sb_default_tissue_def(void);
 
 /* "liver" (E = 3.5 kPa) and "gallbladder" (E = 1.5 kPa), the moduli of
  * Sudhamani & Merriliance (2019), which give no density; both get
  * 1060 kg/m³, the adult liver's 1.06 g/cm³ in ICRU Report 46 (1992),
  * typical of soft tissue (the gallbladder is taken the same). Returns false
  * for any other name. */
-bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
+SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
 
 /* The volumetric mass-spring factory: a vertex per mesh vertex (order kept),
  * mass m_i = Σ_{t∋i} ρ V_t / 4; a damped spring (sb_bond_def spring_k and
@@ -88,7 +90,7 @@ bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * depends on the length unit (SI here), and it damps strongly for short
  * springs — scale it with `damping`. Fails (nothing added) when the mesh
  * fails sb_tet_mesh_check or a vertex belongs to no tetrahedron. */
-sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
+SB_API sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
                                   sb_error* err);
 
 #ifdef __cplusplus

@@ -1,17 +1,43 @@
 #!/bin/sh
 # Usage: run.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR
+# Installs softbond into a scratch prefix; checks that the shared libraries
+# export exactly the public API (every SB_API function of the installed
+# headers, nothing else); builds two programs against the installation,
+# through find_package(softbond) and through pkg-config, and runs them.
 set -eu
 build=$1 src=$2 work=$3
 rm -rf "$work"
+mkdir -p "$work"
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 prefix="$work/prefix"
 libdir=$(ls -d "$prefix"/lib*/ | head -n 1)
 
+# The public API: the names declared SB_API in the installed headers.
+grep -h '^SB_API ' "$prefix"/include/softbond/*.h |
+    sed -E 's/^.*[ *](sb_[a-z0-9_]+)\(.*$/\1/' | sort -u >"$work/api.txt"
+nm -D --defined-only "$libdir/libsoftbond.so" "$libdir/libsoftbond_io.so" |
+    awk '$2 == "T" {print $3}' | sort -u >"$work/exported.txt"
+if ! cmp -s "$work/api.txt" "$work/exported.txt"; then
+    echo "exported symbols differ from the public API (< public only, > exported only):" >&2
+    diff "$work/api.txt" "$work/exported.txt" >&2 || true
+    exit 1
+fi
+# The solver library needs neither importer.
+if ldd "$libdir/libsoftbond.so" | grep -E 'assimp|meshoptimizer' >&2; then
+    echo "libsoftbond.so links a mesh importer" >&2
+    exit 1
+fi
+echo "exports: $(wc -l <"$work/api.txt") public functions, nothing else"
+
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n' >"$work/square.obj"
 cmake -S "$src" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$work/cmake-build" >/dev/null
 LD_LIBRARY_PATH="$libdir" "$work/cmake-build/consumer"
+LD_LIBRARY_PATH="$libdir" "$work/cmake-build/consumer_io" "$work/square.obj"
 
 PKG_CONFIG_PATH=$(find "$prefix" -name softbond.pc -exec dirname {} \;)
 export PKG_CONFIG_PATH
 cc -std=c11 -o "$work/consumer-pc" "$src/main.c" $(pkg-config --cflags --libs softbond) -lm
 LD_LIBRARY_PATH="$libdir" "$work/consumer-pc"
+cc -std=c11 -o "$work/consumer-io-pc" "$src/main_io.c" $(pkg-config --cflags --libs softbond_io)
+LD_LIBRARY_PATH="$libdir" "$work/consumer-io-pc" "$work/square.obj"

@@ -48,7 +48,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 #include "softbond/pov.h"
 #include "softbond/volume.h"
 

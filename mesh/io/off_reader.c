@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 
 typedef enum off_stage { OFF_HEADER, OFF_COUNTS, OFF_VERTICES, OFF_FACES, OFF_DONE } off_stage;
 

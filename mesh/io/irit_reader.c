@@ -31,7 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 
 enum { IRIT_MAX_DEPTH = 64 };
 

@@ -1,4 +1,4 @@
-#include "mesh/edge_map.h"
+#include "common/edge_map.h"
 
 #include <stdlib.h>
 

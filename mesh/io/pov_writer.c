@@ -21,7 +21,7 @@
  * the bounding sphere's radius the sphere fits the image's height for any
  * aspect ratio up to 4:3, POV-Ray's default (the vertical half-angle is then
  * 19.3° and asin(1 / 3.5) = 16.6°). */
-#include "mesh/mesh_writers.h"
+#include "mesh/io/mesh_writers.h"
 
 #include <math.h>
 

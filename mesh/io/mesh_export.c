@@ -13,7 +13,7 @@
  * reported by format and path, after checking that the path can be opened
  * for writing (which names the system's reason when it cannot). */
 #define _POSIX_C_SOURCE 200809L
-#include "mesh/mesh_writers.h"
+#include "mesh/io/mesh_writers.h"
 
 #include <errno.h>
 #include <math.h>
@@ -23,7 +23,7 @@
 #include <assimp/cexport.h>
 #include <assimp/scene.h>
 
-#include "kernels/error.h"
+#include "common/error.h"
 
 typedef struct export_format {
     const char* name;

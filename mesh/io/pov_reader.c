@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 #include "softbond/pov.h"
 
 typedef enum pov_kind { POV_END, POV_NUMBER, POV_NAME, POV_DIRECTIVE, POV_STRING, POV_PUNCT } pov_kind;

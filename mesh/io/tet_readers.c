@@ -3,8 +3,9 @@
  * line by line; every error is one line "FILE:LINE: what" (SB_ERR_PARSE).
  * Arrays grow as lines are read, never from a count in a header, so a
  * lying header costs nothing. */
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 #include "softbond/volume.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -419,4 +420,37 @@ sb_status sb_tet_mesh_load_gmsh(const char* path, sb_tet_mesh* out, sb_error* er
     }
     *out = g.b.mesh;
     return SB_OK;
+}
+
+/* Loading by extension: .node or .ele (TetGen, the other file beside it) or .msh (Gmsh). */
+bool sb_tet_mesh_path(const char* path) {
+    return path && (sb_path_has_extension(path, ".node") || sb_path_has_extension(path, ".ele") ||
+                    sb_path_has_extension(path, ".msh"));
+}
+
+/* path with its extension replaced (caller frees). */
+static char* sb_swap_extension(const char* path, const char* extension) {
+    const char* slash = strrchr(path, '/');
+    const char* dot = strrchr(slash ? slash : path, '.');
+    size_t stem = dot ? (size_t)(dot - path) : strlen(path);
+    char* out = malloc(stem + strlen(extension) + 1);
+    if (!out) return NULL;
+    memcpy(out, path, stem);
+    strcpy(out + stem, extension);
+    return out;
+}
+
+sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err) {
+    memset(out, 0, sizeof *out);
+    if (!path || !sb_tet_mesh_path(path))
+        return sb_error_set(err, SB_ERR_INVALID, "%s: not a tetrahedral mesh file (.node, .ele or .msh)",
+                            path ? path : "(null)");
+    if (sb_path_has_extension(path, ".msh")) return sb_tet_mesh_load_gmsh(path, out, err);
+    bool node = sb_path_has_extension(path, ".node");
+    char* other = sb_swap_extension(path, node ? ".ele" : ".node");
+    if (!other) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    sb_status status =
+        node ? sb_tet_mesh_load_tetgen(path, other, out, err) : sb_tet_mesh_load_tetgen(other, path, out, err);
+    free(other);
+    return status;
 }

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_readers.h"
+#include "mesh/io/mesh_readers.h"
 
 typedef struct obj_reader {
     const char* path;

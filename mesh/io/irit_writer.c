@@ -12,7 +12,7 @@
  *     ]
  *
  * Corners are written per polygon, as IRIT does, so shared vertices repeat. */
-#include "mesh/mesh_writers.h"
+#include "mesh/io/mesh_writers.h"
 
 #include <math.h>
 
