@@ -16,6 +16,7 @@
  * of the limit (far less in practice). 20 000 steps of the 10k cases stay
  * stable with the fast kernels and gravity. */
 #include "bench/bench_cases.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -103,8 +104,7 @@ static sb_status sb_bench_shuffle(sb_mesh* mesh, sb_error* err) {
         free(perm);
         free(inverse);
         free(positions);
-        snprintf(err->message, sizeof err->message, "out of memory shuffling %u vertices", n);
-        return SB_ERR_NOMEM;
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory shuffling %u vertices", n);
     }
     uint64_t state = 2024;
     for (uint32_t i = 0; i < n; i++) perm[i] = i;
@@ -184,10 +184,7 @@ sb_status sb_bench_build(const sb_bench_case* c, const sb_bench_options* o, sb_b
     sb_status status = sb_bench_prepare(c, o, s, err);
     if (status != SB_OK) return status;
     sb_builder* b = sb_builder_create();
-    if (!b) {
-        snprintf(err->message, sizeof err->message, "out of memory creating a builder");
-        return SB_ERR_NOMEM;
-    }
+    if (!b) return sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a builder");
     status = sb_builder_add_mesh(b, &s->mesh, &s->material, err);
     for (uint32_t p = 0; status == SB_OK && p < s->pin_count; p++) sb_builder_vertex(b, s->pins[p])->fixed = true;
     if (status == SB_OK) {

@@ -26,25 +26,11 @@
  * corners, then each level's midpoints in order of creation; the sphere is
  * scaled by the radius at the end. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "softbond/mesh.h"
-
-static sb_status invalid(sb_error* err, const char* message) {
-    if (err != NULL) {
-        snprintf(err->message, sizeof err->message, "%s", message);
-    }
-    return SB_ERR_INVALID;
-}
-
-static sb_status out_of_memory(sb_error* err, const char* what) {
-    if (err != NULL) {
-        snprintf(err->message, sizeof err->message, "%s: out of memory", what);
-    }
-    return SB_ERR_NOMEM;
-}
 
 /* ---- sheet --------------------------------------------------------------- */
 
@@ -64,26 +50,21 @@ static uint64_t splitmix64(uint64_t* state) {
 static double uniform_signed(uint64_t* state) { return (double)(splitmix64(state) >> 11) * 0x1.0p-52 - 1.0; }
 
 static sb_status check_sheet(const sb_sheet_def* def, sb_error* err) {
-    char message[256];
     if (def->nx < 2 || def->ny < 2) {
-        snprintf(message, sizeof message, "sheet: nx and ny must be at least 2 (got %u x %u)", def->nx, def->ny);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: nx and ny must be at least 2 (got %u x %u)", def->nx, def->ny);
     }
     if (!(isfinite(def->width) && def->width > 0) || !(isfinite(def->height) && def->height > 0)) {
-        snprintf(message, sizeof message, "sheet: width and height must be positive and finite (got %g x %g)",
-                 def->width, def->height);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: width and height must be positive and finite (got %g x %g)",
+                            def->width, def->height);
     }
     if (!(def->jitter >= 0 && def->jitter < 0.5)) {
-        snprintf(message, sizeof message, "sheet: jitter must be in [0, 0.5) (got %g)", def->jitter);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: jitter must be in [0, 0.5) (got %g)", def->jitter);
     }
     uint64_t vertices = (uint64_t)def->nx * def->ny;
     uint64_t triangles = 2 * (uint64_t)(def->nx - 1) * (def->ny - 1);
     if (vertices > UINT32_MAX || triangles > UINT32_MAX) {
-        snprintf(message, sizeof message, "sheet: %u x %u needs more than 2^32-1 vertices or triangles", def->nx,
-                 def->ny);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: %u x %u needs more than 2^32-1 vertices or triangles", def->nx,
+                            def->ny);
     }
     return SB_OK;
 }
@@ -135,11 +116,11 @@ static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles) {
 
 sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
-        return invalid(err, "sheet: no output mesh");
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: no output mesh");
     }
     memset(out, 0, sizeof *out);
     if (def == NULL) {
-        return invalid(err, "sheet: no definition");
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: no definition");
     }
     sb_status status = check_sheet(def, err);
     if (status != SB_OK) {
@@ -152,7 +133,7 @@ sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error
     if (positions == NULL || indices == NULL) {
         free(positions);
         free(indices);
-        return out_of_memory(err, "sheet");
+        return sb_error_set(err, SB_ERR_NOMEM, "sheet: out of memory");
     }
     sheet_positions(def, positions);
     sheet_triangles(def->nx, def->ny, indices);
@@ -311,18 +292,15 @@ static void subdivide(edge_lists* e, double* positions, uint32_t* vertex_count, 
 
 sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
-        return invalid(err, "icosphere: no output mesh");
+        return sb_error_set(err, SB_ERR_INVALID, "icosphere: no output mesh");
     }
     memset(out, 0, sizeof *out);
-    char message[160];
     if (subdivisions > ICOSPHERE_MAX_SUBDIVISIONS) {
-        snprintf(message, sizeof message, "icosphere: subdivisions must be at most %d (got %u)",
-                 ICOSPHERE_MAX_SUBDIVISIONS, subdivisions);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "icosphere: subdivisions must be at most %d (got %u)",
+                            ICOSPHERE_MAX_SUBDIVISIONS, subdivisions);
     }
     if (!(isfinite(radius) && radius > 0)) {
-        snprintf(message, sizeof message, "icosphere: radius must be positive and finite (got %g)", radius);
-        return invalid(err, message);
+        return sb_error_set(err, SB_ERR_INVALID, "icosphere: radius must be positive and finite (got %g)", radius);
     }
     size_t levels = (size_t)1 << (2 * subdivisions); /* 4^s */
     size_t vertices = 10 * levels + 2, triangles = 20 * levels;
@@ -333,7 +311,7 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
         free(positions);
         free(current);
         free(next);
-        return out_of_memory(err, "icosphere");
+        return sb_error_set(err, SB_ERR_NOMEM, "icosphere: out of memory");
     }
     icosahedron_vertices(positions);
     icosahedron_faces(positions, current);
@@ -344,7 +322,7 @@ sb_status sb_mesh_generate_icosphere(uint32_t subdivisions, double radius, sb_me
             free(positions);
             free(current);
             free(next);
-            return out_of_memory(err, "icosphere");
+            return sb_error_set(err, SB_ERR_NOMEM, "icosphere: out of memory");
         }
         subdivide(&edges, positions, &vertex_count, current, triangle_count, next);
         edge_lists_free(&edges);

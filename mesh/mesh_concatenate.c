@@ -1,17 +1,9 @@
 /* sb_mesh_concatenate: meshes one after the other, as separate bodies. */
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "softbond/mesh.h"
-
-static sb_status concatenate_fail(sb_mesh* out, sb_error* err, sb_status status, const char* what) {
-    sb_mesh_free(out);
-    if (err != NULL) {
-        snprintf(err->message, sizeof err->message, "%s", what);
-    }
-    return status;
-}
 
 sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* out, sb_error* err) {
     size_t vertices = 0, triangles = 0;
@@ -21,12 +13,13 @@ sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_mesh* ou
     }
     *out = (sb_mesh){0};
     if (vertices > UINT32_MAX || triangles > UINT32_MAX) {
-        return concatenate_fail(out, err, SB_ERR_INVALID, "more than 2^32-1 vertices or triangles");
+        return sb_error_set(err, SB_ERR_INVALID, "more than 2^32-1 vertices or triangles");
     }
     out->positions = malloc((3 * vertices + 1) * sizeof(double));
     out->triangles = malloc((3 * triangles + 1) * sizeof(uint32_t));
     if (out->positions == NULL || out->triangles == NULL) {
-        return concatenate_fail(out, err, SB_ERR_NOMEM, "out of memory");
+        sb_mesh_free(out);
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     }
     for (uint32_t i = 0; i < count; i++) {
         const sb_mesh* m = &meshes[i];

@@ -1,9 +1,9 @@
 /* sb_mesh_count_edges: how a triangle mesh's edges are shared, and so
  * whether its surface is closed. */
-#include <stdio.h>
 #include <stdlib.h>
 
 #include "common/edge_map.h"
+#include "common/error.h"
 #include "softbond/mesh.h"
 
 sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err) {
@@ -13,10 +13,7 @@ sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_
     sb_edge_map map;
     if (uses == NULL || !sb_edge_map_init(&map, half_edges)) {
         free(uses);
-        if (err != NULL) {
-            snprintf(err->message, sizeof err->message, "out of memory");
-        }
-        return SB_ERR_NOMEM;
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     }
     for (size_t h = 0; h < half_edges; h++) {
         const uint32_t* t = mesh->triangles + 3 * (h / 3);

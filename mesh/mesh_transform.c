@@ -8,20 +8,13 @@
  * number of negative scale factors) reverses every triangle's winding, so an
  * outward-facing surface stays outward-facing. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "softbond/mesh.h"
 
 sb_mesh_transform_def sb_default_mesh_transform_def(void) {
     return (sb_mesh_transform_def){.scale = {1, 1, 1}, .rotate = {0, 0, 0}, .translate = {0, 0, 0}};
-}
-
-static sb_status invalid(sb_error* err, const char* what) {
-    if (err != NULL) {
-        snprintf(err->message, sizeof err->message, "sb_mesh_transform: %s", what);
-    }
-    return SB_ERR_INVALID;
 }
 
 /* The rotation matrix R = Rz Ry Rx, row-major. */
@@ -44,14 +37,15 @@ static void rotation(const double degrees[3], double r[9]) {
 
 sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err) {
     if (mesh == NULL || def == NULL) {
-        return invalid(err, "no mesh or no transform");
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_transform: no mesh or no transform");
     }
     for (int k = 0; k < 3; k++) {
         if (!isfinite(def->scale[k]) || !isfinite(def->rotate[k]) || !isfinite(def->translate[k])) {
-            return invalid(err, "scale, rotate and translate must be finite");
+            return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_transform: scale, rotate and translate must be finite");
         }
         if (def->scale[k] == 0.0) {
-            return invalid(err, "a scale factor is zero (the mesh would collapse)");
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "sb_mesh_transform: a scale factor is zero (the mesh would collapse)");
         }
     }
     double r[9];

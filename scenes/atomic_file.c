@@ -1,7 +1,7 @@
 /* Atomic files (see atomic_file.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/atomic_file.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -15,7 +15,7 @@ static void release(sb_atomic_file* file) {
 }
 
 static sb_status fail(sb_atomic_file* file, sb_error* err, const char* what) {
-    sb_errorf(err, SB_ERR_IO, "%s: %s: %s", file->path, what, strerror(errno));
+    sb_error_set(err, SB_ERR_IO, "%s: %s: %s", file->path, what, strerror(errno));
     sb_atomic_abort(file);
     return SB_ERR_IO;
 }
@@ -27,7 +27,7 @@ sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err) 
     file->tmp_path = malloc(size);
     if (!file->path || !file->tmp_path) {
         release(file);
-        return sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
+        return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     }
     snprintf(file->tmp_path, size, "%s.tmp", path);
     file->stream = fopen(file->tmp_path, "wb");

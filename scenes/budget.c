@@ -19,7 +19,7 @@ int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms,
 #include <string.h>
 #include <time.h>
 
-#include "scenes/errorf.h"
+#include "common/error.h"
 #include "scenes/scene_model.h"
 
 enum { MAX_LEVELS = 6 };
@@ -35,7 +35,7 @@ static sb_status copy_mesh(const sb_mesh* in, sb_mesh* out, sb_error* err) {
                      malloc(3 * (size_t)in->triangle_count * sizeof(uint32_t) + 1)};
     if (!out->positions || !out->triangles) {
         sb_mesh_free(out);
-        return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     }
     memcpy(out->positions, in->positions, 3 * (size_t)in->vertex_count * sizeof(double));
     memcpy(out->triangles, in->triangles, 3 * (size_t)in->triangle_count * sizeof(uint32_t));
@@ -81,8 +81,8 @@ sb_status sb_budget_mesh(const sb_scene* scene, const sb_solver_def* def, double
     int count = 0;
     sb_status status = sb_scene_make_mesh(scene, &meshes[0], err);
     if (status == SB_OK && sb_scene_volumetric(scene))
-        status = sb_errorf(err, SB_ERR_INVALID,
-                           "--budget-ms: level of detail applies to surface meshes, not tetrahedral files");
+        status = sb_error_set(err, SB_ERR_INVALID,
+                              "--budget-ms: level of detail applies to surface meshes, not tetrahedral files");
     if (status == SB_OK) count = 1;
     while (status == SB_OK && count < MAX_LEVELS && meshes[count - 1].vertex_count / 2 >= 64) {
         uint32_t target = meshes[count - 1].vertex_count / 2;

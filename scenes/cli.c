@@ -1,7 +1,7 @@
 /* What the commands share (see cli.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/cli.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <errno.h>
 #include <stddef.h>
@@ -48,7 +48,7 @@ static const option_spec* find_option(const char* arg, const char* const* accept
 static sb_status usage_fail(sb_error* err, const char* command, const char* format, const char* what) {
     char message[sizeof err->message];
     snprintf(message, sizeof message, format, what);
-    return sb_errorf(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
+    return sb_error_set(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
 }
 
 static sb_status parse_option(int argc, char** argv, int* i, const char* const* accepted, sb_cli_args* out,
@@ -85,7 +85,7 @@ static sb_status parse_arg(int argc, char** argv, int* i, const char* const* acc
 
 sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out, sb_error* err) {
     *out = (sb_cli_args){.sets = malloc((size_t)argc * sizeof *out->sets)};
-    if (!out->sets) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (!out->sets) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     for (int i = 1; i < argc; i++) {
         sb_status status = parse_arg(argc, argv, &i, accepted, out, err);
         if (status != SB_OK) return status;
@@ -128,10 +128,11 @@ sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* ou
     const char* env = getenv("SOFTBOND_THREADS");
     *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
     if (args->threads && !parse_threads(args->threads, out))
-        return sb_errorf(err, SB_ERR_INVALID, "--threads: expected an integer in [0, 4096], got '%s'", args->threads);
+        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, 4096], got '%s'",
+                            args->threads);
     if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
     if (parse_threads(env, out)) return SB_OK;
-    return sb_errorf(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
+    return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
 }
 
 int sb_cli_fail(int code, const sb_error* err) {

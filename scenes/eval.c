@@ -5,7 +5,7 @@
  * by default; --fast goes through a solver with the fast kernels. */
 #include "scenes/atomic_file.h"
 #include "scenes/cli.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 #include "scenes/positions_csv.h"
 #include "scenes/scene_model.h"
 
@@ -46,7 +46,7 @@ static sb_status load_positions(eval_job* job, sb_error* err) {
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     job->positions = malloc((n ? n : 1) * sizeof(double));
     job->forces = calloc(n ? n : 1, sizeof(double));
-    if (!job->positions || !job->forces) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (!job->positions || !job->forces) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     memcpy(job->positions, job->mesh.positions, n * sizeof(double));
     if (!job->args.positions) return SB_OK;
     return sb_positions_read(job->args.positions, job->mesh.vertex_count, job->positions, err);
@@ -73,7 +73,7 @@ static sb_status evaluate_fast(eval_job* job, sb_error* err) {
         copy_state_forces(sb_solver_state(solver), job->forces);
         job->energies = sb_solver_energies(solver);
     } else {
-        sb_errorf(err, status, "%s", sb_solver_error(solver));
+        sb_error_set(err, status, "%s", sb_solver_error(solver));
     }
     sb_solver_destroy(solver);
     return status;

@@ -15,7 +15,7 @@
  * staging folder of the same name before it uses it. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/frame_export.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -36,7 +36,7 @@ typedef struct staging {
 static sb_status join(char* out, const char* dir, const char* name, sb_error* err) {
     int length = snprintf(out, 4096, "%s/%s", dir, name);
     if (length >= 0 && length < 4096) return SB_OK;
-    return sb_errorf(err, SB_ERR_IO, "%s/%s: path too long", dir, name);
+    return sb_error_set(err, SB_ERR_IO, "%s/%s: path too long", dir, name);
 }
 
 static bool is_entry(const char* name) { return strcmp(name, ".") != 0 && strcmp(name, "..") != 0; }
@@ -62,7 +62,7 @@ static sb_status stage_create(staging* stage, const char* out, const char* main_
     if (status != SB_OK) return status;
     stage_remove(stage);
     if (mkdir(stage->dir, 0777) == 0) return SB_OK;
-    return sb_errorf(err, SB_ERR_IO, "%s: cannot create: %s", stage->dir, strerror(errno));
+    return sb_error_set(err, SB_ERR_IO, "%s: cannot create: %s", stage->dir, strerror(errno));
 }
 
 static sb_status move_out(const staging* stage, const char* name, sb_error* err) {
@@ -70,12 +70,12 @@ static sb_status move_out(const staging* stage, const char* name, sb_error* err)
     sb_status status = join(from, stage->dir, name, err);
     if (status == SB_OK) status = join(to, stage->out, name, err);
     if (status != SB_OK || rename(from, to) == 0) return status;
-    return sb_errorf(err, SB_ERR_IO, "%s: cannot rename to %s: %s", from, to, strerror(errno));
+    return sb_error_set(err, SB_ERR_IO, "%s: cannot rename to %s: %s", from, to, strerror(errno));
 }
 
 static sb_status move_companions(const staging* stage, sb_error* err) {
     DIR* dir = opendir(stage->dir);
-    if (!dir) return sb_errorf(err, SB_ERR_IO, "%s: cannot list: %s", stage->dir, strerror(errno));
+    if (!dir) return sb_error_set(err, SB_ERR_IO, "%s: cannot list: %s", stage->dir, strerror(errno));
     sb_status status = SB_OK;
     struct dirent* entry;
     while (status == SB_OK && (entry = readdir(dir)))

@@ -4,7 +4,7 @@
  * surface is closed, and the element colors its model would get (greedy,
  * as the fast kernels color: no two elements of a color share a vertex). */
 #include "scenes/cli.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 #include "kernels/coloring.h"
 #include "common/edge_map.h"
 
@@ -123,7 +123,7 @@ static sb_status load(info_job* job, sb_error* err) {
     bool ok = job->volume.tets
                   ? unique_edges(job->volume.tets, job->volume.tet_count, 4, &job->edges, &job->edge_count)
                   : unique_edges(job->mesh.triangles, job->mesh.triangle_count, 3, &job->edges, &job->edge_count);
-    return ok ? SB_OK : sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
 }
 
 static void print_box(const sb_mesh* mesh) {
@@ -157,13 +157,13 @@ static void print_volume(const info_job* job) {
 static sb_status print_colors(const info_job* job, sb_error* err) {
     if (job->volume.tets) {
         int springs = colors(job->volume.vertex_count, job->edges, job->edge_count, 2);
-        if (springs < 0) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+        if (springs < 0) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
         printf("springs: %u\ncolors: springs %d\n", job->edge_count, springs);
         return SB_OK;
     }
     int bonds = colors(job->mesh.vertex_count, job->edges, job->edge_count, 2);
     int triangles = colors(job->mesh.vertex_count, job->mesh.triangles, job->mesh.triangle_count, 3);
-    if (bonds < 0 || triangles < 0) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (bonds < 0 || triangles < 0) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     printf("colors: bonds %d, triangles %d\n", bonds, triangles);
     return SB_OK;
 }
@@ -194,7 +194,7 @@ int sb_cli_info(int argc, char** argv) {
         return info_finish(&job, SB_EXIT_OK);
     }
     if (job.args.set_count > 0) {
-        sb_errorf(&err, SB_ERR_INVALID, "info takes no --set (see softbond info --help)");
+        sb_error_set(&err, SB_ERR_INVALID, "info takes no --set (see softbond info --help)");
         return info_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
     }
     if (load(&job, &err) != SB_OK) return info_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));

@@ -1,7 +1,7 @@
 /* The output folder (see output_dir.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/output_dir.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -29,13 +29,13 @@ static bool make_parents(char* path) {
 sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const char* scene_name, sb_error* err) {
     size_t size = requested ? strlen(requested) + 1 : strlen(scene_name) + 5;
     out->dir = malloc(size);
-    if (!out->dir) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (!out->dir) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     if (requested)
         snprintf(out->dir, size, "%s", requested);
     else
         snprintf(out->dir, size, "out/%s", scene_name);
     if (make_parents(out->dir)) return SB_OK;
-    return sb_errorf(err, SB_ERR_IO, "%s: cannot create the output folder: %s", out->dir, strerror(errno));
+    return sb_error_set(err, SB_ERR_IO, "%s: cannot create the output folder: %s", out->dir, strerror(errno));
 }
 
 const char* sb_output_dir_path(sb_output_dir* out, const char* file) {

@@ -1,12 +1,11 @@
 /* The positions CSV reader (see positions_csv.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/positions_csv.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,15 +19,8 @@ typedef struct csv_reader {
     sb_error* err;
 } csv_reader;
 
-static sb_status csv_fail(const csv_reader* r, const char* format, ...) {
-    char where[sizeof r->err->message];
-    snprintf(where, sizeof where, "%s:%zu", r->path, r->line_number);
-    va_list args;
-    va_start(args, format);
-    sb_verrorf(r->err, SB_ERR_PARSE, format, args);
-    va_end(args);
-    return sb_error_prefix(r->err, SB_ERR_PARSE, where);
-}
+/* "PATH:LINE: message" at the reader's current line. */
+#define CSV_FAIL(r, ...) sb_error_at((r)->err, SB_ERR_PARSE, (r)->path, (r)->line_number, __VA_ARGS__)
 
 static bool is_blank(const char* s) {
     for (; *s; s++)
@@ -66,31 +58,31 @@ static sb_status parse_row(const csv_reader* r, double* xyz) {
         xyz[c] = strtod(p, &end);
         while (isspace((unsigned char)*end)) end++;
         bool separated = c < 2 ? *end == ',' : *end == '\0';
-        if (end == p || !separated) return csv_fail(r, "expected three numbers x,y,z, got '%.60s'", r->line);
-        if (!isfinite(xyz[c])) return csv_fail(r, "non-finite number in '%.60s'", r->line);
+        if (end == p || !separated) return CSV_FAIL(r, "expected three numbers x,y,z, got '%.60s'", r->line);
+        if (!isfinite(xyz[c])) return CSV_FAIL(r, "non-finite number in '%.60s'", r->line);
         p = end + 1;
     }
     return SB_OK;
 }
 
 static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
-    if (!next_line(r)) return csv_fail(r, "empty file: expected the header 'x,y,z'");
-    if (!is_header(r->line)) return csv_fail(r, "expected the header 'x,y,z', got '%.60s'", r->line);
+    if (!next_line(r)) return CSV_FAIL(r, "empty file: expected the header 'x,y,z'");
+    if (!is_header(r->line)) return CSV_FAIL(r, "expected the header 'x,y,z', got '%.60s'", r->line);
     uint32_t rows = 0;
     while (next_line(r)) {
-        if (rows == vertex_count) return csv_fail(r, "more rows than the mesh's %u vertices", vertex_count);
+        if (rows == vertex_count) return CSV_FAIL(r, "more rows than the mesh's %u vertices", vertex_count);
         sb_status status = parse_row(r, &out[3 * (size_t)rows]);
         if (status != SB_OK) return status;
         rows++;
     }
-    if (ferror(r->file)) return csv_fail(r, "read error: %s", strerror(errno));
-    if (rows < vertex_count) return csv_fail(r, "%u rows, but the mesh has %u vertices", rows, vertex_count);
+    if (ferror(r->file)) return CSV_FAIL(r, "read error: %s", strerror(errno));
+    if (rows < vertex_count) return CSV_FAIL(r, "%u rows, but the mesh has %u vertices", rows, vertex_count);
     return SB_OK;
 }
 
 sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out, sb_error* err) {
     csv_reader r = {.path = path, .file = fopen(path, "rb"), .err = err};
-    if (!r.file) return sb_errorf(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!r.file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     sb_status status = read_rows(&r, vertex_count, out);
     free(r.line);
     fclose(r.file);

@@ -8,7 +8,7 @@
 #include "scenes/budget.h"
 #include "scenes/cli.h"
 #include "scenes/energy_log.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 #include "scenes/frame_export.h"
 #include "scenes/point_load.h"
 #include "scenes/output_dir.h"
@@ -66,8 +66,8 @@ static sb_status budget(const run_job* job, double* ms, sb_error* err) {
     char* end;
     *ms = strtod(job->args.budget_ms, &end);
     if (end == job->args.budget_ms || *end != '\0' || !(*ms > 0.0) || !isfinite(*ms))
-        return sb_errorf(err, SB_ERR_INVALID, "--budget-ms: expected a number of milliseconds > 0, got '%s'",
-                         job->args.budget_ms);
+        return sb_error_set(err, SB_ERR_INVALID, "--budget-ms: expected a number of milliseconds > 0, got '%s'",
+                            job->args.budget_ms);
     return SB_OK;
 }
 
@@ -115,7 +115,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     if (!job->solver) return SB_ERR_INVALID;
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
-    return job->buffers ? SB_OK : sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    return job->buffers ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
 }
 
 static sb_status write_frame(run_job* job, sb_error* err) {
@@ -139,7 +139,7 @@ static int record_frame(run_job* job, sb_error* err) {
         job->work = (sb_step_work){0};
         return SB_EXIT_OK;
     }
-    sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     return SB_EXIT_FAILURE;
 }
 
@@ -147,7 +147,7 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
     double dt = sb_scene_number(&job->scene, SB_KEY_DT);
     while (sb_solver_step_count(job->solver) < step) {
         if (sb_solver_advance(job->solver, dt) != SB_OK) {
-            sb_errorf(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
+            sb_error_set(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
             return SB_EXIT_SOLVER;
         }
         sb_step_stats stats = sb_solver_last_step(job->solver);

@@ -2,7 +2,7 @@
  * scene_yaml.c, checks in scene_validate.c. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/scene.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -76,7 +76,7 @@ sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, 
     const char* where = sb_scene_where(scene, key);
     va_list args;
     va_start(args, format);
-    sb_verrorf(err, SB_ERR_INVALID, format, args);
+    sb_error_vset(err, SB_ERR_INVALID, format, args);
     va_end(args);
     return where ? sb_error_prefix(err, SB_ERR_INVALID, where) : SB_ERR_INVALID;
 }

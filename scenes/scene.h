@@ -179,7 +179,8 @@ const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32
 const char* sb_scene_where(const sb_scene* scene, sb_scene_key key);
 /* Formats "WHERE: message" into err, WHERE being where key was set (the
  * message alone when there is no WHERE); returns SB_ERR_INVALID. */
-sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format, ...);
+sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format, ...)
+    __attribute__((format(printf, 4, 5)));
 
 /* A path value made usable: relative paths are joined to the directory of
  * the file that set it (the current directory for --set). Caller frees. */

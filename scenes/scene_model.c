@@ -1,6 +1,6 @@
 /* Builds the library's mesh, model and solver settings from a scene. */
 #include "scenes/scene_model.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 #include "scenes/pin.h"
 
 #include <stdio.h>
@@ -151,12 +151,12 @@ bool sb_scene_volumetric(const sb_scene* scene) {
 /* The tetrahedra behind the surface of a .node/.ele/.msh file. */
 static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
-    if (!path) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (!path) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     sb_tet_mesh volume;
     sb_status status = sb_tet_mesh_load(path, &volume, err);
     free(path);
     if (status == SB_OK && volume.vertex_count != mesh->vertex_count)
-        status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+        status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
     sb_mesh_transform_def placement = sb_scene_placement(scene);
     sb_mesh points = {.vertex_count = volume.vertex_count, .positions = volume.positions};
     if (status == SB_OK) status = sb_mesh_transform(&points, &placement, err);
@@ -199,7 +199,7 @@ static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder*
                              "a .pov file's objects keep their vertices: mesh.target_vertices, "
                              "mesh.target_error and mesh.reorder do not apply");
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
-    if (!path) return sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+    if (!path) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     sb_pov_object* objects = NULL;
     uint32_t count = 0, first = 0;
     sb_status status = sb_pov_load(path, &objects, &count, err);
@@ -207,13 +207,13 @@ static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder*
     sb_spring_mesh_def defaults = sb_scene_springs(scene);
     for (uint32_t i = 0; i < count && status == SB_OK; i++) {
         if (objects[i].mesh.vertex_count > mesh->vertex_count - first)
-            status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+            status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
         else
             status = add_pov_object(&objects[i], mesh, first, &defaults, builder, err);
         first += objects[i].mesh.vertex_count;
     }
     if (status == SB_OK && first != mesh->vertex_count)
-        status = sb_errorf(err, SB_ERR_INVALID, "the file changed while it was read");
+        status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
     sb_pov_objects_free(objects, count);
     return status;
 }
@@ -245,7 +245,7 @@ static sb_model* build(const sb_scene* scene, const sb_mesh* mesh, const char* s
 sb_model* sb_scene_build_model(const sb_scene* scene, const sb_mesh* mesh, const char* source, sb_error* err) {
     sb_builder* builder = sb_builder_create();
     if (!builder) {
-        sb_errorf(err, SB_ERR_NOMEM, "out of memory");
+        sb_error_set(err, SB_ERR_NOMEM, "out of memory");
         return NULL;
     }
     sb_model* model = build(scene, mesh, source, builder, err);

@@ -8,7 +8,7 @@
  * error; a later source (a --set) simply wins. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/scene.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -35,12 +35,14 @@ static void node_where(const yaml_source* src, const yaml_node_t* node, char* ou
         snprintf(out, size, "%s", src->name);
 }
 
+static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, const char* format, ...)
+    __attribute__((format(printf, 3, 4)));
 static sb_status source_fail(const yaml_source* src, const yaml_node_t* node, const char* format, ...) {
     char where[320];
     node_where(src, node, where, sizeof where);
     va_list args;
     va_start(args, format);
-    sb_verrorf(src->err, SB_ERR_PARSE, format, args);
+    sb_error_vset(src->err, SB_ERR_PARSE, format, args);
     va_end(args);
     return sb_error_prefix(src->err, SB_ERR_PARSE, where);
 }
@@ -239,9 +241,9 @@ static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* 
 static sb_status yaml_fail(const yaml_source* src, const yaml_parser_t* parser) {
     const char* problem = parser->problem ? parser->problem : "unreadable";
     if (src->has_lines)
-        return sb_errorf(src->err, SB_ERR_PARSE, "%s:%zu: malformed YAML: %s", src->name, parser->problem_mark.line + 1,
-                         problem);
-    return sb_errorf(src->err, SB_ERR_PARSE, "%s: malformed value: %s", src->name, problem);
+        return sb_error_at(src->err, SB_ERR_PARSE, src->name, parser->problem_mark.line + 1, "malformed YAML: %s",
+                           problem);
+    return sb_error_at(src->err, SB_ERR_PARSE, src->name, 0, "malformed value: %s", problem);
 }
 
 /* A file holds one document whose root is a map (an empty file is fine). */
@@ -296,7 +298,7 @@ static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_err
 
 sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
     FILE* file = fopen(path, "rb");
-    if (!file) return sb_errorf(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     sb_status status = load_file(scene, file, path, err);
     fclose(file);
     if (status != SB_OK) return status;
@@ -305,7 +307,7 @@ sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
     scene->path = strdup(path);
     scene->name = name_of(path);
     if (scene->path && scene->name) return SB_OK;
-    return sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
 }
 
 static sb_status set_value(yaml_source* src, const char* name, const char* text) {

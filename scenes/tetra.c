@@ -27,7 +27,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/atomic_file.h"
 #include "scenes/cli.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -69,8 +69,8 @@ static sb_status number_option(const char* name, const char* text, double* out, 
     errno = 0;
     *out = text ? strtod(text, &end) : NAN;
     if (!text || end == text || *end != '\0' || errno != 0 || !isfinite(*out))
-        return sb_errorf(err, SB_ERR_INVALID, "%s: expected a number, got '%s' (see softbond tetra --help)", name,
-                         text ? text : "");
+        return sb_error_set(err, SB_ERR_INVALID, "%s: expected a number, got '%s' (see softbond tetra --help)", name,
+                            text ? text : "");
     return SB_OK;
 }
 
@@ -93,13 +93,13 @@ static sb_status parse_arg(int argc, char** argv, int* i, tetra_job* job, sb_err
     else if ((value = option_value(argc, argv, i, "--max-volume")))
         return number_option("--max-volume", value, &job->max_volume, err);
     else if (arg[0] == '-' && arg[1] != '\0')
-        return sb_errorf(err, SB_ERR_INVALID, "unknown option '%s' (see softbond tetra --help)", arg);
+        return sb_error_set(err, SB_ERR_INVALID, "unknown option '%s' (see softbond tetra --help)", arg);
     else if (!job->in)
         job->in = arg;
     else if (!job->out)
         job->out = arg;
     else
-        return sb_errorf(err, SB_ERR_INVALID, "unexpected argument '%s' (see softbond tetra --help)", arg);
+        return sb_error_set(err, SB_ERR_INVALID, "unexpected argument '%s' (see softbond tetra --help)", arg);
     return SB_OK;
 }
 
@@ -110,15 +110,17 @@ static sb_status parse_args(int argc, char** argv, tetra_job* job, sb_error* err
     }
     if (job->help) return SB_OK;
     if (!job->in || !job->out)
-        return sb_errorf(err, SB_ERR_INVALID, "missing %s (see softbond tetra --help)", job->in ? "OUT" : "IN and OUT");
+        return sb_error_set(err, SB_ERR_INVALID, "missing %s (see softbond tetra --help)",
+                            job->in ? "OUT" : "IN and OUT");
     if (!(job->quality > 1.0))
-        return sb_errorf(err, SB_ERR_INVALID, "--quality %g: the radius-edge ratio bound must be > 1", job->quality);
+        return sb_error_set(err, SB_ERR_INVALID, "--quality %g: the radius-edge ratio bound must be > 1", job->quality);
     if (job->max_volume < 0.0)
-        return sb_errorf(err, SB_ERR_INVALID, "--max-volume %g: must be > 0 (0: no bound)", job->max_volume);
+        return sb_error_set(err, SB_ERR_INVALID, "--max-volume %g: must be > 0 (0: no bound)", job->max_volume);
     const char* dot = strrchr(job->out, '.');
     bool pair = dot && (strcmp(dot, ".node") == 0 || strcmp(dot, ".ele") == 0);
     if (!pair || (size_t)(dot - job->out) >= sizeof job->out_base)
-        return sb_errorf(err, SB_ERR_INVALID, "%s: OUT must end in .node or .ele (a TetGen pair is written)", job->out);
+        return sb_error_set(err, SB_ERR_INVALID, "%s: OUT must end in .node or .ele (a TetGen pair is written)",
+                            job->out);
     memcpy(job->out_base, job->out, (size_t)(dot - job->out));
     return SB_OK;
 }
@@ -131,10 +133,10 @@ static sb_status load_closed(tetra_job* job, sb_error* err) {
     sb_mesh_edge_counts edges;
     status = sb_mesh_count_edges(&job->surface, &edges, err);
     if (status == SB_OK && !edges.closed)
-        return sb_errorf(err, SB_ERR_INVALID,
-                         "%s: the surface is not closed (%u boundary and %u non-manifold edges of %u): "
-                         "tetra needs a closed surface",
-                         job->in, edges.boundary, edges.non_manifold, edges.edges);
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: the surface is not closed (%u boundary and %u non-manifold edges of %u): "
+                            "tetra needs a closed surface",
+                            job->in, edges.boundary, edges.non_manifold, edges.edges);
     return status;
 }
 
@@ -146,14 +148,14 @@ static const char* in_dir(const tetra_job* job, const char* name, char* buffer, 
 static sb_status write_off(const tetra_job* job, sb_error* err) {
     char path[600];
     FILE* f = fopen(in_dir(job, "surface.off", path, sizeof path), "w");
-    if (!f) return sb_errorf(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    if (!f) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
     const sb_mesh* m = &job->surface;
     fprintf(f, "OFF\n%u %u 0\n", m->vertex_count, m->triangle_count);
     for (size_t i = 0; i < m->vertex_count; i++)
         fprintf(f, "%.17g %.17g %.17g\n", m->positions[3 * i], m->positions[3 * i + 1], m->positions[3 * i + 2]);
     for (size_t t = 0; t < m->triangle_count; t++)
         fprintf(f, "3 %u %u %u\n", m->triangles[3 * t], m->triangles[3 * t + 1], m->triangles[3 * t + 2]);
-    return fclose(f) == 0 ? SB_OK : sb_errorf(err, SB_ERR_IO, "%s: cannot write", path);
+    return fclose(f) == 0 ? SB_OK : sb_error_set(err, SB_ERR_IO, "%s: cannot write", path);
 }
 
 /* ---- running tetgen ------------------------------------------------------- */
@@ -181,8 +183,8 @@ static sb_status spawn_tetgen(const tetra_job* job, const char* program, char* c
     int code = posix_spawnp(pid, program, &actions, NULL, argv, environ);
     posix_spawn_file_actions_destroy(&actions);
     if (code == ENOENT)
-        return sb_errorf(err, SB_ERR_IO, "%s: program not found (Debian: apt-get install tetgen)", program);
-    if (code != 0) return sb_errorf(err, SB_ERR_IO, "cannot run %s: %s", program, strerror(code));
+        return sb_error_set(err, SB_ERR_IO, "%s: program not found (Debian: apt-get install tetgen)", program);
+    if (code != 0) return sb_error_set(err, SB_ERR_IO, "cannot run %s: %s", program, strerror(code));
     return SB_OK;
 }
 
@@ -201,17 +203,17 @@ static sb_status run_tetgen(tetra_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     int wait_status;
     while (waitpid(pid, &wait_status, 0) < 0)
-        if (errno != EINTR) return sb_errorf(err, SB_ERR_IO, "waiting for %s: %s", program, strerror(errno));
+        if (errno != EINTR) return sb_error_set(err, SB_ERR_IO, "waiting for %s: %s", program, strerror(errno));
     if (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0) return SB_OK;
     char message[512];
     last_message(job, message, sizeof message);
     if (WIFEXITED(wait_status))
-        return sb_errorf(err, SB_ERR_IO, "%s %s failed (exit %d): %s", program, switches, WEXITSTATUS(wait_status),
-                         message);
-    return sb_errorf(err, SB_ERR_IO,
-                     "%s %s was killed by signal %d (%s); TetGen aborts so on a self-intersecting "
-                     "surface: `tetgen -d` finds the intersections",
-                     program, switches, WTERMSIG(wait_status), message);
+        return sb_error_set(err, SB_ERR_IO, "%s %s failed (exit %d): %s", program, switches, WEXITSTATUS(wait_status),
+                            message);
+    return sb_error_set(err, SB_ERR_IO,
+                        "%s %s was killed by signal %d (%s); TetGen aborts so on a self-intersecting "
+                        "surface: `tetgen -d` finds the intersections",
+                        program, switches, WTERMSIG(wait_status), message);
 }
 
 /* Corners ordered so that (b - a) . ((c - a) x (d - a)) > 0: c and d
@@ -268,7 +270,7 @@ static sb_status make_dir(tetra_job* job, sb_error* err) {
     snprintf(job->dir, sizeof job->dir, "%s/softbond_tetra_XXXXXX", base && *base ? base : "/tmp");
     if (mkdtemp(job->dir)) return SB_OK;
     sb_status status =
-        sb_errorf(err, SB_ERR_IO, "%s: cannot make a temporary directory: %s", job->dir, strerror(errno));
+        sb_error_set(err, SB_ERR_IO, "%s: cannot make a temporary directory: %s", job->dir, strerror(errno));
     job->dir[0] = '\0';
     return status;
 }

@@ -11,7 +11,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/vtk.h"
 #include "scenes/atomic_file.h"
-#include "scenes/errorf.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -149,8 +149,9 @@ sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_err
     uint32_t count = sb_model_bond_count(frame->model);
     bond_cells bonds;
     sb_atomic_file file;
-    sb_status status = bond_cells_make(frame, count, &bonds) ? sb_atomic_open(&file, path, err)
-                                                             : sb_errorf(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    sb_status status = bond_cells_make(frame, count, &bonds)
+                           ? sb_atomic_open(&file, path, err)
+                           : sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     if (status == SB_OK) {
         write_bond_grid(file.stream, frame, &bonds, count);
         status = sb_atomic_commit(&file, err);

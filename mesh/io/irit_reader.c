@@ -31,6 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "mesh/io/mesh_readers.h"
 
 enum { IRIT_MAX_DEPTH = 64 };
@@ -83,19 +84,15 @@ static void skip_blanks(irit_reader* r) {
     }
 }
 
-static sb_status fail(irit_reader* r, size_t line, const char* what) {
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line, "%s", what);
-}
-
 /* "what 'token'" at the token's line, the token cut at 40 characters. */
 static sb_status fail_token(irit_reader* r, const char* what) {
     const irit_token* t = &r->tok;
     if (t->kind == IRIT_END) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
     }
     int shown = t->length > 40 ? 40 : (int)t->length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
-                              t->length > 40 ? "..." : "");
+    return sb_error_at(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
+                       t->length > 40 ? "..." : "");
 }
 
 static sb_status next(irit_reader* r) {
@@ -118,7 +115,7 @@ static sb_status next(irit_reader* r) {
             close++;
         }
         if (close >= r->end) {
-            return fail(r, t->line, "unterminated string");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, t->line, "unterminated string");
         }
         t->kind = IRIT_STRING;
         t->length = (size_t)(close + 1 - r->p);
@@ -153,8 +150,8 @@ static sb_status skip_rest(irit_reader* r, size_t open_line) {
     size_t depth = 1;
     while (depth > 0) {
         if (r->tok.kind == IRIT_END) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, open_line,
-                                      "unterminated '[': no matching ']' before the end of the file");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, open_line,
+                               "unterminated '[': no matching ']' before the end of the file");
         }
         depth += r->tok.kind == IRIT_OPEN;
         depth -= r->tok.kind == IRIT_CLOSE;
@@ -184,8 +181,8 @@ static sb_status skip_attributes(irit_reader* r) {
 /* ---- polygons ------------------------------------------------------------ */
 
 static sb_status nomem(irit_reader* r) {
-    return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
-                              "out of memory or more than 2^32-1 vertices or triangles");
+    return sb_error_at(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
+                       "out of memory or more than 2^32-1 vertices or triangles");
 }
 
 /* [{ATTRS} x y z]: the current token is its '['. */
@@ -242,8 +239,8 @@ static sb_status read_count(irit_reader* r, long long* count) {
         return fail_token(r, "POLYGON: expected the vertex count, found");
     }
     if (*count < 3 || *count > (long long)UINT32_MAX) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                  "POLYGON with %lld vertices (a polygon needs 3 to 2^32-1)", *count);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->tok.line,
+                           "POLYGON with %lld vertices (a polygon needs 3 to 2^32-1)", *count);
     }
     return next(r);
 }
@@ -260,8 +257,8 @@ static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line) {
     }
     for (long long k = 0; k < count && status == SB_OK; k++) {
         if (r->tok.kind != IRIT_OPEN) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                      "POLYGON (line %zu) lists %lld of its %lld vertices", open_line, k, count);
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->tok.line,
+                               "POLYGON (line %zu) lists %lld of its %lld vertices", open_line, k, count);
         }
         status = read_vertex(r, &r->objects[object], (size_t)k);
     }
@@ -269,8 +266,8 @@ static sb_status read_polygon(irit_reader* r, size_t object, size_t open_line) {
         return status;
     }
     if (r->tok.kind == IRIT_OPEN) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line,
-                                  "POLYGON (line %zu) has more vertices than its count %lld", open_line, count);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->tok.line,
+                           "POLYGON (line %zu) has more vertices than its count %lld", open_line, count);
     }
     if (r->tok.kind != IRIT_CLOSE) {
         return fail_token(r, "POLYGON: expected ']', found");
@@ -331,9 +328,9 @@ static sb_status read_contents(irit_reader* r, size_t object, size_t object_line
             return next(r);
         }
         if (r->tok.kind == IRIT_END) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, object_line,
-                                      "unterminated OBJECT: no matching ']' before the end of "
-                                      "the file");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, object_line,
+                               "unterminated OBJECT: no matching ']' before the end of "
+                               "the file");
         }
         if (r->tok.kind != IRIT_OPEN) {
             return fail_token(r, "OBJECT: expected '[' or ']', found");
@@ -352,8 +349,7 @@ static sb_status read_contents(irit_reader* r, size_t object, size_t object_line
 /* [OBJECT {ATTRS} NAME items...]: the current token is OBJECT. */
 static sb_status read_object(irit_reader* r, size_t open_line, int depth) {
     if (depth >= IRIT_MAX_DEPTH) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, open_line, "objects nested deeper than %d",
-                                  IRIT_MAX_DEPTH);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, open_line, "objects nested deeper than %d", IRIT_MAX_DEPTH);
     }
     sb_status status = next(r);
     if (status == SB_OK) {
@@ -409,13 +405,12 @@ static sb_status finish(irit_reader* r, sb_mesh** objects, uint32_t* object_coun
         kept += r->objects[i].mesh.triangle_count > 0;
     }
     if (kept == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0,
-                                  "no polygons (%zu objects, %u degenerate triangles dropped)", r->object_count,
-                                  r->dropped);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, 0,
+                           "no polygons (%zu objects, %u degenerate triangles dropped)", r->object_count, r->dropped);
     }
     sb_mesh* out = calloc(kept, sizeof *out);
     if (out == NULL) {
-        return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, 0, "out of memory");
+        return sb_error_at(r->err, SB_ERR_NOMEM, r->path, 0, "out of memory");
     }
     size_t n = 0;
     for (size_t i = 0; i < r->object_count; i++) {

@@ -38,7 +38,6 @@
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +47,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include "common/error.h"
 #include "mesh/io/mesh_readers.h"
 #include "softbond/pov.h"
 #include "softbond/volume.h"
@@ -128,25 +128,7 @@ void sb_mesh_builder_free(sb_mesh_builder* b) {
     memset(b, 0, sizeof *b);
 }
 
-/* ---- errors and text ----------------------------------------------------- */
-
-sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line, const char* fmt, ...) {
-    if (err == NULL) {
-        return status;
-    }
-    int used = line > 0 ? snprintf(err->message, sizeof err->message, "%s:%zu: ", path, line)
-                        : snprintf(err->message, sizeof err->message, "%s: ", path);
-    if (used < 0) {
-        used = 0;
-    }
-    if ((size_t)used < sizeof err->message) {
-        va_list args;
-        va_start(args, fmt);
-        vsnprintf(err->message + used, sizeof err->message - (size_t)used, fmt, args);
-        va_end(args);
-    }
-    return status;
-}
+/* ---- text ---------------------------------------------------------------- */
 
 static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f' || c == '\0'; }
 
@@ -215,14 +197,10 @@ bool sb_text_parse_integer(const char* token, size_t length, long long* out) {
 
 /* ---- reading a file ------------------------------------------------------ */
 
-static sb_status open_error(const char* path, int code, sb_error* err) {
-    return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(code));
-}
-
 sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_error* err) {
     FILE* file = fopen(path, "rb");
     if (file == NULL) {
-        return open_error(path, errno, err);
+        return sb_error_at(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(errno));
     }
     char* data = NULL;
     size_t used = 0, capacity = 0;
@@ -240,7 +218,7 @@ sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_err
         if (!grow((void**)&data, &capacity, used + 65536 + 1, 1)) {
             free(data);
             fclose(file);
-            return sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory reading the file");
+            return sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory reading the file");
         }
         size_t got = fread(data + used, 1, capacity - used - 1, file);
         used += got;
@@ -252,7 +230,7 @@ sb_status sb_read_whole_file(const char* path, char** text, size_t* size, sb_err
         int code = errno;
         free(data);
         fclose(file);
-        return sb_mesh_read_error(err, SB_ERR_IO, path, 0, "cannot read: %s", strerror(code));
+        return sb_error_at(err, SB_ERR_IO, path, 0, "cannot read: %s", strerror(code));
     }
     fclose(file);
     data[used] = '\0';
@@ -428,7 +406,7 @@ static sb_status merge_mesh(assimp_merge* merge, const struct aiMesh* mesh, cons
     merge->report->source_meshes++;
     sb_status status = merge_mesh_into(merge, mesh, transform, mesh_index, err);
     if (status == SB_OK && merge->separate && !flush_object(merge)) {
-        status = sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
+        status = sb_error_at(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
     }
     return status;
 }
@@ -439,17 +417,17 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
         return SB_OK;
     }
     if (!grow((void**)&merge->remap, &merge->remap_capacity, mesh->mNumVertices, sizeof(uint32_t))) {
-        return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
+        return sb_error_at(err, SB_ERR_NOMEM, merge->path, 0, "out of memory");
     }
     for (unsigned v = 0; v < mesh->mNumVertices; v++) {
         double p[3];
         transform_point(transform, &mesh->mVertices[v], p);
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
-            return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "non-finite position at vertex %u of mesh %u",
-                                      v, mesh_index);
+            return sb_error_at(err, SB_ERR_PARSE, merge->path, 0, "non-finite position at vertex %u of mesh %u", v,
+                               mesh_index);
         }
         if (!sb_mesh_builder_weld_vertex(&merge->mesh, &merge->weld, p, &merge->remap[v])) {
-            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 vertices");
+            return sb_error_at(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 vertices");
         }
     }
     for (unsigned f = 0; f < mesh->mNumFaces && mesh->mFaces != NULL; f++) {
@@ -462,8 +440,8 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
         for (int c = 0; c < 3; c++) {
             unsigned index = face->mIndices[c];
             if (index >= mesh->mNumVertices) {
-                return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "face %u of mesh %u uses vertex %u of %u",
-                                          f, mesh_index, index, mesh->mNumVertices);
+                return sb_error_at(err, SB_ERR_PARSE, merge->path, 0, "face %u of mesh %u uses vertex %u of %u", f,
+                                   mesh_index, index, mesh->mNumVertices);
             }
             t[c] = merge->remap[index];
         }
@@ -472,7 +450,7 @@ static sb_status merge_mesh_into(assimp_merge* merge, const struct aiMesh* mesh,
             continue;
         }
         if (!sb_mesh_builder_add_triangle(&merge->mesh, t[0], t[1], t[2])) {
-            return sb_mesh_read_error(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 triangles");
+            return sb_error_at(err, SB_ERR_NOMEM, merge->path, 0, "out of memory or more than 2^32-1 triangles");
         }
     }
     return SB_OK;
@@ -483,7 +461,7 @@ enum { MAX_NODE_DEPTH = 256 };
 static sb_status merge_node(assimp_merge* merge, const struct aiNode* node, const transform4* parent, int depth,
                             sb_error* err) {
     if (depth > MAX_NODE_DEPTH) {
-        return sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0, "node hierarchy deeper than %d", MAX_NODE_DEPTH);
+        return sb_error_at(err, SB_ERR_PARSE, merge->path, 0, "node hierarchy deeper than %d", MAX_NODE_DEPTH);
     }
     transform4 transform;
     transform_compose(parent, &node->mTransformation, &transform);
@@ -523,11 +501,11 @@ static sb_status merge_scene(assimp_merge* merge, sb_error* err) {
         }
     }
     if (status == SB_OK && merge->mesh.triangle_count == 0 && merge->object_count == 0) {
-        status = sb_mesh_read_error(err, SB_ERR_PARSE, merge->path, 0,
-                                    "no triangles (%zu vertices, %u degenerate triangles "
-                                    "dropped, %u points and lines)",
-                                    merge->mesh.vertex_count + merge->empty_vertices, merge->report->degenerate_faces,
-                                    merge->report->ignored_primitives);
+        status = sb_error_at(err, SB_ERR_PARSE, merge->path, 0,
+                             "no triangles (%zu vertices, %u degenerate triangles "
+                             "dropped, %u points and lines)",
+                             merge->mesh.vertex_count + merge->empty_vertices, merge->report->degenerate_faces,
+                             merge->report->ignored_primitives);
     }
     return status;
 }
@@ -547,7 +525,7 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
      * readers (assimp would only say it could not open it). */
     FILE* file = fopen(path, "rb");
     if (file == NULL) {
-        return open_error(path, errno, err);
+        return sb_error_at(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(errno));
     }
     fclose(file);
 
@@ -557,8 +535,8 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
     const struct aiScene* scene = aiImportFile(path, flags);
     if (scene == NULL) {
         const char* why = aiGetErrorString();
-        sb_status status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "%s",
-                                              why != NULL && why[0] != '\0' ? why : "assimp cannot read it");
+        sb_status status = sb_error_at(err, SB_ERR_PARSE, path, 0, "%s",
+                                       why != NULL && why[0] != '\0' ? why : "assimp cannot read it");
         pthread_mutex_unlock(&assimp_lock);
         return status;
     }
@@ -567,7 +545,7 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
     assimp_merge merge = {.path = path, .scene = scene, .separate = separate, .report = report};
     sb_status status = SB_OK;
     if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
-        status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "incomplete scene (no meshes)");
+        status = sb_error_at(err, SB_ERR_PARSE, path, 0, "incomplete scene (no meshes)");
     } else {
         status = merge_scene(&merge, err);
     }
@@ -577,7 +555,7 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
     if (status == SB_OK && !separate) {
         merge.objects = malloc(sizeof(sb_mesh));
         if (merge.objects == NULL) {
-            status = sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+            status = sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory");
         } else {
             sb_mesh_builder_finish(&merge.mesh, &merge.objects[0]);
             merge.object_count = 1;
@@ -654,18 +632,12 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     report = report != NULL ? report : &scratch;
     memset(report, 0, sizeof *report);
     if (objects == NULL || object_count == NULL) {
-        if (err != NULL) {
-            snprintf(err->message, sizeof err->message, "sb_mesh_load_ex: no output objects");
-        }
-        return SB_ERR_INVALID;
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_load_ex: no output objects");
     }
     *objects = NULL;
     *object_count = 0;
     if (path == NULL || path[0] == '\0') {
-        if (err != NULL) {
-            snprintf(err->message, sizeof err->message, "sb_mesh_load_ex: empty path");
-        }
-        return SB_ERR_INVALID;
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_load_ex: empty path");
     }
     sb_mesh_load_def defaults = sb_default_mesh_load_def();
     def = def != NULL ? def : &defaults;
@@ -703,7 +675,7 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     report->reader = sb_tet_mesh_path(path) ? "tetrahedral" : obj ? "obj" : "off";
     sb_mesh* one = calloc(1, sizeof *one);
     if (one == NULL) {
-        return sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+        return sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory");
     }
     sb_status status = load_single(path, obj, one, err);
     if (status != SB_OK) {
@@ -719,17 +691,11 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
 
 sb_status sb_mesh_load(const char* path, sb_mesh* out, sb_error* err) {
     if (out == NULL) {
-        if (err != NULL) {
-            snprintf(err->message, sizeof err->message, "sb_mesh_load: no output mesh");
-        }
-        return SB_ERR_INVALID;
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_load: no output mesh");
     }
     memset(out, 0, sizeof *out);
     if (path == NULL || path[0] == '\0') {
-        if (err != NULL) {
-            snprintf(err->message, sizeof err->message, "sb_mesh_load: empty path");
-        }
-        return SB_ERR_INVALID;
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_load: empty path");
     }
     sb_mesh* objects = NULL;
     uint32_t count = 0;

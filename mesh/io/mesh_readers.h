@@ -1,9 +1,10 @@
 /* Private to mesh/: softbond's own OBJ and OFF readers and the helpers they
- * share with sb_mesh_load (growable arrays, error lines, number parsing).
+ * share with sb_mesh_load (growable arrays, number parsing).
  *
  * The readers parse a whole file already in memory. They keep the file's
  * vertex order and count exactly and fan-triangulate polygons
- * (v0, vk, vk+1). Every error is one line "FILE:LINE: what" in err. */
+ * (v0, vk, vk+1). Every error is one line "FILE:LINE: what" in err
+ * (sb_error_at, common/error.h). */
 #ifndef SB_MESH_READERS_H
 #define SB_MESH_READERS_H
 
@@ -35,14 +36,6 @@ bool sb_mesh_builder_weld_vertex(sb_mesh_builder* b, sb_weld_table* weld, const 
 /* Moves the arrays into out (which then owns them) and resets b. */
 void sb_mesh_builder_finish(sb_mesh_builder* b, sb_mesh* out);
 void sb_mesh_builder_free(sb_mesh_builder* b);
-
-/* Writes "PATH:LINE: message" (line 0: "PATH: message") into err (if any)
- * and returns status. */
-sb_status sb_mesh_read_error(sb_error* err, sb_status status, const char* path, size_t line, const char* fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 5, 6)))
-#endif
-    ;
 
 /* A cursor over one line of text (no terminator inside [p, end)). */
 typedef struct sb_text_line {

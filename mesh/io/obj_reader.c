@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "mesh/io/mesh_readers.h"
 
 typedef struct obj_reader {
@@ -27,11 +28,10 @@ typedef struct obj_reader {
 
 static sb_status fail(obj_reader* r, sb_status status, const char* what, const char* token, size_t length) {
     if (token == NULL) {
-        return sb_mesh_read_error(r->err, status, r->path, r->line, "%s", what);
+        return sb_error_at(r->err, status, r->path, r->line, "%s", what);
     }
     int shown = length > 40 ? 40 : (int)length;
-    return sb_mesh_read_error(r->err, status, r->path, r->line, "%s '%.*s%s'", what, shown, token,
-                              length > 40 ? "..." : "");
+    return sb_error_at(r->err, status, r->path, r->line, "%s '%.*s%s'", what, shown, token, length > 40 ? "..." : "");
 }
 
 static sb_status read_vertex(obj_reader* r, sb_text_line* line) {
@@ -89,8 +89,8 @@ static sb_status read_corner(obj_reader* r, const char* token, size_t length, ui
     long long defined = (long long)r->mesh.vertex_count;
     long long resolved = i > 0 ? i - 1 : defined + i;
     if (i == 0 || resolved < 0 || resolved >= defined) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "vertex index %lld out of range (%lld vertices defined so far)", i, defined);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line,
+                           "vertex index %lld out of range (%lld vertices defined so far)", i, defined);
     }
     *index = (uint32_t)resolved;
     return SB_OK;
@@ -117,8 +117,8 @@ static sb_status read_face(obj_reader* r, sb_text_line* line) {
         r->corner_count++;
     }
     if (r->corner_count < 3) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "face with %zu vertices (a face needs at least 3)", r->corner_count);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "face with %zu vertices (a face needs at least 3)",
+                           r->corner_count);
     }
     for (size_t k = 1; k + 1 < r->corner_count; k++) {
         if (!sb_mesh_builder_add_triangle(&r->mesh, r->corners[0], r->corners[k], r->corners[k + 1])) {
@@ -162,8 +162,7 @@ sb_status sb_obj_parse(const char* path, const char* text, size_t size, sb_mesh*
         p = line_end + 1;
     }
     if (status == SB_OK && r.mesh.triangle_count == 0) {
-        status = sb_mesh_read_error(err, SB_ERR_PARSE, path, 0, "no triangles (%zu vertices, no faces)",
-                                    r.mesh.vertex_count);
+        status = sb_error_at(err, SB_ERR_PARSE, path, 0, "no triangles (%zu vertices, no faces)", r.mesh.vertex_count);
     }
     free(r.corners);
     if (status != SB_OK) {

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "mesh/io/mesh_readers.h"
 
 typedef enum off_stage { OFF_HEADER, OFF_COUNTS, OFF_VERTICES, OFF_FACES, OFF_DONE } off_stage;
@@ -30,8 +31,8 @@ typedef struct off_reader {
 
 static sb_status fail_token(off_reader* r, const char* what, const char* token, size_t length) {
     int shown = length > 40 ? 40 : (int)length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "%s '%.*s%s'", what, shown, token,
-                              length > 40 ? "..." : "");
+    return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "%s '%.*s%s'", what, shown, token,
+                       length > 40 ? "..." : "");
 }
 
 static bool ends_with_off(const char* token, size_t length) {
@@ -42,15 +43,14 @@ static sb_status read_counts(off_reader* r, sb_text_line* line, const char* toke
     long long counts[2];
     for (int c = 0; c < 2; c++) {
         if (c > 0 && !sb_text_next_token(line, &token, &length)) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "expected the counts: vertices faces edges");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "expected the counts: vertices faces edges");
         }
         if (!sb_text_parse_integer(token, length, &counts[c]) || counts[c] < 0) {
             return fail_token(r, "malformed count", token, length);
         }
     }
     if (counts[0] > (long long)UINT32_MAX || counts[1] > (long long)UINT32_MAX) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "more than 2^32-1 vertices or faces");
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "more than 2^32-1 vertices or faces");
     }
     r->vertices_expected = counts[0];
     r->faces_expected = counts[1];
@@ -72,7 +72,7 @@ static sb_status read_header(off_reader* r, sb_text_line* line, const char* toke
     r->stage = OFF_COUNTS;
     if (sb_text_next_token(line, &token, &length)) {
         if (length == 6 && memcmp(token, "BINARY", 6) == 0) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "binary OFF is not supported");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "binary OFF is not supported");
         }
         return read_counts(r, line, token, length);
     }
@@ -83,8 +83,8 @@ static sb_status read_vertex(off_reader* r, sb_text_line* line, const char* toke
     double xyz[3];
     for (int c = 0; c < 3; c++) {
         if (c > 0 && !sb_text_next_token(line, &token, &length)) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "vertex %zu needs three coordinates x y z", r->mesh.vertex_count);
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "vertex %zu needs three coordinates x y z",
+                               r->mesh.vertex_count);
         }
         if (!sb_text_parse_double(token, length, &xyz[c])) {
             return fail_token(r, "malformed number", token, length);
@@ -94,7 +94,7 @@ static sb_status read_vertex(off_reader* r, sb_text_line* line, const char* toke
         }
     }
     if (!sb_mesh_builder_add_vertex(&r->mesh, xyz[0], xyz[1], xyz[2])) {
-        return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->line, "out of memory");
+        return sb_error_at(r->err, SB_ERR_NOMEM, r->path, r->line, "out of memory");
     }
     if ((long long)r->mesh.vertex_count == r->vertices_expected) {
         r->stage = r->faces_expected > 0 ? OFF_FACES : OFF_DONE;
@@ -108,29 +108,27 @@ static sb_status read_face(off_reader* r, sb_text_line* line, const char* token,
         return fail_token(r, "malformed vertex count", token, length);
     }
     if (n < 3) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                  "face with %lld vertices (a face needs at least 3)", n);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "face with %lld vertices (a face needs at least 3)",
+                           n);
     }
     uint32_t first = 0, previous = 0;
     for (long long k = 0; k < n; k++) {
         long long index;
         if (!sb_text_next_token(line, &token, &length)) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "face lists %lld of its %lld vertices", k,
-                                      n);
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "face lists %lld of its %lld vertices", k, n);
         }
         if (!sb_text_parse_integer(token, length, &index)) {
             return fail_token(r, "malformed vertex index", token, length);
         }
         if (index < 0 || index >= r->vertices_expected) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line,
-                                      "vertex index %lld out of range (%lld vertices)", index, r->vertices_expected);
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "vertex index %lld out of range (%lld vertices)",
+                               index, r->vertices_expected);
         }
         uint32_t current = (uint32_t)index;
         if (k == 0) {
             first = current;
         } else if (k >= 2 && !sb_mesh_builder_add_triangle(&r->mesh, first, previous, current)) {
-            return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->line,
-                                      "out of memory or more than 2^32-1 triangles");
+            return sb_error_at(r->err, SB_ERR_NOMEM, r->path, r->line, "out of memory or more than 2^32-1 triangles");
         }
         previous = current;
     }
@@ -160,19 +158,19 @@ static sb_status read_line(off_reader* r, const char* begin, const char* end) {
 
 static sb_status check_complete(off_reader* r) {
     switch (r->stage) {
-    case OFF_HEADER: return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "empty file (no OFF header)");
-    case OFF_COUNTS: return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends before the counts");
+    case OFF_HEADER: return sb_error_at(r->err, SB_ERR_PARSE, r->path, 0, "empty file (no OFF header)");
+    case OFF_COUNTS: return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "file ends before the counts");
     case OFF_VERTICES:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %zu of %lld vertices",
-                                  r->mesh.vertex_count, r->vertices_expected);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %zu of %lld vertices",
+                           r->mesh.vertex_count, r->vertices_expected);
     case OFF_FACES:
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %lld of %lld faces",
-                                  r->faces_read, r->faces_expected);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->line, "file ends after %lld of %lld faces", r->faces_read,
+                           r->faces_expected);
     case OFF_DONE: break;
     }
     if (r->mesh.triangle_count == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "no triangles (%zu vertices, no faces)",
-                                  r->mesh.vertex_count);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, 0, "no triangles (%zu vertices, no faces)",
+                           r->mesh.vertex_count);
     }
     return SB_OK;
 }

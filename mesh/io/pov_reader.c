@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/error.h"
 #include "mesh/io/mesh_readers.h"
 #include "softbond/pov.h"
 
@@ -127,11 +128,11 @@ static bool token_is(const pov_token* t, const char* text) {
 static sb_status fail_token(pov_reader* r, const char* what) {
     const pov_token* t = &r->tok;
     if (t->kind == POV_END) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, t->line, "%s the end of the file", what);
     }
     int shown = t->length > 40 ? 40 : (int)t->length;
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
-                              t->length > 40 ? "..." : "");
+    return sb_error_at(r->err, SB_ERR_PARSE, r->path, t->line, "%s '%.*s%s'", what, shown, t->text,
+                       t->length > 40 ? "..." : "");
 }
 
 static sb_status expect(pov_reader* r, const char* text, const char* where) {
@@ -167,8 +168,8 @@ static sb_status skip_block(pov_reader* r) {
     size_t open_line = r->tok.line, depth = 0;
     do {
         if (r->tok.kind == POV_END) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, open_line,
-                                      "unclosed '{': no matching '}' before the end of the file");
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, open_line,
+                               "unclosed '{': no matching '}' before the end of the file");
         }
         depth += token_is(&r->tok, "{");
         depth -= token_is(&r->tok, "}");
@@ -186,8 +187,8 @@ typedef struct pov_mesh {
 } pov_mesh;
 
 static sb_status nomem(pov_reader* r) {
-    return sb_mesh_read_error(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
-                              "out of memory or more than 2^32-1 vertices or triangles");
+    return sb_error_at(r->err, SB_ERR_NOMEM, r->path, r->tok.line,
+                       "out of memory or more than 2^32-1 vertices or triangles");
 }
 
 /* <a, b, c> */
@@ -213,8 +214,8 @@ static sb_status read_list_count(pov_reader* r, const char* where, long long* co
         status = read_number_token(r, where, &value);
     }
     if (status == SB_OK && (value != floor(value) || value < 0 || value > (double)UINT32_MAX)) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                  "%s: the count %.17g is not a whole number in [0, 2^32-1]", where, value);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, line,
+                           "%s: the count %.17g is not a whole number in [0, 2^32-1]", where, value);
     }
     *count = (long long)value;
     skip_commas(r);
@@ -224,15 +225,14 @@ static sb_status read_list_count(pov_reader* r, const char* where, long long* co
 /* After the last of `count` items: '}', else a count mismatch. */
 static sb_status end_list(pov_reader* r, const char* where, long long count) {
     if (token_is(&r->tok, "<")) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists more than its count %lld",
-                                  where, count);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists more than its count %lld", where,
+                           count);
     }
     return expect(r, "}", where);
 }
 
 static sb_status list_short(pov_reader* r, const char* where, long long k, long long count) {
-    return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists %lld of its %lld items", where, k,
-                              count);
+    return sb_error_at(r->err, SB_ERR_PARSE, r->path, r->tok.line, "%s lists %lld of its %lld items", where, k, count);
 }
 
 static sb_status read_vertices(pov_reader* r, pov_mesh* m) {
@@ -262,9 +262,8 @@ static sb_status read_face(pov_reader* r, pov_mesh* m) {
     uint32_t t[3];
     for (int c = 0; c < 3 && status == SB_OK; c++) {
         if (v[c] != floor(v[c]) || v[c] < 0 || v[c] >= (double)m->mesh.vertex_count) {
-            return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                      "face_indices: index %.17g out of range (%zu vertices)", v[c],
-                                      m->mesh.vertex_count);
+            return sb_error_at(r->err, SB_ERR_PARSE, r->path, line,
+                               "face_indices: index %.17g out of range (%zu vertices)", v[c], m->mesh.vertex_count);
         }
         t[c] = (uint32_t)v[c];
     }
@@ -334,8 +333,8 @@ static sb_status read_value(pov_reader* r, sb_pov_object* o, const pov_local* lo
     double value = 0.0;
     sb_status status = read_number_token(r, local->name, &value);
     if (status == SB_OK && value < 0.0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line, "%s = %.17g: expected a number >= 0",
-                                  local->name, value);
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, line, "%s = %.17g: expected a number >= 0", local->name,
+                           value);
     }
     *(double*)((char*)o + local->offset) = value;
     o->given |= local->bit;
@@ -416,8 +415,8 @@ static sb_status read_mesh2_item(pov_reader* r, pov_mesh* m) {
 
 static sb_status check_mesh2(pov_reader* r, pov_mesh* m) {
     if (!m->vertices || !m->faces || m->mesh.triangle_count == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, m->object->line, "mesh2 without %s",
-                                  !m->vertices ? "vertex_vectors" : "triangles (face_indices)");
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, m->object->line, "mesh2 without %s",
+                           !m->vertices ? "vertex_vectors" : "triangles (face_indices)");
     }
     return SB_OK;
 }
@@ -432,8 +431,8 @@ static sb_status read_mesh2(pov_reader* r, const pov_token* name) {
         status = expect(r, "{", "mesh2");
     }
     while (status == SB_OK && !token_is(&r->tok, "}")) {
-        status = r->tok.kind == POV_END ? sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, line,
-                                                             "mesh2 has no closing '}' before the end of the file")
+        status = r->tok.kind == POV_END ? sb_error_at(r->err, SB_ERR_PARSE, r->path, line,
+                                                      "mesh2 has no closing '}' before the end of the file")
                                         : read_mesh2_item(r, &m);
     }
     if (status == SB_OK) {
@@ -468,7 +467,7 @@ static sb_status read_file(pov_reader* r) {
         next(r);
     }
     if (status == SB_OK && r->object_count == 0) {
-        return sb_mesh_read_error(r->err, SB_ERR_PARSE, r->path, 0, "no mesh2 object");
+        return sb_error_at(r->err, SB_ERR_PARSE, r->path, 0, "no mesh2 object");
     }
     return status;
 }
@@ -528,7 +527,7 @@ sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, 
     sb_status status = sb_pov_load(path, &objects, &object_count, err);
     sb_mesh* out = status == SB_OK ? calloc(separate ? object_count : 1, sizeof *out) : NULL;
     if (status == SB_OK && out == NULL) {
-        status = sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+        status = sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory");
     }
     if (status == SB_OK && separate) {
         for (uint32_t i = 0; i < object_count; i++) {
@@ -542,7 +541,7 @@ sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, 
             parts[i] = objects[i].mesh;
         }
         status = parts != NULL ? sb_mesh_concatenate(parts, object_count, out, err)
-                               : sb_mesh_read_error(err, SB_ERR_NOMEM, path, 0, "out of memory");
+                               : sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory");
         free(parts);
     }
     sb_pov_objects_free(objects, object_count);

@@ -21,22 +21,15 @@
  * doubles, bitwise. */
 #include <float.h>
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <meshoptimizer.h>
 
+#include "common/error.h"
 #include "softbond/mesh.h"
 
 sb_simplify_def sb_default_simplify_def(void) { return (sb_simplify_def){.target_vertices = 0, .target_error = 0.0}; }
-
-static sb_status fail(sb_error* err, sb_status status, const char* what) {
-    if (err != NULL) {
-        snprintf(err->message, sizeof err->message, "sb_mesh_simplify: %s", what);
-    }
-    return status;
-}
 
 /* The input to meshopt: float positions and indices, each locked vertex
  * split into one copy per incident triangle. copy_of[v] = source vertex. */
@@ -164,7 +157,7 @@ static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, 
     uint32_t* triangles = malloc((count ? count : 1) * sizeof(uint32_t));
     if (!origin || !place || !positions || !triangles) {
         free(origin), free(place), free(positions), free(triangles);
-        return fail(err, SB_ERR_NOMEM, "out of memory");
+        return sb_error_set(err, SB_ERR_NOMEM, "sb_mesh_simplify: out of memory");
     }
     size_t next = 0;
     for (size_t v = 0; v < n; v++) {
@@ -177,9 +170,9 @@ static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, 
         uint32_t f = def->locked[i], at = place[f];
         if (at == UINT32_MAX || f >= kept) {
             free(origin), free(place), free(positions), free(triangles);
-            return fail(err, SB_ERR_INVALID,
-                        "a locked vertex's index is beyond the simplified vertex count "
-                        "(cannot keep its index)");
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "sb_mesh_simplify: a locked vertex's index is beyond the simplified vertex count "
+                                "(cannot keep its index)");
         }
         uint32_t other = origin[f];
         origin[f] = f, place[f] = f;
@@ -208,15 +201,15 @@ static sb_status compact(sb_mesh* mesh, const work* w, const unsigned* indices, 
 sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
                            sb_error* err) {
     if (mesh == NULL || def == NULL) {
-        return fail(err, SB_ERR_INVALID, "no mesh or no settings");
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_simplify: no mesh or no settings");
     }
     if (!(def->target_error >= 0.0) || !isfinite(def->target_error)) {
-        return fail(err, SB_ERR_INVALID, "target_error must be finite and >= 0");
+        return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_simplify: target_error must be finite and >= 0");
     }
     size_t n = mesh->vertex_count;
     for (uint32_t i = 0; i < def->locked_count; i++) {
         if (def->locked[i] >= n) {
-            return fail(err, SB_ERR_INVALID, "a locked vertex is out of range");
+            return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_simplify: a locked vertex is out of range");
         }
     }
     sb_simplify_report r = {.vertices_before = mesh->vertex_count, .triangles_before = mesh->triangle_count};
@@ -226,14 +219,14 @@ sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* 
     unsigned* out = NULL;
     sb_status status = SB_OK;
     if (!locked || !used) {
-        status = fail(err, SB_ERR_NOMEM, "out of memory");
+        status = sb_error_set(err, SB_ERR_NOMEM, "sb_mesh_simplify: out of memory");
         goto done;
     }
     for (uint32_t i = 0; i < def->locked_count; i++) {
         locked[def->locked[i]] = true;
     }
     if (!work_build(mesh, locked, &w) || !(out = malloc((w.index_count ? w.index_count : 1) * sizeof(unsigned)))) {
-        status = fail(err, SB_ERR_NOMEM, "out of memory");
+        status = sb_error_set(err, SB_ERR_NOMEM, "sb_mesh_simplify: out of memory");
         goto done;
     }
     float target_error = def->target_error > 0.0 ? (float)def->target_error : FLT_MAX;

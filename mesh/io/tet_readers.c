@@ -61,7 +61,7 @@ static bool tet_line_is(const tet_text* t, const char* word) {
     return sb_text_next_token(&probe, &token, &length) && length == strlen(word) && memcmp(token, word, length) == 0;
 }
 
-#define TET_ERROR(t, err, ...) sb_mesh_read_error(err, SB_ERR_PARSE, (t)->path, (t)->line, __VA_ARGS__)
+#define TET_ERROR(t, err, ...) sb_error_at(err, SB_ERR_PARSE, (t)->path, (t)->line, __VA_ARGS__)
 
 /* ---- growing the mesh ------------------------------------------------------- */
 
@@ -99,7 +99,7 @@ static bool tet_add_tet(tet_build* b, const uint32_t v[4]) {
 }
 
 static sb_status tet_nomem(const tet_text* t, sb_error* err) {
-    return sb_mesh_read_error(err, SB_ERR_NOMEM, t->path, t->line, "out of memory or more than 2^32-1 items");
+    return sb_error_at(err, SB_ERR_NOMEM, t->path, t->line, "out of memory or more than 2^32-1 items");
 }
 
 /* ---- TetGen ------------------------------------------------------------------ */
@@ -400,7 +400,7 @@ static sb_status gmsh_parse(gmsh_state* g, sb_error* err) {
     }
     if (status != SB_OK) return status;
     if (g->b.mesh.tet_count == 0)
-        return sb_mesh_read_error(err, SB_ERR_PARSE, g->t.path, 0, "no tetrahedra (element type 4 or 11)");
+        return sb_error_at(err, SB_ERR_PARSE, g->t.path, 0, "no tetrahedra (element type 4 or 11)");
     gmsh_compact(&g->b);
     return SB_OK;
 }
