@@ -16,8 +16,9 @@ build: deps
 demo: build
 	./build/softbond run scenes/default.yaml --output out/demo
 
-# Three configurations: float (the default), double, and float under the
-# address and undefined-behaviour sanitizers.
+# Four configurations: float (the default), double, float under the
+# address and undefined-behaviour sanitizers, and the threads' tests (label
+# thread: the solver's team, the state buffer) under the thread sanitizer.
 test: deps
 	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build build -j $(JOBS)
@@ -28,6 +29,9 @@ test: deps
 	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE=ON $(CMAKE_FLAGS)
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE no_sanitizer
+	cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE_THREAD=ON $(CMAKE_FLAGS)
+	cmake --build build-tsan -j $(JOBS) --target test_runtime
+	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 ctest --output-on-failure -L thread
 
 clean:
-	rm -rf build build-double build-asan out
+	rm -rf build build-double build-asan build-tsan out

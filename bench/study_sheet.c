@@ -94,7 +94,7 @@ sb_solver_def study_solver_def(sb_integrator integrator) {
     def.integrator = integrator;
     def.gravity[2] = 0.0;
     def.kernels = SB_KERNELS_REFERENCE;
-    def.threads = 1;
+    def.runtime.threads = 1;
     return def;
 }
 

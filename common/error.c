@@ -55,6 +55,7 @@ const char* sb_status_name(sb_status status) {
     case SB_ERR_NOMEM: return "out of memory";
     case SB_ERR_DEGENERATE: return "degenerate";
     case SB_ERR_UNSTABLE: return "unstable";
+    case SB_ERR_BUSY: return "busy";
     }
     return "unknown";
 }

@@ -33,13 +33,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct sb_snapshot {
+typedef struct sb_backup {
     sb_real* reals;   /* every sb_real array of the step, one after another */
     double* external; /* 3n, NULL without a callback */
     bool has_displacement, published;
     double prev_dt, time;
     sb_energies energies;
-} sb_snapshot;
+} sb_backup;
 
 /* The sb_real arrays a step may change, and their lengths. */
 static int sb_step_arrays(sb_solver* s, sb_real** arrays, size_t* lengths) {
@@ -62,31 +62,31 @@ static int sb_step_arrays(sb_solver* s, sb_real** arrays, size_t* lengths) {
     return count;
 }
 
-void sb_snapshot_destroy(sb_snapshot* snapshot) {
-    if (!snapshot) return;
-    free(snapshot->reals);
-    free(snapshot->external);
-    free(snapshot);
+void sb_backup_destroy(sb_backup* backup) {
+    if (!backup) return;
+    free(backup->reals);
+    free(backup->external);
+    free(backup);
 }
 
-static sb_snapshot* sb_snapshot_create(sb_solver* s) {
+sb_backup* sb_backup_create(sb_solver* s) {
     sb_real* arrays[16];
     size_t lengths[16], total = 1;
     int count = sb_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) total += lengths[a];
-    sb_snapshot* snap = calloc(1, sizeof *snap);
+    sb_backup* snap = calloc(1, sizeof *snap);
     if (!snap) return NULL;
     snap->reals = malloc(total * sizeof(sb_real));
     if (s->external) snap->external = malloc((3 * (size_t)s->state.vertex_count + 1) * sizeof(double));
     if (!snap->reals || (s->external && !snap->external)) {
-        sb_snapshot_destroy(snap);
+        sb_backup_destroy(snap);
         return NULL;
     }
     return snap;
 }
 
-static void sb_snapshot_copy(sb_solver* s, bool save) {
-    sb_snapshot* snap = s->snapshot;
+static void sb_backup_copy(sb_solver* s, bool save) {
+    sb_backup* snap = s->backup;
     sb_real* arrays[16];
     size_t lengths[16], offset = 0;
     int count = sb_step_arrays(s, arrays, lengths);
@@ -126,7 +126,7 @@ static double sb_energy_scale(const sb_energies* e) {
 static double sb_external_work(sb_solver* s) {
     if (!s->external) return 0.0;
     sb_fast_publish(s);
-    const sb_snapshot* snap = s->snapshot;
+    const sb_backup* snap = s->backup;
     size_t n = s->state.vertex_count;
     const sb_real* before[3] = {snap->reals, snap->reals + n, snap->reals + 2 * n}; /* x, y, z come first */
     const sb_real* after[3] = {s->state.x, s->state.y, s->state.z};
@@ -152,7 +152,7 @@ static void sb_accepted(sb_solver* s, double h) {
 /* The sub-step cannot be halved any more: restore and report. */
 static sb_status sb_give_up(sb_solver* s, sb_status status, double h, double gain) {
     sb_error cause = s->error;
-    sb_snapshot_copy(s, false);
+    sb_backup_copy(s, false);
     if (status != SB_OK)
         return sb_error_set(&s->error, status, "%s (adaptive: still failing at a sub-step of %g s, min_dt %g s)",
                             cause.message, h, s->def.min_dt);
@@ -163,15 +163,13 @@ static sb_status sb_give_up(sb_solver* s, sb_status status, double h, double gai
 }
 
 sb_status sb_adaptive_advance(sb_solver* s, double dt) {
-    if (!s->snapshot && !(s->snapshot = sb_snapshot_create(s)))
-        return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory for adaptive stepping");
     const double tolerance = sb_adaptive_tolerance(s);
     double remaining = dt, trial = s->trial_substep > 0.0 ? s->trial_substep : dt;
     while (remaining > 0.0) {
         double h = fmin(trial, remaining);
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
         if (s->external) sb_fast_publish(s);           /* the work needs the positions before the sub-step */
-        sb_snapshot_copy(s, true);
+        sb_backup_copy(s, true);
         s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies));
         double e0 = sb_energies_total(&s->energies);
         sb_status status = sb_solver_step(s, h);
@@ -186,7 +184,7 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
             continue;
         }
         if (0.5 * h < s->def.min_dt) return sb_give_up(s, status, h, gain);
-        sb_snapshot_copy(s, false);
+        sb_backup_copy(s, false);
         s->stats.rejected++;
         trial = 0.5 * h;
     }

@@ -149,8 +149,7 @@ static double sb_residual_floor(const sb_newton* w) {
     return 1e-12 * (sqrt(momentum) + w->dt * (force + sqrt(weight))) + 1e-300;
 }
 
-static bool sb_newton_allocate(sb_solver* s) {
-    if (s->implicit_work) return true;
+bool sb_implicit_prepare(sb_solver* s) {
     size_t n3 = 3 * (size_t)s->model->vertex_count;
     s->implicit_work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     return s->implicit_work != NULL;
@@ -181,7 +180,6 @@ static void sb_store_state(sb_solver* s, const sb_newton* w) {
 }
 
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
-    if (!sb_newton_allocate(s)) return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory for the implicit solver");
     sb_newton w = sb_newton_init(s, dt);
     const double tolerance = s->def.implicit_tolerance > 0 ? s->def.implicit_tolerance : 1e-8;
     const int newton_cap = s->def.implicit_newton_iterations > 0 ? s->def.implicit_newton_iterations : 20;

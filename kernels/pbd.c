@@ -50,7 +50,6 @@
 #include "softbond/runtime.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -150,8 +149,7 @@ static int sb_pbd_team(const sb_pbd* p, int requested) {
     return team < 1 ? 1 : team > requested ? requested : team;
 }
 
-static sb_status sb_pbd_prepare(sb_solver* s) {
-    if (s->pbd) return SB_OK;
+sb_status sb_pbd_prepare(sb_solver* s) {
     sb_pbd* p = calloc(1, sizeof *p);
     size_t n3 = 3 * (size_t)s->model->vertex_count + 1;
     if (p) {
@@ -162,12 +160,7 @@ static sb_status sb_pbd_prepare(sb_solver* s) {
         sb_pbd_destroy(p);
         return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory preparing the position-based solver");
     }
-    p->threads = sb_runtime_threads(s->def.threads, &s->error);
-    if (p->threads < 1) {
-        sb_pbd_destroy(p);
-        return SB_ERR_INVALID;
-    }
-    p->threads = sb_pbd_team(p, p->threads);
+    p->threads = sb_pbd_team(p, sb_team_size(s->team));
     s->pbd = p;
     return SB_OK;
 }
@@ -253,18 +246,37 @@ static void sb_pbd_triangle(const sb_pbd_step* k, uint32_t t, double* lambda) {
 
 typedef void (*sb_pbd_project_fn)(const sb_pbd_step*, uint32_t, double*);
 
-/* All colors of a group in order; called by every thread of the region. */
-static void sb_pbd_group_pass(const sb_pbd_step* k, sb_pbd_group* g, sb_pbd_project_fn project, int lambdas) {
+/* All colors of a group in order; called by every worker of the job. The
+ * overflow color, whose constraints may share vertices, runs on worker 0. */
+static void sb_pbd_group_pass(const sb_worker* w, const sb_pbd_step* k, sb_pbd_group* g, sb_pbd_project_fn project,
+                              int lambdas) {
     for (int color = 0; color < SB_MAX_COLORS; color++) {
-        int first = (int)g->first[color], last = (int)g->first[color + 1];
+        int64_t first = g->first[color], last = g->first[color + 1], begin = first, end = last;
         if (first == last) continue;
-        if (color == SB_OVERFLOW_COLOR) {
-#pragma omp single
-            for (int e = first; e < last; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
-        } else {
-#pragma omp for schedule(static)
-            for (int e = first; e < last; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
+        if (color != SB_OVERFLOW_COLOR) {
+            sb_worker_range(w, last - first, &begin, &end);
+            begin += first;
+            end += first;
+        } else if (w->index != 0) {
+            begin = end;
         }
+        for (int64_t e = begin; e < end; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
+        sb_worker_barrier(w);
+    }
+}
+
+/* The projection sweeps of one step, as a job of the team. */
+typedef struct sb_pbd_job {
+    const sb_pbd_step* step;
+    sb_pbd* pbd;
+    int iterations;
+} sb_pbd_job;
+
+static void sb_pbd_sweeps(void* context, const sb_worker* w) {
+    const sb_pbd_job* job = context;
+    for (int it = 0; it < job->iterations; it++) {
+        sb_pbd_group_pass(w, job->step, &job->pbd->bonds, sb_pbd_bond, 1);
+        sb_pbd_group_pass(w, job->step, &job->pbd->triangles, sb_pbd_triangle, 3);
     }
 }
 
@@ -308,20 +320,14 @@ static void sb_pbd_finish(sb_solver* s, double dt) {
 int sb_pbd_iterations(const sb_solver_def* def) { return def->pbd_iterations > 0 ? def->pbd_iterations : 10; }
 
 sb_status sb_integrate_pbd(sb_solver* s, double dt) {
-    sb_status status = sb_pbd_prepare(s);
-    if (status != SB_OK) return status;
     sb_fast_publish(s); /* the state's arrays current */
     sb_pbd* p = s->pbd;
     sb_pbd_predict(s, dt);
     sb_pbd_step k = {s->model, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
     memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
     memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
-    int iterations = sb_pbd_iterations(&s->def);
-#pragma omp parallel num_threads(p->threads)
-    for (int it = 0; it < iterations; it++) {
-        sb_pbd_group_pass(&k, &p->bonds, sb_pbd_bond, 1);
-        sb_pbd_group_pass(&k, &p->triangles, sb_pbd_triangle, 3);
-    }
+    sb_pbd_job job = {&k, p, sb_pbd_iterations(&s->def)};
+    sb_team_run(s->team, p->threads, sb_pbd_sweeps, &job);
     sb_pbd_finish(s, dt);
     s->has_displacement = false;
     return sb_solver_compute_forces(s);

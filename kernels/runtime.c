@@ -1,13 +1,44 @@
-/* The parallel runtime: how many threads, and where they run (hwloc). */
+/* The parallel runtime: how many threads, the wait policies' names, and a
+ * description of the machine (hwloc). The team itself is kernels/team.c. */
+#define _GNU_SOURCE
 #include "softbond/runtime.h"
 #include "common/error.h"
 #include "kernels/wide.h"
 
 #include <errno.h>
 #include <hwloc.h>
-#include <omp.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char* const sb_wait_names[SB_WAIT_COUNT] = {"spin", "yield", "passive"};
+
+const char* sb_wait_policy_name(sb_wait_policy policy) {
+    return (unsigned)policy < SB_WAIT_COUNT ? sb_wait_names[policy] : "unknown";
+}
+
+bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out) {
+    for (int i = 0; i < SB_WAIT_COUNT; i++)
+        if (strcmp(name, sb_wait_names[i]) == 0) {
+            *out = (sb_wait_policy)i;
+            return true;
+        }
+    return false;
+}
+
+sb_runtime_def sb_default_runtime_def(void) {
+    return (sb_runtime_def){.threads = 0, .pin = false, .wait = SB_WAIT_PASSIVE};
+}
+
+/* The processors this process may run on. */
+static int sb_available_processors(void) {
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0) return CPU_COUNT(&set);
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
 
 int sb_runtime_threads(int requested, sb_error* err) {
     if (requested > 0) return requested;
@@ -22,7 +53,7 @@ int sb_runtime_threads(int requested, sb_error* err) {
         }
         return (int)n;
     }
-    return omp_get_num_procs();
+    return sb_available_processors();
 }
 
 const char* sb_runtime_simd(void) { return SB_SIMD_NAME; }
@@ -30,23 +61,6 @@ const char* sb_runtime_simd(void) { return SB_SIMD_NAME; }
 static int sb_core_count(hwloc_topology_t topology) {
     int cores = hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_CORE);
     return cores > 0 ? cores : 1;
-}
-
-bool sb_runtime_bind(int threads) {
-    hwloc_topology_t topology;
-    if (hwloc_topology_init(&topology) != 0) return false;
-    bool ok = hwloc_topology_load(topology) == 0;
-    int cores = ok ? sb_core_count(topology) : 1;
-    int failures = 0;
-    if (ok) {
-#pragma omp parallel num_threads(threads) reduction(+ : failures)
-        {
-            hwloc_obj_t core = hwloc_get_obj_by_type(topology, HWLOC_OBJ_CORE, omp_get_thread_num() % cores);
-            failures += !core || hwloc_set_cpubind(topology, core->cpuset, HWLOC_CPUBIND_THREAD) != 0;
-        }
-    }
-    hwloc_topology_destroy(topology);
-    return ok && failures == 0;
 }
 
 static unsigned long long sb_cache_kib(hwloc_topology_t topology, hwloc_obj_type_t type) {
@@ -60,8 +74,9 @@ void sb_runtime_describe(char* out, size_t size) {
         snprintf(out, size, "topology unknown; SIMD %s; %s", SB_SIMD_NAME, SB_DOUBLE ? "double" : "float");
         return;
     }
-    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s", sb_core_count(topology),
-             hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU), sb_cache_kib(topology, HWLOC_OBJ_L2CACHE),
-             sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME, SB_WIDTH, SB_DOUBLE ? "double" : "float");
+    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s",
+             sb_core_count(topology), hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU),
+             sb_cache_kib(topology, HWLOC_OBJ_L2CACHE), sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME,
+             SB_WIDTH, SB_DOUBLE ? "double" : "float");
     hwloc_topology_destroy(topology);
 }

@@ -31,11 +31,13 @@ bool sb_integrator_from_name(const char* name, sb_integrator* out) {
 
 sb_solver_def sb_default_solver_def(void) {
     return (sb_solver_def){.integrator = SB_INTEGRATOR_VERLET,
+                           .kernels = SB_KERNELS_FAST,
                            .gravity = {0.0, 0.0, -9.81},
                            .implicit_tolerance = 1e-8,
                            .implicit_newton_iterations = 20,
                            .implicit_cg_iterations = 200,
                            .pbd_iterations = 10,
+                           .runtime = sb_default_runtime_def(),
                            .min_dt = 1e-9};
 }
 
@@ -52,6 +54,7 @@ static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
 
 void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
+    sb_team_destroy(s->team);
     sb_fast_model_destroy(s->fast);
     free(s->partials);
     free(s->positions4);
@@ -63,7 +66,7 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->implicit_work);
     free(s->stretch4);
     sb_pbd_destroy(s->pbd);
-    sb_snapshot_destroy(s->snapshot);
+    sb_backup_destroy(s->backup);
     void* arrays[] = {s->state.x,  s->state.y,  s->state.z,   s->state.vx,  s->state.vy,
                       s->state.vz, s->state.fx, s->state.fy,  s->state.fz,  s->disp_x,
                       s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
@@ -107,9 +110,30 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)
         return sb_error_set(err, SB_ERR_INVALID, "adaptive_tolerance must be finite and >= 0 (got %g)",
                             def->adaptive_tolerance);
-    if (def->threads < 0) return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->threads);
+    if (def->runtime.threads < 0)
+        return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->runtime.threads);
+    if ((unsigned)def->runtime.wait >= SB_WAIT_COUNT)
+        return sb_error_set(err, SB_ERR_INVALID, "unknown wait policy %d", (int)def->runtime.wait);
     if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)
         return sb_error_set(err, SB_ERR_INVALID, "unknown kernels %d", (int)def->kernels);
+    return SB_OK;
+}
+
+/* The buffers the chosen integrator and the options need, so that a step
+ * never allocates. */
+static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
+    const sb_model* m = s->model;
+    bool ok = true;
+    if (s->def.external_force) ok &= (s->external = calloc(3 * (size_t)m->vertex_count + 1, sizeof(double))) != NULL;
+    if (!s->fast) ok &= (s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))) != NULL;
+    if (s->def.integrator == SB_INTEGRATOR_IMPLICIT_EULER) ok &= sb_implicit_prepare(s);
+    if (ok && (s->def.integrator == SB_INTEGRATOR_PBD || s->def.integrator == SB_INTEGRATOR_XPBD) &&
+        sb_pbd_prepare(s) != SB_OK) {
+        if (err) *err = s->error;
+        return SB_ERR_NOMEM;
+    }
+    if (ok && s->def.adaptive) ok &= (s->backup = sb_backup_create(s)) != NULL;
+    if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", m->vertex_count);
     return SB_OK;
 }
 
@@ -124,12 +148,9 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     s->model = model;
     s->def = *def;
     sb_runaway_box(s);
-    if (def->external_force && !(s->external = calloc(3 * (size_t)model->vertex_count + 1, sizeof(double)))) {
-        sb_solver_destroy(s);
-        sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
-        return NULL;
-    }
-    sb_status status = def->kernels == SB_KERNELS_FAST ? sb_fast_prepare(s, err) : SB_OK;
+    sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
+    if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
+    if (status == SB_OK) status = sb_prepare_step_buffers(s, err);
     if (status != SB_OK) {
         sb_solver_destroy(s);
         return NULL;
@@ -204,17 +225,35 @@ static bool sb_fused(const sb_solver* s) {
 
 /* Whether any of `count` edges (a[e], b[e]) with rest length r0[e] is longer
  * than SB_STRETCH_LIMIT r0: a branch-free pass (in sb_real) that vectorizes. */
-static bool sb_any_overstretched(const sb_real* p, const uint32_t* a, const uint32_t* b, const double* r0,
-                                 uint32_t count, int threads) {
-    int any = 0;
+/* The edges of one overstretch test, shared by the team's workers. */
+typedef struct sb_stretch_job {
+    const sb_real* p;
+    const uint32_t *a, *b;
+    const double* r0;
+    uint32_t count;
+    atomic_int any;
+} sb_stretch_job;
+
+static void sb_stretch_worker(void* context, const sb_worker* w) {
+    sb_stretch_job* job = context;
     const sb_real limit2 = (sb_real)(SB_STRETCH_LIMIT * SB_STRETCH_LIMIT);
-#pragma omp parallel for reduction(| : any) num_threads(threads) schedule(static)
-    for (int64_t e = 0; e < (int64_t)count; e++) {
-        const sb_real *pa = p + 4 * (size_t)a[e], *pb = p + 4 * (size_t)b[e];
-        sb_real dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2], r = (sb_real)r0[e];
+    const sb_real* p = job->p;
+    int64_t begin, end;
+    sb_worker_range(w, job->count, &begin, &end);
+    int any = 0;
+    for (int64_t e = begin; e < end; e++) {
+        const sb_real *pa = p + 4 * (size_t)job->a[e], *pb = p + 4 * (size_t)job->b[e];
+        sb_real dx = pa[0] - pb[0], dy = pa[1] - pb[1], dz = pa[2] - pb[2], r = (sb_real)job->r0[e];
         any |= (dx * dx + dy * dy + dz * dz > limit2 * r * r) & (r > 0); /* r0 = 0: no ratio */
     }
-    return any != 0;
+    if (any) sb_worker_raise(&job->any);
+}
+
+static bool sb_any_overstretched(sb_team* team, const sb_real* p, const uint32_t* a, const uint32_t* b,
+                                 const double* r0, uint32_t count) {
+    sb_stretch_job job = {p, a, b, r0, count, 0};
+    sb_team_run(team, sb_team_size(team), sb_stretch_worker, &job);
+    return atomic_load(&job.any) != 0;
 }
 
 /* The first such edge (in double), or UINT32_MAX; runs only after a hit. */
@@ -239,10 +278,7 @@ static sb_status sb_check_stretch(sb_solver* s) {
     const sb_model* m = s->model;
     /* the fast path's packed positions are current after any step */
     const sb_real* p = s->fast ? s->positions4 : NULL;
-    int threads = s->threads > 0 ? s->threads : 1;
     if (!s->fast) { /* the reference path: the state's arrays, gathered into x y z w */
-        if (!s->stretch4 && !(s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))))
-            return SB_OK; /* the check is a safeguard: without memory, skip it */
         for (uint32_t i = 0; i < m->vertex_count; i++) {
             s->stretch4[4 * (size_t)i] = s->state.x[i];
             s->stretch4[4 * (size_t)i + 1] = s->state.y[i];
@@ -251,7 +287,7 @@ static sb_status sb_check_stretch(sb_solver* s) {
         p = s->stretch4;
     }
     if (m->bond_count > 0) {
-        if (!sb_any_overstretched(p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count, threads)) return SB_OK;
+        if (!sb_any_overstretched(s->team, p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count)) return SB_OK;
         uint32_t b = sb_first_overstretched(p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count);
         if (b == UINT32_MAX) return SB_OK; /* a float rounding at the limit */
         const sb_real *pi = p + 4 * (size_t)m->bond_i[b], *pj = p + 4 * (size_t)m->bond_j[b];
@@ -264,7 +300,7 @@ static sb_status sb_check_stretch(sb_solver* s) {
     }
     for (int c = 0; c < 3; c++) {
         const uint32_t *a = m->tri_v[c], *b = m->tri_v[(c + 1) % 3];
-        if (!sb_any_overstretched(p, a, b, m->tri_len0[c], m->triangle_count, threads)) continue;
+        if (!sb_any_overstretched(s->team, p, a, b, m->tri_len0[c], m->triangle_count)) continue;
         uint32_t t = sb_first_overstretched(p, a, b, m->tri_len0[c], m->triangle_count);
         if (t != UINT32_MAX)
             return sb_error_set(&s->error, SB_ERR_UNSTABLE,
@@ -342,14 +378,16 @@ double sb_solver_time(const sb_solver* s) { return s->time; }
 uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }
 const sb_model* sb_solver_model(const sb_solver* s) { return s->model; }
 sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
-/* The fast path keeps its working state packed and fills the public arrays
- * only when asked: a logically const operation. */
-static const sb_state* sb_published_state(const sb_solver* s) {
-    sb_fast_publish((sb_solver*)s);
-    return &s->state;
+/* Copies one quantity out as 3n interleaved doubles: from the fast path's
+ * packed working state when the state's arrays are stale, from the arrays
+ * otherwise. Reads only. */
+static void sb_copy_out(const sb_solver* s, const sb_real* packed, const sb_real* soa[3], double* out) {
+    uint32_t n = s->state.vertex_count;
+    if (s->fast && !s->published)
+        for (size_t k = 0; k < 3 * (size_t)n; k++) out[k] = packed[4 * (k / 3) + k % 3];
+    else
+        sb_interleave(out, soa[0], soa[1], soa[2], n);
 }
-
-const sb_state* sb_solver_state(const sb_solver* s) { return sb_published_state(s); }
 
 void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n) {
     for (uint32_t i = 0; i < n; i++) {
@@ -360,11 +398,49 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
 }
 
 void sb_solver_get_positions(const sb_solver* s, double* out) {
-    const sb_state* st = sb_published_state(s);
-    sb_interleave(out, st->x, st->y, st->z, st->vertex_count);
+    const sb_real* soa[3] = {s->state.x, s->state.y, s->state.z};
+    sb_copy_out(s, s->positions4, soa, out);
 }
 
 void sb_solver_get_velocities(const sb_solver* s, double* out) {
-    const sb_state* st = sb_published_state(s);
-    sb_interleave(out, st->vx, st->vy, st->vz, st->vertex_count);
+    const sb_real* soa[3] = {s->state.vx, s->state.vy, s->state.vz};
+    sb_copy_out(s, s->velocities4, soa, out);
+}
+
+void sb_solver_get_forces(const sb_solver* s, double* out) {
+    const sb_real* soa[3] = {s->state.fx, s->state.fy, s->state.fz};
+    sb_copy_out(s, s->forces4, soa, out);
+}
+
+/* The copy of sb_solver_copy_state, split over the team. */
+typedef struct sb_copy_job {
+    const sb_solver* solver;
+    sb_real *positions, *velocities;
+} sb_copy_job;
+
+static void sb_copy_worker(void* context, const sb_worker* w) {
+    const sb_copy_job* job = context;
+    const sb_solver* s = job->solver;
+    const sb_state* st = &s->state;
+    int64_t begin, end;
+    sb_worker_range(w, st->vertex_count, &begin, &end);
+    sb_real *x = job->positions, *v = job->velocities;
+    if (s->fast && !s->published) {
+        const sb_real *p4 = s->positions4, *v4 = s->velocities4;
+        for (int64_t i = begin; i < end; i++)
+            for (int c = 0; c < 3; c++) {
+                x[3 * i + c] = p4[4 * i + c];
+                v[3 * i + c] = v4[4 * i + c];
+            }
+        return;
+    }
+    for (int64_t i = begin; i < end; i++) {
+        x[3 * i] = st->x[i], x[3 * i + 1] = st->y[i], x[3 * i + 2] = st->z[i];
+        v[3 * i] = st->vx[i], v[3 * i + 1] = st->vy[i], v[3 * i + 2] = st->vz[i];
+    }
+}
+
+void sb_solver_copy_state(const sb_solver* s, sb_real* positions, sb_real* velocities) {
+    sb_copy_job job = {s, positions, velocities};
+    sb_team_run(s->team, sb_team_size(s->team), sb_copy_worker, &job);
 }

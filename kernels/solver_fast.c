@@ -2,7 +2,7 @@
  *
  * Design. A step is a sequence of passes inside a single parallel region,
  * so a small model pays for one fork and join per step, not one per
- * kernel:
+ * kernel (the team and its wait policy: kernels/team.c):
  *   1. drift (per vertex): the Verlet position update, fused with setting
  *      each force to m g, so forces need no separate clearing pass;
  *   2. forces: for each element group (bonds, triangles, hinges), for each
@@ -43,9 +43,9 @@
 #include "kernels/fast_kernels.h"
 #include "common/error.h"
 #include "kernels/wide.h"
+#include "kernels/team.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,8 +77,6 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
 }
 
 sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
-    s->threads = sb_runtime_threads(s->def.threads, err);
-    if (s->threads < 0) return SB_ERR_INVALID;
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
@@ -96,53 +94,49 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
     for (size_t k = 0; k < 4 * (size_t)f->vertex_count; k++)
         s->weight4[k] = (k & 3) == 3 ? 0 : (sb_real)(s->model->mass[k / 4] * s->def.gravity[k & 3]);
-    /* A team is spread one thread per core; a single thread is left to the
-     * scheduler, so that several one-thread solvers in separate processes
-     * do not all end up on core 0. */
-    if (s->threads > 1) sb_runtime_bind(s->threads);
     return SB_OK;
 }
 
 static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint32_t b, sb_fast_kernel kernel,
-                         int terms, const sb_fast_frame* frame, double* partials, int* collapsed) {
+                         int terms, const sb_fast_frame* frame, double* partials, atomic_int* collapsed) {
     const sb_block block = g->blocks[b];
     double* energy = partials + (size_t)terms * b;
     memset(energy, 0, (size_t)terms * sizeof *energy);
     bool bad = false;
     for (uint32_t r = block.first_range; r < block.first_range + block.range_count; r++)
         bad |= kernel(f, frame, g->ranges[r].begin, g->ranges[r].end, g->ranges[r].serial, energy);
-    if (bad) {
-#pragma omp atomic write
-        *collapsed = 1;
-    }
+    if (bad) sb_worker_raise(collapsed);
 }
 
-/* Runs one kernel over a whole group. Called by all threads of the region;
+/* Runs one kernel over a whole group. Called by all workers of the job;
  * returns with all of them past the last block color's barrier. The
- * overflow block color, whose blocks may share vertices, runs on one thread. */
-static void sb_group_pass(const sb_fast_model* f, const sb_element_group* g, sb_fast_kernel kernel, int terms,
-                          const sb_fast_frame* frame, double* partials, int* collapsed) {
+ * overflow block color, whose blocks may share vertices, runs on worker 0. */
+static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_element_group* g,
+                          sb_fast_kernel kernel, int terms, const sb_fast_frame* frame, double* partials,
+                          atomic_int* collapsed) {
     for (uint32_t k = 0; k < g->block_colors; k++) {
-        int first = (int)g->color_first_block[k], last = (int)g->color_first_block[k + 1];
-        if (k == SB_OVERFLOW_COLOR) {
-#pragma omp single
-            for (int b = first; b < last; b++)
-                sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
-        } else {
-#pragma omp for schedule(static)
-            for (int b = first; b < last; b++)
-                sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+        int64_t first = g->color_first_block[k], last = g->color_first_block[k + 1], begin = first, end = last;
+        if (k != SB_OVERFLOW_COLOR) {
+            sb_worker_range(w, last - first, &begin, &end);
+            begin += first;
+            end += first;
+        } else if (w->index != 0) {
+            begin = end; /* worker 0 alone */
         }
+        for (int64_t b = begin; b < end; b++)
+            sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+        sb_worker_barrier(w);
     }
 }
 
-static void sb_force_passes(const sb_solver* s, const sb_partial_layout* p, int* collapsed) {
+static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p,
+                            atomic_int* collapsed) {
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
-    if (f->has_bond || f->has_spring) sb_group_pass(f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
+    if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
     if (f->has_corners || f->fused_bonds)
-        sb_group_pass(f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
-    if (f->has_hinges) sb_group_pass(f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, collapsed);
+        sb_group_pass(w, f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
+    if (f->has_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, collapsed);
 }
 
 /* Serial, on one thread: the callback need not be thread-safe. */
@@ -160,6 +154,22 @@ static void sb_external_pass(sb_solver* s) {
     }
 }
 
+/* Worker 0 calls the external-force callback (it need not be thread-safe);
+ * the others wait for it. */
+static void sb_external_step(const sb_worker* w, sb_solver* s) {
+    if (!s->def.external_force) return;
+    if (w->index == 0) sb_external_pass(s);
+    sb_worker_barrier(w);
+}
+
+/* This worker's vertex chunks [first, last). */
+static void sb_chunk_share(const sb_worker* w, const sb_partial_layout* p, int* first, int* last) {
+    int64_t begin, end;
+    sb_worker_range(w, p->vertex_chunks, &begin, &end);
+    *first = (int)begin;
+    *last = (int)end;
+}
+
 /* The packed range [begin, end) of vertex chunk c (4 reals a vertex). */
 static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
     size_t first = (size_t)c * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
@@ -169,13 +179,14 @@ static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
 
 /* Packs the state's positions and velocities (after sb_solver_set_state)
  * and sets the packed forces to gravity and drag. */
-static void sb_pack_pass(sb_solver* s, const sb_partial_layout* p) {
+static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
     const sb_state* st = &s->state;
     const sb_real *m4 = s->fast->mass4, *w4 = s->weight4;
     const sb_real drag = (sb_real)s->def.drag;
     const sb_real* soa[2][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}};
-#pragma omp for schedule(static)
-    for (int c = 0; c < (int)p->vertex_chunks; c++) {
+    int first, last;
+    sb_chunk_share(w, p, &first, &last);
+    for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(st->vertex_count, c, &begin, &end);
         for (size_t k = begin; k < end; k++) {
@@ -186,6 +197,7 @@ static void sb_pack_pass(sb_solver* s, const sb_partial_layout* p) {
             s->forces4[k] = w4[k] - drag * m4[k] * s->velocities4[k];
         }
     }
+    sb_worker_barrier(w);
 }
 
 /* The Verlet constants of one step. */
@@ -219,14 +231,17 @@ static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict i
         }
 }
 
-static void sb_drift_pass(sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k) {
-#pragma omp for schedule(static)
-    for (int c = 0; c < (int)p->vertex_chunks; c++) {
+static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p,
+                          const sb_step_constants* k) {
+    int first, last;
+    sb_chunk_share(w, p, &first, &last);
+    for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4, s->velocities4,
                        s->forces4, k, begin, end);
     }
+    sb_worker_barrier(w);
 }
 
 /* Closing half kick of packed reals [begin, end), fused with the energy
@@ -251,20 +266,21 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
     return outside;
 }
 
-static void sb_kick_pass(sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k, int* bad) {
+/* The last pass of a step: no barrier after it but the join. */
+static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
+                         atomic_int* bad) {
     /* the runaway box measured from the origin: looser than the exact test
      * of sb_check_state by the model's offset, a millionth of it */
     const sb_real limit =
         (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
-#pragma omp for schedule(static)
-    for (int c = 0; c < (int)p->vertex_chunks; c++) {
+    int first, last;
+    sb_chunk_share(w, p, &first, &last);
+    for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->velocities4, s->forces4, k,
-                          limit, begin, end, p->vertices + 2 * c)) {
-#pragma omp atomic write
-            *bad = 1;
-        }
+                          limit, begin, end, p->vertices + 2 * c))
+            sb_worker_raise(bad);
     }
 }
 
@@ -303,43 +319,68 @@ static sb_status sb_report_collapse(sb_solver* s) {
     return SB_ERR_DEGENERATE;
 }
 
-/* Copies the packed working state to the state's arrays. */
-static void sb_publish_pass(sb_solver* s) {
+/* Copies this worker's share of the packed working state to the state's
+ * arrays. The last pass of its job. */
+static void sb_publish_pass(const sb_worker* w, sb_solver* s) {
     sb_state* st = &s->state;
     sb_real* soa[3][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}, {st->fx, st->fy, st->fz}};
     const sb_real* packed[3] = {s->positions4, s->velocities4, s->forces4};
-#pragma omp for schedule(static)
-    for (uint32_t i = 0; i < st->vertex_count; i++)
+    int64_t begin, end;
+    sb_worker_range(w, st->vertex_count, &begin, &end);
+    for (int64_t i = begin; i < end; i++)
         for (int q = 0; q < 3; q++)
             for (int a = 0; a < 3; a++) soa[q][a][i] = packed[q][4 * (size_t)i + a];
 }
 
+/* What a job of the team needs: the solver, the pass layout, the step's
+ * constants and the flags any worker may raise. */
+typedef struct sb_fast_job {
+    sb_solver* solver;
+    sb_partial_layout layout;
+    sb_step_constants constants;
+    atomic_int collapsed, bad;
+} sb_fast_job;
+
+static void sb_publish_job(void* context, const sb_worker* w) {
+    sb_fast_job* job = context;
+    sb_publish_pass(w, job->solver);
+}
+
 void sb_fast_publish(sb_solver* s) {
     if (!s->fast || s->published) return;
-#pragma omp parallel num_threads(s->threads)
-    sb_publish_pass(s);
+    sb_fast_job job = {.solver = s};
+    sb_team_run(s->team, sb_team_size(s->team), sb_publish_job, &job);
     s->published = true;
 }
 
+static void sb_forces_job(void* context, const sb_worker* w) {
+    sb_fast_job* job = context;
+    sb_pack_pass(w, job->solver, &job->layout);
+    sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
+    sb_external_step(w, job->solver);
+    sb_publish_pass(w, job->solver);
+}
+
 sb_status sb_fast_compute_forces(sb_solver* s) {
-    sb_partial_layout p = sb_partials_of(s);
-    int collapsed = 0;
-#pragma omp parallel num_threads(s->threads)
-    {
-        sb_pack_pass(s, &p);
-        sb_force_passes(s, &p, &collapsed);
-#pragma omp single
-        if (s->def.external_force) sb_external_pass(s);
-        sb_publish_pass(s);
-    }
+    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
+    sb_team_run(s->team, sb_team_size(s->team), sb_forces_job, &job);
     s->published = true;
-    sb_collect_energies(s, &p, false);
-    return collapsed ? sb_report_collapse(s) : SB_OK;
+    sb_collect_energies(s, &job.layout, false);
+    return atomic_load(&job.collapsed) ? sb_report_collapse(s) : SB_OK;
+}
+
+static void sb_verlet_job(void* context, const sb_worker* w) {
+    sb_fast_job* job = context;
+    sb_drift_pass(w, job->solver, &job->layout, &job->constants);
+    sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
+    sb_external_step(w, job->solver);
+    sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);
 }
 
 sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_displacement;
-    sb_step_constants k = {
+    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
+    job.constants = (sb_step_constants){
         .scale = stormer ? (sb_real)(dt / s->prev_dt) : 0,
         .accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt),
         .step = (sb_real)dt,
@@ -348,20 +389,12 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         .half = (sb_real)(0.5 * dt),
         .stormer = stormer,
     };
-    sb_partial_layout p = sb_partials_of(s);
-    int collapsed = 0, bad = 0;
-#pragma omp parallel num_threads(s->threads)
-    {
-        sb_drift_pass(s, &p, &k);
-        sb_force_passes(s, &p, &collapsed);
-#pragma omp single
-        if (s->def.external_force) sb_external_pass(s);
-        sb_kick_pass(s, &p, &k, &bad);
-    }
+    sb_team_run(s->team, sb_team_size(s->team), sb_verlet_job, &job);
     s->has_displacement = true;
     s->prev_dt = dt;
     s->published = false;
-    sb_collect_energies(s, &p, true);
+    sb_collect_energies(s, &job.layout, true);
+    bool bad = atomic_load(&job.bad), collapsed = atomic_load(&job.collapsed);
     if (bad || collapsed) sb_fast_publish(s);
     if (bad) return sb_check_state(s);
     return collapsed ? sb_report_collapse(s) : SB_OK;

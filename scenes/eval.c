@@ -52,25 +52,17 @@ static sb_status load_positions(eval_job* job, sb_error* err) {
     return sb_positions_read(job->args.positions, job->mesh.vertex_count, job->positions, err);
 }
 
-static void copy_state_forces(const sb_state* state, double* forces) {
-    for (uint32_t v = 0; v < state->vertex_count; v++) {
-        forces[3 * v] = state->fx[v];
-        forces[3 * v + 1] = state->fy[v];
-        forces[3 * v + 2] = state->fz[v];
-    }
-}
-
 static sb_status evaluate_fast(eval_job* job, sb_error* err) {
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     def.kernels = SB_KERNELS_FAST;
     memset(def.gravity, 0, sizeof def.gravity);
-    sb_status status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
+    sb_status status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
     if (status != SB_OK) return status;
     sb_solver* solver = sb_solver_create(job->model, &def, err);
     if (!solver) return SB_ERR_INVALID;
     status = sb_solver_set_state(solver, job->positions, NULL);
     if (status == SB_OK) {
-        copy_state_forces(sb_solver_state(solver), job->forces);
+        sb_solver_get_forces(solver, job->forces);
         job->energies = sb_solver_energies(solver);
     } else {
         sb_error_set(err, status, "%s", sb_solver_error(solver));

@@ -106,7 +106,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     set_export(job);
     sb_solver_def def = sb_scene_solver_def(&job->scene);
-    status = sb_cli_threads(&job->args, &job->scene, &def.threads, err);
+    status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
     if (status == SB_OK) status = make_model(job, &def, err);
     if (status == SB_OK) status = sb_point_load_prepare(&job->scene, job->model, &job->load, err);
     if (status != SB_OK) return status;
@@ -121,14 +121,9 @@ static sb_status prepare(run_job* job, sb_error* err) {
 static sb_status write_frame(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     sb_vtk_frame frame = {&job->mesh, job->model, job->buffers, job->buffers + n, job->buffers + 2 * n};
-    const sb_state* state = sb_solver_state(job->solver);
     sb_solver_get_positions(job->solver, job->buffers);
     sb_solver_get_velocities(job->solver, job->buffers + n);
-    for (uint32_t v = 0; v < state->vertex_count; v++) {
-        job->buffers[2 * n + 3 * v] = state->fx[v];
-        job->buffers[2 * n + 3 * v + 1] = state->fy[v];
-        job->buffers[2 * n + 3 * v + 2] = state->fz[v];
-    }
+    sb_solver_get_forces(job->solver, job->buffers + 2 * n);
     return sb_frame_export(&job->export, &job->out, job->log.count, &frame, err);
 }
 

@@ -110,6 +110,10 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
         return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'",
                              sb_scene_string(scene, SB_KEY_KERNELS));
+    sb_wait_policy wait;
+    if (!sb_wait_policy_from_name(sb_scene_string(scene, SB_KEY_WAIT), &wait))
+        return sb_scene_fail(scene, SB_KEY_WAIT, err, "'wait' must be spin, yield or passive, got '%s'",
+                             sb_scene_string(scene, SB_KEY_WAIT));
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
                              "'integrator' must be verlet, velocity_verlet, position_verlet, "

@@ -678,14 +678,11 @@ static void test_fast_matches_reference(void** state) {
             def.external_force = push_force;
             def.external_user = &p;
             def.kernels = kernels ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
-            def.threads = 2;
+            def.runtime.threads = 2;
             sb_solver* s = tu_solver(m, &def);
             tu_advance(s, dt, 200);
             sb_solver_get_positions(s, x[kernels]);
             sb_solver_get_velocities(s, v[kernels]);
-            const sb_state* st = sb_solver_state(s);
-            for (uint32_t i = 0; i < n; ++i)
-                assert_true(st->x[i] == (sb_real)x[kernels][3 * i] && st->z[i] == (sb_real)x[kernels][3 * i + 2]);
             e[kernels] = total_energy(s);
             sb_solver_destroy(s);
         }

@@ -196,18 +196,6 @@ static void test_xpbd_static_stretch(void** state) {
     sb_model_destroy(m);
 }
 
-/* FNV-1a over the positions and velocities as stored. */
-static uint64_t state_hash(const sb_solver* s) {
-    const sb_state* st = sb_solver_state(s);
-    uint64_t h = 1469598103934665603ull;
-    const sb_real* arrays[6] = {st->x, st->y, st->z, st->vx, st->vy, st->vz};
-    for (int a = 0; a < 6; ++a) {
-        const unsigned char* bytes = (const unsigned char*)arrays[a];
-        for (size_t i = 0; i < st->vertex_count * sizeof(sb_real); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
-    }
-    return h;
-}
-
 /* A 100 × 100 sheet (29701 bonds, 19602 triangles: thousands of
  * constraints per color, so that the solver gives both threads work; it
  * keeps small models on one), 20 steps: the state's hash is the same for 1
@@ -219,10 +207,10 @@ static void test_threads_deterministic(void** state) {
         uint64_t hashes[2];
         for (int t = 0; t < 2; ++t) {
             sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
-            def.threads = t + 1;
+            def.runtime.threads = t + 1;
             sb_solver* s = tu_solver(m, &def);
             tu_advance(s, 2e-3, 20);
-            hashes[t] = state_hash(s);
+            hashes[t] = tu_state_hash(s);
             sb_solver_destroy(s);
         }
         print_message("threads, %-4s (%s kernels): state hash %016llx (1 thread), %016llx (2 threads)\n",

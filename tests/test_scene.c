@@ -353,7 +353,7 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     sb_error err;
     const char* text = "bond.k: 3\nangle.k: 0\nstretch_bend.k: 4\nspring: {k: 5, damping: 6}\n"
                        "bend.k: 7\nmass: 8\ndensity: 9\nintegrator: velocity_verlet\n"
-                       "kernels: fast\nthreads: 2\ngravity: [1, 2, 3]\ndrag: 0.5\n";
+                       "kernels: reference\nthreads: 2\ngravity: [1, 2, 3]\ndrag: 0.5\n";
     assert_int_equal(load_text(&scene, "mat.yaml", text, &err), SB_OK);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
     sb_material_def m = sb_scene_material(&scene);
@@ -361,8 +361,8 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     assert_true(m.spring_damping == 6 && m.bend_k == 7 && m.mass == 8 && m.density == 9);
     sb_solver_def def = sb_scene_solver_def(&scene);
     assert_int_equal(def.integrator, SB_INTEGRATOR_VELOCITY_VERLET);
-    assert_int_equal(def.kernels, SB_KERNELS_FAST);
-    assert_int_equal(def.threads, 2);
+    assert_int_equal(def.kernels, SB_KERNELS_REFERENCE); /* not the default: the key reaches the solver */
+    assert_int_equal(def.runtime.threads, 2);
     assert_true(def.gravity[0] == 1 && def.gravity[1] == 2 && def.gravity[2] == 3);
     assert_true(def.drag == 0.5);
     sb_scene_free(&scene);
@@ -393,7 +393,10 @@ static void test_defaults_match_the_library(void** state) {
     sb_solver_def d = sb_scene_solver_def(&scene), ld = sb_default_solver_def();
     assert_int_equal(d.integrator, ld.integrator);
     assert_int_equal(d.kernels, ld.kernels);
-    assert_int_equal(d.threads, ld.threads);
+    assert_int_equal(ld.kernels, SB_KERNELS_FAST); /* the fast kernels by default; the reference is opted into */
+    assert_int_equal(d.runtime.threads, ld.runtime.threads);
+    assert_int_equal(d.runtime.wait, ld.runtime.wait);
+    assert_int_equal(d.runtime.pin, ld.runtime.pin);
     for (int k = 0; k < 3; k++) assert_true(d.gravity[k] == ld.gravity[k]);
     assert_true(d.drag == ld.drag && d.adaptive == ld.adaptive && d.min_dt == ld.min_dt);
     assert_true(d.implicit_tolerance == ld.implicit_tolerance);

@@ -19,7 +19,7 @@ static sb_solver* make_solver(const sb_model* m, sb_integrator integrator, doubl
     def.gravity[0] = def.gravity[1] = 0.0;
     def.gravity[2] = gz;
     def.kernels = SB_KERNELS_REFERENCE;
-    def.threads = 0;
+    def.runtime.threads = 0;
     def.external_force = fn;
     def.external_user = user;
     sb_error err;

@@ -189,4 +189,20 @@ static inline void tu_advance(sb_solver* s, double dt, uint64_t steps) {
     }
 }
 
+/* FNV-1a over the bytes of the positions and velocities (3n doubles each,
+ * exact copies of the solver's sb_real values): equal hashes, bitwise equal
+ * states. */
+static inline uint64_t tu_state_hash(const sb_solver* solver) {
+    size_t n = 3 * (size_t)sb_model_vertex_count(sb_solver_model(solver));
+    double* values = malloc(2 * (n ? n : 1) * sizeof *values);
+    assert_non_null(values);
+    sb_solver_get_positions(solver, values);
+    sb_solver_get_velocities(solver, values + n);
+    uint64_t h = 1469598103934665603ull;
+    const unsigned char* bytes = (const unsigned char*)values;
+    for (size_t b = 0; b < 2 * n * sizeof *values; b++) h = (h ^ bytes[b]) * 1099511628211ull;
+    free(values);
+    return h;
+}
+
 #endif

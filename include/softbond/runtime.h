@@ -10,17 +10,38 @@
 extern "C" {
 #endif
 
+/* How the solver's threads wait for each other at the barriers of a step
+ * and for the next step (kernels/team.c):
+ *   spin     busy-wait: the lowest latency, for a machine the solver has to
+ *            itself (the benchmark);
+ *   yield    check, then give the core to any other runnable thread;
+ *   passive  sleep at once: the cores are free for the host's own threads
+ *            (a haptic servo loop, a renderer) whenever the solver waits.
+ * spin and yield go to sleep after about a millisecond of waiting, so an
+ * idle solver never holds a core. bench/results/runtime.md has the measured
+ * effect; a real-time program on two cores should choose passive. */
+typedef enum sb_wait_policy { SB_WAIT_SPIN = 0, SB_WAIT_YIELD, SB_WAIT_PASSIVE, SB_WAIT_COUNT } sb_wait_policy;
+
+/* "spin", "yield", "passive". */
+SB_API const char* sb_wait_policy_name(sb_wait_policy policy);
+/* Returns false when the name is unknown. */
+SB_API bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out);
+
+/* The threads a solver runs on; the host decides. */
+typedef struct sb_runtime_def {
+    int threads;         /* the team's size, the calling thread included; 0 = sb_runtime_threads(0) */
+    bool pin;            /* bind thread i to core i (hwloc); off: the scheduler places them */
+    sb_wait_policy wait; /* see above */
+} sb_runtime_def;
+
+/* threads 0, pin off, wait passive: a library user shares the machine. A
+ * team of 1 starts no thread and runs each step on the caller's thread. */
+SB_API sb_runtime_def sb_default_runtime_def(void);
+
 /* The thread count to use: `requested` when > 0, else the SOFTBOND_THREADS
  * environment variable when set, else one per core. Returns -1 and fills
  * err when SOFTBOND_THREADS is not a positive integer. */
 SB_API int sb_runtime_threads(int requested, sb_error* err);
-
-/* Binds the OpenMP threads of a `threads`-wide team one per core (round
- * robin when there are more threads than cores), with hwloc. The fast
- * solver calls it for teams of two threads or more. Returns false
- * when the topology could not be read or binding is not supported; the
- * simulation still runs, unbound. */
-SB_API bool sb_runtime_bind(int threads);
 
 /* One line describing the machine and build: cores, processing units,
  * caches, SIMD level and precision. */

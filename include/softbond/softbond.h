@@ -8,9 +8,9 @@
 #include "softbond/volume.h"
 #include "softbond/pov.h"
 #include "softbond/model.h"
-#include "softbond/state.h"
 #include "softbond/reference.h"
 #include "softbond/solver.h"
 #include "softbond/runtime.h"
+#include "softbond/state_buffer.h"
 
 #endif

@@ -6,7 +6,7 @@
 #include "softbond/export.h"
 
 #include "softbond/model.h"
-#include "softbond/state.h"
+#include "softbond/runtime.h"
 #include "softbond/reference.h"
 
 #ifdef __cplusplus
@@ -37,9 +37,12 @@ SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
 #define SB_STRETCH_LIMIT 10.0
 #define SB_STRETCH_INTERVAL 64
 
+/* The force kernels. sb_default_solver_def() chooses the fast ones (SIMD and
+ * OpenMP, in sb_real), which the tests check against the double scalar
+ * reference; ask for the reference explicitly to check a result with it. */
 typedef enum sb_kernels {
     SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
-    SB_KERNELS_FAST           /* the SIMD/OpenMP kernels */
+    SB_KERNELS_FAST           /* the SIMD/OpenMP kernels: the default */
 } sb_kernels;
 
 /* Called once per free vertex per force evaluation; adds to force[] (N). */
@@ -51,7 +54,7 @@ typedef struct sb_solver_def {
     double gravity[3]; /* m/s² */
     double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
-    int threads; /* 0 = the runtime's default */
+    sb_runtime_def runtime; /* the threads: count, pinning, wait policy (softbond/runtime.h) */
     sb_external_force_fn external_force;
     void* external_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
@@ -82,7 +85,9 @@ SB_API sb_solver_def sb_default_solver_def(void);
 typedef struct sb_solver sb_solver;
 
 /* The state starts at the model's rest positions and initial velocities.
- * The model must outlive the solver. */
+ * The model must outlive the solver. Everything a step needs (the team's
+ * threads, every integrator's and the adaptive stepper's buffers) is
+ * allocated here: sb_solver_advance never allocates. */
 SB_API sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
 SB_API void sb_solver_destroy(sb_solver* solver);
 
@@ -119,10 +124,15 @@ SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 /* Energies of the current state: each term, kinetic, gravity. */
 SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
-SB_API const sb_state* sb_solver_state(const sb_solver* solver);
-/* Copies positions or velocities out as 3n interleaved doubles. */
+/* Copies positions, velocities or the total forces (internal, gravity, drag
+ * and external, at the current positions) out as 3n interleaved doubles.
+ * These getters, like every function here that takes a const sb_solver*,
+ * only read; but they read the solver's working state, so call them from the
+ * thread that advances it (or while it does not). Other threads read the
+ * snapshots the solver publishes (softbond/state_buffer.h). */
 SB_API void sb_solver_get_positions(const sb_solver* solver, double* out);
 SB_API void sb_solver_get_velocities(const sb_solver* solver, double* out);
+SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
 /* Replaces positions and velocities (3n interleaved; velocities may be
  * NULL for zero) and recomputes forces. Fixed vertices keep their rest
  * position. */

@@ -29,7 +29,8 @@ typedef enum sb_status {
     SB_ERR_PARSE,      /* malformed file contents */
     SB_ERR_NOMEM,      /* allocation failed */
     SB_ERR_DEGENERATE, /* a collapsed edge or triangle met during a step */
-    SB_ERR_UNSTABLE    /* the state became non-finite or ran away */
+    SB_ERR_UNSTABLE,   /* the state became non-finite or ran away */
+    SB_ERR_BUSY        /* a lock-free buffer had no free slot: nothing was written */
 } sb_status;
 
 /* Filled by a failing library call: one line naming the file, line or

@@ -1,7 +1,7 @@
-/* The changing state of a simulation, apart from the immutable model:
+/* Private: the changing state of a simulation, apart from the immutable model:
  * structure-of-arrays in sb_real. */
-#ifndef SOFTBOND_STATE_H
-#define SOFTBOND_STATE_H
+#ifndef SB_STATE_H
+#define SB_STATE_H
 
 #include "softbond/types.h"
 

@@ -1,0 +1,141 @@
+/* sb_solver_advance and sb_solver_publish never allocate: this program
+ * replaces malloc and its kin (glibc's allocator stays underneath, through
+ * its __libc_* entry points) and counts the calls made while a step or a
+ * publication runs, on every thread, for every integrator, both kernel
+ * choices, adaptive stepping and an external force. Not run under the
+ * sanitizers, which bring their own malloc. */
+#include "test_util.h"
+
+#include <stdatomic.h>
+
+extern void* __libc_malloc(size_t size);
+extern void* __libc_calloc(size_t count, size_t size);
+extern void* __libc_realloc(void* p, size_t size);
+extern void* __libc_memalign(size_t alignment, size_t size);
+extern void __libc_free(void* p);
+
+static atomic_int counting;
+static atomic_long allocations;
+
+static void count(void) {
+    if (atomic_load_explicit(&counting, memory_order_relaxed)) atomic_fetch_add(&allocations, 1);
+}
+
+void* malloc(size_t size) {
+    count();
+    return __libc_malloc(size);
+}
+void* calloc(size_t count_, size_t size) {
+    count();
+    return __libc_calloc(count_, size);
+}
+void* realloc(void* p, size_t size) {
+    count();
+    return __libc_realloc(p, size);
+}
+void* aligned_alloc(size_t alignment, size_t size) {
+    count();
+    return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, size_t alignment, size_t size) {
+    count();
+    *out = __libc_memalign(alignment, size);
+    return *out ? 0 : 12; /* ENOMEM */
+}
+void free(void* p) { __libc_free(p); }
+
+static void push(void* user, uint32_t vertex, double time, const double x[3], const double v[3], double f[3]) {
+    (void)user, (void)time, (void)x, (void)v;
+    if (vertex == 5) f[2] += 0.01;
+}
+
+static sb_model* make_model(sb_mesh* mesh) {
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = 40;
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, mesh, &err), SB_OK);
+    /* a metre up, so that gravity's energy sets the scale of adaptive stepping's test */
+    for (uint32_t i = 0; i < mesh->vertex_count; i++) mesh->positions[3 * i + 2] += 1.0;
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 50.0;
+    material.angle_k = 0.3;
+    material.stretch_bend_k = 2.0;
+    material.spring_k = 10.0;
+    material.spring_damping = 0.01;
+    material.bend_k = 0.01;
+    sb_builder* builder = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(builder, mesh, &material, &err), SB_OK);
+    sb_builder_vertex(builder, 0)->fixed = true;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(model);
+    return model;
+}
+
+/* Allocations made by 5 advances and 5 publications of one configuration. */
+static long allocations_in_steps(const sb_model* model, sb_integrator integrator, sb_kernels kernels,
+                                 bool adaptive) {
+    sb_solver_def def = sb_default_solver_def();
+    def.integrator = integrator;
+    def.kernels = kernels;
+    def.adaptive = adaptive;
+    def.external_force = push;
+    def.runtime.threads = 2;
+    def.implicit_cg_iterations = 20;
+    sb_solver* solver = tu_solver(model, &def);
+    sb_error err;
+    sb_state_buffer* buffer = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err);
+    assert_non_null(buffer);
+    atomic_store(&allocations, 0);
+    atomic_store(&counting, 1);
+    for (int s = 0; s < 5; s++) {
+        sb_status status = sb_solver_advance(solver, 1e-4);
+        if (status != SB_OK) fail_msg("%s", sb_solver_error(solver));
+        assert_int_equal(sb_solver_publish(solver, buffer), SB_OK);
+    }
+    atomic_store(&counting, 0);
+    sb_state_buffer_destroy(buffer);
+    sb_solver_destroy(solver);
+    return atomic_load(&allocations);
+}
+
+static void test_steps_do_not_allocate(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_model(&mesh);
+    for (int i = 0; i < SB_INTEGRATOR_COUNT; i++)
+        for (int k = 0; k < 2; k++)
+            for (int adaptive = 0; adaptive < 2; adaptive++) {
+                sb_kernels kernels = k ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+                long n = allocations_in_steps(model, (sb_integrator)i, kernels, adaptive);
+                if (n != 0)
+                    fail_msg("%s, %s kernels%s: %ld allocations in 5 steps", sb_integrator_name((sb_integrator)i),
+                             k ? "fast" : "reference", adaptive ? ", adaptive" : "", n);
+            }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* The counter works: a solver's creation allocates. */
+static void test_the_counter_counts(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_model(&mesh);
+    sb_solver_def def = sb_default_solver_def();
+    atomic_store(&allocations, 0);
+    atomic_store(&counting, 1);
+    sb_solver* solver = tu_solver(model, &def);
+    atomic_store(&counting, 0);
+    assert_true(atomic_load(&allocations) > 0);
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_the_counter_counts),
+        cmocka_unit_test(test_steps_do_not_allocate),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,290 @@
+/* The solver beside other threads: the wait policies and pinning never
+ * change a result; the state buffer hands whole snapshots to readers while
+ * the writer goes on. Run under the thread sanitizer too (make test). */
+#include "test_util.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+
+/* Under the thread sanitizer every memory access is checked: smaller runs. */
+#if defined(__SANITIZE_THREAD__)
+enum { SHEET_SIDE = 24, STEPS = 20, PUBLICATIONS = 2000, BUFFER_VERTICES = 200 };
+#else
+enum { SHEET_SIDE = 60, STEPS = 100, PUBLICATIONS = 20000, BUFFER_VERTICES = 2000 };
+#endif
+
+/* A SHEET_SIDE x SHEET_SIDE sheet with bond, angle and stretch-bend terms: blocks of each
+ * color enough for two threads. */
+static sb_model* make_sheet_model(sb_mesh* mesh) {
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = SHEET_SIDE;
+    sheet.jitter = 0.2;
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, mesh, &err), SB_OK);
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 50.0;
+    material.angle_k = 0.3;
+    material.stretch_bend_k = 2.0;
+    sb_builder* builder = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(builder, mesh, &material, &err), SB_OK);
+    sb_vertex_def* corner = sb_builder_vertex(builder, 0);
+    corner->fixed = true;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(model);
+    return model;
+}
+
+static uint64_t hash_after_steps(const sb_model* model, sb_runtime_def runtime, sb_integrator integrator) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.integrator = integrator;
+    def.runtime = runtime;
+    sb_solver* solver = tu_solver(model, &def);
+    tu_advance(solver, 1e-4, STEPS);
+    uint64_t h = tu_state_hash(solver);
+    sb_solver_destroy(solver);
+    return h;
+}
+
+static void test_default_runtime_shares_the_machine(void** state) {
+    (void)state;
+    sb_runtime_def def = sb_default_runtime_def();
+    assert_int_equal(def.threads, 0);
+    assert_false(def.pin);
+    assert_int_equal(def.wait, SB_WAIT_PASSIVE);
+    sb_solver_def solver = sb_default_solver_def();
+    assert_int_equal(solver.runtime.wait, SB_WAIT_PASSIVE);
+    assert_false(solver.runtime.pin);
+}
+
+static void test_wait_policy_names(void** state) {
+    (void)state;
+    for (int p = 0; p < SB_WAIT_COUNT; p++) {
+        sb_wait_policy back;
+        assert_true(sb_wait_policy_from_name(sb_wait_policy_name((sb_wait_policy)p), &back));
+        assert_int_equal(back, p);
+    }
+    sb_wait_policy ignored;
+    assert_false(sb_wait_policy_from_name("busy", &ignored));
+}
+
+/* Every policy, pinned or not, on 2 or 3 threads gives bitwise the state of
+ * one thread, for the fused Verlet step, a generic integrator on the fast
+ * forces and pbd (all three run on the team). */
+static void test_policies_do_not_change_results(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    const sb_integrator integrators[3] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_SYMPLECTIC_EULER, SB_INTEGRATOR_XPBD};
+    for (int k = 0; k < 3; k++) {
+        uint64_t one = hash_after_steps(model, (sb_runtime_def){.threads = 1}, integrators[k]);
+        /* each policy on 2 threads (pinned for spin), and passive on 3: more
+         * threads than this machine's 2 cores, which only passive stands */
+        for (int p = 0; p <= SB_WAIT_COUNT; p++) {
+            int threads = p < SB_WAIT_COUNT ? 2 : 3;
+            sb_wait_policy wait = p < SB_WAIT_COUNT ? (sb_wait_policy)p : SB_WAIT_PASSIVE;
+            sb_runtime_def runtime = {.threads = threads, .pin = wait == SB_WAIT_SPIN, .wait = wait};
+            uint64_t h = hash_after_steps(model, runtime, integrators[k]);
+            if (h != one)
+                fail_msg("%s, %d threads, wait %s: state differs from one thread's", sb_integrator_name(integrators[k]),
+                         threads, sb_wait_policy_name(wait));
+        }
+    }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+static void test_unknown_wait_policy_is_refused(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    sb_solver_def def = sb_default_solver_def();
+    def.runtime.wait = (sb_wait_policy)7;
+    sb_error err = {0};
+    assert_null(sb_solver_create(model, &def, &err));
+    assert_string_equal(err.message, "unknown wait policy 7");
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* The published snapshot is the solver's state at that step, exactly. */
+static void test_publish_copies_the_state(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    uint32_t n = sb_model_vertex_count(model);
+    for (int kernels = 0; kernels < 2; kernels++) {
+        sb_solver_def def = sb_default_solver_def();
+        def.kernels = kernels ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+        def.runtime.threads = 2;
+        sb_solver* solver = tu_solver(model, &def);
+        sb_error err;
+        sb_state_buffer* buffer = sb_state_buffer_create(n, 2, &err);
+        assert_non_null(buffer);
+        assert_null(sb_state_buffer_acquire(buffer)); /* nothing published yet */
+        tu_advance(solver, 1e-4, 7);
+        assert_int_equal(sb_solver_publish(solver, buffer), SB_OK);
+        const sb_snapshot* snap = sb_state_buffer_acquire(buffer);
+        assert_non_null(snap);
+        double* x = malloc(6 * (size_t)n * sizeof *x);
+        sb_solver_get_positions(solver, x);
+        sb_solver_get_velocities(solver, x + 3 * (size_t)n);
+        for (size_t k = 0; k < 3 * (size_t)n; k++) {
+            assert_true((double)snap->positions[k] == x[k]);
+            assert_true((double)snap->velocities[k] == x[3 * (size_t)n + k]);
+        }
+        assert_int_equal(snap->sequence, 1);
+        assert_int_equal(snap->step, 7);
+        assert_int_equal(snap->vertex_count, n);
+        assert_true(snap->time == sb_solver_time(solver));
+        assert_true(snap->energies.kinetic == sb_solver_energies(solver).kinetic);
+        assert_true(snap->energies.term[SB_TERM_ANGLE] == sb_solver_energies(solver).term[SB_TERM_ANGLE]);
+        sb_state_buffer_release(buffer, snap);
+        free(x);
+        sb_state_buffer_destroy(buffer);
+        sb_solver_destroy(solver);
+    }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* Fills a snapshot with the pattern of publication k. */
+static void fill(sb_snapshot* s, uint64_t k) {
+    s->step = k;
+    s->time = (double)k;
+    for (size_t i = 0; i < 3 * (size_t)s->vertex_count; i++) {
+        s->positions[i] = (sb_real)(k % 1000);
+        s->velocities[i] = -(sb_real)(k % 1000);
+    }
+}
+
+/* Whether a snapshot is whole: every value from one publication. */
+static bool whole(const sb_snapshot* s) {
+    sb_real want = (sb_real)(s->step % 1000);
+    for (size_t i = 0; i < 3 * (size_t)s->vertex_count; i++)
+        if (s->positions[i] != want || s->velocities[i] != -want) return false;
+    return s->time == (double)s->step;
+}
+
+/* A held snapshot does not change while the writer publishes on; with every
+ * slot held the writer is told, not blocked. */
+static void test_held_snapshot_is_left_alone(void** state) {
+    (void)state;
+    sb_error err;
+    sb_state_buffer* b = sb_state_buffer_create(100, 1, &err); /* 3 slots */
+    assert_non_null(b);
+    sb_snapshot* w = sb_state_buffer_begin(b);
+    fill(w, 1);
+    sb_state_buffer_commit(b, w);
+    const sb_snapshot* held = sb_state_buffer_acquire(b);
+    for (uint64_t k = 2; k < 20; k++) {
+        w = sb_state_buffer_begin(b);
+        assert_non_null(w);
+        assert_ptr_not_equal(w, held);
+        fill(w, k);
+        sb_state_buffer_commit(b, w);
+    }
+    assert_int_equal(held->step, 1);
+    assert_true(whole(held));
+    const sb_snapshot* second = sb_state_buffer_acquire(b); /* a second reader: more than max_readers */
+    assert_int_equal(second->step, 19);
+    assert_int_equal(sb_state_buffer_published(b), 19);
+    w = sb_state_buffer_begin(b); /* one slot latest and held, one held: the third is free */
+    assert_non_null(w);
+    fill(w, 20);
+    sb_state_buffer_commit(b, w);
+    assert_null(sb_state_buffer_begin(b)); /* latest, and two held */
+    sb_state_buffer_release(b, held);
+    sb_state_buffer_release(b, second);
+    assert_non_null(sb_state_buffer_begin(b));
+    sb_state_buffer_destroy(b);
+}
+
+typedef struct stress {
+    sb_state_buffer* buffer;
+    atomic_int done;
+    uint64_t publications;
+    atomic_ullong reads, torn, backwards;
+} stress;
+
+static void* writer_main(void* arg) {
+    stress* s = arg;
+    for (uint64_t k = 1; k <= s->publications; k++) {
+        sb_snapshot* w = sb_state_buffer_begin(s->buffer);
+        if (!w) fail_msg("the writer found no free slot with 3 readers and 5 slots");
+        fill(w, k);
+        sb_state_buffer_commit(s->buffer, w);
+    }
+    atomic_store(&s->done, 1);
+    return NULL;
+}
+
+static void* reader_main(void* arg) {
+    stress* s = arg;
+    uint64_t last = 0;
+    while (!atomic_load(&s->done)) {
+        const sb_snapshot* r = sb_state_buffer_acquire(s->buffer);
+        if (!r) continue;
+        atomic_fetch_add(&s->reads, 1);
+        if (!whole(r)) atomic_fetch_add(&s->torn, 1);
+        if (r->sequence < last) atomic_fetch_add(&s->backwards, 1);
+        last = r->sequence;
+        sb_state_buffer_release(s->buffer, r);
+    }
+    return NULL;
+}
+
+/* One writer publishing as fast as it can, three readers checking every
+ * snapshot they get: none is torn, none goes back in time. */
+static void test_readers_never_see_a_torn_snapshot(void** state) {
+    (void)state;
+    sb_error err;
+    stress s = {.publications = PUBLICATIONS};
+    s.buffer = sb_state_buffer_create(BUFFER_VERTICES, 3, &err);
+    assert_non_null(s.buffer);
+    pthread_t writer, readers[3];
+    for (int r = 0; r < 3; r++) assert_int_equal(pthread_create(&readers[r], NULL, reader_main, &s), 0);
+    assert_int_equal(pthread_create(&writer, NULL, writer_main, &s), 0);
+    pthread_join(writer, NULL);
+    for (int r = 0; r < 3; r++) pthread_join(readers[r], NULL);
+    print_message("%llu snapshots read during %d publications\n", (unsigned long long)atomic_load(&s.reads),
+                  PUBLICATIONS);
+    assert_true(atomic_load(&s.reads) > 0);
+    assert_int_equal(atomic_load(&s.torn), 0);
+    assert_int_equal(atomic_load(&s.backwards), 0);
+    assert_int_equal(sb_state_buffer_published(s.buffer), PUBLICATIONS);
+    sb_state_buffer_destroy(s.buffer);
+}
+
+static void test_buffer_checks_its_arguments(void** state) {
+    (void)state;
+    sb_error err = {0};
+    assert_null(sb_state_buffer_create(10, 0, &err));
+    assert_string_equal(err.message, "state buffer: max_readers must be from 1 to 64 (got 0)");
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    sb_solver_def def = sb_default_solver_def();
+    sb_solver* solver = tu_solver(model, &def);
+    sb_state_buffer* b = sb_state_buffer_create(10, 1, &err);
+    assert_int_equal(sb_solver_publish(solver, b), SB_ERR_INVALID); /* the sheet into a buffer of 10 */
+    assert_int_equal(sb_state_buffer_published(b), 0);
+    sb_state_buffer_destroy(b);
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_default_runtime_shares_the_machine),
+        cmocka_unit_test(test_wait_policy_names),
+        cmocka_unit_test(test_policies_do_not_change_results),
+        cmocka_unit_test(test_unknown_wait_policy_is_refused),
+        cmocka_unit_test(test_publish_copies_the_state),
+        cmocka_unit_test(test_held_snapshot_is_left_alone),
+        cmocka_unit_test(test_readers_never_see_a_torn_snapshot),
+        cmocka_unit_test(test_buffer_checks_its_arguments),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
