@@ -112,11 +112,11 @@ typedef enum sb_scene_type {
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
     X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "simulated time between frames, s (>= dt)")                    \
     X(THREADS, "threads", INTEGER, "0", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")               \
-    X(WAIT, "wait", STRING, "passive",                                                                                  \
+    X(WAIT, "wait", STRING, "passive",                                                                                 \
       "how solver threads wait at barriers: spin (a dedicated machine), yield, passive (cores shared)")                \
     X(PIN_THREADS, "pin_threads", BOOL, "false", "bind solver thread i to core i (hwloc)")                             \
     X(KERNELS, "kernels", STRING, "fast",                                                                              \
-      "fast (SIMD/OpenMP, tested against the reference) or reference (double scalar, for checking)")                   \
+      "fast (SIMD, the solver's threads; tested against the reference) or reference (double scalar, for checking)")    \
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "write frames (output.formats); false writes log.csv only")        \
     X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]",                                                                \
       "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
