@@ -276,7 +276,9 @@ static void sb_measure(const sb_bench_setup* setup, const sb_options* o, sb_row*
     def.gravity[0] = def.gravity[1] = 0.0;
     def.gravity[2] = -SB_BENCH_GRAVITY;
     def.kernels = strcmp(row->kernels, "fast") == 0 ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
-    def.runtime = (sb_runtime_def){.threads = row->threads, .pin = true, .wait = SB_WAIT_SPIN};
+    /* a dedicated machine: spinning waits; a team of two or more pinned one
+     * thread per core, a single thread left to the scheduler */
+    def.runtime = (sb_runtime_def){.threads = row->threads, .pin = row->threads > 1, .wait = SB_WAIT_SPIN};
     sb_error err = {{0}};
     sb_solver* s = sb_solver_create(setup->model, &def, &err);
     if (!s) {
