@@ -24,7 +24,9 @@
  * when a waiter said it sleeps (the sleepers count; sequentially consistent
  * on both sides, so a waiter either sees the new value or is woken).
  * Barriers count arrivals and bump a generation; the last to arrive
- * releases the others. Memory written before a barrier is visible after it
+ * releases the others. A job ends when every worker has counted itself
+ * finished, those that had no share of it too, so that the job's fields
+ * are never rewritten under a worker still reading them. Memory written before a barrier is visible after it
  * (release on the generation, acquire in the wait). A team of one thread
  * starts no thread and calls the job directly. Nothing here allocates after
  * creation. */
@@ -57,6 +59,7 @@ struct sb_team {
     void* context;
     int width;
     atomic_uint job_generation;
+    atomic_uint finished; /* workers done with the current job (whether they took part or not) */
     atomic_int stop;
     /* the barrier */
     atomic_int arrived;
@@ -130,10 +133,11 @@ static void* sb_worker_main(void* arg) {
         sb_wait_while(t, &t->job_generation, seen);
         seen = atomic_load_explicit(&t->job_generation, memory_order_acquire);
         if (atomic_load_explicit(&t->stop, memory_order_acquire)) return NULL;
-        if (w->index >= t->width) continue;
-        sb_worker job_view = {t, w->index, t->width};
-        t->job(t->context, &job_view);
-        sb_worker_barrier(&job_view); /* the join */
+        if (w->index < t->width) {
+            sb_worker job_view = {t, w->index, t->width};
+            t->job(t->context, &job_view);
+        }
+        sb_bump(t, &t->finished); /* the join: worker 0 waits for every worker */
     }
 }
 
@@ -147,9 +151,13 @@ void sb_team_run(sb_team* t, int width, sb_team_job job, void* context) {
     t->job = job;
     t->context = context;
     t->width = width;
+    atomic_store_explicit(&t->finished, 0, memory_order_relaxed); /* no worker touches it before the bump */
     sb_bump(t, &t->job_generation);
     job(context, &main_view);
-    sb_worker_barrier(&main_view);
+    /* Every worker, not only the job's: one that skipped the job must have
+     * read the job's width before the next job rewrites it. */
+    for (unsigned done; (done = atomic_load_explicit(&t->finished, memory_order_acquire)) != (unsigned)t->size - 1;)
+        sb_wait_while(t, &t->finished, done);
 }
 
 int sb_team_size(const sb_team* t) { return t->size; }

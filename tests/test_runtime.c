@@ -2,6 +2,7 @@
  * change a result; the state buffer hands whole snapshots to readers while
  * the writer goes on. Run under the thread sanitizer too (make test). */
 #include "test_util.h"
+#include "kernels/team.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
@@ -45,6 +46,50 @@ static uint64_t hash_after_steps(const sb_model* model, sb_runtime_def runtime, 
     uint64_t h = tu_state_hash(solver);
     sb_solver_destroy(solver);
     return h;
+}
+
+typedef struct team_job {
+    atomic_int calls, sum, after_barrier;
+    int64_t covered[3];
+} team_job;
+
+/* Each worker of the job counts itself, covers its share of 999 items, and
+ * after a barrier checks that all the others counted themselves. */
+static void team_work(void* context, const sb_worker* w) {
+    team_job* job = context;
+    atomic_fetch_add(&job->calls, 1);
+    atomic_fetch_add(&job->sum, w->index + 1);
+    int64_t begin, end;
+    sb_worker_range(w, 999, &begin, &end);
+    job->covered[w->index] = end - begin;
+    sb_worker_barrier(w);
+    if (atomic_load(&job->calls) == w->width) atomic_fetch_add(&job->after_barrier, 1);
+}
+
+/* A team of 3 running jobs 1, 2 or 3 wide in turn, under each policy: only
+ * the job's workers run it, the barrier holds, the shares cover the items,
+ * and a narrow job after a wide one never mixes them up. */
+static void test_team_runs_jobs_of_any_width(void** state) {
+    (void)state;
+    for (int p = 0; p < SB_WAIT_COUNT; p++) {
+        sb_error err;
+        sb_runtime_def def = {.threads = 3, .wait = (sb_wait_policy)p};
+        sb_team* team = sb_team_create(&def, &err);
+        assert_non_null(team);
+        assert_int_equal(sb_team_size(team), 3);
+        for (int round = 0; round < 300; round++) {
+            int width = 1 + round % 3;
+            team_job job = {0};
+            sb_team_run(team, width, team_work, &job);
+            assert_int_equal(atomic_load(&job.calls), width);
+            assert_int_equal(atomic_load(&job.sum), width * (width + 1) / 2);
+            assert_int_equal(atomic_load(&job.after_barrier), width);
+            int64_t covered = 0;
+            for (int i = 0; i < width; i++) covered += job.covered[i];
+            assert_int_equal(covered, 999);
+        }
+        sb_team_destroy(team);
+    }
 }
 
 static void test_default_runtime_shares_the_machine(void** state) {
@@ -277,6 +322,7 @@ static void test_buffer_checks_its_arguments(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_team_runs_jobs_of_any_width),
         cmocka_unit_test(test_default_runtime_shares_the_machine),
         cmocka_unit_test(test_wait_policy_names),
         cmocka_unit_test(test_policies_do_not_change_results),
