@@ -37,12 +37,13 @@ SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
 #define SB_STRETCH_LIMIT 10.0
 #define SB_STRETCH_INTERVAL 64
 
-/* The force kernels. sb_default_solver_def() chooses the fast ones (SIMD and
- * OpenMP, in sb_real), which the tests check against the double scalar
- * reference; ask for the reference explicitly to check a result with it. */
+/* The force kernels. sb_default_solver_def() chooses the fast ones (SIMD on
+ * the solver's threads, in sb_real), which the tests check against the
+ * double scalar reference; ask for the reference explicitly to check a
+ * result with it. */
 typedef enum sb_kernels {
     SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
-    SB_KERNELS_FAST           /* the SIMD/OpenMP kernels: the default */
+    SB_KERNELS_FAST           /* SIMD on the solver's threads: the default */
 } sb_kernels;
 
 /* Called once per free vertex per force evaluation; adds to force[] (N). */
