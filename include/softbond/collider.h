@@ -1,0 +1,120 @@
+/* Colliders: what the soft bodies touch.
+ *
+ * After every step the solver asks each collider, for each free vertex,
+ * about the vertex's move in that step (from its position at the start of
+ * the step to where the integrator put it). A collider that the move touches
+ * answers with an sb_contact: how far along the move the vertex may go, the
+ * surface normal there, and how much of the vertex's velocity survives
+ * (restitution along the normal, Coulomb friction along the surface). The
+ * solver then moves the vertex and changes its velocity (kernels/contact.c)
+ * and adds the impulse it took to the collider's reaction force.
+ *
+ * The built-in shapes (plane, sphere, capsule, box) are colliders written on
+ * this same interface; a program's own collider is a callback of the same
+ * type (sb_collider_create_custom). */
+#ifndef SOFTBOND_COLLIDER_H
+#define SOFTBOND_COLLIDER_H
+
+#include "softbond/export.h"
+#include "softbond/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One vertex's move in one step. */
+typedef struct sb_contact_query {
+    uint32_t vertex;
+    double t0, t1;     /* s: the step runs from t0 to t1 */
+    double from[3];    /* m: the position at t0 */
+    double to[3];      /* m: where the integrator moved it by t1 */
+    double thickness;  /* m: the solver's contact thickness, added to the collider's own */
+} sb_contact_query;
+
+/* A collider's answer for a move that touches it. */
+typedef struct sb_contact {
+    /* In [0, 1]: the vertex stops at from + fraction (to − from), the first
+     * point of the move on the collider's surface inflated by both
+     * thicknesses (0 when it started inside). */
+    double fraction;
+    /* m, >= 0: how far that point lies inside the inflated surface (0 for a
+     * move that met the surface from outside); the solver pushes the vertex
+     * out by it along the normal. */
+    double depth;
+    double normal[3];       /* unit, out of the collider, at the contact */
+    double velocity[3];     /* m/s: the collider's own velocity at the contact (0 when it does not move) */
+    double restitution;     /* in [0, 1]: normal velocity after = −restitution × normal velocity before */
+    double friction;        /* >= 0: Coulomb coefficient while sliding */
+    double static_friction; /* >= friction: the coefficient below which the vertex sticks */
+} sb_contact;
+
+/* Returns true and fills *contact when the move touches the collider.
+ * Called from the solver's threads at once, for different vertices: it must
+ * only read its own data (update it in a begin-step callback). */
+typedef bool (*sb_collide_fn)(void* user, const sb_contact_query* query, sb_contact* contact);
+
+/* Called once per step, on the thread that advances the solver, before any
+ * sb_collide_fn of that step: a collider that moves sets its pose for
+ * [t0, t1] here. May be NULL. */
+typedef void (*sb_collider_step_fn)(void* user, double t0, double t1);
+
+typedef enum sb_collider_shape {
+    SB_COLLIDER_PLANE = 0, /* the half-space below point, normal */
+    SB_COLLIDER_SPHERE,    /* center, radius */
+    SB_COLLIDER_CAPSULE,   /* the segment a–b, radius */
+    SB_COLLIDER_BOX,       /* center, half_extents, rotate (degrees about x, then y, then z) */
+    SB_COLLIDER_SHAPE_COUNT
+} sb_collider_shape;
+
+typedef enum sb_interpolation { SB_INTERPOLATION_LINEAR = 0, SB_INTERPOLATION_SMOOTH } sb_interpolation;
+
+/* A pose of a kinematic collider at a time: rotate (degrees about the
+ * collider's reference point — plane point, sphere or box center, capsule
+ * midpoint — about x, then y, then z), then translate. */
+typedef struct sb_keyframe {
+    double time;         /* s */
+    double translate[3]; /* m */
+    double rotate[3];    /* degrees */
+} sb_keyframe;
+
+typedef struct sb_collider_def {
+    sb_collider_shape shape;
+    const char* name; /* how logs and handles refer to it; copied */
+    double point[3], normal[3];        /* plane (normal need not be unit; not zero) */
+    double center[3];                  /* sphere, box */
+    double radius;                     /* sphere, capsule (m, > 0) */
+    double a[3], b[3];                 /* capsule */
+    double half_extents[3];            /* box (m, > 0) */
+    double rotate[3];                  /* box: degrees about x, then y, then z */
+    double friction;                   /* Coulomb, sliding (>= 0) */
+    double static_friction;            /* sticking (>= friction; default: friction) */
+    double restitution;                /* [0, 1] */
+    double thickness;                  /* m, >= 0: the surface is inflated by it */
+    const sb_keyframe* path;           /* kinematic: keyframes in increasing time (copied); NULL = static */
+    uint32_t path_count;
+    sb_interpolation interpolation;    /* between keyframes; before the first and after the last the pose holds */
+} sb_collider_def;
+
+/* A plane through the origin with normal +z, no friction, no restitution,
+ * no thickness, static. */
+SB_API sb_collider_def sb_default_collider_def(void);
+
+typedef struct sb_collider sb_collider;
+
+/* A built-in collider, checked (a message names the bad field). */
+SB_API sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err);
+/* A program's own collider: collide (required) and begin_step (may be NULL)
+ * with their user data. */
+SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, sb_collider_step_fn begin_step,
+                                              void* user, sb_error* err);
+SB_API void sb_collider_destroy(sb_collider* collider);
+SB_API const char* sb_collider_name(const sb_collider* collider);
+
+/* "plane", "sphere", "capsule", "box". */
+SB_API const char* sb_collider_shape_name(sb_collider_shape shape);
+SB_API bool sb_collider_shape_from_name(const char* name, sb_collider_shape* out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,100 @@
+/* Private: a collider as the solver sees it (softbond/collider.h). Built-in
+ * shapes fill the same three fields as a program's own collider, with
+ * user = the collider itself.
+ *
+ * The sweeps. Each built-in shape has one sweep in its rest frame (the
+ * def's geometry as given, in world coordinates; kernels/colliders/<shape>.c):
+ * the move from → to against the closed solid bounded by the surface
+ * inflated by `thickness` (m). Its answer, shared by every shape
+ * (sb_sweep_from_inside, sb_sweep_from_outside in collider.c):
+ *
+ *   from outside, the move enters the solid  → true, fraction of the first
+ *       point of the move in the solid (in [0, 1]), depth 0, the outward
+ *       normal there;
+ *   from outside, `to` outside, and the move only grazes the surface (one
+ *       point in common: a tangent move, a line through an edge) or misses
+ *       → false;
+ *   from inside or on the surface, `to` inside or on it (resting contact)
+ *       → true, fraction 1 (the vertex keeps the move the integrator gave
+ *       it), depth = how far `to` lies inside, normal = the outward
+ *       direction of least penetration at `to`;
+ *   from inside or on the surface, `to` outside: the move leaves. If it
+ *       starts along the least-penetration normal at `from` or away from
+ *       the body (d·n >= 0) → false; if it heads in (d·n < 0: it would cross
+ *       the body, or it starts on the surface and goes in) → true, fraction
+ *       0, depth = how far `from` lies inside, normal at `from`. So a vertex
+ *       that rounding left a hair inside cannot tunnel through.
+ *
+ * A zero-length move is a point query: true (fraction 1, its depth) when the
+ * point is inside or on the surface. */
+#ifndef SB_COLLIDER_INTERNAL_H
+#define SB_COLLIDER_INTERNAL_H
+
+#include "softbond/collider.h"
+
+struct sb_collider {
+    char name[64];
+    sb_collide_fn collide;
+    sb_collider_step_fn begin_step; /* may be NULL */
+    void* user;
+    /* built-in shapes only: their definition (path copied) and the pose of
+     * the current step (kernels/colliders/collider.c) */
+    sb_collider_def def; /* def.name = name, def.path = path */
+    sb_keyframe* path;
+    double pose0[12], pose1[12]; /* rotation (row-major 3x3) and translation at t0 and t1 */
+    double t0, t1;
+    double box_rotation[9]; /* box: sb_collider_rotation(def.rotate), made once */
+};
+
+/* A shape's sweep in its rest frame (see above). */
+typedef bool (*sb_sweep_fn)(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
+                            double* fraction, double* depth, double normal[3]);
+bool sb_plane_sweep(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
+                    double* fraction, double* depth, double normal[3]);
+bool sb_sphere_sweep(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
+                     double* fraction, double* depth, double normal[3]);
+/* a == b: the sphere about a. */
+bool sb_capsule_sweep(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
+                      double* fraction, double* depth, double normal[3]);
+/* The box inflated by thickness is the box with half_extents + thickness
+ * (square edges and corners, not rounded ones). */
+bool sb_box_sweep(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
+                  double* fraction, double* depth, double normal[3]);
+/* The same with the box's rotation (sb_collider_rotation of def->rotate) given. */
+bool sb_box_sweep_rotated(const sb_collider_def* def, const double rotation[9], const double from[3],
+                          const double to[3], double thickness, double* fraction, double* depth, double normal[3]);
+
+/* One end of a move: whether it is in the closed inflated solid, how deep
+ * (>= 0) and the outward normal of least penetration there. */
+typedef struct sb_sweep_end {
+    bool inside;
+    double depth;
+    double normal[3];
+} sb_sweep_end;
+
+/* The answer when `from` is inside or on the surface (above). */
+bool sb_sweep_from_inside(const sb_sweep_end* from_end, const sb_sweep_end* to_end, const double from[3],
+                          const double to[3], double* fraction, double* depth, double normal[3]);
+/* The answer when `from` is outside, given the interval [lo, hi] of the
+ * line from + s (to − from) in the solid (entered: false when the line
+ * misses it or only touches it) and the outward normal at lo. */
+bool sb_sweep_from_outside(bool entered, double lo, double hi, const double lo_normal[3], const sb_sweep_end* to_end,
+                           double* fraction, double* depth, double normal[3]);
+
+/* The ball of radius r about center (sphere.c; the capsule's end caps):
+ * its sweep, and the interval [lo, hi] of the line from + s (to − from)
+ * inside it with the outward normal at lo, for a line that enters it from
+ * outside (false otherwise, and for a tangent line). */
+bool sb_ball_sweep(const double center[3], double r, const double from[3], const double to[3], double* fraction,
+                   double* depth, double normal[3]);
+bool sb_ball_line(const double center[3], double r, const double from[3], const double to[3], double* lo, double* hi,
+                  double normal[3]);
+
+/* The rotation (row-major) of `degrees` about x, then y, then z (fixed
+ * axes); exact at multiples of 90 degrees. */
+void sb_collider_rotation(const double degrees[3], double r[9]);
+/* A built-in collider's pose at time t: rotation (row-major 3x3) then
+ * translation; identity when it has no path. */
+void sb_collider_pose(const sb_collider* collider, double t, double pose[12]);
+
+#endif
