@@ -46,7 +46,7 @@ struct sb_state_buffer {
     sb_slot* slots;
     sb_real* arrays;    /* every slot's positions and velocities */
     atomic_int latest;  /* -1 before the first commit */
-    atomic_ullong published;
+    atomic_ullong published, skipped;
 };
 
 sb_state_buffer* sb_state_buffer_create(uint32_t vertex_count, int max_readers, sb_error* err) {
@@ -77,6 +77,7 @@ sb_state_buffer* sb_state_buffer_create(uint32_t vertex_count, int max_readers, 
     }
     atomic_init(&b->latest, -1);
     atomic_init(&b->published, 0);
+    atomic_init(&b->skipped, 0);
     return b;
 }
 
@@ -127,14 +128,47 @@ uint64_t sb_state_buffer_published(const sb_state_buffer* b) {
     return atomic_load_explicit(&((sb_state_buffer*)b)->published, memory_order_acquire);
 }
 
-sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* b) {
-    if (sb_model_vertex_count(sb_solver_model(solver)) != b->vertex_count) return SB_ERR_INVALID;
-    sb_snapshot* s = sb_state_buffer_begin(b);
-    if (!s) return SB_ERR_BUSY;
-    sb_solver_copy_state(solver, s->positions, s->velocities);
+uint64_t sb_state_buffer_skipped(const sb_state_buffer* b) {
+    return atomic_load_explicit(&((sb_state_buffer*)b)->skipped, memory_order_relaxed);
+}
+
+/* Fills the scalars of a snapshot whose arrays hold the solver's state, and
+ * makes it the latest. */
+static void sb_commit_solver(sb_state_buffer* b, sb_snapshot* s, const sb_solver* solver) {
     s->step = sb_solver_step_count(solver);
     s->time = sb_solver_time(solver);
     s->energies = sb_solver_energies(solver);
     sb_state_buffer_commit(b, s);
+}
+
+/* Gives a slot taken by sb_state_buffer_begin back unpublished. */
+static void sb_abandon(sb_snapshot* snapshot) {
+    atomic_fetch_and_explicit(&((sb_slot*)snapshot)->holders, ~SB_WRITING, memory_order_release);
+}
+
+sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* b) {
+    if (sb_model_vertex_count(sb_solver_model(solver)) != b->vertex_count) return SB_ERR_INVALID;
+    sb_snapshot* s = sb_state_buffer_begin(b);
+    if (!s) {
+        atomic_fetch_add_explicit(&b->skipped, 1, memory_order_relaxed);
+        return SB_ERR_BUSY;
+    }
+    sb_solver_copy_state(solver, s->positions, s->velocities);
+    sb_commit_solver(b, s, solver);
     return SB_OK;
+}
+
+sb_status sb_solver_advance_published(sb_solver* solver, double dt, sb_state_buffer* b) {
+    if (sb_model_vertex_count(sb_solver_model(solver)) != b->vertex_count) return SB_ERR_INVALID;
+    sb_snapshot* s = sb_state_buffer_begin(b);
+    if (!s) {
+        atomic_fetch_add_explicit(&b->skipped, 1, memory_order_relaxed);
+        return sb_solver_advance(solver, dt);
+    }
+    sb_status status = sb_solver_advance_into(solver, dt, s->positions, s->velocities);
+    if (status == SB_OK)
+        sb_commit_solver(b, s, solver);
+    else
+        sb_abandon(s);
+    return status;
 }

@@ -143,6 +143,7 @@ static double sb_adaptive_tolerance(const sb_solver* s) {
 }
 
 static void sb_accepted(sb_solver* s, double h) {
+    if (s->contact_impulse) sb_contact_accept(s);
     sb_step_stats* st = &s->stats;
     st->substeps++;
     st->last_substep = h;

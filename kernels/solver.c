@@ -54,6 +54,7 @@ static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
 
 void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
+    sb_contact_destroy(s);
     sb_team_destroy(s->team);
     sb_fast_model_destroy(s->fast);
     free(s->partials);
@@ -110,6 +111,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)
         return sb_error_set(err, SB_ERR_INVALID, "adaptive_tolerance must be finite and >= 0 (got %g)",
                             def->adaptive_tolerance);
+    if (!isfinite(def->contact_thickness) || def->contact_thickness < 0.0)
+        return sb_error_set(err, SB_ERR_INVALID, "contact_thickness must be finite and >= 0 (got %g)",
+                            def->contact_thickness);
     if (def->runtime.threads < 0)
         return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->runtime.threads);
     if ((unsigned)def->runtime.wait >= SB_WAIT_COUNT)
@@ -150,6 +154,7 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     sb_runaway_box(s);
     sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
+    if (status == SB_OK) status = sb_contact_prepare(s, err);
     if (status == SB_OK) status = sb_prepare_step_buffers(s, err);
     if (status != SB_OK) {
         sb_solver_destroy(s);
@@ -311,14 +316,30 @@ static sb_status sb_check_stretch(sb_solver* s) {
     return SB_OK;
 }
 
+/* The contact pass of a step the fused path did not take: the state's
+ * arrays corrected, and the forces evaluated again where a vertex moved. */
+static sb_status sb_contact_after_step(sb_solver* s, double dt) {
+    uint32_t contacts = sb_contact_state_pass(s, dt);
+    s->stats.contacts += contacts;
+    return contacts > 0 ? sb_solver_compute_forces(s) : SB_OK;
+}
+
 sb_status sb_solver_step(sb_solver* s, double dt) {
+    bool contact = s->def.collider_count > 0;
+    if (contact) {
+        sb_contact_begin_step(s, s->time, s->time + dt);
+        if (!sb_fused(s)) sb_contact_save_from(s);
+    }
+    s->contact_dt = dt;
     s->time += dt; /* forces of this step are evaluated at the new time */
     sb_status status = sb_integrate(s, dt);
     /* A non-finite state also makes the force terms fail: name the cause. */
     if (sb_fused(s)) { /* the fused step checked the state and summed the energies itself */
+        if (contact) s->stats.contacts += sb_contact_collect(s);
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status == SB_OK ? sb_check_stretch(s) : status;
     }
+    if (status == SB_OK && contact) status = sb_contact_after_step(s, dt);
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */
     sb_status state_status = sb_check_state(s);
@@ -336,11 +357,15 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
         return sb_error_set(&s->error, SB_ERR_INVALID, "time step %g s must be positive and finite", dt);
     s->steps++;
     s->stats = (sb_step_stats){.converged = true};
+    s->advance_dt = dt;
+    if (s->contact_impulse) memset(s->contact_impulse, 0, 3 * (size_t)s->def.collider_count * sizeof(double));
     if (s->def.adaptive) return sb_adaptive_advance(s, dt);
     sb_status status = sb_solver_step(s, dt);
-    if (status == SB_OK)
-        s->stats =
-            (sb_step_stats){s->stats.newton_iterations, s->stats.cg_iterations, s->stats.converged, 1, 0, dt, dt};
+    if (status == SB_OK) {
+        if (s->contact_impulse) sb_contact_accept(s);
+        s->stats.substeps = 1;
+        s->stats.last_substep = s->stats.min_substep = dt;
+    }
     return status;
 }
 
@@ -426,12 +451,8 @@ static void sb_copy_worker(void* context, const sb_worker* w) {
     sb_worker_range(w, st->vertex_count, &begin, &end);
     sb_real *x = job->positions, *v = job->velocities;
     if (s->fast && !s->published) {
-        const sb_real *p4 = s->positions4, *v4 = s->velocities4;
-        for (int64_t i = begin; i < end; i++)
-            for (int c = 0; c < 3; c++) {
-                x[3 * i + c] = p4[4 * i + c];
-                v[3 * i + c] = v4[4 * i + c];
-            }
+        sb_unpack_xyz(s->positions4, x, begin, end);
+        sb_unpack_xyz(s->velocities4, v, begin, end);
         return;
     }
     for (int64_t i = begin; i < end; i++) {
@@ -443,4 +464,21 @@ static void sb_copy_worker(void* context, const sb_worker* w) {
 void sb_solver_copy_state(const sb_solver* s, sb_real* positions, sb_real* velocities) {
     sb_copy_job job = {s, positions, velocities};
     sb_team_run(s->team, sb_team_size(s->team), sb_copy_worker, &job);
+}
+
+void sb_unpack_xyz(const sb_real* packed, sb_real* out, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; i++)
+        for (int c = 0; c < 3; c++) out[3 * i + c] = packed[4 * i + c];
+}
+
+sb_status sb_solver_advance_into(sb_solver* s, double dt, sb_real* positions, sb_real* velocities) {
+    /* adaptive stepping may undo a sub-step: its snapshot is copied after */
+    bool fused = sb_fused(s) && !s->def.adaptive;
+    s->publish_positions = fused ? positions : NULL;
+    s->publish_velocities = fused ? velocities : NULL;
+    s->publish_written = false;
+    sb_status status = sb_solver_advance(s, dt);
+    if (status == SB_OK && !s->publish_written) sb_solver_copy_state(s, positions, velocities);
+    s->publish_positions = s->publish_velocities = NULL;
+    return status;
 }

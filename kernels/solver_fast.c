@@ -49,8 +49,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Vertices per chunk of the vertex passes, which own their energy sums. */
-#define SB_CHUNK 256
 
 typedef bool (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
 
@@ -63,7 +61,7 @@ typedef struct sb_partial_layout {
     uint32_t vertex_chunks;
 } sb_partial_layout;
 
-static uint32_t sb_vertex_chunks(uint32_t n) { return (n + SB_CHUNK - 1) / SB_CHUNK; }
+static uint32_t sb_vertex_chunks(uint32_t n) { return sb_chunk_count(n); }
 
 static sb_partial_layout sb_partials_of(const sb_solver* s) {
     const sb_fast_model* f = s->fast;
@@ -231,8 +229,10 @@ static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict i
         }
 }
 
-static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p,
-                          const sb_step_constants* k) {
+/* The drift of this worker's chunks, each followed by its contact pass
+ * (kernels/contact.c) while the chunk is in cache. */
+static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
+                          double dt) {
     int first, last;
     sb_chunk_share(w, p, &first, &last);
     for (int c = first; c < last; c++) {
@@ -240,6 +240,7 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4, s->velocities4,
                        s->forces4, k, begin, end);
+        if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
     }
     sb_worker_barrier(w);
 }
@@ -281,6 +282,10 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
         if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->velocities4, s->forces4, k,
                           limit, begin, end, p->vertices + 2 * c))
             sb_worker_raise(bad);
+        if (s->publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
+            sb_unpack_xyz(s->positions4, s->publish_positions, begin / 4, end / 4);
+            sb_unpack_xyz(s->velocities4, s->publish_velocities, begin / 4, end / 4);
+        }
     }
 }
 
@@ -338,6 +343,7 @@ typedef struct sb_fast_job {
     sb_solver* solver;
     sb_partial_layout layout;
     sb_step_constants constants;
+    double dt;
     atomic_int collapsed, bad;
 } sb_fast_job;
 
@@ -371,7 +377,7 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
 
 static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
-    sb_drift_pass(w, job->solver, &job->layout, &job->constants);
+    sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt);
     sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
     sb_external_step(w, job->solver);
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);
@@ -379,7 +385,7 @@ static void sb_verlet_job(void* context, const sb_worker* w) {
 
 sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_displacement;
-    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
+    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s), .dt = dt};
     job.constants = (sb_step_constants){
         .scale = stormer ? (sb_real)(dt / s->prev_dt) : 0,
         .accel = stormer ? (sb_real)(0.5 * dt * (dt + s->prev_dt)) : (sb_real)(0.5 * dt),
@@ -393,6 +399,7 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     s->has_displacement = true;
     s->prev_dt = dt;
     s->published = false;
+    s->publish_written = s->publish_positions != NULL;
     sb_collect_energies(s, &job.layout, true);
     bool bad = atomic_load(&job.bad), collapsed = atomic_load(&job.collapsed);
     if (bad || collapsed) sb_fast_publish(s);

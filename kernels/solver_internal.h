@@ -32,6 +32,16 @@ struct sb_solver {
     double energy_peak;           /* adaptive: the largest energy scale since the state was set */
     double* implicit_work;        /* implicit Euler: 7 arrays of 3n doubles */
     sb_real* stretch4;            /* the blow-up rule's packed copy of the positions (generic integrators) */
+    /* contact (kernels/contact.c); NULL without colliders */
+    double* contact_from;     /* 3n: positions at the start of a step the fused path does not take */
+    double* contact_partials; /* per vertex chunk: 3 impulse sums per collider, then the contact count */
+    double* contact_step;     /* 3 per collider: the last step's impulses on the colliders */
+    double* contact_impulse;  /* 3 per collider: summed over the accepted steps of this advance */
+    double contact_dt;        /* s, the step being taken */
+    /* sb_solver_advance_into: where the fused step writes the snapshot (NULL otherwise) */
+    sb_real *publish_positions, *publish_velocities;
+    bool publish_written;
+    double advance_dt;        /* s, the last advance's dt */
     struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays */
     sb_step_stats stats;
     double time;
@@ -40,6 +50,32 @@ struct sb_solver {
     sb_error error;
 };
 
+/* Vertices per chunk of the vertex passes, which own their partial sums. */
+#define SB_CHUNK 256
+static inline uint32_t sb_chunk_count(uint32_t vertex_count) { return (vertex_count + SB_CHUNK - 1) / SB_CHUNK; }
+
+/* Contact (kernels/contact.c). */
+sb_status sb_contact_prepare(sb_solver* solver, sb_error* err);
+void sb_contact_destroy(sb_solver* solver);
+/* The colliders' begin-step callbacks, in order, on the calling thread. */
+void sb_contact_begin_step(sb_solver* solver, double t0, double t1);
+/* Keeps the state's positions as the start of the step's moves. */
+void sb_contact_save_from(sb_solver* solver);
+/* Answers vertex i's move from → x (x and v updated in place); returns the
+ * collider or -1, and the impulse m Δv the vertex took. */
+int sb_contact_vertex(const sb_solver* solver, uint32_t i, const double from[3], double x[3], double v[3],
+                      double impulse[3]);
+/* The fused path's pass over one chunk of the packed state, after its drift
+ * (from = x − displacement). */
+void sb_contact_chunk_packed(const sb_solver* solver, uint32_t chunk, double dt);
+/* The pass over the state's arrays (every other step); returns the contacts. */
+uint32_t sb_contact_state_pass(sb_solver* solver, double dt);
+/* Adds the chunks' partial sums in order into the step's impulses; returns
+ * the contacts. */
+uint32_t sb_contact_collect(sb_solver* solver);
+/* Adds the step's impulses to the advance's. */
+void sb_contact_accept(sb_solver* solver);
+
 /* Forces at the state's positions, with the state's velocities for damping:
  * fills state.f (internal + gravity + external) and energies.term[]. */
 sb_status sb_solver_compute_forces(sb_solver* solver);
@@ -47,6 +83,12 @@ sb_status sb_solver_compute_forces(sb_solver* solver);
 /* Copies the current positions and velocities as 3n interleaved sb_reals,
  * in parallel on the solver's team; reads only (sb_solver_publish). */
 void sb_solver_copy_state(const sb_solver* solver, sb_real* positions, sb_real* velocities);
+/* out[3i..3i+2] = packed[4i..4i+2] for vertices [begin, end). */
+void sb_unpack_xyz(const sb_real* packed, sb_real* out, int64_t begin, int64_t end);
+/* sb_solver_advance, and the new positions and velocities into the arrays
+ * (3n): written by the fused step's last pass where it runs (no extra pass
+ * and no extra wake-up of the team), copied after the advance otherwise. */
+sb_status sb_solver_advance_into(sb_solver* solver, double dt, sb_real* positions, sb_real* velocities);
 
 /* out[3i..3i+2] = (a[i], b[i], c[i]): SoA to interleaved doubles. */
 void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n);

@@ -194,6 +194,76 @@ static void test_publish_copies_the_state(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* The snapshot of sb_solver_advance_published is bitwise the one of an
+ * advance and sb_solver_publish, whether the fused step writes it (verlet,
+ * fast) or it is copied (symplectic Euler; adaptive Verlet). */
+static void test_advance_published_equals_publish(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(model);
+    const sb_integrator integrators[3] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_SYMPLECTIC_EULER, SB_INTEGRATOR_VERLET};
+    for (int k = 0; k < 3; k++) {
+        sb_solver_def def = sb_default_solver_def();
+        def.integrator = integrators[k];
+        def.adaptive = k == 2;
+        def.runtime.threads = 2;
+        sb_solver *a = tu_solver(model, &def), *b = tu_solver(model, &def);
+        sb_error err;
+        sb_state_buffer *fused = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err),
+                        *copied = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err);
+        for (int step = 0; step < 5; step++) {
+            assert_int_equal(sb_solver_advance_published(a, 1e-4, fused), SB_OK);
+            assert_int_equal(sb_solver_advance(b, 1e-4), SB_OK);
+            assert_int_equal(sb_solver_publish(b, copied), SB_OK);
+        }
+        const sb_snapshot *x = sb_state_buffer_acquire(fused), *y = sb_state_buffer_acquire(copied);
+        assert_int_equal(x->sequence, 5);
+        assert_int_equal(x->step, y->step);
+        assert_true(x->time == y->time);
+        assert_memory_equal(x->positions, y->positions, n3 * sizeof(sb_real));
+        assert_memory_equal(x->velocities, y->velocities, n3 * sizeof(sb_real));
+        assert_true(x->energies.kinetic == y->energies.kinetic);
+        assert_int_equal(tu_state_hash(a), tu_state_hash(b));
+        sb_state_buffer_release(fused, x);
+        sb_state_buffer_release(copied, y);
+        sb_state_buffer_destroy(fused);
+        sb_state_buffer_destroy(copied);
+        sb_solver_destroy(a);
+        sb_solver_destroy(b);
+    }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* With every slot held the advance still runs and the skip is counted. */
+static void test_advance_published_skips_when_full(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    sb_solver_def def = sb_default_solver_def();
+    sb_solver* s = tu_solver(model, &def);
+    sb_error err;
+    sb_state_buffer* b = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err); /* 3 slots */
+    assert_int_equal(sb_solver_advance_published(s, 1e-4, b), SB_OK);
+    const sb_snapshot* first = sb_state_buffer_acquire(b);
+    assert_int_equal(sb_solver_advance_published(s, 1e-4, b), SB_OK);
+    const sb_snapshot* second = sb_state_buffer_acquire(b);           /* a second holder: beyond max_readers */
+    assert_int_equal(sb_solver_advance_published(s, 1e-4, b), SB_OK); /* the third slot */
+    assert_int_equal(sb_solver_advance_published(s, 1e-4, b), SB_OK); /* none free: skipped */
+    assert_int_equal(sb_solver_step_count(s), 4);
+    assert_int_equal(sb_state_buffer_published(b), 3);
+    assert_int_equal(sb_state_buffer_skipped(b), 1);
+    assert_int_equal(sb_solver_publish(s, b), SB_ERR_BUSY);
+    assert_int_equal(sb_state_buffer_skipped(b), 2);
+    sb_state_buffer_release(b, first);
+    sb_state_buffer_release(b, second);
+    sb_state_buffer_destroy(b);
+    sb_solver_destroy(s);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
 /* Fills a snapshot with the pattern of publication k. */
 static void fill(sb_snapshot* s, uint64_t k) {
     s->step = k;
@@ -329,6 +399,8 @@ int main(void) {
         cmocka_unit_test(test_unknown_wait_policy_is_refused),
         cmocka_unit_test(test_publish_copies_the_state),
         cmocka_unit_test(test_held_snapshot_is_left_alone),
+        cmocka_unit_test(test_advance_published_equals_publish),
+        cmocka_unit_test(test_advance_published_skips_when_full),
         cmocka_unit_test(test_readers_never_see_a_torn_snapshot),
         cmocka_unit_test(test_buffer_checks_its_arguments),
     };

@@ -33,9 +33,11 @@ typedef struct sb_contact_query {
 
 /* A collider's answer for a move that touches it. */
 typedef struct sb_contact {
-    /* In [0, 1]: the vertex stops at from + fraction (to − from), the first
-     * point of the move on the collider's surface inflated by both
-     * thicknesses (0 when it started inside). */
+    /* In [0, 1]: the first point of the move, from + fraction (to − from),
+     * on the collider's surface inflated by both thicknesses. A move from
+     * inside (or on the surface) to inside is resting contact: fraction 1
+     * and the depth of `to`; one from inside heading in: fraction 0 and the
+     * depth of `from`. */
     double fraction;
     /* m, >= 0: how far that point lies inside the inflated surface (0 for a
      * move that met the surface from outside); the solver pushes the vertex
@@ -77,6 +79,8 @@ typedef struct sb_keyframe {
     double rotate[3];    /* degrees */
 } sb_keyframe;
 
+/* Fields of other shapes are ignored (and not checked). static_friction
+ * left at 0 while friction > 0 becomes friction. */
 typedef struct sb_collider_def {
     sb_collider_shape shape;
     const char* name; /* how logs and handles refer to it; copied */

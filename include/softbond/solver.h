@@ -7,6 +7,7 @@
 
 #include "softbond/model.h"
 #include "softbond/runtime.h"
+#include "softbond/collider.h"
 #include "softbond/reference.h"
 
 #ifdef __cplusplus
@@ -56,6 +57,12 @@ typedef struct sb_solver_def {
     double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
     sb_runtime_def runtime; /* the threads: count, pinning, wait policy (softbond/runtime.h) */
+    /* Contact (softbond/collider.h, kernels/contact.c): after every step each
+     * free vertex's move is checked against the colliders in this order, and
+     * the earliest contact is answered. The colliders must outlive the solver. */
+    sb_collider* const* colliders;
+    uint32_t collider_count;
+    double contact_thickness; /* m, >= 0: added to every collider's own thickness */
     sb_external_force_fn external_force;
     void* external_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
@@ -110,11 +117,17 @@ typedef struct sb_step_stats {
     bool converged;        /* implicit_euler: every Newton solve met its tolerance */
     uint32_t substeps;     /* sub-steps accepted (1 without adaptive stepping) */
     uint32_t rejected;     /* adaptive: sub-steps undone and retried at half the size */
+    uint32_t contacts;     /* vertex contacts answered, summed over sub-steps */
     double last_substep;   /* s, the last accepted sub-step */
     double min_substep;    /* s, the smallest accepted sub-step */
 } sb_step_stats;
 
 SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
+
+/* The force (N) collider `index` received from the bodies during the last
+ * sb_solver_advance: the impulses of its contacts summed in vertex order,
+ * divided by the advance's dt. Zeros for an index out of range. */
+SB_API void sb_solver_contact_force(const sb_solver* solver, uint32_t index, double force[3]);
 /* Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
 SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
 

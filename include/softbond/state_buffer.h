@@ -42,6 +42,20 @@ SB_API void sb_state_buffer_destroy(sb_state_buffer* buffer);
  * when the vertex counts differ. */
 SB_API sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* buffer);
 
+/* Writer: sb_solver_advance, then the new state published as by
+ * sb_solver_publish, but cheaper: where the fused Verlet step runs (the
+ * fast kernels, verlet or velocity_verlet, not adaptive) its last pass
+ * writes the snapshot while each chunk of vertices is still in cache, with
+ * no extra pass over memory and no extra wake-up of the solver's threads;
+ * other integrators copy after the advance. Returns the advance's status
+ * (nothing is published when it fails); when every slot is held the advance
+ * still runs, nothing is published and sb_state_buffer_skipped counts it.
+ * SB_ERR_INVALID, before advancing, when the vertex counts differ. */
+SB_API sb_status sb_solver_advance_published(sb_solver* solver, double dt, sb_state_buffer* buffer);
+
+/* Publications skipped because every slot was held. Any thread. */
+SB_API uint64_t sb_state_buffer_skipped(const sb_state_buffer* buffer);
+
 /* Writer, for other producers (a replay, a test): a free slot to fill, or
  * NULL when every slot is held; then commit it to make it the latest. */
 SB_API sb_snapshot* sb_state_buffer_begin(sb_state_buffer* buffer);

@@ -1,0 +1,240 @@
+/* The contact pass: every free vertex's move of a step against the
+ * colliders (softbond/collider.h).
+ *
+ * Design. Contact is a correction of the step, the same for every
+ * integrator: the vertex's move (from its position at the start of the step
+ * to where the integrator put it) is offered to each collider in order; the
+ * earliest contact (smallest fraction; the first collider on a tie) is
+ * answered:
+ *
+ *   position  along the normal: to the contact point from + fraction (to −
+ *             from), pushed out by depth, then the rest of the step at the
+ *             answered normal velocity; along the surface: from + dt v't,
+ *             the whole step at the answered tangential velocity, so that a
+ *             vertex that sticks does not creep and one that slides moves
+ *             as its velocity says;
+ *   velocity  relative to the collider's own velocity u: vr = v − u,
+ *             vn = vr·n. A vertex moving into the surface (vn < 0) keeps
+ *             −e·vn along n (restitution e) and takes the normal impulse
+ *             jn = −(1 + e) vn per unit mass; its tangential velocity vt
+ *             stops when |vt| <= μs jn (static friction) and otherwise
+ *             loses μ jn of its length (Coulomb); a vertex moving away is
+ *             left alone. v = u + vr'.
+ *
+ * The collider receives −m (v' − v) / dt, summed per fixed chunk of
+ * vertices and the chunks in order, so the reaction force and the state are
+ * the same for any thread count. Where the pass runs:
+ *   - the fused Verlet step (kernels/solver_fast.c) calls it per chunk right
+ *     after the drift, before the forces: the forces are evaluated at the
+ *     corrected positions and the closing kick and energy sums see them;
+ *   - every other integrator (and the reference kernels) moves the state
+ *     first; the pass then corrects the state's arrays and, when a vertex was
+ *     touched, the forces are evaluated again at the corrected positions
+ *     (kernels/solver.c), so the next step starts from consistent forces.
+ * A Verlet-form displacement is set to v'·dt so that the next step carries
+ * the corrected velocity. A vertex is answered by one collider per step:
+ * in a corner of two colliders it can be pushed into the second, which
+ * answers it in the next step. PBD and XPBD get the same correction after
+ * their projections (not yet contact constraints inside the sweeps). */
+#include "kernels/solver_internal.h"
+#include "kernels/colliders/collider_internal.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Doubles per chunk of the partial sums: 3 per collider, then the count. */
+static size_t sb_contact_stride(const sb_solver* s) { return 3 * (size_t)s->def.collider_count + 1; }
+
+sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
+    if (s->def.collider_count == 0) return SB_OK;
+    if (!s->def.colliders)
+        return sb_error_set(err, SB_ERR_INVALID, "colliders: %u given but the list is NULL", s->def.collider_count);
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if (!s->def.colliders[c]) return sb_error_set(err, SB_ERR_INVALID, "colliders: entry %u is NULL", c);
+    size_t n3 = 3 * (size_t)s->model->vertex_count + 1, chunks = sb_chunk_count(s->model->vertex_count) + 1;
+    s->contact_from = malloc(n3 * sizeof *s->contact_from);
+    s->contact_partials = calloc(chunks * sb_contact_stride(s), sizeof *s->contact_partials);
+    s->contact_impulse = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_impulse);
+    s->contact_step = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_step);
+    if (!s->contact_from || !s->contact_partials || !s->contact_impulse || !s->contact_step)
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
+    return SB_OK;
+}
+
+void sb_contact_destroy(sb_solver* s) {
+    free(s->contact_from);
+    free(s->contact_partials);
+    free(s->contact_impulse);
+    free(s->contact_step);
+}
+
+void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        sb_collider* collider = s->def.colliders[c];
+        if (collider->begin_step) collider->begin_step(collider->user, t0, t1);
+    }
+}
+
+/* The earliest contact of a move among the colliders; -1 for none. */
+static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, sb_contact* best) {
+    int hit = -1;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        const sb_collider* collider = s->def.colliders[c];
+        sb_contact contact;
+        if (collider->collide(collider->user, q, &contact) && (hit < 0 || contact.fraction < best->fraction)) {
+            *best = contact;
+            hit = (int)c;
+        }
+    }
+    return hit;
+}
+
+/* The velocity answer of one contact (see the design note). */
+static void sb_contact_velocity(const sb_contact* c, double v[3]) {
+    double vr[3], vn = 0.0;
+    for (int k = 0; k < 3; k++) vr[k] = v[k] - c->velocity[k];
+    for (int k = 0; k < 3; k++) vn += vr[k] * c->normal[k];
+    if (vn >= 0.0) return;
+    double jn = -(1.0 + c->restitution) * vn, vt[3], vt_length = 0.0;
+    for (int k = 0; k < 3; k++) {
+        vt[k] = vr[k] - vn * c->normal[k];
+        vt_length += vt[k] * vt[k];
+    }
+    vt_length = sqrt(vt_length);
+    double keep = vt_length <= c->static_friction * jn ? 0.0 : 1.0 - c->friction * jn / vt_length;
+    if (keep < 0.0) keep = 0.0;
+    for (int k = 0; k < 3; k++) v[k] = c->velocity[k] - c->restitution * vn * c->normal[k] + keep * vt[k];
+}
+
+/* Where the answered vertex ends the step (see the design note): along
+ * the normal, at the contact point (pushed out by the depth) and then the
+ * rest of the step at the answered normal velocity; along the surface, the
+ * whole step at the answered tangential velocity, so that a vertex that
+ * sticks does not creep and one that slides moves as its velocity says. */
+static void sb_contact_position(const sb_contact* c, double dt, const double from[3], const double to[3],
+                                const double v[3], double x[3]) {
+    double normal_move = 0.0, vn = 0.0;
+    for (int k = 0; k < 3; k++) {
+        normal_move += c->fraction * (to[k] - from[k]) * c->normal[k];
+        vn += v[k] * c->normal[k];
+    }
+    normal_move += c->depth + (1.0 - c->fraction) * dt * vn;
+    for (int k = 0; k < 3; k++) x[k] = from[k] + dt * (v[k] - vn * c->normal[k]) + normal_move * c->normal[k];
+}
+
+int sb_contact_vertex(const sb_solver* s, uint32_t i, const double from[3], double x[3], double v[3],
+                      double impulse[3]) {
+    sb_contact_query q = {
+        .vertex = i, .t0 = s->time - s->contact_dt, .t1 = s->time, .thickness = s->def.contact_thickness};
+    memcpy(q.from, from, sizeof q.from);
+    memcpy(q.to, x, sizeof q.to);
+    sb_contact c;
+    int hit = sb_first_contact(s, &q, &c);
+    if (hit < 0) return -1;
+    double before[3] = {v[0], v[1], v[2]};
+    sb_contact_velocity(&c, v);
+    sb_contact_position(&c, s->contact_dt, from, q.to, v, x);
+    double m = s->model->mass[i];
+    for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
+    return hit;
+}
+
+/* Adds a vertex's impulse to its chunk's partial sums (the collider receives
+ * the opposite). */
+static void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const double impulse[3]) {
+    double* partial = s->contact_partials + chunk * sb_contact_stride(s);
+    for (int k = 0; k < 3; k++) partial[3 * collider + k] -= impulse[k];
+    partial[3 * s->def.collider_count] += 1.0;
+}
+
+void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
+    uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+    for (uint32_t i = first; i < last; i++) {
+        if (s->model->fixed[i]) continue;
+        sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
+        sb_real* d4 = s->displacements4 + 4 * (size_t)i;
+        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3];
+        double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
+        int hit = sb_contact_vertex(s, i, from, x, v, impulse);
+        if (hit < 0) continue;
+        sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
+        for (int k = 0; k < 3; k++) {
+            x4[k] = (sb_real)x[k];
+            v4[k] = (sb_real)v[k];
+            d4[k] = (sb_real)(v[k] * dt);
+            f4[k] = (sb_real)(s->weight4[4 * (size_t)i + k] - s->def.drag * s->model->mass[i] * v[k]);
+        }
+        sb_contact_record(s, chunk, hit, impulse);
+    }
+}
+
+/* The state's arrays, from the positions saved before the step. */
+static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
+    uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    sb_state* st = &s->state;
+    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+    for (uint32_t i = first; i < last; i++) {
+        if (s->model->fixed[i]) continue;
+        sb_real* xs[3] = {&st->x[i], &st->y[i], &st->z[i]};
+        sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
+        sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
+        double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3];
+        int hit = sb_contact_vertex(s, i, s->contact_from + 3 * (size_t)i, x, v, impulse);
+        if (hit < 0) continue;
+        for (int k = 0; k < 3; k++) {
+            *xs[k] = (sb_real)x[k];
+            *vs[k] = (sb_real)v[k];
+            *ds[k] = (sb_real)(v[k] * dt);
+        }
+        sb_contact_record(s, chunk, hit, impulse);
+    }
+}
+
+typedef struct sb_contact_job {
+    sb_solver* solver;
+    double dt;
+} sb_contact_job;
+
+static void sb_contact_state_worker(void* context, const sb_worker* w) {
+    const sb_contact_job* job = context;
+    int64_t begin, end;
+    sb_worker_range(w, sb_chunk_count(job->solver->model->vertex_count), &begin, &end);
+    for (int64_t c = begin; c < end; c++) sb_contact_chunk_state(job->solver, (uint32_t)c, job->dt);
+}
+
+void sb_contact_save_from(sb_solver* s) {
+    if (s->def.collider_count == 0) return;
+    sb_interleave(s->contact_from, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
+}
+
+uint32_t sb_contact_collect(sb_solver* s) {
+    uint32_t colliders = s->def.collider_count, chunks = sb_chunk_count(s->model->vertex_count), contacts = 0;
+    memset(s->contact_step, 0, 3 * (size_t)colliders * sizeof *s->contact_step);
+    for (uint32_t c = 0; c < chunks; c++) {
+        const double* partial = s->contact_partials + c * sb_contact_stride(s);
+        for (uint32_t k = 0; k < 3 * colliders; k++) s->contact_step[k] += partial[k];
+        contacts += (uint32_t)partial[3 * colliders];
+    }
+    return contacts;
+}
+
+uint32_t sb_contact_state_pass(sb_solver* s, double dt) {
+    if (s->def.collider_count == 0) return 0;
+    sb_contact_job job = {s, dt};
+    sb_team_run(s->team, sb_team_size(s->team), sb_contact_state_worker, &job);
+    return sb_contact_collect(s);
+}
+
+void sb_contact_accept(sb_solver* s) {
+    for (uint32_t k = 0; k < 3 * s->def.collider_count; k++) s->contact_impulse[k] += s->contact_step[k];
+}
+
+void sb_solver_contact_force(const sb_solver* s, uint32_t index, double force[3]) {
+    for (int k = 0; k < 3; k++)
+        force[k] = index < s->def.collider_count && s->advance_dt > 0.0
+                       ? s->contact_impulse[3 * (size_t)index + k] / s->advance_dt
+                       : 0.0;
+}
