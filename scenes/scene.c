@@ -47,6 +47,7 @@ void sb_scene_free(sb_scene* scene) {
         free(scene->values[i].string);
         free(scene->values[i].indices);
         free(scene->values[i].base_dir);
+        sb_scene_tree_free(scene->values[i].tree);
     }
     free(scene->path);
     free(scene->name);
@@ -67,6 +68,8 @@ const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32
     *count = scene->values[key].index_count;
     return scene->values[key].indices;
 }
+
+const sb_scene_tree* sb_scene_tree_value(const sb_scene* scene, sb_scene_key key) { return scene->values[key].tree; }
 
 const char* sb_scene_where(const sb_scene* scene, sb_scene_key key) {
     return scene->values[key].where[0] ? scene->values[key].where : scene->path;

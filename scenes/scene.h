@@ -10,6 +10,7 @@
 #define SB_SCENE_H
 
 #include "softbond/softbond.h"
+#include "scenes/scene_node.h"
 
 typedef enum sb_scene_type {
     SB_SCENE_NUMBER,  /* a finite or non-finite double; validation decides */
@@ -19,7 +20,8 @@ typedef enum sb_scene_type {
     SB_SCENE_VEC3,           /* a sequence of three numbers */
     SB_SCENE_VEC3_OR_NUMBER, /* three numbers, or one number for all three */
     SB_SCENE_INDICES,        /* a sequence of non-negative integers */
-    SB_SCENE_NAMES           /* a sequence of names, or one "a,b" text; kept as the string "a,b" */
+    SB_SCENE_NAMES,          /* a sequence of names, or one "a,b" text; kept as the string "a,b" */
+    SB_SCENE_LIST            /* a sequence of maps, kept as read (scene_node.h) for its own module to check */
 } sb_scene_type;
 
 /* X(id, name, type, default, meaning) */
@@ -95,6 +97,10 @@ typedef enum sb_scene_type {
       "a constant force, N, on the free vertex nearest load.at, from t = 0; [0, 0, 0] = none")                         \
     X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                                           \
       "where load.force acts: the vertex nearest this point of the placed rest shape, m")                              \
+    X(COLLIDERS, "colliders", LIST, "[]",                                                                              \
+      "what the bodies touch: a list of maps {type: plane, sphere, capsule or box; name; the shape's keys; "           \
+      "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
+    X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m, >= 0: added to every collider's own thickness")         \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
       "implicit_euler, pbd or xpbd")                                                                                   \
@@ -148,8 +154,9 @@ typedef struct sb_scene_value {
     char* string;
     uint32_t* indices;
     uint32_t index_count;
-    char where[320]; /* "scene.yaml:12", "--set k=v"; empty for the default */
-    char* base_dir;  /* directory a relative path in this value is relative to */
+    sb_scene_tree* tree; /* SB_SCENE_LIST: the value as read, with the line of every node */
+    char where[320];     /* "scene.yaml:12", "--set k=v"; empty for the default */
+    char* base_dir;      /* directory a relative path in this value is relative to */
 } sb_scene_value;
 
 typedef struct sb_scene {
@@ -177,6 +184,8 @@ bool sb_scene_bool(const sb_scene* scene, sb_scene_key key);
 const char* sb_scene_string(const sb_scene* scene, sb_scene_key key);
 const double* sb_scene_vec3(const sb_scene* scene, sb_scene_key key);
 const uint32_t* sb_scene_indices(const sb_scene* scene, sb_scene_key key, uint32_t* count);
+/* An SB_SCENE_LIST value: the sequence as read (root), and its source. */
+const sb_scene_tree* sb_scene_tree_value(const sb_scene* scene, sb_scene_key key);
 
 /* Where a key was set: "file:line", "--set k=v", or the scene file (NULL
  * without one) for a default. */

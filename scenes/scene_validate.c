@@ -1,8 +1,10 @@
 /* Checks a scene's values before anything is built: ranges of numbers and
- * integers (one table each), names from fixed sets, and the combinations
- * (frame_interval >= dt, a file for the file generator, some mass). Vertex
- * indices are checked when the mesh is known (scene_model.c). */
+ * integers (one table each), names from fixed sets, the combinations
+ * (frame_interval >= dt, a file for the file generator, some mass) and the
+ * colliders (colliders.c). Vertex indices are checked when the mesh is
+ * known (scene_model.c). */
 #include "scenes/scene.h"
+#include "scenes/colliders.h"
 #include "scenes/frame_export.h"
 #include "scenes/pin.h"
 
@@ -44,6 +46,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_TISSUE_DENSITY, true},
     {SB_KEY_TISSUE_DAMPING, false},
     {SB_KEY_MESH_TARGET_ERROR, false},
+    {SB_KEY_CONTACT_THICKNESS, false},
 };
 
 typedef struct integer_rule {
@@ -183,5 +186,6 @@ sb_status sb_scene_validate(const sb_scene* scene, sb_error* err) {
     sb_status status = check_ranges(scene, err);
     if (status == SB_OK) status = check_names(scene, err);
     if (status == SB_OK) status = check_combinations(scene, err);
+    if (status == SB_OK) status = sb_scene_colliders_check(scene, err);
     return status;
 }

@@ -5,7 +5,10 @@
  * name that is a key takes the node as its value; a name that is not a key
  * but holds a map is a prefix and is walked into; anything else is unknown.
  * A key given twice in one source (`bond: {k: 1}` and `bond.k: 2`) is an
- * error; a later source (a --set) simply wins. */
+ * error; a later source (a --set) simply wins. A key of type SB_SCENE_LIST
+ * (a sequence of maps: `colliders`) is not flattened: its node tree is
+ * copied with every node's line (scene_node.h) and checked later by the
+ * key's own module, since which keys an entry may have depends on the entry. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/scene.h"
 #include "common/error.h"
@@ -57,10 +60,8 @@ static bool is_plain_scalar(const yaml_node_t* node) {
 }
 
 static bool parse_number(const yaml_node_t* node, double* out) {
-    if (!is_plain_scalar(node)) return false;
-    char* end;
-    *out = strtod(scalar_text(node), &end);
-    return *end == '\0';
+    return node->type == YAML_SCALAR_NODE &&
+           sb_scene_scalar_number(scalar_text(node), node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE, out);
 }
 
 static bool parse_integer(const yaml_node_t* node, int64_t* out) {
@@ -161,6 +162,55 @@ static sb_status read_names(const yaml_source* src, const yaml_node_t* node, sb_
     return SB_OK;
 }
 
+/* ---- structured values: a copy of the node tree ---------------------------- */
+
+enum { MAX_DEPTH = 32 };
+
+static sb_status copy_node(const yaml_source* src, const yaml_node_t* node, sb_scene_node* out, int depth);
+
+/* The items of a sequence, or the keys and values of a map. */
+static sb_status copy_children(const yaml_source* src, const yaml_node_t* node, sb_scene_node* out, int depth) {
+    bool map = node->type == YAML_MAPPING_NODE;
+    size_t count = map ? (size_t)(node->data.mapping.pairs.top - node->data.mapping.pairs.start) : item_count(node);
+    out->items = calloc(count ? count : 1, sizeof *out->items);
+    out->keys = map ? calloc(count ? count : 1, sizeof *out->keys) : NULL;
+    if (!out->items || (map && !out->keys)) return source_fail(src, node, "out of memory");
+    for (size_t i = 0; i < count; i++) {
+        const yaml_node_pair_t* pair = map ? &node->data.mapping.pairs.start[i] : NULL;
+        const yaml_node_t* value = map ? yaml_document_get_node(src->doc, pair->value) : item_node(src, node, i);
+        out->count = i + 1; /* what is there to free */
+        sb_status status = copy_node(src, value, &out->items[i], depth + 1);
+        if (status == SB_OK && map) {
+            const yaml_node_t* key = yaml_document_get_node(src->doc, pair->key);
+            if (key->type != YAML_SCALAR_NODE) return source_fail(src, key, "a key must be a plain name");
+            status = copy_node(src, key, &out->keys[i], depth + 1);
+        }
+        if (status != SB_OK) return status;
+    }
+    return SB_OK;
+}
+
+static sb_status copy_node(const yaml_source* src, const yaml_node_t* node, sb_scene_node* out, int depth) {
+    if (depth > MAX_DEPTH) return source_fail(src, node, "nested more than %d deep", MAX_DEPTH);
+    out->line = src->has_lines ? node->start_mark.line + 1 : 0;
+    if (node->type == YAML_SCALAR_NODE) {
+        out->kind = SB_NODE_SCALAR;
+        out->plain = node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE;
+        out->text = strdup(scalar_text(node));
+        return out->text ? SB_OK : source_fail(src, node, "out of memory");
+    }
+    out->kind = node->type == YAML_MAPPING_NODE ? SB_NODE_MAP : SB_NODE_SEQUENCE;
+    return copy_children(src, node, out, depth);
+}
+
+/* A sequence (of maps: the key's own module checks the rest), kept whole. */
+static sb_status read_list(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
+    if (node->type != YAML_SEQUENCE_NODE) return type_fail(src, node, key, "a sequence of maps");
+    if (!(out->tree = calloc(1, sizeof *out->tree)) || !(out->tree->source = strdup(src->name)))
+        return source_fail(src, node, "out of memory");
+    return copy_node(src, node, &out->tree->root, 0);
+}
+
 static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
     switch (sb_scene_key_get(key)->type) {
     case SB_SCENE_NUMBER: return parse_number(node, &out->number) ? SB_OK : type_fail(src, node, key, "a number");
@@ -175,6 +225,7 @@ static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_
         return SB_OK;
     case SB_SCENE_INDICES: return read_indices(src, node, key, out);
     case SB_SCENE_NAMES: return read_names(src, node, key, out);
+    case SB_SCENE_LIST: return read_list(src, node, key, out);
     }
     return SB_ERR_INVALID;
 }
@@ -183,6 +234,7 @@ static void value_release(sb_scene_value* value) {
     free(value->string);
     free(value->indices);
     free(value->base_dir);
+    sb_scene_tree_free(value->tree);
 }
 
 /* ---- walking the document ------------------------------------------------- */

@@ -1,13 +1,16 @@
 /* The scene loader: defaults, flattening of nested maps into dotted keys,
- * --set overrides, relative mesh paths, validation, pins, and the exact
- * one-line message of every error kind (file and line, or --set). Scene
- * files are written by the tests into a fresh temporary directory. */
+ * --set overrides, relative mesh paths, validation, pins, the exact
+ * one-line message of every error kind (file and line, or --set), and the
+ * collider definitions a `colliders` list builds (its malformed entries are
+ * run through the program in test_cli.c). Scene files are written by the
+ * tests into a fresh temporary directory. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <stdio.h>
 #include <unistd.h>
 
 #include "tests/test_util.h"
+#include "scenes/colliders.h"
 #include "scenes/scene.h"
 #include "scenes/scene_model.h"
 
@@ -368,6 +371,172 @@ static void test_material_and_solver_follow_the_scene(void** state) {
     sb_scene_free(&scene);
 }
 
+/* ---- colliders ------------------------------------------------------------------ */
+
+static void assert_vec3(const double* v, double x, double y, double z) {
+    assert_true(v[0] == x && v[1] == y && v[2] == z);
+}
+
+static void test_colliders_build_their_defs(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    const char* text = "contact: {thickness: 0.002}\n"                                                   /* 1 */
+                       "colliders:\n"                                                                    /* 2 */
+                       "  - type: plane\n"                                                               /* 3 */
+                       "  - {type: sphere, name: ball, center: [0, 0, 1], radius: 0.5, friction: 0.3}\n" /* 4 */
+                       "  - type: capsule\n"                                                             /* 5 */
+                       "    a: [0, 0, 0]\n"
+                       "    b: [1, 0, 0]\n"
+                       "    radius: 0.1\n"
+                       "    friction: 0.2\n"
+                       "    static_friction: 0.7\n"
+                       "    restitution: 0.5\n"
+                       "    thickness: 0.01\n"
+                       "  - type: box\n" /* 13 */
+                       "    center: [1, 2, 3]\n"
+                       "    half_extents: [0.5, 0.25, 0.1]\n"
+                       "    rotate: [0, 0, 45]\n"
+                       "    interpolation: smooth\n"
+                       "    path:\n"
+                       "      - {time: 0}\n"
+                       "      - {time: 1.5, translate: [0, 0, 1], rotate: [0, 0, 90]}\n";
+    assert_int_equal(load_text(&scene, "colliders.yaml", text, &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_scene_colliders c;
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 4);
+    TU_ASSERT_NEAR(c.thickness, 0.002, 0.0);
+    /* a plane with every default: through the origin, normal +z, static */
+    const sb_collider_def* d = &c.entries[0].def;
+    assert_int_equal(d->shape, SB_COLLIDER_PLANE);
+    assert_string_equal(d->name, "plane0");
+    assert_vec3(d->point, 0, 0, 0);
+    assert_vec3(d->normal, 0, 0, 1);
+    assert_true(d->friction == 0 && d->static_friction == 0 && d->restitution == 0 && d->thickness == 0);
+    assert_null(d->path);
+    assert_int_equal(d->path_count, 0);
+    /* static_friction defaults to friction */
+    d = &c.entries[1].def;
+    assert_int_equal(d->shape, SB_COLLIDER_SPHERE);
+    assert_string_equal(d->name, "ball");
+    assert_vec3(d->center, 0, 0, 1);
+    assert_true(d->radius == 0.5 && d->friction == 0.3 && d->static_friction == 0.3);
+    d = &c.entries[2].def;
+    assert_int_equal(d->shape, SB_COLLIDER_CAPSULE);
+    assert_string_equal(d->name, "capsule2");
+    assert_vec3(d->a, 0, 0, 0);
+    assert_vec3(d->b, 1, 0, 0);
+    assert_true(d->radius == 0.1 && d->friction == 0.2 && d->static_friction == 0.7);
+    assert_true(d->restitution == 0.5 && d->thickness == 0.01);
+    d = &c.entries[3].def;
+    assert_int_equal(d->shape, SB_COLLIDER_BOX);
+    assert_string_equal(d->name, "box3");
+    assert_vec3(d->center, 1, 2, 3);
+    assert_vec3(d->half_extents, 0.5, 0.25, 0.1);
+    assert_vec3(d->rotate, 0, 0, 45);
+    assert_int_equal(d->interpolation, SB_INTERPOLATION_SMOOTH);
+    assert_int_equal(d->path_count, 2);
+    assert_true(d->path[0].time == 0.0);
+    assert_vec3(d->path[0].translate, 0, 0, 0);
+    assert_vec3(d->path[0].rotate, 0, 0, 0);
+    assert_true(d->path[1].time == 1.5);
+    assert_vec3(d->path[1].translate, 0, 0, 1);
+    assert_vec3(d->path[1].rotate, 0, 0, 90);
+    /* each entry knows where it was written */
+    char where[400];
+    snprintf(where, sizeof where, "%s/colliders.yaml:4", tmp_dir);
+    assert_string_equal(c.entries[1].where, where);
+    snprintf(where, sizeof where, "%s/colliders.yaml:13", tmp_dir);
+    assert_string_equal(c.entries[3].where, where);
+    /* the library's colliders, handed to the solver's def */
+    assert_int_equal(sb_scene_colliders_create(&c, &err), SB_OK);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    sb_scene_colliders_attach(&c, &def);
+    assert_int_equal(def.collider_count, 4);
+    assert_true(def.colliders == (sb_collider* const*)c.colliders);
+    TU_ASSERT_NEAR(def.contact_thickness, 0.002, 0.0);
+    for (uint32_t i = 0; i < c.count; i++) assert_string_equal(sb_collider_name(c.colliders[i]), c.entries[i].name);
+    sb_scene_colliders_free(&c);
+    assert_int_equal(c.count, 0);
+    sb_scene_free(&scene);
+}
+
+/* `{type: plane}` is what a library user who changes nothing gets. */
+static void test_colliders_default_plane_is_the_library_default(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "colliders=[{type: plane}]", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_scene_colliders c;
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 1);
+    assert_string_equal(c.entries[0].where, "--set colliders=[{type: plane}]");
+    const sb_collider_def *d = &c.entries[0].def, library = sb_default_collider_def();
+    assert_int_equal(d->shape, library.shape);
+    for (int k = 0; k < 3; k++) assert_true(d->point[k] == library.point[k] && d->normal[k] == library.normal[k]);
+    assert_true(d->friction == library.friction && d->static_friction == library.static_friction);
+    assert_true(d->restitution == library.restitution && d->thickness == library.thickness);
+    assert_int_equal(d->path_count, library.path_count);
+    assert_int_equal(d->interpolation, library.interpolation);
+    sb_scene_colliders_free(&c);
+    sb_scene_free(&scene);
+}
+
+/* No colliders by default; a --set replaces the file's whole list. */
+static void test_colliders_set_replaces_the_list(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err;
+    sb_scene_colliders c;
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 0);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    sb_scene_colliders_attach(&c, &def);
+    assert_int_equal(def.collider_count, 0);
+    sb_scene_colliders_free(&c);
+    sb_scene_free(&scene);
+
+    /* the file's list is checked only when the scene is validated, after
+     * the --sets: a bad entry replaced by a --set is no error */
+    const char* text = "colliders:\n  - {type: plane, name: floor}\n  - {type: plane, radius: 1}\n";
+    assert_int_equal(load_text(&scene, "replace.yaml", text, &err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "colliders=[{type: sphere, center: [0, 0, 0], radius: 1}]", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 1);
+    assert_string_equal(c.entries[0].name, "sphere0");
+    sb_scene_colliders_free(&c);
+    assert_int_equal(sb_scene_set(&scene, "colliders=[]", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 0);
+    sb_scene_colliders_free(&c);
+    sb_scene_free(&scene);
+}
+
+/* Where the loader itself refuses a list: not a sequence (the entries are
+ * checked by colliders.c when the scene is validated). */
+static void test_colliders_must_be_a_list(void** state) {
+    (void)state;
+    assert_load_fails("list1.yaml", "dt: 0.001\ncolliders: {type: plane}\n",
+                      "2: 'colliders' expects a sequence of maps, got a map");
+    assert_load_fails("list2.yaml", "colliders:\n  - type: plane\n    radius: 2\n",
+                      "3: 'colliders[0].radius' does not apply to a plane (its shape's keys: point, normal)");
+    assert_set_fails("colliders=plane", "--set colliders=plane: 'colliders' expects a sequence of maps, got 'plane'");
+    assert_set_fails("colliders=[{type: plane, mass: 1}]",
+                     "--set colliders=[{type: plane, mass: 1}]: unknown key 'colliders[0].mass'");
+    assert_set_fails("self_collision=true", "--set self_collision=true: unknown key 'self_collision'");
+    assert_set_fails("contact.thickness=-0.5",
+                     "--set contact.thickness=-0.5: 'contact.thickness' must be >= 0, got -0.5");
+    assert_set_fails("colliders=[{type: plane, path: [{time: 0}, {time: 0}]}]",
+                     "--set colliders=[{type: plane, path: [{time: 0}, {time: 0}]}]: 'colliders[0].path[1].time' (0) "
+                     "must be > the time before it (0)");
+}
+
 /* The key table states its defaults as YAML text; the library has its own
  * sb_default_*_def(). A scene that sets nothing must build what a library
  * user who changes nothing gets, so the two must agree key by key. */
@@ -403,6 +572,7 @@ static void test_defaults_match_the_library(void** state) {
     assert_int_equal(d.implicit_newton_iterations, ld.implicit_newton_iterations);
     assert_int_equal(d.implicit_cg_iterations, ld.implicit_cg_iterations);
     assert_int_equal(d.pbd_iterations, ld.pbd_iterations);
+    assert_true(sb_scene_number(&scene, SB_KEY_CONTACT_THICKNESS) == ld.contact_thickness);
     sb_scene_free(&scene);
 }
 
@@ -424,6 +594,10 @@ int main(void) {
         cmocka_unit_test(test_pins_select_by_place),
         cmocka_unit_test(test_fixed_index_out_of_range),
         cmocka_unit_test(test_material_and_solver_follow_the_scene),
+        cmocka_unit_test(test_colliders_build_their_defs),
+        cmocka_unit_test(test_colliders_default_plane_is_the_library_default),
+        cmocka_unit_test(test_colliders_set_replaces_the_list),
+        cmocka_unit_test(test_colliders_must_be_a_list),
         cmocka_unit_test(test_defaults_match_the_library),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

@@ -1,0 +1,483 @@
+/* The scene's colliders (see colliders.h).
+ *
+ * An entry is checked in the order a reader would fix it: it is a map; its
+ * keys are known and each given once; its type; no key of another shape;
+ * its shape's required keys are there; then each value as written (type,
+ * then range); then static_friction against friction. Names come last, when
+ * every entry's default name is known. The ranges mirror sb_collider_create's
+ * checks, so that a scene's mistake is named at its line; whatever
+ * sb_collider_create still refuses gets the entry's place in front. */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/colliders.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum {
+    PLANE = 1u << SB_COLLIDER_PLANE,
+    SPHERE = 1u << SB_COLLIDER_SPHERE,
+    CAPSULE = 1u << SB_COLLIDER_CAPSULE,
+    BOX = 1u << SB_COLLIDER_BOX,
+    ALL = PLANE | SPHERE | CAPSULE | BOX
+};
+
+typedef enum entry_key {
+    KEY_TYPE,
+    KEY_NAME,
+    KEY_POINT,
+    KEY_NORMAL,
+    KEY_CENTER,
+    KEY_A,
+    KEY_B,
+    KEY_RADIUS,
+    KEY_HALF_EXTENTS,
+    KEY_ROTATE,
+    KEY_FRICTION,
+    KEY_STATIC_FRICTION,
+    KEY_RESTITUTION,
+    KEY_THICKNESS,
+    KEY_PATH,
+    KEY_INTERPOLATION,
+    KEY_COUNT
+} entry_key;
+
+static const char* const entry_keys[KEY_COUNT] = {
+    [KEY_TYPE] = "type",
+    [KEY_NAME] = "name",
+    [KEY_POINT] = "point",
+    [KEY_NORMAL] = "normal",
+    [KEY_CENTER] = "center",
+    [KEY_A] = "a",
+    [KEY_B] = "b",
+    [KEY_RADIUS] = "radius",
+    [KEY_HALF_EXTENTS] = "half_extents",
+    [KEY_ROTATE] = "rotate",
+    [KEY_FRICTION] = "friction",
+    [KEY_STATIC_FRICTION] = "static_friction",
+    [KEY_RESTITUTION] = "restitution",
+    [KEY_THICKNESS] = "thickness",
+    [KEY_PATH] = "path",
+    [KEY_INTERPOLATION] = "interpolation",
+};
+
+/* The shapes that may have each key, and those that must. */
+static const unsigned key_shapes[KEY_COUNT] = {
+    [KEY_TYPE] = ALL,
+    [KEY_NAME] = ALL,
+    [KEY_POINT] = PLANE,
+    [KEY_NORMAL] = PLANE,
+    [KEY_CENTER] = SPHERE | BOX,
+    [KEY_A] = CAPSULE,
+    [KEY_B] = CAPSULE,
+    [KEY_RADIUS] = SPHERE | CAPSULE,
+    [KEY_HALF_EXTENTS] = BOX,
+    [KEY_ROTATE] = BOX,
+    [KEY_FRICTION] = ALL,
+    [KEY_STATIC_FRICTION] = ALL,
+    [KEY_RESTITUTION] = ALL,
+    [KEY_THICKNESS] = ALL,
+    [KEY_PATH] = ALL,
+    [KEY_INTERPOLATION] = ALL,
+};
+static const unsigned key_required[KEY_COUNT] = {
+    [KEY_TYPE] = ALL,  [KEY_CENTER] = SPHERE | BOX,     [KEY_A] = CAPSULE,
+    [KEY_B] = CAPSULE, [KEY_RADIUS] = SPHERE | CAPSULE, [KEY_HALF_EXTENTS] = BOX,
+};
+
+enum { FRAME_TIME, FRAME_TRANSLATE, FRAME_ROTATE, FRAME_COUNT };
+static const char* const frame_keys[FRAME_COUNT] = {"time", "translate", "rotate"};
+
+/* What reading one map needs: the tree (for places), the map's own name
+ * ("colliders[2]", "colliders[2].path[0]") and, once indexed, the value
+ * and key node of each known key (NULL when not written). */
+typedef struct map_reader {
+    const sb_scene_tree* tree;
+    const sb_scene_node* map;
+    char prefix[96];
+    const sb_scene_node* values[KEY_COUNT];
+    const sb_scene_node* keys[KEY_COUNT];
+    sb_error* err;
+} map_reader;
+
+static sb_status fail(const map_reader* r, const sb_scene_node* node, const char* format, ...)
+    __attribute__((format(printf, 3, 4)));
+static sb_status fail(const map_reader* r, const sb_scene_node* node, const char* format, ...) {
+    char message[sizeof r->err->message];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, sizeof message, format, args);
+    va_end(args);
+    return sb_scene_node_fail(r->tree, node, r->err, "%s", message);
+}
+
+/* "colliders[2].radius" */
+static const char* full_name(const map_reader* r, const char* key, char* out, size_t size) {
+    snprintf(out, size, "%s.%s", r->prefix, key);
+    return out;
+}
+
+/* ---- maps: known keys, each once ------------------------------------------- */
+
+static sb_status index_map(map_reader* r, const char* const* names, int count) {
+    for (size_t p = 0; p < r->map->count; p++) {
+        const sb_scene_node* key = &r->map->keys[p];
+        int k = 0;
+        while (k < count && strcmp(names[k], key->text) != 0) k++;
+        char name[128];
+        full_name(r, key->text, name, sizeof name);
+        if (k == count) return fail(r, key, "unknown key '%s'", name);
+        if (r->keys[k] && r->keys[k]->line)
+            return fail(r, key, "duplicate key '%s' (first set at line %zu)", name, r->keys[k]->line);
+        if (r->keys[k]) return fail(r, key, "duplicate key '%s'", name);
+        r->keys[k] = key;
+        r->values[k] = &r->map->items[p];
+    }
+    return SB_OK;
+}
+
+static sb_status expect_map(const map_reader* r, const sb_scene_node* node, const char* what) {
+    if (node->kind == SB_NODE_MAP) return SB_OK;
+    char got[100];
+    sb_scene_node_describe(node, got, sizeof got);
+    return fail(r, node, "'%s' expects %s, got %s", r->prefix, what, got);
+}
+
+/* ---- values ---------------------------------------------------------------- */
+
+static sb_status type_fail(const map_reader* r, const sb_scene_node* node, const char* name, const char* expected) {
+    char got[100];
+    sb_scene_node_describe(node, got, sizeof got);
+    return fail(r, node, "'%s' expects %s, got %s", name, expected, got);
+}
+
+static sb_status read_number(const map_reader* r, int key, double* out) {
+    char name[128];
+    full_name(r, entry_keys[key], name, sizeof name);
+    const sb_scene_node* node = r->values[key];
+    if (!sb_scene_node_number(node, out)) return type_fail(r, node, name, "a number");
+    if (!isfinite(*out)) return fail(r, node, "'%s' must be finite, got %g", name, *out);
+    return SB_OK;
+}
+
+/* key's value >= 0 (> 0 when positive), at most `max`. */
+static sb_status read_range(const map_reader* r, int key, bool positive, double max, double* out) {
+    sb_status status = read_number(r, key, out);
+    if (status != SB_OK) return status;
+    char name[128];
+    full_name(r, entry_keys[key], name, sizeof name);
+    if (max < INFINITY && (*out < 0.0 || *out > max))
+        return fail(r, r->values[key], "'%s' must be in [0, %g], got %g", name, max, *out);
+    if (positive ? *out <= 0.0 : *out < 0.0)
+        return fail(r, r->values[key], "'%s' must be %s 0, got %g", name, positive ? ">" : ">=", *out);
+    return SB_OK;
+}
+
+static sb_status read_vec3(const map_reader* r, const sb_scene_node* node, const char* key, double out[3]) {
+    char name[128];
+    full_name(r, key, name, sizeof name);
+    if (node->kind != SB_NODE_SEQUENCE || node->count != 3) return type_fail(r, node, name, "a sequence of 3 numbers");
+    for (int k = 0; k < 3; k++)
+        if (!sb_scene_node_number(&node->items[k], &out[k])) return type_fail(r, &node->items[k], name, "a number");
+    if (!isfinite(out[0]) || !isfinite(out[1]) || !isfinite(out[2])) return fail(r, node, "'%s' must be finite", name);
+    return SB_OK;
+}
+
+static sb_status read_text(const map_reader* r, int key, const char** out) {
+    const sb_scene_node* node = r->values[key];
+    char name[128];
+    if (node->kind != SB_NODE_SCALAR)
+        return type_fail(r, node, full_name(r, entry_keys[key], name, sizeof name), "a string");
+    *out = node->text;
+    return SB_OK;
+}
+
+/* ---- the path ---------------------------------------------------------------- */
+
+static sb_status read_keyframe(const map_reader* entry, const sb_scene_node* node, size_t j, sb_keyframe* out) {
+    map_reader r = {.tree = entry->tree, .map = node, .err = entry->err};
+    snprintf(r.prefix, sizeof r.prefix, "%.40s.path[%zu]", entry->prefix, j);
+    sb_status status = expect_map(&r, node, "a map {time, translate, rotate}");
+    if (status == SB_OK) status = index_map(&r, frame_keys, FRAME_COUNT);
+    if (status != SB_OK) return status;
+    char name[128];
+    full_name(&r, "time", name, sizeof name);
+    if (!r.values[FRAME_TIME]) return fail(&r, node, "'%s' is not set", name);
+    if (!sb_scene_node_number(r.values[FRAME_TIME], &out->time))
+        return type_fail(&r, r.values[FRAME_TIME], name, "a number");
+    if (!isfinite(out->time)) return fail(&r, r.values[FRAME_TIME], "'%s' must be finite, got %g", name, out->time);
+    if (j > 0 && !(out->time > out[-1].time))
+        return fail(&r, r.values[FRAME_TIME], "'%s' (%g) must be > the time before it (%g)", name, out->time,
+                    out[-1].time);
+    if (r.values[FRAME_TRANSLATE]) status = read_vec3(&r, r.values[FRAME_TRANSLATE], "translate", out->translate);
+    if (status == SB_OK && r.values[FRAME_ROTATE])
+        status = read_vec3(&r, r.values[FRAME_ROTATE], "rotate", out->rotate);
+    return status;
+}
+
+static sb_status read_path(const map_reader* r, sb_scene_collider* out) {
+    const sb_scene_node* path = r->values[KEY_PATH];
+    char name[128];
+    full_name(r, "path", name, sizeof name);
+    if (path->kind != SB_NODE_SEQUENCE)
+        return type_fail(r, path, name, "a sequence of keyframes {time, translate, rotate}");
+    if (path->count > UINT32_MAX) return fail(r, path, "'%s': too many keyframes", name);
+    if (!(out->path = calloc(path->count ? path->count : 1, sizeof *out->path)))
+        return sb_error_set(r->err, SB_ERR_NOMEM, "out of memory");
+    for (size_t j = 0; j < path->count; j++) {
+        sb_status status = read_keyframe(r, &path->items[j], j, &out->path[j]);
+        if (status != SB_OK) return status;
+    }
+    out->def.path = out->path;
+    out->def.path_count = (uint32_t)path->count;
+    return SB_OK;
+}
+
+/* ---- an entry ------------------------------------------------------------------ */
+
+/* "point, normal" (keys) or "center and radius" (required keys) of a shape. */
+static void shape_keys(sb_collider_shape shape, const unsigned* table, const char* last_join, char* out, size_t size) {
+    int count = 0, total = 0;
+    for (int k = 0; k < KEY_COUNT; k++) total += table[k] != ALL && (table[k] & (1u << shape));
+    out[0] = '\0';
+    for (int k = 0; k < KEY_COUNT; k++) {
+        if (table[k] == ALL || !(table[k] & (1u << shape))) continue;
+        size_t used = strlen(out);
+        snprintf(out + used, size - used, "%s%s",
+                 count == 0           ? ""
+                 : count == total - 1 ? last_join
+                                      : ", ",
+                 entry_keys[k]);
+        count++;
+    }
+}
+
+static sb_status read_shape(const map_reader* r, sb_collider_shape* shape) {
+    char name[128];
+    full_name(r, "type", name, sizeof name);
+    if (!r->values[KEY_TYPE]) return fail(r, r->map, "'%s' is not set (plane, sphere, capsule or box)", name);
+    const char* type = "";
+    sb_status status = read_text(r, KEY_TYPE, &type);
+    if (status != SB_OK) return status;
+    if (!sb_collider_shape_from_name(type, shape))
+        return fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule or box, got '%s'", name, type);
+    return SB_OK;
+}
+
+/* No key of another shape; every key the shape needs. */
+static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) {
+    const char* kind = sb_collider_shape_name(shape);
+    char name[128], keys[128];
+    for (size_t p = 0; p < r->map->count; p++) {
+        int k = 0;
+        while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
+        if (key_shapes[k] & (1u << shape)) continue;
+        shape_keys(shape, key_shapes, ", ", keys, sizeof keys);
+        return fail(r, &r->map->keys[p], "'%s' does not apply to a %s (its shape's keys: %s)",
+                    full_name(r, entry_keys[k], name, sizeof name), kind, keys);
+    }
+    for (int k = 0; k < KEY_COUNT; k++) {
+        if (!(key_required[k] & (1u << shape)) || r->values[k]) continue;
+        shape_keys(shape, key_required, " and ", keys, sizeof keys);
+        return fail(r, r->map, "'%s' is not set (a %s needs %s)", full_name(r, entry_keys[k], name, sizeof name), kind,
+                    keys);
+    }
+    return SB_OK;
+}
+
+static sb_status read_vector_key(const map_reader* r, int key, sb_collider_def* def) {
+    double* targets[KEY_COUNT] = {
+        [KEY_POINT] = def->point,  [KEY_NORMAL] = def->normal, [KEY_CENTER] = def->center,
+        [KEY_A] = def->a,          [KEY_B] = def->b,           [KEY_HALF_EXTENTS] = def->half_extents,
+        [KEY_ROTATE] = def->rotate};
+    double* v = targets[key];
+    sb_status status = read_vec3(r, r->values[key], entry_keys[key], v);
+    if (status != SB_OK) return status;
+    char name[128];
+    full_name(r, entry_keys[key], name, sizeof name);
+    if (key == KEY_NORMAL && v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0)
+        return fail(r, r->values[key], "'%s' must not be [0, 0, 0]", name);
+    if (key == KEY_HALF_EXTENTS && !(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
+        return fail(r, r->values[key], "'%s' must be > 0, got [%g, %g, %g]", name, v[0], v[1], v[2]);
+    return SB_OK;
+}
+
+static sb_status read_interpolation(const map_reader* r, sb_collider_def* def) {
+    const char* text = "";
+    sb_status status = read_text(r, KEY_INTERPOLATION, &text);
+    if (status != SB_OK) return status;
+    if (strcmp(text, "linear") == 0 || strcmp(text, "smooth") == 0) {
+        def->interpolation = text[0] == 'l' ? SB_INTERPOLATION_LINEAR : SB_INTERPOLATION_SMOOTH;
+        return SB_OK;
+    }
+    char name[128];
+    return fail(r, r->values[KEY_INTERPOLATION], "'%s' must be linear or smooth, got '%s'",
+                full_name(r, "interpolation", name, sizeof name), text);
+}
+
+static sb_status read_value(const map_reader* r, int key, sb_scene_collider* out) {
+    sb_collider_def* def = &out->def;
+    const char* ignored;
+    switch ((entry_key)key) {
+    case KEY_TYPE: return SB_OK;
+    case KEY_NAME: return read_text(r, KEY_NAME, &ignored); /* checked with the other names */
+    case KEY_RADIUS: return read_range(r, key, true, INFINITY, &def->radius);
+    case KEY_FRICTION: return read_range(r, key, false, INFINITY, &def->friction);
+    case KEY_STATIC_FRICTION: return read_range(r, key, false, INFINITY, &def->static_friction);
+    case KEY_RESTITUTION: return read_range(r, key, false, 1.0, &def->restitution);
+    case KEY_THICKNESS: return read_range(r, key, false, INFINITY, &def->thickness);
+    case KEY_PATH: return read_path(r, out);
+    case KEY_INTERPOLATION: return read_interpolation(r, def);
+    default: return read_vector_key(r, key, def);
+    }
+}
+
+static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
+    for (size_t p = 0; p < r->map->count; p++) {
+        int k = 0;
+        while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
+        sb_status status = read_value(r, k, out);
+        if (status != SB_OK) return status;
+    }
+    sb_collider_def* def = &out->def;
+    if (!r->values[KEY_STATIC_FRICTION]) def->static_friction = def->friction;
+    if (def->static_friction >= def->friction) return SB_OK;
+    char name[128];
+    return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
+                full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
+}
+
+/* The defaults of colliders.h: a plane through the origin with normal +z,
+ * nothing else. */
+static sb_collider_def default_def(sb_collider_shape shape) {
+    sb_collider_def def;
+    memset(&def, 0, sizeof def);
+    def.shape = shape;
+    def.normal[2] = 1.0;
+    def.interpolation = SB_INTERPOLATION_LINEAR;
+    return def;
+}
+
+static sb_status read_entry(const sb_scene_tree* tree, uint32_t index, sb_scene_collider* out,
+                            const sb_scene_node** name_node, sb_error* err) {
+    const sb_scene_node* node = &tree->root.items[index];
+    map_reader r = {.tree = tree, .map = node, .err = err};
+    snprintf(r.prefix, sizeof r.prefix, "colliders[%u]", index);
+    sb_status status = expect_map(&r, node, "a map");
+    if (status == SB_OK) status = index_map(&r, entry_keys, KEY_COUNT);
+    sb_collider_shape shape = SB_COLLIDER_PLANE;
+    if (status == SB_OK) status = read_shape(&r, &shape);
+    if (status == SB_OK) status = check_shape_keys(&r, shape);
+    out->def = default_def(shape);
+    if (status == SB_OK) status = read_values(&r, out);
+    if (node->line)
+        snprintf(out->where, sizeof out->where, "%s:%zu", tree->source, node->line);
+    else
+        snprintf(out->where, sizeof out->where, "%s", tree->source);
+    *name_node = r.values[KEY_NAME];
+    return status;
+}
+
+/* ---- names ----------------------------------------------------------------------- */
+
+static bool good_name(const char* name) {
+    size_t length = strlen(name);
+    if (length == 0 || length > SB_SCENE_COLLIDER_NAME_MAX) return false;
+    for (const char* c = name; *c; c++)
+        if (!(('a' <= *c && *c <= 'z') || ('A' <= *c && *c <= 'Z') || ('0' <= *c && *c <= '9') || *c == '_' ||
+              *c == '-' || *c == '.'))
+            return false;
+    return true;
+}
+
+/* Each entry's name (written, or its type and index), checked and unique:
+ * names head columns of log.csv. */
+static sb_status set_names(const sb_scene_tree* tree, sb_scene_colliders* c, const sb_scene_node* const* name_nodes,
+                           sb_error* err) {
+    for (uint32_t i = 0; i < c->count; i++) {
+        sb_scene_collider* e = &c->entries[i];
+        const sb_scene_node* named = name_nodes[i];
+        if (named && !good_name(named->text))
+            return sb_scene_node_fail(tree, named, err,
+                                      "'colliders[%u].name' must be 1 to %d letters, digits, '_', '-' or '.', got "
+                                      "'%.80s'",
+                                      i, SB_SCENE_COLLIDER_NAME_MAX, named->text);
+        if (named)
+            snprintf(e->name, sizeof e->name, "%s", named->text);
+        else
+            snprintf(e->name, sizeof e->name, "%s%u", sb_collider_shape_name(e->def.shape), i);
+        e->def.name = e->name;
+        for (uint32_t j = 0; j < i; j++) {
+            if (strcmp(c->entries[j].name, e->name) != 0) continue;
+            if (named)
+                return sb_scene_node_fail(tree, named, err,
+                                          "'colliders[%u].name': '%s' is already colliders[%u]'s name", i, e->name, j);
+            return sb_scene_node_fail(tree, &tree->root.items[i], err,
+                                      "'colliders[%u]': its default name '%s' is already colliders[%u]'s name", i,
+                                      e->name, j);
+        }
+    }
+    return SB_OK;
+}
+
+/* ---- entry points ------------------------------------------------------------------ */
+
+static sb_status read_all(const sb_scene_tree* tree, sb_scene_colliders* out, sb_error* err) {
+    const sb_scene_node* root = &tree->root;
+    if (root->count > UINT32_MAX) return sb_scene_node_fail(tree, root, err, "'colliders': too many entries");
+    out->count = (uint32_t)root->count;
+    out->entries = calloc(root->count ? root->count : 1, sizeof *out->entries);
+    const sb_scene_node** names = calloc(root->count ? root->count : 1, sizeof *names);
+    sb_status status = out->entries && names ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    for (uint32_t i = 0; i < out->count && status == SB_OK; i++)
+        status = read_entry(tree, i, &out->entries[i], &names[i], err);
+    if (status == SB_OK) status = set_names(tree, out, names, err);
+    free(names);
+    return status;
+}
+
+sb_status sb_scene_colliders_read(const sb_scene* scene, sb_scene_colliders* out, sb_error* err) {
+    memset(out, 0, sizeof *out);
+    out->thickness = sb_scene_number(scene, SB_KEY_CONTACT_THICKNESS);
+    const sb_scene_tree* tree = sb_scene_tree_value(scene, SB_KEY_COLLIDERS);
+    if (!tree || tree->root.kind != SB_NODE_SEQUENCE) return SB_OK;
+    sb_status status = read_all(tree, out, err);
+    if (status != SB_OK) sb_scene_colliders_free(out);
+    return status;
+}
+
+sb_status sb_scene_colliders_check(const sb_scene* scene, sb_error* err) {
+    sb_scene_colliders colliders;
+    sb_status status = sb_scene_colliders_read(scene, &colliders, err);
+    sb_scene_colliders_free(&colliders);
+    return status;
+}
+
+sb_status sb_scene_colliders_create(sb_scene_colliders* c, sb_error* err) {
+    if (c->count == 0) return SB_OK;
+    if (!(c->colliders = calloc(c->count, sizeof *c->colliders)))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    for (uint32_t i = 0; i < c->count; i++) {
+        c->colliders[i] = sb_collider_create(&c->entries[i].def, err);
+        if (!c->colliders[i]) return sb_error_prefix(err, SB_ERR_INVALID, c->entries[i].where);
+    }
+    return SB_OK;
+}
+
+void sb_scene_colliders_attach(const sb_scene_colliders* c, sb_solver_def* def) {
+    def->colliders = c->colliders;
+    def->collider_count = c->colliders ? c->count : 0;
+    def->contact_thickness = c->thickness;
+}
+
+void sb_scene_colliders_free(sb_scene_colliders* c) {
+    for (uint32_t i = 0; c->colliders && i < c->count; i++)
+        if (c->colliders[i]) sb_collider_destroy(c->colliders[i]);
+    for (uint32_t i = 0; c->entries && i < c->count; i++) free(c->entries[i].path);
+    free(c->colliders);
+    free(c->entries);
+    memset(c, 0, sizeof *c);
+}
