@@ -2,7 +2,10 @@
  * time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total (the
  * energies of the frame's state, J) then
  * steps,substeps,rejected,newton,cg,unconverged (the solver's work since
- * the previous frame, from sb_solver_last_step; all 0 on frame 0). */
+ * the previous frame, from sb_solver_last_step; all 0 on frame 0), then
+ * contacts (the vertex contacts of the last advance before the frame) and
+ * per collider <name>_fx,<name>_fy,<name>_fz (the force it received from
+ * the bodies over that advance, N, sb_solver_contact_force; 0 on frame 0). */
 #ifndef SB_ENERGY_LOG_H
 #define SB_ENERGY_LOG_H
 
@@ -25,11 +28,20 @@ typedef struct sb_energy_log {
     double* times;
     sb_energies* energies;
     sb_step_work* work;
+    uint32_t* contacts;
+    double* forces; /* 3 per collider per row */
     uint32_t count, capacity;
+    char** collider_names;
+    uint32_t collider_count;
 } sb_energy_log;
 
-/* Returns false when out of memory. */
-bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work);
+/* Adds a collider's three force columns; only before the first row.
+ * Returns false when out of memory. */
+bool sb_energy_log_add_collider(sb_energy_log* log, const char* name);
+/* A row; forces holds 3 per collider (may be NULL without colliders).
+ * Returns false when out of memory. */
+bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work,
+                       uint32_t contacts, const double* forces);
 void sb_energy_log_free(sb_energy_log* log);
 /* One row per frame, 17 significant digits; written atomically. */
 sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_error* err);

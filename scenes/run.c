@@ -2,11 +2,13 @@
  * until its duration, writing frame k at step round(k frame_interval / dt)
  * for k = 0 .. floor(duration / frame_interval): a file each in every
  * format of output.formats (unless output.frames is false; frame_export.c),
- * frames.pvd listing the .vtu frames, and a row of log.csv.
+ * frames.pvd listing the .vtu frames, and a row of log.csv (with the
+ * contacts and each collider's force, colliders.h).
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/budget.h"
 #include "scenes/cli.h"
+#include "scenes/colliders.h"
 #include "scenes/energy_log.h"
 #include "common/error.h"
 #include "scenes/frame_export.h"
@@ -27,8 +29,14 @@ void sb_cli_run_usage(FILE* stream) {
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
                     "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
-                    "iterations) to DIR, by default out/<scene name>.\n"
-                    "--set overrides any scene key (see README.md, \"Running a scene\");\n"
+                    "iterations, the vertex contacts and each collider's force <name>_fx,_fy,_fz)\n"
+                    "to DIR, by default out/<scene name>.\n"
+                    "--set overrides any scene key (see README.md, \"Running a scene\"), e.g.\n"
+                    "  --set 'colliders=[{type: plane, restitution: 0.5}]' --set contact.thickness=0.002\n"
+                    "colliders: a list of {type: plane | sphere | capsule | box, name, plane: point,\n"
+                    "normal; sphere: center, radius; capsule: a, b, radius; box: center,\n"
+                    "half_extents, rotate; friction, static_friction, restitution, thickness,\n"
+                    "path: [{time, translate, rotate}...], interpolation: linear | smooth}.\n"
                     "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
                     "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
                     "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
@@ -41,7 +49,9 @@ typedef struct run_job {
     sb_mesh mesh;
     sb_model* model;
     sb_solver* solver;
-    sb_point_load load; /* the solver's external force reads it */
+    sb_point_load load;           /* the solver's external force reads it */
+    sb_scene_colliders colliders; /* the solver reads them: destroyed after it */
+    double* forces;               /* 3 per collider: a frame's contact forces */
     sb_output_dir out;
     sb_energy_log log;
     sb_step_work work; /* the solver's work since the last frame */
@@ -54,6 +64,8 @@ static int run_finish(run_job* job, int code) {
     sb_energy_log_free(&job->log);
     sb_output_dir_free(&job->out);
     sb_solver_destroy(job->solver);
+    sb_scene_colliders_free(&job->colliders);
+    free(job->forces);
     sb_model_destroy(job->model);
     sb_mesh_free(&job->mesh);
     sb_scene_free(&job->scene);
@@ -100,6 +112,20 @@ static void set_export(run_job* job) {
     for (int k = 0; k < 3; k++) job->export.up[k] = none ? (k == 2) : -g[k];
 }
 
+/* The colliders, and a force column of log.csv for each. */
+static sb_status make_colliders(run_job* job, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_colliders_read(&job->scene, &job->colliders, err);
+    if (status == SB_OK) status = sb_scene_colliders_create(&job->colliders, err);
+    if (status != SB_OK) return status;
+    sb_scene_colliders_attach(&job->colliders, def);
+    uint32_t count = job->colliders.count;
+    job->forces = calloc(3 * (size_t)(count ? count : 1), sizeof *job->forces);
+    bool ok = job->forces != NULL;
+    for (uint32_t c = 0; c < count && ok; c++)
+        ok = sb_energy_log_add_collider(&job->log, job->colliders.entries[c].name);
+    return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+}
+
 /* The scene, its model and a solver for it: all the input, checked. */
 static sb_status prepare(run_job* job, sb_error* err) {
     sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
@@ -107,6 +133,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     set_export(job);
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
+    if (status == SB_OK) status = make_colliders(job, &def, err);
     if (status == SB_OK) status = make_model(job, &def, err);
     if (status == SB_OK) status = sb_point_load_prepare(&job->scene, job->model, &job->load, err);
     if (status != SB_OK) return status;
@@ -130,7 +157,15 @@ static sb_status write_frame(run_job* job, sb_error* err) {
 static int record_frame(run_job* job, sb_error* err) {
     if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK) return SB_EXIT_FAILURE;
     sb_energies energies = sb_solver_energies(job->solver);
-    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work)) {
+    /* the last advance's contacts and forces; none before the first */
+    bool advanced = sb_solver_step_count(job->solver) > 0;
+    uint32_t contacts = advanced ? sb_solver_last_step(job->solver).contacts : 0;
+    for (uint32_t c = 0; c < job->colliders.count; c++) {
+        double* f = job->forces + 3 * (size_t)c;
+        f[0] = f[1] = f[2] = 0.0;
+        if (advanced) sb_solver_contact_force(job->solver, c, f);
+    }
+    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts, job->forces)) {
         job->work = (sb_step_work){0};
         return SB_EXIT_OK;
     }

@@ -2,7 +2,8 @@
  * `eval` energies and forces against values computed here by hand from the
  * definitions (DESIGN.md), absent terms, the --forces CSV, bad input (exit
  * 2, one line on stderr, no output left behind), and `run` writing
- * frames.pvd, the .vtu frames and log.csv with one row per frame. */
+ * frames.pvd, the .vtu frames and log.csv with one row per frame, its
+ * contact columns, and every malformed `colliders` entry's message. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
@@ -360,26 +361,78 @@ static void assert_frames(const char* dir, int frames) {
     free(pvd);
 }
 
-enum { LOG_COLUMNS = 15, LOG_STEPS = 9, LOG_SUBSTEPS, LOG_REJECTED, LOG_NEWTON, LOG_CG, LOG_UNCONVERGED };
+enum {
+    LOG_COLUMNS = 16, /* without colliders */
+    LOG_STEPS = 9,
+    LOG_SUBSTEPS,
+    LOG_REJECTED,
+    LOG_NEWTON,
+    LOG_CG,
+    LOG_UNCONVERGED,
+    LOG_CONTACTS,
+    LOG_MAX_COLUMNS = 64
+};
 static const char* const log_header = "time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total,"
-                                      "steps,substeps,rejected,newton,cg,unconverged\n";
+                                      "steps,substeps,rejected,newton,cg,unconverged,contacts";
 
-/* Reads the rows of DIR/log.csv (at most `max`), each exactly LOG_COLUMNS
- * fields under the exact header. */
-static int read_log(const char* dir, double rows[][LOG_COLUMNS], int max) {
+/* The header's collider columns after log_header: three per name. */
+static void assert_collider_columns(const char* rest, const char* names) {
+    char expected[600] = "";
+    for (const char* p = names; *p;) {
+        size_t n = strcspn(p, ",");
+        size_t used = strlen(expected);
+        snprintf(expected + used, sizeof expected - used, ",%.*s_fx,%.*s_fy,%.*s_fz", (int)n, p, (int)n, p, (int)n, p);
+        p += n + (p[n] == ',');
+    }
+    assert_string_equal(rest, expected);
+}
+
+/* Any collider columns: a multiple of three, each triple <name>_fx, _fy, _fz. */
+static int count_collider_columns(const char* rest) {
+    int count = 0;
+    for (const char* p = rest; *p; count++) {
+        assert_int_equal(*p, ',');
+        size_t n = strcspn(p + 1, ",");
+        const char* suffixes[] = {"_fx", "_fy", "_fz"};
+        assert_true(n > 3);
+        assert_int_equal(strncmp(p + 1 + n - 3, suffixes[count % 3], 3), 0);
+        p += 1 + n;
+    }
+    assert_int_equal(count % 3, 0);
+    return count;
+}
+
+/* Reads the rows of DIR/log.csv (at most `max`, `stride` doubles apart)
+ * under the exact header: log_header, then the force columns of the
+ * colliders `names` (joined by commas; "" for none, NULL for any). Every
+ * row has exactly the header's number of fields, returned in *columns. */
+static int parse_log(const char* dir, const char* names, double* rows, int stride, int max, int* columns) {
     char name[400];
     snprintf(name, sizeof name, "%s/log.csv", dir);
     char* log = tu_read_file(name);
     assert_non_null(log);
     assert_int_equal(strncmp(log, log_header, strlen(log_header)), 0);
+    char* newline = strchr(log, '\n');
+    assert_non_null(newline);
+    *newline = '\0';
+    const char* rest = log + strlen(log_header);
+    if (names) assert_collider_columns(rest, names);
+    *columns = LOG_COLUMNS + count_collider_columns(rest);
+    assert_true(*columns <= stride);
     int n = 0;
-    for (const char* row = log + strlen(log_header); *row && n < max; row = strchr(row, '\n') + 1) {
-        double values[LOG_COLUMNS + 1];
-        assert_int_equal(csv_fields(row, values, LOG_COLUMNS + 1), LOG_COLUMNS);
-        memcpy(rows[n++], values, sizeof rows[0]);
+    for (const char* row = newline + 1; *row && n < max; row = strchr(row, '\n') + 1) {
+        double values[LOG_MAX_COLUMNS + 1];
+        assert_int_equal(csv_fields(row, values, LOG_MAX_COLUMNS + 1), *columns);
+        memcpy(rows + (size_t)n++ * stride, values, (size_t)*columns * sizeof *values);
     }
     free(log);
     return n;
+}
+
+/* A log without colliders: each row exactly LOG_COLUMNS fields. */
+static int read_log(const char* dir, double rows[][LOG_COLUMNS], int max) {
+    int columns;
+    return parse_log(dir, "", &rows[0][0], LOG_COLUMNS, max, &columns);
 }
 
 static void assert_log(const char* dir, int frames, double duration) {
@@ -391,6 +444,7 @@ static void assert_log(const char* dir, int frames, double duration) {
         for (int c = 1; c < 8; c++) sum += rows[i][c];
         TU_ASSERT_NEAR(rows[i][8], sum, 1e-12 * fmax(1.0, fabs(sum)));
     }
+    for (int i = 0; i < frames; i++) assert_true(rows[i][LOG_CONTACTS] == 0.0); /* no colliders */
     const double* last = rows[frames - 1];
     assert_true(rows[0][0] == 0.0);
     TU_ASSERT_NEAR(last[0], duration, 1e-9);
@@ -515,6 +569,180 @@ static void test_run_point_load(void** state) {
     tu_result_free(&r);
 }
 
+/* ---- contact --------------------------------------------------------------------- */
+
+/* A 6 x 6 sheet of 0.36 kg held 2 cm above the floor z = 0, a sphere far
+ * away that nothing touches; drag brings it to rest on the floor. */
+static const char* const floor_scene = "mesh: {nx: 6, ny: 6, width: 0.3, height: 0.3, translate: [0, 0, 0.02]}\n"
+                                       "bond: {k: 50}\nmass: 0.01\ndrag: 10\n"
+                                       "dt: 0.001\nduration: 1\nframe_interval: 0.1\n"
+                                       "output: {frames: false}\n"
+                                       "colliders:\n"
+                                       "  - {type: plane, name: floor}\n"
+                                       "  - {type: sphere, center: [5, 5, 5], radius: 0.1}\n";
+
+/* log.csv has the vertices in contact and three force columns per collider
+ * (the force the collider received over the frame's last step,
+ * sb_solver_contact_force): a sheet at rest on the floor presses it down
+ * with its weight, every vertex touching it, and the sphere gets nothing. */
+static void test_run_logs_contact(void** state) {
+    (void)state;
+    tu_write_file("floor.yaml", floor_scene);
+    tu_result r = tu_run((const char*[]){"run", "floor.yaml", "--output", "floor", NULL});
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    static double rows[16][LOG_MAX_COLUMNS];
+    int columns;
+    assert_int_equal(parse_log(tu_tmp_path("floor"), "floor,sphere1", &rows[0][0], LOG_MAX_COLUMNS, 16, &columns), 11);
+    assert_int_equal(columns, LOG_COLUMNS + 6);
+    enum { FX = LOG_COLUMNS, FY, FZ, SX, SY, SZ };
+    for (int c = LOG_CONTACTS; c < columns; c++) assert_true(rows[0][c] == 0.0); /* frame 0: no step yet */
+    const double weight = 36 * 0.01 * 9.81;
+    for (int i = 8; i < 11; i++) {
+        const double* row = rows[i];
+        print_message("t = %.1f s: %g contacts, floor force [%g, %g, %g] N\n", row[0], row[LOG_CONTACTS], row[FX],
+                      row[FY], row[FZ]);
+        assert_true(row[LOG_CONTACTS] == 36.0);
+        /* the floor receives the sheet's weight, downwards */
+        TU_ASSERT_NEAR(row[FZ], -weight, 1e-3 * weight);
+        TU_ASSERT_NEAR(row[FX], 0.0, 1e-3 * weight);
+        TU_ASSERT_NEAR(row[FY], 0.0, 1e-3 * weight);
+        assert_true(row[SX] == 0.0 && row[SY] == 0.0 && row[SZ] == 0.0);
+    }
+    /* before it lands nothing touches */
+    assert_true(rows[0][LOG_CONTACTS] == 0.0);
+}
+
+/* --set colliders=... is a key like any other: it replaces the file's list. */
+static void test_run_set_colliders(void** state) {
+    (void)state;
+    tu_write_file("floor.yaml", floor_scene);
+    tu_result r = tu_run((const char*[]){"run", "floor.yaml", "--set", "colliders=[{type: plane}]", "--set",
+                                         "contact.thickness=0.001", "--set", "duration=0.3", "--output", "set", NULL});
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    static double rows[8][LOG_MAX_COLUMNS];
+    int columns;
+    assert_int_equal(parse_log(tu_tmp_path("set"), "plane0", &rows[0][0], LOG_MAX_COLUMNS, 8, &columns), 4);
+    TU_ASSERT_LE(rows[3][LOG_COLUMNS + 2], -0.5); /* landed: the plane is pressed down */
+    assert_true(rows[3][LOG_CONTACTS] > 0.0);
+    r = tu_run((const char*[]){"run", "floor.yaml", "--set", "colliders=[]", "--set", "duration=0.1", "--output",
+                               "none", NULL});
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    double plain[4][LOG_COLUMNS];
+    assert_int_equal(read_log(tu_tmp_path("none"), plain, 4), 2);
+}
+
+/* A scene whose `colliders:` is on line 2 and whose entries (`entries`,
+ * from line 3) are wrong: exit 2, nothing written, one line naming the
+ * file, the line and the key. */
+static void assert_colliders_fail(const char* entries, const char* rest) {
+    char text[1000], message[500];
+    snprintf(text, sizeof text, "mesh: {nx: 4, ny: 3}\ncolliders:%s%s", entries[0] == ' ' ? "\n" : " ", entries);
+    tu_write_file("bad_colliders.yaml", text);
+    snprintf(message, sizeof message, "bad_colliders.yaml:%s", rest);
+    tu_result r = tu_run((const char*[]){"run", "bad_colliders.yaml", "--output", "never", NULL});
+    assert_input_error(&r, message);
+    assert_false(exists(tu_tmp_path("never")));
+    tu_result_free(&r);
+}
+
+static void test_run_bad_colliders(void** state) {
+    (void)state;
+    /* the list and its entries */
+    assert_colliders_fail("plane\n", "2: 'colliders' expects a sequence of maps, got 'plane'");
+    assert_colliders_fail("  - plane\n", "3: 'colliders[0]' expects a map, got 'plane'");
+    assert_colliders_fail("  - {type: plane}\n  - radius: 1\n",
+                          "4: 'colliders[1].type' is not set (plane, sphere, capsule or box)");
+    assert_colliders_fail("  - type: cube\n",
+                          "3: 'colliders[0].type' must be plane, sphere, capsule or box, got 'cube'");
+    assert_colliders_fail("  - type: [plane]\n", "3: 'colliders[0].type' expects a string, got a sequence of 1");
+    /* keys: unknown (dynamic colliders are not there yet), another shape's, missing, twice */
+    assert_colliders_fail("  - type: plane\n    mass: 1\n", "4: unknown key 'colliders[0].mass'");
+    assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    velocity: [0, 0, 1]\n",
+                          "6: unknown key 'colliders[0].velocity'");
+    assert_colliders_fail("  - type: plane\nself_collision: true\n", "4: unknown key 'self_collision'");
+    assert_colliders_fail("  - type: plane\n    radius: 1\n",
+                          "4: 'colliders[0].radius' does not apply to a plane (its shape's keys: point, normal)");
+    assert_colliders_fail("  - {type: sphere, center: [0, 0, 0], radius: 1, rotate: [0, 0, 1]}\n",
+                          "3: 'colliders[0].rotate' does not apply to a sphere (its shape's keys: center, radius)");
+    assert_colliders_fail("  - type: box\n    center: [0, 0, 0]\n    half_extents: [1, 1, 1]\n    normal: [0, 0, 1]\n",
+                          "6: 'colliders[0].normal' does not apply to a box (its shape's keys: center, "
+                          "half_extents, rotate)");
+    assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n",
+                          "3: 'colliders[0].radius' is not set (a sphere needs center and radius)");
+    assert_colliders_fail("  - {type: plane}\n  - type: capsule\n    a: [0, 0, 0]\n    radius: 0.1\n",
+                          "4: 'colliders[1].b' is not set (a capsule needs a, b and radius)");
+    assert_colliders_fail("  - type: box\n    center: [0, 0, 0]\n",
+                          "3: 'colliders[0].half_extents' is not set (a box needs center and half_extents)");
+    assert_colliders_fail("  - type: plane\n    friction: 0.1\n    friction: 0.2\n",
+                          "5: duplicate key 'colliders[0].friction' (first set at line 4)");
+    /* types and ranges */
+    assert_colliders_fail("  - type: sphere\n    center: [0, 0]\n    radius: 1\n",
+                          "4: 'colliders[0].center' expects a sequence of 3 numbers, got a sequence of 2");
+    assert_colliders_fail("  - type: sphere\n    center: [0, x, 0]\n    radius: 1\n",
+                          "4: 'colliders[0].center' expects a number, got 'x'");
+    assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n    radius: big\n",
+                          "5: 'colliders[0].radius' expects a number, got 'big'");
+    assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n    radius: -1\n",
+                          "5: 'colliders[0].radius' must be > 0, got -1");
+    assert_colliders_fail("  - type: capsule\n    a: [0, 0, 0]\n    b: [1, 0, 0]\n    radius: 0\n",
+                          "6: 'colliders[0].radius' must be > 0, got 0");
+    assert_colliders_fail("  - type: box\n    center: [0, 0, 0]\n    half_extents: [1, 0, 1]\n",
+                          "5: 'colliders[0].half_extents' must be > 0, got [1, 0, 1]");
+    assert_colliders_fail("  - {type: box, center: [0, 0, 0], half_extents: [1, 1, 1], rotate: [0, inf, 0]}\n",
+                          "3: 'colliders[0].rotate' must be finite");
+    assert_colliders_fail("  - type: plane\n    point: [0, nan, 0]\n", "4: 'colliders[0].point' must be finite");
+    assert_colliders_fail("  - type: plane\n    normal: [0, 0, 0]\n", "4: 'colliders[0].normal' must not be [0, 0, 0]");
+    assert_colliders_fail("  - type: plane\n    friction: -0.1\n", "4: 'colliders[0].friction' must be >= 0, got -0.1");
+    assert_colliders_fail("  - type: plane\n    friction: 0.5\n    static_friction: 0.1\n",
+                          "5: 'colliders[0].static_friction' (0.1) must be >= 'friction' (0.5)");
+    assert_colliders_fail("  - type: plane\n    restitution: 1.5\n",
+                          "4: 'colliders[0].restitution' must be in [0, 1], got 1.5");
+    assert_colliders_fail("  - type: plane\n    thickness: -0.01\n",
+                          "4: 'colliders[0].thickness' must be >= 0, got -0.01");
+    assert_colliders_fail("  - type: plane\n    interpolation: cubic\n",
+                          "4: 'colliders[0].interpolation' must be linear or smooth, got 'cubic'");
+    /* the path */
+    assert_colliders_fail(
+        "  - type: plane\n    path: {time: 0}\n",
+        "4: 'colliders[0].path' expects a sequence of keyframes {time, translate, rotate}, got a map");
+    assert_colliders_fail("  - type: plane\n    path:\n      - 0\n",
+                          "5: 'colliders[0].path[0]' expects a map {time, translate, rotate}, got '0'");
+    assert_colliders_fail("  - type: plane\n    path:\n      - {time: 0}\n      - {translate: [0, 0, 1]}\n",
+                          "6: 'colliders[0].path[1].time' is not set");
+    assert_colliders_fail("  - type: plane\n    path:\n      - {time: 0, scale: 2}\n",
+                          "5: unknown key 'colliders[0].path[0].scale'");
+    assert_colliders_fail("  - type: plane\n    path:\n      - {time: 1}\n      - {time: 0.5}\n",
+                          "6: 'colliders[0].path[1].time' (0.5) must be > the time before it (1)");
+    assert_colliders_fail("  - type: plane\n    path:\n      - time: 0\n        rotate: [0, 0]\n",
+                          "6: 'colliders[0].path[0].rotate' expects a sequence of 3 numbers, got a sequence of 2");
+    /* names: they head columns of log.csv */
+    assert_colliders_fail("  - type: plane\n    name: my floor\n",
+                          "4: 'colliders[0].name' must be 1 to 63 letters, digits, '_', '-' or '.', got 'my floor'");
+    assert_colliders_fail("  - {type: plane, name: floor}\n  - {type: plane, name: floor}\n",
+                          "4: 'colliders[1].name': 'floor' is already colliders[0]'s name");
+    assert_colliders_fail("  - {type: plane, name: sphere1}\n  - {type: sphere, center: [0, 0, 0], radius: 1}\n",
+                          "4: 'colliders[1]': its default name 'sphere1' is already colliders[0]'s name");
+    /* contact.thickness */
+    tu_write_file("bad_thickness.yaml", "contact:\n  thickness: -1\n");
+    tu_result r = tu_run((const char*[]){"run", "bad_thickness.yaml", "--output", "never", NULL});
+    assert_input_error(&r, "bad_thickness.yaml:2: 'contact.thickness' must be >= 0, got -1");
+    tu_result_free(&r);
+    /* --set is checked the same way and named as the place */
+    tu_write_file("floor.yaml", floor_scene);
+    r = tu_run((const char*[]){"run", "floor.yaml", "--set", "colliders=[{type: plane, radius: 1}]", "--output",
+                               "never", NULL});
+    assert_input_error(&r, "--set colliders=[{type: plane, radius: 1}]: 'colliders[0].radius' does not apply to a "
+                           "plane (its shape's keys: point, normal)");
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"run", "floor.yaml", "--set", "colliders={type: plane}", "--output", "never", NULL});
+    assert_input_error(&r, "--set colliders={type: plane}: 'colliders' expects a sequence of maps, got a map");
+    tu_result_free(&r);
+    assert_false(exists(tu_tmp_path("never")));
+}
+
 /* Every scene under scenes/ runs (its first 10 ms) as committed. */
 static void test_committed_scenes_run(void** state) {
     (void)state;
@@ -530,8 +758,9 @@ static void test_committed_scenes_run(void** state) {
                                              "--output", "committed", NULL});
         if (r.code != 0) fail_msg("%s: %s", e->d_name, r.err);
         tu_result_free(&r);
-        double rows[2][LOG_COLUMNS];
-        assert_true(read_log(tu_tmp_path("committed"), rows, 2) >= 1);
+        double rows[2][LOG_MAX_COLUMNS];
+        int columns;
+        assert_true(parse_log(tu_tmp_path("committed"), NULL, &rows[0][0], LOG_MAX_COLUMNS, 2, &columns) >= 1);
         scenes++;
     }
     closedir(dir);
@@ -620,6 +849,9 @@ static void test_help_and_version(void** state) {
     r = tu_run((const char*[]){"run", "--help", NULL});
     assert_int_equal(r.code, 0);
     assert_int_equal(strncmp(r.out, "usage: softbond run SCENE.yaml", 30), 0);
+    assert_non_null(strstr(r.out, "colliders: a list of {type: plane | sphere | capsule | box"));
+    assert_non_null(strstr(r.out, "contact.thickness"));
+    assert_non_null(strstr(r.out, "<name>_fx"));
     tu_result_free(&r);
     r = tu_run((const char*[]){"--help", NULL});
     assert_int_equal(r.code, 0);
@@ -645,6 +877,9 @@ int main(void) {
         cmocka_unit_test(test_run_solver_failure_exits_3),
         cmocka_unit_test(test_run_logs_solver_work),
         cmocka_unit_test(test_run_point_load),
+        cmocka_unit_test(test_run_logs_contact),
+        cmocka_unit_test(test_run_set_colliders),
+        cmocka_unit_test(test_run_bad_colliders),
         cmocka_unit_test(test_committed_scenes_run),
         cmocka_unit_test(test_sudhamani_scene_settles),
         cmocka_unit_test(test_help_and_version),
