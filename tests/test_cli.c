@@ -764,7 +764,7 @@ static void test_committed_scenes_run(void** state) {
         scenes++;
     }
     closedir(dir);
-    assert_true(scenes >= 2); /* default.yaml and sudhamani_sheet.yaml at least */
+    assert_true(scenes >= 7); /* default, sudhamani_sheet and the five contact scenes at least */
 }
 
 /* The Sudhamani scene's comment says it settles within its duration: the
