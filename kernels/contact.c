@@ -51,6 +51,9 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     if (s->def.collider_count == 0) return SB_OK;
     if (!s->def.colliders)
         return sb_error_set(err, SB_ERR_INVALID, "colliders: %u given but the list is NULL", s->def.collider_count);
+    if (s->def.collider_count > SB_MAX_COLLIDERS)
+        return sb_error_set(err, SB_ERR_INVALID, "colliders: %u given, at most %d", s->def.collider_count,
+                            SB_MAX_COLLIDERS);
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (!s->def.colliders[c]) return sb_error_set(err, SB_ERR_INVALID, "colliders: entry %u is NULL", c);
     size_t n3 = 3 * (size_t)s->model->vertex_count + 1, chunks = sb_chunk_count(s->model->vertex_count) + 1;
@@ -77,10 +80,30 @@ void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
     }
 }
 
-/* The earliest contact of a move among the colliders; -1 for none. */
-static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, sb_contact* best) {
+/* Whether the box [lo, hi] grown by the contact thickness reaches into
+ * collider c's bounds. */
+static bool sb_reaches(const sb_solver* s, uint32_t c, const double lo[3], const double hi[3]) {
+    const double* b = s->def.colliders[c]->bounds;
+    double t = s->def.contact_thickness;
+    return lo[0] - t <= b[3] && hi[0] + t >= b[0] && lo[1] - t <= b[4] && hi[1] + t >= b[1] && lo[2] - t <= b[5] &&
+           hi[2] + t >= b[2];
+}
+
+/* The colliders (a bit each) whose bounds the box [lo, hi] reaches. */
+static uint64_t sb_colliders_near(const sb_solver* s, const double lo[3], const double hi[3]) {
+    uint64_t near = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if (sb_reaches(s, c, lo, hi)) near |= (uint64_t)1 << c;
+    return near;
+}
+
+/* The earliest contact of a move among the colliders of `near`; -1 for none. */
+static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, uint64_t near, sb_contact* best) {
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = fmin(q->from[k], q->to[k]), hi[k] = fmax(q->from[k], q->to[k]);
     int hit = -1;
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!(near >> c & 1) || !sb_reaches(s, c, lo, hi)) continue;
         const sb_collider* collider = s->def.colliders[c];
         sb_contact contact;
         if (collider->collide(collider->user, q, &contact) && (hit < 0 || contact.fraction < best->fraction)) {
@@ -124,14 +147,14 @@ static void sb_contact_position(const sb_contact* c, double dt, const double fro
     for (int k = 0; k < 3; k++) x[k] = from[k] + dt * (v[k] - vn * c->normal[k]) + normal_move * c->normal[k];
 }
 
-int sb_contact_vertex(const sb_solver* s, uint32_t i, const double from[3], double x[3], double v[3],
+int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const double from[3], double x[3], double v[3],
                       double impulse[3]) {
     sb_contact_query q = {
         .vertex = i, .t0 = s->time - s->contact_dt, .t1 = s->time, .thickness = s->def.contact_thickness};
     memcpy(q.from, from, sizeof q.from);
     memcpy(q.to, x, sizeof q.to);
-    sb_contact c;
-    int hit = sb_first_contact(s, &q, &c);
+    sb_contact c = {0};
+    int hit = sb_first_contact(s, &q, near, &c);
     if (hit < 0) return -1;
     double before[3] = {v[0], v[1], v[2]};
     sb_contact_velocity(&c, v);
@@ -149,16 +172,30 @@ static void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, 
     partial[3 * s->def.collider_count] += 1.0;
 }
 
+/* The box around the chunk's moves in the packed state (x and x − d). */
+static uint64_t sb_chunk_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    sb_real lo[4] = {INFINITY, INFINITY, INFINITY, INFINITY}, hi[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    const sb_real *x = s->positions4 + 4 * (size_t)first, *d = s->displacements4 + 4 * (size_t)first;
+    for (size_t q = 0; q < 4 * (size_t)(last - first); q++) {
+        sb_real a = x[q], b = x[q] - d[q];
+        lo[q & 3] = fmin(lo[q & 3], fmin(a, b));
+        hi[q & 3] = fmax(hi[q & 3], fmax(a, b));
+    }
+    double dlo[3] = {lo[0], lo[1], lo[2]}, dhi[3] = {hi[0], hi[1], hi[2]};
+    return sb_colliders_near(s, dlo, dhi);
+}
+
 void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
-    for (uint32_t i = first; i < last; i++) {
+    uint64_t near = sb_chunk_near_packed(s, first, last);
+    for (uint32_t i = first; i < last && near; i++) {
         if (s->model->fixed[i]) continue;
         sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
         sb_real* d4 = s->displacements4 + 4 * (size_t)i;
         double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3];
         double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
-        int hit = sb_contact_vertex(s, i, from, x, v, impulse);
+        int hit = sb_contact_vertex(s, i, near, from, x, v, impulse);
         if (hit < 0) continue;
         sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
         for (int k = 0; k < 3; k++) {
@@ -182,7 +219,7 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
         sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
         sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
         double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3];
-        int hit = sb_contact_vertex(s, i, s->contact_from + 3 * (size_t)i, x, v, impulse);
+        int hit = sb_contact_vertex(s, i, ~(uint64_t)0, s->contact_from + 3 * (size_t)i, x, v, impulse);
         if (hit < 0) continue;
         for (int k = 0; k < 3; k++) {
             *xs[k] = (sb_real)x[k];

@@ -61,10 +61,13 @@ void sb_contact_destroy(sb_solver* solver);
 void sb_contact_begin_step(sb_solver* solver, double t0, double t1);
 /* Keeps the state's positions as the start of the step's moves. */
 void sb_contact_save_from(sb_solver* solver);
-/* Answers vertex i's move from → x (x and v updated in place); returns the
- * collider or -1, and the impulse m Δv the vertex took. */
-int sb_contact_vertex(const sb_solver* solver, uint32_t i, const double from[3], double x[3], double v[3],
-                      double impulse[3]);
+/* Answers vertex i's move from → x among the colliders of `near` (a bit
+ * each; x and v updated in place); returns the collider or -1, and the
+ * impulse m Δv the vertex took. */
+int sb_contact_vertex(const sb_solver* solver, uint32_t i, uint64_t near, const double from[3], double x[3],
+                      double v[3], double impulse[3]);
+/* The most colliders a solver takes (a bit each in the broad phase). */
+#define SB_MAX_COLLIDERS 64
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement). */
 void sb_contact_chunk_packed(const sb_solver* solver, uint32_t chunk, double dt);

@@ -112,6 +112,13 @@ SB_API sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err
 SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, sb_collider_step_fn begin_step,
                                               void* user, sb_error* err);
 SB_API void sb_collider_destroy(sb_collider* collider);
+
+/* Where a program's own collider can be touched until it says otherwise
+ * (an axis-aligned box, inflated by its thickness; NULL, NULL: everywhere,
+ * the default). The contact pass asks the collider only about moves that
+ * reach into the box: a collider that knows where it is should say, from
+ * its begin-step callback if it moves. The built-in shapes set their own. */
+SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], const double hi[3]);
 SB_API const char* sb_collider_name(const sb_collider* collider);
 
 /* "plane", "sphere", "capsule", "box". */

@@ -216,6 +216,7 @@ sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, 
     c->collide = collide;
     c->begin_step = begin_step;
     c->user = user;
+    sb_collider_set_bounds(c, NULL, NULL);
     c->def = sb_default_collider_def();
     c->def.name = c->name;
     return c;
@@ -325,6 +326,7 @@ static void sb_builtin_begin_step(void* user, double t0, double t1) {
     sb_collider_pose(c, t1, c->pose1);
     c->t0 = t0;
     c->t1 = t1;
+    sb_collider_step_bounds(c);
 }
 
 /* The shape's sweep in its rest frame. */
@@ -347,9 +349,24 @@ static double sb_point_depth(const sb_collider* c, const double x[3], double thi
     return sb_shape_sweep(c, x, x, thickness, &fraction, &depth, normal) ? depth : 0.0;
 }
 
+/* The answer's surface constants. */
+static void sb_surface(const sb_collider* c, double fraction, double depth, sb_contact* contact) {
+    contact->fraction = fraction;
+    contact->depth = depth;
+    contact->restitution = c->def.restitution;
+    contact->friction = c->def.friction;
+    contact->static_friction = c->def.static_friction;
+}
+
 static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact* contact) {
     const sb_collider* c = user;
     double from[3], to[3], normal[3], fraction, depth, thickness = c->def.thickness + q->thickness;
+    if (!c->path) { /* static: the rest frame is the world */
+        if (!sb_shape_sweep(c, q->from, q->to, thickness, &fraction, &depth, contact->normal)) return false;
+        memset(contact->velocity, 0, sizeof contact->velocity);
+        sb_surface(c, fraction, depth, contact);
+        return true;
+    }
     sb_pose_invert(c->pose0, q->from, from);
     sb_pose_invert(c->pose1, q->to, to);
     if (!sb_shape_sweep(c, from, to, thickness, &fraction, &depth, normal)) return false;
@@ -369,11 +386,7 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
         sb_pose_invert(c->pose1, w, rest);
         depth = sb_point_depth(c, rest, thickness);
     }
-    contact->fraction = fraction;
-    contact->depth = depth;
-    contact->restitution = c->def.restitution;
-    contact->friction = c->def.friction;
-    contact->static_friction = c->def.static_friction;
+    sb_surface(c, fraction, depth, contact);
     return true;
 }
 

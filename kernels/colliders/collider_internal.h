@@ -37,6 +37,12 @@ struct sb_collider {
     sb_collide_fn collide;
     sb_collider_step_fn begin_step; /* may be NULL */
     void* user;
+    /* Where the collider can be touched during the current step (lo x y z,
+     * hi x y z, m, inflated by its own thickness): the contact pass skips
+     * every vertex whose move lies outside. Infinite unless the collider
+     * says (built-in shapes in their begin step; a program's own through
+     * sb_collider_set_bounds). */
+    double bounds[6];
     /* built-in shapes only: their definition (path copied) and the pose of
      * the current step (kernels/colliders/collider.c) */
     sb_collider_def def; /* def.name = name, def.path = path */
@@ -45,6 +51,9 @@ struct sb_collider {
     double t0, t1;
     double box_rotation[9]; /* box: sb_collider_rotation(def.rotate), made once */
 };
+
+/* The built-in shape's bounds for its poses at t0 and t1 (kernels/colliders/bounds.c). */
+void sb_collider_step_bounds(sb_collider* collider);
 
 /* A shape's sweep in its rest frame (see above). */
 typedef bool (*sb_sweep_fn)(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
