@@ -97,17 +97,24 @@ static uint64_t sb_colliders_near(const sb_solver* s, const double lo[3], const 
     return near;
 }
 
-/* The earliest contact of a move among the colliders of `near`; -1 for none. */
-static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, uint64_t near, sb_contact* best) {
+/* The colliders of `near` whose bounds the move from → to reaches. */
+static uint64_t sb_move_near(const sb_solver* s, uint64_t near, const double from[3], const double to[3]) {
     double lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
-        bool down = q->to[k] < q->from[k];
-        lo[k] = down ? q->to[k] : q->from[k];
-        hi[k] = down ? q->from[k] : q->to[k];
+        bool down = to[k] < from[k];
+        lo[k] = down ? to[k] : from[k];
+        hi[k] = down ? from[k] : to[k];
     }
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if ((near >> c & 1) && !sb_reaches(s, c, lo, hi)) near &= ~((uint64_t)1 << c);
+    return near;
+}
+
+/* The earliest contact of a move among the colliders of `near`; -1 for none. */
+static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, uint64_t near, sb_contact* best) {
     int hit = -1;
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
-        if (!(near >> c & 1) || !sb_reaches(s, c, lo, hi)) continue;
+        if (!(near >> c & 1)) continue;
         const sb_collider* collider = s->def.colliders[c];
         sb_contact contact;
         if (collider->collide(collider->user, q, &contact) && (hit < 0 || contact.fraction < best->fraction)) {
@@ -176,33 +183,60 @@ static void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, 
     partial[3 * s->def.collider_count] += 1.0;
 }
 
-/* The box around the chunk's moves in the packed state (x and x − d):
- * plain comparisons (fmin would be a call per value), four lanes that
- * vectorize. */
-static uint64_t sb_chunk_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
-    sb_real lo[4] = {INFINITY, INFINITY, INFINITY, INFINITY}, hi[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+/* The box around the moves of vertices [first, last) in the packed state
+ * (x and x − d), in 16 independent lanes (4 vertices of x y z w) that
+ * vectorize, folded to x y z at the end; plain comparisons, because fmin
+ * would be a call per value. */
+static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    sb_real lo[16], hi[16];
+    for (int k = 0; k < 16; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     const sb_real *x = s->positions4 + 4 * (size_t)first, *d = s->displacements4 + 4 * (size_t)first;
-    for (size_t i = 0; i < last - first; i++)
-        for (int k = 0; k < 4; k++) {
-            sb_real a = x[4 * i + k], b = a - d[4 * i + k], small = a < b ? a : b, large = a < b ? b : a;
+    size_t count = 4 * (size_t)(last - first), whole = count / 16 * 16;
+    for (size_t q = 0; q < whole; q += 16)
+        for (int k = 0; k < 16; k++) {
+            sb_real a = x[q + k], b = a - d[q + k], small = a < b ? a : b, large = a < b ? b : a;
             lo[k] = small < lo[k] ? small : lo[k];
             hi[k] = large > hi[k] ? large : hi[k];
         }
-    double dlo[3] = {lo[0], lo[1], lo[2]}, dhi[3] = {hi[0], hi[1], hi[2]};
+    for (size_t q = whole; q < count; q++) { /* the last vertices of a short block */
+        sb_real a = x[q], b = a - d[q], small = a < b ? a : b, large = a < b ? b : a;
+        lo[q & 3] = small < lo[q & 3] ? small : lo[q & 3];
+        hi[q & 3] = large > hi[q & 3] ? large : hi[q & 3];
+    }
+    double dlo[3], dhi[3];
+    for (int c = 0; c < 3; c++) {
+        dlo[c] = lo[c], dhi[c] = hi[c];
+        for (int v = 1; v < 4; v++) {
+            dlo[c] = lo[4 * v + c] < dlo[c] ? lo[4 * v + c] : dlo[c];
+            dhi[c] = hi[4 * v + c] > dhi[c] ? hi[4 * v + c] : dhi[c];
+        }
+    }
     return sb_colliders_near(s, dlo, dhi);
 }
+
+/* Vertices per block of the broad phase inside a chunk: a chunk of a mesh
+ * row spans most of its width; a block of 32 is a small patch. */
+#define SB_CONTACT_BLOCK 32
 
 void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
-    uint64_t near = sb_chunk_near_packed(s, first, last);
-    for (uint32_t i = first; i < last && near; i++) {
+    uint64_t near = 0;
+    for (uint32_t i = first; i < last; i++) {
+        if ((i - first) % SB_CONTACT_BLOCK == 0) {
+            near = sb_block_near_packed(s, i, i + SB_CONTACT_BLOCK < last ? i + SB_CONTACT_BLOCK : last);
+            if (!near) { /* the whole block is out of reach */
+                i += SB_CONTACT_BLOCK - 1;
+                continue;
+            }
+        }
         if (s->model->fixed[i]) continue;
         sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
         sb_real* d4 = s->displacements4 + 4 * (size_t)i;
         double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3];
         double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
-        int hit = sb_contact_vertex(s, i, near, from, x, v, impulse);
+        uint64_t reached = sb_move_near(s, near, from, x);
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse) : -1;
         if (hit < 0) continue;
         sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
         for (int k = 0; k < 3; k++) {
@@ -226,7 +260,9 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
         sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
         sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
         double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3];
-        int hit = sb_contact_vertex(s, i, ~(uint64_t)0, s->contact_from + 3 * (size_t)i, x, v, impulse);
+        const double* from = s->contact_from + 3 * (size_t)i;
+        uint64_t reached = sb_move_near(s, ~(uint64_t)0, from, x);
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse) : -1;
         if (hit < 0) continue;
         for (int k = 0; k < 3; k++) {
             *xs[k] = (sb_real)x[k];

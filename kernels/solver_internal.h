@@ -62,8 +62,8 @@ void sb_contact_begin_step(sb_solver* solver, double t0, double t1);
 /* Keeps the state's positions as the start of the step's moves. */
 void sb_contact_save_from(sb_solver* solver);
 /* Answers vertex i's move from → x among the colliders of `near` (a bit
- * each; x and v updated in place); returns the collider or -1, and the
- * impulse m Δv the vertex took. */
+ * each, those whose bounds the move reaches; x and v updated in place);
+ * returns the collider or -1, and the impulse m Δv the vertex took. */
 int sb_contact_vertex(const sb_solver* solver, uint32_t i, uint64_t near, const double from[3], double x[3],
                       double v[3], double impulse[3]);
 /* The most colliders a solver takes (a bit each in the broad phase). */
