@@ -1,0 +1,186 @@
+/* sb_bench_contact: what contact costs a step.
+ *
+ * The 100k-vertex sheet of sb_bench (bond, angle and stretch-bend terms,
+ * fast kernels, Verlet, its dt, two corners pinned) falls for 0.05 s onto a
+ * sphere of radius 0.1 m whose top touches the sheet's middle, above a
+ * floor, in two scenes:
+ *   draped  the floor 0.5 m down, out of reach: the vertices over the
+ *           sphere touch it, the rest of the sheet is culled by the bounds;
+ *   floor   the floor 2 mm down: after the warm-up every vertex lies on it
+ *           (the worst case: the whole sheet answered every step).
+ * From the warmed-up state, steps are timed without colliders and with the
+ * plane and the sphere, interleaved, on 1 and 2 threads (spinning, pinned:
+ * the machine is the benchmark's); the contact pass's cost is the
+ * difference. Prints a table and writes CSV and markdown.
+ *
+ *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
+#define _GNU_SOURCE
+#include "bench/bench_cases.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct contact_options {
+    int steps, runs;
+    const char *csv, *md;
+} contact_options;
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static sb_collider* make_collider(sb_collider_shape shape, double floor) {
+    sb_collider_def def = sb_default_collider_def();
+    def.shape = shape;
+    def.friction = def.static_friction = 0.3;
+    if (shape == SB_COLLIDER_PLANE) {
+        def.name = "floor";
+        def.point[2] = floor;
+    } else {
+        def.name = "ball";
+        def.center[0] = def.center[1] = 0.5;
+        def.center[2] = -0.1;
+        def.radius = 0.1;
+    }
+    sb_error err;
+    sb_collider* c = sb_collider_create(&def, &err);
+    if (!c) {
+        fprintf(stderr, "sb_bench_contact: %s\n", err.message);
+        exit(1);
+    }
+    return c;
+}
+
+static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count) {
+    sb_solver_def def = sb_default_solver_def();
+    def.gravity[2] = -SB_BENCH_GRAVITY;
+    def.runtime = (sb_runtime_def){.threads = threads, .pin = threads > 1, .wait = SB_WAIT_SPIN};
+    def.colliders = colliders;
+    def.collider_count = count;
+    sb_error err;
+    sb_solver* s = sb_solver_create(setup->model, &def, &err);
+    if (!s) {
+        fprintf(stderr, "sb_bench_contact: %s\n", err.message);
+        exit(1);
+    }
+    return s;
+}
+
+static void advance(sb_solver* s, double dt, int steps, uint64_t* contacts) {
+    for (int i = 0; i < steps; i++) {
+        if (sb_solver_advance(s, dt) != SB_OK) {
+            fprintf(stderr, "sb_bench_contact: %s\n", sb_solver_error(s));
+            exit(1);
+        }
+        if (contacts) *contacts += sb_solver_last_step(s).contacts;
+    }
+}
+
+/* Seconds per step from the warmed-up state, with or without colliders. */
+static double time_steps(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count,
+                         const double* x, const double* v, int steps, double* contacts_per_step) {
+    sb_solver* s = make_solver(setup, threads, colliders, count);
+    sb_solver_set_state(s, x, v);
+    advance(s, setup->dt, 20, NULL); /* caches and the team warm */
+    uint64_t contacts = 0;
+    double t0 = now();
+    advance(s, setup->dt, steps, &contacts);
+    double seconds = (now() - t0) / steps;
+    *contacts_per_step = (double)contacts / steps;
+    sb_solver_destroy(s);
+    return seconds;
+}
+
+static void parse(int argc, char** argv, contact_options* o) {
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        if (i + 1 < argc && !strcmp(a, "--steps"))
+            o->steps = atoi(argv[++i]);
+        else if (i + 1 < argc && !strcmp(a, "--runs"))
+            o->runs = atoi(argv[++i]);
+        else if (i + 1 < argc && !strcmp(a, "--csv"))
+            o->csv = argv[++i];
+        else if (i + 1 < argc && !strcmp(a, "--md"))
+            o->md = argv[++i];
+        else {
+            fprintf(stderr, "usage: sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE]\n");
+            exit(2);
+        }
+    }
+    if (o->steps < 1 || o->runs < 1) {
+        fprintf(stderr, "sb_bench_contact: --steps and --runs must be positive\n");
+        exit(2);
+    }
+}
+
+int main(int argc, char** argv) {
+    contact_options o = {.steps = 400, .runs = 3, .csv = "bench/results/contact.csv", .md = "bench/results/contact.md"};
+    parse(argc, argv, &o);
+    sb_bench_setup setup;
+    sb_error err;
+    sb_bench_options bo = {.jitter = SB_BENCH_DEFAULT_JITTER};
+    if (sb_bench_build(sb_bench_find_case("sheet_100k"), &bo, &setup, &err) != SB_OK) {
+        fprintf(stderr, "sb_bench_contact: %s\n", err.message);
+        return 1;
+    }
+    const char* scenes[2] = {"draped", "floor"};
+    const double floors[2] = {-0.5, -0.002};
+    uint32_t n = setup.mesh.vertex_count;
+    double *x = malloc(3 * (size_t)n * sizeof *x), *v = malloc(3 * (size_t)n * sizeof *v);
+    char machine[256];
+    sb_runtime_describe(machine, sizeof machine);
+    FILE *csv = fopen(o.csv, "w"), *md = fopen(o.md, "w");
+    if (!csv || !md) {
+        fprintf(stderr, "sb_bench_contact: cannot write %s or %s\n", o.csv, o.md);
+        return 1;
+    }
+    fprintf(csv, "scene,threads,run,ms_without,ms_with,ratio,contacts_per_step\n");
+    fprintf(md, "# Contact: the cost of a plane and a sphere on the 100k sheet\n\n");
+    fprintf(md,
+            "Machine: `%s`. Written by `bench/contact.sh` (`sb_bench_contact`; the scenes and the method are at the "
+            "top of bench/bench_contact.c). %d steps per timing, dt %.3g s, %u vertices; runs interleaved; the "
+            "best of each configuration in bold.\n\n",
+            machine, o.steps, setup.dt, n);
+    fprintf(md, "| scene | threads | run | ms/step without | ms/step with plane + sphere | with / without | "
+                "contacts/step |\n|---|--:|--:|--:|--:|--:|--:|\n");
+    printf("scene   threads run  ms_without  ms_with  ratio  contacts/step\n");
+    for (int scene = 0; scene < 2; scene++) {
+        sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, floors[scene]),
+                                     make_collider(SB_COLLIDER_SPHERE, floors[scene])};
+        sb_solver* warm = make_solver(&setup, 2, colliders, 2); /* 0.05 s of falling onto the colliders */
+        advance(warm, setup.dt, (int)(0.05 / setup.dt), NULL);
+        sb_solver_get_positions(warm, x);
+        sb_solver_get_velocities(warm, v);
+        sb_solver_destroy(warm);
+        for (int threads = 1; threads <= 2; threads++) {
+            double best_without = INFINITY, best_with = INFINITY;
+            for (int run = 1; run <= o.runs; run++) {
+                double contacts = 0, ignored;
+                double without = time_steps(&setup, threads, NULL, 0, x, v, o.steps, &ignored);
+                double with = time_steps(&setup, threads, colliders, 2, x, v, o.steps, &contacts);
+                best_without = fmin(best_without, without);
+                best_with = fmin(best_with, with);
+                printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %.0f\n", scenes[scene], threads, run, 1e3 * without,
+                       1e3 * with, with / without, contacts);
+                fprintf(csv, "%s,%d,%d,%.6f,%.6f,%.4f,%.0f\n", scenes[scene], threads, run, 1e3 * without, 1e3 * with,
+                        with / without, contacts);
+                fprintf(md, "| %s | %d | %d | %.3f | %.3f | %.3f | %.0f |\n", scenes[scene], threads, run,
+                        1e3 * without, 1e3 * with, with / without, contacts);
+            }
+            fprintf(md, "| %s | %d | best | %.3f | %.3f | **%.3f** | |\n", scenes[scene], threads, 1e3 * best_without,
+                    1e3 * best_with, best_with / best_without);
+        }
+        for (int c = 0; c < 2; c++) sb_collider_destroy(colliders[c]);
+    }
+    fclose(csv);
+    fclose(md);
+    free(x);
+    free(v);
+    sb_bench_setup_free(&setup);
+    return 0;
+}
