@@ -14,7 +14,6 @@
  * difference. Prints a table and writes CSV and markdown.
  *
  *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
-#define _GNU_SOURCE
 #include "bench/bench_cases.h"
 
 #include <math.h>

@@ -358,9 +358,11 @@ static void check_random_move(sb_sweep_fn fn, const sb_collider_def* d, const do
     enum { samples = 1000 };
     sweep_result r = sweep(fn, d, from[0], from[1], from[2], to[0], to[1], to[2], t);
     double f0 = reference_sign(d, from, t), f1 = reference_sign(d, to, t), x[3];
-    if (f0 <= 0.0 && f1 <= 0.0) { /* resting */
+    if (f0 <= 0.0 && f1 <= 0.0 && r.fraction == 1.0) { /* resting */
         assert_hit(r, 1.0, -f1, r.normal[0], r.normal[1], r.normal[2], 1e-12);
-    } else if (f0 <= 0.0) { /* leaving, or stopped at once with the depth of `from` */
+    } else if (f0 <= 0.0) {
+        /* `to` inside past the middle of the body is held like a move heading in */ /* leaving, or stopped at once with
+                                                                                        the depth of `from` */
         if (r.hit) assert_hit(r, 0.0, -f0, r.normal[0], r.normal[1], r.normal[2], 1e-12);
         if (r.hit) TU_ASSERT_LE(tu_dot(r.normal, (double[3]){to[0] - from[0], to[1] - from[1], to[2] - from[2]}), 0.0);
     } else {

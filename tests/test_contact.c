@@ -308,11 +308,180 @@ static void test_contact_is_deterministic(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* A sheet of `side` x `side` vertices, 1 m wide, centred on the origin at
+ * height z, bond and angle terms, moving at vz; pinned on its border when
+ * `pinned`. */
+static sb_model* sheet_model(uint32_t side, double z, double vz, bool pinned) {
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = side;
+    sb_mesh mesh = {0};
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
+    for (uint32_t i = 0; i < mesh.vertex_count; i++) {
+        mesh.positions[3 * i] -= 0.5;
+        mesh.positions[3 * i + 1] -= 0.5;
+        mesh.positions[3 * i + 2] = z;
+    }
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 500.0;
+    material.angle_k = 0.1;
+    sb_builder* b = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(b, &mesh, &material, &err), SB_OK);
+    for (uint32_t i = 0; i < mesh.vertex_count; i++) {
+        uint32_t ix = i % side, iy = i / side;
+        sb_vertex_def* v = sb_builder_vertex(b, i);
+        v->velocity[2] = vz;
+        v->fixed = pinned && (ix == 0 || iy == 0 || ix == side - 1 || iy == side - 1);
+    }
+    sb_model* m = sb_builder_compile(b, &err);
+    sb_builder_destroy(b);
+    sb_mesh_free(&mesh);
+    if (!m) fail_msg("%s", err.message);
+    return m;
+}
+
+/* A sheet falling at 20 m/s onto a capsule of radius 5 mm (a needle, a hook)
+ * at 1 ms steps, each twice as long as the capsule is thick, never passes
+ * it (the swept test; an end-point test would miss it): no vertex is ever
+ * inside the capsule, and none that was over it (within its radius of the
+ * axis sideways) is under it a step later, with either kernel choice. The
+ * sheet may wrap round the capsule and slide off it sideways; it may not
+ * go through. */
+static void test_fast_sheet_does_not_pass_a_capsule(void** state) {
+    (void)state;
+    sb_model* m = sheet_model(41, 0.05, -20.0, false);
+    uint32_t n = sb_model_vertex_count(m);
+    double *x = malloc(3 * (size_t)n * sizeof *x), *before = malloc(3 * (size_t)n * sizeof *before);
+    const double r = 0.005;
+    for (int kernels = 0; kernels < 2; kernels++) {
+        sb_collider_def def = sb_default_collider_def();
+        def.shape = SB_COLLIDER_CAPSULE;
+        def.a[0] = -0.3, def.b[0] = 0.3; /* along x at z = 0 */
+        def.radius = r;
+        sb_error err;
+        sb_collider* capsule = sb_collider_create(&def, &err);
+        assert_non_null(capsule);
+        sb_solver_def sd = contact_def(&capsule, 1, SB_INTEGRATOR_VERLET);
+        sd.kernels = kernels ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+        sb_solver* s = tu_solver(m, &sd);
+        uint32_t stopped = 0, inside = 0, through = 0;
+        sb_solver_get_positions(s, before);
+        for (int step = 0; step < 30; step++) {
+            tu_advance(s, 1e-3, 1);
+            stopped += sb_solver_last_step(s).contacts;
+            sb_solver_get_positions(s, x);
+            for (uint32_t i = 0; i < n; i++) {
+                const double *p = x + 3 * i, *q = before + 3 * i;
+                bool over_it = fabs(p[0]) < 0.3 && fabs(p[1]) < r && fabs(q[1]) < r;
+                inside += fabs(p[0]) < 0.3 && p[1] * p[1] + p[2] * p[2] < (r - 1e-6) * (r - 1e-6);
+                through += over_it && q[2] > 0.0 && p[2] < 0.0;
+            }
+            memcpy(before, x, 3 * (size_t)n * sizeof *x);
+        }
+        print_message("%s: %u contacts, %u vertex-steps inside, %u through\n", kernels ? "fast" : "reference", stopped,
+                      inside, through);
+        assert_true(stopped > 0);
+        assert_int_equal(inside, 0);
+        assert_int_equal(through, 0);
+        sb_solver_destroy(s);
+        sb_collider_destroy(capsule);
+    }
+    free(x);
+    free(before);
+    sb_model_destroy(m);
+}
+
+/* A sphere of radius 5 cm thrown at 20 m/s (a keyframed path) through a
+ * sheet pinned on its border: the vertices in its way are swept ahead of it
+ * (none is ever behind its centre within 3 cm of its axis). */
+static void test_thrown_sphere_does_not_pass_a_sheet(void** state) {
+    (void)state;
+    sb_model* m = sheet_model(41, 0.0, 0.0, true);
+    uint32_t n = sb_model_vertex_count(m);
+    double* x = malloc(3 * (size_t)n * sizeof *x);
+    sb_keyframe path[2] = {{.time = 0.0, .translate = {0, 0, 0}}, {.time = 0.01, .translate = {0, 0, -0.2}}};
+    sb_collider_def def = sb_default_collider_def();
+    def.shape = SB_COLLIDER_SPHERE;
+    def.center[2] = 0.1; /* from 10 cm above the sheet to 10 cm below it in 10 ms */
+    def.radius = 0.05;
+    def.path = path;
+    def.path_count = 2;
+    sb_error err;
+    sb_collider* ball = sb_collider_create(&def, &err);
+    assert_non_null(ball);
+    sb_solver_def sd = contact_def(&ball, 1, SB_INTEGRATOR_VERLET);
+    sd.gravity[2] = 0.0;
+    sb_solver* s = tu_solver(m, &sd);
+    uint32_t behind = 0;
+    double lowest = 0.0;
+    for (int step = 1; step <= 100; step++) {
+        tu_advance(s, 1e-4, 1);
+        double cz = 0.1 - 20.0 * 1e-4 * step; /* the ball's centre */
+        sb_solver_get_positions(s, x);
+        for (uint32_t i = 0; i < n; i++) {
+            const double* p = x + 3 * i;
+            behind += p[0] * p[0] + p[1] * p[1] < 0.03 * 0.03 && p[2] > cz;
+            lowest = fmin(lowest, p[2]);
+        }
+    }
+    print_message("lowest vertex %.4f m, %u vertex-steps behind the ball's centre\n", lowest, behind);
+    assert_int_equal(behind, 0);
+    TU_ASSERT_LE(lowest, -0.1); /* the sheet went down with the ball */
+    sb_solver_destroy(s);
+    sb_collider_destroy(ball);
+    free(x);
+    sb_model_destroy(m);
+}
+
+/* A sphere driven by sb_collider_set_pose, 1 mm a step along +x, pushes a
+ * point mass at rest ahead of it at its own speed (10 m/s) and never lets it
+ * inside. */
+static void test_driven_sphere_pushes(void** state) {
+    (void)state;
+    sb_builder* b = sb_builder_create();
+    sb_vertex_def v = sb_default_vertex_def();
+    v.position[0] = 0.06;
+    v.mass = 0.01;
+    sb_builder_add_vertex(b, &v);
+    sb_error err;
+    sb_model* m = sb_builder_compile(b, &err);
+    sb_builder_destroy(b);
+    assert_non_null(m);
+    sb_collider_def def = sb_default_collider_def();
+    def.shape = SB_COLLIDER_SPHERE;
+    def.radius = 0.05;
+    sb_collider* ball = sb_collider_create(&def, &err);
+    assert_non_null(ball);
+    sb_solver_def sd = contact_def(&ball, 1, SB_INTEGRATOR_VERLET);
+    sd.gravity[2] = 0.0;
+    sb_solver* s = tu_solver(m, &sd);
+    double x[3], vel[3];
+    for (int step = 1; step <= 50; step++) {
+        sb_collider_set_pose(ball, (double[3]){0.001 * step, 0, 0}, (double[3]){0, 0, 0});
+        tu_advance(s, 1e-4, 1);
+        sb_solver_get_positions(s, x);
+        TU_ASSERT_LE(0.05 - (x[0] - 0.001 * step), 1e-7); /* outside the ball, up to float rounding */
+    }
+    sb_solver_get_velocities(s, vel);
+    print_message("pushed to x = %.4f m at %.3f m/s\n", x[0], vel[0]);
+    assert_true(x[0] > 0.09);
+    TU_ASSERT_LE(fabs(vel[0] - 10.0), 1e-3);
+    sb_solver_destroy(s);
+    sb_collider_destroy(ball);
+    sb_model_destroy(m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_restitution_rebound_height),       cmocka_unit_test(test_friction_on_an_incline),
-        cmocka_unit_test(test_resting_contact_every_integrator), cmocka_unit_test(test_reaction_force_is_the_weight),
-        cmocka_unit_test(test_own_collider_matches_the_builtin), cmocka_unit_test(test_contact_is_deterministic),
+        cmocka_unit_test(test_restitution_rebound_height),
+        cmocka_unit_test(test_friction_on_an_incline),
+        cmocka_unit_test(test_resting_contact_every_integrator),
+        cmocka_unit_test(test_reaction_force_is_the_weight),
+        cmocka_unit_test(test_own_collider_matches_the_builtin),
+        cmocka_unit_test(test_contact_is_deterministic),
+        cmocka_unit_test(test_fast_sheet_does_not_pass_a_capsule),
+        cmocka_unit_test(test_thrown_sphere_does_not_pass_a_sheet),
+        cmocka_unit_test(test_driven_sphere_pushes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

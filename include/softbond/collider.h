@@ -113,6 +113,16 @@ SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn co
                                               void* user, sb_error* err);
 SB_API void sb_collider_destroy(sb_collider* collider);
 
+/* Drives a built-in collider from the program (a tool held by a haptic
+ * device, a mouse): the pose it reaches at the end of the next step,
+ * rotate (degrees about x, then y, then z, about its reference point) then
+ * translate, as a keyframe's; during that step it moves from its last pose
+ * to this one, and the vertices it sweeps are answered with its velocity.
+ * From the first call on it overrides the path. Call it from the thread
+ * that advances the solver, between steps. Does nothing to a program's own
+ * collider, which moves itself in its begin-step callback. */
+SB_API void sb_collider_set_pose(sb_collider* collider, const double translate[3], const double rotate[3]);
+
 /* Where a program's own collider can be touched until it says otherwise
  * (an axis-aligned box, inflated by its thickness; NULL, NULL: everywhere,
  * the default). The contact pass asks the collider only about moves that

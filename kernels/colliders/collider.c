@@ -322,8 +322,13 @@ static void sb_pose_invert(const double pose[12], const double y[3], double x[3]
 
 static void sb_builtin_begin_step(void* user, double t0, double t1) {
     sb_collider* c = user;
-    sb_collider_pose(c, t0, c->pose0);
-    sb_collider_pose(c, t1, c->pose1);
+    if (c->driven) { /* from where the last step left it to where the program put it */
+        memcpy(c->pose0, c->pose1, sizeof c->pose0);
+        memcpy(c->pose1, c->driven_pose, sizeof c->pose1);
+    } else {
+        sb_collider_pose(c, t0, c->pose0);
+        sb_collider_pose(c, t1, c->pose1);
+    }
     c->t0 = t0;
     c->t1 = t1;
     sb_collider_step_bounds(c);
@@ -361,7 +366,7 @@ static void sb_surface(const sb_collider* c, double fraction, double depth, sb_c
 static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact* contact) {
     const sb_collider* c = user;
     double from[3], to[3], normal[3], fraction, depth, thickness = c->def.thickness + q->thickness;
-    if (!c->path) { /* static: the rest frame is the world */
+    if (!c->path && !c->driven) { /* static: the rest frame is the world */
         if (!sb_shape_sweep(c, q->from, q->to, thickness, &fraction, &depth, contact->normal)) return false;
         memset(contact->velocity, 0, sizeof contact->velocity);
         sb_surface(c, fraction, depth, contact);
@@ -396,15 +401,18 @@ static void sb_copy3(double out[3], const double v[3]) { memcpy(out, v, 3 * size
 
 bool sb_sweep_from_inside(const sb_sweep_end* from_end, const sb_sweep_end* to_end, const double from[3],
                           const double to[3], double* fraction, double* depth, double normal[3]) {
-    if (to_end->inside) { /* resting: keep the move, push `to` out */
+    const double* n = from_end->normal;
+    double flip = to_end->normal[0] * n[0] + to_end->normal[1] * n[1] + to_end->normal[2] * n[2];
+    if (to_end->inside && flip >= 0.0) { /* resting: keep the move, push `to` out */
         *fraction = 1.0;
         *depth = to_end->depth;
         sb_copy3(normal, to_end->normal);
         return true;
     }
-    const double* n = from_end->normal;
+    /* `to` outside, or inside but past the middle of the body (its way out
+     * faces the other way: pushing it out there would pass it through) */
     double heading = (to[0] - from[0]) * n[0] + (to[1] - from[1]) * n[1] + (to[2] - from[2]) * n[2];
-    if (heading >= 0.0) return false; /* leaving */
+    if (!to_end->inside && heading >= 0.0) return false; /* leaving */
     *fraction = 0.0;
     *depth = from_end->depth;
     sb_copy3(normal, n);
@@ -423,4 +431,16 @@ bool sb_sweep_from_outside(bool entered, double lo, double hi, const double lo_n
     }
     *depth = 0.0;
     return true;
+}
+
+void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {
+    if (c->begin_step != sb_builtin_begin_step) return; /* a program's own collider moves itself */
+    double r[9], center[3];
+    sb_collider_rotation(rotate, r);
+    sb_reference_point(&c->def, center);
+    memcpy(c->driven_pose, r, sizeof r);
+    for (int i = 0; i < 3; i++)
+        c->driven_pose[9 + i] =
+            center[i] - (r[3 * i] * center[0] + r[3 * i + 1] * center[1] + r[3 * i + 2] * center[2]) + translate[i];
+    c->driven = true;
 }

@@ -49,6 +49,10 @@ struct sb_collider {
     sb_keyframe* path;
     double pose0[12], pose1[12]; /* rotation (row-major 3x3) and translation at t0 and t1 */
     double t0, t1;
+    /* sb_collider_set_pose: the pose the program set for the end of the
+     * next step (it then moves from its last pose to this one) */
+    bool driven;
+    double driven_pose[12];
     double box_rotation[9]; /* box: sb_collider_rotation(def.rotate), made once */
 };
 
