@@ -65,7 +65,8 @@ struct sb_team {
     atomic_int arrived;
     atomic_uint barrier_generation;
     atomic_int sleepers;
-    hwloc_topology_t topology; /* for pinning; NULL when not pinned */
+    hwloc_topology_t topology;     /* for pinning; NULL when not pinned */
+    hwloc_bitmap_t caller_binding; /* the calling thread's binding before pinning, given back at destroy */
 };
 
 static long sb_futex(atomic_uint* word, int op, unsigned value) {
@@ -168,6 +169,10 @@ void sb_team_destroy(sb_team* t) {
     sb_bump(t, &t->job_generation);
     for (int i = 1; i < t->size; i++)
         if (t->workers[i].team) pthread_join(t->threads[i], NULL);
+    if (t->caller_binding) { /* the host's thread gets its own binding back */
+        hwloc_set_cpubind(t->topology, t->caller_binding, HWLOC_CPUBIND_THREAD);
+        hwloc_bitmap_free(t->caller_binding);
+    }
     if (t->topology) hwloc_topology_destroy(t->topology);
     free(t->threads);
     free(t->workers);
@@ -204,6 +209,11 @@ sb_team* sb_team_create(const sb_runtime_def* def, sb_error* err) {
     t->size = size;
     t->policy = def->wait;
     if (def->pin) t->topology = sb_load_topology(); /* unpinned when the topology cannot be read */
+    if (t->topology && (t->caller_binding = hwloc_bitmap_alloc()) &&
+        hwloc_get_cpubind(t->topology, t->caller_binding, HWLOC_CPUBIND_THREAD) != 0) {
+        hwloc_bitmap_free(t->caller_binding);
+        t->caller_binding = NULL;
+    }
     sb_pin(t, 0);
     for (int i = 1; i < size; i++) {
         t->workers[i] = (sb_worker){t, i, size};

@@ -1,7 +1,10 @@
 /* The solver beside other threads: the wait policies and pinning never
  * change a result; the state buffer hands whole snapshots to readers while
  * the writer goes on. Run under the thread sanitizer too (make test). */
+#define _GNU_SOURCE
 #include "test_util.h"
+
+#include <sched.h>
 #include "kernels/team.h"
 
 #include <pthread.h>
@@ -90,6 +93,27 @@ static void test_team_runs_jobs_of_any_width(void** state) {
         }
         sb_team_destroy(team);
     }
+}
+
+/* A pinned team binds the thread that creates it to core 0 and gives it its
+ * own binding back when destroyed (a host thread made later from it must
+ * not inherit core 0). */
+static void test_pinning_gives_the_binding_back(void** state) {
+    (void)state;
+    cpu_set_t before, during, after;
+    assert_int_equal(sched_getaffinity(0, sizeof before, &before), 0);
+    if (CPU_COUNT(&before) < 2) skip(); /* nothing to narrow on one processor */
+    sb_error err;
+    sb_runtime_def def = {.threads = 2, .pin = true, .wait = SB_WAIT_PASSIVE};
+    sb_team* team = sb_team_create(&def, &err);
+    assert_non_null(team);
+    assert_int_equal(sched_getaffinity(0, sizeof during, &during), 0);
+    sb_team_destroy(team);
+    assert_int_equal(sched_getaffinity(0, sizeof after, &after), 0);
+    print_message("processors: %d before, %d pinned, %d after\n", CPU_COUNT(&before), CPU_COUNT(&during),
+                  CPU_COUNT(&after));
+    assert_true(CPU_COUNT(&during) < CPU_COUNT(&before));
+    assert_true(CPU_EQUAL(&before, &after));
 }
 
 static void test_default_runtime_shares_the_machine(void** state) {
@@ -393,6 +417,7 @@ static void test_buffer_checks_its_arguments(void** state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_team_runs_jobs_of_any_width),
+        cmocka_unit_test(test_pinning_gives_the_binding_back),
         cmocka_unit_test(test_default_runtime_shares_the_machine),
         cmocka_unit_test(test_wait_policy_names),
         cmocka_unit_test(test_policies_do_not_change_results),

@@ -34,7 +34,9 @@ SB_API bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out);
 /* The threads a solver runs on; the host decides. */
 typedef struct sb_runtime_def {
     int threads;         /* the team's size, the calling thread included; 0 = sb_runtime_threads(0) */
-    bool pin;            /* bind thread i to core i (hwloc); off: the scheduler places them */
+    bool pin;            /* bind thread i to core i (hwloc; thread 0 is the one that creates the solver,
+                          * given its own binding back when the solver is destroyed); off: the
+                          * scheduler places them */
     sb_wait_policy wait; /* see above */
 } sb_runtime_def;
 
