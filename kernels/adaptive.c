@@ -6,11 +6,13 @@
  *   W    = Σ_free ½ (f_ext(t) + f_ext(t + h)) · (x(t + h) − x(t)),
  *
  * W the work of the external callback's forces, estimated by the trapezoid
- * rule along the sub-step's displacement (gravity is a potential and is in
+ * rule along the sub-step's displacement, plus the work of the dynamic
+ * colliders (the energy they would lose if the sub-step were kept:
+ * kernels/colliders/dynamic.c) (gravity is a potential and is in
  * E; drag and spring damping only ever remove energy, so they need no term).
  * When gain > tolerance × S, S the largest kinetic + Σ|term| + |gravity|
- * of the accepted states since the state was set and of the new one — the tolerance is the rounding level of
- * those energies, 1e-5 in float and 1e-10 in double unless set; the peak, not
+ * (+ the dynamic colliders' kinetic + |gravity|) of the accepted states since the state was set and of the new one —
+ * the tolerance is the rounding level of those energies, 1e-5 in float and 1e-10 in double unless set; the peak, not
  * the current value, because a system coming to rest would otherwise be
  * judged on the rounding noise of energies that tend to zero — or the
  * sub-step fails (a non-finite, runaway or
@@ -27,6 +29,7 @@
  * Verlet displacement, the fast path's packed working state, the external
  * forces, the clock and the energies. */
 #include "kernels/solver_internal.h"
+#include "kernels/colliders/collider_internal.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -143,7 +146,10 @@ static double sb_adaptive_tolerance(const sb_solver* s) {
 }
 
 static void sb_accepted(sb_solver* s, double h) {
-    if (s->contact_impulse) sb_contact_accept(s);
+    if (s->contact_impulse) { /* a dynamic collider moves only with the sub-steps kept */
+        sb_contact_accept(s);
+        sb_colliders_after_step(s->def.colliders, s->def.collider_count, s->contact_step, s->def.gravity, h);
+    }
     sb_step_stats* st = &s->stats;
     st->substeps++;
     st->last_substep = h;
@@ -171,12 +177,18 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
         if (s->external) sb_fast_publish(s);           /* the work needs the positions before the sub-step */
         sb_backup_copy(s, true);
-        s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies));
+        /* the dynamic colliders' energies belong to the system's scale (they do not change in a sub-step
+         * until it is kept) */
+        double bodies = sb_colliders_energy_scale(s->def.colliders, s->def.collider_count, s->def.gravity);
+        s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies) + bodies);
         double e0 = sb_energies_total(&s->energies);
         sb_status status = sb_solver_step(s, h);
         if (status != SB_OK && status != SB_ERR_UNSTABLE && status != SB_ERR_DEGENERATE) return status;
-        double gain = status == SB_OK ? sb_energies_total(&s->energies) - e0 - sb_external_work(s) : INFINITY;
-        double scale = fmax(s->energy_peak, sb_energy_scale(&s->energies)); /* a blow-up's gain is ~ all of it */
+        double gain = status == SB_OK ? sb_energies_total(&s->energies) - e0 - sb_external_work(s) -
+                                            sb_colliders_step_work(s->def.colliders, s->def.collider_count,
+                                                                   s->contact_step, s->def.gravity, h)
+                                      : INFINITY;
+        double scale = fmax(s->energy_peak, sb_energy_scale(&s->energies) + bodies); /* a blow-up's gain: ~ all */
         if (status == SB_OK && gain <= tolerance * scale) {
             s->energy_peak = scale;
             remaining -= h;

@@ -2,6 +2,7 @@
  * with the chosen integrator, checking after every step that the state is
  * still finite and bounded. */
 #include "kernels/solver_internal.h"
+#include "kernels/colliders/collider_internal.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -362,7 +363,10 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
     if (s->def.adaptive) return sb_adaptive_advance(s, dt);
     sb_status status = sb_solver_step(s, dt);
     if (status == SB_OK) {
-        if (s->contact_impulse) sb_contact_accept(s);
+        if (s->contact_impulse) {
+            sb_contact_accept(s);
+            sb_colliders_after_step(s->def.colliders, s->def.collider_count, s->contact_step, s->def.gravity, dt);
+        }
         s->stats.substeps = 1;
         s->stats.last_substep = s->stats.min_substep = dt;
     }

@@ -42,6 +42,8 @@ typedef enum entry_key {
     KEY_THICKNESS,
     KEY_PATH,
     KEY_INTERPOLATION,
+    KEY_MASS,
+    KEY_VELOCITY,
     KEY_COUNT
 } entry_key;
 
@@ -62,6 +64,8 @@ static const char* const entry_keys[KEY_COUNT] = {
     [KEY_THICKNESS] = "thickness",
     [KEY_PATH] = "path",
     [KEY_INTERPOLATION] = "interpolation",
+    [KEY_MASS] = "mass",
+    [KEY_VELOCITY] = "velocity",
 };
 
 /* The shapes that may have each key, and those that must. */
@@ -82,6 +86,8 @@ static const unsigned key_shapes[KEY_COUNT] = {
     [KEY_THICKNESS] = ALL,
     [KEY_PATH] = ALL,
     [KEY_INTERPOLATION] = ALL,
+    [KEY_MASS] = SPHERE | BOX,
+    [KEY_VELOCITY] = SPHERE | BOX,
 };
 static const unsigned key_required[KEY_COUNT] = {
     [KEY_TYPE] = ALL,  [KEY_CENTER] = SPHERE | BOX,     [KEY_A] = CAPSULE,
@@ -238,13 +244,16 @@ static sb_status read_path(const map_reader* r, sb_scene_collider* out) {
 
 /* ---- an entry ------------------------------------------------------------------ */
 
-/* "point, normal" (keys) or "center and radius" (required keys) of a shape. */
+/* Keys of a dynamic collider's motion, not of its geometry. */
+static bool motion_key(int key) { return key == KEY_MASS || key == KEY_VELOCITY; }
+
+/* "point, normal" (geometry keys) or "center and radius" (required keys) of a shape. */
 static void shape_keys(sb_collider_shape shape, const unsigned* table, const char* last_join, char* out, size_t size) {
     int count = 0, total = 0;
-    for (int k = 0; k < KEY_COUNT; k++) total += table[k] != ALL && (table[k] & (1u << shape));
+    for (int k = 0; k < KEY_COUNT; k++) total += table[k] != ALL && !motion_key(k) && (table[k] & (1u << shape));
     out[0] = '\0';
     for (int k = 0; k < KEY_COUNT; k++) {
-        if (table[k] == ALL || !(table[k] & (1u << shape))) continue;
+        if (table[k] == ALL || motion_key(k) || !(table[k] & (1u << shape))) continue;
         size_t used = strlen(out);
         snprintf(out + used, size - used, "%s%s",
                  count == 0           ? ""
@@ -275,6 +284,8 @@ static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) 
         int k = 0;
         while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
         if (key_shapes[k] & (1u << shape)) continue;
+        if (motion_key(k)) /* only a sphere or box can be dynamic: to any other shape the key is unknown */
+            return fail(r, &r->map->keys[p], "unknown key '%s'", full_name(r, entry_keys[k], name, sizeof name));
         shape_keys(shape, key_shapes, ", ", keys, sizeof keys);
         return fail(r, &r->map->keys[p], "'%s' does not apply to a %s (its shape's keys: %s)",
                     full_name(r, entry_keys[k], name, sizeof name), kind, keys);
@@ -289,10 +300,10 @@ static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) 
 }
 
 static sb_status read_vector_key(const map_reader* r, int key, sb_collider_def* def) {
-    double* targets[KEY_COUNT] = {
-        [KEY_POINT] = def->point,  [KEY_NORMAL] = def->normal, [KEY_CENTER] = def->center,
-        [KEY_A] = def->a,          [KEY_B] = def->b,           [KEY_HALF_EXTENTS] = def->half_extents,
-        [KEY_ROTATE] = def->rotate};
+    double* targets[KEY_COUNT] = {[KEY_POINT] = def->point,   [KEY_NORMAL] = def->normal,
+                                  [KEY_CENTER] = def->center, [KEY_A] = def->a,
+                                  [KEY_B] = def->b,           [KEY_HALF_EXTENTS] = def->half_extents,
+                                  [KEY_ROTATE] = def->rotate, [KEY_VELOCITY] = def->velocity};
     double* v = targets[key];
     sb_status status = read_vec3(r, r->values[key], entry_keys[key], v);
     if (status != SB_OK) return status;
@@ -329,6 +340,7 @@ static sb_status read_value(const map_reader* r, int key, sb_scene_collider* out
     case KEY_STATIC_FRICTION: return read_range(r, key, false, INFINITY, &def->static_friction);
     case KEY_RESTITUTION: return read_range(r, key, false, 1.0, &def->restitution);
     case KEY_THICKNESS: return read_range(r, key, false, INFINITY, &def->thickness);
+    case KEY_MASS: return read_range(r, key, false, INFINITY, &def->mass);
     case KEY_PATH: return read_path(r, out);
     case KEY_INTERPOLATION: return read_interpolation(r, def);
     default: return read_vector_key(r, key, def);
@@ -343,9 +355,14 @@ static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
         if (status != SB_OK) return status;
     }
     sb_collider_def* def = &out->def;
+    char name[128];
+    if (def->mass > 0.0 && r->values[KEY_PATH])
+        return fail(r, r->keys[KEY_PATH], "'%s': a dynamic collider (mass %g) cannot have a path",
+                    full_name(r, "path", name, sizeof name), def->mass);
+    if (r->values[KEY_VELOCITY] && !(def->mass > 0.0)) /* only a dynamic collider has one */
+        return fail(r, r->keys[KEY_VELOCITY], "unknown key '%s'", full_name(r, "velocity", name, sizeof name));
     if (!r->values[KEY_STATIC_FRICTION]) def->static_friction = def->friction;
     if (def->static_friction >= def->friction) return SB_OK;
-    char name[128];
     return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
                 full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
 }

@@ -518,6 +518,28 @@ static void test_colliders_set_replaces_the_list(void** state) {
     sb_scene_free(&scene);
 }
 
+/* mass and velocity make a sphere or box dynamic; read as written. */
+static void test_colliders_dynamic_keys(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_scene_colliders c;
+    sb_error err;
+    const char* text = "colliders:\n  - {type: sphere, center: [0, 0, 1], radius: 0.1, mass: 0.5, velocity: [0, 0, "
+                       "-5]}\n  - {type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 0}\n";
+    assert_int_equal(load_text(&scene, "dynamic.yaml", text, &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_colliders_read(&scene, &c, &err), SB_OK);
+    assert_int_equal(c.count, 2);
+    assert_true(c.entries[0].def.mass == 0.5 && c.entries[0].def.velocity[2] == -5.0);
+    assert_true(c.entries[1].def.mass == 0.0);
+    assert_int_equal(sb_scene_colliders_create(&c, &err), SB_OK);
+    double p[3], v[3];
+    sb_collider_state(c.colliders[0], p, v);
+    assert_true(p[2] == 1.0 && v[2] == -5.0);
+    sb_scene_colliders_free(&c);
+    sb_scene_free(&scene);
+}
+
 /* Where the loader itself refuses a list: not a sequence (the entries are
  * checked by colliders.c when the scene is validated). */
 static void test_colliders_must_be_a_list(void** state) {
@@ -527,8 +549,26 @@ static void test_colliders_must_be_a_list(void** state) {
     assert_load_fails("list2.yaml", "colliders:\n  - type: plane\n    radius: 2\n",
                       "3: 'colliders[0].radius' does not apply to a plane (its shape's keys: point, normal)");
     assert_set_fails("colliders=plane", "--set colliders=plane: 'colliders' expects a sequence of maps, got 'plane'");
+    assert_set_fails("colliders=[{type: plane, density: 1}]",
+                     "--set colliders=[{type: plane, density: 1}]: unknown key 'colliders[0].density'");
+    /* mass and velocity: a dynamic sphere or box */
     assert_set_fails("colliders=[{type: plane, mass: 1}]",
                      "--set colliders=[{type: plane, mass: 1}]: unknown key 'colliders[0].mass'");
+    assert_set_fails("colliders=[{type: capsule, a: [0, 0, 0], b: [1, 0, 0], radius: 1, velocity: [0, 0, 1]}]",
+                     "--set colliders=[{type: capsule, a: [0, 0, 0], b: [1, 0, 0], radius: 1, velocity: [0, 0, 1]}]: "
+                     "unknown key 'colliders[0].velocity'");
+    assert_set_fails("colliders=[{type: sphere, center: [0, 0, 0], radius: 1, mass: -1}]",
+                     "--set colliders=[{type: sphere, center: [0, 0, 0], radius: 1, mass: -1}]: 'colliders[0].mass' "
+                     "must be >= 0, got -1");
+    assert_set_fails("colliders=[{type: sphere, center: [0, 0, 0], radius: 1, velocity: [1, 0, 0]}]",
+                     "--set colliders=[{type: sphere, center: [0, 0, 0], radius: 1, velocity: [1, 0, 0]}]: "
+                     "unknown key 'colliders[0].velocity'");
+    assert_set_fails("colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, path: []}]",
+                     "--set colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, path: []}]: "
+                     "'colliders[0].path': a dynamic collider (mass 2) cannot have a path");
+    assert_set_fails("colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, 0]}]",
+                     "--set colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, "
+                     "0]}]: 'colliders[0].velocity' expects a sequence of 3 numbers, got a sequence of 2");
     assert_set_fails("self_collision=true", "--set self_collision=true: unknown key 'self_collision'");
     assert_set_fails("contact.thickness=-0.5",
                      "--set contact.thickness=-0.5: 'contact.thickness' must be >= 0, got -0.5");
@@ -598,6 +638,7 @@ int main(void) {
         cmocka_unit_test(test_colliders_default_plane_is_the_library_default),
         cmocka_unit_test(test_colliders_set_replaces_the_list),
         cmocka_unit_test(test_colliders_must_be_a_list),
+        cmocka_unit_test(test_colliders_dynamic_keys),
         cmocka_unit_test(test_defaults_match_the_library),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

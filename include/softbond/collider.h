@@ -25,10 +25,10 @@ extern "C" {
 /* One vertex's move in one step. */
 typedef struct sb_contact_query {
     uint32_t vertex;
-    double t0, t1;     /* s: the step runs from t0 to t1 */
-    double from[3];    /* m: the position at t0 */
-    double to[3];      /* m: where the integrator moved it by t1 */
-    double thickness;  /* m: the solver's contact thickness, added to the collider's own */
+    double t0, t1;    /* s: the step runs from t0 to t1 */
+    double from[3];   /* m: the position at t0 */
+    double to[3];     /* m: where the integrator moved it by t1 */
+    double thickness; /* m: the solver's contact thickness, added to the collider's own */
 } sb_contact_query;
 
 /* A collider's answer for a move that touches it. */
@@ -83,20 +83,35 @@ typedef struct sb_keyframe {
  * left at 0 while friction > 0 becomes friction. */
 typedef struct sb_collider_def {
     sb_collider_shape shape;
-    const char* name; /* how logs and handles refer to it; copied */
-    double point[3], normal[3];        /* plane (normal need not be unit; not zero) */
-    double center[3];                  /* sphere, box */
-    double radius;                     /* sphere, capsule (m, > 0) */
-    double a[3], b[3];                 /* capsule */
-    double half_extents[3];            /* box (m, > 0) */
-    double rotate[3];                  /* box: degrees about x, then y, then z */
-    double friction;                   /* Coulomb, sliding (>= 0) */
-    double static_friction;            /* sticking (>= friction; default: friction) */
-    double restitution;                /* [0, 1] */
-    double thickness;                  /* m, >= 0: the surface is inflated by it */
-    const sb_keyframe* path;           /* kinematic: keyframes in increasing time (copied); NULL = static */
+    const char* name;           /* how logs and handles refer to it; copied */
+    double point[3], normal[3]; /* plane (normal need not be unit; not zero) */
+    double center[3];           /* sphere, box */
+    double radius;              /* sphere, capsule (m, > 0) */
+    double a[3], b[3];          /* capsule */
+    double half_extents[3];     /* box (m, > 0) */
+    double rotate[3];           /* box: degrees about x, then y, then z */
+    double friction;            /* Coulomb, sliding (>= 0) */
+    double static_friction;     /* sticking (>= friction; default: friction) */
+    double restitution;         /* [0, 1] */
+    double thickness;           /* m, >= 0: the surface is inflated by it */
+    const sb_keyframe* path;    /* kinematic: keyframes in increasing time (copied); NULL = static */
     uint32_t path_count;
-    sb_interpolation interpolation;    /* between keyframes; before the first and after the last the pose holds */
+    sb_interpolation interpolation; /* between keyframes; before the first and after the last the pose holds */
+    /* Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
+     * rigid body the solver moves. In each accepted step it takes the sum
+     * of the contact impulses it received (the opposite of what the
+     * vertices took, summed in a fixed order: the same for any thread
+     * count) and gravity (the solver's def.gravity): v += J / mass + g dt;
+     * its pose in the next step moves by v dt (symplectic Euler), and the
+     * vertices it touches are answered with its velocity, as for a
+     * kinematic collider. Translation only: it does not rotate (friction
+     * gives it no spin) and a box keeps its `rotate`. Not affected by the
+     * solver's drag; it touches only the soft bodies (no contact with other
+     * colliders). 0 = static or kinematic; a dynamic collider cannot have
+     * a path; a plane or capsule cannot be dynamic. Attach it to one solver
+     * at a time: every solver it is attached to moves it. */
+    double mass;        /* kg, >= 0 */
+    double velocity[3]; /* m/s: a dynamic collider's velocity at the start */
 } sb_collider_def;
 
 /* A plane through the origin with normal +z, no friction, no restitution,
@@ -120,8 +135,16 @@ SB_API void sb_collider_destroy(sb_collider* collider);
  * to this one, and the vertices it sweeps are answered with its velocity.
  * From the first call on it overrides the path. Call it from the thread
  * that advances the solver, between steps. Does nothing to a program's own
- * collider, which moves itself in its begin-step callback. */
+ * collider, which moves itself in its begin-step callback, nor to a dynamic
+ * one, which the solver moves. */
 SB_API void sb_collider_set_pose(sb_collider* collider, const double translate[3], const double rotate[3]);
+
+/* A built-in sphere's or box's center and velocity now (m, m/s): a dynamic
+ * collider's as the solver moved it, a kinematic one's center at the end of
+ * its last step with its velocity over that step, a static one's center and
+ * zero. A plane's point, a capsule's midpoint; a program's own collider:
+ * zeros. Either output may be NULL. */
+SB_API void sb_collider_state(const sb_collider* collider, double position[3], double velocity[3]);
 
 /* Where a program's own collider can be touched until it says otherwise
  * (an axis-aligned box, inflated by its thickness; NULL, NULL: everywhere,

@@ -26,7 +26,8 @@
  *
  * collide only reads the collider, so the solver's threads may call it at
  * once; begin_step (the stepping thread, before them) is the only writer.
- * Before the first begin_step both poses are pose(0). */
+ * Before the first begin_step both poses are pose(0). A dynamic collider
+ * (mass > 0) takes its poses from its state instead (dynamic.c). */
 #include "kernels/colliders/collider_internal.h"
 #include "common/error.h"
 
@@ -156,6 +157,22 @@ static sb_status sb_check_path(const char* label, const sb_collider_def* d, sb_e
     return SB_OK;
 }
 
+/* mass and velocity: a dynamic collider is a sphere or box without a path. */
+static sb_status sb_check_dynamic(const char* label, const sb_collider_def* d, sb_error* err) {
+    if (!(isfinite(d->mass) && d->mass >= 0.0))
+        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': mass must be >= 0 and finite (got %g)", label,
+                            d->mass);
+    if (d->mass == 0.0) return SB_OK;
+    if (d->shape != SB_COLLIDER_SPHERE && d->shape != SB_COLLIDER_BOX)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "collider '%s': a %s cannot be dynamic (mass %g); only a sphere or box", label,
+                            sb_collider_shape_name(d->shape), d->mass);
+    if (d->path_count > 0)
+        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': a dynamic collider (mass %g) cannot have a path",
+                            label, d->mass);
+    return sb_check_vector(label, "velocity", d->velocity, false, err);
+}
+
 /* ---- making and destroying ---------------------------------------------- */
 
 /* name, or `fallback` when it is NULL or empty, truncated to fit. */
@@ -175,7 +192,7 @@ sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     sb_copy_name(label, def->name, (unsigned)def->shape < SB_COLLIDER_SHAPE_COUNT ? sb_shape_names[def->shape] : "?");
     double static_friction = def->static_friction == 0.0 && def->friction > 0.0 ? def->friction : def->static_friction;
     if (sb_check_geometry(label, def, err) || sb_check_surface(label, def, static_friction, err) ||
-        sb_check_path(label, def, err))
+        sb_check_path(label, def, err) || sb_check_dynamic(label, def, err))
         return NULL;
     sb_collider* c = calloc(1, sizeof *c);
     sb_keyframe* path = def->path_count ? malloc(def->path_count * sizeof *path) : NULL;
@@ -195,6 +212,9 @@ sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     c->begin_step = sb_builtin_begin_step;
     c->user = c;
     if (def->shape == SB_COLLIDER_BOX) sb_collider_rotation(def->rotate, c->box_rotation);
+    c->dynamic = def->mass > 0.0;
+    memcpy(c->position, def->center, sizeof c->position);
+    if (c->dynamic) memcpy(c->velocity, def->velocity, sizeof c->velocity);
     sb_builtin_begin_step(c, 0.0, 0.0);
     return c;
 }
@@ -322,7 +342,9 @@ static void sb_pose_invert(const double pose[12], const double y[3], double x[3]
 
 static void sb_builtin_begin_step(void* user, double t0, double t1) {
     sb_collider* c = user;
-    if (c->driven) { /* from where the last step left it to where the program put it */
+    if (c->dynamic) {
+        sb_dynamic_begin_step(c, t0, t1);
+    } else if (c->driven) { /* from where the last step left it to where the program put it */
         memcpy(c->pose0, c->pose1, sizeof c->pose0);
         memcpy(c->pose1, c->driven_pose, sizeof c->pose1);
     } else {
@@ -366,7 +388,7 @@ static void sb_surface(const sb_collider* c, double fraction, double depth, sb_c
 static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact* contact) {
     const sb_collider* c = user;
     double from[3], to[3], normal[3], fraction, depth, thickness = c->def.thickness + q->thickness;
-    if (!c->path && !c->driven) { /* static: the rest frame is the world */
+    if (!c->path && !c->driven && !c->dynamic) { /* static: the rest frame is the world */
         if (!sb_shape_sweep(c, q->from, q->to, thickness, &fraction, &depth, contact->normal)) return false;
         memset(contact->velocity, 0, sizeof contact->velocity);
         sb_surface(c, fraction, depth, contact);
@@ -434,7 +456,8 @@ bool sb_sweep_from_outside(bool entered, double lo, double hi, const double lo_n
 }
 
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {
-    if (c->begin_step != sb_builtin_begin_step) return; /* a program's own collider moves itself */
+    /* a program's own collider moves itself; the solver moves a dynamic one */
+    if (c->begin_step != sb_builtin_begin_step || c->dynamic) return;
     double r[9], center[3];
     sb_collider_rotation(rotate, r);
     sb_reference_point(&c->def, center);
@@ -443,4 +466,21 @@ void sb_collider_set_pose(sb_collider* c, const double translate[3], const doubl
         c->driven_pose[9 + i] =
             center[i] - (r[3 * i] * center[0] + r[3 * i + 1] * center[1] + r[3 * i + 2] * center[2]) + translate[i];
     c->driven = true;
+}
+
+void sb_collider_state(const sb_collider* c, double position[3], double velocity[3]) {
+    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    if (c && c->dynamic) {
+        memcpy(p, c->position, sizeof p);
+        memcpy(v, c->velocity, sizeof v);
+    } else if (c && c->begin_step == sb_builtin_begin_step) {
+        double reference[3], at0[3];
+        sb_reference_point(&c->def, reference);
+        sb_pose_apply(c->pose1, reference, p);
+        sb_pose_apply(c->pose0, reference, at0);
+        if (c->t1 > c->t0)
+            for (int k = 0; k < 3; k++) v[k] = (p[k] - at0[k]) / (c->t1 - c->t0);
+    }
+    if (position) memcpy(position, p, sizeof p);
+    if (velocity) memcpy(velocity, v, sizeof v);
 }

@@ -54,7 +54,33 @@ struct sb_collider {
     bool driven;
     double driven_pose[12];
     double box_rotation[9]; /* box: sb_collider_rotation(def.rotate), made once */
+    /* dynamic (def.mass > 0; kernels/colliders/dynamic.c): the center now,
+     * its velocity, and where the current step takes it (position +
+     * velocity (t1 − t0), set by begin_step) */
+    bool dynamic;
+    double position[3], velocity[3], next_position[3];
 };
+
+/* A dynamic collider's motion (kernels/colliders/dynamic.c). After a step
+ * the solver keeps (each accepted step, in order), the collider takes the
+ * impulse it received in it (N s) and gravity (m/s²) over dt (s): its
+ * center moves to where the step's pose took it, and v += impulse / mass +
+ * gravity dt. Does nothing to a collider that is not dynamic. */
+void sb_collider_after_step(sb_collider* collider, const double impulse[3], const double gravity[3], double dt);
+/* The same for each of `count` colliders, impulses 3 per collider. */
+void sb_colliders_after_step(sb_collider* const* colliders, uint32_t count, const double* impulses,
+                             const double gravity[3], double dt);
+/* The work (J) the dynamic ones among `count` colliders would do on the
+ * soft bodies in the step just taken if it were kept: the energy (kinetic
+ * and in gravity) they would lose by sb_collider_after_step. The adaptive
+ * step's energy balance counts it as external work. */
+double sb_colliders_step_work(sb_collider* const* colliders, uint32_t count, const double* impulses,
+                              const double gravity[3], double dt);
+/* Their kinetic energy plus the size of their energy in gravity (J): the
+ * adaptive step's energy scale counts them. */
+double sb_colliders_energy_scale(sb_collider* const* colliders, uint32_t count, const double gravity[3]);
+/* begin_step of a dynamic collider: its poses for [t0, t1]. */
+void sb_dynamic_begin_step(sb_collider* collider, double t0, double t1);
 
 /* The built-in shape's bounds for its poses at t0 and t1 (kernels/colliders/bounds.c). */
 void sb_collider_step_bounds(sb_collider* collider);
