@@ -367,17 +367,6 @@ static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
                 full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
 }
 
-/* The defaults of colliders.h: a plane through the origin with normal +z,
- * nothing else. */
-static sb_collider_def default_def(sb_collider_shape shape) {
-    sb_collider_def def;
-    memset(&def, 0, sizeof def);
-    def.shape = shape;
-    def.normal[2] = 1.0;
-    def.interpolation = SB_INTERPOLATION_LINEAR;
-    return def;
-}
-
 static sb_status read_entry(const sb_scene_tree* tree, uint32_t index, sb_scene_collider* out,
                             const sb_scene_node** name_node, sb_error* err) {
     const sb_scene_node* node = &tree->root.items[index];
@@ -388,7 +377,8 @@ static sb_status read_entry(const sb_scene_tree* tree, uint32_t index, sb_scene_
     sb_collider_shape shape = SB_COLLIDER_PLANE;
     if (status == SB_OK) status = read_shape(&r, &shape);
     if (status == SB_OK) status = check_shape_keys(&r, shape);
-    out->def = default_def(shape);
+    out->def = sb_default_collider_def();
+    out->def.shape = shape;
     if (status == SB_OK) status = read_values(&r, out);
     if (node->line)
         snprintf(out->where, sizeof out->where, "%s:%zu", tree->source, node->line);
