@@ -1,10 +1,11 @@
-/* The solver's fast path: one OpenMP parallel region per step.
+/* The solver's fast path: one job of the solver's thread team per step.
  *
- * Design. A step is a sequence of passes inside a single parallel region,
+ * Design. A step is a sequence of passes inside a single job of the team,
  * so a small model pays for one fork and join per step, not one per
  * kernel (the team and its wait policy: kernels/team.c):
  *   1. drift (per vertex): the Verlet position update, fused with setting
- *      each force to m g, so forces need no separate clearing pass;
+ *      each force to m g, so forces need no separate clearing pass, and
+ *      followed per chunk by the contact pass (kernels/contact.c);
  *   2. forces: for each element group (bonds, triangles, hinges), for each
  *      block color, its blocks in parallel, and in each block the SIMD
  *      kernel over each element color (kernels/fast_model.h explains the
@@ -17,10 +18,11 @@
  *   4. kick (per vertex): the closing half kick of the velocity, fused with
  *      the kinetic and gravitational energy sums and the finiteness check.
  * Energies are summed per block (and per fixed-size chunk of vertices),
- * never per thread, and those sums are added in order after the region.
+ * never per thread, and those sums are added in order after the job.
  *
  * Measured alternatives (float, AVX-512, 2-core EPYC VM, jittered sheets,
- * all molecular-mechanics terms, ms per step on 1 / 2 threads):
+ * all molecular-mechanics terms, ms per step on 1 / 2 threads; measured
+ * when the passes ran in OpenMP parallel regions, before the team):
  *
  *   scheme                                        10k          100k        1M
  *   colors over the whole mesh, SoA gathers       -            3.3 / 1.58  41 / 23

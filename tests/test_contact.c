@@ -108,11 +108,7 @@ static void test_friction_on_an_incline(void** state) {
         }
         sb_material_def material = sb_default_material_def();
         material.bond_k = 500.0;
-        sb_builder* b = sb_builder_create();
-        assert_int_equal(sb_builder_add_mesh(b, &mesh, &material, &err), SB_OK);
-        sb_model* m = sb_builder_compile(b, &err);
-        sb_builder_destroy(b);
-        assert_non_null(m);
+        sb_model* m = tu_mesh_model(&mesh, &material);
         sb_collider* plane = floor_plane(0.0, mu, 0.0, normal);
         sb_solver_def def = contact_def(&plane, 1, SB_INTEGRATOR_VERLET);
         sb_solver* s = tu_solver(m, &def);
@@ -151,11 +147,7 @@ static void test_resting_contact_every_integrator(void** state) {
     sb_material_def material = sb_default_material_def();
     material.bond_k = 200.0;
     material.angle_k = 0.5;
-    sb_builder* b = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(b, &mesh, &material, &err), SB_OK);
-    sb_model* m = sb_builder_compile(b, &err);
-    sb_builder_destroy(b);
-    assert_non_null(m);
+    sb_model* m = tu_mesh_model(&mesh, &material);
     uint32_t n = mesh.vertex_count;
     double* x = malloc(3 * n * sizeof *x);
     const double thickness = 0.005;
@@ -277,10 +269,7 @@ static void test_contact_is_deterministic(void** state) {
     for (uint32_t i = 0; i < mesh.vertex_count; i++) mesh.positions[3 * i + 2] += 0.11;
     sb_material_def material = sb_default_material_def();
     material.bond_k = 200.0;
-    sb_builder* b = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(b, &mesh, &material, &err), SB_OK);
-    sb_model* m = sb_builder_compile(b, &err);
-    sb_builder_destroy(b);
+    sb_model* m = tu_mesh_model(&mesh, &material);
     uint64_t first = 0;
     double first_force[3] = {0, 0, 0};
     for (int threads = 1; threads <= 3; threads++) {

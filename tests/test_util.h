@@ -161,6 +161,18 @@ static inline const char* tu_compile_fails(const sb_builder* b) {
     return err.message;
 }
 
+/* The model of a mesh with one material, failing the test with the
+ * library's message when it cannot be built. */
+static inline sb_model* tu_mesh_model(const sb_mesh* mesh, const sb_material_def* material) {
+    sb_error err;
+    sb_builder* b = sb_builder_create();
+    if (sb_builder_add_mesh(b, mesh, material, &err) != SB_OK) fail_msg("sb_builder_add_mesh: %s", err.message);
+    sb_model* m = sb_builder_compile(b, &err);
+    sb_builder_destroy(b);
+    if (!m) fail_msg("sb_builder_compile: %s", err.message);
+    return m;
+}
+
 /* Rest positions of a model as 3n interleaved doubles (caller frees). */
 static inline double* tu_rest_positions(const sb_model* m) {
     uint32_t n = sb_model_vertex_count(m);
