@@ -1,5 +1,11 @@
 /* Files that appear whole or not at all: written to NAME.tmp, renamed to
- * NAME on commit, removed on abort. */
+ * NAME on commit, removed on abort.
+ *
+ * Only a regular file (or a new one) is replaced so. A symbolic link is
+ * followed: its target is written through NAME.tmp beside the target and
+ * renamed over it, so the link stays. A path that is not a regular file
+ * (a device such as /dev/null or /dev/full, a pipe) is written in place,
+ * never replaced; a directory is refused ("is a directory"). */
 #ifndef SB_ATOMIC_FILE_H
 #define SB_ATOMIC_FILE_H
 
@@ -8,9 +14,10 @@
 #include "softbond/types.h"
 
 typedef struct sb_atomic_file {
-    FILE* stream; /* write here between open and commit */
-    char* path;
-    char* tmp_path;
+    FILE* stream;   /* write here between open and commit */
+    char* path;     /* as given, for messages */
+    char* target;   /* where the file goes: path, or a link's target */
+    char* tmp_path; /* target.tmp; NULL when written in place */
 } sb_atomic_file;
 
 sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err);

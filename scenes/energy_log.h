@@ -1,4 +1,5 @@
-/* The per-frame log of a run, kept in memory and written as log.csv:
+/* The per-frame log of a run, log.csv, written row by row as the frames
+ * come (each row flushed, so a killed run leaves every whole row):
  * time,kinetic,bond,angle,stretch_bend,spring,bend,gravity,total (the
  * energies of the frame's state, J) then
  * steps,substeps,rejected,newton,cg,unconverged (the solver's work since
@@ -8,6 +9,8 @@
  * the bodies over that advance, N, sb_solver_contact_force; 0 on frame 0). */
 #ifndef SB_ENERGY_LOG_H
 #define SB_ENERGY_LOG_H
+
+#include <stdio.h>
 
 #include "softbond/softbond.h"
 
@@ -25,25 +28,24 @@ typedef struct sb_step_work {
 void sb_step_work_add(sb_step_work* work, const sb_step_stats* stats);
 
 typedef struct sb_energy_log {
-    double* times;
-    sb_energies* energies;
-    sb_step_work* work;
-    uint32_t* contacts;
-    double* forces; /* 3 per collider per row */
+    FILE* file;    /* log.csv, open from sb_energy_log_open */
+    char* path;    /* for messages */
+    double* times; /* each row's, for the frames' index */
     uint32_t count, capacity;
     char** collider_names;
     uint32_t collider_count;
 } sb_energy_log;
 
-/* Adds a collider's three force columns; only before the first row.
+/* Adds a collider's three force columns; only before the log is opened.
  * Returns false when out of memory. */
 bool sb_energy_log_add_collider(sb_energy_log* log, const char* name);
-/* A row; forces holds 3 per collider (may be NULL without colliders).
- * Returns false when out of memory. */
-bool sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work,
-                       uint32_t contacts, const double* forces);
-void sb_energy_log_free(sb_energy_log* log);
-/* One row per frame, 17 significant digits; written atomically. */
-sb_status sb_energy_log_write(const sb_energy_log* log, const char* path, sb_error* err);
+/* Creates (or empties) the file at path and writes the header. */
+sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err);
+/* Writes and flushes a row, 17 significant digits; forces holds 3 per
+ * collider (may be NULL without colliders). */
+sb_status sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work,
+                            uint32_t contacts, const double* forces, sb_error* err);
+/* Closes the file (reporting a failed close) and frees the log. */
+sb_status sb_energy_log_close(sb_energy_log* log, sb_error* err);
 
 #endif

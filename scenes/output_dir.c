@@ -17,6 +17,10 @@ static bool make_one(const char* path) {
 
 /* Makes every prefix of path that ends before a '/', then path itself. */
 static bool make_parents(char* path) {
+    if (path[0] == '\0') {
+        errno = ENOENT;
+        return false;
+    }
     for (char* slash = strchr(path + 1, '/'); slash; slash = strchr(slash + 1, '/')) {
         *slash = '\0';
         bool made = make_one(path);

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct csv_reader {
     const char* path;
@@ -28,16 +29,16 @@ static bool is_blank(const char* s) {
     return true;
 }
 
-/* The next non-blank line without its line ending; false at the end. */
-static bool next_line(csv_reader* r) {
+/* The next non-blank line without its line ending; false at the end.
+ * *nul when the line holds a NUL byte (which would end it early). */
+static bool next_line(csv_reader* r, bool* nul) {
     for (;;) {
-        if (getline(&r->line, &r->capacity, r->file) < 0) {
-            r->line_number++;
-            return false;
-        }
+        ssize_t length = getline(&r->line, &r->capacity, r->file);
         r->line_number++;
+        if (length < 0) return false;
+        *nul = memchr(r->line, '\0', (size_t)length) != NULL;
         r->line[strcspn(r->line, "\r\n")] = '\0';
-        if (!is_blank(r->line)) return true;
+        if (*nul || !is_blank(r->line)) return true;
     }
 }
 
@@ -66,10 +67,13 @@ static sb_status parse_row(const csv_reader* r, double* xyz) {
 }
 
 static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
-    if (!next_line(r)) return CSV_FAIL(r, "empty file: expected the header 'x,y,z'");
+    bool nul = false;
+    if (!next_line(r, &nul)) return CSV_FAIL(r, "empty file: expected the header 'x,y,z'");
+    if (nul) return CSV_FAIL(r, "a NUL byte in the line");
     if (!is_header(r->line)) return CSV_FAIL(r, "expected the header 'x,y,z', got '%.60s'", r->line);
     uint32_t rows = 0;
-    while (next_line(r)) {
+    while (next_line(r, &nul)) {
+        if (nul) return CSV_FAIL(r, "a NUL byte in the line");
         if (rows == vertex_count) return CSV_FAIL(r, "more rows than the mesh's %u vertices", vertex_count);
         sb_status status = parse_row(r, &out[3 * (size_t)rows]);
         if (status != SB_OK) return status;
@@ -83,6 +87,11 @@ static sb_status read_rows(csv_reader* r, uint32_t vertex_count, double* out) {
 sb_status sb_positions_read(const char* path, uint32_t vertex_count, double* out, sb_error* err) {
     csv_reader r = {.path = path, .file = fopen(path, "rb"), .err = err};
     if (!r.file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat info;
+    if (fstat(fileno(r.file), &info) == 0 && S_ISDIR(info.st_mode)) {
+        fclose(r.file);
+        return sb_error_set(err, SB_ERR_IO, "%s: is a directory", path);
+    }
     sb_status status = read_rows(&r, vertex_count, out);
     free(r.line);
     fclose(r.file);

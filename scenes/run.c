@@ -23,6 +23,8 @@
 #include <string.h>
 #include <time.h>
 
+enum { INDEX_EVERY_FRAME = 1024 };
+
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
                     "                    [--budget-ms X]\n"
@@ -54,14 +56,16 @@ typedef struct run_job {
     double* forces;               /* 3 per collider: a frame's contact forces */
     sb_output_dir out;
     sb_energy_log log;
-    sb_step_work work; /* the solver's work since the last frame */
+    sb_step_work work;    /* the solver's work since the last frame */
+    double index_written; /* when frames.pvd was last rewritten (now()) */
     sb_frame_export_def export;
     double* buffers; /* positions, velocities, forces: 3n each */
 } run_job;
 
 static int run_finish(run_job* job, int code) {
     free(job->buffers);
-    sb_energy_log_free(&job->log);
+    sb_error ignored;
+    sb_energy_log_close(&job->log, &ignored);
     sb_output_dir_free(&job->out);
     sb_solver_destroy(job->solver);
     sb_scene_colliders_free(&job->colliders);
@@ -128,6 +132,8 @@ static sb_status make_colliders(run_job* job, sb_solver_def* def, sb_error* err)
 
 /* The scene, its model and a solver for it: all the input, checked. */
 static sb_status prepare(run_job* job, sb_error* err) {
+    if (job->args.output && job->args.output[0] == '\0')
+        return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
     sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
     if (status != SB_OK) return status;
     set_export(job);
@@ -143,6 +149,24 @@ static sb_status prepare(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
     return job->buffers ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+}
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static bool writes_vtu(const run_job* job) {
+    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
+}
+
+/* frames.pvd: after each frame while short, then once a second; always at the end. */
+static sb_status write_index(run_job* job, bool last, sb_error* err) {
+    if (!writes_vtu(job)) return SB_OK;
+    if (!last && job->log.count > INDEX_EVERY_FRAME && now() - job->index_written < 1.0) return SB_OK;
+    job->index_written = now();
+    return sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"), job->log.times, job->log.count, err);
 }
 
 static sb_status write_frame(run_job* job, sb_error* err) {
@@ -165,12 +189,11 @@ static int record_frame(run_job* job, sb_error* err) {
         f[0] = f[1] = f[2] = 0.0;
         if (advanced) sb_solver_contact_force(job->solver, c, f);
     }
-    if (sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts, job->forces)) {
-        job->work = (sb_step_work){0};
-        return SB_EXIT_OK;
-    }
-    sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    return SB_EXIT_FAILURE;
+    sb_status status =
+        sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts, job->forces, err);
+    if (status == SB_OK) status = write_index(job, false, err);
+    job->work = (sb_step_work){0};
+    return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
 }
 
 static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_error* err) {
@@ -204,19 +227,6 @@ static int simulate(run_job* job, sb_error* err) {
     return code;
 }
 
-static bool writes_vtu(const run_job* job) {
-    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
-}
-
-static int write_index(run_job* job, sb_error* err) {
-    sb_status status = SB_OK;
-    if (writes_vtu(job))
-        status =
-            sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"), job->log.times, job->log.count, err);
-    if (status == SB_OK) status = sb_energy_log_write(&job->log, sb_output_dir_path(&job->out, "log.csv"), err);
-    return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
-}
-
 static void report(const run_job* job, double seconds) {
     const char* dir = job->out.dir;
     if (writes_vtu(job))
@@ -230,24 +240,21 @@ static void report(const run_job* job, double seconds) {
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
 }
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* Simulates, then writes the index and log even after a solver failure, so
- * the frames up to the failure can be looked at. */
+/* Simulates, then writes the whole index and closes the log even after a
+ * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
     double start = now();
-    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK) return SB_EXIT_FAILURE;
+    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK ||
+        sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) != SB_OK)
+        return SB_EXIT_FAILURE;
     int code = simulate(job, err);
     sb_error index_err;
-    int index_code = write_index(job, &index_err);
+    sb_status index = write_index(job, true, &index_err);
+    if (index == SB_OK) index = sb_energy_log_close(&job->log, &index_err);
     if (code != SB_EXIT_OK) return code;
-    if (index_code != SB_EXIT_OK) {
+    if (index != SB_OK) {
         *err = index_err;
-        return index_code;
+        return SB_EXIT_FAILURE;
     }
     report(job, now() - start);
     return SB_EXIT_OK;

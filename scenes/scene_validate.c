@@ -1,8 +1,11 @@
 /* Checks a scene's values before anything is built: ranges of numbers and
  * integers (one table each), names from fixed sets, the combinations
  * (frame_interval >= dt, a file for the file generator, some mass) and the
- * colliders (colliders.c). Vertex indices are checked when the mesh is
- * known (scene_model.c). */
+ * colliders (colliders.c), and the run's size: at most SB_SCENE_MAX_STEPS
+ * steps (duration / dt) and SB_SCENE_MAX_FRAMES frames (duration /
+ * frame_interval), so that a run's loop counts fit their integers and a
+ * typo such as dt: 1e-30 is refused at once instead of running for ever.
+ * Vertex indices are checked when the mesh is known (scene_model.c). */
 #include "scenes/scene.h"
 #include "scenes/colliders.h"
 #include "scenes/frame_export.h"
@@ -10,6 +13,9 @@
 
 #include <math.h>
 #include <string.h>
+
+enum { SB_SCENE_MAX_FRAMES = 1000000 };
+#define SB_SCENE_MAX_STEPS 1e10
 
 typedef struct number_rule {
     sb_scene_key key;
@@ -163,6 +169,30 @@ static sb_status check_vectors(const sb_scene* scene, sb_error* err) {
     return SB_OK;
 }
 
+/* The key to blame for a count: one set by --set (the last word), else
+ * one set in the file, else the first. */
+static sb_scene_key blame_count(const sb_scene* scene, sb_scene_key first, sb_scene_key second) {
+    if (strncmp(scene->values[second].where, "--set", 5) == 0) return second;
+    if (strncmp(scene->values[first].where, "--set", 5) == 0) return first;
+    return blame(scene, first, second);
+}
+
+/* duration / dt steps and duration / frame_interval frames, both bounded. */
+static sb_status check_counts(const sb_scene* scene, sb_error* err) {
+    double duration = sb_scene_number(scene, SB_KEY_DURATION);
+    double dt = sb_scene_number(scene, SB_KEY_DT);
+    double interval = sb_scene_number(scene, SB_KEY_FRAME_INTERVAL);
+    if (!(duration / dt <= SB_SCENE_MAX_STEPS))
+        return sb_scene_fail(scene, blame_count(scene, SB_KEY_DT, SB_KEY_DURATION), err,
+                             "'duration' (%g) / 'dt' (%g) is %.3g steps, more than the limit of %.0e", duration, dt,
+                             duration / dt, SB_SCENE_MAX_STEPS);
+    if (!(duration / interval <= SB_SCENE_MAX_FRAMES))
+        return sb_scene_fail(scene, blame_count(scene, SB_KEY_FRAME_INTERVAL, SB_KEY_DURATION), err,
+                             "'duration' (%g) / 'frame_interval' (%g) is %.3g frames, more than the limit of %d",
+                             duration, interval, duration / interval, SB_SCENE_MAX_FRAMES);
+    return SB_OK;
+}
+
 static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     sb_status vectors = check_vectors(scene, err);
     if (vectors != SB_OK) return vectors;
@@ -173,6 +203,8 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     if (interval < dt)
         return sb_scene_fail(scene, blame(scene, SB_KEY_FRAME_INTERVAL, SB_KEY_DT), err,
                              "'frame_interval' (%g) must be >= 'dt' (%g)", interval, dt);
+    sb_status counts = check_counts(scene, err);
+    if (counts != SB_OK) return counts;
     if (sb_scene_number(scene, SB_KEY_MASS) == 0.0 && sb_scene_number(scene, SB_KEY_DENSITY) == 0.0)
         return sb_scene_fail(scene, blame(scene, SB_KEY_MASS, SB_KEY_DENSITY), err,
                              "'mass' and 'density' are both 0: free vertices need a mass");

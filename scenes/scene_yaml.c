@@ -8,7 +8,14 @@
  * error; a later source (a --set) simply wins. A key of type SB_SCENE_LIST
  * (a sequence of maps: `colliders`) is not flattened: its node tree is
  * copied with every node's line (scene_node.h) and checked later by the
- * key's own module, since which keys an entry may have depends on the entry. */
+ * key's own module, since which keys an entry may have depends on the entry.
+ *
+ * Limits, checked before the document is loaded (libyaml's loader takes
+ * time quadratic in the nesting depth): a scene file holds at most
+ * SB_SCENE_MAX_BYTES; a first pass over libyaml's events refuses nesting
+ * deeper than SB_SCENE_MAX_NESTING, aliases (`*name`: a few of them can
+ * stand for billions of nodes) and explicit tags (`!!str 0.001` would
+ * read as a number), each with its line. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/scene.h"
 #include "common/error.h"
@@ -18,7 +25,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <yaml.h>
+
+enum { SB_SCENE_MAX_BYTES = 16 << 20, SB_SCENE_MAX_NESTING = 64 };
 
 typedef struct yaml_source {
     sb_scene* scene;
@@ -298,6 +308,55 @@ static sb_status yaml_fail(const yaml_source* src, const yaml_parser_t* parser) 
     return sb_error_at(src->err, SB_ERR_PARSE, src->name, 0, "malformed value: %s", problem);
 }
 
+static sb_status line_fail(const yaml_source* src, size_t line, const char* what) {
+    return sb_error_at(src->err, SB_ERR_PARSE, src->name, src->has_lines ? line + 1 : 0, "%s", what);
+}
+
+static bool has_tag(const yaml_event_t* event) {
+    const yaml_char_t* tag = event->type == YAML_SCALAR_EVENT           ? event->data.scalar.tag
+                             : event->type == YAML_SEQUENCE_START_EVENT ? event->data.sequence_start.tag
+                             : event->type == YAML_MAPPING_START_EVENT  ? event->data.mapping_start.tag
+                                                                        : NULL;
+    return tag != NULL;
+}
+
+/* One event: the nesting it leaves, or what is refused in it. */
+static sb_status check_event(const yaml_source* src, const yaml_event_t* event, int* depth) {
+    yaml_event_type_t type = event->type;
+    *depth += (type == YAML_SEQUENCE_START_EVENT || type == YAML_MAPPING_START_EVENT) -
+              (type == YAML_SEQUENCE_END_EVENT || type == YAML_MAPPING_END_EVENT);
+    size_t line = event->start_mark.line;
+    if (*depth > SB_SCENE_MAX_NESTING) {
+        char what[64];
+        snprintf(what, sizeof what, "nested more than %d levels deep", SB_SCENE_MAX_NESTING);
+        return line_fail(src, line, what);
+    }
+    if (type == YAML_ALIAS_EVENT) return line_fail(src, line, "aliases (*name) are not supported");
+    if (has_tag(event)) return line_fail(src, line, "YAML tags (!!str, !name) are not supported");
+    return SB_OK;
+}
+
+/* The first pass over the events (see the top of this file). */
+static sb_status check_events(const yaml_source* src, const unsigned char* text, size_t size) {
+    yaml_parser_t parser;
+    yaml_parser_initialize(&parser);
+    yaml_parser_set_input_string(&parser, text, size);
+    sb_status status = SB_OK;
+    int depth = 0;
+    for (bool end = false; status == SB_OK && !end;) {
+        yaml_event_t event;
+        if (!yaml_parser_parse(&parser, &event)) {
+            status = yaml_fail(src, &parser);
+            break;
+        }
+        status = check_event(src, &event, &depth);
+        end = event.type == YAML_STREAM_END_EVENT;
+        yaml_event_delete(&event);
+    }
+    yaml_parser_delete(&parser);
+    return status;
+}
+
 /* A file holds one document whose root is a map (an empty file is fine). */
 static sb_status walk_file(yaml_source* src, yaml_parser_t* parser) {
     yaml_node_t* root = yaml_document_get_root_node(src->doc);
@@ -328,14 +387,18 @@ static char* name_of(const char* path) {
     return strndup(base, dot && dot != base ? (size_t)(dot - base) : strlen(base));
 }
 
-static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_error* err) {
+static sb_status load_text(sb_scene* scene, const unsigned char* text, size_t size, const char* path, sb_error* err) {
     char* dir = directory_of(path);
     yaml_source src = {.scene = scene, .name = path, .has_lines = true, .base_dir = dir, .err = err};
+    sb_status status = check_events(&src, text, size);
+    if (status != SB_OK) {
+        free(dir);
+        return status;
+    }
     yaml_parser_t parser;
     yaml_document_t doc;
     yaml_parser_initialize(&parser);
-    yaml_parser_set_input_file(&parser, file);
-    sb_status status;
+    yaml_parser_set_input_string(&parser, text, size);
     if (!yaml_parser_load(&parser, &doc))
         status = yaml_fail(&src, &parser);
     else {
@@ -348,11 +411,30 @@ static sb_status load_file(sb_scene* scene, FILE* file, const char* path, sb_err
     return status;
 }
 
+/* The whole file, at most SB_SCENE_MAX_BYTES; a directory is refused. */
+static sb_status read_scene_file(FILE* file, const char* path, unsigned char** text, size_t* size, sb_error* err) {
+    struct stat info;
+    if (fstat(fileno(file), &info) == 0 && S_ISDIR(info.st_mode))
+        return sb_error_set(err, SB_ERR_IO, "%s: is a directory", path);
+    *text = malloc(SB_SCENE_MAX_BYTES + 1);
+    if (!*text) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    *size = fread(*text, 1, SB_SCENE_MAX_BYTES + 1, file);
+    if (ferror(file)) return sb_error_set(err, SB_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+    if (*size > SB_SCENE_MAX_BYTES)
+        return sb_error_set(err, SB_ERR_PARSE, "%s: larger than %d MiB, the limit for a scene file", path,
+                            SB_SCENE_MAX_BYTES >> 20);
+    return SB_OK;
+}
+
 sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
     FILE* file = fopen(path, "rb");
     if (!file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    sb_status status = load_file(scene, file, path, err);
+    unsigned char* text = NULL;
+    size_t size = 0;
+    sb_status status = read_scene_file(file, path, &text, &size, err);
     fclose(file);
+    if (status == SB_OK) status = load_text(scene, text, size, path, err);
+    free(text);
     if (status != SB_OK) return status;
     free(scene->path);
     free(scene->name);
@@ -363,11 +445,12 @@ sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
 }
 
 static sb_status set_value(yaml_source* src, const char* name, const char* text) {
+    sb_status status = check_events(src, (const unsigned char*)text, strlen(text));
+    if (status != SB_OK) return status;
     yaml_parser_t parser;
     yaml_document_t doc;
     yaml_parser_initialize(&parser);
     yaml_parser_set_input_string(&parser, (const unsigned char*)text, strlen(text));
-    sb_status status;
     if (!yaml_parser_load(&parser, &doc)) {
         status = yaml_fail(src, &parser);
     } else {

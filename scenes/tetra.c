@@ -21,6 +21,9 @@
  *      .node or .ele; numbering from 0; every tetrahedron's corners in the
  *      order of a positive volume, sb_tet_volume > 0), each atomically. The temporary
  *      directory is removed.
+ * --max-volume V with V smaller than the surface's enclosed volume divided
+ * by SB_TETRA_MAX_TETS is refused before TetGen runs: it would need more
+ * tetrahedra than that (TetGen would run for hours or exhaust memory).
  * Exit codes: 2 for bad arguments or input (unreadable or open surface),
  * 1 when TetGen is missing or fails (its last message is shown) or OUT
  * cannot be written. */
@@ -40,6 +43,8 @@
 #include <unistd.h>
 
 extern char** environ;
+
+#define SB_TETRA_MAX_TETS 1e7
 
 void sb_cli_tetra_usage(FILE* stream) {
     fprintf(stream, "usage: softbond tetra IN OUT [--quality Q] [--max-volume V]\n"
@@ -138,6 +143,31 @@ static sb_status load_closed(tetra_job* job, sb_error* err) {
                             "tetra needs a closed surface",
                             job->in, edges.boundary, edges.non_manifold, edges.edges);
     return status;
+}
+
+/* The volume the closed surface encloses: Σ a · (b × c) / 6 over its triangles. */
+static double enclosed_volume(const sb_mesh* m) {
+    double sum = 0.0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const double* a = m->positions + 3 * (size_t)m->triangles[3 * t];
+        const double* b = m->positions + 3 * (size_t)m->triangles[3 * t + 1];
+        const double* c = m->positions + 3 * (size_t)m->triangles[3 * t + 2];
+        sum += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+               a[2] * (b[0] * c[1] - b[1] * c[0]);
+    }
+    return fabs(sum) / 6.0;
+}
+
+/* At least volume / max_volume tetrahedra: refused past SB_TETRA_MAX_TETS. */
+static sb_status check_max_volume(const tetra_job* job, sb_error* err) {
+    if (job->max_volume == 0.0) return SB_OK;
+    double volume = enclosed_volume(&job->surface);
+    double needed = volume / job->max_volume;
+    if (needed <= SB_TETRA_MAX_TETS) return SB_OK;
+    return sb_error_set(err, SB_ERR_INVALID,
+                        "--max-volume %g: the surface encloses %.6g m^3, which needs at least %.3g tetrahedra "
+                        "of that size, more than the limit of %.0e (use --max-volume >= %.3g)",
+                        job->max_volume, volume, needed, SB_TETRA_MAX_TETS, volume / SB_TETRA_MAX_TETS);
 }
 
 static const char* in_dir(const tetra_job* job, const char* name, char* buffer, size_t size) {
@@ -310,7 +340,7 @@ static int tetra_finish(tetra_job* job, int code) {
 }
 
 static int tetrahedralize(tetra_job* job, sb_error* err) {
-    if (load_closed(job, err) != SB_OK) return SB_EXIT_INPUT;
+    if (load_closed(job, err) != SB_OK || check_max_volume(job, err) != SB_OK) return SB_EXIT_INPUT;
     if (make_dir(job, err) != SB_OK || write_off(job, err) != SB_OK || run_tetgen(job, err) != SB_OK ||
         read_back(job, err) != SB_OK || write_pair_file(job, ".node", err) != SB_OK ||
         write_pair_file(job, ".ele", err) != SB_OK)

@@ -28,8 +28,17 @@
  *     a degenerate triangle is dropped and counted: one whose corners join
  *     into fewer than three vertices, or whose area is zero to rounding,
  *     |(b - a) x (c - a)| <= 1e-12 * (longest edge)^2 (collinear corners);
- *   - assimp keeps its last error in a process-wide string, so imports are
- *     serialised by a mutex.
+ *   - assimp is a large third-party parser that crashes, aborts, hangs or
+ *     allocates without bound on some hostile files, so it never runs in
+ *     the caller's process: a PLY file's header is checked first
+ *     (ply_check.c), then the import and the merge above run in a child
+ *     process (isolate.c) with a time limit of ASSIMP_SECONDS plus one
+ *     second per MiB of file and ASSIMP_MEMORY plus ASSIMP_MEMORY_PER_BYTE
+ *     bytes per byte of file, and send the meshes back through a pipe; a
+ *     child that dies or runs out of time becomes "FILE: the importer
+ *     failed (killed by signal 11, Segmentation fault)". Nothing in the
+ *     caller's process touches assimp's state, so imports may run from
+ *     several threads at once.
  * Assimp reads positions in single precision: a file's coordinates come back
  * rounded to float. */
 #define _POSIX_C_SOURCE 200809L
@@ -37,7 +46,6 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +56,7 @@
 #include <assimp/scene.h>
 
 #include "common/error.h"
+#include "mesh/io/isolate.h"
 #include "mesh/io/mesh_readers.h"
 #include "softbond/pov.h"
 #include "softbond/volume.h"
@@ -510,8 +519,6 @@ static sb_status merge_scene(assimp_merge* merge, sb_error* err) {
     return status;
 }
 
-static pthread_mutex_t assimp_lock = PTHREAD_MUTEX_INITIALIZER;
-
 static void objects_free(sb_mesh* objects, size_t count) {
     for (size_t i = 0; i < count; i++) {
         sb_mesh_free(&objects[i]);
@@ -519,29 +526,17 @@ static void objects_free(sb_mesh* objects, size_t count) {
     free(objects);
 }
 
-static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
-                             sb_mesh_load_report* report, sb_error* err) {
-    /* Open it ourselves first, for the same missing-file message as the
-     * readers (assimp would only say it could not open it). */
-    FILE* file = fopen(path, "rb");
-    if (file == NULL) {
-        return sb_error_at(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(errno));
-    }
-    fclose(file);
-
+/* The import and the merge: what runs in the child. */
+static sb_status import_assimp(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
+                               sb_mesh_load_report* report, sb_error* err) {
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                            aiProcess_DropNormals | aiProcess_FindInvalidData | aiProcess_ValidateDataStructure;
-    pthread_mutex_lock(&assimp_lock);
     const struct aiScene* scene = aiImportFile(path, flags);
     if (scene == NULL) {
         const char* why = aiGetErrorString();
-        sb_status status = sb_error_at(err, SB_ERR_PARSE, path, 0, "%s",
-                                       why != NULL && why[0] != '\0' ? why : "assimp cannot read it");
-        pthread_mutex_unlock(&assimp_lock);
-        return status;
+        return sb_error_at(err, SB_ERR_PARSE, path, 0, "%s",
+                           why != NULL && why[0] != '\0' ? why : "assimp cannot read it");
     }
-    pthread_mutex_unlock(&assimp_lock);
-
     assimp_merge merge = {.path = path, .scene = scene, .separate = separate, .report = report};
     sb_status status = SB_OK;
     if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
@@ -569,6 +564,154 @@ static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects,
     *objects = merge.objects;
     *object_count = (uint32_t)merge.object_count;
     return SB_OK;
+}
+
+/* ---- the import in a child process ------------------------------------------- */
+
+enum { ASSIMP_SECONDS = 30, ASSIMP_MEMORY_PER_BYTE = 200 };
+#define ASSIMP_MEMORY ((size_t)1 << 30)
+
+/* The child's answer: this header, then per object its two counts, its
+ * positions and its triangles. */
+typedef struct import_answer {
+    int32_t status;
+    uint32_t source_meshes, degenerate_faces, ignored_primitives, object_count;
+    sb_error err;
+} import_answer;
+
+typedef struct import_job {
+    const char* path;
+    bool separate;
+} import_job;
+
+static bool blob_append(sb_blob* blob, size_t* capacity, const void* data, size_t size) {
+    if (size == 0) {
+        return true;
+    }
+    if (!grow((void**)&blob->data, capacity, blob->size + size, 1)) {
+        return false;
+    }
+    memcpy(blob->data + blob->size, data, size);
+    blob->size += size;
+    return true;
+}
+
+static bool encode_objects(sb_blob* blob, size_t* capacity, const sb_mesh* objects, uint32_t count) {
+    bool ok = true;
+    for (uint32_t i = 0; i < count && ok; i++) {
+        const sb_mesh* m = &objects[i];
+        uint32_t counts[2] = {m->vertex_count, m->triangle_count};
+        ok = blob_append(blob, capacity, counts, sizeof counts) &&
+             blob_append(blob, capacity, m->positions, 3 * (size_t)m->vertex_count * sizeof(double)) &&
+             blob_append(blob, capacity, m->triangles, 3 * (size_t)m->triangle_count * sizeof(uint32_t));
+    }
+    return ok;
+}
+
+/* Runs in the child (sb_isolated_fn). */
+static void import_in_child(void* arg, sb_blob* blob) {
+    const import_job* job = arg;
+    sb_mesh_load_report report = {0};
+    sb_mesh* objects = NULL;
+    uint32_t count = 0;
+    import_answer answer = {0};
+    answer.status = import_assimp(job->path, job->separate, &objects, &count, &report, &answer.err);
+    answer.source_meshes = report.source_meshes;
+    answer.degenerate_faces = report.degenerate_faces;
+    answer.ignored_primitives = report.ignored_primitives;
+    answer.object_count = count;
+    size_t capacity = 0;
+    if (!blob_append(blob, &capacity, &answer, sizeof answer) || !encode_objects(blob, &capacity, objects, count)) {
+        free(blob->data);
+        *blob = (sb_blob){0}; /* no whole answer: the parent says so */
+    }
+    objects_free(objects, count);
+}
+
+/* Takes size bytes from the answer at *at; false when it is too short. */
+static bool take(const sb_blob* blob, size_t* at, void* out, size_t size) {
+    if (size > blob->size - *at) {
+        return false;
+    }
+    memcpy(out, blob->data + *at, size);
+    *at += size;
+    return true;
+}
+
+static bool decode_object(const sb_blob* blob, size_t* at, sb_mesh* m) {
+    uint32_t counts[2];
+    if (!take(blob, at, counts, sizeof counts)) {
+        return false;
+    }
+    size_t positions = 3 * (size_t)counts[0] * sizeof(double), triangles = 3 * (size_t)counts[1] * sizeof(uint32_t);
+    if (positions + triangles > blob->size - *at) {
+        return false;
+    }
+    m->positions = malloc(positions ? positions : 1);
+    m->triangles = malloc(triangles ? triangles : 1);
+    m->vertex_count = counts[0];
+    m->triangle_count = counts[1];
+    return m->positions != NULL && m->triangles != NULL && take(blob, at, m->positions, positions) &&
+           take(blob, at, m->triangles, triangles);
+}
+
+static sb_status decode_answer(const char* path, const sb_blob* blob, sb_mesh** objects, uint32_t* object_count,
+                               sb_mesh_load_report* report, sb_error* err) {
+    import_answer answer;
+    size_t at = 0;
+    if (!take(blob, &at, &answer, sizeof answer)) {
+        return sb_error_at(err, SB_ERR_IO, path, 0, "the importer failed (a short answer)");
+    }
+    report->source_meshes = answer.source_meshes;
+    report->degenerate_faces = answer.degenerate_faces;
+    report->ignored_primitives = answer.ignored_primitives;
+    if (answer.status != SB_OK) {
+        answer.err.message[sizeof answer.err.message - 1] = '\0';
+        return sb_error_set(err, (sb_status)answer.status, "%s", answer.err.message);
+    }
+    sb_mesh* meshes = calloc(answer.object_count ? answer.object_count : 1, sizeof *meshes);
+    bool ok = meshes != NULL;
+    for (uint32_t i = 0; i < answer.object_count && ok; i++) {
+        ok = decode_object(blob, &at, &meshes[i]);
+    }
+    if (!ok) {
+        objects_free(meshes, meshes ? answer.object_count : 0);
+        return sb_error_at(err, SB_ERR_NOMEM, path, 0, "out of memory or a short answer from the importer");
+    }
+    *objects = meshes;
+    *object_count = answer.object_count;
+    return SB_OK;
+}
+
+static sb_status load_assimp(const char* path, bool separate, sb_mesh** objects, uint32_t* object_count,
+                             sb_mesh_load_report* report, sb_error* err) {
+    /* Open it ourselves first, for the same missing-file message as the
+     * readers (assimp would only say it could not open it). */
+    FILE* file = fopen(path, "rb");
+    if (file == NULL) {
+        return sb_error_at(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(errno));
+    }
+    struct stat info;
+    bool sized = fstat(fileno(file), &info) == 0;
+    fclose(file);
+    if (sb_path_has_extension(path, ".ply")) {
+        sb_status status = sb_ply_check(path, err);
+        if (status != SB_OK) {
+            return status;
+        }
+    }
+    double size = sized ? (double)info.st_size : 0.0;
+    sb_isolate_limits limits = {ASSIMP_SECONDS + size / (1 << 20),
+                                ASSIMP_MEMORY + (size_t)fmin(size * ASSIMP_MEMORY_PER_BYTE, (double)(SIZE_MAX / 4))};
+    import_job job = {path, separate};
+    sb_blob blob;
+    char why[160];
+    if (sb_isolate_run(import_in_child, &job, &limits, &blob, why, sizeof why) != SB_OK) {
+        return sb_error_at(err, SB_ERR_PARSE, path, 0, "the importer failed (%s)", why);
+    }
+    sb_status status = decode_answer(path, &blob, objects, object_count, report, err);
+    free(blob.data);
+    return status;
 }
 
 /* ---- tetrahedral meshes: their boundary ---------------------------------- */
@@ -638,6 +781,10 @@ sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh
     *object_count = 0;
     if (path == NULL || path[0] == '\0') {
         return sb_error_set(err, SB_ERR_INVALID, "sb_mesh_load_ex: empty path");
+    }
+    struct stat info;
+    if (stat(path, &info) == 0 && S_ISDIR(info.st_mode)) {
+        return sb_error_at(err, SB_ERR_IO, path, 0, "is a directory");
     }
     sb_mesh_load_def defaults = sb_default_mesh_load_def();
     def = def != NULL ? def : &defaults;

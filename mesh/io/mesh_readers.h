@@ -67,4 +67,8 @@ sb_status sb_irit_load(const char* path, bool separate, sb_mesh** objects, uint3
  * (separate) or all concatenated, nothing joined (merged). */
 sb_status sb_pov_load_meshes(const char* path, bool separate, sb_mesh** meshes, uint32_t* count, sb_error* err);
 
+/* A PLY file's header ends and its declared counts fit the file
+ * (ply_check.c); run before assimp reads it. */
+sb_status sb_ply_check(const char* path, sb_error* err);
+
 #endif
