@@ -114,28 +114,61 @@ sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scen
     return status;
 }
 
-/* A thread count: a whole number in [0, 4096]. */
-static bool parse_threads(const char* text, int* out) {
+/* A thread count: a whole number in [min, SB_CLI_MAX_THREADS]. */
+static bool parse_threads(const char* text, long min, int* out) {
     char* end;
     errno = 0;
     long value = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || errno != 0 || value < 0 || value > 4096) return false;
+    if (end == text || *end != '\0' || errno != 0 || value < min || value > SB_CLI_MAX_THREADS) return false;
     *out = (int)value;
     return true;
 }
 
+/* --threads and the scene's threads take 0 (the default: SOFTBOND_THREADS,
+ * else one per processor); SOFTBOND_THREADS, the default itself, does not. */
 sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err) {
     const char* env = getenv("SOFTBOND_THREADS");
     *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
-    if (args->threads && !parse_threads(args->threads, out))
-        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, 4096], got '%s'",
-                            args->threads);
+    if (args->threads && !parse_threads(args->threads, 0, out))
+        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, %d], got '%s'",
+                            SB_CLI_MAX_THREADS, args->threads);
     if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
-    if (parse_threads(env, out)) return SB_OK;
-    return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [0, 4096], got '%s'", env);
+    if (parse_threads(env, 1, out)) return SB_OK;
+    return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [1, %d], got '%s'",
+                        SB_CLI_MAX_THREADS, env);
+}
+
+/* The length of the valid UTF-8 sequence at s (2 to 4 bytes), or 0. */
+static int utf8_length(const unsigned char* s) {
+    int n = s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : s[0] >= 0xe0 ? 3 : s[0] >= 0xc2 && s[0] < 0xe0 ? 2 : 0;
+    for (int i = 1; i < n; i++)
+        if ((s[i] & 0xc0) != 0x80) return 0;
+    return n;
+}
+
+/* text with control bytes and bytes that are not UTF-8 written as \n, \r,
+ * \t or \xHH: a message quotes bytes of files, and stays one line. */
+static void put_escaped(FILE* stream, const char* text) {
+    for (const unsigned char* p = (const unsigned char*)text; *p;) {
+        int n = *p >= 0x80 ? utf8_length(p) : 1;
+        if (n > 1) {
+            fwrite(p, 1, (size_t)n, stream);
+            p += n;
+            continue;
+        }
+        if (*p == '\n' || *p == '\r' || *p == '\t')
+            fprintf(stream, "\\%c", *p == '\n' ? 'n' : *p == '\r' ? 'r' : 't');
+        else if (*p < 0x20 || *p == 0x7f || *p >= 0x80)
+            fprintf(stream, "\\x%02x", *p);
+        else
+            fputc(*p, stream);
+        p++;
+    }
 }
 
 int sb_cli_fail(int code, const sb_error* err) {
-    fprintf(stderr, "softbond: %s\n", err->message);
+    fputs("softbond: ", stderr);
+    put_escaped(stderr, err->message);
+    fputc('\n', stderr);
     return code;
 }

@@ -15,6 +15,10 @@ enum {
     SB_EXIT_SOLVER = 3   /* the solver failed during the run */
 };
 
+/* The most threads --threads, the scene's threads and SOFTBOND_THREADS
+ * may ask for: the library's own bound on SOFTBOND_THREADS (runtime.c). */
+enum { SB_CLI_MAX_THREADS = 1024 };
+
 /* The options of every command; a command says which it accepts. */
 typedef struct sb_cli_args {
     const char* input; /* the one positional argument */
@@ -44,7 +48,8 @@ sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scen
  * 0, else SOFTBOND_THREADS, else 0 (the runtime's default). */
 sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err);
 
-/* Prints "softbond: message" on stderr and returns code. */
+/* Prints "softbond: message" on stderr, one line (control bytes and bytes
+ * that are not UTF-8 escaped: \n, \x1b), and returns code. */
 int sb_cli_fail(int code, const sb_error* err);
 
 int sb_cli_run(int argc, char** argv);

@@ -9,6 +9,7 @@
  * sb_collider_create still refuses gets the entry's place in front. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/colliders.h"
+#include "scenes/suggest.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -128,6 +129,14 @@ static const char* full_name(const map_reader* r, const char* key, char* out, si
 
 /* ---- maps: known keys, each once ------------------------------------------- */
 
+static sb_status unknown_key(const map_reader* r, const sb_scene_node* key, const char* const* names, int count) {
+    char name[128], near_name[128];
+    full_name(r, key->text, name, sizeof name);
+    const char* near = sb_suggest(key->text, names, (size_t)count);
+    if (!near) return fail(r, key, "unknown key '%s'", name);
+    return fail(r, key, "unknown key '%s' (did you mean '%s'?)", name, full_name(r, near, near_name, sizeof near_name));
+}
+
 static sb_status index_map(map_reader* r, const char* const* names, int count) {
     for (size_t p = 0; p < r->map->count; p++) {
         const sb_scene_node* key = &r->map->keys[p];
@@ -135,7 +144,7 @@ static sb_status index_map(map_reader* r, const char* const* names, int count) {
         while (k < count && strcmp(names[k], key->text) != 0) k++;
         char name[128];
         full_name(r, key->text, name, sizeof name);
-        if (k == count) return fail(r, key, "unknown key '%s'", name);
+        if (k == count) return unknown_key(r, key, names, count);
         if (r->keys[k] && r->keys[k]->line)
             return fail(r, key, "duplicate key '%s' (first set at line %zu)", name, r->keys[k]->line);
         if (r->keys[k]) return fail(r, key, "duplicate key '%s'", name);

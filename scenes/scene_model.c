@@ -27,12 +27,13 @@ static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     uint32_t count = 0;
     sb_status status = sb_mesh_load_ex(path, &def, &objects, &count, NULL, err);
     free(path);
-    if (status == SB_OK && count == 1) {
+    if (status != SB_OK) return sb_error_prefix(err, status, sb_scene_where(scene, SB_KEY_MESH_FILE));
+    if (count == 1) {
         *out = objects[0];
         free(objects);
         return SB_OK;
     }
-    if (status == SB_OK) status = sb_mesh_concatenate(objects, count, out, err);
+    status = sb_mesh_concatenate(objects, count, out, err);
     sb_mesh_objects_free(objects, count);
     return status;
 }

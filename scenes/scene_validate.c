@@ -7,6 +7,7 @@
  * typo such as dt: 1e-30 is refused at once instead of running for ever.
  * Vertex indices are checked when the mesh is known (scene_model.c). */
 #include "scenes/scene.h"
+#include "scenes/cli.h"
 #include "scenes/colliders.h"
 #include "scenes/frame_export.h"
 #include "scenes/pin.h"
@@ -65,7 +66,7 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_MESH_NY, 2, 1 << 16},
     {SB_KEY_MESH_SEED, 0, INT64_MAX},
     {SB_KEY_MESH_SUBDIVISIONS, 0, 8},
-    {SB_KEY_THREADS, 0, 4096},
+    {SB_KEY_THREADS, 0, SB_CLI_MAX_THREADS},
     {SB_KEY_MESH_TARGET_VERTICES, 0, UINT32_MAX},
     {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
     {SB_KEY_IMPLICIT_CG_ITERATIONS, 1, 100000},

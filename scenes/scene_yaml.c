@@ -19,6 +19,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/scene.h"
 #include "common/error.h"
+#include "scenes/suggest.h"
 
 #include <errno.h>
 #include <stdarg.h>
@@ -271,12 +272,21 @@ static sb_status assign(yaml_source* src, const yaml_node_t* key_node, const yam
 
 static sb_status walk_map(yaml_source* src, const yaml_node_t* map, const char* prefix);
 
+/* The known key nearest to a misspelt name, or NULL. */
+static const char* nearest_key(const char* name) {
+    const char* names[SB_KEY_COUNT];
+    for (int i = 0; i < SB_KEY_COUNT; i++) names[i] = sb_scene_key_get((sb_scene_key)i)->name;
+    return sb_suggest(name, names, SB_KEY_COUNT);
+}
+
 static sb_status apply(yaml_source* src, const yaml_node_t* key_node, const char* name, const yaml_node_t* node) {
     sb_scene_key key;
     if (sb_scene_key_find(name, &key)) return assign(src, key_node, node, key);
     bool nonempty_map =
         node->type == YAML_MAPPING_NODE && node->data.mapping.pairs.top > node->data.mapping.pairs.start;
     if (nonempty_map) return walk_map(src, node, name);
+    const char* near = nearest_key(name);
+    if (near) return source_fail(src, key_node, "unknown key '%s' (did you mean '%s'?)", name, near);
     return source_fail(src, key_node, "unknown key '%s'", name);
 }
 

@@ -294,7 +294,7 @@ static void test_eval_bad_input(void** state) {
     tu_write_file("tri.obj", tri_obj);
     tu_write_file("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--set", "bond.kk=1", "--forces", "bad_forces.csv", NULL},
-                      "--set bond.kk=1: unknown key 'bond.kk'");
+                      "--set bond.kk=1: unknown key 'bond.kk' (did you mean 'bond.k'?)");
     assert_eval_fails((const char*[]){"eval", "missing.obj", "--forces", "bad_forces.csv", NULL},
                       "missing.obj: cannot open: No such file or directory");
     assert_eval_fails(
@@ -813,7 +813,7 @@ static void test_run_bad_input_creates_nothing(void** state) {
     tu_write_file("typo.yaml", "mesh: {nx: 4, ny: 3}\nbond:\n  kk: 1\n");
     tu_write_file("range.yaml", "mesh: {nx: 4, ny: 3}\nfixed: [3, 12]\n");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "typo.yaml", "--output", "never", NULL},
-                     "typo.yaml:3: unknown key 'bond.kk'");
+                     "typo.yaml:3: unknown key 'bond.kk' (did you mean 'bond.k'?)");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "range.yaml", "--output", "never", NULL},
                      "range.yaml:2: 'fixed': vertex 12 out of range (the mesh has 12 vertices)");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "nothere.yaml", "--output", "never", NULL},
@@ -821,9 +821,9 @@ static void test_run_bad_input_creates_nothing(void** state) {
     assert_run_fails(NULL, NULL, (const char*[]){"run", "tiny.yaml", "--set", "dt=0", "--output", "never", NULL},
                      "--set dt=0: 'dt' must be > 0, got 0");
     assert_run_fails("SOFTBOND_THREADS", "many", (const char*[]){"run", "tiny.yaml", "--output", "never", NULL},
-                     "SOFTBOND_THREADS: expected an integer in [0, 4096], got 'many'");
+                     "SOFTBOND_THREADS: expected an integer in [1, 1024], got 'many'");
     assert_run_fails(NULL, NULL, (const char*[]){"run", "tiny.yaml", "--threads", "-2", "--output", "never", NULL},
-                     "--threads: expected an integer in [0, 4096], got '-2'");
+                     "--threads: expected an integer in [0, 1024], got '-2'");
 }
 
 static void test_run_solver_failure_exits_3(void** state) {

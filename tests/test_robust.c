@@ -2,6 +2,8 @@
  * reproducer of the issue gives one line and its exit code, in well under
  * the alarm each test sets (a hang fails the test instead of hanging it),
  * and a run killed with SIGKILL leaves a log and an index of its frames.
+ * Messages quote bytes of files escaped, on one line, and name the real
+ * cause and the scene's line.
  * The isolated importer's own behaviour on a crash, a hang and an
  * allocation storm is in test_isolate.c. */
 #define _POSIX_C_SOURCE 200809L
@@ -233,6 +235,54 @@ static void test_ply_checked_before_the_importer(void** state) {
     tu_result_free(&r);
 }
 
+/* ---- messages: one line, the real cause, a suggestion -------------------------- */
+
+static void test_file_bytes_are_escaped(void** state) {
+    (void)state;
+    tu_write_file("tri.obj", tri_obj);
+    tu_write_file("esc.csv", "x,y,z\n0,0,0\n1,\x1b[2J0,\x01\n0,1,0\n");
+    assert_fails((const char*[]){"eval", "tri.obj", "--positions", "esc.csv", NULL}, 2,
+                 "esc.csv:3: expected three numbers x,y,z, got '1,\\x1b[2J0,\\x01'");
+    /* a name with a line break and a byte that is not UTF-8; UTF-8 stays as it is */
+    assert_fails((const char*[]){"eval", "a\nb\xff\xc3\xa9.obj", NULL}, 2,
+                 "a\\nb\\xff\xc3\xa9.obj: cannot open: No such file or directory");
+}
+
+static void test_mesh_file_errors_name_the_scene_line(void** state) {
+    (void)state;
+    mkdir(tu_tmp_path("folder"), 0777);
+    tu_write_file("dir.yaml", "mass: 0.01\nmesh: {generator: file, file: folder}\n");
+    assert_fails((const char*[]){"run", "dir.yaml", "--output", "never", NULL}, 2,
+                 "dir.yaml:2: folder: is a directory");
+    tu_write_file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    tu_write_file("bad.yaml", "mass: 0.01\nmesh:\n  generator: file\n  file: bad.obj\n");
+    tu_result r = tu_run((const char*[]){"run", "bad.yaml", "--output", "never", NULL});
+    assert_int_equal(r.code, 2);
+    assert_int_equal(count_lines(r.err), 1);
+    assert_int_equal(strncmp(r.err, "softbond: bad.yaml:4: bad.obj:3: ", 33), 0);
+    tu_result_free(&r);
+}
+
+static void test_ele_rows_hold_the_nodes_the_header_claims(void** state) {
+    (void)state;
+    tu_write_file("quad.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+    tu_write_file("quad.ele", "1 10 0\n0 0 1 2 3\n");
+    assert_fails((const char*[]){"info", "quad.ele", NULL}, 2, "quad.ele:2: tetrahedron 0: expected 10 point numbers");
+}
+
+static void test_one_thread_bound(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run_env("SOFTBOND_THREADS", "0", (const char*[]){"run", "tiny.yaml", "--output", "never", NULL});
+    assert_string_equal(r.err, "softbond: SOFTBOND_THREADS: expected an integer in [1, 1024], got '0'\n");
+    assert_int_equal(r.code, 2);
+    tu_result_free(&r);
+    assert_fails((const char*[]){"run", "tiny.yaml", "--threads", "2000", "--output", "never", NULL}, 2,
+                 "--threads: expected an integer in [0, 1024], got '2000'");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "threads=2000", "--output", "never", NULL}, 2,
+                 "--set threads=2000: 'threads' must be in [0, 1024], got 2000");
+}
+
 /* ---- a run killed mid-way ------------------------------------------------------ */
 
 static int count_occurrences(const char* text, const char* word) {
@@ -310,6 +360,10 @@ int main(void) {
         cmocka_unit_test_setup(test_forces_to_a_device_or_a_link, start_bound),
         cmocka_unit_test_setup(test_tetra_max_volume_is_bounded, start_bound),
         cmocka_unit_test_setup(test_ply_checked_before_the_importer, start_bound),
+        cmocka_unit_test_setup(test_file_bytes_are_escaped, start_bound),
+        cmocka_unit_test_setup(test_mesh_file_errors_name_the_scene_line, start_bound),
+        cmocka_unit_test_setup(test_ele_rows_hold_the_nodes_the_header_claims, start_bound),
+        cmocka_unit_test_setup(test_one_thread_bound, start_bound),
         cmocka_unit_test_setup(test_killed_run_leaves_log_and_index, start_bound),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

@@ -144,6 +144,20 @@ static sb_status tetgen_nodes(tet_text* t, tet_build* b, long long* base, sb_err
     return SB_OK;
 }
 
+/* A 10-node tetrahedron's six edge nodes: read and checked, not kept (the
+ * header's count must be in the row, not merely claimed). */
+static sb_status tetgen_extra_nodes(tet_text* t, const tet_build* b, long long extra, long long node_base,
+                                    long long tet, sb_error* err) {
+    for (long long c = 0; c < extra; c++) {
+        long long node;
+        if (!tet_integer(t, &node))
+            return TET_ERROR(t, err, "tetrahedron %lld: expected %lld point numbers", tet, extra + 4);
+        if (node < node_base || node - node_base >= b->mesh.vertex_count)
+            return TET_ERROR(t, err, "tetrahedron %lld: point %lld does not exist", tet, node);
+    }
+    return SB_OK;
+}
+
 static sb_status tetgen_elements(tet_text* t, tet_build* b, long long node_base, sb_error* err) {
     long long count, corners, base = 0;
     sb_status status = tetgen_header(t, "tetrahedra", &count, &corners, err);
@@ -164,6 +178,8 @@ static sb_status tetgen_elements(tet_text* t, tet_build* b, long long node_base,
                 return TET_ERROR(t, err, "tetrahedron %lld: point %lld does not exist", base + k, node);
             v[c] = (uint32_t)(node - node_base);
         }
+        status = tetgen_extra_nodes(t, b, corners - 4, node_base, base + k, err);
+        if (status != SB_OK) return status;
         if (!tet_add_tet(b, v)) return tet_nomem(t, err);
     }
     return SB_OK;
