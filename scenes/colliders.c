@@ -23,7 +23,8 @@ enum {
     SPHERE = 1u << SB_COLLIDER_SPHERE,
     CAPSULE = 1u << SB_COLLIDER_CAPSULE,
     BOX = 1u << SB_COLLIDER_BOX,
-    ALL = PLANE | SPHERE | CAPSULE | BOX
+    MESH = 1u << SB_COLLIDER_MESH,
+    ALL = PLANE | SPHERE | CAPSULE | BOX | MESH
 };
 
 typedef enum entry_key {
@@ -37,6 +38,9 @@ typedef enum entry_key {
     KEY_RADIUS,
     KEY_HALF_EXTENTS,
     KEY_ROTATE,
+    KEY_FILE,
+    KEY_SCALE,
+    KEY_TRANSLATE,
     KEY_FRICTION,
     KEY_STATIC_FRICTION,
     KEY_RESTITUTION,
@@ -59,6 +63,9 @@ static const char* const entry_keys[KEY_COUNT] = {
     [KEY_RADIUS] = "radius",
     [KEY_HALF_EXTENTS] = "half_extents",
     [KEY_ROTATE] = "rotate",
+    [KEY_FILE] = "file",
+    [KEY_SCALE] = "scale",
+    [KEY_TRANSLATE] = "translate",
     [KEY_FRICTION] = "friction",
     [KEY_STATIC_FRICTION] = "static_friction",
     [KEY_RESTITUTION] = "restitution",
@@ -80,7 +87,10 @@ static const unsigned key_shapes[KEY_COUNT] = {
     [KEY_B] = CAPSULE,
     [KEY_RADIUS] = SPHERE | CAPSULE,
     [KEY_HALF_EXTENTS] = BOX,
-    [KEY_ROTATE] = BOX,
+    [KEY_ROTATE] = BOX | MESH,
+    [KEY_FILE] = MESH,
+    [KEY_SCALE] = MESH,
+    [KEY_TRANSLATE] = MESH,
     [KEY_FRICTION] = ALL,
     [KEY_STATIC_FRICTION] = ALL,
     [KEY_RESTITUTION] = ALL,
@@ -93,6 +103,7 @@ static const unsigned key_shapes[KEY_COUNT] = {
 static const unsigned key_required[KEY_COUNT] = {
     [KEY_TYPE] = ALL,  [KEY_CENTER] = SPHERE | BOX,     [KEY_A] = CAPSULE,
     [KEY_B] = CAPSULE, [KEY_RADIUS] = SPHERE | CAPSULE, [KEY_HALF_EXTENTS] = BOX,
+    [KEY_FILE] = MESH,
 };
 
 enum { FRAME_TIME, FRAME_TRANSLATE, FRAME_ROTATE, FRAME_COUNT };
@@ -103,6 +114,7 @@ static const char* const frame_keys[FRAME_COUNT] = {"time", "translate", "rotate
  * and key node of each known key (NULL when not written). */
 typedef struct map_reader {
     const sb_scene_tree* tree;
+    const char* base_dir; /* where a relative `file` is; NULL: the current directory */
     const sb_scene_node* map;
     char prefix[96];
     const sb_scene_node* values[KEY_COUNT];
@@ -276,12 +288,12 @@ static void shape_keys(sb_collider_shape shape, const unsigned* table, const cha
 static sb_status read_shape(const map_reader* r, sb_collider_shape* shape) {
     char name[128];
     full_name(r, "type", name, sizeof name);
-    if (!r->values[KEY_TYPE]) return fail(r, r->map, "'%s' is not set (plane, sphere, capsule or box)", name);
+    if (!r->values[KEY_TYPE]) return fail(r, r->map, "'%s' is not set (plane, sphere, capsule, box or mesh)", name);
     const char* type = "";
     sb_status status = read_text(r, KEY_TYPE, &type);
     if (status != SB_OK) return status;
     if (!sb_collider_shape_from_name(type, shape))
-        return fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule or box, got '%s'", name, type);
+        return fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'", name, type);
     return SB_OK;
 }
 
@@ -308,11 +320,17 @@ static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) 
     return SB_OK;
 }
 
-static sb_status read_vector_key(const map_reader* r, int key, sb_collider_def* def) {
-    double* targets[KEY_COUNT] = {[KEY_POINT] = def->point,   [KEY_NORMAL] = def->normal,
-                                  [KEY_CENTER] = def->center, [KEY_A] = def->a,
-                                  [KEY_B] = def->b,           [KEY_HALF_EXTENTS] = def->half_extents,
-                                  [KEY_ROTATE] = def->rotate, [KEY_VELOCITY] = def->velocity};
+static sb_status read_vector_key(const map_reader* r, int key, sb_scene_collider* out) {
+    sb_collider_def* def = &out->def;
+    double* targets[KEY_COUNT] = {[KEY_POINT] = def->point,
+                                  [KEY_NORMAL] = def->normal,
+                                  [KEY_CENTER] = def->center,
+                                  [KEY_A] = def->a,
+                                  [KEY_B] = def->b,
+                                  [KEY_HALF_EXTENTS] = def->half_extents,
+                                  [KEY_ROTATE] = def->shape == SB_COLLIDER_MESH ? out->placement.rotate : def->rotate,
+                                  [KEY_TRANSLATE] = out->placement.translate,
+                                  [KEY_VELOCITY] = def->velocity};
     double* v = targets[key];
     sb_status status = read_vec3(r, r->values[key], entry_keys[key], v);
     if (status != SB_OK) return status;
@@ -338,6 +356,50 @@ static sb_status read_interpolation(const map_reader* r, sb_collider_def* def) {
                 full_name(r, "interpolation", name, sizeof name), text);
 }
 
+/* A mesh's scale: one number or three, none of them 0 (sb_mesh_transform's rule). */
+static sb_status read_scale(const map_reader* r, sb_scene_collider* out) {
+    const sb_scene_node* node = r->values[KEY_SCALE];
+    double* scale = out->placement.scale;
+    char name[128];
+    full_name(r, "scale", name, sizeof name);
+    if (node->kind == SB_NODE_SCALAR) {
+        if (!sb_scene_node_number(node, &scale[0])) return type_fail(r, node, name, "a number or 3 numbers");
+        scale[1] = scale[2] = scale[0];
+    } else {
+        sb_status status = read_vec3(r, node, "scale", scale);
+        if (status != SB_OK) return status;
+    }
+    if (!(isfinite(scale[0]) && isfinite(scale[1]) && isfinite(scale[2])) || scale[0] == 0.0 || scale[1] == 0.0 ||
+        scale[2] == 0.0)
+        return fail(r, node, "'%s' must be finite and not 0, got [%g, %g, %g]", name, scale[0], scale[1], scale[2]);
+    return SB_OK;
+}
+
+/* A mesh collider's file (relative to the scene file's directory), read
+ * with the program's mesh loader and placed by scale, rotate and
+ * translate (as mesh.scale, mesh.rotate, mesh.translate place the body). */
+static sb_status load_mesh(const map_reader* r, sb_scene_collider* out) {
+    const sb_scene_node* node = r->values[KEY_FILE];
+    const char* file = node->text;
+    char name[128], *path = NULL;
+    full_name(r, "file", name, sizeof name);
+    size_t size = strlen(file) + (r->base_dir ? strlen(r->base_dir) + 2 : 1);
+    if (!(path = malloc(size))) return sb_error_set(r->err, SB_ERR_NOMEM, "out of memory");
+    if (file[0] == '/' || !r->base_dir)
+        snprintf(path, size, "%s", file);
+    else
+        snprintf(path, size, "%s/%s", r->base_dir, file);
+    sb_error cause;
+    sb_status status = sb_mesh_load(path, &out->mesh, &cause);
+    if (status == SB_OK && out->mesh.triangle_count == 0)
+        status = sb_error_set(&cause, SB_ERR_INVALID, "%s has no triangles", path);
+    if (status == SB_OK) status = sb_mesh_transform(&out->mesh, &out->placement, &cause);
+    free(path);
+    if (status != SB_OK) return fail(r, node, "'%s': %s", name, cause.message);
+    out->def.mesh = &out->mesh;
+    return SB_OK;
+}
+
 static sb_status read_value(const map_reader* r, int key, sb_scene_collider* out) {
     sb_collider_def* def = &out->def;
     const char* ignored;
@@ -352,7 +414,9 @@ static sb_status read_value(const map_reader* r, int key, sb_scene_collider* out
     case KEY_MASS: return read_range(r, key, false, INFINITY, &def->mass);
     case KEY_PATH: return read_path(r, out);
     case KEY_INTERPOLATION: return read_interpolation(r, def);
-    default: return read_vector_key(r, key, def);
+    case KEY_FILE: return read_text(r, KEY_FILE, &ignored); /* loaded once the placement is known */
+    case KEY_SCALE: return read_scale(r, out);
+    default: return read_vector_key(r, key, out);
     }
 }
 
@@ -371,15 +435,16 @@ static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
     if (r->values[KEY_VELOCITY] && !(def->mass > 0.0)) /* only a dynamic collider has one */
         return fail(r, r->keys[KEY_VELOCITY], "unknown key '%s'", full_name(r, "velocity", name, sizeof name));
     if (!r->values[KEY_STATIC_FRICTION]) def->static_friction = def->friction;
-    if (def->static_friction >= def->friction) return SB_OK;
-    return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
-                full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
+    if (def->static_friction < def->friction)
+        return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
+                    full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
+    return def->shape == SB_COLLIDER_MESH ? load_mesh(r, out) : SB_OK;
 }
 
-static sb_status read_entry(const sb_scene_tree* tree, uint32_t index, sb_scene_collider* out,
+static sb_status read_entry(const sb_scene_tree* tree, const char* base_dir, uint32_t index, sb_scene_collider* out,
                             const sb_scene_node** name_node, sb_error* err) {
     const sb_scene_node* node = &tree->root.items[index];
-    map_reader r = {.tree = tree, .map = node, .err = err};
+    map_reader r = {.tree = tree, .base_dir = base_dir, .map = node, .err = err};
     snprintf(r.prefix, sizeof r.prefix, "colliders[%u]", index);
     sb_status status = expect_map(&r, node, "a map");
     if (status == SB_OK) status = index_map(&r, entry_keys, KEY_COUNT);
@@ -388,6 +453,7 @@ static sb_status read_entry(const sb_scene_tree* tree, uint32_t index, sb_scene_
     if (status == SB_OK) status = check_shape_keys(&r, shape);
     out->def = sb_default_collider_def();
     out->def.shape = shape;
+    out->placement = sb_default_mesh_transform_def();
     if (status == SB_OK) status = read_values(&r, out);
     if (node->line)
         snprintf(out->where, sizeof out->where, "%s:%zu", tree->source, node->line);
@@ -441,7 +507,7 @@ static sb_status set_names(const sb_scene_tree* tree, sb_scene_colliders* c, con
 
 /* ---- entry points ------------------------------------------------------------------ */
 
-static sb_status read_all(const sb_scene_tree* tree, sb_scene_colliders* out, sb_error* err) {
+static sb_status read_all(const sb_scene_tree* tree, const char* base_dir, sb_scene_colliders* out, sb_error* err) {
     const sb_scene_node* root = &tree->root;
     if (root->count > UINT32_MAX) return sb_scene_node_fail(tree, root, err, "'colliders': too many entries");
     out->count = (uint32_t)root->count;
@@ -449,7 +515,7 @@ static sb_status read_all(const sb_scene_tree* tree, sb_scene_colliders* out, sb
     const sb_scene_node** names = calloc(root->count ? root->count : 1, sizeof *names);
     sb_status status = out->entries && names ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     for (uint32_t i = 0; i < out->count && status == SB_OK; i++)
-        status = read_entry(tree, i, &out->entries[i], &names[i], err);
+        status = read_entry(tree, base_dir, i, &out->entries[i], &names[i], err);
     if (status == SB_OK) status = set_names(tree, out, names, err);
     free(names);
     return status;
@@ -460,7 +526,7 @@ sb_status sb_scene_colliders_read(const sb_scene* scene, sb_scene_colliders* out
     out->thickness = sb_scene_number(scene, SB_KEY_CONTACT_THICKNESS);
     const sb_scene_tree* tree = sb_scene_tree_value(scene, SB_KEY_COLLIDERS);
     if (!tree || tree->root.kind != SB_NODE_SEQUENCE) return SB_OK;
-    sb_status status = read_all(tree, out, err);
+    sb_status status = read_all(tree, scene->values[SB_KEY_COLLIDERS].base_dir, out, err);
     if (status != SB_OK) sb_scene_colliders_free(out);
     return status;
 }
@@ -492,7 +558,10 @@ void sb_scene_colliders_attach(const sb_scene_colliders* c, sb_solver_def* def) 
 void sb_scene_colliders_free(sb_scene_colliders* c) {
     for (uint32_t i = 0; c->colliders && i < c->count; i++)
         if (c->colliders[i]) sb_collider_destroy(c->colliders[i]);
-    for (uint32_t i = 0; c->entries && i < c->count; i++) free(c->entries[i].path);
+    for (uint32_t i = 0; c->entries && i < c->count; i++) {
+        free(c->entries[i].path);
+        sb_mesh_free(&c->entries[i].mesh);
+    }
     free(c->colliders);
     free(c->entries);
     memset(c, 0, sizeof *c);

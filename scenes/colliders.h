@@ -7,9 +7,12 @@
  *       radius: 0.2
  *       path: [{time: 0, translate: [0, 0, 0]}, {time: 1, translate: [0, 0, 0.5]}]
  *
- * Each entry is a map. `type` (plane, sphere, capsule, box) is required and
- * decides which shape keys the entry may have: plane point, normal; sphere
- * center, radius; capsule a, b, radius; box center, half_extents, rotate.
+ * Each entry is a map. `type` (plane, sphere, capsule, box, mesh) is
+ * required and decides which shape keys the entry may have: plane point,
+ * normal; sphere center, radius; capsule a, b, radius; box center,
+ * half_extents, rotate; mesh file (any file mesh.file reads, relative to
+ * the scene file), scale, rotate, translate (placing it as mesh.scale,
+ * mesh.rotate and mesh.translate place the body).
  * Every entry may have name (default: the type and the entry's index, e.g.
  * sphere1), friction, static_friction (default: friction), restitution,
  * thickness, path (keyframes {time, translate, rotate}) and interpolation
@@ -37,7 +40,9 @@ typedef struct sb_scene_collider {
     sb_collider_def def; /* def.name and def.path point into this entry */
     char name[SB_SCENE_COLLIDER_NAME_MAX + 1];
     sb_keyframe* path;
-    char where[400]; /* the entry's place, "file:line" or the --set */
+    sb_mesh mesh;                    /* a mesh collider's triangles, loaded and placed; def.mesh points here */
+    sb_mesh_transform_def placement; /* its scale, rotate and translate */
+    char where[400];                 /* the entry's place, "file:line" or the --set */
 } sb_scene_collider;
 
 typedef struct sb_scene_colliders {

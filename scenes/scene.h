@@ -98,7 +98,7 @@ typedef enum sb_scene_type {
     X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                                           \
       "where load.force acts: the vertex nearest this point of the placed rest shape, m")                              \
     X(COLLIDERS, "colliders", LIST, "[]",                                                                              \
-      "what the bodies touch: a list of maps {type: plane, sphere, capsule or box; name; the shape's keys; "           \
+      "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
       "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m, >= 0: added to every collider's own thickness")         \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \

@@ -654,9 +654,9 @@ static void test_run_bad_colliders(void** state) {
     assert_colliders_fail("plane\n", "2: 'colliders' expects a sequence of maps, got 'plane'");
     assert_colliders_fail("  - plane\n", "3: 'colliders[0]' expects a map, got 'plane'");
     assert_colliders_fail("  - {type: plane}\n  - radius: 1\n",
-                          "4: 'colliders[1].type' is not set (plane, sphere, capsule or box)");
+                          "4: 'colliders[1].type' is not set (plane, sphere, capsule, box or mesh)");
     assert_colliders_fail("  - type: cube\n",
-                          "3: 'colliders[0].type' must be plane, sphere, capsule or box, got 'cube'");
+                          "3: 'colliders[0].type' must be plane, sphere, capsule, box or mesh, got 'cube'");
     assert_colliders_fail("  - type: [plane]\n", "3: 'colliders[0].type' expects a string, got a sequence of 1");
     /* keys: unknown (dynamic colliders are not there yet), another shape's, missing, twice */
     assert_colliders_fail("  - type: plane\n    mass: 1\n", "4: unknown key 'colliders[0].mass'");

@@ -72,7 +72,7 @@ static sb_collider* make(const sb_collider_def* def) {
 
 static void test_names(void** state) {
     (void)state;
-    const char* names[4] = {"plane", "sphere", "capsule", "box"};
+    const char* names[5] = {"plane", "sphere", "capsule", "box", "mesh"};
     for (int s = 0; s < SB_COLLIDER_SHAPE_COUNT; s++) {
         sb_collider_shape out = SB_COLLIDER_SHAPE_COUNT;
         assert_string_equal(sb_collider_shape_name((sb_collider_shape)s), names[s]);
@@ -620,9 +620,9 @@ static void test_validation(void** state) {
     sb_collider_def d = sb_default_collider_def();
     d.name = "floor";
     d.shape = (sb_collider_shape)7;
-    expect_error(&d, "collider 'floor': shape must be plane, sphere, capsule or box (got 7)");
+    expect_error(&d, "collider 'floor': shape must be plane, sphere, capsule, box or mesh (got 7)");
     d.name = NULL;
-    expect_error(&d, "collider '?': shape must be plane, sphere, capsule or box (got 7)");
+    expect_error(&d, "collider '?': shape must be plane, sphere, capsule, box or mesh (got 7)");
     d = sb_default_collider_def();
     d.name = "floor";
     d.point[0] = NAN;

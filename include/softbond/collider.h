@@ -9,13 +9,14 @@
  * solver then moves the vertex and changes its velocity (kernels/contact.c)
  * and adds the impulse it took to the collider's reaction force.
  *
- * The built-in shapes (plane, sphere, capsule, box) are colliders written on
- * this same interface; a program's own collider is a callback of the same
+ * The built-in shapes (plane, sphere, capsule, box, triangle mesh) are
+ * colliders written on this same interface; a program's own collider is a callback of the same
  * type (sb_collider_create_custom). */
 #ifndef SOFTBOND_COLLIDER_H
 #define SOFTBOND_COLLIDER_H
 
 #include "softbond/export.h"
+#include "softbond/mesh.h"
 #include "softbond/types.h"
 
 #ifdef __cplusplus
@@ -65,6 +66,7 @@ typedef enum sb_collider_shape {
     SB_COLLIDER_SPHERE,    /* center, radius */
     SB_COLLIDER_CAPSULE,   /* the segment a–b, radius */
     SB_COLLIDER_BOX,       /* center, half_extents, rotate (degrees about x, then y, then z) */
+    SB_COLLIDER_MESH,      /* a triangle mesh: its volume when closed, a shell of the thickness when open */
     SB_COLLIDER_SHAPE_COUNT
 } sb_collider_shape;
 
@@ -72,7 +74,8 @@ typedef enum sb_interpolation { SB_INTERPOLATION_LINEAR = 0, SB_INTERPOLATION_SM
 
 /* A pose of a kinematic collider at a time: rotate (degrees about the
  * collider's reference point — plane point, sphere or box center, capsule
- * midpoint — about x, then y, then z), then translate. */
+ * midpoint, the center of a mesh's bounding box — about x, then y, then
+ * z), then translate. */
 typedef struct sb_keyframe {
     double time;         /* s */
     double translate[3]; /* m */
@@ -90,11 +93,21 @@ typedef struct sb_collider_def {
     double a[3], b[3];          /* capsule */
     double half_extents[3];     /* box (m, > 0) */
     double rotate[3];           /* box: degrees about x, then y, then z */
-    double friction;            /* Coulomb, sliding (>= 0) */
-    double static_friction;     /* sticking (>= friction; default: friction) */
-    double restitution;         /* [0, 1] */
-    double thickness;           /* m, >= 0: the surface is inflated by it */
-    const sb_keyframe* path;    /* kinematic: keyframes in increasing time (copied); NULL = static */
+    /* mesh: the triangles, in world coordinates (place them first with
+     * sb_mesh_transform; copied, with a bounding-volume hierarchy built
+     * over them). A closed mesh (every edge on two triangles) is solid
+     * inside: the volume it encloses, inflated by the thickness, its
+     * winding made outward if it faces in (a closed mesh whose triangles
+     * disagree about the winding is refused). An open mesh (a sheet, a
+     * bowl, a mesh with an edge on three triangles) encloses nothing: it
+     * is a shell of the points within the thickness of its surface, so its
+     * thickness must be > 0. A triangle of zero area is refused. */
+    const sb_mesh* mesh;
+    double friction;         /* Coulomb, sliding (>= 0) */
+    double static_friction;  /* sticking (>= friction; default: friction) */
+    double restitution;      /* [0, 1] */
+    double thickness;        /* m, >= 0: the surface is inflated by it */
+    const sb_keyframe* path; /* kinematic: keyframes in increasing time (copied); NULL = static */
     uint32_t path_count;
     sb_interpolation interpolation; /* between keyframes; before the first and after the last the pose holds */
     /* Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
@@ -154,7 +167,7 @@ SB_API void sb_collider_state(const sb_collider* collider, double position[3], d
 SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], const double hi[3]);
 SB_API const char* sb_collider_name(const sb_collider* collider);
 
-/* "plane", "sphere", "capsule", "box". */
+/* "plane", "sphere", "capsule", "box", "mesh". */
 SB_API const char* sb_collider_shape_name(sb_collider_shape shape);
 SB_API bool sb_collider_shape_from_name(const char* name, sb_collider_shape* out);
 

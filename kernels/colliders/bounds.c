@@ -50,6 +50,12 @@ static void sb_rest_box(const sb_collider* c, double lo[3], double hi[3]) {
             hi[k] = d->center[k] + e;
         }
         break;
+    case SB_COLLIDER_MESH: { /* the box around its vertices */
+        double box[6];
+        sb_mesh_shape_box(c->mesh, box);
+        for (int k = 0; k < 3; k++) lo[k] = box[k], hi[k] = box[3 + k];
+        break;
+    }
     case SB_COLLIDER_SHAPE_COUNT: break;
     }
 }

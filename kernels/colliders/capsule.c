@@ -92,19 +92,35 @@ static bool sb_cylinder_line(const double a[3], const double ab[3], double ab2, 
 }
 
 /* The union of the pieces' intervals so far, and the normal at its start. */
-typedef struct sb_capsule_line {
+typedef struct sb_capsule_union {
     bool entered;
     double lo, hi, normal[3];
-} sb_capsule_line;
+} sb_capsule_union;
 
 /* Adds a piece's interval; an entry no earlier than the current keeps its normal. */
-static void sb_capsule_line_add(sb_capsule_line* line, double lo, double hi, const double normal[3]) {
+static void sb_capsule_union_add(sb_capsule_union* line, double lo, double hi, const double normal[3]) {
     if (!line->entered || lo < line->lo) {
         line->lo = lo;
         for (int k = 0; k < 3; k++) line->normal[k] = normal[k];
     }
     if (!line->entered || hi > line->hi) line->hi = hi;
     line->entered = true;
+}
+
+bool sb_capsule_line(const double a[3], const double b[3], double r, const double from[3], const double to[3],
+                     double* lo, double* hi, double normal[3]) {
+    double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ab2 = sb_dot3(ab, ab);
+    if (ab2 == 0.0) return sb_ball_line(a, r, from, to, lo, hi, normal);
+    sb_capsule_union line = {false, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    double l, h, n[3];
+    if (sb_ball_line(a, r, from, to, &l, &h, n)) sb_capsule_union_add(&line, l, h, n);
+    if (sb_ball_line(b, r, from, to, &l, &h, n)) sb_capsule_union_add(&line, l, h, n);
+    if (sb_cylinder_line(a, ab, ab2, r, from, to, &l, &h, n)) sb_capsule_union_add(&line, l, h, n);
+    if (!line.entered) return false;
+    *lo = line.lo;
+    *hi = line.hi;
+    for (int k = 0; k < 3; k++) normal[k] = line.normal[k];
+    return true;
 }
 
 bool sb_capsule_sweep(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
@@ -116,10 +132,7 @@ bool sb_capsule_sweep(const sb_collider_def* def, const double from[3], const do
     sb_capsule_end(def->a, ab, ab2, r, from, &e0);
     sb_capsule_end(def->a, ab, ab2, r, to, &e1);
     if (e0.inside) return sb_sweep_from_inside(&e0, &e1, from, to, fraction, depth, normal);
-    sb_capsule_line line = {false, 0.0, 0.0, {0.0, 0.0, 0.0}};
-    double lo, hi, n[3];
-    if (sb_ball_line(def->a, r, from, to, &lo, &hi, n)) sb_capsule_line_add(&line, lo, hi, n);
-    if (sb_ball_line(def->b, r, from, to, &lo, &hi, n)) sb_capsule_line_add(&line, lo, hi, n);
-    if (sb_cylinder_line(def->a, ab, ab2, r, from, to, &lo, &hi, n)) sb_capsule_line_add(&line, lo, hi, n);
-    return sb_sweep_from_outside(line.entered, line.lo, line.hi, line.normal, &e1, fraction, depth, normal);
+    double lo = 0.0, hi = 0.0, n[3] = {0.0, 0.0, 0.0};
+    bool entered = sb_capsule_line(def->a, def->b, r, from, to, &lo, &hi, n);
+    return sb_sweep_from_outside(entered, lo, hi, n, &e1, fraction, depth, normal);
 }

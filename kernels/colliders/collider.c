@@ -7,7 +7,7 @@
  *   pose(t)(x) = R (x − c) + c + T
  *
  * with c the reference point (plane point, sphere or box center, capsule
- * midpoint of a–b), R the rotation of `rotate` degrees about x, then y,
+ * midpoint of a–b, the center of a mesh's bounding box), R the rotation of `rotate` degrees about x, then y,
  * then z (fixed axes: R = Rz Ry Rx) and T `translate`, both interpolated
  * componentwise between keyframes (linearly, or with the smoothstep weight
  * 3s² − 2s³ of the interval's s); before the first keyframe and after the
@@ -36,7 +36,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char* const sb_shape_names[SB_COLLIDER_SHAPE_COUNT] = {"plane", "sphere", "capsule", "box"};
+static const char* const sb_shape_names[SB_COLLIDER_SHAPE_COUNT] = {"plane", "sphere", "capsule", "box", "mesh"};
 
 sb_collider_def sb_default_collider_def(void) {
     sb_collider_def d;
@@ -102,10 +102,12 @@ static sb_status sb_check_geometry(const char* label, const sb_collider_def* d, 
         if ((st = sb_check_vector(label, "center", d->center, false, err))) return st;
         if ((st = sb_check_vector(label, "half_extents", d->half_extents, true, err))) return st;
         return sb_check_vector(label, "rotate", d->rotate, false, err);
+    case SB_COLLIDER_MESH: return SB_OK; /* its triangles are checked as its hierarchy is built */
     case SB_COLLIDER_SHAPE_COUNT: break;
     }
-    return sb_error_set(err, SB_ERR_INVALID, "collider '%s': shape must be plane, sphere, capsule or box (got %d)",
-                        label, (int)d->shape);
+    return sb_error_set(err, SB_ERR_INVALID,
+                        "collider '%s': shape must be plane, sphere, capsule, box or mesh (got %d)", label,
+                        (int)d->shape);
 }
 
 /* friction, static_friction (after the default), restitution, thickness. */
@@ -183,6 +185,16 @@ static void sb_copy_name(char out[64], const char* name, const char* fallback) {
 static void sb_builtin_begin_step(void* user, double t0, double t1);
 static bool sb_builtin_collide(void* user, const sb_contact_query* query, sb_contact* contact);
 
+/* A mesh collider keeps its own copy: def.mesh points at it, and its
+ * reference point (def.center) is the center of its bounding box. */
+static void sb_mesh_attach(sb_collider* c, sb_mesh_shape* mesh) {
+    double box[6];
+    c->mesh = mesh;
+    c->def.mesh = sb_mesh_shape_mesh(mesh);
+    sb_mesh_shape_box(mesh, box);
+    for (int k = 0; k < 3; k++) c->def.center[k] = 0.5 * (box[k] + box[3 + k]);
+}
+
 sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     if (!def) {
         sb_error_set(err, SB_ERR_INVALID, "collider: no definition (def is NULL)");
@@ -194,11 +206,15 @@ sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     if (sb_check_geometry(label, def, err) || sb_check_surface(label, def, static_friction, err) ||
         sb_check_path(label, def, err) || sb_check_dynamic(label, def, err))
         return NULL;
+    sb_mesh_shape* mesh = NULL;
+    if (def->shape == SB_COLLIDER_MESH && !(mesh = sb_mesh_shape_create(label, def->mesh, def->thickness, err)))
+        return NULL;
     sb_collider* c = calloc(1, sizeof *c);
     sb_keyframe* path = def->path_count ? malloc(def->path_count * sizeof *path) : NULL;
     if (!c || (def->path_count && !path)) {
         free(c);
         free(path);
+        sb_mesh_shape_destroy(mesh);
         sb_error_set(err, SB_ERR_NOMEM, "collider '%s': out of memory", label);
         return NULL;
     }
@@ -212,6 +228,7 @@ sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     c->begin_step = sb_builtin_begin_step;
     c->user = c;
     if (def->shape == SB_COLLIDER_BOX) sb_collider_rotation(def->rotate, c->box_rotation);
+    if (mesh) sb_mesh_attach(c, mesh);
     c->dynamic = def->mass > 0.0;
     memcpy(c->position, def->center, sizeof c->position);
     if (c->dynamic) memcpy(c->velocity, def->velocity, sizeof c->velocity);
@@ -245,6 +262,7 @@ sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, 
 void sb_collider_destroy(sb_collider* collider) {
     if (!collider) return;
     free(collider->path);
+    sb_mesh_shape_destroy(collider->mesh);
     free(collider);
 }
 
@@ -365,6 +383,7 @@ static bool sb_shape_sweep(const sb_collider* c, const double from[3], const dou
     case SB_COLLIDER_SPHERE: return sb_sphere_sweep(d, from, to, thickness, fraction, depth, normal);
     case SB_COLLIDER_CAPSULE: return sb_capsule_sweep(d, from, to, thickness, fraction, depth, normal);
     case SB_COLLIDER_BOX: return sb_box_sweep_rotated(d, c->box_rotation, from, to, thickness, fraction, depth, normal);
+    case SB_COLLIDER_MESH: return sb_mesh_sweep(c->mesh, from, to, thickness, fraction, depth, normal);
     case SB_COLLIDER_SHAPE_COUNT: break;
     }
     return false;

@@ -31,6 +31,7 @@
 #define SB_COLLIDER_INTERNAL_H
 
 #include "softbond/collider.h"
+#include "softbond/mesh.h"
 
 struct sb_collider {
     char name[64];
@@ -53,7 +54,8 @@ struct sb_collider {
      * next step (it then moves from its last pose to this one) */
     bool driven;
     double driven_pose[12];
-    double box_rotation[9]; /* box: sb_collider_rotation(def.rotate), made once */
+    double box_rotation[9];     /* box: sb_collider_rotation(def.rotate), made once */
+    struct sb_mesh_shape* mesh; /* mesh: the copy and its hierarchy (mesh.c); def.mesh is its mesh */
     /* dynamic (def.mass > 0; kernels/colliders/dynamic.c): the center now,
      * its velocity, and where the current step takes it (position +
      * velocity (t1 − t0), set by begin_step) */
@@ -128,6 +130,30 @@ bool sb_ball_sweep(const double center[3], double r, const double from[3], const
                    double* depth, double normal[3]);
 bool sb_ball_line(const double center[3], double r, const double from[3], const double to[3], double* lo, double* hi,
                   double normal[3]);
+/* The capsule of radius r about the segment a–b (capsule.c; the mesh's
+ * rounded triangles): the interval [lo, hi] of the line from + s (to −
+ * from) inside it with the outward normal at lo, for a line that enters it
+ * from outside (false otherwise). */
+bool sb_capsule_line(const double a[3], const double b[3], double r, const double from[3], const double to[3],
+                     double* lo, double* hi, double normal[3]);
+
+/* The triangle mesh of a mesh collider (mesh.c): a copy of the def's mesh
+ * with its bounding-volume hierarchy. Checked as it is made: at least one
+ * triangle, indices in range, finite positions, no triangle of zero area;
+ * a closed mesh consistently oriented (it is turned outward when it faces
+ * in); an open one only with thickness > 0. Messages name the collider
+ * (label) and the element. */
+typedef struct sb_mesh_shape sb_mesh_shape;
+sb_mesh_shape* sb_mesh_shape_create(const char* label, const sb_mesh* mesh, double thickness, sb_error* err);
+void sb_mesh_shape_destroy(sb_mesh_shape* shape);
+/* Its copy of the mesh (triangles in the hierarchy's order, wound outward
+ * when closed) and the box around it (lo x y z, hi x y z). */
+const sb_mesh* sb_mesh_shape_mesh(const sb_mesh_shape* shape);
+void sb_mesh_shape_box(const sb_mesh_shape* shape, double box[6]);
+/* The mesh's sweep (see above and mesh.c): a closed mesh bounds its volume,
+ * an open one is a shell of the thickness around its surface. */
+bool sb_mesh_sweep(const sb_mesh_shape* shape, const double from[3], const double to[3], double thickness,
+                   double* fraction, double* depth, double normal[3]);
 
 /* The rotation (row-major) of `degrees` about x, then y, then z (fixed
  * axes); exact at multiples of 90 degrees. */
