@@ -3,6 +3,7 @@
  * still finite and bounded. */
 #include "kernels/solver_internal.h"
 #include "kernels/colliders/collider_internal.h"
+#include "kernels/self_contact.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -56,6 +57,7 @@ static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
 void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
     sb_contact_destroy(s);
+    sb_self_contact_destroy(s->self);
     sb_team_destroy(s->team);
     sb_fast_model_destroy(s->fast);
     free(s->partials);
@@ -156,6 +158,7 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
     if (status == SB_OK) status = sb_contact_prepare(s, err);
+    if (status == SB_OK && def->self_collision) status = sb_self_contact_prepare(s, err);
     if (status == SB_OK) status = sb_prepare_step_buffers(s, err);
     if (status != SB_OK) {
         sb_solver_destroy(s);
@@ -223,10 +226,6 @@ static sb_status sb_integrate(sb_solver* s, double dt) {
     case SB_INTEGRATOR_XPBD: return sb_integrate_pbd(s, dt);
     default: return sb_error_set(&s->error, SB_ERR_INVALID, "unknown integrator %d", (int)s->def.integrator);
     }
-}
-
-static bool sb_fused(const sb_solver* s) {
-    return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
 }
 
 /* Whether any of `count` edges (a[e], b[e]) with rest length r0[e] is longer
@@ -317,11 +316,24 @@ static sb_status sb_check_stretch(sb_solver* s) {
     return SB_OK;
 }
 
+static void sb_count_self_contacts(sb_solver* s) {
+    s->stats.self_contacts += sb_self_contact_count(s->self);
+    s->stats.self_dropped += sb_self_contact_dropped(s->self);
+}
+
 /* The contact pass of a step the fused path did not take: the state's
  * arrays corrected, and the forces evaluated again where a vertex moved. */
 static sb_status sb_contact_after_step(sb_solver* s, double dt) {
     uint32_t contacts = sb_contact_state_pass(s, dt);
     s->stats.contacts += contacts;
+    return contacts > 0 ? sb_solver_compute_forces(s) : SB_OK;
+}
+
+/* The self-contact pass of a step the fused path did not take, after the
+ * collider pass; forces again where a vertex moved. */
+static sb_status sb_self_contact_after_step(sb_solver* s, double dt) {
+    uint32_t contacts = sb_self_contact_state_pass(s, dt);
+    sb_count_self_contacts(s);
     return contacts > 0 ? sb_solver_compute_forces(s) : SB_OK;
 }
 
@@ -331,16 +343,19 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
         sb_contact_begin_step(s, s->time, s->time + dt);
         if (!sb_fused(s)) sb_contact_save_from(s);
     }
+    if (s->self && !sb_fused(s)) sb_self_contact_save_state(s);
     s->contact_dt = dt;
     s->time += dt; /* forces of this step are evaluated at the new time */
     sb_status status = sb_integrate(s, dt);
     /* A non-finite state also makes the force terms fail: name the cause. */
     if (sb_fused(s)) { /* the fused step checked the state and summed the energies itself */
         if (contact) s->stats.contacts += sb_contact_collect(s);
+        sb_count_self_contacts(s);
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status == SB_OK ? sb_check_stretch(s) : status;
     }
     if (status == SB_OK && contact) status = sb_contact_after_step(s, dt);
+    if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */
     sb_status state_status = sb_check_state(s);

@@ -46,6 +46,7 @@
 #include "common/error.h"
 #include "kernels/wide.h"
 #include "kernels/team.h"
+#include "kernels/self_contact.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -240,6 +241,7 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
+        sb_self_contact_save_packed(s, begin, end);
         sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4, s->velocities4,
                        s->forces4, k, begin, end);
         if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
@@ -380,6 +382,7 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
 static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
     sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt);
+    sb_self_contact_packed(w, job->solver, job->dt);
     sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
     sb_external_step(w, job->solver);
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);

@@ -43,6 +43,7 @@ struct sb_solver {
     bool publish_written;
     double advance_dt;        /* s, the last advance's dt */
     struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays */
+    struct sb_self_contact* self; /* self-contact (kernels/self_contact.c); NULL when off */
     sb_step_stats stats;
     double time;
     uint64_t steps;
@@ -53,6 +54,11 @@ struct sb_solver {
 /* Vertices per chunk of the vertex passes, which own their partial sums. */
 #define SB_CHUNK 256
 static inline uint32_t sb_chunk_count(uint32_t vertex_count) { return (vertex_count + SB_CHUNK - 1) / SB_CHUNK; }
+
+/* Whether a step is the fast path's fused Verlet job (kernels/solver_fast.c). */
+static inline bool sb_fused(const sb_solver* s) {
+    return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
+}
 
 /* Contact (kernels/contact.c). */
 sb_status sb_contact_prepare(sb_solver* solver, sb_error* err);

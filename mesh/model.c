@@ -51,3 +51,7 @@ sb_bond_info sb_model_bond(const sb_model* m, uint32_t e) {
     return (sb_bond_info){m->bond_i[e], m->bond_j[e],   m->bond_r0[e],
                           m->bond_k[e], m->spring_k[e], m->spring_damping[e]};
 }
+
+void sb_model_triangle(const sb_model* m, uint32_t t, uint32_t out[3]) {
+    for (int c = 0; c < 3; c++) out[c] = m->tri_v[c][t];
+}

@@ -48,6 +48,9 @@ typedef struct sb_bond_info {
 
 SB_API sb_bond_info sb_model_bond(const sb_model* model, uint32_t bond);
 
+/* The three vertices of a compiled triangle, in its corner order. */
+SB_API void sb_model_triangle(const sb_model* model, uint32_t triangle, uint32_t out[3]);
+
 #ifdef __cplusplus
 }
 #endif

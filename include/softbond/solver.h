@@ -63,6 +63,13 @@ typedef struct sb_solver_def {
     sb_collider* const* colliders;
     uint32_t collider_count;
     double contact_thickness; /* m, >= 0: added to every collider's own thickness */
+    /* Self-contact (kernels/self_contact.c): after the collider pass of every
+     * step, the model's triangles against each other — a body folding onto
+     * itself and the bodies of a multi-object model. A vertex–triangle or
+     * edge–edge pair that crossed in the step, or ends it closer than
+     * contact_thickness (then required > 0), is moved apart to that distance
+     * and loses its closing velocity (inelastic, frictionless). */
+    bool self_collision;
     sb_external_force_fn external_force;
     void* external_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
@@ -118,6 +125,8 @@ typedef struct sb_step_stats {
     uint32_t substeps;     /* sub-steps accepted (1 without adaptive stepping) */
     uint32_t rejected;     /* adaptive: sub-steps undone and retried at half the size */
     uint32_t contacts;     /* vertex contacts answered, summed over sub-steps */
+    uint32_t self_contacts; /* self-contact pairs corrected, summed over sub-steps */
+    uint32_t self_dropped;  /* self-contact candidates dropped: the buffers (16 per triangle) were full */
     double last_substep;   /* s, the last accepted sub-step */
     double min_substep;    /* s, the smallest accepted sub-step */
 } sb_step_stats;
