@@ -2,10 +2,10 @@
  * colliders (softbond/collider.h).
  *
  * Design. Contact is a correction of the step, the same for every
- * integrator: the vertex's move (from its position at the start of the step
- * to where the integrator put it) is offered to each collider in order; the
- * earliest contact (smallest fraction; the first collider on a tie) is
- * answered:
+ * integrator that moves by forces (pbd and xpbd: below): the vertex's move
+ * (from its position at the start of the step to where the integrator put
+ * it) is offered to each collider in order; the earliest contact (smallest
+ * fraction; the first collider on a tie) is answered:
  *
  *   position  along the normal: to the contact point from + fraction (to −
  *             from), pushed out by depth, then the rest of the step at the
@@ -34,8 +34,20 @@
  * A Verlet-form displacement is set to v'·dt so that the next step carries
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which
- * answers it in the next step. PBD and XPBD get the same correction after
- * their projections (not yet contact constraints inside the sweeps). */
+ * answers it in the next step.
+ *
+ * pbd and xpbd do not take this pass: their step is itself a projection, so
+ * a contact is one more constraint inside their sweeps
+ * (kernels/contact_pbd.c), found by sb_contact_find and answered by
+ * sb_contact_velocity, its impulse in the same partial sums. Implicit Euler
+ * takes the pass after its Newton solve, as the Verlet and Euler forms do:
+ * an integrator that moves by forces answers contact with this impulse
+ * after its move (Bridson et al. 2002 treat implicit cloth so), one that
+ * moves by projection projects contact with its other constraints. Inside
+ * the Newton solve an inequality contact would need an active-set or
+ * complementarity solve, or a stiff penalty force the solve would have to
+ * resolve: more than the post-step answer costs, for the same answer at
+ * the end of the step. */
 #include "kernels/solver_internal.h"
 #include "kernels/colliders/collider_internal.h"
 #include "common/error.h"
@@ -126,7 +138,7 @@ static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, uint6
 }
 
 /* The velocity answer of one contact (see the design note). */
-static void sb_contact_velocity(const sb_contact* c, double v[3]) {
+void sb_contact_velocity(const sb_contact* c, double v[3]) {
     double vr[3], vn = 0.0;
     for (int k = 0; k < 3; k++) vr[k] = v[k] - c->velocity[k];
     for (int k = 0; k < 3; k++) vn += vr[k] * c->normal[k];
@@ -158,12 +170,25 @@ static void sb_contact_position(const sb_contact* c, double dt, const double fro
     for (int k = 0; k < 3; k++) x[k] = from[k] + dt * (v[k] - vn * c->normal[k]) + normal_move * c->normal[k];
 }
 
-int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const double from[3], double x[3], double v[3],
-                      double impulse[3]) {
+/* Vertex i's move from → to in the step being taken. */
+static sb_contact_query sb_contact_query_of(const sb_solver* s, uint32_t i, const double from[3], const double to[3]) {
     sb_contact_query q = {
         .vertex = i, .t0 = s->time - s->contact_dt, .t1 = s->time, .thickness = s->def.contact_thickness};
     memcpy(q.from, from, sizeof q.from);
-    memcpy(q.to, x, sizeof q.to);
+    memcpy(q.to, to, sizeof q.to);
+    return q;
+}
+
+int sb_contact_find(const sb_solver* s, uint32_t i, const double from[3], const double to[3], sb_contact* c) {
+    uint64_t near = sb_move_near(s, ~(uint64_t)0, from, to);
+    if (!near) return -1;
+    sb_contact_query q = sb_contact_query_of(s, i, from, to);
+    return sb_first_contact(s, &q, near, c);
+}
+
+int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const double from[3], double x[3], double v[3],
+                      double impulse[3]) {
+    sb_contact_query q = sb_contact_query_of(s, i, from, x);
     sb_contact c = {0};
     int hit = sb_first_contact(s, &q, near, &c);
     if (hit < 0) return -1;
@@ -175,9 +200,11 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
     return hit;
 }
 
-/* Adds a vertex's impulse to its chunk's partial sums (the collider receives
- * the opposite). */
-static void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const double impulse[3]) {
+void sb_contact_chunk_begin(const sb_solver* s, uint32_t chunk) {
+    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+}
+
+void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const double impulse[3]) {
     double* partial = s->contact_partials + chunk * sb_contact_stride(s);
     for (int k = 0; k < 3; k++) partial[3 * collider + k] -= impulse[k];
     partial[3 * s->def.collider_count] += 1.0;
@@ -220,7 +247,7 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
 
 void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
-    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+    sb_contact_chunk_begin(s, chunk);
     uint64_t near = 0;
     for (uint32_t i = first; i < last; i++) {
         if ((i - first) % SB_CONTACT_BLOCK == 0) {
@@ -253,7 +280,7 @@ void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
 static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     sb_state* st = &s->state;
-    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+    sb_contact_chunk_begin(s, chunk);
     for (uint32_t i = first; i < last; i++) {
         if (s->model->fixed[i]) continue;
         sb_real* xs[3] = {&st->x[i], &st->y[i], &st->z[i]};

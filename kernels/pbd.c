@@ -13,10 +13,15 @@
  *        constraint per corner, C = cos θ − cos θ0 (the angle term's rest
  *        cosine; gradients as in DESIGN.md): the corner angles, hence the
  *        triangle's shape, are kept;
+ *      - with colliders, after those in each sweep, a contact constraint
+ *        (x − p)·n >= 0 per free vertex whose move x_prev → x* touches one
+ *        (kernels/contact_pbd.c);
  *      the stretch-bend and dihedral (bend) terms are not projected: they
  *      are couplings, not constraints, and only count in the energies;
- *   3. v = (x − x_prev)/dt; forces and energies at the new state through
- *      sb_solver_compute_forces, as the other integrators do.
+ *   3. v = (x − x_prev)/dt, then each contact's velocity answer
+ *      (restitution, Coulomb friction; kernels/contact_pbd.c); forces and
+ *      energies at the new state through sb_solver_compute_forces, as the
+ *      other integrators do.
  *
  * Projection of one constraint with compliance α = 1/k (1/kθ for a corner),
  * α̃ = α/dt², W = Σ w_v |∇_v C|² (w = inverse mass, 0 when fixed, so fixed
@@ -46,6 +51,7 @@
  * its own copy of the positions. */
 #include "kernels/solver_internal.h"
 #include "kernels/coloring.h"
+#include "kernels/contact_pbd.h"
 #include "common/error.h"
 #include "softbond/runtime.h"
 
@@ -64,7 +70,8 @@ typedef struct sb_pbd_group {
 typedef struct sb_pbd {
     int threads;
     sb_pbd_group bonds, triangles;
-    double *x, *x0; /* 3n: positions being projected, positions at the start */
+    double *x, *x0;            /* 3n: positions being projected, positions at the start */
+    sb_pbd_contacts* contacts; /* NULL without colliders (kernels/contact_pbd.c) */
 } sb_pbd;
 
 static void sb_pbd_group_free(sb_pbd_group* g) {
@@ -78,6 +85,7 @@ void sb_pbd_destroy(sb_pbd* p) {
     sb_pbd_group_free(&p->triangles);
     free(p->x);
     free(p->x0);
+    sb_pbd_contacts_destroy(p->contacts);
     free(p);
 }
 
@@ -156,7 +164,7 @@ sb_status sb_pbd_prepare(sb_solver* s) {
         p->x = malloc(n3 * sizeof *p->x);
         p->x0 = malloc(n3 * sizeof *p->x0);
     }
-    if (!p || !p->x || !p->x0 || !sb_pbd_build(p, s->model)) {
+    if (!p || !p->x || !p->x0 || !sb_pbd_build(p, s->model) || !sb_pbd_contacts_create(s, &p->contacts)) {
         sb_pbd_destroy(p);
         return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory preparing the position-based solver");
     }
@@ -267,6 +275,7 @@ static void sb_pbd_group_pass(const sb_worker* w, const sb_pbd_step* k, sb_pbd_g
 
 /* The projection sweeps of one step, as a job of the team. */
 typedef struct sb_pbd_job {
+    const sb_solver* solver;
     const sb_pbd_step* step;
     sb_pbd* pbd;
     int iterations;
@@ -274,9 +283,15 @@ typedef struct sb_pbd_job {
 
 static void sb_pbd_sweeps(void* context, const sb_worker* w) {
     const sb_pbd_job* job = context;
+    sb_pbd_contacts* contacts = job->pbd->contacts;
+    const sb_pbd_step* k = job->step;
+    if (contacts) sb_pbd_contacts_find(job->solver, contacts, w, k->x0, k->x, false);
     for (int it = 0; it < job->iterations; it++) {
-        sb_pbd_group_pass(w, job->step, &job->pbd->bonds, sb_pbd_bond, 1);
-        sb_pbd_group_pass(w, job->step, &job->pbd->triangles, sb_pbd_triangle, 3);
+        sb_pbd_group_pass(w, k, &job->pbd->bonds, sb_pbd_bond, 1);
+        sb_pbd_group_pass(w, k, &job->pbd->triangles, sb_pbd_triangle, 3);
+        if (!contacts) continue;
+        if (it == job->iterations - 1) sb_pbd_contacts_find(job->solver, contacts, w, k->x0, k->x, true);
+        sb_pbd_contacts_project(contacts, w, k->x);
     }
 }
 
@@ -326,9 +341,10 @@ sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     sb_pbd_step k = {s->model, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
     memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
     memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
-    sb_pbd_job job = {&k, p, sb_pbd_iterations(&s->def)};
+    sb_pbd_job job = {s, &k, p, sb_pbd_iterations(&s->def)};
     sb_team_run(s->team, p->threads, sb_pbd_sweeps, &job);
     sb_pbd_finish(s, dt);
+    if (p->contacts) s->stats.contacts += sb_pbd_contacts_answer(s, p->contacts, p->x0, p->x, dt);
     s->has_displacement = false;
     return sb_solver_compute_forces(s);
 }

@@ -339,10 +339,9 @@ static sb_status sb_self_contact_after_step(sb_solver* s, double dt) {
 
 sb_status sb_solver_step(sb_solver* s, double dt) {
     bool contact = s->def.collider_count > 0;
-    if (contact) {
-        sb_contact_begin_step(s, s->time, s->time + dt);
-        if (!sb_fused(s)) sb_contact_save_from(s);
-    }
+    bool after = contact && !s->pbd; /* pbd, xpbd: contact inside their sweeps (kernels/contact_pbd.c) */
+    if (contact) sb_contact_begin_step(s, s->time, s->time + dt);
+    if (after && !sb_fused(s)) sb_contact_save_from(s);
     if (s->self && !sb_fused(s)) sb_self_contact_save_state(s);
     s->contact_dt = dt;
     s->time += dt; /* forces of this step are evaluated at the new time */
@@ -354,7 +353,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status == SB_OK ? sb_check_stretch(s) : status;
     }
-    if (status == SB_OK && contact) status = sb_contact_after_step(s, dt);
+    if (status == SB_OK && after) status = sb_contact_after_step(s, dt);
     if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */

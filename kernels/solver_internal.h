@@ -72,6 +72,18 @@ void sb_contact_save_from(sb_solver* solver);
  * returns the collider or -1, and the impulse m Δv the vertex took. */
 int sb_contact_vertex(const sb_solver* solver, uint32_t i, uint64_t near, const double from[3], double x[3],
                       double v[3], double impulse[3]);
+/* The earliest contact of vertex i's move from → to in the step being
+ * taken among the colliders whose bounds the move reaches: the collider and
+ * *c, or -1. */
+int sb_contact_find(const sb_solver* solver, uint32_t i, const double from[3], const double to[3], sb_contact* c);
+/* The velocity answer of contact c for a vertex of velocity v (in place):
+ * restitution and Coulomb friction relative to the collider's velocity
+ * (kernels/contact.c's design note). */
+void sb_contact_velocity(const sb_contact* c, double v[3]);
+/* Zeroes a chunk's partial sums; a pass over the chunk then records each
+ * answered vertex's impulse m Δv (the collider receives the opposite). */
+void sb_contact_chunk_begin(const sb_solver* solver, uint32_t chunk);
+void sb_contact_record(const sb_solver* solver, uint32_t chunk, int collider, const double impulse[3]);
 /* The most colliders a solver takes (a bit each in the broad phase). */
 #define SB_MAX_COLLIDERS 64
 /* The fused path's pass over one chunk of the packed state, after its drift
