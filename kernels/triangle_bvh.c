@@ -7,7 +7,9 @@
  * triangles), and only refitted per step: a leaf's box covers its
  * triangles at the start and at the end of the step (a straight move stays
  * inside), inflated by the search margin; a parent's box covers its
- * children's. Boxes are floats rounded outward.
+ * children's. Boxes are floats rounded outward. A leaf reads its
+ * triangles' corners from a copy of their indices in leaf order, so the
+ * refit streams through memory.
  *
  * Normal cones (Volino and Magnenat-Thalmann 1994, Provot 1997). A
  * connected patch whose normals all lie within 60 degrees of one direction
@@ -15,7 +17,10 @@
  * node is flat and the search skips every pair inside it. The normals are
  * bounded by a box of unit vectors (both ends of the step), which is
  * cheaper to merge than a cone: the least n·d over the box, d the box's
- * normalized center, must exceed cos 60°. Whether a node is connected
+ * normalized center, must exceed cos 60°. The normals are those at the
+ * end of the step (Provot's choice): a patch flat at the end of a step
+ * that was folded through itself during it would have to turn a triangle
+ * inside out within the step. Whether a node is connected
  * (through shared edges) is found once, at the build. Like Provot's cones
  * this ignores the contour test (a patch whose outline folds over itself
  * in projection), which a compact patch of a mesh does not do in practice.
@@ -207,7 +212,10 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
     sb_sorting = NULL;
     free(b.centroids);
     bvh->node_count = b.next;
-    if (!sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
+    bvh->leaf_v = malloc(3 * (size_t)triangle_count * sizeof *bvh->leaf_v);
+    for (uint32_t k = 0; bvh->leaf_v && k < triangle_count; k++)
+        for (int c = 0; c < 3; c++) bvh->leaf_v[3 * (size_t)k + c] = tri_v[c][bvh->order[k]];
+    if (!bvh->leaf_v || !sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
         sb_triangle_bvh_destroy(bvh);
         return NULL;
     }
@@ -216,79 +224,73 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
 
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh) {
     if (!bvh) return;
-    free(bvh->order), free(bvh->nodes), free(bvh->bounds), free(bvh->flat), free(bvh->culled);
+    free(bvh->order), free(bvh->leaf_v), free(bvh->nodes), free(bvh->bounds), free(bvh->flat), free(bvh->culled);
     free(bvh->cut), free(bvh->top);
     free(bvh);
 }
 
-static float sb_down(double x) {
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
-}
-static float sb_up(double x) {
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
-}
-
-/* The unit normal of triangle t in packed positions (zero when degenerate). */
-static void sb_unit_normal(const sb_triangle_bvh* bvh, uint32_t t, const sb_real* x4, double n[3]) {
-    const sb_real *a = x4 + 4 * (size_t)bvh->tri_v[0][t], *b = x4 + 4 * (size_t)bvh->tri_v[1][t],
-                  *c = x4 + 4 * (size_t)bvh->tri_v[2][t];
-    double u[3], v[3];
-    for (int k = 0; k < 3; k++) u[k] = (double)b[k] - a[k], v[k] = (double)c[k] - a[k];
+/* The unit normal (x y z) of the triangle with corners a, b, c (packed
+ * positions); zero when degenerate. In float: it only bounds a cone. */
+static void sb_unit_normal(const sb_real* a, const sb_real* b, const sb_real* c, float n[3]) {
+    float u[3], v[3];
+    for (int k = 0; k < 3; k++) u[k] = (float)(b[k] - a[k]), v[k] = (float)(c[k] - a[k]);
     n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
-    double length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int k = 0; k < 3; k++) n[k] = length > 0.0 ? n[k] / length : 0.0;
+    float length2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    float scale = length2 > 0.0f ? 1.0f / sqrtf(length2) : 0.0f;
+    for (int k = 0; k < 3; k++) n[k] *= scale;
 }
 
 /* Whether the normal box [lo, hi] lies within the cone of SB_FLAT_COSINE
- * about its normalized center. */
+ * about its center d: the least n·d over the box, Σ min(lo d, hi d), is
+ * above SB_FLAT_COSINE |d| (squared, so no root is taken). */
 static bool sb_normals_flat(const float normals[6]) {
-    double d[3], length = 0.0, least = 0.0;
+    float d[3], length2 = 0.0f, least = 0.0f;
     for (int k = 0; k < 3; k++) {
-        d[k] = 0.5 * ((double)normals[k] + normals[3 + k]);
-        length += d[k] * d[k];
+        d[k] = 0.5f * (normals[k] + normals[3 + k]);
+        length2 += d[k] * d[k];
     }
-    length = sqrt(length);
-    if (!(length > 0.0)) return false;
     for (int k = 0; k < 3; k++) {
-        double a = normals[k] * d[k] / length, b = normals[3 + k] * d[k] / length;
+        float a = normals[k] * d[k], b = normals[3 + k] * d[k];
         least += a < b ? a : b;
     }
-    return least > SB_FLAT_COSINE;
+    return least > 0.0f && least * least > (float)(SB_FLAT_COSINE * SB_FLAT_COSINE) * length2;
 }
+
+/* A float box corner moved outward past any rounding of the margin's sum. */
+static float sb_outward(float x, float margin, float sign) { return x + sign * (margin + fabsf(x) * 4e-7f); }
 
 static void sb_refit_leaf(sb_triangle_bvh* bvh, uint32_t i, const sb_real* from4, const sb_real* to4, double margin) {
     const sb_bvh_node* node = &bvh->nodes[i];
-    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-    double nlo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, nhi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    float nlo[3] = {2, 2, 2}, nhi[3] = {-2, -2, -2};
     for (uint32_t k = node->first; k < node->first + node->count; k++) {
-        uint32_t t = bvh->order[k];
-        for (int c = 0; c < 3; c++) {
-            const sb_real *p = from4 + 4 * (size_t)bvh->tri_v[c][t], *q = to4 + 4 * (size_t)bvh->tri_v[c][t];
-            for (int a = 0; a < 3; a++) {
-                double small = p[a] < q[a] ? p[a] : q[a], large = p[a] < q[a] ? q[a] : p[a];
-                lo[a] = small < lo[a] ? small : lo[a];
-                hi[a] = large > hi[a] ? large : hi[a];
-            }
-        }
-        double n[2][3];
-        sb_unit_normal(bvh, t, from4, n[0]);
-        sb_unit_normal(bvh, t, to4, n[1]);
+        const uint32_t* v = bvh->leaf_v + 3 * (size_t)k;
+        const sb_real* ends[2][3];
+        for (int c = 0; c < 3; c++) ends[0][c] = from4 + 4 * (size_t)v[c], ends[1][c] = to4 + 4 * (size_t)v[c];
         for (int e = 0; e < 2; e++)
-            for (int a = 0; a < 3; a++) {
-                nlo[a] = n[e][a] < nlo[a] ? n[e][a] : nlo[a];
-                nhi[a] = n[e][a] > nhi[a] ? n[e][a] : nhi[a];
-            }
+            for (int c = 0; c < 3; c++)
+                for (int a = 0; a < 3; a++) {
+                    float x = (float)ends[e][c][a];
+                    lo[a] = x < lo[a] ? x : lo[a];
+                    hi[a] = x > hi[a] ? x : hi[a];
+                }
+        float n[3];
+        sb_unit_normal(ends[1][0], ends[1][1], ends[1][2], n);
+        for (int a = 0; a < 3; a++) {
+            nlo[a] = n[a] < nlo[a] ? n[a] : nlo[a];
+            nhi[a] = n[a] > nhi[a] ? n[a] : nhi[a];
+        }
     }
     sb_bvh_bounds* b = &bvh->bounds[i];
     for (int a = 0; a < 3; a++) {
-        b->box[a] = sb_down(lo[a] - margin);
-        b->box[3 + a] = sb_up(hi[a] + margin);
-        b->normals[a] = sb_down(nlo[a]);
-        b->normals[3 + a] = sb_up(nhi[a]);
+        /* (float)x of a double position rounds by at most half an ulp, which
+         * the outward step covers */
+        b->box[a] = sb_outward(lo[a], (float)margin, -1.0f);
+        b->box[3 + a] = sb_outward(hi[a], (float)margin, 1.0f);
+        b->normals[a] = nlo[a] - 1e-6f;
+        b->normals[3 + a] = nhi[a] + 1e-6f;
     }
     bvh->flat[i] = node->connected && sb_normals_flat(b->normals);
 }

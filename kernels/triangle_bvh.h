@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 /* Triangles per leaf, at most. */
-#define SB_BVH_LEAF 4
+#define SB_BVH_LEAF 8
 
 /* Nodes in pre-order: a node's left child is the next node and its right
  * child starts where the left one's subtree ends. Every node covers a
@@ -25,7 +25,7 @@ typedef struct sb_bvh_node {
 
 /* Per node, refitted each step: the box around its triangles' swept
  * positions (lo x y z, hi x y z), inflated by the margin, and the box
- * around their unit normals at both ends of the step (lo, hi). */
+ * around their unit normals at the end of the step (lo, hi). */
 typedef struct sb_bvh_bounds {
     float box[6];
     float normals[6];
@@ -35,6 +35,7 @@ typedef struct sb_triangle_bvh {
     uint32_t triangle_count, node_count;
     const uint32_t* tri_v[3]; /* the model's */
     uint32_t* order;          /* triangle indices in leaf order */
+    uint32_t* leaf_v;         /* their corners, 3 per triangle, in the same order */
     sb_bvh_node* nodes;
     sb_bvh_bounds* bounds;
     /* Per node, refitted: flat = connected and its normals within a cone
