@@ -73,8 +73,10 @@ static sb_model* make_model(sb_mesh* mesh) {
 }
 
 /* Allocations made by 5 advances with a publication and 5 advances that
- * publish, of one configuration. */
-static long allocations_in_steps(const sb_model* model, sb_integrator integrator, sb_kernels kernels, bool adaptive) {
+ * publish, of one configuration; with contact, the sheet lies within the
+ * contact thickness of a floor and self-contact is on. */
+static long allocations_in_steps(const sb_model* model, sb_integrator integrator, sb_kernels kernels, bool adaptive,
+                                 bool contact) {
     sb_solver_def def = sb_default_solver_def();
     def.integrator = integrator;
     def.kernels = kernels;
@@ -82,10 +84,21 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
     def.external_force = push;
     def.runtime.threads = 2;
     def.implicit_cg_iterations = 20;
-    sb_solver* solver = tu_solver(model, &def);
     sb_error err;
+    sb_collider_def floor_def = sb_default_collider_def();
+    floor_def.point[2] = 1.0 - 0.001; /* the sheet rests on it, the thickness away */
+    sb_collider* floor = sb_collider_create(&floor_def, &err);
+    assert_non_null(floor);
+    if (contact) {
+        def.colliders = &floor;
+        def.collider_count = 1;
+        def.contact_thickness = 0.001;
+        def.self_collision = true;
+    }
+    sb_solver* solver = tu_solver(model, &def);
     sb_state_buffer* buffer = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err);
     assert_non_null(buffer);
+    uint32_t contacts = 0;
     atomic_store(&allocations, 0);
     atomic_store(&counting, 1);
     for (int s = 0; s < 5; s++) {
@@ -94,10 +107,14 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
         assert_int_equal(sb_solver_publish(solver, buffer), SB_OK);
         status = sb_solver_advance_published(solver, 1e-4, buffer);
         if (status != SB_OK) fail_msg("%s", sb_solver_error(solver));
+        contacts += sb_solver_last_step(solver).contacts;
     }
     atomic_store(&counting, 0);
     sb_state_buffer_destroy(buffer);
     sb_solver_destroy(solver);
+    sb_collider_destroy(floor);
+    if (contact && contacts == 0)
+        fail_msg("%s: the contact configuration made no contact", sb_integrator_name(integrator));
     return atomic_load(&allocations);
 }
 
@@ -107,13 +124,14 @@ static void test_steps_do_not_allocate(void** state) {
     sb_model* model = make_model(&mesh);
     for (int i = 0; i < SB_INTEGRATOR_COUNT; i++)
         for (int k = 0; k < 2; k++)
-            for (int adaptive = 0; adaptive < 2; adaptive++) {
-                sb_kernels kernels = k ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
-                long n = allocations_in_steps(model, (sb_integrator)i, kernels, adaptive);
-                if (n != 0)
-                    fail_msg("%s, %s kernels%s: %ld allocations in 5 steps", sb_integrator_name((sb_integrator)i),
-                             k ? "fast" : "reference", adaptive ? ", adaptive" : "", n);
-            }
+            for (int adaptive = 0; adaptive < 2; adaptive++)
+                for (int contact = 0; contact < 2; contact++) {
+                    sb_kernels kernels = k ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+                    long n = allocations_in_steps(model, (sb_integrator)i, kernels, adaptive, contact);
+                    if (n != 0)
+                        fail_msg("%s, %s kernels%s%s: %ld allocations in 5 steps", sb_integrator_name((sb_integrator)i),
+                                 k ? "fast" : "reference", adaptive ? ", adaptive" : "", contact ? ", contact" : "", n);
+                }
     sb_model_destroy(model);
     sb_mesh_free(&mesh);
 }
