@@ -283,6 +283,19 @@ static void test_one_thread_bound(void** state) {
                  "--set threads=2000: 'threads' must be in [0, 1024], got 2000");
 }
 
+/* assimp's PLY reader stops on a failed assertion (abort) for Debian's
+ * cube_uv.ply cut after 720 bytes: one line names the file and the cause. */
+static void test_importer_abort_is_one_message(void** state) {
+    (void)state;
+    char* model = tu_read_file("/usr/share/assimp/models/PLY/cube_uv.ply");
+    if (!model) fail_msg("install Debian's assimp-testmodels (make deps)");
+    model[720] = '\0';
+    tu_write_file("cut.ply", model);
+    free(model);
+    assert_fails((const char*[]){"info", "cut.ply", NULL}, 2,
+                 "cut.ply: the importer failed (killed by signal 6, Aborted)");
+}
+
 /* ---- a run killed mid-way ------------------------------------------------------ */
 
 static int count_occurrences(const char* text, const char* word) {
@@ -360,6 +373,7 @@ int main(void) {
         cmocka_unit_test_setup(test_forces_to_a_device_or_a_link, start_bound),
         cmocka_unit_test_setup(test_tetra_max_volume_is_bounded, start_bound),
         cmocka_unit_test_setup(test_ply_checked_before_the_importer, start_bound),
+        cmocka_unit_test_setup(test_importer_abort_is_one_message, start_bound),
         cmocka_unit_test_setup(test_file_bytes_are_escaped, start_bound),
         cmocka_unit_test_setup(test_mesh_file_errors_name_the_scene_line, start_bound),
         cmocka_unit_test_setup(test_ele_rows_hold_the_nodes_the_header_claims, start_bound),

@@ -7,7 +7,10 @@
  * waiting with poll() no longer than the time limit, then reaps the child.
  *
  * The child's crash signals are reset to their defaults first, so that the
- * caller's handlers do not run in it.
+ * caller's handlers do not run in it, and its standard output and error go
+ * to /dev/null (assimp prints its failed assertions there; the caller's
+ * messages stay one line). The sanitizers' reports of the child go there
+ * too: the child's end is what the caller learns.
  *
  * Limits: RLIMIT_AS is the child's address space at the fork plus
  * memory_bytes (an absolute bound would be wrong under the address
@@ -75,8 +78,19 @@ static void default_crash_signals(void) {
     for (size_t i = 0; i < sizeof signals / sizeof signals[0]; i++) signal(signals[i], SIG_DFL);
 }
 
+/* What the child prints (assimp's "ai_assert failure in ...") would
+ * break the caller's one-line messages: its output goes nowhere. */
+static void silence_output(void) {
+    int null = open("/dev/null", O_WRONLY);
+    if (null < 0) return;
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    close(null);
+}
+
 static _Noreturn void child_main(int fd, sb_isolated_fn fn, void* arg, const sb_isolate_limits* limits) {
     default_crash_signals();
+    silence_output();
     set_limit(RLIMIT_CORE, 0);
     set_limit(RLIMIT_CPU, (rlim_t)ceil(limits->seconds) + 1);
     size_t base = address_space_now();

@@ -1,0 +1,1 @@
+mesh2 { vertex_vectors { 3, <0,0,0>, <1,0,0>
