@@ -1,33 +1,53 @@
-/* The progress bar (see progress.h): redrawn when the percentage changes. */
+/* The progress bar (see progress.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/progress.h"
 
 #include <stdio.h>
+#include <time.h>
 #include <unistd.h>
 
 enum { BAR_WIDTH = 40 };
 
-sb_progress sb_progress_start(uint64_t total) {
-    return (sb_progress){.total = total ? total : 1, .shown = -1, .enabled = isatty(fileno(stderr)) != 0};
+static double wall_clock(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static void draw(int percent) {
+sb_progress sb_progress_start(uint64_t total, double dt) {
+    return (sb_progress){.total = total ? total : 1,
+                         .dt = dt,
+                         .start = wall_clock(),
+                         .shown = -1.0,
+                         .enabled = isatty(fileno(stderr)) != 0};
+}
+
+void sb_progress_format(char* out, size_t size, uint64_t done, uint64_t total, double dt, double elapsed) {
+    if (done > total) done = total;
+    int percent = (int)(100 * done / (total ? total : 1));
     char bar[BAR_WIDTH + 1];
     int filled = percent * BAR_WIDTH / 100;
     for (int i = 0; i < BAR_WIDTH; i++) bar[i] = i < filled ? '#' : '.';
     bar[BAR_WIDTH] = '\0';
-    fprintf(stderr, "\rsoftbond: [%s] %3d%%", bar, percent);
-    fflush(stderr);
+    double simulated = (double)done * dt;
+    int used = snprintf(out, size, "[%s] %3d%%  t = %.4g s", bar, percent, simulated);
+    if (done == 0 || !(elapsed > 0.0) || used < 0 || (size_t)used >= size) return;
+    double left = elapsed * (double)(total - done) / (double)done;
+    snprintf(out + used, size - (size_t)used, "  %.3gx real time  %.0f s left", simulated / elapsed, left);
 }
 
 void sb_progress_update(sb_progress* progress, uint64_t done) {
-    int percent = (int)(100 * (done < progress->total ? done : progress->total) / progress->total);
-    if (!progress->enabled || percent == progress->shown) return;
-    progress->shown = percent;
-    draw(percent);
+    if (!progress->enabled) return;
+    double now = wall_clock();
+    if (progress->shown >= 0.0 && now - progress->shown < 0.1 && done < progress->total) return;
+    progress->shown = now;
+    char line[200];
+    sb_progress_format(line, sizeof line, done, progress->total, progress->dt, now - progress->start);
+    fprintf(stderr, "\rsoftbond: %s\033[K", line);
+    fflush(stderr);
 }
 
 void sb_progress_end(sb_progress* progress) {
-    if (progress->enabled && progress->shown >= 0) fputc('\n', stderr);
-    progress->shown = -1;
+    if (progress->enabled && progress->shown >= 0.0) fputc('\n', stderr);
+    progress->shown = -1.0;
 }

@@ -216,7 +216,7 @@ static int simulate(run_job* job, sb_error* err) {
     double duration = sb_scene_number(&job->scene, SB_KEY_DURATION);
     uint64_t frames = (uint64_t)floor(duration / interval + 1e-9) + 1;
     uint64_t steps = (uint64_t)ceil(duration / dt - 1e-9);
-    sb_progress progress = sb_progress_start(steps);
+    sb_progress progress = sb_progress_start(steps, dt);
     int code = SB_EXIT_OK;
     for (uint64_t k = 0; k < frames && code == SB_EXIT_OK; k++) {
         code = advance_to(job, (uint64_t)llround((double)k * interval / dt), &progress, err);
