@@ -56,8 +56,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Doubles per chunk of the partial sums: 3 per collider, then the count. */
-static size_t sb_contact_stride(const sb_solver* s) { return 3 * (size_t)s->def.collider_count + 1; }
+/* Doubles per chunk of the partial sums: 3 impulses per collider, the
+ * count, then 3 torques per collider. */
+static size_t sb_contact_stride(const sb_solver* s) { return 6 * (size_t)s->def.collider_count + 1; }
 
 sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     if (s->def.collider_count == 0) return SB_OK;
@@ -72,7 +73,7 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     s->contact_from = malloc(n3 * sizeof *s->contact_from);
     s->contact_partials = calloc(chunks * sb_contact_stride(s), sizeof *s->contact_partials);
     s->contact_impulse = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_impulse);
-    s->contact_step = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_step);
+    s->contact_step = calloc(6 * (size_t)s->def.collider_count, sizeof *s->contact_step);
     if (!s->contact_from || !s->contact_partials || !s->contact_impulse || !s->contact_step)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     return SB_OK;
@@ -187,7 +188,7 @@ int sb_contact_find(const sb_solver* s, uint32_t i, const double from[3], const 
 }
 
 int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const double from[3], double x[3], double v[3],
-                      double impulse[3]) {
+                      double impulse[3], double point[3]) {
     sb_contact_query q = sb_contact_query_of(s, i, from, x);
     sb_contact c = {0};
     int hit = sb_first_contact(s, &q, near, &c);
@@ -197,6 +198,7 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
     sb_contact_position(&c, s->contact_dt, from, q.to, v, x);
     double m = s->model->mass[i];
     for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
+    memcpy(point, c.point, sizeof c.point);
     return hit;
 }
 
@@ -208,6 +210,17 @@ void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const d
     double* partial = s->contact_partials + chunk * sb_contact_stride(s);
     for (int k = 0; k < 3; k++) partial[3 * collider + k] -= impulse[k];
     partial[3 * s->def.collider_count] += 1.0;
+}
+
+/* Adds the torque about a dynamic collider's center of the impulse it
+ * receives at the contact point (the opposite of the vertex's) to the
+ * chunk's partial sums. */
+static void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
+                                     const double impulse[3]) {
+    double* partial = s->contact_partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
+    double received[3] = {-impulse[0], -impulse[1], -impulse[2]}, torque[3];
+    sb_collider_torque(s->def.colliders[collider], point, received, torque);
+    for (int k = 0; k < 3; k++) partial[3 * collider + k] += torque[k];
 }
 
 /* The box around the moves of vertices [first, last) in the packed state
@@ -260,10 +273,10 @@ void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
         if (s->model->fixed[i]) continue;
         sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
         sb_real* d4 = s->displacements4 + 4 * (size_t)i;
-        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3];
+        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3], point[3];
         double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
         uint64_t reached = sb_move_near(s, near, from, x);
-        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse) : -1;
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
         if (hit < 0) continue;
         sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
         for (int k = 0; k < 3; k++) {
@@ -273,6 +286,7 @@ void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
             f4[k] = (sb_real)(s->weight4[4 * (size_t)i + k] - s->def.drag * s->model->mass[i] * v[k]);
         }
         sb_contact_record(s, chunk, hit, impulse);
+        sb_contact_record_torque(s, chunk, hit, point, impulse);
     }
 }
 
@@ -286,10 +300,10 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
         sb_real* xs[3] = {&st->x[i], &st->y[i], &st->z[i]};
         sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
         sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
-        double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3];
+        double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3], point[3];
         const double* from = s->contact_from + 3 * (size_t)i;
         uint64_t reached = sb_move_near(s, ~(uint64_t)0, from, x);
-        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse) : -1;
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
         if (hit < 0) continue;
         for (int k = 0; k < 3; k++) {
             *xs[k] = (sb_real)x[k];
@@ -297,6 +311,7 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
             *ds[k] = (sb_real)(v[k] * dt);
         }
         sb_contact_record(s, chunk, hit, impulse);
+        sb_contact_record_torque(s, chunk, hit, point, impulse);
     }
 }
 
@@ -319,10 +334,13 @@ void sb_contact_save_from(sb_solver* s) {
 
 uint32_t sb_contact_collect(sb_solver* s) {
     uint32_t colliders = s->def.collider_count, chunks = sb_chunk_count(s->model->vertex_count), contacts = 0;
-    memset(s->contact_step, 0, 3 * (size_t)colliders * sizeof *s->contact_step);
+    memset(s->contact_step, 0, 6 * (size_t)colliders * sizeof *s->contact_step);
     for (uint32_t c = 0; c < chunks; c++) {
         const double* partial = s->contact_partials + c * sb_contact_stride(s);
-        for (uint32_t k = 0; k < 3 * colliders; k++) s->contact_step[k] += partial[k];
+        for (uint32_t k = 0; k < 3 * colliders; k++) {
+            s->contact_step[k] += partial[k];
+            s->contact_step[3 * colliders + k] += partial[3 * colliders + 1 + k];
+        }
         contacts += (uint32_t)partial[3 * colliders];
     }
     return contacts;

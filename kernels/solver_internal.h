@@ -34,8 +34,8 @@ struct sb_solver {
     sb_real* stretch4;            /* the blow-up rule's packed copy of the positions (generic integrators) */
     /* contact (kernels/contact.c); NULL without colliders */
     double* contact_from;     /* 3n: positions at the start of a step the fused path does not take */
-    double* contact_partials; /* per vertex chunk: 3 impulse sums per collider, then the contact count */
-    double* contact_step;     /* 3 per collider: the last step's impulses on the colliders */
+    double* contact_partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
+    double* contact_step;     /* 6 per collider: the last step's impulses on the colliders, then their torques */
     double* contact_impulse;  /* 3 per collider: summed over the accepted steps of this advance */
     double contact_dt;        /* s, the step being taken */
     /* sb_solver_advance_into: where the fused step writes the snapshot (NULL otherwise) */
@@ -69,9 +69,10 @@ void sb_contact_begin_step(sb_solver* solver, double t0, double t1);
 void sb_contact_save_from(sb_solver* solver);
 /* Answers vertex i's move from → x among the colliders of `near` (a bit
  * each, those whose bounds the move reaches; x and v updated in place);
- * returns the collider or -1, and the impulse m Δv the vertex took. */
+ * returns the collider or -1, the impulse m Δv the vertex took and the
+ * point of the collider's surface it met (sb_contact.point). */
 int sb_contact_vertex(const sb_solver* solver, uint32_t i, uint64_t near, const double from[3], double x[3],
-                      double v[3], double impulse[3]);
+                      double v[3], double impulse[3], double point[3]);
 /* The earliest contact of vertex i's move from → to in the step being
  * taken among the colliders whose bounds the move reaches: the collider and
  * *c, or -1. */

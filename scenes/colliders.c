@@ -49,6 +49,7 @@ typedef enum entry_key {
     KEY_INTERPOLATION,
     KEY_MASS,
     KEY_VELOCITY,
+    KEY_ANGULAR_VELOCITY,
     KEY_COUNT
 } entry_key;
 
@@ -74,6 +75,7 @@ static const char* const entry_keys[KEY_COUNT] = {
     [KEY_INTERPOLATION] = "interpolation",
     [KEY_MASS] = "mass",
     [KEY_VELOCITY] = "velocity",
+    [KEY_ANGULAR_VELOCITY] = "angular_velocity",
 };
 
 /* The shapes that may have each key, and those that must. */
@@ -99,6 +101,7 @@ static const unsigned key_shapes[KEY_COUNT] = {
     [KEY_INTERPOLATION] = ALL,
     [KEY_MASS] = SPHERE | BOX,
     [KEY_VELOCITY] = SPHERE | BOX,
+    [KEY_ANGULAR_VELOCITY] = SPHERE | BOX,
 };
 static const unsigned key_required[KEY_COUNT] = {
     [KEY_TYPE] = ALL,  [KEY_CENTER] = SPHERE | BOX,     [KEY_A] = CAPSULE,
@@ -266,7 +269,7 @@ static sb_status read_path(const map_reader* r, sb_scene_collider* out) {
 /* ---- an entry ------------------------------------------------------------------ */
 
 /* Keys of a dynamic collider's motion, not of its geometry. */
-static bool motion_key(int key) { return key == KEY_MASS || key == KEY_VELOCITY; }
+static bool motion_key(int key) { return key == KEY_MASS || key == KEY_VELOCITY || key == KEY_ANGULAR_VELOCITY; }
 
 /* "point, normal" (geometry keys) or "center and radius" (required keys) of a shape. */
 static void shape_keys(sb_collider_shape shape, const unsigned* table, const char* last_join, char* out, size_t size) {
@@ -330,7 +333,8 @@ static sb_status read_vector_key(const map_reader* r, int key, sb_scene_collider
                                   [KEY_HALF_EXTENTS] = def->half_extents,
                                   [KEY_ROTATE] = def->shape == SB_COLLIDER_MESH ? out->placement.rotate : def->rotate,
                                   [KEY_TRANSLATE] = out->placement.translate,
-                                  [KEY_VELOCITY] = def->velocity};
+                                  [KEY_VELOCITY] = def->velocity,
+                                  [KEY_ANGULAR_VELOCITY] = def->angular_velocity};
     double* v = targets[key];
     sb_status status = read_vec3(r, r->values[key], entry_keys[key], v);
     if (status != SB_OK) return status;
@@ -432,8 +436,9 @@ static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
     if (def->mass > 0.0 && r->values[KEY_PATH])
         return fail(r, r->keys[KEY_PATH], "'%s': a dynamic collider (mass %g) cannot have a path",
                     full_name(r, "path", name, sizeof name), def->mass);
-    if (r->values[KEY_VELOCITY] && !(def->mass > 0.0)) /* only a dynamic collider has one */
-        return fail(r, r->keys[KEY_VELOCITY], "unknown key '%s'", full_name(r, "velocity", name, sizeof name));
+    for (int k = KEY_VELOCITY; k <= KEY_ANGULAR_VELOCITY; k++) /* only a dynamic collider has them */
+        if (r->values[k] && !(def->mass > 0.0))
+            return fail(r, r->keys[k], "unknown key '%s'", full_name(r, entry_keys[k], name, sizeof name));
     if (!r->values[KEY_STATIC_FRICTION]) def->static_friction = def->friction;
     if (def->static_friction < def->friction)
         return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",

@@ -20,8 +20,10 @@
  * +z, a box's rotate to none; every other shape key is required. A sphere
  * or box may have mass (kg, >= 0; > 0 makes it dynamic: a rigid body the
  * soft bodies push back, moved by gravity and contact; not with a path) and
- * velocity (m/s, its velocity at the start; only with a mass > 0). To any
- * other shape, and velocity without a mass, they are unknown keys.
+ * velocity (m/s, its velocity at the start) and angular_velocity (rad/s,
+ * world frame, its spin at the start), both only with a mass > 0. To any
+ * other shape, and velocity or angular_velocity without a mass, they are
+ * unknown keys.
  * Coordinates are the world's: mesh.scale, mesh.rotate and mesh.translate
  * place the mesh, not the colliders.
  *

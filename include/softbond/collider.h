@@ -49,6 +49,11 @@ typedef struct sb_contact {
     double restitution;     /* in [0, 1]: normal velocity after = −restitution × normal velocity before */
     double friction;        /* >= 0: Coulomb coefficient while sliding */
     double static_friction; /* >= friction: the coefficient below which the vertex sticks */
+    /* m: the point of the collider's (inflated) surface the vertex met, in
+     * the world at t1; the solver takes the torque of the impulse about a
+     * dynamic collider's center there. The built-in colliders fill it; a
+     * program's own may leave it (it is never dynamic). */
+    double point[3];
 } sb_contact;
 
 /* Returns true and fills *contact when the move touches the collider.
@@ -111,20 +116,25 @@ typedef struct sb_collider_def {
     uint32_t path_count;
     sb_interpolation interpolation; /* between keyframes; before the first and after the last the pose holds */
     /* Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
-     * rigid body the solver moves. In each accepted step it takes the sum
-     * of the contact impulses it received (the opposite of what the
-     * vertices took, summed in a fixed order: the same for any thread
-     * count) and gravity (the solver's def.gravity): v += J / mass + g dt;
-     * its pose in the next step moves by v dt (symplectic Euler), and the
-     * vertices it touches are answered with its velocity, as for a
-     * kinematic collider. Translation only: it does not rotate (friction
-     * gives it no spin) and a box keeps its `rotate`. Not affected by the
-     * solver's drag; it touches only the soft bodies (no contact with other
-     * colliders). 0 = static or kinematic; a dynamic collider cannot have
-     * a path; a plane or capsule cannot be dynamic. Attach it to one solver
-     * at a time: every solver it is attached to moves it. */
-    double mass;        /* kg, >= 0 */
-    double velocity[3]; /* m/s: a dynamic collider's velocity at the start */
+     * rigid body the solver moves, a solid one: its inertia about its
+     * center is 2/5 mass radius² (sphere) or mass/3 (h_j² + h_k²) about the
+     * box's own axis i (h its half_extents). In each accepted step it takes
+     * the sum of the contact impulses J it received and their torque τ
+     * about its center (the opposites of what the vertices took, summed in
+     * a fixed order: the same for any thread count) and gravity (the
+     * solver's def.gravity): v += J / mass + g dt, L += τ (L = I ω, its
+     * angular momentum); its pose in the next step moves by v dt and turns
+     * by ω dt (symplectic Euler), and the vertices it touches are answered
+     * with the velocity of its point they meet (v + ω × r), as for a
+     * kinematic collider. So friction spins it, and a spinning body drags
+     * what it touches. Not affected by the solver's drag; it touches only
+     * the soft bodies (no contact with other colliders). 0 = static or
+     * kinematic; a dynamic collider cannot have a path; a plane, capsule
+     * or mesh cannot be dynamic. Attach it to one solver at a time: every
+     * solver it is attached to moves it. */
+    double mass;                /* kg, >= 0 */
+    double velocity[3];         /* m/s: a dynamic collider's velocity at the start */
+    double angular_velocity[3]; /* rad/s, world frame: a dynamic collider's spin at the start */
 } sb_collider_def;
 
 /* A plane through the origin with normal +z, no friction, no restitution,
@@ -155,9 +165,18 @@ SB_API void sb_collider_set_pose(sb_collider* collider, const double translate[3
 /* A built-in sphere's or box's center and velocity now (m, m/s): a dynamic
  * collider's as the solver moved it, a kinematic one's center at the end of
  * its last step with its velocity over that step, a static one's center and
- * zero. A plane's point, a capsule's midpoint; a program's own collider:
- * zeros. Either output may be NULL. */
+ * zero. A plane's point, a capsule's midpoint, the center of a mesh's
+ * bounding box; a program's own collider: zeros. Either output may be
+ * NULL. */
 SB_API void sb_collider_state(const sb_collider* collider, double position[3], double velocity[3]);
+
+/* A built-in collider's orientation now (row-major rotation from its def's
+ * rest frame: the identity for a static one) and angular velocity (rad/s,
+ * world frame): a dynamic collider's as the solver turned it, a kinematic
+ * one's at the end of its last step with its mean angular velocity over
+ * that step; a program's own collider: the identity and zero. Either
+ * output may be NULL. */
+SB_API void sb_collider_orientation(const sb_collider* collider, double rotation[9], double angular_velocity[3]);
 
 /* Where a program's own collider can be touched until it says otherwise
  * (an axis-aligned box, inflated by its thickness; NULL, NULL: everywhere,

@@ -159,7 +159,8 @@ static sb_status sb_check_path(const char* label, const sb_collider_def* d, sb_e
     return SB_OK;
 }
 
-/* mass and velocity: a dynamic collider is a sphere or box without a path. */
+/* mass, velocity and angular velocity: a dynamic collider is a sphere or
+ * box without a path. */
 static sb_status sb_check_dynamic(const char* label, const sb_collider_def* d, sb_error* err) {
     if (!(isfinite(d->mass) && d->mass >= 0.0))
         return sb_error_set(err, SB_ERR_INVALID, "collider '%s': mass must be >= 0 and finite (got %g)", label,
@@ -172,7 +173,8 @@ static sb_status sb_check_dynamic(const char* label, const sb_collider_def* d, s
     if (d->path_count > 0)
         return sb_error_set(err, SB_ERR_INVALID, "collider '%s': a dynamic collider (mass %g) cannot have a path",
                             label, d->mass);
-    return sb_check_vector(label, "velocity", d->velocity, false, err);
+    sb_status st = sb_check_vector(label, "velocity", d->velocity, false, err);
+    return st ? st : sb_check_vector(label, "angular_velocity", d->angular_velocity, false, err);
 }
 
 /* ---- making and destroying ---------------------------------------------- */
@@ -230,8 +232,7 @@ sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err) {
     if (def->shape == SB_COLLIDER_BOX) sb_collider_rotation(def->rotate, c->box_rotation);
     if (mesh) sb_mesh_attach(c, mesh);
     c->dynamic = def->mass > 0.0;
-    memcpy(c->position, def->center, sizeof c->position);
-    if (c->dynamic) memcpy(c->velocity, def->velocity, sizeof c->velocity);
+    if (c->dynamic) sb_dynamic_init(c);
     sb_builtin_begin_step(c, 0.0, 0.0);
     return c;
 }
@@ -410,6 +411,8 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
     if (!c->path && !c->driven && !c->dynamic) { /* static: the rest frame is the world */
         if (!sb_shape_sweep(c, q->from, q->to, thickness, &fraction, &depth, contact->normal)) return false;
         memset(contact->velocity, 0, sizeof contact->velocity);
+        for (int k = 0; k < 3; k++)
+            contact->point[k] = q->from[k] + fraction * (q->to[k] - q->from[k]) + depth * contact->normal[k];
         sb_surface(c, fraction, depth, contact);
         return true;
     }
@@ -417,10 +420,14 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
     sb_pose_invert(c->pose1, q->to, to);
     if (!sb_shape_sweep(c, from, to, thickness, &fraction, &depth, normal)) return false;
     bool moving = c->t1 > c->t0 && memcmp(c->pose0, c->pose1, sizeof c->pose0) != 0;
-    double p[3], at0[3], at1[3];
-    for (int k = 0; k < 3; k++) p[k] = from[k] + fraction * (to[k] - from[k]);
+    double p[3], at0[3], at1[3], surface[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = from[k] + fraction * (to[k] - from[k]);
+        surface[k] = p[k] + depth * normal[k]; /* the point of the surface met, in the rest frame */
+    }
     sb_pose_apply(c->pose0, p, at0);
     sb_pose_apply(c->pose1, p, at1);
+    sb_pose_apply(c->pose1, surface, contact->point);
     for (int k = 0; k < 3; k++) {
         contact->normal[k] =
             c->pose1[3 * k] * normal[0] + c->pose1[3 * k + 1] * normal[1] + c->pose1[3 * k + 2] * normal[2];
@@ -502,4 +509,30 @@ void sb_collider_state(const sb_collider* c, double position[3], double velocity
     }
     if (position) memcpy(position, p, sizeof p);
     if (velocity) memcpy(velocity, v, sizeof v);
+}
+
+/* The rotation R1 R0ᵀ of a step as an angular velocity: its axis times its
+ * angle, over dt. */
+static void sb_step_spin(const double r0[9], const double r1[9], double dt, double w[3]) {
+    double turn[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            turn[3 * i + j] = r1[3 * i] * r0[3 * j] + r1[3 * i + 1] * r0[3 * j + 1] + r1[3 * i + 2] * r0[3 * j + 2];
+    double axis[3] = {0.5 * (turn[7] - turn[5]), 0.5 * (turn[2] - turn[6]), 0.5 * (turn[3] - turn[1])};
+    double sine = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    double angle = atan2(sine, 0.5 * (turn[0] + turn[4] + turn[8] - 1.0));
+    double per_sine = sine > 0.0 ? angle / sine : 1.0; /* axis sin(angle) → axis angle */
+    for (int k = 0; k < 3; k++) w[k] = axis[k] * per_sine / dt;
+}
+
+void sb_collider_orientation(const sb_collider* c, double rotation[9], double angular_velocity[3]) {
+    double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, w[3] = {0, 0, 0};
+    if (c && c->dynamic) {
+        sb_dynamic_spin(c, r, w);
+    } else if (c && c->begin_step == sb_builtin_begin_step) {
+        memcpy(r, c->pose1, sizeof r);
+        if (c->t1 > c->t0) sb_step_spin(c->pose0, c->pose1, c->t1 - c->t0, w);
+    }
+    if (rotation) memcpy(rotation, r, sizeof r);
+    if (angular_velocity) memcpy(angular_velocity, w, sizeof w);
 }

@@ -58,31 +58,49 @@ struct sb_collider {
     struct sb_mesh_shape* mesh; /* mesh: the copy and its hierarchy (mesh.c); def.mesh is its mesh */
     /* dynamic (def.mass > 0; kernels/colliders/dynamic.c): the center now,
      * its velocity, and where the current step takes it (position +
-     * velocity (t1 − t0), set by begin_step) */
+     * velocity (t1 − t0), set by begin_step); its orientation (a unit
+     * quaternion w x y z, from the rest frame), where the step turns it,
+     * its angular momentum about the center (world), its principal moments
+     * of inertia and their axes in the rest frame (row-major, columns) */
     bool dynamic;
     double position[3], velocity[3], next_position[3];
+    double orientation[4], next_orientation[4], angular_momentum[3], inertia[3], body_axes[9];
 };
 
-/* A dynamic collider's motion (kernels/colliders/dynamic.c). After a step
- * the solver keeps (each accepted step, in order), the collider takes the
- * impulse it received in it (N s) and gravity (m/s²) over dt (s): its
- * center moves to where the step's pose took it, and v += impulse / mass +
- * gravity dt. Does nothing to a collider that is not dynamic. */
-void sb_collider_after_step(sb_collider* collider, const double impulse[3], const double gravity[3], double dt);
-/* The same for each of `count` colliders, impulses 3 per collider. */
+/* A dynamic collider's motion (kernels/colliders/dynamic.c). Its state
+ * from its def (center, velocity, angular_velocity; inertia from mass and
+ * shape), called once by sb_collider_create. */
+void sb_dynamic_init(sb_collider* collider);
+/* The torque (N m s) about the center at the end of the step of an impulse
+ * (N s) the collider receives at `point` (m, world at t1); zero for a
+ * collider that is not dynamic. */
+void sb_collider_torque(const sb_collider* collider, const double point[3], const double impulse[3], double torque[3]);
+/* After a step the solver keeps (each accepted step, in order), the
+ * collider takes the impulse and the torque it received in it and gravity
+ * (m/s²) over dt (s): it moves and turns to where the step's pose took it,
+ * v += impulse / mass + gravity dt, L += torque. Does nothing to a collider
+ * that is not dynamic. */
+void sb_collider_after_step(sb_collider* collider, const double impulse[3], const double torque[3],
+                            const double gravity[3], double dt);
+/* The same for each of `count` colliders: `impulses` holds 3 impulses per
+ * collider, then 3 torques per collider (the solver's contact_step). */
 void sb_colliders_after_step(sb_collider* const* colliders, uint32_t count, const double* impulses,
                              const double gravity[3], double dt);
 /* The work (J) the dynamic ones among `count` colliders would do on the
- * soft bodies in the step just taken if it were kept: the energy (kinetic
- * and in gravity) they would lose by sb_collider_after_step. The adaptive
- * step's energy balance counts it as external work. */
+ * soft bodies in the step just taken if it were kept: the energy (kinetic,
+ * translational and the torque's rotational part, and in gravity) they
+ * would lose by sb_collider_after_step (impulses then torques, as there).
+ * The adaptive step's energy balance counts it as external work. */
 double sb_colliders_step_work(sb_collider* const* colliders, uint32_t count, const double* impulses,
                               const double gravity[3], double dt);
-/* Their kinetic energy plus the size of their energy in gravity (J): the
- * adaptive step's energy scale counts them. */
+/* Their kinetic energy (translation and rotation) plus the size of their
+ * energy in gravity (J): the adaptive step's energy scale counts them. */
 double sb_colliders_energy_scale(sb_collider* const* colliders, uint32_t count, const double gravity[3]);
 /* begin_step of a dynamic collider: its poses for [t0, t1]. */
 void sb_dynamic_begin_step(sb_collider* collider, double t0, double t1);
+/* A dynamic collider's orientation now (row-major, from the rest frame)
+ * and angular velocity (rad/s, world). */
+void sb_dynamic_spin(const sb_collider* collider, double rotation[9], double angular_velocity[3]);
 
 /* The built-in shape's bounds for its poses at t0 and t1 (kernels/colliders/bounds.c). */
 void sb_collider_step_bounds(sb_collider* collider);
