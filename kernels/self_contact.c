@@ -243,45 +243,68 @@ static bool sb_near(const sb_self_search* q, const uint32_t v[4], bool edges) {
     return edges ? sb_edge_edge_crossing(&quad, h, &t, &s, &u) : sb_vertex_triangle_crossing(&quad, h, &t, w);
 }
 
-static void sb_vertex_against(const sb_self_search* q, uint32_t vertex, uint32_t t, const double tri_box[6]) {
+static void sb_union(const double a[6], const double b[6], double out[6]) {
+    for (int k = 0; k < 3; k++) {
+        out[k] = a[k] < b[k] ? a[k] : b[k];
+        out[3 + k] = a[3 + k] > b[3 + k] ? a[3 + k] : b[3 + k];
+    }
+}
+
+/* Vertex against triangle t, given their swept boxes. */
+static void sb_vertex_against(const sb_self_search* q, uint32_t vertex, const double vertex_box[6], uint32_t t,
+                              const double tri_box[6]) {
     const sb_model* m = q->model;
     uint32_t v[4] = {vertex, m->tri_v[0][t], m->tri_v[1][t], m->tri_v[2][t]};
     if (vertex == v[1] || vertex == v[2] || vertex == v[3]) return;
-    double box[6];
-    sb_swept_box(q, v, 1, q->sc->h, box);
-    if (sb_boxes_meet(box, tri_box) && sb_near(q, v, false)) sb_keep(q, vertex, t);
+    if (sb_boxes_meet(vertex_box, tri_box) && sb_near(q, v, false)) sb_keep(q, vertex, t);
 }
 
-static void sb_edge_against(const sb_self_search* q, uint32_t e, uint32_t f) {
-    const uint32_t* a = q->sc->edges[e];
-    const uint32_t* b = q->sc->edges[f];
+/* Edge e against edge f, given their swept boxes. */
+static void sb_edge_against(const sb_self_search* q, uint32_t e, const double box_e[6], uint32_t f,
+                            const double box_f[6]) {
+    const uint32_t *a = q->sc->edges[e], *b = q->sc->edges[f];
     if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
     uint32_t v[4] = {a[0], a[1], b[0], b[1]};
-    double box_a[6], box_b[6];
-    sb_swept_box(q, v, 2, q->sc->h, box_a);
-    sb_swept_box(q, v + 2, 2, q->sc->h, box_b);
-    if (sb_boxes_meet(box_a, box_b) && sb_near(q, v, true)) sb_keep(q, SB_EDGE_PAIR | e, f);
+    if (sb_boxes_meet(box_e, box_f) && sb_near(q, v, true)) sb_keep(q, SB_EDGE_PAIR | e, f);
+}
+
+/* A leaf's triangles with the swept boxes (grown by h) of their corners,
+ * their edges (edge e from corner e to corner e + 1, as tri_edges) and
+ * themselves, made once per leaf visit. */
+typedef struct sb_leaf_boxes {
+    uint32_t count, triangle[SB_BVH_LEAF];
+    double corner[SB_BVH_LEAF][3][6], edge[SB_BVH_LEAF][3][6], box[SB_BVH_LEAF][6];
+} sb_leaf_boxes;
+
+static void sb_leaf_boxes_of(const sb_self_search* q, const sb_bvh_node* leaf, sb_leaf_boxes* out) {
+    const sb_triangle_bvh* bvh = q->sc->bvh;
+    out->count = leaf->count;
+    for (uint32_t k = 0; k < leaf->count; k++) {
+        out->triangle[k] = bvh->order[leaf->first + k];
+        const uint32_t* v = bvh->leaf_v + 3 * (size_t)(leaf->first + k);
+        for (int c = 0; c < 3; c++) sb_swept_box(q, v + c, 1, q->sc->h, out->corner[k][c]);
+        for (int e = 0; e < 3; e++) sb_union(out->corner[k][e], out->corner[k][(e + 1) % 3], out->edge[k][e]);
+        sb_union(out->edge[k][0], out->corner[k][2], out->box[k]);
+    }
 }
 
 /* The features two triangles own, against each other. */
-static void sb_triangle_pair(const sb_self_search* q, uint32_t ta, uint32_t tb) {
+static void sb_triangle_pair(const sb_self_search* q, const sb_leaf_boxes* a, uint32_t i, const sb_leaf_boxes* b,
+                             uint32_t j) {
+    if (!sb_boxes_meet(a->box[i], b->box[j])) return;
     const sb_model* m = q->model;
     const sb_self_contact* sc = q->sc;
-    uint32_t va[3] = {m->tri_v[0][ta], m->tri_v[1][ta], m->tri_v[2][ta]};
-    uint32_t vb[3] = {m->tri_v[0][tb], m->tri_v[1][tb], m->tri_v[2][tb]};
-    double box_a[6], box_b[6];
-    sb_swept_box(q, va, 3, sc->h, box_a);
-    sb_swept_box(q, vb, 3, sc->h, box_b);
-    if (!sb_boxes_meet(box_a, box_b)) return;
+    uint32_t ta = a->triangle[i], tb = b->triangle[j];
     for (int c = 0; c < 3; c++) {
-        if (sc->owns[ta] >> c & 1) sb_vertex_against(q, va[c], tb, box_b);
-        if (sc->owns[tb] >> c & 1) sb_vertex_against(q, vb[c], ta, box_a);
+        if (sc->owns[ta] >> c & 1) sb_vertex_against(q, m->tri_v[c][ta], a->corner[i][c], tb, b->box[j]);
+        if (sc->owns[tb] >> c & 1) sb_vertex_against(q, m->tri_v[c][tb], b->corner[j][c], ta, a->box[i]);
     }
     for (int e = 0; e < 3; e++) {
         if (!(sc->owns[ta] >> (3 + e) & 1)) continue;
         for (int f = 0; f < 3; f++)
             if (sc->owns[tb] >> (3 + f) & 1)
-                sb_edge_against(q, sc->tri_edges[3 * (size_t)ta + e], sc->tri_edges[3 * (size_t)tb + f]);
+                sb_edge_against(q, sc->tri_edges[3 * (size_t)ta + e], a->edge[i][e], sc->tri_edges[3 * (size_t)tb + f],
+                                b->edge[j][f]);
     }
 }
 
@@ -292,8 +315,10 @@ static void sb_search_self(const sb_self_search* q, uint32_t node) {
     if (bvh->flat[node]) return;
     const sb_bvh_node* n = &bvh->nodes[node];
     if (n->leaf) {
-        for (uint32_t i = n->first; i < n->first + n->count; i++)
-            for (uint32_t j = i + 1; j < n->first + n->count; j++) sb_triangle_pair(q, bvh->order[i], bvh->order[j]);
+        sb_leaf_boxes boxes;
+        sb_leaf_boxes_of(q, n, &boxes);
+        for (uint32_t i = 0; i < boxes.count; i++)
+            for (uint32_t j = i + 1; j < boxes.count; j++) sb_triangle_pair(q, &boxes, i, &boxes, j);
         return;
     }
     sb_search_self(q, node + 1);
@@ -306,9 +331,11 @@ static void sb_search_pair(const sb_self_search* q, uint32_t a, uint32_t b) {
     if (!sb_bvh_overlap(bvh, a, b)) return;
     const sb_bvh_node *na = &bvh->nodes[a], *nb = &bvh->nodes[b];
     if (na->leaf && nb->leaf) {
-        for (uint32_t i = na->first; i < na->first + na->count; i++)
-            for (uint32_t j = nb->first; j < nb->first + nb->count; j++)
-                sb_triangle_pair(q, bvh->order[i], bvh->order[j]);
+        sb_leaf_boxes boxes_a, boxes_b;
+        sb_leaf_boxes_of(q, na, &boxes_a);
+        sb_leaf_boxes_of(q, nb, &boxes_b);
+        for (uint32_t i = 0; i < boxes_a.count; i++)
+            for (uint32_t j = 0; j < boxes_b.count; j++) sb_triangle_pair(q, &boxes_a, i, &boxes_b, j);
     } else if (nb->leaf || (!na->leaf && na->count >= nb->count)) {
         sb_search_pair(q, a + 1, b);
         sb_search_pair(q, sb_bvh_right(bvh, a), b);

@@ -87,8 +87,8 @@ static void sb_build_node(sb_bvh_builder* b, uint32_t first, uint32_t count, uin
     bvh->nodes[index].end = b->next;
 }
 
-/* The two triangles across each triangle's edges (UINT32_MAX on a border
- * or past the second triangle of a non-manifold edge). */
+/* Up to three triangles that share an edge with each triangle, in free
+ * slots (UINT32_MAX: none; a non-manifold edge links its first two). */
 static uint32_t* sb_edge_neighbours(const sb_triangle_bvh* bvh) {
     uint32_t n = bvh->triangle_count, *across = malloc(3 * (size_t)n * sizeof *across);
     sb_edge_map map;
@@ -102,12 +102,11 @@ static uint32_t* sb_edge_neighbours(const sb_triangle_bvh* bvh) {
             bool inserted;
             uint32_t* first = sb_edge_map_upsert(&map, bvh->tri_v[e][t], bvh->tri_v[(e + 1) % 3][t], t, &inserted);
             if (inserted || *first == t) continue;
-            for (int f = 0; f < 3; f++) /* link both ways, the first free slot of the other */
-                if (across[3 * (size_t)*first + f] == UINT32_MAX) {
-                    across[3 * (size_t)*first + f] = t;
-                    across[3 * (size_t)t + e] = *first;
-                    break;
-                }
+            uint32_t *a = across + 3 * (size_t)*first, *b = across + 3 * (size_t)t;
+            int fa = 0, fb = 0;
+            while (fa < 3 && a[fa] != UINT32_MAX) fa++;
+            while (fb < 3 && b[fb] != UINT32_MAX) fb++;
+            if (fa < 3 && fb < 3) a[fa] = t, b[fb] = *first;
         }
     sb_edge_map_free(&map);
     return across;
