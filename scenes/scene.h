@@ -100,7 +100,11 @@ typedef enum sb_scene_type {
     X(COLLIDERS, "colliders", LIST, "[]",                                                                              \
       "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
       "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
-    X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m, >= 0: added to every collider's own thickness")         \
+    X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0",                                                             \
+      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")           \
+    X(SELF_COLLISION, "self_collision", BOOL, "false",                                                                 \
+      "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "            \
+      "contact.thickness > 0)")                                                                                        \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
       "implicit_euler, pbd or xpbd")                                                                                   \

@@ -212,6 +212,9 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     if (file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] == '\0')
         return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err, "'mesh.generator' is file but 'mesh.file' is not set");
+    if (sb_scene_bool(scene, SB_KEY_SELF_COLLISION) && !(sb_scene_number(scene, SB_KEY_CONTACT_THICKNESS) > 0.0))
+        return sb_scene_fail(scene, blame(scene, SB_KEY_SELF_COLLISION, SB_KEY_CONTACT_THICKNESS), err,
+                             "'self_collision' needs 'contact.thickness' > 0 (the distance kept between surfaces)");
     return SB_OK;
 }
 

@@ -662,7 +662,8 @@ static void test_run_bad_colliders(void** state) {
     assert_colliders_fail("  - type: plane\n    mass: 1\n", "4: unknown key 'colliders[0].mass'");
     assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    velocity: [0, 0, 1]\n",
                           "6: unknown key 'colliders[0].velocity'");
-    assert_colliders_fail("  - type: plane\nself_collision: true\n", "4: unknown key 'self_collision'");
+    assert_colliders_fail("  - type: plane\nself_collision: true\n",
+                          "4: 'self_collision' needs 'contact.thickness' > 0 (the distance kept between surfaces)");
     assert_colliders_fail("  - type: plane\n    radius: 1\n",
                           "4: 'colliders[0].radius' does not apply to a plane (its shape's keys: point, normal)");
     assert_colliders_fail("  - {type: sphere, center: [0, 0, 0], radius: 1, rotate: [0, 0, 1]}\n",

@@ -287,6 +287,8 @@ static void test_validation_names_where_the_value_was_set(void** state) {
     assert_load_fails("v12.yaml", "threads: -1\n", "1: 'threads' must be in [0, 1024], got -1");
     assert_load_fails("v13.yaml", "gravity: [0, nan, 0]\n", "1: 'gravity' must be finite");
     assert_load_fails("v14.yaml", "drag: -1\n", "1: 'drag' must be >= 0, got -1");
+    assert_load_fails("v15.yaml", "duration: 1\nself_collision: true\n",
+                      "2: 'self_collision' needs 'contact.thickness' > 0 (the distance kept between surfaces)");
 }
 
 static void test_pin_names(void** state) {
@@ -576,7 +578,9 @@ static void test_colliders_must_be_a_list(void** state) {
     assert_set_fails("colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, 0]}]",
                      "--set colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, "
                      "0]}]: 'colliders[0].velocity' expects a sequence of 3 numbers, got a sequence of 2");
-    assert_set_fails("self_collision=true", "--set self_collision=true: unknown key 'self_collision'");
+    assert_set_fails("self_collision=true",
+                     "--set self_collision=true: 'self_collision' needs 'contact.thickness' > 0 (the distance kept "
+                     "between surfaces)");
     assert_set_fails("contact.thickness=-0.5",
                      "--set contact.thickness=-0.5: 'contact.thickness' must be >= 0, got -0.5");
     assert_set_fails("colliders=[{type: plane, path: [{time: 0}, {time: 0}]}]",
