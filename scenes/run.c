@@ -227,17 +227,17 @@ static int simulate(run_job* job, sb_error* err) {
     return code;
 }
 
-static void report(const run_job* job, double seconds) {
+static void report(const run_job* job, uint32_t frames, double seconds) {
     const char* dir = job->out.dir;
     if (writes_vtu(job))
         printf("softbond: %u frame%s and log.csv in %s (open %s/frames.pvd in ParaView), "
                "%.1f s\n",
-               job->log.count, job->log.count == 1 ? "" : "s", dir, dir, seconds);
+               frames, frames == 1 ? "" : "s", dir, dir, seconds);
     else if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
-        printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", job->log.count, job->log.count == 1 ? "" : "s",
+        printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", frames, frames == 1 ? "" : "s",
                sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), dir, seconds);
     else
-        printf("softbond: log.csv (%u rows) in %s, %.1f s\n", job->log.count, dir, seconds);
+        printf("softbond: log.csv (%u rows) in %s, %.1f s\n", frames, dir, seconds);
 }
 
 /* Simulates, then writes the whole index and closes the log even after a
@@ -250,13 +250,14 @@ static int execute(run_job* job, sb_error* err) {
     int code = simulate(job, err);
     sb_error index_err;
     sb_status index = write_index(job, true, &index_err);
+    uint32_t frames = job->log.count;
     if (index == SB_OK) index = sb_energy_log_close(&job->log, &index_err);
     if (code != SB_EXIT_OK) return code;
     if (index != SB_OK) {
         *err = index_err;
         return SB_EXIT_FAILURE;
     }
-    report(job, now() - start);
+    report(job, frames, now() - start);
     return SB_EXIT_OK;
 }
 

@@ -223,6 +223,11 @@ static void test_ply_checked_before_the_importer(void** state) {
     assert_fails((const char*[]){"info", "huge.ply", NULL}, 2,
                  "huge.ply:9: the header declares 1000000000 'vertex', 1 'face': at least 12000000001 bytes, more "
                  "than the 3 bytes after it");
+    /* items without properties take a byte each (assimp spun on 10^9 of them) */
+    tu_write_file("empty_items.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nend_header\n");
+    assert_fails((const char*[]){"info", "empty_items.ply", NULL}, 2,
+                 "empty_items.ply:4: the header declares 1000000000 'vertex': at least 1000000000 bytes, more than "
+                 "the 0 bytes after it");
     tu_write_file("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty flo");
     assert_fails((const char*[]){"info", "cut.ply", NULL}, 2,
                  "cut.ply: the PLY header does not end (no 'end_header' line in its first 65536 bytes)");
@@ -294,6 +299,17 @@ static void test_importer_abort_is_one_message(void** state) {
     free(model);
     assert_fails((const char*[]){"info", "cut.ply", NULL}, 2,
                  "cut.ply: the importer failed (killed by signal 6, Aborted)");
+}
+
+/* The log is closed before the last line is printed: the line still counts
+ * the frames (0.1 s at 0.02 s a frame: frames 0 to 5). */
+static void test_run_reports_its_frames(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--output", "done", NULL});
+    assert_int_equal(r.code, 0);
+    TU_ASSERT_CONTAINS(r.out, "softbond: 6 frames and log.csv in done ");
+    tu_result_free(&r);
 }
 
 /* ---- a run killed mid-way ------------------------------------------------------ */
@@ -378,6 +394,7 @@ int main(void) {
         cmocka_unit_test_setup(test_mesh_file_errors_name_the_scene_line, start_bound),
         cmocka_unit_test_setup(test_ele_rows_hold_the_nodes_the_header_claims, start_bound),
         cmocka_unit_test_setup(test_one_thread_bound, start_bound),
+        cmocka_unit_test_setup(test_run_reports_its_frames, start_bound),
         cmocka_unit_test_setup(test_killed_run_leaves_log_and_index, start_bound),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

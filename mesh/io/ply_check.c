@@ -5,7 +5,8 @@
  * Each element of N items needs at least N times the sum of its
  * properties' smallest sizes: in a binary file the scalar's size (char 1,
  * short 2, int and float 4, double 8) and for a list the size of its count;
- * in an ASCII file two bytes a value (a digit and a separator). A file
+ * in an ASCII file two bytes a value (a digit and a separator); an item of
+ * no properties at least one byte. A file
  * whose declared counts need more bytes than it has is refused before
  * assimp allocates for those counts (a 190-byte file declaring 10^9
  * vertices made it allocate gigabytes). A header that never ends made
@@ -43,7 +44,11 @@ static double scalar_size(const char* type) {
     return 1; /* assimp judges an unknown type */
 }
 
-static void close_element(ply_header* h) { h->needed += h->element_count * h->element_bytes; }
+/* An item takes at least a byte even without properties: a file declaring
+ * 10^9 items of nothing made assimp spin. */
+static void close_element(ply_header* h) {
+    h->needed += h->element_count * (h->element_bytes > 1.0 ? h->element_bytes : 1.0);
+}
 
 /* "element NAME COUNT", "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME". */
 static sb_status header_line(ply_header* h, char* line, sb_error* err) {
