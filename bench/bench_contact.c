@@ -8,10 +8,11 @@
  *           sphere touch it, the rest of the sheet is culled by the bounds;
  *   floor   the floor 2 mm down: after the warm-up every vertex lies on it
  *           (the worst case: the whole sheet answered every step).
- * From the warmed-up state, steps are timed without colliders and with the
- * plane and the sphere, interleaved, on 1 and 2 threads (spinning, pinned:
- * the machine is the benchmark's); the contact pass's cost is the
- * difference. Prints a table and writes CSV and markdown.
+ * From the warmed-up state, steps are timed without colliders, with the
+ * plane and the sphere, and with them and self-contact (thickness 1 mm, a
+ * third of the sheet's spacing), interleaved, on 1 and 2 threads
+ * (spinning, pinned: the machine is the benchmark's); the contact passes'
+ * cost is the difference. Prints a table and writes CSV and markdown.
  *
  *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
 #include "bench/bench_cases.h"
@@ -55,12 +56,17 @@ static sb_collider* make_collider(sb_collider_shape shape, double floor) {
     return c;
 }
 
-static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count) {
+#define SB_BENCH_SELF_THICKNESS 1e-3
+
+static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count,
+                              bool self) {
     sb_solver_def def = sb_default_solver_def();
     def.gravity[2] = -SB_BENCH_GRAVITY;
     def.runtime = (sb_runtime_def){.threads = threads, .pin = threads > 1, .wait = SB_WAIT_SPIN};
     def.colliders = colliders;
     def.collider_count = count;
+    def.self_collision = self;
+    def.contact_thickness = self ? SB_BENCH_SELF_THICKNESS : 0.0;
     sb_error err;
     sb_solver* s = sb_solver_create(setup->model, &def, &err);
     if (!s) {
@@ -70,27 +76,30 @@ static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_colli
     return s;
 }
 
-static void advance(sb_solver* s, double dt, int steps, uint64_t* contacts) {
+static void advance(sb_solver* s, double dt, int steps, uint64_t* contacts, uint64_t* self_contacts) {
     for (int i = 0; i < steps; i++) {
         if (sb_solver_advance(s, dt) != SB_OK) {
             fprintf(stderr, "sb_bench_contact: %s\n", sb_solver_error(s));
             exit(1);
         }
         if (contacts) *contacts += sb_solver_last_step(s).contacts;
+        if (self_contacts) *self_contacts += sb_solver_last_step(s).self_contacts;
     }
 }
 
-/* Seconds per step from the warmed-up state, with or without colliders. */
-static double time_steps(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count,
-                         const double* x, const double* v, int steps, double* contacts_per_step) {
-    sb_solver* s = make_solver(setup, threads, colliders, count);
+/* Seconds per step from the warmed-up state, with or without colliders
+ * and self-contact; the contacts answered per step (vertices, pairs). */
+static double time_steps(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count, bool self,
+                         const double* x, const double* v, int steps, double per_step[2]) {
+    sb_solver* s = make_solver(setup, threads, colliders, count, self);
     sb_solver_set_state(s, x, v);
-    advance(s, setup->dt, 20, NULL); /* caches and the team warm */
-    uint64_t contacts = 0;
+    advance(s, setup->dt, 20, NULL, NULL); /* caches and the team warm */
+    uint64_t contacts = 0, self_contacts = 0;
     double t0 = now();
-    advance(s, setup->dt, steps, &contacts);
+    advance(s, setup->dt, steps, &contacts, &self_contacts);
     double seconds = (now() - t0) / steps;
-    *contacts_per_step = (double)contacts / steps;
+    per_step[0] = (double)contacts / steps;
+    per_step[1] = (double)self_contacts / steps;
     sb_solver_destroy(s);
     return seconds;
 }
@@ -138,41 +147,46 @@ int main(int argc, char** argv) {
         fprintf(stderr, "sb_bench_contact: cannot write %s or %s\n", o.csv, o.md);
         return 1;
     }
-    fprintf(csv, "scene,threads,run,ms_without,ms_with,ratio,contacts_per_step\n");
-    fprintf(md, "# Contact: the cost of a plane and a sphere on the 100k sheet\n\n");
+    fprintf(csv, "scene,threads,run,ms_without,ms_with,ratio,contacts_per_step,ms_self,ratio_self,self_per_step\n");
+    fprintf(md, "# Contact: the cost of a plane, a sphere and self-contact on the 100k sheet\n\n");
     fprintf(md,
             "Machine: `%s`. Written by `bench/contact.sh` (`sb_bench_contact`; the scenes and the method are at the "
-            "top of bench/bench_contact.c). %d steps per timing, dt %.3g s, %u vertices; runs interleaved; the "
-            "best of each configuration in bold.\n\n",
-            machine, o.steps, setup.dt, n);
-    fprintf(md, "| scene | threads | run | ms/step without | ms/step with plane + sphere | with / without | "
-                "contacts/step |\n|---|--:|--:|--:|--:|--:|--:|\n");
-    printf("scene   threads run  ms_without  ms_with  ratio  contacts/step\n");
+            "top of bench/bench_contact.c). %d steps per timing, dt %.3g s, %u vertices, self-contact thickness "
+            "%g m; runs interleaved; the best of each configuration in bold.\n\n",
+            machine, o.steps, setup.dt, n, SB_BENCH_SELF_THICKNESS);
+    fprintf(md, "| scene | threads | run | ms/step without | with plane + sphere | ratio | contacts/step | "
+                "with them + self-contact | ratio | self pairs/step |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    printf("scene   threads run  ms_without  ms_with  ratio  contacts  ms_self  ratio  self_pairs\n");
     for (int scene = 0; scene < 2; scene++) {
         sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, floors[scene]),
                                      make_collider(SB_COLLIDER_SPHERE, floors[scene])};
-        sb_solver* warm = make_solver(&setup, 2, colliders, 2); /* 0.05 s of falling onto the colliders */
-        advance(warm, setup.dt, (int)(0.05 / setup.dt), NULL);
+        sb_solver* warm = make_solver(&setup, 2, colliders, 2, false); /* 0.05 s of falling onto the colliders */
+        advance(warm, setup.dt, (int)(0.05 / setup.dt), NULL, NULL);
         sb_solver_get_positions(warm, x);
         sb_solver_get_velocities(warm, v);
         sb_solver_destroy(warm);
         for (int threads = 1; threads <= 2; threads++) {
-            double best_without = INFINITY, best_with = INFINITY;
+            double best[3] = {INFINITY, INFINITY, INFINITY};
             for (int run = 1; run <= o.runs; run++) {
-                double contacts = 0, ignored;
-                double without = time_steps(&setup, threads, NULL, 0, x, v, o.steps, &ignored);
-                double with = time_steps(&setup, threads, colliders, 2, x, v, o.steps, &contacts);
-                best_without = fmin(best_without, without);
-                best_with = fmin(best_with, with);
-                printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %.0f\n", scenes[scene], threads, run, 1e3 * without,
-                       1e3 * with, with / without, contacts);
-                fprintf(csv, "%s,%d,%d,%.6f,%.6f,%.4f,%.0f\n", scenes[scene], threads, run, 1e3 * without, 1e3 * with,
-                        with / without, contacts);
-                fprintf(md, "| %s | %d | %d | %.3f | %.3f | %.3f | %.0f |\n", scenes[scene], threads, run,
-                        1e3 * without, 1e3 * with, with / without, contacts);
+                double counts[2], self_counts[2], ignored[2];
+                double without = time_steps(&setup, threads, NULL, 0, false, x, v, o.steps, ignored);
+                double with = time_steps(&setup, threads, colliders, 2, false, x, v, o.steps, counts);
+                double self = time_steps(&setup, threads, colliders, 2, true, x, v, o.steps, self_counts);
+                best[0] = fmin(best[0], without);
+                best[1] = fmin(best[1], with);
+                best[2] = fmin(best[2], self);
+                printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %8.0f  %7.3f  %5.3f  %.1f\n", scenes[scene], threads, run,
+                       1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
+                       self_counts[1]);
+                fprintf(csv, "%s,%d,%d,%.6f,%.6f,%.4f,%.0f,%.6f,%.4f,%.1f\n", scenes[scene], threads, run,
+                        1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
+                        self_counts[1]);
+                fprintf(md, "| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %.3f | %.3f | %.1f |\n", scenes[scene],
+                        threads, run, 1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
+                        self_counts[1]);
             }
-            fprintf(md, "| %s | %d | best | %.3f | %.3f | **%.3f** | |\n", scenes[scene], threads, 1e3 * best_without,
-                    1e3 * best_with, best_with / best_without);
+            fprintf(md, "| %s | %d | best | %.3f | %.3f | **%.3f** | | %.3f | **%.3f** | |\n", scenes[scene], threads,
+                    1e3 * best[0], 1e3 * best[1], best[1] / best[0], 1e3 * best[2], best[2] / best[0]);
         }
         for (int c = 0; c < 2; c++) sb_collider_destroy(colliders[c]);
     }

@@ -1,6 +1,7 @@
 #!/bin/sh
 # The contact benchmark: builds Release and runs sb_bench_contact, which
-# times the 100k sheet with and without a plane and a sphere (a sheet draped
+# times the 100k sheet with and without a plane and a sphere, and with them and
+# self-contact (a sheet draped
 # over the sphere, and a sheet lying on the floor), on 1 and 2 threads.
 # Writes bench/results/contact.csv and contact.md. About 2 minutes.
 #
