@@ -4,7 +4,9 @@
  * colliders (colliders.c), and the run's size: at most SB_SCENE_MAX_STEPS
  * steps (duration / dt) and SB_SCENE_MAX_FRAMES frames (duration /
  * frame_interval), so that a run's loop counts fit their integers and a
- * typo such as dt: 1e-30 is refused at once instead of running for ever.
+ * typo such as dt: 1e-30 is refused at once instead of running for ever,
+ * and a generated sheet has at most SB_SCENE_MAX_SHEET_VERTICES vertices
+ * (2^24: a 4096 x 4096 sheet; 30000 x 30000 would take 20 GB).
  * Vertex indices are checked when the mesh is known (scene_model.c). */
 #include "scenes/scene.h"
 #include "scenes/cli.h"
@@ -15,7 +17,7 @@
 #include <math.h>
 #include <string.h>
 
-enum { SB_SCENE_MAX_FRAMES = 1000000 };
+enum { SB_SCENE_MAX_FRAMES = 1000000, SB_SCENE_MAX_SHEET_VERTICES = 1 << 24 };
 #define SB_SCENE_MAX_STEPS 1e10
 
 typedef struct number_rule {
@@ -178,7 +180,8 @@ static sb_scene_key blame_count(const sb_scene* scene, sb_scene_key first, sb_sc
     return blame(scene, first, second);
 }
 
-/* duration / dt steps and duration / frame_interval frames, both bounded. */
+/* duration / dt steps, duration / frame_interval frames and a generated
+ * sheet's nx * ny vertices, each bounded. */
 static sb_status check_counts(const sb_scene* scene, sb_error* err) {
     double duration = sb_scene_number(scene, SB_KEY_DURATION);
     double dt = sb_scene_number(scene, SB_KEY_DT);
@@ -191,6 +194,11 @@ static sb_status check_counts(const sb_scene* scene, sb_error* err) {
         return sb_scene_fail(scene, blame_count(scene, SB_KEY_FRAME_INTERVAL, SB_KEY_DURATION), err,
                              "'duration' (%g) / 'frame_interval' (%g) is %.3g frames, more than the limit of %d",
                              duration, interval, duration / interval, SB_SCENE_MAX_FRAMES);
+    int64_t nx = sb_scene_integer(scene, SB_KEY_MESH_NX), ny = sb_scene_integer(scene, SB_KEY_MESH_NY);
+    if (strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "sheet") == 0 && nx * ny > SB_SCENE_MAX_SHEET_VERTICES)
+        return sb_scene_fail(scene, blame_count(scene, SB_KEY_MESH_NX, SB_KEY_MESH_NY), err,
+                             "'mesh.nx' x 'mesh.ny' is %lld vertices, more than the limit of %d", (long long)(nx * ny),
+                             SB_SCENE_MAX_SHEET_VERTICES);
     return SB_OK;
 }
 

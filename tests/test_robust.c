@@ -89,6 +89,11 @@ static void test_step_and_frame_counts_are_bounded(void** state) {
     assert_fails((const char*[]){"run", "tiny.yaml", "--set", "duration=1e7", "--output", "never", NULL}, 2,
                  "--set duration=1e7: 'duration' (1e+07) / 'frame_interval' (0.02) is 5e+08 frames, more than the "
                  "limit of 1000000");
+    /* a sheet of 30000 x 30000 vertices would take 20 GB */
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "mesh.nx=30000", "--set", "mesh.ny=30000", "--output",
+                                 "never", NULL},
+                 2,
+                 "--set mesh.ny=30000: 'mesh.nx' x 'mesh.ny' is 900000000 vertices, more than the limit of 16777216");
     assert_false(exists(tu_tmp_path("never")));
 }
 
