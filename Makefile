@@ -32,7 +32,7 @@ test: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE no_sanitizer
 	cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE_THREAD=ON $(CMAKE_FLAGS)
-	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact
+	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact test_self_contact
 	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 ctest --output-on-failure -L thread
 
 clean:
