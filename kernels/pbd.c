@@ -52,6 +52,7 @@
 #include "kernels/solver_internal.h"
 #include "kernels/coloring.h"
 #include "kernels/contact_pbd.h"
+#include "kernels/handle_internal.h"
 #include "common/error.h"
 #include "softbond/runtime.h"
 
@@ -176,6 +177,7 @@ sb_status sb_pbd_prepare(sb_solver* s) {
 /* The constants of one step's projections. */
 typedef struct sb_pbd_step {
     const sb_model* m;
+    const double* inv_mass; /* the model's, 0 where a hard handle holds (kernels/handle.c) */
     double *x, *x0;
     double inv_dt2, dt;
     bool xpbd;
@@ -200,7 +202,7 @@ static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
     double n[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
     double r = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(r > 0)) return; /* coincident ends: no direction; the force pass reports it */
-    double stiffness = m->bond_k[b] + m->spring_k[b], wi = m->inv_mass[i], wj = m->inv_mass[j];
+    double stiffness = m->bond_k[b] + m->spring_k[b], wi = k->inv_mass[i], wj = k->inv_mass[j];
     double rate = 0.0;
     for (int c = 0; c < 3; c++) {
         n[c] /= r;
@@ -216,7 +218,6 @@ static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
 
 /* Corner at vertex v[0] of the triangle (v[0], v[1], v[2]): C = â·b̂ − cos θ0. */
 static void sb_pbd_corner(const sb_pbd_step* k, const uint32_t v[3], double cos0, double kt, double* lambda) {
-    const sb_model* m = k->m;
     double *p0 = k->x + 3 * (size_t)v[0], *p1 = k->x + 3 * (size_t)v[1], *p2 = k->x + 3 * (size_t)v[2];
     double a[3], b[3], A = 0, B = 0;
     for (int c = 0; c < 3; c++) {
@@ -229,7 +230,7 @@ static void sb_pbd_corner(const sb_pbd_step* k, const uint32_t v[3], double cos0
     if (!(A > 0 && B > 0)) return; /* a collapsed edge: the force pass reports it */
     double cosine = 0, g1[3], g2[3], g0[3];
     for (int c = 0; c < 3; c++) cosine += (a[c] / A) * (b[c] / B);
-    double w[3] = {m->inv_mass[v[0]], m->inv_mass[v[1]], m->inv_mass[v[2]]}, W = 0;
+    double w[3] = {k->inv_mass[v[0]], k->inv_mass[v[1]], k->inv_mass[v[2]]}, W = 0;
     for (int c = 0; c < 3; c++) {
         g1[c] = (b[c] / B - cosine * a[c] / A) / A;
         g2[c] = (a[c] / A - cosine * b[c] / B) / B;
@@ -338,7 +339,9 @@ sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     sb_fast_publish(s); /* the state's arrays current */
     sb_pbd* p = s->pbd;
     sb_pbd_predict(s, dt);
-    sb_pbd_step k = {s->model, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
+    if (s->pinned_inv_mass) sb_handles_place_predicted(s, p->x);
+    const double* inv_mass = s->pinned_inv_mass ? s->pinned_inv_mass : s->model->inv_mass;
+    sb_pbd_step k = {s->model, inv_mass, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
     memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
     memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
     sb_pbd_job job = {s, &k, p, sb_pbd_iterations(&s->def)};

@@ -4,6 +4,7 @@
 #include "kernels/solver_internal.h"
 #include "kernels/colliders/collider_internal.h"
 #include "kernels/self_contact.h"
+#include "kernels/handle_internal.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -57,6 +58,7 @@ static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
 void sb_solver_destroy(sb_solver* s) {
     if (!s) return;
     sb_contact_destroy(s);
+    sb_handles_destroy(s);
     sb_self_contact_destroy(s->self);
     sb_team_destroy(s->team);
     sb_fast_model_destroy(s->fast);
@@ -131,7 +133,8 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
 static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
     const sb_model* m = s->model;
     bool ok = true;
-    if (s->def.external_force) ok &= (s->external = calloc(3 * (size_t)m->vertex_count + 1, sizeof(double))) != NULL;
+    if (s->def.external_force || s->soft_handles)
+        ok &= (s->external = calloc(3 * (size_t)m->vertex_count + 1, sizeof(double))) != NULL;
     if (!s->fast) ok &= (s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))) != NULL;
     if (s->def.integrator == SB_INTEGRATOR_IMPLICIT_EULER) ok &= sb_implicit_prepare(s);
     if (ok && (s->def.integrator == SB_INTEGRATOR_PBD || s->def.integrator == SB_INTEGRATOR_XPBD) &&
@@ -159,6 +162,7 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
     if (status == SB_OK) status = sb_contact_prepare(s, err);
     if (status == SB_OK && def->self_collision) status = sb_self_contact_prepare(s, err);
+    if (status == SB_OK) status = sb_handles_prepare(s, err);
     if (status == SB_OK) status = sb_prepare_step_buffers(s, err);
     if (status != SB_OK) {
         sb_solver_destroy(s);
@@ -329,6 +333,13 @@ static sb_status sb_contact_after_step(sb_solver* s, double dt) {
     return contacts > 0 ? sb_solver_compute_forces(s) : SB_OK;
 }
 
+/* The hard handles' placement after a step the fused path did not take,
+ * after the contact passes; forces again where a vertex was placed. */
+static sb_status sb_handles_after_step(sb_solver* s) {
+    sb_fast_publish(s); /* pbd, xpbd: the state's arrays current */
+    return sb_handles_place_state(s) ? sb_solver_compute_forces(s) : SB_OK;
+}
+
 /* The self-contact pass of a step the fused path did not take, after the
  * collider pass; forces again where a vertex moved. */
 static sb_status sb_self_contact_after_step(sb_solver* s, double dt) {
@@ -341,6 +352,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
     bool contact = s->def.collider_count > 0;
     bool after = contact && !s->pbd; /* pbd, xpbd: contact inside their sweeps (kernels/contact_pbd.c) */
     if (contact) sb_contact_begin_step(s, s->time, s->time + dt);
+    sb_handles_begin_step(s, s->time, dt);
     if (after && !sb_fused(s)) sb_contact_save_from(s);
     if (s->self && !sb_fused(s)) sb_self_contact_save_state(s);
     s->contact_dt = dt;
@@ -355,6 +367,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
     }
     if (status == SB_OK && after) status = sb_contact_after_step(s, dt);
     if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);
+    if (status == SB_OK && s->def.handle_count) status = sb_handles_after_step(s);
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */
     sb_status state_status = sb_check_state(s);
@@ -374,9 +387,8 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
     s->stats = (sb_step_stats){.converged = true};
     s->advance_dt = dt;
     if (s->contact_impulse) memset(s->contact_impulse, 0, 3 * (size_t)s->def.collider_count * sizeof(double));
-    if (s->def.adaptive) return sb_adaptive_advance(s, dt);
-    sb_status status = sb_solver_step(s, dt);
-    if (status == SB_OK) {
+    sb_status status = s->def.adaptive ? sb_adaptive_advance(s, dt) : sb_solver_step(s, dt);
+    if (status == SB_OK && !s->def.adaptive) {
         if (s->contact_impulse) {
             sb_contact_accept(s);
             sb_colliders_after_step(s->def.colliders, s->def.collider_count, s->contact_step, s->def.gravity, dt);
@@ -384,6 +396,7 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
         s->stats.substeps = 1;
         s->stats.last_substep = s->stats.min_substep = dt;
     }
+    if (status == SB_OK) sb_handles_end_advance(s);
     return status;
 }
 

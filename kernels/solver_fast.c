@@ -47,11 +47,11 @@
 #include "kernels/wide.h"
 #include "kernels/team.h"
 #include "kernels/self_contact.h"
+#include "kernels/handle_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
 
 typedef bool (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
 
@@ -112,9 +112,8 @@ static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint
 /* Runs one kernel over a whole group. Called by all workers of the job;
  * returns with all of them past the last block color's barrier. The
  * overflow block color, whose blocks may share vertices, runs on worker 0. */
-static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_element_group* g,
-                          sb_fast_kernel kernel, int terms, const sb_fast_frame* frame, double* partials,
-                          atomic_int* collapsed) {
+static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_element_group* g, sb_fast_kernel kernel,
+                          int terms, const sb_fast_frame* frame, double* partials, atomic_int* collapsed) {
     for (uint32_t k = 0; k < g->block_colors; k++) {
         int64_t first = g->color_first_block[k], last = g->color_first_block[k + 1], begin = first, end = last;
         if (k != SB_OVERFLOW_COLOR) {
@@ -130,8 +129,7 @@ static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_e
     }
 }
 
-static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p,
-                            atomic_int* collapsed) {
+static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, atomic_int* collapsed) {
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
@@ -140,9 +138,10 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
     if (f->has_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, collapsed);
 }
 
-/* Serial, on one thread: the callback need not be thread-safe. */
+/* Serial, on one thread: the callback need not be thread-safe; then the
+ * soft handles' forces (kernels/handle.c). */
 static void sb_external_pass(sb_solver* s) {
-    for (uint32_t i = 0; i < s->state.vertex_count; i++) {
+    for (uint32_t i = 0; i < s->state.vertex_count && s->def.external_force; i++) {
         if (s->model->fixed[i]) continue;
         const sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
         sb_real* f4 = s->forces4 + 4 * (size_t)i;
@@ -153,12 +152,13 @@ static void sb_external_pass(sb_solver* s) {
             f4[c] = (sb_real)f[c];
         }
     }
+    if (s->soft_handles) sb_handles_forces_packed(s);
 }
 
 /* Worker 0 calls the external-force callback (it need not be thread-safe);
  * the others wait for it. */
 static void sb_external_step(const sb_worker* w, sb_solver* s) {
-    if (!s->def.external_force) return;
+    if (!s->def.external_force && !s->soft_handles) return;
     if (w->index == 0) sb_external_pass(s);
     sb_worker_barrier(w);
 }
@@ -379,10 +379,19 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
     return atomic_load(&job.collapsed) ? sb_report_collapse(s) : SB_OK;
 }
 
+/* Worker 0 puts the vertices the hard handles hold at their targets
+ * (kernels/handle.c); the others wait for it. */
+static void sb_handle_step(const sb_worker* w, sb_solver* s, double dt) {
+    if (!s->def.handle_count) return;
+    if (w->index == 0) sb_handles_place_packed(s, dt);
+    sb_worker_barrier(w);
+}
+
 static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
     sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt);
     sb_self_contact_packed(w, job->solver, job->dt);
+    sb_handle_step(w, job->solver, job->dt);
     sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
     sb_external_step(w, job->solver);
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);

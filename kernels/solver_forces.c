@@ -2,6 +2,7 @@
  * forces. The external forces of the last evaluation are kept apart
  * (solver->external) so that adaptive stepping can count their work. */
 #include "kernels/solver_internal.h"
+#include "kernels/handle_internal.h"
 #include "common/error.h"
 
 /* Adds the callback's force to f and remembers it in ext (when not NULL). */
@@ -24,6 +25,7 @@ static sb_status sb_total_forces(sb_solver* s, const double* x, const double* v,
         if (s->def.external_force && !m->fixed[i])
             sb_add_external(s, i, x + 3 * i, v + 3 * i, fi, external ? external + 3 * i : NULL);
     }
+    if (s->soft_handles) sb_handles_forces(s, x, v, f, external);
     return SB_OK;
 }
 

@@ -44,6 +44,9 @@ struct sb_solver {
     double advance_dt;        /* s, the last advance's dt */
     struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays */
     struct sb_self_contact* self; /* self-contact (kernels/self_contact.c); NULL when off */
+    /* handles (kernels/handle.c) */
+    bool soft_handles;       /* a soft one among def.handles: its forces join the external ones */
+    double* pinned_inv_mass; /* pbd, xpbd with handles: the model's inverse masses, 0 where a hard handle holds */
     sb_step_stats stats;
     double time;
     uint64_t steps;

@@ -2,7 +2,8 @@
  * replaces malloc and its kin (glibc's allocator stays underneath, through
  * its __libc_* entry points) and counts the calls made while a step or a
  * publication runs, on every thread, for every integrator, both kernel
- * choices, adaptive stepping and an external force. Not run under the
+ * choices, adaptive stepping, an external force and handles (a hard one
+ * released and grabbed again between steps, a soft one on a path). Not run under the
  * sanitizers, which bring their own malloc. */
 #include "test_util.h"
 
@@ -89,6 +90,22 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
     floor_def.point[2] = 1.0 - 0.001; /* the sheet rests on it, the thickness away */
     sb_collider* floor = sb_collider_create(&floor_def, &err);
     assert_non_null(floor);
+    const sb_keyframe path[2] = {{0.0, {0, 0, 0}, {0, 0, 0}}, {1.0, {0, 0, 0.1}, {0, 0, 0}}};
+    uint32_t held[2] = {10, 11}, pulled = 20;
+    sb_handle_def hard = sb_default_handle_def(), soft = sb_default_handle_def();
+    hard.vertices = held;
+    hard.vertex_count = 2;
+    soft.vertices = &pulled;
+    soft.vertex_count = 1;
+    soft.stiffness = 1.0;
+    soft.damping = 0.01;
+    soft.path = path;
+    soft.path_count = 2;
+    sb_handle* handles[2] = {sb_handle_create(&hard, &err), sb_handle_create(&soft, &err)};
+    assert_non_null(handles[0]);
+    assert_non_null(handles[1]);
+    def.handles = handles;
+    def.handle_count = 2;
     if (contact) {
         def.colliders = &floor;
         def.collider_count = 1;
@@ -108,11 +125,15 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
         status = sb_solver_advance_published(solver, 1e-4, buffer);
         if (status != SB_OK) fail_msg("%s", sb_solver_error(solver));
         contacts += sb_solver_last_step(solver).contacts;
+        if (s == 2) sb_handle_release(handles[0]);
+        if (s == 3) assert_int_equal(sb_handle_grab(handles[0]), SB_OK);
     }
     atomic_store(&counting, 0);
     sb_state_buffer_destroy(buffer);
     sb_solver_destroy(solver);
     sb_collider_destroy(floor);
+    sb_handle_destroy(handles[0]);
+    sb_handle_destroy(handles[1]);
     if (contact && contacts == 0)
         fail_msg("%s: the contact configuration made no contact", sb_integrator_name(integrator));
     return atomic_load(&allocations);

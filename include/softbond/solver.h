@@ -8,6 +8,7 @@
 #include "softbond/model.h"
 #include "softbond/runtime.h"
 #include "softbond/collider.h"
+#include "softbond/handle.h"
 #include "softbond/reference.h"
 
 #ifdef __cplusplus
@@ -70,6 +71,11 @@ typedef struct sb_solver_def {
      * contact_thickness (then required > 0), is moved apart to that distance
      * and loses its closing velocity (inelastic, frictionless). */
     bool self_collision;
+    /* Handles (softbond/handle.h): vertices driven to a moving pose, hard
+     * (by position) or soft (a spring-damper force). They must outlive the
+     * solver; each is attached to this solver only. */
+    sb_handle* const* handles;
+    uint32_t handle_count;
     sb_external_force_fn external_force;
     void* external_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has

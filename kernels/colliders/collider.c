@@ -128,35 +128,40 @@ static sb_status sb_check_surface(const char* label, const sb_collider_def* d, d
     return SB_OK;
 }
 
-static sb_status sb_check_keyframe(const char* label, const sb_keyframe* path, uint32_t k, sb_error* err) {
+static sb_status sb_check_keyframe(const char* owner, const sb_keyframe* path, uint32_t k, sb_error* err) {
     const sb_keyframe* f = &path[k];
     if (!isfinite(f->time))
-        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': path[%u].time must be finite (got %g)", label, k,
-                            f->time);
+        return sb_error_set(err, SB_ERR_INVALID, "%s: path[%u].time must be finite (got %g)", owner, k, f->time);
     if (k > 0 && !(f->time > path[k - 1].time))
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "collider '%s': path[%u].time must be greater than path[%u].time (%g) (got %g)", label, k,
-                            k - 1, path[k - 1].time, f->time);
-    char field[48];
-    snprintf(field, sizeof field, "path[%u].translate", k);
-    sb_status st = sb_check_vector(label, field, f->translate, false, err);
-    if (st) return st;
-    snprintf(field, sizeof field, "path[%u].rotate", k);
-    return sb_check_vector(label, field, f->rotate, false, err);
+        return sb_error_set(err, SB_ERR_INVALID, "%s: path[%u].time must be greater than path[%u].time (%g) (got %g)",
+                            owner, k, k - 1, path[k - 1].time, f->time);
+    const char* fields[2] = {"translate", "rotate"};
+    const double* values[2] = {f->translate, f->rotate};
+    for (int q = 0; q < 2; q++)
+        if (!sb_finite3(values[q]))
+            return sb_error_set(err, SB_ERR_INVALID, "%s: path[%u].%s must be finite (got %g, %g, %g)", owner, k,
+                                fields[q], values[q][0], values[q][1], values[q][2]);
+    return SB_OK;
 }
 
-static sb_status sb_check_path(const char* label, const sb_collider_def* d, sb_error* err) {
-    if (d->interpolation != SB_INTERPOLATION_LINEAR && d->interpolation != SB_INTERPOLATION_SMOOTH)
-        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': interpolation must be linear or smooth (got %d)",
-                            label, (int)d->interpolation);
-    if (d->path_count > 0 && !d->path)
-        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': path_count is %u but path is NULL", label,
-                            d->path_count);
-    for (uint32_t k = 0; k < d->path_count; k++) {
-        sb_status st = sb_check_keyframe(label, d->path, k, err);
+sb_status sb_path_check(const char* owner, const sb_keyframe* path, uint32_t count, sb_interpolation interpolation,
+                        sb_error* err) {
+    if (interpolation != SB_INTERPOLATION_LINEAR && interpolation != SB_INTERPOLATION_SMOOTH)
+        return sb_error_set(err, SB_ERR_INVALID, "%s: interpolation must be linear or smooth (got %d)", owner,
+                            (int)interpolation);
+    if (count > 0 && !path)
+        return sb_error_set(err, SB_ERR_INVALID, "%s: path_count is %u but path is NULL", owner, count);
+    for (uint32_t k = 0; k < count; k++) {
+        sb_status st = sb_check_keyframe(owner, path, k, err);
         if (st) return st;
     }
     return SB_OK;
+}
+
+static sb_status sb_check_path(const char* label, const sb_collider_def* d, sb_error* err) {
+    char owner[80];
+    snprintf(owner, sizeof owner, "collider '%s'", label);
+    return sb_path_check(owner, d->path, d->path_count, d->interpolation, err);
 }
 
 /* mass, velocity and angular velocity: a dynamic collider is a sphere or
@@ -316,14 +321,14 @@ static void sb_reference_point(const sb_collider_def* d, double c[3]) {
 }
 
 /* The interpolated keyframe of a path at time t. */
-static void sb_path_at(const sb_collider_def* d, double t, double translate[3], double rotate[3]) {
-    const sb_keyframe* p = d->path;
-    uint32_t n = d->path_count, k = 0;
+static void sb_path_at(const sb_keyframe* p, uint32_t n, sb_interpolation interpolation, double t, double translate[3],
+                       double rotate[3]) {
+    uint32_t k = 0;
     while (k + 1 < n && p[k + 1].time <= t) k++;
     double w = 0.0;
     if (k + 1 < n && t > p[k].time) {
         double s = (t - p[k].time) / (p[k + 1].time - p[k].time);
-        w = d->interpolation == SB_INTERPOLATION_SMOOTH ? s * s * (3.0 - 2.0 * s) : s;
+        w = interpolation == SB_INTERPOLATION_SMOOTH ? s * s * (3.0 - 2.0 * s) : s;
     }
     const sb_keyframe* q = k + 1 < n ? &p[k + 1] : &p[k];
     for (int i = 0; i < 3; i++) {
@@ -332,21 +337,32 @@ static void sb_path_at(const sb_collider_def* d, double t, double translate[3], 
     }
 }
 
-void sb_collider_pose(const sb_collider* collider, double t, double pose[12]) {
-    const sb_collider_def* d = &collider->def;
-    static const double identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-    memcpy(pose, identity, sizeof identity);
-    if (d->path_count == 0 || !d->path) return;
-    double translate[3], rotate[3], c[3];
-    sb_path_at(d, t, translate, rotate);
+void sb_pose_from(const double translate[3], const double rotate[3], const double center[3], double pose[12]) {
     sb_collider_rotation(rotate, pose);
-    sb_reference_point(d, c);
+    const double* c = center;
     for (int i = 0; i < 3; i++)
         pose[9 + i] = c[i] - (pose[3 * i] * c[0] + pose[3 * i + 1] * c[1] + pose[3 * i + 2] * c[2]) + translate[i];
 }
 
+void sb_path_pose(const sb_keyframe* path, uint32_t count, sb_interpolation interpolation, const double center[3],
+                  double t, double pose[12]) {
+    static const double identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    memcpy(pose, identity, sizeof identity);
+    if (count == 0 || !path) return;
+    double translate[3], rotate[3];
+    sb_path_at(path, count, interpolation, t, translate, rotate);
+    sb_pose_from(translate, rotate, center, pose);
+}
+
+void sb_collider_pose(const sb_collider* collider, double t, double pose[12]) {
+    const sb_collider_def* d = &collider->def;
+    double c[3];
+    sb_reference_point(d, c);
+    sb_path_pose(d->path, d->path_count, d->interpolation, c, t, pose);
+}
+
 /* y = pose(x) */
-static void sb_pose_apply(const double pose[12], const double x[3], double y[3]) {
+void sb_pose_apply(const double pose[12], const double x[3], double y[3]) {
     for (int i = 0; i < 3; i++)
         y[i] = pose[3 * i] * x[0] + pose[3 * i + 1] * x[1] + pose[3 * i + 2] * x[2] + pose[9 + i];
 }
@@ -484,13 +500,9 @@ bool sb_sweep_from_outside(bool entered, double lo, double hi, const double lo_n
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {
     /* a program's own collider moves itself; the solver moves a dynamic one */
     if (c->begin_step != sb_builtin_begin_step || c->dynamic) return;
-    double r[9], center[3];
-    sb_collider_rotation(rotate, r);
+    double center[3];
     sb_reference_point(&c->def, center);
-    memcpy(c->driven_pose, r, sizeof r);
-    for (int i = 0; i < 3; i++)
-        c->driven_pose[9 + i] =
-            center[i] - (r[3 * i] * center[0] + r[3 * i + 1] * center[1] + r[3 * i + 2] * center[2]) + translate[i];
+    sb_pose_from(translate, rotate, center, c->driven_pose);
     c->driven = true;
 }
 

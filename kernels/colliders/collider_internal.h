@@ -180,4 +180,20 @@ void sb_collider_rotation(const double degrees[3], double r[9]);
  * translation; identity when it has no path. */
 void sb_collider_pose(const sb_collider* collider, double t, double pose[12]);
 
+/* Keyframed poses, shared with the handles (kernels/handle.c). A pose is a
+ * rotation (row-major 3x3) then a translation: pose(x) = R (x − c) + c + T
+ * for the keyframe's rotate (degrees, R = Rz Ry Rx) and translate T about
+ * the reference point c. */
+void sb_pose_from(const double translate[3], const double rotate[3], const double center[3], double pose[12]);
+/* The pose of a path at time t (interpolated as above; the identity
+ * without keyframes). */
+void sb_path_pose(const sb_keyframe* path, uint32_t count, sb_interpolation interpolation, const double center[3],
+                  double t, double pose[12]);
+/* y = pose(x) */
+void sb_pose_apply(const double pose[12], const double x[3], double y[3]);
+/* The keyframes are in increasing, finite time with finite poses and the
+ * interpolation is known; `owner` ("collider 'name'") starts the message. */
+sb_status sb_path_check(const char* owner, const sb_keyframe* path, uint32_t count, sb_interpolation interpolation,
+                        sb_error* err);
+
 #endif

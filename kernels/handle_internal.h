@@ -1,0 +1,31 @@
+/* Private: the solver's side of the handles (kernels/handle.c). */
+#ifndef SB_HANDLE_INTERNAL_H
+#define SB_HANDLE_INTERNAL_H
+
+#include "softbond/handle.h"
+#include "softbond/solver.h"
+
+/* At solver creation: checks each handle's vertices against the model,
+ * attaches it, grabs its vertices at the rest shape and pins the held hard
+ * ones (the fused path's packed inverse masses; pbd's pinned_inv_mass). */
+sb_status sb_handles_prepare(sb_solver* solver, sb_error* err);
+void sb_handles_destroy(sb_solver* solver);
+/* The handles' poses for the step [t0, t0 + dt]. */
+void sb_handles_begin_step(sb_solver* solver, double t0, double dt);
+/* After a successful advance: the handles whose release_time has come let go. */
+void sb_handles_end_advance(sb_solver* solver);
+/* Every vertex a hard handle holds at its target with the target's
+ * velocity: in the packed working state (and its displacement, over dt),
+ * in the state's arrays (returns whether any vertex was placed), in pbd's
+ * predicted positions (3n doubles). One thread. */
+void sb_handles_place_packed(sb_solver* solver, double dt);
+bool sb_handles_place_state(sb_solver* solver);
+void sb_handles_place_predicted(sb_solver* solver, double* x);
+/* Adds the soft handles' forces at positions x and velocities v (3n
+ * interleaved doubles) to f and, when not NULL, to the kept external
+ * forces; only then are the handles' reported forces updated. */
+void sb_handles_forces(sb_solver* solver, const double* x, const double* v, double* f, double* external);
+/* The same on the packed working state (solver->external kept). */
+void sb_handles_forces_packed(sb_solver* solver);
+
+#endif
