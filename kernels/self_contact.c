@@ -149,12 +149,14 @@ sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
                                                  m->vertex_count)) != NULL;
     free(rest);
     ok = ok && sb_self_features(sc, m);
-    size_t packed = 4 * (size_t)m->vertex_count * sizeof(sb_real);
-    sc->from4 = malloc(packed);
+    /* packed arrays 64-byte aligned, as the fast kernels' loads of them want */
+    size_t packed = (4 * (size_t)m->vertex_count * sizeof(sb_real) / 64 + 1) * 64;
+    sc->from4 = aligned_alloc(64, packed);
     if (!sb_fused(s)) { /* the generic path's packed copies */
-        sc->x4 = calloc(1, packed);
-        sc->v4 = calloc(1, packed);
+        sc->x4 = aligned_alloc(64, packed);
+        sc->v4 = aligned_alloc(64, packed);
         ok = ok && sc->x4 && sc->v4;
+        if (ok) memset(sc->x4, 0, packed), memset(sc->v4, 0, packed);
     }
     sc->touched = calloc(m->vertex_count, 1);
     sc->touched_list = malloc(m->vertex_count * sizeof *sc->touched_list);
@@ -281,8 +283,8 @@ static void sb_leaf_boxes_of(const sb_self_search* q, const sb_bvh_node* leaf, s
     out->count = leaf->count;
     for (uint32_t k = 0; k < leaf->count; k++) {
         out->triangle[k] = bvh->order[leaf->first + k];
-        const uint32_t* v = bvh->leaf_v + 3 * (size_t)(leaf->first + k);
-        for (int c = 0; c < 3; c++) sb_swept_box(q, v + c, 1, q->sc->h, out->corner[k][c]);
+        for (int c = 0; c < 3; c++)
+            sb_swept_box(q, &bvh->corners.corner[c][leaf->first + k], 1, q->sc->h, out->corner[k][c]);
         for (int e = 0; e < 3; e++) sb_union(out->corner[k][e], out->corner[k][(e + 1) % 3], out->edge[k][e]);
         sb_union(out->edge[k][0], out->corner[k][2], out->box[k]);
     }

@@ -7,9 +7,10 @@
  * triangles), and only refitted per step: a leaf's box covers its
  * triangles at the start and at the end of the step (a straight move stays
  * inside), inflated by the search margin; a parent's box covers its
- * children's. Boxes are floats rounded outward. A leaf reads its
- * triangles' corners from a copy of their indices in leaf order, so the
- * refit streams through memory.
+ * children's. Boxes are floats rounded outward. The per-triangle part
+ * (corners' box, end normal) runs SB_WIDTH triangles at a time over a copy
+ * of their corner indices in leaf order (kernels/fast_triangle_bounds.c);
+ * each leaf then takes the extremes of its triangles'.
  *
  * Normal cones (Volino and Magnenat-Thalmann 1994, Provot 1997). A
  * connected patch whose normals all lie within 60 degrees of one direction
@@ -211,10 +212,16 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
     sb_sorting = NULL;
     free(b.centroids);
     bvh->node_count = b.next;
-    bvh->leaf_v = malloc(3 * (size_t)triangle_count * sizeof *bvh->leaf_v);
-    for (uint32_t k = 0; bvh->leaf_v && k < triangle_count; k++)
-        for (int c = 0; c < 3; c++) bvh->leaf_v[3 * (size_t)k + c] = tri_v[c][bvh->order[k]];
-    if (!bvh->leaf_v || !sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
+    bool ok = true;
+    size_t padded = (size_t)triangle_count + 16;
+    for (int c = 0; c < 3; c++) {
+        uint32_t* corner = bvh->corners.corner[c] = malloc(padded * sizeof *corner);
+        ok = ok && corner;
+        for (size_t k = 0; corner && k < padded; k++)
+            corner[k] = tri_v[c][bvh->order[k < triangle_count ? k : triangle_count - 1]];
+    }
+    for (int j = 0; j < 9; j++) ok = ok && (bvh->scratch.value[j] = malloc(padded * sizeof(sb_real))) != NULL;
+    if (!ok || !sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
         sb_triangle_bvh_destroy(bvh);
         return NULL;
     }
@@ -223,22 +230,11 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
 
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh) {
     if (!bvh) return;
-    free(bvh->order), free(bvh->leaf_v), free(bvh->nodes), free(bvh->bounds), free(bvh->flat), free(bvh->culled);
+    for (int c = 0; c < 3; c++) free(bvh->corners.corner[c]);
+    for (int j = 0; j < 9; j++) free(bvh->scratch.value[j]);
+    free(bvh->order), free(bvh->nodes), free(bvh->bounds), free(bvh->flat), free(bvh->culled);
     free(bvh->cut), free(bvh->top);
     free(bvh);
-}
-
-/* The unit normal (x y z) of the triangle with corners a, b, c (packed
- * positions); zero when degenerate. In float: it only bounds a cone. */
-static void sb_unit_normal(const sb_real* a, const sb_real* b, const sb_real* c, float n[3]) {
-    float u[3], v[3];
-    for (int k = 0; k < 3; k++) u[k] = (float)(b[k] - a[k]), v[k] = (float)(c[k] - a[k]);
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-    float length2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    float scale = length2 > 0.0f ? 1.0f / sqrtf(length2) : 0.0f;
-    for (int k = 0; k < 3; k++) n[k] *= scale;
 }
 
 /* Whether the normal box [lo, hi] lies within the cone of SB_FLAT_COSINE
@@ -260,36 +256,28 @@ static bool sb_normals_flat(const float normals[6]) {
 /* A float box corner moved outward past any rounding of the margin's sum. */
 static float sb_outward(float x, float margin, float sign) { return x + sign * (margin + fabsf(x) * 4e-7f); }
 
-static void sb_refit_leaf(sb_triangle_bvh* bvh, uint32_t i, const sb_real* from4, const sb_real* to4, double margin) {
+/* A leaf from its triangles' bounds (the scratch the subtree's pass filled). */
+static void sb_refit_leaf(sb_triangle_bvh* bvh, uint32_t i, double margin) {
     const sb_bvh_node* node = &bvh->nodes[i];
-    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
-    float nlo[3] = {2, 2, 2}, nhi[3] = {-2, -2, -2};
-    for (uint32_t k = node->first; k < node->first + node->count; k++) {
-        const uint32_t* v = bvh->leaf_v + 3 * (size_t)k;
-        const sb_real* ends[2][3];
-        for (int c = 0; c < 3; c++) ends[0][c] = from4 + 4 * (size_t)v[c], ends[1][c] = to4 + 4 * (size_t)v[c];
-        for (int e = 0; e < 2; e++)
-            for (int c = 0; c < 3; c++)
-                for (int a = 0; a < 3; a++) {
-                    float x = (float)ends[e][c][a];
-                    lo[a] = x < lo[a] ? x : lo[a];
-                    hi[a] = x > hi[a] ? x : hi[a];
-                }
-        float n[3];
-        sb_unit_normal(ends[1][0], ends[1][1], ends[1][2], n);
+    sb_real extreme[9];
+    for (int j = 0; j < 9; j++) extreme[j] = bvh->scratch.value[j][node->first];
+    sb_real normal_lo[3] = {extreme[6], extreme[7], extreme[8]};
+    for (uint32_t k = node->first + 1; k < node->first + node->count; k++)
         for (int a = 0; a < 3; a++) {
-            nlo[a] = n[a] < nlo[a] ? n[a] : nlo[a];
-            nhi[a] = n[a] > nhi[a] ? n[a] : nhi[a];
+            sb_real lo = bvh->scratch.value[a][k], hi = bvh->scratch.value[3 + a][k], n = bvh->scratch.value[6 + a][k];
+            extreme[a] = lo < extreme[a] ? lo : extreme[a];
+            extreme[3 + a] = hi > extreme[3 + a] ? hi : extreme[3 + a];
+            normal_lo[a] = n < normal_lo[a] ? n : normal_lo[a];
+            extreme[6 + a] = n > extreme[6 + a] ? n : extreme[6 + a];
         }
-    }
     sb_bvh_bounds* b = &bvh->bounds[i];
     for (int a = 0; a < 3; a++) {
-        /* (float)x of a double position rounds by at most half an ulp, which
+        /* float of a double position rounds by at most half an ulp, which
          * the outward step covers */
-        b->box[a] = sb_outward(lo[a], (float)margin, -1.0f);
-        b->box[3 + a] = sb_outward(hi[a], (float)margin, 1.0f);
-        b->normals[a] = nlo[a] - 1e-6f;
-        b->normals[3 + a] = nhi[a] + 1e-6f;
+        b->box[a] = sb_outward((float)extreme[a], (float)margin, -1.0f);
+        b->box[3 + a] = sb_outward((float)extreme[3 + a], (float)margin, 1.0f);
+        b->normals[a] = (float)normal_lo[a] - 1e-5f;
+        b->normals[3 + a] = (float)extreme[6 + a] + 1e-5f;
     }
     bvh->flat[i] = node->connected && sb_normals_flat(b->normals);
 }
@@ -308,9 +296,11 @@ static void sb_refit_inner(sb_triangle_bvh* bvh, uint32_t i) {
 
 void sb_triangle_bvh_refit_subtree(sb_triangle_bvh* bvh, uint32_t root, const sb_real* from4, const sb_real* to4,
                                    double margin) {
+    const sb_bvh_node* r = &bvh->nodes[root];
+    sb_fast_triangle_bounds(&bvh->corners, from4, to4, r->first, r->first + r->count, &bvh->scratch);
     for (uint32_t i = bvh->nodes[root].end; i-- > root;) {
         if (bvh->nodes[i].leaf)
-            sb_refit_leaf(bvh, i, from4, to4, margin);
+            sb_refit_leaf(bvh, i, margin);
         else
             sb_refit_inner(bvh, i);
     }

@@ -5,6 +5,7 @@
 #define SB_TRIANGLE_BVH_H
 
 #include "softbond/types.h"
+#include "kernels/fast_triangle_bounds.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -33,9 +34,10 @@ typedef struct sb_bvh_bounds {
 
 typedef struct sb_triangle_bvh {
     uint32_t triangle_count, node_count;
-    const uint32_t* tri_v[3]; /* the model's */
-    uint32_t* order;          /* triangle indices in leaf order */
-    uint32_t* leaf_v;         /* their corners, 3 per triangle, in the same order */
+    const uint32_t* tri_v[3];    /* the model's */
+    uint32_t* order;             /* triangle indices in leaf order */
+    sb_triangle_corners corners; /* their corners, in the same order (padded) */
+    sb_triangle_bounds scratch;  /* per triangle, in the same order: each refit's boxes and normals */
     sb_bvh_node* nodes;
     sb_bvh_bounds* bounds;
     /* Per node, refitted: flat = connected and its normals within a cone

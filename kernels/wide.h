@@ -51,6 +51,9 @@ static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_ps_ma
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v); }
 static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_ps(sb_w_lanes(count), v); }
+static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm512_min_ps(a, b); }
+static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return _mm512_max_ps(a, b); }
+static inline void sb_w_store(sb_real* p, sb_wide v) { _mm512_storeu_ps(p, v); }
 
 #elif defined(__AVX512F__) && SB_DOUBLE
 /* ---- AVX-512, double: 8 lanes ------------------------------------------ */
@@ -82,6 +85,9 @@ static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_pd_ma
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v); }
 static inline sb_wide sb_w_keep(sb_wide v, int count) { return _mm512_maskz_mov_pd(sb_w_lanes(count), v); }
+static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm512_min_pd(a, b); }
+static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return _mm512_max_pd(a, b); }
+static inline void sb_w_store(sb_real* p, sb_wide v) { _mm512_storeu_pd(p, v); }
 
 #elif defined(__AVX2__)
 /* ---- AVX2: 8 float or 4 double lanes; scatter is done lane by lane ----- */
@@ -100,6 +106,9 @@ static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_pd(a, b
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_pd(a); }
 static inline sb_wide sb_w_rsqrt(sb_wide a) { return _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(a)); }
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_NGE_UQ)); }
+static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm256_min_pd(a, b); }
+static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return _mm256_max_pd(a, b); }
+static inline void sb_w_store(sb_real* p, sb_wide v) { _mm256_storeu_pd(p, v); }
 #else
 #define SB_WIDTH 8
 typedef __m256 sb_wide;
@@ -120,6 +129,9 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
     return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), y), _mm256_sub_ps(_mm256_set1_ps(3.0f), t));
 }
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGE_UQ)); }
+static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm256_min_ps(a, b); }
+static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return _mm256_max_ps(a, b); }
+static inline void sb_w_store(sb_real* p, sb_wide v) { _mm256_storeu_ps(p, v); }
 #endif
 #define SB_SIMD_NAME "avx2"
 typedef int sb_wmask;
@@ -160,6 +172,9 @@ static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return !(a >= b); }
 static inline bool sb_w_any(sb_wmask m, int count) { return m && count; }
 static inline double sb_w_sum(sb_wide v, int count) { return count ? v : 0.0; }
 static inline sb_wide sb_w_keep(sb_wide v, int count) { return count ? v : 0; }
+static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return a < b ? a : b; }
+static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return a > b ? a : b; }
+static inline void sb_w_store(sb_real* p, sb_wide v) { *p = v; }
 #endif
 
 /* A 3-vector of wide reals: one lane per element. */

@@ -5,6 +5,7 @@
 #include "test_util.h"
 
 #include "kernels/proximity.h"
+#include "kernels/triangle_bvh.h"
 
 /* ---- geometry --------------------------------------------------------------- */
 
@@ -130,6 +131,85 @@ static void test_edge_edge_crossing(void** state) {
     /* shifted past the end of the second edge: it passes beside it */
     for (int k = 0; k < 2; k++) q.x0[k].y = q.x1[k].y = 1.5;
     assert_false(sb_edge_edge_crossing(&q, 1e-6, &t, &s, &u));
+}
+
+/* ---- the hierarchy's refit --------------------------------------------------- */
+
+/* Refits the whole hierarchy as the pass does (the cut, then the top). */
+static void refit_all(sb_triangle_bvh* bvh, const sb_real* from4, const sb_real* to4, double margin) {
+    for (uint32_t k = 0; k < bvh->cut_count; k++) sb_triangle_bvh_refit_subtree(bvh, bvh->cut[k], from4, to4, margin);
+    sb_triangle_bvh_refit_top(bvh);
+}
+
+/* Every leaf's box holds its triangles' corners at both ends grown by the
+ * margin, its normal box holds their unit normals at the end (computed
+ * here in double), every parent's boxes hold its children's; a flat sheet
+ * is flat at the root, the same sheet folded in half is not. */
+static void test_refit_bounds_every_triangle(void** state) {
+    (void)state;
+    sb_sheet_def def = sb_default_sheet_def();
+    def.nx = def.ny = 23;
+    def.jitter = 0.3;
+    sb_mesh mesh = {0};
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&def, &mesh, &err), SB_OK);
+    uint32_t n = mesh.vertex_count, t = mesh.triangle_count;
+    uint32_t* corners[3];
+    for (int c = 0; c < 3; c++) {
+        corners[c] = malloc(t * sizeof(uint32_t));
+        for (uint32_t k = 0; k < t; k++) corners[c][k] = mesh.triangles[3 * k + c];
+    }
+    sb_triangle_bvh* bvh = sb_triangle_bvh_create(t, (const uint32_t* const*)corners, mesh.positions, n);
+    assert_non_null(bvh);
+    sb_real *from4 = aligned_alloc(64, 4 * 64 * ((n + 63) / 64) * sizeof(sb_real)),
+            *to4 = aligned_alloc(64, 4 * 64 * ((n + 63) / 64) * sizeof(sb_real));
+    tu_rng r = {7};
+    const double margin = 0.01;
+    for (int fold = 0; fold < 2; fold++) {
+        for (uint32_t i = 0; i < n; i++) {
+            double x = mesh.positions[3 * i], y = mesh.positions[3 * i + 1];
+            if (fold && x > 0.5) x = 1.0 - x; /* folded over x = 0.5, the right half lifted by 2 cm */
+            for (int a = 0; a < 3; a++) from4[4 * i + a] = (sb_real)mesh.positions[3 * i + a];
+            to4[4 * i] = (sb_real)(x + (fold ? 0.0 : tu_uniform(&r, -1e-3, 1e-3)));
+            to4[4 * i + 1] = (sb_real)y;
+            to4[4 * i + 2] = (sb_real)(fold && mesh.positions[3 * i] > 0.5 ? 0.02 : tu_uniform(&r, -1e-3, 1e-3));
+            from4[4 * i + 3] = to4[4 * i + 3] = 0;
+        }
+        refit_all(bvh, from4, to4, margin);
+        for (uint32_t i = 0; i < bvh->node_count; i++) {
+            const sb_bvh_node* node = &bvh->nodes[i];
+            const float *box = bvh->bounds[i].box, *normals = bvh->bounds[i].normals;
+            for (uint32_t k = node->first; k < node->first + node->count; k++) {
+                uint32_t tri = bvh->order[k];
+                double p[3][3];
+                for (int c = 0; c < 3; c++)
+                    for (int a = 0; a < 3; a++) {
+                        uint32_t v = corners[c][tri];
+                        TU_ASSERT_LE(box[a], (double)from4[4 * v + a] - margin * 0.999);
+                        TU_ASSERT_LE(box[a], (double)to4[4 * v + a] - margin * 0.999);
+                        TU_ASSERT_LE((double)from4[4 * v + a] + margin * 0.999, box[3 + a]);
+                        TU_ASSERT_LE((double)to4[4 * v + a] + margin * 0.999, box[3 + a]);
+                        p[c][a] = to4[4 * v + a];
+                    }
+                double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+                double w[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]}, normal[3];
+                tu_cross(u, w, normal);
+                double length = tu_norm(normal);
+                for (int a = 0; a < 3; a++) {
+                    TU_ASSERT_LE(normals[a], normal[a] / length);
+                    TU_ASSERT_LE(normal[a] / length, normals[3 + a]);
+                }
+            }
+        }
+        if (fold)
+            assert_false(bvh->flat[0]);
+        else
+            assert_true(bvh->flat[0] && bvh->culled[0]);
+    }
+    free(from4), free(to4);
+    for (int c = 0; c < 3; c++) free(corners[c]);
+    sb_triangle_bvh_destroy(bvh);
+    sb_mesh_free(&mesh);
 }
 
 /* ---- an exact triangle-triangle test ----------------------------------------- */
@@ -369,6 +449,7 @@ int main(void) {
         cmocka_unit_test(test_cubic_sign_changes),
         cmocka_unit_test(test_vertex_triangle_crossing),
         cmocka_unit_test(test_edge_edge_crossing),
+        cmocka_unit_test(test_refit_bounds_every_triangle),
         cmocka_unit_test(test_folding_strip_never_intersects),
         cmocka_unit_test(test_thrown_sheet_does_not_pass_a_sheet),
         cmocka_unit_test(test_self_contact_needs_a_thickness),
