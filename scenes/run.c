@@ -1,5 +1,7 @@
 /* `softbond run SCENE.yaml`: advances the scene's model with a fixed dt
- * until its duration, writing frame k at step round(k frame_interval / dt)
+ * until its duration or a stop condition (stop.c: the kinetic energy below
+ * stop.kinetic_energy, the watchdog stop.max_time; a last frame at the stop,
+ * and a line saying which ended the run), writing frame k at step round(k frame_interval / dt)
  * for k = 0 .. floor(duration / frame_interval): a file each in every
  * format of output.formats (unless output.frames is false; frame_export.c),
  * frames.pvd listing the .vtu frames, and a row of log.csv (with the
@@ -16,6 +18,7 @@
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
 #include "scenes/scene_model.h"
+#include "scenes/stop.h"
 #include "scenes/vtk.h"
 
 #include <math.h>
@@ -57,6 +60,7 @@ typedef struct run_job {
     sb_output_dir out;
     sb_energy_log log;
     sb_step_work work;    /* the solver's work since the last frame */
+    sb_stop stop;         /* the stop conditions, and which ended the run */
     double index_written; /* when frames.pvd was last rewritten (now()) */
     sb_frame_export_def export;
     double* buffers; /* positions, velocities, forces: 3n each */
@@ -206,6 +210,7 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
         sb_step_stats stats = sb_solver_last_step(job->solver);
         sb_step_work_add(&job->work, &stats);
         sb_progress_update(progress, sb_solver_step_count(job->solver));
+        if (sb_stop_after_step(&job->stop, sb_solver_time(job->solver), sb_solver_energies(job->solver).kinetic)) break;
     }
     return SB_EXIT_OK;
 }
@@ -213,16 +218,24 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
 static int simulate(run_job* job, sb_error* err) {
     double dt = sb_scene_number(&job->scene, SB_KEY_DT);
     double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
-    double duration = sb_scene_number(&job->scene, SB_KEY_DURATION);
-    uint64_t frames = (uint64_t)floor(duration / interval + 1e-9) + 1;
-    uint64_t steps = (uint64_t)ceil(duration / dt - 1e-9);
+    job->stop = sb_stop_from_scene(&job->scene);
+    double end = sb_stop_end(&job->stop);
+    uint64_t frames = (uint64_t)floor(end / interval + 1e-9) + 1;
+    uint64_t steps = (uint64_t)ceil(end / dt - 1e-9);
     sb_progress progress = sb_progress_start(steps, dt);
     int code = SB_EXIT_OK;
-    for (uint64_t k = 0; k < frames && code == SB_EXIT_OK; k++) {
+    bool stopped = false; /* a stop condition fired: its frame is the last */
+    for (uint64_t k = 0; k < frames && code == SB_EXIT_OK && !stopped; k++) {
         code = advance_to(job, (uint64_t)llround((double)k * interval / dt), &progress, err);
+        stopped = job->stop.reason != SB_STOP_RUNNING;
         if (code == SB_EXIT_OK) code = record_frame(job, err);
     }
-    if (code == SB_EXIT_OK) code = advance_to(job, steps, &progress, err);
+    if (code == SB_EXIT_OK && !stopped) {
+        code = advance_to(job, steps, &progress, err);
+        if (code == SB_EXIT_OK && job->stop.reason != SB_STOP_RUNNING) code = record_frame(job, err);
+    }
+    if (code == SB_EXIT_OK && job->stop.reason == SB_STOP_RUNNING)
+        sb_stop_at_end(&job->stop, sb_solver_time(job->solver), sb_solver_energies(job->solver).kinetic);
     sb_progress_end(&progress);
     return code;
 }
@@ -257,6 +270,7 @@ static int execute(run_job* job, sb_error* err) {
         *err = index_err;
         return SB_EXIT_FAILURE;
     }
+    sb_stop_print(&job->stop, stdout);
     report(job, frames, now() - start);
     return SB_EXIT_OK;
 }

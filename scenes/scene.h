@@ -120,6 +120,11 @@ typedef enum sb_scene_type {
     X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
+    X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \
+      "J: stop when the total kinetic energy falls below it (not before stop.min_time); 0 = never")                    \
+    X(STOP_MIN_TIME, "stop.min_time", NUMBER, "0", "s: no kinetic-energy stop before this time")                      \
+    X(STOP_MAX_TIME, "stop.max_time", NUMBER, "0",                                                                     \
+      "s: the watchdog, the run ends here at the latest; 0 = the duration")                                           \
     X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "simulated time between frames, s (>= dt)")                    \
     X(THREADS, "threads", INTEGER, "0", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")               \
     X(WAIT, "wait", STRING, "passive",                                                                                 \

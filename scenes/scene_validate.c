@@ -56,6 +56,9 @@ static const number_rule number_rules[] = {
     {SB_KEY_TISSUE_DAMPING, false},
     {SB_KEY_MESH_TARGET_ERROR, false},
     {SB_KEY_CONTACT_THICKNESS, false},
+    {SB_KEY_STOP_KINETIC_ENERGY, false},
+    {SB_KEY_STOP_MIN_TIME, false},
+    {SB_KEY_STOP_MAX_TIME, false},
 };
 
 typedef struct integer_rule {
