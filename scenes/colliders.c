@@ -9,11 +9,9 @@
  * sb_collider_create still refuses gets the entry's place in front. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/colliders.h"
-#include "scenes/suggest.h"
 #include "common/error.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -109,161 +107,10 @@ static const unsigned key_required[KEY_COUNT] = {
     [KEY_FILE] = MESH,
 };
 
-enum { FRAME_TIME, FRAME_TRANSLATE, FRAME_ROTATE, FRAME_COUNT };
-static const char* const frame_keys[FRAME_COUNT] = {"time", "translate", "rotate"};
-
-/* What reading one map needs: the tree (for places), the map's own name
- * ("colliders[2]", "colliders[2].path[0]") and, once indexed, the value
- * and key node of each known key (NULL when not written). */
-typedef struct map_reader {
-    const sb_scene_tree* tree;
-    const char* base_dir; /* where a relative `file` is; NULL: the current directory */
-    const sb_scene_node* map;
-    char prefix[96];
-    const sb_scene_node* values[KEY_COUNT];
-    const sb_scene_node* keys[KEY_COUNT];
-    sb_error* err;
-} map_reader;
-
-static sb_status fail(const map_reader* r, const sb_scene_node* node, const char* format, ...)
-    __attribute__((format(printf, 3, 4)));
-static sb_status fail(const map_reader* r, const sb_scene_node* node, const char* format, ...) {
-    char message[sizeof r->err->message];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(message, sizeof message, format, args);
-    va_end(args);
-    return sb_scene_node_fail(r->tree, node, r->err, "%s", message);
-}
-
-/* "colliders[2].radius" */
-static const char* full_name(const map_reader* r, const char* key, char* out, size_t size) {
-    snprintf(out, size, "%s.%s", r->prefix, key);
-    return out;
-}
-
-/* ---- maps: known keys, each once ------------------------------------------- */
-
-static sb_status unknown_key(const map_reader* r, const sb_scene_node* key, const char* const* names, int count) {
-    char name[128], near_name[128];
-    full_name(r, key->text, name, sizeof name);
-    const char* near = sb_suggest(key->text, names, (size_t)count);
-    if (!near) return fail(r, key, "unknown key '%s'", name);
-    return fail(r, key, "unknown key '%s' (did you mean '%s'?)", name, full_name(r, near, near_name, sizeof near_name));
-}
-
-static sb_status index_map(map_reader* r, const char* const* names, int count) {
-    for (size_t p = 0; p < r->map->count; p++) {
-        const sb_scene_node* key = &r->map->keys[p];
-        int k = 0;
-        while (k < count && strcmp(names[k], key->text) != 0) k++;
-        char name[128];
-        full_name(r, key->text, name, sizeof name);
-        if (k == count) return unknown_key(r, key, names, count);
-        if (r->keys[k] && r->keys[k]->line)
-            return fail(r, key, "duplicate key '%s' (first set at line %zu)", name, r->keys[k]->line);
-        if (r->keys[k]) return fail(r, key, "duplicate key '%s'", name);
-        r->keys[k] = key;
-        r->values[k] = &r->map->items[p];
-    }
-    return SB_OK;
-}
-
-static sb_status expect_map(const map_reader* r, const sb_scene_node* node, const char* what) {
-    if (node->kind == SB_NODE_MAP) return SB_OK;
-    char got[100];
-    sb_scene_node_describe(node, got, sizeof got);
-    return fail(r, node, "'%s' expects %s, got %s", r->prefix, what, got);
-}
-
-/* ---- values ---------------------------------------------------------------- */
-
-static sb_status type_fail(const map_reader* r, const sb_scene_node* node, const char* name, const char* expected) {
-    char got[100];
-    sb_scene_node_describe(node, got, sizeof got);
-    return fail(r, node, "'%s' expects %s, got %s", name, expected, got);
-}
-
-static sb_status read_number(const map_reader* r, int key, double* out) {
-    char name[128];
-    full_name(r, entry_keys[key], name, sizeof name);
-    const sb_scene_node* node = r->values[key];
-    if (!sb_scene_node_number(node, out)) return type_fail(r, node, name, "a number");
-    if (!isfinite(*out)) return fail(r, node, "'%s' must be finite, got %g", name, *out);
-    return SB_OK;
-}
-
-/* key's value >= 0 (> 0 when positive), at most `max`. */
-static sb_status read_range(const map_reader* r, int key, bool positive, double max, double* out) {
-    sb_status status = read_number(r, key, out);
-    if (status != SB_OK) return status;
-    char name[128];
-    full_name(r, entry_keys[key], name, sizeof name);
-    if (max < INFINITY && (*out < 0.0 || *out > max))
-        return fail(r, r->values[key], "'%s' must be in [0, %g], got %g", name, max, *out);
-    if (positive ? *out <= 0.0 : *out < 0.0)
-        return fail(r, r->values[key], "'%s' must be %s 0, got %g", name, positive ? ">" : ">=", *out);
-    return SB_OK;
-}
-
-static sb_status read_vec3(const map_reader* r, const sb_scene_node* node, const char* key, double out[3]) {
-    char name[128];
-    full_name(r, key, name, sizeof name);
-    if (node->kind != SB_NODE_SEQUENCE || node->count != 3) return type_fail(r, node, name, "a sequence of 3 numbers");
-    for (int k = 0; k < 3; k++)
-        if (!sb_scene_node_number(&node->items[k], &out[k])) return type_fail(r, &node->items[k], name, "a number");
-    if (!isfinite(out[0]) || !isfinite(out[1]) || !isfinite(out[2])) return fail(r, node, "'%s' must be finite", name);
-    return SB_OK;
-}
-
-static sb_status read_text(const map_reader* r, int key, const char** out) {
-    const sb_scene_node* node = r->values[key];
-    char name[128];
-    if (node->kind != SB_NODE_SCALAR)
-        return type_fail(r, node, full_name(r, entry_keys[key], name, sizeof name), "a string");
-    *out = node->text;
-    return SB_OK;
-}
-
-/* ---- the path ---------------------------------------------------------------- */
-
-static sb_status read_keyframe(const map_reader* entry, const sb_scene_node* node, size_t j, sb_keyframe* out) {
-    map_reader r = {.tree = entry->tree, .map = node, .err = entry->err};
-    snprintf(r.prefix, sizeof r.prefix, "%.40s.path[%zu]", entry->prefix, j);
-    sb_status status = expect_map(&r, node, "a map {time, translate, rotate}");
-    if (status == SB_OK) status = index_map(&r, frame_keys, FRAME_COUNT);
-    if (status != SB_OK) return status;
-    char name[128];
-    full_name(&r, "time", name, sizeof name);
-    if (!r.values[FRAME_TIME]) return fail(&r, node, "'%s' is not set", name);
-    if (!sb_scene_node_number(r.values[FRAME_TIME], &out->time))
-        return type_fail(&r, r.values[FRAME_TIME], name, "a number");
-    if (!isfinite(out->time)) return fail(&r, r.values[FRAME_TIME], "'%s' must be finite, got %g", name, out->time);
-    if (j > 0 && !(out->time > out[-1].time))
-        return fail(&r, r.values[FRAME_TIME], "'%s' (%g) must be > the time before it (%g)", name, out->time,
-                    out[-1].time);
-    if (r.values[FRAME_TRANSLATE]) status = read_vec3(&r, r.values[FRAME_TRANSLATE], "translate", out->translate);
-    if (status == SB_OK && r.values[FRAME_ROTATE])
-        status = read_vec3(&r, r.values[FRAME_ROTATE], "rotate", out->rotate);
-    return status;
-}
-
-static sb_status read_path(const map_reader* r, sb_scene_collider* out) {
-    const sb_scene_node* path = r->values[KEY_PATH];
-    char name[128];
-    full_name(r, "path", name, sizeof name);
-    if (path->kind != SB_NODE_SEQUENCE)
-        return type_fail(r, path, name, "a sequence of keyframes {time, translate, rotate}");
-    if (path->count > UINT32_MAX) return fail(r, path, "'%s': too many keyframes", name);
-    if (!(out->path = calloc(path->count ? path->count : 1, sizeof *out->path)))
-        return sb_error_set(r->err, SB_ERR_NOMEM, "out of memory");
-    for (size_t j = 0; j < path->count; j++) {
-        sb_status status = read_keyframe(r, &path->items[j], j, &out->path[j]);
-        if (status != SB_OK) return status;
-    }
+static sb_status read_path(const sb_map_reader* r, sb_scene_collider* out) {
+    sb_status status = sb_map_read_path(r, KEY_PATH, &out->path, &out->def.path_count);
     out->def.path = out->path;
-    out->def.path_count = (uint32_t)path->count;
-    return SB_OK;
+    return status;
 }
 
 /* ---- an entry ------------------------------------------------------------------ */
@@ -288,20 +135,22 @@ static void shape_keys(sb_collider_shape shape, const unsigned* table, const cha
     }
 }
 
-static sb_status read_shape(const map_reader* r, sb_collider_shape* shape) {
+static sb_status read_shape(const sb_map_reader* r, sb_collider_shape* shape) {
     char name[128];
-    full_name(r, "type", name, sizeof name);
-    if (!r->values[KEY_TYPE]) return fail(r, r->map, "'%s' is not set (plane, sphere, capsule, box or mesh)", name);
+    sb_map_full_name(r, "type", name, sizeof name);
+    if (!r->values[KEY_TYPE])
+        return sb_map_fail(r, r->map, "'%s' is not set (plane, sphere, capsule, box or mesh)", name);
     const char* type = "";
-    sb_status status = read_text(r, KEY_TYPE, &type);
+    sb_status status = sb_map_read_text(r, KEY_TYPE, &type);
     if (status != SB_OK) return status;
     if (!sb_collider_shape_from_name(type, shape))
-        return fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'", name, type);
+        return sb_map_fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'", name,
+                           type);
     return SB_OK;
 }
 
 /* No key of another shape; every key the shape needs. */
-static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) {
+static sb_status check_shape_keys(const sb_map_reader* r, sb_collider_shape shape) {
     const char* kind = sb_collider_shape_name(shape);
     char name[128], keys[128];
     for (size_t p = 0; p < r->map->count; p++) {
@@ -309,21 +158,22 @@ static sb_status check_shape_keys(const map_reader* r, sb_collider_shape shape) 
         while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
         if (key_shapes[k] & (1u << shape)) continue;
         if (motion_key(k)) /* only a sphere or box can be dynamic: to any other shape the key is unknown */
-            return fail(r, &r->map->keys[p], "unknown key '%s'", full_name(r, entry_keys[k], name, sizeof name));
+            return sb_map_fail(r, &r->map->keys[p], "unknown key '%s'",
+                               sb_map_full_name(r, entry_keys[k], name, sizeof name));
         shape_keys(shape, key_shapes, ", ", keys, sizeof keys);
-        return fail(r, &r->map->keys[p], "'%s' does not apply to a %s (its shape's keys: %s)",
-                    full_name(r, entry_keys[k], name, sizeof name), kind, keys);
+        return sb_map_fail(r, &r->map->keys[p], "'%s' does not apply to a %s (its shape's keys: %s)",
+                           sb_map_full_name(r, entry_keys[k], name, sizeof name), kind, keys);
     }
     for (int k = 0; k < KEY_COUNT; k++) {
         if (!(key_required[k] & (1u << shape)) || r->values[k]) continue;
         shape_keys(shape, key_required, " and ", keys, sizeof keys);
-        return fail(r, r->map, "'%s' is not set (a %s needs %s)", full_name(r, entry_keys[k], name, sizeof name), kind,
-                    keys);
+        return sb_map_fail(r, r->map, "'%s' is not set (a %s needs %s)",
+                           sb_map_full_name(r, entry_keys[k], name, sizeof name), kind, keys);
     }
     return SB_OK;
 }
 
-static sb_status read_vector_key(const map_reader* r, int key, sb_scene_collider* out) {
+static sb_status read_vector_key(const sb_map_reader* r, int key, sb_scene_collider* out) {
     sb_collider_def* def = &out->def;
     double* targets[KEY_COUNT] = {[KEY_POINT] = def->point,
                                   [KEY_NORMAL] = def->normal,
@@ -336,57 +186,45 @@ static sb_status read_vector_key(const map_reader* r, int key, sb_scene_collider
                                   [KEY_VELOCITY] = def->velocity,
                                   [KEY_ANGULAR_VELOCITY] = def->angular_velocity};
     double* v = targets[key];
-    sb_status status = read_vec3(r, r->values[key], entry_keys[key], v);
+    sb_status status = sb_map_read_vec3(r, r->values[key], entry_keys[key], v);
     if (status != SB_OK) return status;
     char name[128];
-    full_name(r, entry_keys[key], name, sizeof name);
+    sb_map_full_name(r, entry_keys[key], name, sizeof name);
     if (key == KEY_NORMAL && v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0)
-        return fail(r, r->values[key], "'%s' must not be [0, 0, 0]", name);
+        return sb_map_fail(r, r->values[key], "'%s' must not be [0, 0, 0]", name);
     if (key == KEY_HALF_EXTENTS && !(v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0))
-        return fail(r, r->values[key], "'%s' must be > 0, got [%g, %g, %g]", name, v[0], v[1], v[2]);
+        return sb_map_fail(r, r->values[key], "'%s' must be > 0, got [%g, %g, %g]", name, v[0], v[1], v[2]);
     return SB_OK;
 }
 
-static sb_status read_interpolation(const map_reader* r, sb_collider_def* def) {
-    const char* text = "";
-    sb_status status = read_text(r, KEY_INTERPOLATION, &text);
-    if (status != SB_OK) return status;
-    if (strcmp(text, "linear") == 0 || strcmp(text, "smooth") == 0) {
-        def->interpolation = text[0] == 'l' ? SB_INTERPOLATION_LINEAR : SB_INTERPOLATION_SMOOTH;
-        return SB_OK;
-    }
-    char name[128];
-    return fail(r, r->values[KEY_INTERPOLATION], "'%s' must be linear or smooth, got '%s'",
-                full_name(r, "interpolation", name, sizeof name), text);
-}
-
 /* A mesh's scale: one number or three, none of them 0 (sb_mesh_transform's rule). */
-static sb_status read_scale(const map_reader* r, sb_scene_collider* out) {
+static sb_status read_scale(const sb_map_reader* r, sb_scene_collider* out) {
     const sb_scene_node* node = r->values[KEY_SCALE];
     double* scale = out->placement.scale;
     char name[128];
-    full_name(r, "scale", name, sizeof name);
+    sb_map_full_name(r, "scale", name, sizeof name);
     if (node->kind == SB_NODE_SCALAR) {
-        if (!sb_scene_node_number(node, &scale[0])) return type_fail(r, node, name, "a number or 3 numbers");
+        if (!sb_scene_node_number(node, &scale[0])) return sb_map_type_fail(r, node, name, "a number or 3 numbers");
         scale[1] = scale[2] = scale[0];
     } else {
-        sb_status status = read_vec3(r, node, "scale", scale);
+        sb_status status = sb_map_read_vec3(r, node, "scale", scale);
         if (status != SB_OK) return status;
     }
     if (!(isfinite(scale[0]) && isfinite(scale[1]) && isfinite(scale[2])) || scale[0] == 0.0 || scale[1] == 0.0 ||
         scale[2] == 0.0)
-        return fail(r, node, "'%s' must be finite and not 0, got [%g, %g, %g]", name, scale[0], scale[1], scale[2]);
+        return sb_map_fail(r, node, "'%s' must be finite and not 0, got [%g, %g, %g]", name, scale[0], scale[1],
+                           scale[2]);
     return SB_OK;
 }
 
 /* A mesh collider's file (relative to the scene file's directory), read
  * with the program's mesh loader and placed by scale, rotate and
  * translate (as mesh.scale, mesh.rotate, mesh.translate place the body). */
-static sb_status load_mesh(const map_reader* r, sb_scene_collider* out) {
+static sb_status load_mesh(const sb_map_reader* r, sb_scene_collider* out) {
     const sb_scene_node* node = r->values[KEY_FILE];
     const char* file = node->text;
     char name[128], *path = NULL;
-    full_name(r, "file", name, sizeof name);
+    sb_map_full_name(r, "file", name, sizeof name);
     size_t size = strlen(file) + (r->base_dir ? strlen(r->base_dir) + 2 : 1);
     if (!(path = malloc(size))) return sb_error_set(r->err, SB_ERR_NOMEM, "out of memory");
     if (file[0] == '/' || !r->base_dir)
@@ -399,32 +237,32 @@ static sb_status load_mesh(const map_reader* r, sb_scene_collider* out) {
         status = sb_error_set(&cause, SB_ERR_INVALID, "%s has no triangles", path);
     if (status == SB_OK) status = sb_mesh_transform(&out->mesh, &out->placement, &cause);
     free(path);
-    if (status != SB_OK) return fail(r, node, "'%s': %s", name, cause.message);
+    if (status != SB_OK) return sb_map_fail(r, node, "'%s': %s", name, cause.message);
     out->def.mesh = &out->mesh;
     return SB_OK;
 }
 
-static sb_status read_value(const map_reader* r, int key, sb_scene_collider* out) {
+static sb_status read_value(const sb_map_reader* r, int key, sb_scene_collider* out) {
     sb_collider_def* def = &out->def;
     const char* ignored;
     switch ((entry_key)key) {
     case KEY_TYPE: return SB_OK;
-    case KEY_NAME: return read_text(r, KEY_NAME, &ignored); /* checked with the other names */
-    case KEY_RADIUS: return read_range(r, key, true, INFINITY, &def->radius);
-    case KEY_FRICTION: return read_range(r, key, false, INFINITY, &def->friction);
-    case KEY_STATIC_FRICTION: return read_range(r, key, false, INFINITY, &def->static_friction);
-    case KEY_RESTITUTION: return read_range(r, key, false, 1.0, &def->restitution);
-    case KEY_THICKNESS: return read_range(r, key, false, INFINITY, &def->thickness);
-    case KEY_MASS: return read_range(r, key, false, INFINITY, &def->mass);
+    case KEY_NAME: return sb_map_read_text(r, KEY_NAME, &ignored); /* checked with the other names */
+    case KEY_RADIUS: return sb_map_read_range(r, key, true, INFINITY, &def->radius);
+    case KEY_FRICTION: return sb_map_read_range(r, key, false, INFINITY, &def->friction);
+    case KEY_STATIC_FRICTION: return sb_map_read_range(r, key, false, INFINITY, &def->static_friction);
+    case KEY_RESTITUTION: return sb_map_read_range(r, key, false, 1.0, &def->restitution);
+    case KEY_THICKNESS: return sb_map_read_range(r, key, false, INFINITY, &def->thickness);
+    case KEY_MASS: return sb_map_read_range(r, key, false, INFINITY, &def->mass);
     case KEY_PATH: return read_path(r, out);
-    case KEY_INTERPOLATION: return read_interpolation(r, def);
-    case KEY_FILE: return read_text(r, KEY_FILE, &ignored); /* loaded once the placement is known */
+    case KEY_INTERPOLATION: return sb_map_read_interpolation(r, key, &def->interpolation);
+    case KEY_FILE: return sb_map_read_text(r, KEY_FILE, &ignored); /* loaded once the placement is known */
     case KEY_SCALE: return read_scale(r, out);
     default: return read_vector_key(r, key, out);
     }
 }
 
-static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
+static sb_status read_values(const sb_map_reader* r, sb_scene_collider* out) {
     for (size_t p = 0; p < r->map->count; p++) {
         int k = 0;
         while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
@@ -434,25 +272,27 @@ static sb_status read_values(const map_reader* r, sb_scene_collider* out) {
     sb_collider_def* def = &out->def;
     char name[128];
     if (def->mass > 0.0 && r->values[KEY_PATH])
-        return fail(r, r->keys[KEY_PATH], "'%s': a dynamic collider (mass %g) cannot have a path",
-                    full_name(r, "path", name, sizeof name), def->mass);
+        return sb_map_fail(r, r->keys[KEY_PATH], "'%s': a dynamic collider (mass %g) cannot have a path",
+                           sb_map_full_name(r, "path", name, sizeof name), def->mass);
     for (int k = KEY_VELOCITY; k <= KEY_ANGULAR_VELOCITY; k++) /* only a dynamic collider has them */
         if (r->values[k] && !(def->mass > 0.0))
-            return fail(r, r->keys[k], "unknown key '%s'", full_name(r, entry_keys[k], name, sizeof name));
+            return sb_map_fail(r, r->keys[k], "unknown key '%s'",
+                               sb_map_full_name(r, entry_keys[k], name, sizeof name));
     if (!r->values[KEY_STATIC_FRICTION]) def->static_friction = def->friction;
     if (def->static_friction < def->friction)
-        return fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
-                    full_name(r, "static_friction", name, sizeof name), def->static_friction, def->friction);
+        return sb_map_fail(r, r->values[KEY_STATIC_FRICTION], "'%s' (%g) must be >= 'friction' (%g)",
+                           sb_map_full_name(r, "static_friction", name, sizeof name), def->static_friction,
+                           def->friction);
     return def->shape == SB_COLLIDER_MESH ? load_mesh(r, out) : SB_OK;
 }
 
 static sb_status read_entry(const sb_scene_tree* tree, const char* base_dir, uint32_t index, sb_scene_collider* out,
                             const sb_scene_node** name_node, sb_error* err) {
     const sb_scene_node* node = &tree->root.items[index];
-    map_reader r = {.tree = tree, .base_dir = base_dir, .map = node, .err = err};
+    sb_map_reader r = {.tree = tree, .base_dir = base_dir, .map = node, .err = err};
     snprintf(r.prefix, sizeof r.prefix, "colliders[%u]", index);
-    sb_status status = expect_map(&r, node, "a map");
-    if (status == SB_OK) status = index_map(&r, entry_keys, KEY_COUNT);
+    sb_status status = sb_map_expect_map(&r, node, "a map");
+    if (status == SB_OK) status = sb_map_index(&r, entry_keys, KEY_COUNT);
     sb_collider_shape shape = SB_COLLIDER_PLANE;
     if (status == SB_OK) status = read_shape(&r, &shape);
     if (status == SB_OK) status = check_shape_keys(&r, shape);
@@ -470,16 +310,6 @@ static sb_status read_entry(const sb_scene_tree* tree, const char* base_dir, uin
 
 /* ---- names ----------------------------------------------------------------------- */
 
-static bool good_name(const char* name) {
-    size_t length = strlen(name);
-    if (length == 0 || length > SB_SCENE_COLLIDER_NAME_MAX) return false;
-    for (const char* c = name; *c; c++)
-        if (!(('a' <= *c && *c <= 'z') || ('A' <= *c && *c <= 'Z') || ('0' <= *c && *c <= '9') || *c == '_' ||
-              *c == '-' || *c == '.'))
-            return false;
-    return true;
-}
-
 /* Each entry's name (written, or its type and index), checked and unique:
  * names head columns of log.csv. */
 static sb_status set_names(const sb_scene_tree* tree, sb_scene_colliders* c, const sb_scene_node* const* name_nodes,
@@ -487,7 +317,7 @@ static sb_status set_names(const sb_scene_tree* tree, sb_scene_colliders* c, con
     for (uint32_t i = 0; i < c->count; i++) {
         sb_scene_collider* e = &c->entries[i];
         const sb_scene_node* named = name_nodes[i];
-        if (named && !good_name(named->text))
+        if (named && !sb_scene_good_name(named->text))
             return sb_scene_node_fail(tree, named, err,
                                       "'colliders[%u].name' must be 1 to %d letters, digits, '_', '-' or '.', got "
                                       "'%.80s'",

@@ -33,10 +33,11 @@
 #ifndef SB_SCENE_COLLIDERS_H
 #define SB_SCENE_COLLIDERS_H
 
+#include "scenes/map_reader.h"
 #include "scenes/scene.h"
 
 /* The longest collider name, without its terminating zero. */
-#define SB_SCENE_COLLIDER_NAME_MAX 63
+#define SB_SCENE_COLLIDER_NAME_MAX SB_SCENE_NAME_MAX
 
 typedef struct sb_scene_collider {
     sb_collider_def def; /* def.name and def.path point into this entry */
