@@ -28,20 +28,23 @@
  *
  * The queries, each a walk of the tree with a stack:
  *   nearest   the nearest triangle to a point (children nearest first;
- *             a node farther than the best so far is skipped). Inside or
- *             outside a closed mesh is the sign of (x − q)·N, q the
- *             nearest point and N the angle-weighted pseudo-normal of the
- *             feature q lies on (face, edge or corner; Bærentzen and
- *             Aanæs 2005), exact for a closed, consistently oriented mesh.
- *             An open mesh's ends need only the triangles within t;
+ *             a node, or a leaf's triangle by its own box, farther than
+ *             the best so far is skipped). Inside or outside a closed
+ *             mesh is the sign of (x − q)·N, q the nearest point and N
+ *             the angle-weighted pseudo-normal of the feature q lies on
+ *             (face, edge or corner; Bærentzen and Aanæs 2005), exact for
+ *             a closed, consistently oriented mesh. An open mesh's ends
+ *             need only the triangles within t;
  *   entry     the earliest point of the move in the solid, for a move from
  *             outside: the nodes whose box grown by t the move's segment
- *             crosses before the best entry so far; per triangle, for
- *             t > 0 the line's interval in the rounded triangle (the
- *             triangle grown by t: its prism |height| <= t and the
- *             capsules of its edges, a convex union), normal from the
- *             triangle's nearest point; for t = 0 (closed only) the move
- *             crossing a face against its outward normal.
+ *             crosses before the best entry so far; per triangle (unless
+ *             its own box grown by t misses the segment, or both ends lie
+ *             beyond t on one side of its plane), for t > 0 the line's
+ *             interval in the rounded triangle (the triangle grown by t:
+ *             its prism |height| <= t and the capsules of its edges, a
+ *             convex union), normal from the triangle's nearest point; for
+ *             t = 0 (closed only) the move crossing a face against its
+ *             outward normal.
  * A move from outside never reaches the volume without first coming
  * within t of the surface, so the entry is the solid's. */
 #include "kernels/colliders/collider_internal.h"
@@ -68,6 +71,7 @@ struct sb_mesh_shape {
     sb_mesh mesh;
     bool closed;
     double* face_normals;   /* 3 per triangle, unit, outward when closed */
+    double* triangle_boxes; /* 6 per triangle: lo x y z, hi x y z (a leaf's triangles tested by their own box first) */
     double* edge_normals;   /* 9 per triangle: edge k (corner k to k + 1), unit sum of its faces' normals */
     double* vertex_normals; /* 3 per vertex: the angle-weighted sum of its faces' normals, unit */
     sb_mesh_node* nodes;
@@ -336,6 +340,7 @@ void sb_mesh_shape_destroy(sb_mesh_shape* m) {
     if (!m) return;
     sb_mesh_free(&m->mesh);
     free(m->face_normals);
+    free(m->triangle_boxes);
     free(m->edge_normals);
     free(m->vertex_normals);
     free(m->nodes);
@@ -349,9 +354,11 @@ static bool sb_mesh_shape_allocate(sb_mesh_shape* m, const sb_mesh* mesh) {
     m->mesh.positions = malloc(3 * nv * sizeof *m->mesh.positions);
     m->mesh.triangles = malloc(3 * nt * sizeof *m->mesh.triangles);
     m->face_normals = malloc(3 * nt * sizeof *m->face_normals);
+    m->triangle_boxes = malloc(6 * nt * sizeof *m->triangle_boxes);
     m->edge_normals = malloc(9 * nt * sizeof *m->edge_normals);
     m->vertex_normals = malloc(3 * nv * sizeof *m->vertex_normals);
-    if (!m->mesh.positions || !m->mesh.triangles || !m->face_normals || !m->edge_normals || !m->vertex_normals)
+    if (!m->mesh.positions || !m->mesh.triangles || !m->face_normals || !m->triangle_boxes || !m->edge_normals ||
+        !m->vertex_normals)
         return false;
     memcpy(m->mesh.positions, mesh->positions, 3 * nv * sizeof *m->mesh.positions);
     memcpy(m->mesh.triangles, mesh->triangles, 3 * nt * sizeof *m->mesh.triangles);
@@ -403,6 +410,7 @@ sb_mesh_shape* sb_mesh_shape_create(const char* label, const sb_mesh* mesh, doub
     }
     sb_compute_normals(m, twin);
     free(twin);
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) sb_triangle_box(m, t, m->triangle_boxes + 6 * (size_t)t);
     const double* box = m->nodes[0].box;
     double diagonal[3] = {box[3] - box[0], box[4] - box[1], box[5] - box[2]};
     m->tiny = 1e-9 * sqrt(sb_dot(diagonal, diagonal));
@@ -484,6 +492,7 @@ static double sb_box_distance2(const double box[6], const double x[3]) {
 static void sb_nearest_in_leaf(const sb_mesh_shape* m, const sb_mesh_node* node, const double x[3],
                                sb_mesh_nearest_hit* hit, bool* found) {
     for (uint32_t t = node->first; t < node->first + node->count; t++) {
+        if (sb_box_distance2(m->triangle_boxes + 6 * (size_t)t, x) > hit->d2) continue;
         double q[3], v[3];
         int feature = sb_nearest_on_triangle(x, sb_corner(m, t, 0), sb_corner(m, t, 1), sb_corner(m, t, 2), q);
         sb_sub(x, q, v);
@@ -553,7 +562,9 @@ static void sb_mesh_end(const sb_mesh_shape* m, const double x[3], double t, sb_
 
 /* ---- the entry of a move ------------------------------------------------------- */
 
-/* Whether the segment from + s d, s in [0, limit], meets the box grown by g. */
+/* Whether the segment from + s d, s in [0, limit], meets the box grown by g
+ * (plain comparisons: fmin and fmax are a library call each, and this is
+ * the walk's inner test). */
 static bool sb_segment_meets_box(const double box[6], double g, const double from[3], const double d[3], double limit) {
     double s0 = 0.0, s1 = limit;
     for (int k = 0; k < 3; k++) {
@@ -563,8 +574,13 @@ static bool sb_segment_meets_box(const double box[6], double g, const double fro
             continue;
         }
         double a = (lo - from[k]) / d[k], b = (hi - from[k]) / d[k];
-        s0 = fmax(s0, fmin(a, b));
-        s1 = fmin(s1, fmax(a, b));
+        if (a > b) {
+            double swap = a;
+            a = b;
+            b = swap;
+        }
+        s0 = a > s0 ? a : s0;
+        s1 = b < s1 ? b : s1;
         if (s0 > s1) return false;
     }
     return true;
@@ -650,6 +666,13 @@ typedef struct sb_mesh_entry {
 static void sb_entry_in_leaf(const sb_mesh_shape* m, const sb_mesh_node* node, const double from[3], const double to[3],
                              const double d[3], double t, sb_mesh_entry* e) {
     for (uint32_t i = node->first; i < node->first + node->count; i++) {
+        if (!sb_segment_meets_box(m->triangle_boxes + 6 * (size_t)i, t + m->tiny, from, d, e->entered ? e->lo : 1.0))
+            continue;
+        double below_from[3], height0, height1; /* both ends beyond t on one side of its plane: it is never reached */
+        sb_sub(from, sb_corner(m, i, 0), below_from);
+        height0 = sb_dot(m->face_normals + 3 * (size_t)i, below_from);
+        height1 = height0 + sb_dot(m->face_normals + 3 * (size_t)i, d);
+        if ((height0 > t && height1 > t) || (height0 < -t && height1 < -t)) continue;
         double lo, hi = INFINITY; /* t = 0: past a face crossed inward lies the volume */
         bool met = t > 0.0 ? sb_rounded_triangle_line(m, i, t, from, to, &lo, &hi) && lo < hi && lo <= 1.0 && hi >= 0.0
                            : sb_triangle_crossing(m, i, from, d, &lo);
