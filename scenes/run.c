@@ -5,7 +5,8 @@
  * for k = 0 .. floor(duration / frame_interval): a file each in every
  * format of output.formats (unless output.frames is false; frame_export.c),
  * frames.pvd listing the .vtu frames, and a row of log.csv (with the
- * contacts and each collider's force, colliders.h).
+ * contacts and each collider's force, colliders.h, then each soft handle's,
+ * handles.h).
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/budget.h"
@@ -14,6 +15,7 @@
 #include "scenes/energy_log.h"
 #include "common/error.h"
 #include "scenes/frame_export.h"
+#include "scenes/handles.h"
 #include "scenes/point_load.h"
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
@@ -34,7 +36,8 @@ void sb_cli_run_usage(FILE* stream) {
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
                     "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
-                    "iterations, the vertex contacts and each collider's force <name>_fx,_fy,_fz)\n"
+                    "iterations, the vertex contacts and each collider's and soft handle's force\n"
+                    "<name>_fx,_fy,_fz)\n"
                     "to DIR, by default out/<scene name>.\n"
                     "--set overrides any scene key (see README.md, \"Running a scene\"), e.g.\n"
                     "  --set 'colliders=[{type: plane, restitution: 0.5}]' --set contact.thickness=0.002\n"
@@ -56,7 +59,8 @@ typedef struct run_job {
     sb_solver* solver;
     sb_point_load load;           /* the solver's external force reads it */
     sb_scene_colliders colliders; /* the solver reads them: destroyed after it */
-    double* forces;               /* 3 per collider: a frame's contact forces */
+    sb_scene_handles handles;     /* the same */
+    double* forces;               /* 3 per collider, then 3 per soft handle: a frame's forces */
     sb_output_dir out;
     sb_energy_log log;
     sb_step_work work;    /* the solver's work since the last frame */
@@ -73,6 +77,7 @@ static int run_finish(run_job* job, int code) {
     sb_output_dir_free(&job->out);
     sb_solver_destroy(job->solver);
     sb_scene_colliders_free(&job->colliders);
+    sb_scene_handles_free(&job->handles);
     free(job->forces);
     sb_model_destroy(job->model);
     sb_mesh_free(&job->mesh);
@@ -120,17 +125,33 @@ static void set_export(run_job* job) {
     for (int k = 0; k < 3; k++) job->export.up[k] = none ? (k == 2) : -g[k];
 }
 
-/* The colliders, and a force column of log.csv for each. */
 static sb_status make_colliders(run_job* job, sb_solver_def* def, sb_error* err) {
     sb_status status = sb_scene_colliders_read(&job->scene, &job->colliders, err);
     if (status == SB_OK) status = sb_scene_colliders_create(&job->colliders, err);
-    if (status != SB_OK) return status;
-    sb_scene_colliders_attach(&job->colliders, def);
-    uint32_t count = job->colliders.count;
+    if (status == SB_OK) sb_scene_colliders_attach(&job->colliders, def);
+    return status;
+}
+
+/* The handles, their vertices selected in the model. */
+static sb_status make_handles(run_job* job, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_handles_read(&job->scene, &job->handles, err);
+    if (status == SB_OK) status = sb_scene_handles_create(&job->handles, job->model, err);
+    if (status == SB_OK) sb_scene_handles_attach(&job->handles, def);
+    return status;
+}
+
+static bool soft(const sb_scene_handle* handle) { return handle->def.stiffness > 0.0; }
+
+/* A force column of log.csv (<name>_fx,_fy,_fz) for each collider, then
+ * for each soft handle. */
+static sb_status make_force_columns(run_job* job, sb_error* err) {
+    uint32_t count = job->colliders.count + job->handles.count;
     job->forces = calloc(3 * (size_t)(count ? count : 1), sizeof *job->forces);
     bool ok = job->forces != NULL;
-    for (uint32_t c = 0; c < count && ok; c++)
+    for (uint32_t c = 0; c < job->colliders.count && ok; c++)
         ok = sb_energy_log_add_collider(&job->log, job->colliders.entries[c].name);
+    for (uint32_t h = 0; h < job->handles.count && ok; h++)
+        if (soft(&job->handles.entries[h])) ok = sb_energy_log_add_collider(&job->log, job->handles.entries[h].name);
     return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
 }
 
@@ -145,6 +166,8 @@ static sb_status prepare(run_job* job, sb_error* err) {
     status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
     if (status == SB_OK) status = make_colliders(job, &def, err);
     if (status == SB_OK) status = make_model(job, &def, err);
+    if (status == SB_OK) status = make_handles(job, &def, err);
+    if (status == SB_OK) status = make_force_columns(job, err);
     if (status == SB_OK) status = sb_point_load_prepare(&job->scene, job->model, &job->load, err);
     if (status != SB_OK) return status;
     sb_point_load_attach(&job->load, &def);
@@ -192,6 +215,12 @@ static int record_frame(run_job* job, sb_error* err) {
         double* f = job->forces + 3 * (size_t)c;
         f[0] = f[1] = f[2] = 0.0;
         if (advanced) sb_solver_contact_force(job->solver, c, f);
+    }
+    double* f = job->forces + 3 * (size_t)job->colliders.count;
+    for (uint32_t h = 0; h < job->handles.count; h++) {
+        if (!soft(&job->handles.entries[h])) continue;
+        sb_handle_force(job->handles.handles[h], f); /* set at the last force evaluation: 0 at rest on frame 0 */
+        f += 3;
     }
     sb_status status =
         sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts, job->forces, err);

@@ -100,6 +100,9 @@ typedef enum sb_scene_type {
     X(COLLIDERS, "colliders", LIST, "[]",                                                                              \
       "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
       "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
+    X(HANDLES, "handles", LIST, "[]",                                                                                  \
+      "vertices driven to a moving pose: a list of maps {name; vertices: [indices] or at: [x, y, z] with radius; "   \
+      "stiffness, damping (soft when stiffness > 0); path, interpolation; release_at} (scenes/handles.c)")            \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0",                                                             \
       "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")           \
     X(SELF_COLLISION, "self_collision", BOOL, "false",                                                                 \
