@@ -18,7 +18,7 @@ demo: build
 
 # Four configurations: float (the default), double, float under the
 # address and undefined-behaviour sanitizers, and the threads' tests (label
-# thread: the solver's team, the state buffer) under the thread sanitizer.
+# thread: the solver's team, the state and pose buffers) under the thread sanitizer.
 # The fuzz corpus's replay (label fuzz, tests/fuzz/) runs under the address
 # and undefined-behaviour sanitizers only, where a memory error shows.
 test: deps
@@ -32,7 +32,7 @@ test: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE no_sanitizer
 	cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE_THREAD=ON $(CMAKE_FLAGS)
-	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact test_self_contact
+	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact test_self_contact test_haptics_buffer
 	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 ctest --output-on-failure -L thread
 
 clean:

@@ -12,5 +12,6 @@
 #include "softbond/solver.h"
 #include "softbond/runtime.h"
 #include "softbond/state_buffer.h"
+#include "softbond/haptics.h"
 
 #endif

@@ -1,0 +1,182 @@
+/* Haptics (softbond/haptics.h): the object, its checks, and what the
+ * simulation thread calls (drive the tool to the proxy, sense what it
+ * touched). The servo's side is haptics/servo.c.
+ *
+ * Sensing: the tool's contact force from the last step (the impulses it
+ * received over the step, sb_solver_contact_force) gives the model's push
+ * and normal; its local stiffness is the secant between the last two steps,
+ * (push − push before) / (depth − depth before), depth measured along the
+ * normal, kept when it is positive and the depth changed (by more than a
+ * nanometre), averaged with the one before (a step's impulses are noisy),
+ * and capped at 100 K; 0 out of contact. At first touch the secant from the
+ * last step out of contact (push 0) is a lower bound of the stiffness (the
+ * surface lay somewhere between), better than none: without it the proxy
+ * would be thrown out of a stiff surface by the whole push of one step's
+ * penetration and chatter. */
+#define _GNU_SOURCE
+#include "haptics/haptics_internal.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+sb_haptics_def sb_default_haptics_def(void) {
+    return (sb_haptics_def){.rate = 1000,
+                            .stiffness = 700,
+                            .damping = 0.7,
+                            .max_force = 3.3,
+                            .device_stiffness = 700,
+                            .stall_time = 0.05,
+                            .ramp_time = 0.05,
+                            .realtime = true,
+                            .log_capacity = 65536};
+}
+
+static sb_status check_def(const sb_haptics_def* d, sb_error* err) {
+    if (!(d->rate >= 10 && d->rate <= 100000))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: rate must be from 10 to 100000 Hz (got %g)", d->rate);
+    if (!(d->device_stiffness > 0 && isfinite(d->device_stiffness)))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: device_stiffness must be > 0 (got %g)", d->device_stiffness);
+    if (!(d->stiffness > 0 && d->stiffness <= d->device_stiffness))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "haptics: coupling stiffness must be > 0 and at most the device's %g N/m (got %g)",
+                            d->device_stiffness, d->stiffness);
+    double passive = d->stiffness / d->rate / 2;
+    if (!(d->damping > passive && isfinite(d->damping)))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "haptics: coupling damping must be > K T / 2 = %g N s/m to keep the loop passive (got %g)",
+                            passive, d->damping);
+    if (!(d->max_force > 0 && isfinite(d->max_force)))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: max_force must be > 0 (got %g)", d->max_force);
+    if (!(d->stall_time > 0 && d->ramp_time > 0 && isfinite(d->stall_time) && isfinite(d->ramp_time)))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: stall_time and ramp_time must be > 0");
+    if (d->log_capacity < 1) return sb_error_set(err, SB_ERR_INVALID, "haptics: log_capacity must be >= 1");
+    return SB_OK;
+}
+
+sb_haptics* sb_haptics_create(const sb_haptics_def* def, sb_haptic_device* device, sb_collider* tool,
+                              uint32_t collider_index, sb_error* err) {
+    if (check_def(def, err) != SB_OK) return NULL;
+    if (!device || !tool) {
+        sb_error_set(err, SB_ERR_INVALID, "haptics: a device and a tool are required");
+        return NULL;
+    }
+    sb_haptics* h = calloc(1, sizeof *h);
+    if (h) {
+        h->log = calloc(def->log_capacity, sizeof *h->log);
+        h->period_bins = calloc(SB_PERIOD_BINS, sizeof *h->period_bins);
+        h->age_bins = calloc(SB_AGE_BINS, sizeof *h->age_bins);
+    }
+    if (!h || !h->log || !h->period_bins || !h->age_bins) {
+        sb_haptics_destroy(h);
+        sb_error_set(err, SB_ERR_NOMEM, "haptics: out of memory");
+        return NULL;
+    }
+    h->def = *def;
+    h->period = 1 / def->rate;
+    h->device = device;
+    h->tool = tool;
+    h->tool_index = collider_index;
+    h->log_capacity = def->log_capacity;
+    sb_collider_state(tool, h->rest, NULL);
+    memcpy(h->sim_proxy, h->rest, sizeof h->rest);
+    sb_record_init(&h->pose);
+    sb_record_init(&h->contact);
+    h->sensed = (sb_contact_model){.normal = {0, 0, 1}};
+    h->gain = 1;
+    atomic_init(&h->faults, 0);
+    atomic_init(&h->log_head, 0);
+    atomic_init(&h->log_tail, 0);
+    atomic_init(&h->dropped, 0);
+    atomic_init(&h->running, false);
+    clock_gettime(CLOCK_MONOTONIC, &h->epoch);
+    return h;
+}
+
+void sb_haptics_destroy(sb_haptics* h) {
+    if (!h) return;
+    sb_haptics_stop(h);
+    free(h->log);
+    free(h->period_bins);
+    free(h->age_bins);
+    free(h);
+}
+
+double sb_haptics_clock(const sb_haptics* h) { return sb_haptics_seconds(&h->epoch); }
+
+void sb_haptics_drive(sb_haptics* h) {
+    sb_haptic_pose pose;
+    if (!sb_record_read(&h->pose, &pose, sizeof pose)) return;
+    double device[3], translate[3], rotate[3];
+    for (int k = 0; k < 3; k++) device[k] = h->rest[k] + pose.position[k];
+    sb_coupling_proxy(&h->sensed, h->def.stiffness, device, h->sim_proxy);
+    for (int k = 0; k < 3; k++) translate[k] = h->sim_proxy[k] - h->rest[k];
+    sb_quaternion_to_degrees(pose.orientation, rotate);
+    sb_collider_set_pose(h->tool, translate, rotate);
+}
+
+static double depth_along(const double normal[3], const double point[3]) {
+    return -(normal[0] * point[0] + normal[1] * point[1] + normal[2] * point[2]);
+}
+
+void sb_haptics_sense(sb_haptics* h, const sb_solver* solver, double time) {
+    double f[3];
+    sb_solver_contact_force(solver, h->tool_index, f);
+    sb_haptics_sense_force(h, f, sb_solver_step_count(solver), time);
+}
+
+void sb_haptics_sense_force(sb_haptics* h, const double f[3], uint64_t step, double time) {
+    double push = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    sb_contact_model* m = &h->sensed;
+    if (push > 0)
+        for (int k = 0; k < 3; k++) m->normal[k] = f[k] / push;
+    double moved_in = depth_along(m->normal, h->sim_proxy) - depth_along(m->normal, m->proxy);
+    if (push <= 0)
+        m->stiffness = 0;
+    else if (fabs(moved_in) > 1e-9) {
+        double secant = (push - m->force) / moved_in;
+        if (secant > 0)
+            m->stiffness = fmin(m->force > 0 ? 0.5 * (m->stiffness + secant) : secant, 100 * h->def.stiffness);
+    }
+    m->force = push;
+    m->step = step;
+    m->time = time;
+    memcpy(m->proxy, h->sim_proxy, sizeof m->proxy);
+    sb_record_write(&h->contact, m, sizeof *m);
+}
+
+void sb_haptics_proxy(const sb_haptics* h, double proxy[3]) { memcpy(proxy, h->sim_proxy, sizeof h->sim_proxy); }
+
+uint32_t sb_haptics_faults(const sb_haptics* h) { return atomic_load_explicit(&h->faults, memory_order_relaxed); }
+
+size_t sb_haptics_drain(sb_haptics* h, sb_haptic_tick* out, size_t max) {
+    size_t tail = atomic_load_explicit(&h->log_tail, memory_order_relaxed);
+    size_t head = atomic_load_explicit(&h->log_head, memory_order_acquire);
+    size_t n = 0;
+    for (; n < max && tail + n < head; n++) out[n] = h->log[(tail + n) % h->log_capacity];
+    atomic_store_explicit(&h->log_tail, tail + n, memory_order_release);
+    return n;
+}
+
+uint64_t sb_haptics_dropped(const sb_haptics* h) { return atomic_load_explicit(&h->dropped, memory_order_relaxed); }
+
+static double percentile(const uint32_t* bins, int count, uint64_t total, double fraction, double width) {
+    uint64_t rank = (uint64_t)ceil(fraction * (double)total), seen = 0;
+    for (int i = 0; i < count; i++) {
+        seen += bins[i];
+        if (seen >= rank && seen > 0) return (i + 0.5) * width;
+    }
+    return 0;
+}
+
+sb_haptics_stats sb_haptics_statistics(const sb_haptics* h) {
+    uint64_t periods = h->ticks > 0 ? h->ticks - 1 : 0;
+    return (sb_haptics_stats){.ticks = h->ticks,
+                              .period_median = percentile(h->period_bins, SB_PERIOD_BINS, periods, 0.5, 1e-6),
+                              .period_p99 = percentile(h->period_bins, SB_PERIOD_BINS, periods, 0.99, 1e-6),
+                              .period_max = h->period_max,
+                              .late_max = h->late_max,
+                              .age_median = percentile(h->age_bins, SB_AGE_BINS, h->ticks, 0.5, 1e-5),
+                              .age_p99 = percentile(h->age_bins, SB_AGE_BINS, h->ticks, 0.99, 1e-5)};
+}
