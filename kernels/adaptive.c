@@ -8,7 +8,8 @@
  * W the work of the external callback's forces, estimated by the trapezoid
  * rule along the sub-step's displacement, plus the work of the dynamic
  * colliders (the energy they would lose if the sub-step were kept:
- * kernels/colliders/dynamic.c) (gravity is a potential and is in
+ * kernels/colliders/dynamic.c) and of the hard handles (what their
+ * vertices' imposed motion did, kernels/handle.c) (gravity is a potential and is in
  * E; drag and spring damping only ever remove energy, so they need no term).
  * When gain > tolerance × S, S the largest kinetic + Σ|term| + |gravity|
  * (+ the dynamic colliders' kinetic + |gravity|) of the accepted states since the state was set and of the new one —
@@ -30,6 +31,7 @@
  * forces, the clock and the energies. */
 #include "kernels/solver_internal.h"
 #include "kernels/colliders/collider_internal.h"
+#include "kernels/handle_internal.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -186,7 +188,8 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
         if (status != SB_OK && status != SB_ERR_UNSTABLE && status != SB_ERR_DEGENERATE) return status;
         double gain = status == SB_OK ? sb_energies_total(&s->energies) - e0 - sb_external_work(s) -
                                             sb_colliders_step_work(s->def.colliders, s->def.collider_count,
-                                                                   s->contact_step, s->def.gravity, h)
+                                                                   s->contact_step, s->def.gravity, h) -
+                                            sb_handles_work(s, s->backup->reals)
                                       : INFINITY;
         double scale = fmax(s->energy_peak, sb_energy_scale(&s->energies) + bodies); /* a blow-up's gain: ~ all */
         if (status == SB_OK && gain <= tolerance * scale) {

@@ -12,8 +12,12 @@
  *     drift and the contact passes, before the forces; the packed inverse
  *     mass of a held vertex is 0, so the kick leaves its velocity and the
  *     drift its displacement to the handle;
- *   - the generic integrators (kernels/solver.c): after the step (and its
- *     contact passes) on the state's arrays, then the forces again;
+ *   - the other integrators (kernels/solver.c): after the step (and its
+ *     contact passes) on the state's arrays (and the Störmer form's
+ *     displacement), then the forces again; the explicit ones
+ *     (kernels/integrators.c) move a held vertex with inverse mass 0, so it
+ *     drifts at the target's velocity and the forces of the step see it at
+ *     its target; implicit Euler's Newton solve treats it as free;
  *   - pbd and xpbd (kernels/pbd.c): the prediction of a held vertex is its
  *     target and the projection sees it with inverse mass 0 (pinned), and
  *     the generic placement after the step makes it exact whatever the
@@ -252,11 +256,9 @@ sb_status sb_handles_prepare(sb_solver* s, sb_error* err) {
         if (st != SB_OK) return st;
         s->soft_handles |= sb_handle_soft(s->def.handles[k]);
     }
-    if (s->def.integrator == SB_INTEGRATOR_PBD || s->def.integrator == SB_INTEGRATOR_XPBD) {
-        s->pinned_inv_mass = malloc(((size_t)s->model->vertex_count + 1) * sizeof *s->pinned_inv_mass);
-        if (!s->pinned_inv_mass) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the handles");
-        memcpy(s->pinned_inv_mass, s->model->inv_mass, s->model->vertex_count * sizeof *s->pinned_inv_mass);
-    }
+    s->pinned_inv_mass = malloc(((size_t)s->model->vertex_count + 1) * sizeof *s->pinned_inv_mass);
+    if (!s->pinned_inv_mass) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the handles");
+    memcpy(s->pinned_inv_mass, s->model->inv_mass, s->model->vertex_count * sizeof *s->pinned_inv_mass);
     sb_handles_pin(s);
     return SB_OK;
 }
@@ -323,17 +325,19 @@ static void sb_place_packed(sb_solver* s, uint32_t i, const double target[3], co
 void sb_handles_place_packed(sb_solver* s, double dt) { sb_handles_each_held_hard(s, sb_place_packed, &dt); }
 
 static void sb_place_state(sb_solver* s, uint32_t i, const double target[3], const double velocity[3], void* extra) {
-    (void)extra;
+    double dt = *(const double*)extra;
     sb_state* st = &s->state;
     sb_real* x[3] = {st->x, st->y, st->z};
     sb_real* v[3] = {st->vx, st->vy, st->vz};
+    sb_real* d[3] = {s->disp_x, s->disp_y, s->disp_z}; /* the Störmer form's displacement */
     for (int c = 0; c < 3; c++) {
         x[c][i] = (sb_real)target[c];
         v[c][i] = (sb_real)velocity[c];
+        d[c][i] = (sb_real)(velocity[c] * dt);
     }
 }
 
-bool sb_handles_place_state(sb_solver* s) { return sb_handles_each_held_hard(s, sb_place_state, NULL); }
+bool sb_handles_place_state(sb_solver* s, double dt) { return sb_handles_each_held_hard(s, sb_place_state, &dt); }
 
 static void sb_place_predicted(sb_solver* s, uint32_t i, const double target[3], const double velocity[3],
                                void* extra) {
@@ -342,6 +346,41 @@ static void sb_place_predicted(sb_solver* s, uint32_t i, const double target[3],
 }
 
 void sb_handles_place_predicted(sb_solver* s, double* x) { sb_handles_each_held_hard(s, sb_place_predicted, x); }
+
+/* The work of the hard handles over the sub-step just taken, for the
+ * adaptive stepper's energy balance: what each held vertex's motion did to
+ * the body, −½ (f⁰ + f¹)·(x¹ − x⁰) with f the internal force on it (the
+ * total less gravity and drag), plus the change of its own kinetic energy
+ * and, where the step's energies count it (not the fused step: a pinned
+ * vertex is fixed there), of its energy in gravity. */
+double sb_handles_work(sb_solver* s, const sb_real* before) {
+    if (!s->def.handle_count) return 0.0;
+    sb_fast_publish(s);
+    size_t n = s->model->vertex_count;
+    const sb_state* st = &s->state;
+    const sb_real* after[9] = {st->x, st->y, st->z, st->vx, st->vy, st->vz, st->fx, st->fy, st->fz};
+    const double *g = s->def.gravity, drag = s->def.drag;
+    bool gravity_counted = !sb_fused(s);
+    double work = 0.0;
+    for (uint32_t k = 0; k < s->def.handle_count; k++) {
+        const sb_handle* h = s->def.handles[k];
+        if (sb_handle_soft(h) || !h->held) continue;
+        for (uint32_t j = 0; j < h->count; j++) {
+            size_t i = h->vertices[j];
+            double m = s->model->mass[i];
+            if (s->model->fixed[i]) continue;
+            for (int c = 0; c < 3; c++) {
+                double x0 = before[c * n + i], v0 = before[(3 + c) * n + i], f0 = before[(6 + c) * n + i];
+                double x1 = after[c][i], v1 = after[3 + c][i], f1 = after[6 + c][i];
+                double internal0 = f0 - m * g[c] + drag * m * v0, internal1 = f1 - m * g[c] + drag * m * v1;
+                double d = x1 - x0;
+                work += -0.5 * (internal0 + internal1) * d + 0.5 * m * (v1 * v1 - v0 * v0);
+                if (gravity_counted) work -= m * g[c] * d;
+            }
+        }
+    }
+    return work;
+}
 
 /* Where the soft handles' forces read positions and velocities and add
  * forces: 3n interleaved doubles, or (x NULL) the packed working state. */

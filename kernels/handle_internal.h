@@ -19,7 +19,7 @@ void sb_handles_end_advance(sb_solver* solver);
  * in the state's arrays (returns whether any vertex was placed), in pbd's
  * predicted positions (3n doubles). One thread. */
 void sb_handles_place_packed(sb_solver* solver, double dt);
-bool sb_handles_place_state(sb_solver* solver);
+bool sb_handles_place_state(sb_solver* solver, double dt);
 void sb_handles_place_predicted(sb_solver* solver, double* x);
 /* Adds the soft handles' forces at positions x and velocities v (3n
  * interleaved doubles) to f and, when not NULL, to the kept external
@@ -27,5 +27,10 @@ void sb_handles_place_predicted(sb_solver* solver, double* x);
 void sb_handles_forces(sb_solver* solver, const double* x, const double* v, double* f, double* external);
 /* The same on the packed working state (solver->external kept). */
 void sb_handles_forces_packed(sb_solver* solver);
+
+/* The hard handles' work (J) over the sub-step just taken (adaptive.c);
+ * `before` holds the state's arrays before it, n values each: x, y, z, vx,
+ * vy, vz, fx, fy, fz. */
+double sb_handles_work(sb_solver* solver, const sb_real* before);
 
 #endif

@@ -40,10 +40,10 @@
 
 /* v += a dt/2 for every vertex (a = f/m; 0 on fixed vertices). */
 static void sb_half_kick(sb_solver* s, double dt) {
-    const sb_model* m = s->model;
+    const double* inv_mass = sb_inv_mass(s);
     sb_state* st = &s->state;
     for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double h = 0.5 * dt * m->inv_mass[i];
+        double h = 0.5 * dt * inv_mass[i];
         st->vx[i] = (sb_real)(st->vx[i] + h * st->fx[i]);
         st->vy[i] = (sb_real)(st->vy[i] + h * st->fy[i]);
         st->vz[i] = (sb_real)(st->vz[i] + h * st->fz[i]);
@@ -59,11 +59,11 @@ static void sb_stormer_update(sb_real* x, sb_real* displacement, sb_real* v, dou
 
 sb_status sb_integrate_verlet(sb_solver* s, double dt) {
     if (!s->has_displacement) return sb_integrate_velocity_verlet(s, dt); /* same first step; leaves Δ set */
-    const sb_model* m = s->model;
+    const double* inv_mass = sb_inv_mass(s);
     sb_state* st = &s->state;
     double scale = dt / s->prev_dt, accel = 0.5 * dt * (dt + s->prev_dt);
     for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double w = accel * m->inv_mass[i];
+        double w = accel * inv_mass[i];
         sb_stormer_update(&st->x[i], &s->disp_x[i], &st->vx[i], scale, w * st->fx[i], dt);
         sb_stormer_update(&st->y[i], &s->disp_y[i], &st->vy[i], scale, w * st->fy[i], dt);
         sb_stormer_update(&st->z[i], &s->disp_z[i], &st->vz[i], scale, w * st->fz[i], dt);

@@ -340,8 +340,8 @@ sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     sb_pbd* p = s->pbd;
     sb_pbd_predict(s, dt);
     if (s->pinned_inv_mass) sb_handles_place_predicted(s, p->x);
-    const double* inv_mass = s->pinned_inv_mass ? s->pinned_inv_mass : s->model->inv_mass;
-    sb_pbd_step k = {s->model, inv_mass, p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
+    sb_pbd_step k = {
+        s->model, sb_inv_mass(s), p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
     memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
     memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
     sb_pbd_job job = {s, &k, p, sb_pbd_iterations(&s->def)};

@@ -335,9 +335,9 @@ static sb_status sb_contact_after_step(sb_solver* s, double dt) {
 
 /* The hard handles' placement after a step the fused path did not take,
  * after the contact passes; forces again where a vertex was placed. */
-static sb_status sb_handles_after_step(sb_solver* s) {
+static sb_status sb_handles_after_step(sb_solver* s, double dt) {
     sb_fast_publish(s); /* pbd, xpbd: the state's arrays current */
-    return sb_handles_place_state(s) ? sb_solver_compute_forces(s) : SB_OK;
+    return sb_handles_place_state(s, dt) ? sb_solver_compute_forces(s) : SB_OK;
 }
 
 /* The self-contact pass of a step the fused path did not take, after the
@@ -367,7 +367,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
     }
     if (status == SB_OK && after) status = sb_contact_after_step(s, dt);
     if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);
-    if (status == SB_OK && s->def.handle_count) status = sb_handles_after_step(s);
+    if (status == SB_OK && s->def.handle_count) status = sb_handles_after_step(s, dt);
     /* The generic integrators leave the state's arrays current (the fast
      * force evaluation packs them at its start and publishes at its end). */
     sb_status state_status = sb_check_state(s);

@@ -46,7 +46,7 @@ struct sb_solver {
     struct sb_self_contact* self; /* self-contact (kernels/self_contact.c); NULL when off */
     /* handles (kernels/handle.c) */
     bool soft_handles;       /* a soft one among def.handles: its forces join the external ones */
-    double* pinned_inv_mass; /* pbd, xpbd with handles: the model's inverse masses, 0 where a hard handle holds */
+    double* pinned_inv_mass; /* with handles: the model's inverse masses, 0 where a hard handle holds */
     sb_step_stats stats;
     double time;
     uint64_t steps;
@@ -61,6 +61,12 @@ static inline uint32_t sb_chunk_count(uint32_t vertex_count) { return (vertex_co
 /* Whether a step is the fast path's fused Verlet job (kernels/solver_fast.c). */
 static inline bool sb_fused(const sb_solver* s) {
     return s->fast && (s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET);
+}
+
+/* The inverse masses the integrators move the vertices with: the model's,
+ * 0 where a hard handle holds (kernels/handle.c). */
+static inline const double* sb_inv_mass(const sb_solver* s) {
+    return s->pinned_inv_mass ? s->pinned_inv_mass : s->model->inv_mass;
 }
 
 /* Contact (kernels/contact.c). */

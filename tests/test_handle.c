@@ -1,7 +1,8 @@
 /* Handles (softbond/handle.h, kernels/handle.c): a hard handle's vertices
  * are exactly at their targets after every step for every integrator and
  * both kernel choices; released vertices move freely and a re-grab holds
- * them where they are; a soft handle's reported force is the sum of its
+ * them where they are; adaptive stepping counts a hard handle's work; a
+ * soft handle's reported force is the sum of its
  * spring-dampers worked out by hand, and it holds a hanging mass at the
  * static stretch m g / k; 1 and 2 threads give the same state; bad
  * definitions are refused. */
@@ -134,6 +135,34 @@ static void test_release_and_grab(void** state) {
         sb_solver_destroy(s);
         sb_handle_destroy(h);
     }
+    sb_model_destroy(m);
+}
+
+/* Adaptive stepping counts a hard handle's work: lifting the row does not
+ * look like energy made from nothing, so (almost) no sub-step is rejected;
+ * without the count every one is, down to min_dt, and the advance fails. */
+static void test_adaptive_counts_the_handle_work(void** state) {
+    (void)state;
+    const uint32_t side = 6;
+    sb_model* m = sheet_model(side, 200.0, 1e-4);
+    const sb_integrator integrators[2] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET};
+    for (int kernels = 0; kernels < 2; kernels++)
+        for (int q = 0; q < 2; q++) {
+            uint32_t vertices[6];
+            sb_handle* h = row_handle(side, vertices, 0.0, 0.0);
+            sb_solver_def def = handle_def(&h, 1, integrators[q], (sb_kernels)kernels);
+            def.adaptive = true;
+            sb_solver* s = tu_solver(m, &def);
+            uint32_t rejected = 0;
+            for (int step = 0; step < 150; step++) {
+                tu_advance(s, 1e-3, 1);
+                rejected += sb_solver_last_step(s).rejected;
+            }
+            /* a few at most (the reference path's rounding), of 150 steps */
+            if (rejected > 5) fail_msg("%s: %u sub-steps rejected", sb_integrator_name(integrators[q]), rejected);
+            sb_solver_destroy(s);
+            sb_handle_destroy(h);
+        }
     sb_model_destroy(m);
 }
 
@@ -308,6 +337,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hard_handle_exact_for_every_integrator),
         cmocka_unit_test(test_release_and_grab),
+        cmocka_unit_test(test_adaptive_counts_the_handle_work),
         cmocka_unit_test(test_soft_force_is_the_sum_of_its_springs),
         cmocka_unit_test(test_soft_handle_holds_a_hanging_mass),
         cmocka_unit_test(test_threads_deterministic),
