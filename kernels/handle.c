@@ -52,7 +52,8 @@ struct sb_handle {
     sb_interpolation interpolation;
     double release_time;
     bool held, driven;
-    double driven_pose[12], pose0[12], pose1[12];
+    double driven_to[2][3]; /* sb_handle_set_pose: translate, rotate (made a pose about the center at the step) */
+    double pose0[12], pose1[12];
     double dt;    /* s, the step being taken (0 before the first) */
     double* grab; /* 3 per vertex: q, the positions at grab time in the rest frame */
     double force[3];
@@ -203,7 +204,8 @@ void sb_handle_target(const sb_handle* h, uint32_t k, double target[3]) {
 }
 
 void sb_handle_set_pose(sb_handle* h, const double translate[3], const double rotate[3]) {
-    sb_pose_from(translate, rotate, h->center, h->driven_pose);
+    memcpy(h->driven_to[0], translate, sizeof h->driven_to[0]);
+    memcpy(h->driven_to[1], rotate, sizeof h->driven_to[1]);
     h->driven = true;
 }
 
@@ -274,7 +276,7 @@ void sb_handles_begin_step(sb_solver* s, double t0, double dt) {
         sb_handle* h = s->def.handles[k];
         if (h->driven) { /* from where the last step left it to where the program put it */
             memcpy(h->pose0, h->pose1, sizeof h->pose0);
-            memcpy(h->pose1, h->driven_pose, sizeof h->pose1);
+            sb_pose_from(h->driven_to[0], h->driven_to[1], h->center, h->pose1);
         } else {
             sb_path_pose(h->path, h->path_count, h->interpolation, h->center, t0, h->pose0);
             sb_path_pose(h->path, h->path_count, h->interpolation, h->center, t0 + dt, h->pose1);

@@ -1,11 +1,9 @@
 /* Handles (softbond/handle.h, kernels/handle.c): a hard handle's vertices
  * are exactly at their targets after every step for every integrator and
  * both kernel choices; released vertices move freely and a re-grab holds
- * them where they are; adaptive stepping counts a hard handle's work; a
- * soft handle's reported force is the sum of its
- * spring-dampers worked out by hand, and it holds a hanging mass at the
- * static stretch m g / k; 1 and 2 threads give the same state; bad
- * definitions are refused. */
+ * them where they are; a pose set by the program is reached to the bit; adaptive stepping counts a hard handle's work;
+ * a soft handle's reported force is the sum of its spring-dampers worked out by hand, and it holds a hanging mass at
+ * the static stretch m g / k; 1 and 2 threads give the same state; bad definitions are refused. */
 #include "test_util.h"
 
 #include "softbond/handle.h"
@@ -163,6 +161,37 @@ static void test_adaptive_counts_the_handle_work(void** state) {
             sb_solver_destroy(s);
             sb_handle_destroy(h);
         }
+    sb_model_destroy(m);
+}
+
+/* A program drives the row (sb_handle_set_pose before each step): after
+ * each step it is where the program put it, to the bit. */
+static void test_driven_pose(void** state) {
+    (void)state;
+    const uint32_t side = 6;
+    sb_model* m = sheet_model(side, 200.0, 1e-4);
+    uint32_t vertices[6];
+    for (uint32_t i = 0; i < side; i++) vertices[i] = i;
+    sb_handle_def hd = sb_default_handle_def();
+    hd.vertices = vertices;
+    hd.vertex_count = side;
+    sb_handle* h = make_handle(&hd);
+    const double zero[3] = {0, 0, 0};
+    sb_handle_set_pose(h, zero, zero); /* before the solver exists: fine */
+    sb_solver_def def = handle_def(&h, 1, SB_INTEGRATOR_VERLET, SB_KERNELS_FAST);
+    sb_solver* s = tu_solver(m, &def);
+    double rest[3 * 36], x[3 * 36];
+    for (uint32_t i = 0; i < side * side; i++) sb_model_rest_position(m, i, rest + 3 * i);
+    for (int step = 1; step <= 50; step++) {
+        const double shift[3] = {0.001 * step, 0.0, -0.002 * step};
+        sb_handle_set_pose(h, shift, zero);
+        tu_advance(s, 1e-3, 1);
+        sb_solver_get_positions(s, x);
+        for (uint32_t i = 0; i < side; i++)
+            for (int c = 0; c < 3; c++) assert_true(x[3 * i + c] == (double)(sb_real)(rest[3 * i + c] + shift[c]));
+    }
+    sb_solver_destroy(s);
+    sb_handle_destroy(h);
     sb_model_destroy(m);
 }
 
@@ -338,6 +367,7 @@ int main(void) {
         cmocka_unit_test(test_hard_handle_exact_for_every_integrator),
         cmocka_unit_test(test_release_and_grab),
         cmocka_unit_test(test_adaptive_counts_the_handle_work),
+        cmocka_unit_test(test_driven_pose),
         cmocka_unit_test(test_soft_force_is_the_sum_of_its_springs),
         cmocka_unit_test(test_soft_handle_holds_a_hanging_mass),
         cmocka_unit_test(test_threads_deterministic),
