@@ -3,8 +3,9 @@
  * touched). The servo's side is haptics/servo.c.
  *
  * Sensing: the tool's contact force from the last step (the impulses it
- * received over the step, sb_solver_contact_force) gives the model's push
- * and normal; its local stiffness is the secant between the last two steps,
+ * received over the step, sb_solver_contact_force), averaged over
+ * sense_time (a vertex pushed out in one step may not touch in the next),
+ * gives the model's push and normal; its local stiffness is the secant between the last two steps,
  * (push − push before) / (depth − depth before), depth measured along the
  * normal, kept when it is positive and the depth changed (by more than a
  * nanometre), averaged with the one before (a step's impulses are noisy),
@@ -29,6 +30,7 @@ sb_haptics_def sb_default_haptics_def(void) {
                             .device_stiffness = 700,
                             .stall_time = 0.05,
                             .ramp_time = 0.05,
+                            .sense_time = 0.005,
                             .realtime = true,
                             .log_capacity = 65536};
 }
@@ -51,6 +53,8 @@ static sb_status check_def(const sb_haptics_def* d, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "haptics: max_force must be > 0 (got %g)", d->max_force);
     if (!(d->stall_time > 0 && d->ramp_time > 0 && isfinite(d->stall_time) && isfinite(d->ramp_time)))
         return sb_error_set(err, SB_ERR_INVALID, "haptics: stall_time and ramp_time must be > 0");
+    if (!(d->sense_time >= 0 && isfinite(d->sense_time)))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: sense_time must be >= 0 (got %g)", d->sense_time);
     if (d->log_capacity < 1) return sb_error_set(err, SB_ERR_INVALID, "haptics: log_capacity must be >= 1");
     return SB_OK;
 }
@@ -126,7 +130,17 @@ void sb_haptics_sense(sb_haptics* h, const sb_solver* solver, double time) {
     sb_haptics_sense_force(h, f, sb_solver_step_count(solver), time);
 }
 
-void sb_haptics_sense_force(sb_haptics* h, const double f[3], uint64_t step, double time) {
+/* The exponential average of the tool's contact force over sense_time. */
+static void average_force(sb_haptics* h, const double f[3], double time) {
+    double dt = h->sensed.step > 0 ? time - h->sensed.time : 0;
+    double keep = h->def.sense_time > 0 && dt > 0 ? h->def.sense_time / (h->def.sense_time + dt) : 0;
+    if (h->sensed.step == 0) keep = 0;
+    for (int k = 0; k < 3; k++) h->mean_force[k] = keep * h->mean_force[k] + (1 - keep) * f[k];
+}
+
+void sb_haptics_sense_force(sb_haptics* h, const double force[3], uint64_t step, double time) {
+    average_force(h, force, time);
+    const double* f = h->mean_force;
     double push = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     sb_contact_model* m = &h->sensed;
     if (push > 0)

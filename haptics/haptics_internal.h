@@ -31,6 +31,7 @@ struct sb_haptics {
 
     /* The simulation thread's own. */
     sb_contact_model sensed;
+    double mean_force[3]; /* N: the tool's contact force averaged over sense_time */
     double sim_proxy[3];
 
     /* The servo's own (one tick at a time). */

@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "scenes/frame_export.h"
 #include "scenes/handles.h"
+#include "scenes/haptics.h"
 #include "scenes/point_load.h"
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
@@ -62,6 +63,7 @@ typedef struct run_job {
     sb_point_load load;           /* the solver's external force reads it */
     sb_scene_colliders colliders; /* the solver reads them: destroyed after it */
     sb_scene_handles handles;     /* the same */
+    sb_scene_haptics haptics;     /* the device and the servo driving a tool (haptics.h) */
     double* forces;               /* 3 per collider, then 3 per soft handle: a frame's forces */
     sb_output_dir out;
     sb_energy_log log;
@@ -77,6 +79,7 @@ static int run_finish(run_job* job, int code) {
     sb_error ignored;
     sb_energy_log_close(&job->log, &ignored);
     sb_output_dir_free(&job->out);
+    sb_scene_haptics_free(&job->haptics);
     sb_solver_destroy(job->solver);
     sb_scene_colliders_free(&job->colliders);
     sb_scene_handles_free(&job->handles);
@@ -175,6 +178,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     sb_point_load_attach(&job->load, &def);
     job->solver = sb_solver_create(job->model, &def, err);
     if (!job->solver) return SB_ERR_INVALID;
+    if (sb_scene_haptics_create(&job->haptics, &job->scene, &job->colliders, err) != SB_OK) return SB_ERR_INVALID;
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
     return job->buffers ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
@@ -234,10 +238,12 @@ static int record_frame(run_job* job, sb_error* err) {
 static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_error* err) {
     double dt = sb_scene_number(&job->scene, SB_KEY_DT);
     while (sb_solver_step_count(job->solver) < step) {
+        sb_scene_haptics_before_step(&job->haptics, job->solver);
         if (sb_solver_advance(job->solver, dt) != SB_OK) {
             sb_error_set(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
             return SB_EXIT_SOLVER;
         }
+        if (sb_scene_haptics_after_step(&job->haptics, job->solver, err) != SB_OK) return SB_EXIT_FAILURE;
         sb_step_stats stats = sb_solver_last_step(job->solver);
         sb_step_work_add(&job->work, &stats);
         sb_progress_update(progress, sb_solver_step_count(job->solver));
@@ -291,7 +297,12 @@ static int execute(run_job* job, sb_error* err) {
     if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK ||
         sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;
+    if (sb_scene_haptics_start(&job->haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
+        return SB_EXIT_FAILURE;
     int code = simulate(job, err);
+    if (sb_scene_haptics_finish(&job->haptics, code == SB_EXIT_OK ? err : &(sb_error){0}) != SB_OK &&
+        code == SB_EXIT_OK)
+        code = SB_EXIT_FAILURE;
     sb_error index_err;
     sb_status index = write_index(job, true, &index_err);
     uint32_t frames = job->log.count;

@@ -108,6 +108,21 @@ typedef enum sb_scene_type {
     X(SELF_COLLISION, "self_collision", BOOL, "false",                                                                 \
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "            \
       "contact.thickness > 0)")                                                                                        \
+    X(HAPTICS_DEVICE, "haptics.device", STRING, "none",                                                                \
+      "the haptic device: none, scripted (haptics.file) or udp (haptics.port); README, \"Haptics\"")                   \
+    X(HAPTICS_FILE, "haptics.file", STRING, "''",                                                                      \
+      "scripted: the CSV trajectory (time,x,y,z[,qw,qx,qy,qz][,button]), relative to the scene")                       \
+    X(HAPTICS_PORT, "haptics.port", INTEGER, "47000", "udp: the port on 127.0.0.1 poses arrive at")                    \
+    X(HAPTICS_RATE, "haptics.rate", NUMBER, "1000", "the servo thread's rate, Hz")                                     \
+    X(HAPTICS_TOOL, "haptics.tool", STRING, "''",                                                                      \
+      "the collider the device drives (not a plane, not dynamic); '' = no haptics")                                    \
+    X(HAPTICS_COUPLING_STIFFNESS, "haptics.coupling.stiffness", NUMBER, "700",                                         \
+      "the virtual coupling's stiffness, N/m (at most the device's 700)")                                              \
+    X(HAPTICS_COUPLING_DAMPING, "haptics.coupling.damping", NUMBER, "0.7",                                             \
+      "the virtual coupling's damping, N s/m (> stiffness / rate / 2)")                                                \
+    X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "the force sent to the device is clamped to this, N")     \
+    X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true",                                                              \
+      "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
       "implicit_euler, pbd or xpbd")                                                                                   \

@@ -13,6 +13,7 @@
 #include "scenes/colliders.h"
 #include "scenes/frame_export.h"
 #include "scenes/handles.h"
+#include "scenes/haptics.h"
 #include "scenes/pin.h"
 
 #include <math.h>
@@ -236,5 +237,6 @@ sb_status sb_scene_validate(const sb_scene* scene, sb_error* err) {
     if (status == SB_OK) status = check_combinations(scene, err);
     if (status == SB_OK) status = sb_scene_colliders_check(scene, err);
     if (status == SB_OK) status = sb_scene_handles_check(scene, err);
+    if (status == SB_OK) status = sb_scene_haptics_check(scene, err);
     return status;
 }

@@ -112,6 +112,7 @@ static void rig_run(rig* r, long from, long to, int every, tick_check check) {
 static sb_haptics_def rig_def(void) {
     sb_haptics_def def = sb_default_haptics_def();
     def.rate = RATE;
+    def.sense_time = 0; /* the wall's force is exact: no impulses to average */
     return def;
 }
 
@@ -280,6 +281,63 @@ static void test_servo_thread_runs_and_stops(void** state) {
     rig_close(&r);
 }
 
+/* ---- in a scene ------------------------------------------------------- */
+
+static const char* probe_scene(const char* haptics) {
+    static char text[2048];
+    snprintf(text, sizeof text,
+             "mesh: {generator: sheet, nx: 5, ny: 5, width: 0.02, height: 0.02}\n"
+             "bond: {k: 50}\npin: left_edge\ngravity: [0, 0, 0]\n"
+             "colliders:\n  - {type: sphere, name: probe, center: [0.01, 0.01, 0.004], radius: 0.002}\n"
+             "  - {type: plane, name: floor, point: [0, 0, -1]}\n"
+             "haptics:\n%s\n"
+             "dt: 0.0001\nduration: 0.05\nthreads: 1\noutput: {frames: false}\n",
+             haptics);
+    return tu_write_file("probe.yaml", text);
+}
+
+static tu_result run_probe(const char* haptics) {
+    const char* args[] = {"run", probe_scene(haptics), "--output", tu_tmp_path("probe_out"), NULL};
+    return tu_run(args);
+}
+
+static void assert_scene_refused(const char* haptics, const char* message) {
+    tu_result r = run_probe(haptics);
+    assert_int_equal(r.code, 2);
+    if (!strstr(r.err, message)) fail_msg("expected '%s' in: %s", message, r.err);
+    tu_result_free(&r);
+}
+
+/* A scene with a scripted device: haptics.csv has the header and a row
+ * per tick, the device where the script says; bad keys are refused with
+ * their line. */
+static void test_scene_runs_the_servo_and_writes_haptics_csv(void** state) {
+    (void)state;
+    tu_write_file("down.csv", "time,x,y,z\n0,0,0,0\n1,0,0,-0.01\n");
+    tu_result r = run_probe("  device: scripted\n  file: down.csv\n  tool: probe\n  realtime: false");
+    if (r.code != 0) fail_msg("%s", r.err);
+    tu_result_free(&r);
+    char* csv = tu_read_file(tu_tmp_path("probe_out/haptics.csv"));
+    assert_non_null(csv);
+    const char header[] = "time,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,step\n";
+    assert_true(strncmp(csv, header, sizeof header - 1) == 0);
+    double time, device[3];
+    const char* row = strchr(csv, '\n') + 1;
+    assert_int_equal(sscanf(row, "%lf,%lf,%lf,%lf", &time, &device[0], &device[1], &device[2]), 4);
+    TU_ASSERT_NEAR(device[0], 0.01, 1e-12);               /* the tool's rest position plus the script's */
+    TU_ASSERT_NEAR(device[2], 0.004 - 0.01 * time, 1e-8); /* the time is written to the microsecond */
+    free(csv);
+
+    assert_scene_refused("  device: phantom\n  tool: probe", "probe.yaml:9: 'haptics.device': expected none, scripted");
+    assert_scene_refused("  device: scripted\n  tool: probe", "needs haptics.file");
+    assert_scene_refused("  device: udp", "needs haptics.tool");
+    assert_scene_refused("  tool: knife", "probe.yaml:9: 'haptics.tool': no collider is named 'knife'");
+    assert_scene_refused("  tool: floor", "cannot be a tool");
+    assert_scene_refused("  tool: probe\n  coupling: {stiffness: 900}", "probe.yaml:10: coupling stiffness");
+    assert_scene_refused("  tool: probe\n  coupling: {damping: 0.1}", "probe.yaml:10: coupling damping");
+    assert_scene_refused("  device: scripted\n  file: nothere.csv\n  tool: probe", "nothere.csv");
+}
+
 /* ---- the scripted device ---------------------------------------------- */
 
 static void test_scripted_device_interpolates(void** state) {
@@ -397,6 +455,7 @@ int main(void) {
         cmocka_unit_test(test_nonfinite_pose_and_device_error_ramp_to_zero),
         cmocka_unit_test(test_limits_refused),
         cmocka_unit_test(test_servo_thread_runs_and_stops),
+        cmocka_unit_test(test_scene_runs_the_servo_and_writes_haptics_csv),
         cmocka_unit_test(test_scripted_device_interpolates),
         cmocka_unit_test(test_scripted_device_errors_name_the_line),
         cmocka_unit_test(test_udp_device_takes_poses_and_answers_forces),

@@ -105,8 +105,12 @@ typedef struct sb_haptics_def {
     double device_stiffness; /* N/m, the device's limit: K above it is refused (default 700) */
     double stall_time;       /* s without a new step before the force ramps down (default 0.05) */
     double ramp_time;        /* s, a ramp from full force to zero or back (default 0.05) */
-    bool realtime;           /* ask for SCHED_FIFO on the servo thread (default true) */
-    uint32_t log_capacity;   /* ticks the log holds until drained (default 65536) */
+    /* s: the tool's contact force is averaged over about this time (an
+     * exponential average, default 0.005): a step's contact impulses come
+     * and go, their mean is the tissue's push. 0 = each step's own. */
+    double sense_time;
+    bool realtime;         /* ask for SCHED_FIFO on the servo thread (default true) */
+    uint32_t log_capacity; /* ticks the log holds until drained (default 65536) */
 } sb_haptics_def;
 
 SB_API sb_haptics_def sb_default_haptics_def(void);
