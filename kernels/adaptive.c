@@ -30,6 +30,7 @@
  * Verlet displacement, the fast path's packed working state, the external
  * forces, the clock and the energies. */
 #include "kernels/solver_internal.h"
+#include "kernels/breakage.h"
 #include "kernels/colliders/collider_internal.h"
 #include "kernels/handle_internal.h"
 #include "common/error.h"
@@ -196,6 +197,8 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
             s->energy_peak = scale;
             remaining -= h;
             sb_accepted(s, h);
+            sb_status broke = sb_breakage_after_step(s);
+            if (broke != SB_OK) return broke;
             if (h >= trial) trial = 2.0 * h; /* a sub-step cut short by what was left does not grow */
             continue;
         }

@@ -133,14 +133,24 @@ static sb_real* sb_gather_real(const double* in, const sb_element_group* g, bool
     return out;
 }
 
-static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, const sb_element_group* g, bool* ok) {
+/* Folds a uniform constant to one value, except in a breakable model (its
+ * elements' constants are zeroed one by one as they break): then the
+ * values are kept per slot and the uniform value beside them. */
+static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, const sb_element_group* g, bool fold,
+                                           bool* ok) {
     bool uniform = true;
     for (uint32_t e = 1; e < count && uniform; e++) uniform = in[e] == in[0];
-    if (uniform) return (sb_fast_constant){NULL, count ? (sb_real)in[0] : 0};
-    return (sb_fast_constant){sb_gather_real(in, g, ok), 0};
+    sb_real value = uniform && count ? (sb_real)in[0] : 0; /* the fused bonds read it (per-slot weights) */
+    return (sb_fast_constant){uniform && fold ? NULL : sb_gather_real(in, g, ok), value};
 }
 
 static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
+
+static bool sb_all_zero(const double* values, uint32_t count) {
+    for (uint32_t e = 0; e < count; e++)
+        if (values[e] != 0.0) return false;
+    return true;
+}
 
 /* The bonds left to the bond kernel: all of them, or those no triangle owns. */
 static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
@@ -164,12 +174,12 @@ static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* ow
     f->bond_i = sb_gather_index(m->bond_i, &f->bonds, &ok);
     f->bond_j = sb_gather_index(m->bond_j, &f->bonds, &ok);
     f->bond_r0 = sb_gather_real(m->bond_r0, &f->bonds, &ok);
-    f->bond_k = sb_gather_constant(m->bond_k, m->bond_count, &f->bonds, &ok);
-    f->spring_k = sb_gather_constant(m->spring_k, m->bond_count, &f->bonds, &ok);
-    f->spring_damping = sb_gather_constant(m->spring_damping, m->bond_count, &f->bonds, &ok);
+    f->bond_k = sb_gather_constant(m->bond_k, m->bond_count, &f->bonds, !m->breakable, &ok);
+    f->spring_k = sb_gather_constant(m->spring_k, m->bond_count, &f->bonds, !m->breakable, &ok);
+    f->spring_damping = sb_gather_constant(m->spring_damping, m->bond_count, &f->bonds, !m->breakable, &ok);
     f->has_bond = m->term_enabled[SB_TERM_BOND];
     f->has_spring = m->term_enabled[SB_TERM_SPRING];
-    f->has_damping = sb_constant_on(f->spring_damping);
+    f->has_damping = sb_constant_on(f->spring_damping) && !sb_all_zero(m->spring_damping, m->bond_count);
     return ok;
 }
 
@@ -239,8 +249,8 @@ static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
         f->tri_cos0[c] = sb_gather_real(m->tri_cos0[c], &f->triangles, &ok);
         f->tri_len0[c] = sb_gather_real(m->tri_len0[c], &f->triangles, &ok);
     }
-    f->angle_k = sb_gather_constant(m->angle_k, m->triangle_count, &f->triangles, &ok);
-    f->stretch_bend_k = sb_gather_constant(m->stretch_bend_k, m->triangle_count, &f->triangles, &ok);
+    f->angle_k = sb_gather_constant(m->angle_k, m->triangle_count, &f->triangles, !m->breakable, &ok);
+    f->stretch_bend_k = sb_gather_constant(m->stretch_bend_k, m->triangle_count, &f->triangles, !m->breakable, &ok);
     f->has_corners = m->term_enabled[SB_TERM_ANGLE] || m->term_enabled[SB_TERM_STRETCH_BEND];
     return ok;
 }
@@ -251,10 +261,56 @@ static bool sb_fast_hinges(sb_fast_model* f, const sb_model* m) {
     bool ok = true;
     for (int a = 0; a < 4; a++) f->hinge_v[a] = sb_gather_index(ids[a], &f->hinges, &ok);
     f->hinge_phi0 = sb_gather_real(m->hinge_phi0, &f->hinges, &ok);
-    f->hinge_k = sb_gather_constant(m->hinge_k, m->hinge_count, &f->hinges, &ok);
+    f->hinge_k = sb_gather_constant(m->hinge_k, m->hinge_count, &f->hinges, !m->breakable, &ok);
     f->has_hinges = m->term_enabled[SB_TERM_BEND];
     return ok;
 }
+
+/* slot_of[source[s]] = s for the real slots of every color of a group. */
+static uint32_t* sb_slot_map(const sb_element_group* g, uint32_t model_count, bool* ok) {
+    uint32_t* slot_of = malloc((model_count ? model_count : 1) * sizeof *slot_of);
+    if (!slot_of) *ok = false;
+    for (uint32_t r = 0; slot_of && r < g->range_count; r++)
+        for (uint32_t s = g->ranges[r].begin; s < g->ranges[r].end; s++) slot_of[g->source[s]] = s;
+    return slot_of;
+}
+
+/* Where each model element sits, for breakage (kernels/breakage.c). */
+static bool sb_fast_places(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
+    bool ok = true;
+    uint32_t* bond_slot = sb_slot_map(&f->bonds, m->bond_count, &ok);
+    f->triangle_slot = sb_slot_map(&f->triangles, m->triangle_count, &ok);
+    f->hinge_slot = sb_slot_map(&f->hinges, m->hinge_count, &ok);
+    f->bond_place = malloc((m->bond_count ? m->bond_count : 1) * sizeof *f->bond_place);
+    ok = ok && f->bond_place;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
+        bool fused = owner && owner[b] >= 0;
+        f->bond_place[b] = fused ? -1 - (3 * (int64_t)f->triangle_slot[owner[b] / 3] + owner[b] % 3) : bond_slot[b];
+    }
+    free(bond_slot);
+    return ok;
+}
+
+void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
+    int64_t place = f->bond_place[bond];
+    if (place < 0) {
+        uint32_t slot = (uint32_t)((-1 - place) / 3);
+        int c = (int)((-1 - place) % 3);
+        f->tri_edge_owned[c][slot] = 0;
+        f->tri_edge_r0[c][slot] = 0;
+        return;
+    }
+    f->bond_k.values[place] = f->spring_k.values[place] = f->spring_damping.values[place] = 0;
+    f->bond_r0[place] = 0;
+}
+
+void sb_fast_drop_triangle(sb_fast_model* f, uint32_t triangle) {
+    uint32_t slot = f->triangle_slot[triangle];
+    f->angle_k.values[slot] = f->stretch_bend_k.values[slot] = 0;
+    for (int c = 0; c < 3; c++) f->tri_len0[c][slot] = 0;
+}
+
+void sb_fast_drop_hinge(sb_fast_model* f, uint32_t hinge) { f->hinge_k.values[f->hinge_slot[hinge]] = 0; }
 
 static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
     f->vertex_count = m->vertex_count;
@@ -275,7 +331,8 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     bool ok = f != NULL;
     int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
     ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m) &&
-         (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m);
+         (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) &&
+         (!m->breakable || sb_fast_places(f, m, owner));
     free(owner);
     if (!ok) {
         sb_fast_model_destroy(f);
@@ -306,7 +363,10 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->stretch_bend_k.values,
                       f->hinges.source,
                       f->hinge_phi0,
-                      f->hinge_k.values};
+                      f->hinge_k.values,
+                      f->bond_place,
+                      f->triangle_slot,
+                      f->hinge_slot};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);

@@ -74,9 +74,23 @@ typedef struct sb_fast_model {
     sb_real* hinge_phi0;
     sb_fast_constant hinge_k;
     bool has_hinges;
+
+    /* Breakage (kernels/breakage.c), only for a breakable model, whose
+     * constants are then never folded to one value: where each model
+     * element sits. bond_place[b] >= 0 is a slot of the bond group, else
+     * −1 − (3 slot + c) for edge c of a triangle slot (a fused bond). */
+    int64_t* bond_place;
+    uint32_t *triangle_slot, *hinge_slot;
 } sb_fast_model;
 
 sb_fast_model* sb_fast_model_create(const sb_model* model, sb_error* err);
 void sb_fast_model_destroy(sb_fast_model* fast);
+
+/* Breakage, in place (a breakable model only): bond `bond` loses its
+ * stiffness, damping and rest length (so no collapse check either); a
+ * triangle its corners' constants and rest lengths; a hinge its constant. */
+void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond);
+void sb_fast_drop_triangle(sb_fast_model* fast, uint32_t triangle);
+void sb_fast_drop_hinge(sb_fast_model* fast, uint32_t hinge);
 
 #endif

@@ -203,6 +203,7 @@ static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
     double r = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(r > 0)) return; /* coincident ends: no direction; the force pass reports it */
     double stiffness = m->bond_k[b] + m->spring_k[b], wi = k->inv_mass[i], wj = k->inv_mass[j];
+    if (!(stiffness > 0)) return; /* broken (kernels/breakage.c) */
     double rate = 0.0;
     for (int c = 0; c < 3; c++) {
         n[c] /= r;
@@ -247,6 +248,7 @@ static void sb_pbd_corner(const sb_pbd_step* k, const uint32_t v[3], double cos0
 
 static void sb_pbd_triangle(const sb_pbd_step* k, uint32_t t, double* lambda) {
     const sb_model* m = k->m;
+    if (!(m->angle_k[t] > 0)) return; /* on a broken bond's edge (kernels/breakage.c) */
     for (int c = 0; c < 3; c++) {
         uint32_t v[3] = {m->tri_v[c][t], m->tri_v[(c + 1) % 3][t], m->tri_v[(c + 2) % 3][t]};
         sb_pbd_corner(k, v, m->tri_cos0[c][t], m->angle_k[t], lambda + c);

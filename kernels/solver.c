@@ -5,6 +5,7 @@
 #include "kernels/colliders/collider_internal.h"
 #include "kernels/self_contact.h"
 #include "kernels/handle_internal.h"
+#include "kernels/breakage.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -62,6 +63,7 @@ void sb_solver_destroy(sb_solver* s) {
     sb_self_contact_destroy(s->self);
     sb_team_destroy(s->team);
     sb_fast_model_destroy(s->fast);
+    sb_breakage_destroy(s->breakage);
     free(s->partials);
     free(s->positions4);
     free(s->velocities4);
@@ -155,10 +157,16 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
         sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
         return NULL;
     }
-    s->model = model;
+    bool ok = true;
+    s->breakage = sb_breakage_create(model, &ok);
+    s->given_model = model;
+    s->model = s->breakage ? sb_breakage_model(s->breakage) : model;
     s->def = *def;
     sb_runaway_box(s);
-    sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
+    sb_status status =
+        !ok ? sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", model->bond_count)
+        : (s->team = sb_team_create(&def->runtime, err)) ? SB_OK
+                                                         : SB_ERR_INVALID;
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
     if (status == SB_OK) status = sb_contact_prepare(s, err);
     if (status == SB_OK && def->self_collision) status = sb_self_contact_prepare(s, err);
@@ -232,6 +240,16 @@ static sb_status sb_integrate(sb_solver* s, double dt) {
     }
 }
 
+const sb_real* sb_packed_positions(sb_solver* s) {
+    if (s->fast) return s->positions4; /* current after any step */
+    for (uint32_t i = 0; i < s->model->vertex_count; i++) {
+        s->stretch4[4 * (size_t)i] = s->state.x[i];
+        s->stretch4[4 * (size_t)i + 1] = s->state.y[i];
+        s->stretch4[4 * (size_t)i + 2] = s->state.z[i];
+    }
+    return s->stretch4;
+}
+
 /* Whether any of `count` edges (a[e], b[e]) with rest length r0[e] is longer
  * than SB_STRETCH_LIMIT r0: a branch-free pass (in sb_real) that vectorizes. */
 /* The edges of one overstretch test, shared by the team's workers. */
@@ -285,16 +303,7 @@ static uint32_t sb_first_overstretched(const sb_real* p, const uint32_t* a, cons
 static sb_status sb_check_stretch(sb_solver* s) {
     if (s->steps % SB_STRETCH_INTERVAL != 0) return SB_OK;
     const sb_model* m = s->model;
-    /* the fast path's packed positions are current after any step */
-    const sb_real* p = s->fast ? s->positions4 : NULL;
-    if (!s->fast) { /* the reference path: the state's arrays, gathered into x y z w */
-        for (uint32_t i = 0; i < m->vertex_count; i++) {
-            s->stretch4[4 * (size_t)i] = s->state.x[i];
-            s->stretch4[4 * (size_t)i + 1] = s->state.y[i];
-            s->stretch4[4 * (size_t)i + 2] = s->state.z[i];
-        }
-        p = s->stretch4;
-    }
+    const sb_real* p = sb_packed_positions(s);
     if (m->bond_count > 0) {
         if (!sb_any_overstretched(s->team, p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count)) return SB_OK;
         uint32_t b = sb_first_overstretched(p, m->bond_i, m->bond_j, m->bond_r0, m->bond_count);
@@ -388,6 +397,7 @@ sb_status sb_solver_advance(sb_solver* s, double dt) {
     s->advance_dt = dt;
     if (s->contact_impulse) memset(s->contact_impulse, 0, 3 * (size_t)s->def.collider_count * sizeof(double));
     sb_status status = s->def.adaptive ? sb_adaptive_advance(s, dt) : sb_solver_step(s, dt);
+    if (status == SB_OK && !s->def.adaptive) status = sb_breakage_after_step(s);
     if (status == SB_OK && !s->def.adaptive) {
         if (s->contact_impulse) {
             sb_contact_accept(s);
@@ -432,7 +442,9 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
 const char* sb_solver_error(const sb_solver* s) { return s->error.message; }
 double sb_solver_time(const sb_solver* s) { return s->time; }
 uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }
-const sb_model* sb_solver_model(const sb_solver* s) { return s->model; }
+const sb_model* sb_solver_model(const sb_solver* s) { return s->given_model; }
+uint32_t sb_solver_broken_count(const sb_solver* s) { return sb_breakage_count(s->breakage); }
+bool sb_solver_bond_broken(const sb_solver* s, uint32_t bond) { return sb_breakage_broken(s->breakage, bond); }
 sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
 /* Copies one quantity out as 3n interleaved doubles: from the fast path's
  * packed working state when the state's arrays are stale, from the arrays

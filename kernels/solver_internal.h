@@ -10,7 +10,9 @@
 #include "kernels/team.h"
 
 struct sb_solver {
-    const sb_model* model;
+    const sb_model* model;        /* what the kernels read: the given model, or breakage's working copy */
+    const sb_model* given_model;  /* sb_solver_model's */
+    struct sb_breakage* breakage; /* kernels/breakage.c; NULL for a model that cannot break */
     sb_solver_def def;
     sb_state state;
     sb_real *disp_x, *disp_y, *disp_z; /* the last step's displacement, x − x⁻ */
@@ -19,19 +21,19 @@ struct sb_solver {
     double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
     double center[3], runaway;                 /* a vertex further than runaway from center (any axis) ran away */
     sb_fast_model* fast;                       /* NULL with the reference kernels */
-    sb_team* team;             /* the threads of every parallel pass (kernels/team.c) */
-    double* partials; /* per-block energy sums of the fast passes */
+    sb_team* team;                             /* the threads of every parallel pass (kernels/team.c) */
+    double* partials;                          /* per-block energy sums of the fast passes */
     /* The fast path's working state, packed x y z w per vertex; the state's
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
-    double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
-    struct sb_backup* backup;    /* adaptive stepping: the state before a sub-step */
-    double trial_substep;         /* adaptive: the size the next sub-step tries (0: the whole dt) */
-    double energy_peak;           /* adaptive: the largest energy scale since the state was set */
-    double* implicit_work;        /* implicit Euler: 7 arrays of 3n doubles */
-    sb_real* stretch4;            /* the blow-up rule's packed copy of the positions (generic integrators) */
+    double* external;         /* 3n: the external forces of the last evaluation (NULL without a callback) */
+    struct sb_backup* backup; /* adaptive stepping: the state before a sub-step */
+    double trial_substep;     /* adaptive: the size the next sub-step tries (0: the whole dt) */
+    double energy_peak;       /* adaptive: the largest energy scale since the state was set */
+    double* implicit_work;    /* implicit Euler: 7 arrays of 3n doubles */
+    sb_real* stretch4;        /* the blow-up rule's packed copy of the positions (generic integrators) */
     /* contact (kernels/contact.c); NULL without colliders */
     double* contact_from;     /* 3n: positions at the start of a step the fused path does not take */
     double* contact_partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
@@ -106,6 +108,10 @@ uint32_t sb_contact_state_pass(sb_solver* solver, double dt);
 uint32_t sb_contact_collect(sb_solver* solver);
 /* Adds the step's impulses to the advance's. */
 void sb_contact_accept(sb_solver* solver);
+
+/* The current positions packed x y z w: the fast path's working state, or
+ * the state's arrays gathered into stretch4 (the reference kernels). */
+const sb_real* sb_packed_positions(sb_solver* solver);
 
 /* Forces at the state's positions, with the state's velocities for damping:
  * fills state.f (internal + gravity + external) and energies.term[]. */

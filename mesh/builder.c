@@ -2,12 +2,20 @@
  * validated here; sb_builder_compile (mesh/compile.c) checks everything. */
 #include "mesh/builder_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 sb_vertex_def sb_default_vertex_def(void) { return (sb_vertex_def){.mass = 1.0}; }
 
-sb_bond_def sb_default_bond_def(void) { return (sb_bond_def){.rest_length = -1.0}; }
+sb_bond_def sb_default_bond_def(void) { return (sb_bond_def){.rest_length = -1.0, .break_max = INFINITY}; }
+
+double sb_strain_break_length(const sb_mesh* mesh, uint32_t a, uint32_t b, double strain) {
+    if (strain == 0.0) return INFINITY;
+    const double *p = mesh->positions + 3 * (size_t)a, *q = mesh->positions + 3 * (size_t)b;
+    return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])) *
+           (1.0 + strain);
+}
 
 sb_triangle_def sb_default_triangle_def(void) { return (sb_triangle_def){0}; }
 

@@ -36,6 +36,23 @@ static double sb_distance(const sb_builder* b, uint32_t i, uint32_t j) {
     return sb_v3_length(sb_v3_sub(sb_v3(v[i].position), sb_v3(v[j].position)));
 }
 
+/* The maximum break length: 0 means never, like +inf. */
+static double sb_break_max(const sb_bond_def* d) { return d->break_max == 0.0 ? INFINITY : d->break_max; }
+
+static sb_status sb_check_break_limits(const sb_bond_def* d, size_t index, double r0, sb_error* err) {
+    double lo = d->break_min, hi = sb_break_max(d);
+    if (isnan(lo) || isnan(hi) || lo < 0.0 || hi < 0.0 || isinf(lo))
+        return sb_error_set(
+            err, SB_ERR_INVALID,
+            "bond %zu (%u, %u): break lengths must be >= 0 (min finite, max finite or +inf; got %g, %g)", index, d->i,
+            d->j, d->break_min, d->break_max);
+    if (!(lo < r0 && r0 < hi))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "bond %zu (%u, %u): rest length %g m is not between the break lengths %g and %g m", index,
+                            d->i, d->j, r0, lo, hi);
+    return SB_OK;
+}
+
 static sb_status sb_check_bond(const sb_builder* b, size_t index, sb_error* err) {
     const sb_bond_def* d = SB_ITEMS(b->bonds, sb_bond_def) + index;
     uint32_t n = (uint32_t)b->vertices.count;
@@ -49,7 +66,7 @@ static sb_status sb_check_bond(const sb_builder* b, size_t index, sb_error* err)
     if (!isfinite(r0) || r0 <= 0.0)
         return sb_error_set(err, SB_ERR_INVALID, "bond %zu (%u, %u): rest length %g m must be positive", index, d->i,
                             d->j, r0);
-    return SB_OK;
+    return sb_check_break_limits(d, index, r0, err);
 }
 
 /* Duplicates are rejected, never merged: which constants should win is
@@ -149,8 +166,10 @@ static bool sb_model_allocate(sb_model* m) {
     m->fixed = sb_alloc_array(n, 1, &ok);
     m->bond_i = sb_alloc_array(nb, sizeof(uint32_t), &ok);
     m->bond_j = sb_alloc_array(nb, sizeof(uint32_t), &ok);
-    double** bond_arrays[] = {&m->bond_r0, &m->bond_k, &m->spring_k, &m->spring_damping};
-    for (size_t a = 0; a < 4; a++) *bond_arrays[a] = sb_alloc_array(nb, sizeof(double), &ok);
+    double** bond_arrays[] = {&m->bond_r0,        &m->bond_k,         &m->spring_k,
+                              &m->spring_damping, &m->bond_break_min, &m->bond_break_max};
+    for (size_t a = 0; a < sizeof bond_arrays / sizeof *bond_arrays; a++)
+        *bond_arrays[a] = sb_alloc_array(nb, sizeof(double), &ok);
     for (int c = 0; c < 3; c++) {
         m->tri_v[c] = sb_alloc_array(nt, sizeof(uint32_t), &ok);
         m->tri_cos0[c] = sb_alloc_array(nt, sizeof(double), &ok);
@@ -189,6 +208,9 @@ static void sb_fill_bonds(sb_model* m, const sb_builder* b) {
         m->bond_k[e] = d[e].k;
         m->spring_k[e] = d[e].spring_k;
         m->spring_damping[e] = d[e].spring_damping;
+        m->bond_break_min[e] = d[e].break_min;
+        m->bond_break_max[e] = sb_break_max(d + e);
+        m->breakable |= d[e].break_min > 0.0 || isfinite(m->bond_break_max[e]);
         m->term_enabled[SB_TERM_BOND] |= d[e].k > 0.0;
         m->term_enabled[SB_TERM_SPRING] |= d[e].spring_k > 0.0 || d[e].spring_damping > 0.0;
     }

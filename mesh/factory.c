@@ -71,8 +71,8 @@ static sb_status sb_collect_edges(const sb_mesh* mesh, sb_edge_info** out, uint3
     return SB_OK;
 }
 
-static sb_status sb_add_edge_elements(sb_builder* b, uint32_t first, const sb_edge_info* edges, uint32_t count,
-                                      const sb_material_def* mat, sb_error* err) {
+static sb_status sb_add_edge_elements(sb_builder* b, uint32_t first, const sb_mesh* mesh, const sb_edge_info* edges,
+                                      uint32_t count, const sb_material_def* mat, sb_error* err) {
     bool bonds = mat->bond_k > 0.0 || mat->spring_k > 0.0 || mat->spring_damping > 0.0;
     for (uint32_t e = 0; e < count && bonds; e++) {
         sb_bond_def def = sb_default_bond_def();
@@ -81,6 +81,7 @@ static sb_status sb_add_edge_elements(sb_builder* b, uint32_t first, const sb_ed
         def.k = mat->bond_k;
         def.spring_k = mat->spring_k;
         def.spring_damping = mat->spring_damping;
+        def.break_max = sb_strain_break_length(mesh, edges[e].e0, edges[e].e1, mat->break_strain);
         if (sb_builder_add_bond(b, &def) < 0) return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding bonds");
     }
     for (uint32_t e = 0; e < count && mat->bend_k > 0.0; e++) {
@@ -108,8 +109,8 @@ static sb_status sb_add_triangles(sb_builder* b, uint32_t first, const sb_mesh* 
 }
 
 static sb_status sb_check_mesh(const sb_mesh* mesh, const sb_material_def* mat, sb_error* err) {
-    double constants[] = {mat->bond_k,         mat->angle_k, mat->stretch_bend_k, mat->spring_k,
-                          mat->spring_damping, mat->bend_k,  mat->mass,           mat->density};
+    double constants[] = {mat->bond_k, mat->angle_k, mat->stretch_bend_k, mat->spring_k,    mat->spring_damping,
+                          mat->bend_k, mat->mass,    mat->density,        mat->break_strain};
     for (size_t c = 0; c < sizeof constants / sizeof *constants; c++)
         if (!isfinite(constants[c]) || constants[c] < 0.0)
             return sb_error_set(err, SB_ERR_INVALID, "material constants must be finite and >= 0");
@@ -129,7 +130,7 @@ sb_status sb_builder_add_mesh(sb_builder* b, const sb_mesh* mesh, const sb_mater
     sb_edge_info* edges = NULL;
     uint32_t edge_count = 0;
     status = sb_collect_edges(mesh, &edges, &edge_count, err);
-    if (status == SB_OK) status = sb_add_edge_elements(b, first, edges, edge_count, mat, err);
+    if (status == SB_OK) status = sb_add_edge_elements(b, first, mesh, edges, edge_count, mat, err);
     if (status == SB_OK) status = sb_add_triangles(b, first, mesh, mat, err);
     free(edges);
     return status;

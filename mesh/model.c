@@ -10,10 +10,11 @@ const char* sb_term_name(sb_term term) {
 
 void sb_model_destroy(sb_model* m) {
     if (!m) return;
-    void* arrays[] = {m->rest_x,   m->rest_y,   m->rest_z,         m->vel_x,      m->vel_y,          m->vel_z,
-                      m->mass,     m->inv_mass, m->fixed,          m->bond_i,     m->bond_j,         m->bond_r0,
-                      m->bond_k,   m->spring_k, m->spring_damping, m->angle_k,    m->stretch_bend_k, m->hinge_e0,
-                      m->hinge_e1, m->hinge_o0, m->hinge_o1,       m->hinge_phi0, m->hinge_k};
+    void* arrays[] = {m->rest_x,   m->rest_y,         m->rest_z,   m->vel_x,          m->vel_y,
+                      m->vel_z,    m->mass,           m->inv_mass, m->fixed,          m->bond_i,
+                      m->bond_j,   m->bond_r0,        m->bond_k,   m->spring_k,       m->spring_damping,
+                      m->angle_k,  m->stretch_bend_k, m->hinge_e0, m->hinge_e1,       m->hinge_o0,
+                      m->hinge_o1, m->hinge_phi0,     m->hinge_k,  m->bond_break_min, m->bond_break_max};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(m->tri_v[c]);

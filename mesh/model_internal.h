@@ -22,9 +22,11 @@ struct sb_model {
     uint32_t bond_count;
     uint32_t *bond_i, *bond_j;
     double* bond_r0;
-    double* bond_k;         /* N/m */
-    double* spring_k;       /* N/m */
-    double* spring_damping; /* N·s/m */
+    double* bond_k;                          /* N/m */
+    double* spring_k;                        /* N/m */
+    double* spring_damping;                  /* N·s/m */
+    double *bond_break_min, *bond_break_max; /* m: 0 and +inf never break */
+    bool breakable;                          /* some bond has a finite limit */
 
     /* triangles: three corners each; corner c sits at vertex tri_v[c] with
      * neighbours tri_v[(c+1)%3] and tri_v[(c+2)%3]. */

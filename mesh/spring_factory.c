@@ -117,7 +117,7 @@ static uint32_t sb_rows_merge(sb_pair_rows* r, uint32_t lo, uint32_t s) {
 
 static sb_status sb_spring_check(const sb_mesh* mesh, const sb_spring_mesh_def* d, sb_error* err) {
     double constants[] = {d->stretch_k,  d->stretch_damping,  d->bend_k, d->bend_damping, d->vicinity,
-                          d->vicinity_k, d->vicinity_damping, d->mass,   d->density};
+                          d->vicinity_k, d->vicinity_damping, d->mass,   d->density,      d->break_strain};
     for (size_t c = 0; c < sizeof constants / sizeof *constants; c++)
         if (!isfinite(constants[c]) || constants[c] < 0.0)
             return sb_error_set(err, SB_ERR_INVALID, "spring mesh constants must be finite and >= 0");
@@ -230,6 +230,7 @@ static sb_status sb_spring_add(sb_spring_job* job, uint32_t i, uint32_t j, doubl
     def.k = 0.0;
     def.spring_k = k;
     def.spring_damping = damping;
+    def.break_max = sb_strain_break_length(job->mesh, i, j, job->def->break_strain);
     if (sb_builder_add_bond(job->builder, &def) < 0)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding springs");
     return SB_OK;

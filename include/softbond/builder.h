@@ -31,6 +31,13 @@ typedef struct sb_bond_def {
     double k;              /* N/m, bond stretch */
     double spring_k;       /* N/m, damped spring */
     double spring_damping; /* N·s/m */
+    /* Breakage (the Spring Systems library's l_min, l_max): a solver breaks
+     * the bond at the first step whose end length is below break_min or
+     * above break_max — its stiffness and damping become zero for the rest
+     * of the run (sb_solver_def.on_break, kernels/breakage.c). break_min 0
+     * and break_max +inf (or 0) never break; a finite limit must leave the
+     * rest length strictly inside (break_min, break_max). */
+    double break_min, break_max; /* m */
 } sb_bond_def;
 
 /* A triangle contributes one angle per corner: angle bend
@@ -87,6 +94,7 @@ typedef struct sb_material_def {
     double bend_k;         /* J/rad², hinge term, 0 = off */
     double mass;           /* kg per vertex, used when density is 0 */
     double density;        /* kg/m², areal: each vertex gets a third of its triangles' mass */
+    double break_strain;   /* every bond breaks beyond r0 (1 + break_strain); 0 = never */
 } sb_material_def;
 
 SB_API sb_material_def sb_default_material_def(void);
@@ -96,7 +104,8 @@ SB_API sb_material_def sb_default_material_def(void);
  * per face (all three corners), a hinge per edge shared by exactly two
  * triangles (only when bend_k > 0). Fails when an edge is shared by more than
  * two triangles and bend_k > 0 (the hinge would be ambiguous). */
-SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material, sb_error* err);
+SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material,
+                                     sb_error* err);
 
 /* The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
  * vertex (order kept), a damped spring (sb_bond_def spring_k and
@@ -114,6 +123,7 @@ typedef struct sb_spring_mesh_def {
     double vicinity_k, vicinity_damping; /* N/m, N·s/m */
     double mass;                         /* kg per vertex, used when density is 0 */
     double density;                      /* kg/m², areal: a third of each triangle's mass */
+    double break_strain;                 /* every spring breaks beyond r0 (1 + break_strain); 0 = never */
 } sb_spring_mesh_def;
 
 /* stretch 100 N/m and 0.1 N·s/m, bend 10 N/m and 0.01 N·s/m, no vicinity
@@ -121,7 +131,7 @@ typedef struct sb_spring_mesh_def {
  * vertex: the scene keys' defaults. */
 SB_API sb_spring_mesh_def sb_default_spring_mesh_def(void);
 SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
-                                     sb_error* err);
+                                            sb_error* err);
 
 /* The pairs (i < j) of points nearer than radius (0 < distance < radius),
  * found with a uniform grid (cells of side radius, sorted by cell) in time
@@ -129,7 +139,7 @@ SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* 
  * i < j in each pair, pairs in a deterministic order (by cell, not sorted).
  * Coincident points (distance 0) are not paired. */
 SB_API sb_status sb_vicinity_pairs(const double* positions, uint32_t count, double radius, uint32_t** pairs,
-                            size_t* pair_count, sb_error* err);
+                                   size_t* pair_count, sb_error* err);
 
 #ifdef __cplusplus
 }

@@ -52,6 +52,12 @@ typedef enum sb_kernels {
 typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, const double position[3],
                                      const double velocity[3], double force[3]);
 
+/* Called once per bond that breaks (softbond/builder.h's break_min,
+ * break_max), on the thread that advances the solver, in bond order, at the
+ * end of the (sub-)step whose end length crossed the limit; time is that
+ * step's end (s). */
+typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, double time);
+
 typedef struct sb_solver_def {
     sb_integrator integrator;
     double gravity[3]; /* m/s² */
@@ -78,6 +84,9 @@ typedef struct sb_solver_def {
     uint32_t handle_count;
     sb_external_force_fn external_force;
     void* external_user;
+    /* Breakage (kernels/breakage.c): the breakage callback, or NULL. */
+    sb_break_fn on_break;
+    void* break_user;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
@@ -125,16 +134,16 @@ SB_API const char* sb_solver_error(const sb_solver* solver);
 
 /* What the last sb_solver_advance did. */
 typedef struct sb_step_stats {
-    int newton_iterations; /* implicit_euler: Newton iterations, summed over sub-steps */
-    int cg_iterations;     /* implicit_euler: conjugate-gradient iterations, summed */
-    bool converged;        /* implicit_euler: every Newton solve met its tolerance */
-    uint32_t substeps;     /* sub-steps accepted (1 without adaptive stepping) */
-    uint32_t rejected;     /* adaptive: sub-steps undone and retried at half the size */
-    uint32_t contacts;     /* vertex contacts answered, summed over sub-steps */
+    int newton_iterations;  /* implicit_euler: Newton iterations, summed over sub-steps */
+    int cg_iterations;      /* implicit_euler: conjugate-gradient iterations, summed */
+    bool converged;         /* implicit_euler: every Newton solve met its tolerance */
+    uint32_t substeps;      /* sub-steps accepted (1 without adaptive stepping) */
+    uint32_t rejected;      /* adaptive: sub-steps undone and retried at half the size */
+    uint32_t contacts;      /* vertex contacts answered, summed over sub-steps */
     uint32_t self_contacts; /* self-contact pairs corrected, summed over sub-steps */
     uint32_t self_dropped;  /* self-contact candidates dropped: the buffers (16 per triangle) were full */
-    double last_substep;   /* s, the last accepted sub-step */
-    double min_substep;    /* s, the smallest accepted sub-step */
+    double last_substep;    /* s, the last accepted sub-step */
+    double min_substep;     /* s, the smallest accepted sub-step */
 } sb_step_stats;
 
 SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
@@ -145,6 +154,14 @@ SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
 SB_API void sb_solver_contact_force(const sb_solver* solver, uint32_t index, double force[3]);
 /* Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
 SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
+
+/* Breakage: the bonds broken so far in this solver's run (they stay
+ * broken, sb_solver_set_state included), and whether bond `bond` is one of
+ * them (false out of range). A broken bond has no stiffness and no damping,
+ * and the triangles (angle, stretch-bend) and hinges that use its edge lose
+ * theirs too. */
+SB_API uint32_t sb_solver_broken_count(const sb_solver* solver);
+SB_API bool sb_solver_bond_broken(const sb_solver* solver, uint32_t bond);
 
 SB_API double sb_solver_time(const sb_solver* solver);
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);

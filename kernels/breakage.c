@@ -1,0 +1,263 @@
+/* Breakage: bonds that break past their limits, as in the Spring Systems
+ * library (GMSprAddSpringDetailed's l_min and l_max), and the first step of
+ * tearing.
+ *
+ * Design. The model stays immutable: what breaks is the solver's state. A
+ * solver of a breakable model (one with a finite limit on some bond) keeps
+ * a working copy of the model (`live`): the same vertex, index and rest
+ * arrays, but its own copies of the per-element constants (bond and spring
+ * stiffness, damping and rest length; the triangles' angle and
+ * stretch-bend constants and rest lengths; the hinges' constants). Every
+ * kernel of that solver reads the copy: the scalar reference, implicit
+ * Euler, pbd and xpbd through solver->model, the fast kernels through the
+ * fast model, which is per solver too and was built from the copy with its
+ * constants never folded to one value, so each element's can be zeroed in
+ * place. A bond fused into a triangle (kernels/fast_corners.c) already
+ * carries a per-slot weight: breaking it zeroes that weight, so the fused
+ * kernel runs as before, with no branch per element. A model without
+ * limits gets none of this: the same fast model, the same step.
+ *
+ * After each accepted step (each accepted adaptive sub-step) one pass over
+ * the bonds with a finite limit compares their squared end lengths (in
+ * double, from the current positions) with the squared limits, branch-free
+ * (it vectorizes); only when one is past does a second, serial pass in bond
+ * order break them, each once: a broken bond's limits become −1 and +inf,
+ * so it never matches again. For each it zeroes the bond's constants and
+ * rest length (no collapse or blow-up check for it any more) and, the
+ * first step of tearing, those of every triangle that has the bond's edge
+ * and every hinge whose edge or wings have it (a hinge across a dead
+ * triangle has no face to bend); then calls the callback on the advancing
+ * thread. The forces and energies are then evaluated again, so that the
+ * next step never feels a broken bond. Bond order and one thread: the same
+ * bonds break at the same step for any thread count.
+ *
+ * Not here (issue 12's rest of tearing): the surface splitting — vertex
+ * duplication where a tear runs through a vertex, the recoloring and the
+ * fast model's update — and cutting. The dead elements stay in the model
+ * with zero constants; the incidence lists below (bond → triangles,
+ * bond → hinges) are what a topology update starts from. */
+#include "kernels/breakage.h"
+#include "kernels/solver_internal.h"
+#include "common/edge_map.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The elements (triangles or hinges) on each bond's edge, by bond: CSR. */
+typedef struct sb_incidence {
+    uint32_t *start, *element;
+} sb_incidence;
+
+struct sb_breakage {
+    sb_model live;     /* the model the solver's kernels read */
+    double* constants; /* one block: live's own constant arrays */
+    uint32_t limited_count;
+    uint32_t* limited;   /* the bonds with a finite limit, in bond order */
+    double *min2, *max2; /* their squared limits; −1 and +inf once broken */
+    uint8_t* broken;     /* per bond */
+    double* forces;      /* 3n: the forces before a break */
+    uint32_t broken_count;
+    sb_incidence triangles, hinges;
+};
+
+/* The bonds on an element's edges: a triangle's three; a hinge's edge and
+ * its two wings' other four. Returns the count found. */
+static int sb_element_bonds(const sb_model* m, const sb_edge_map* map, bool hinge, uint32_t e, uint32_t out[5]) {
+    uint32_t ends[5][2];
+    int edges = hinge ? 5 : 3, count = 0;
+    if (hinge) {
+        uint32_t e0 = m->hinge_e0[e], e1 = m->hinge_e1[e], o0 = m->hinge_o0[e], o1 = m->hinge_o1[e];
+        uint32_t list[5][2] = {{e0, e1}, {e0, o0}, {e1, o0}, {e0, o1}, {e1, o1}};
+        memcpy(ends, list, sizeof ends);
+    } else
+        for (int c = 0; c < 3; c++) {
+            ends[c][0] = m->tri_v[c][e];
+            ends[c][1] = m->tri_v[(c + 1) % 3][e];
+        }
+    for (int k = 0; k < edges; k++) {
+        const uint32_t* bond = sb_edge_map_find(map, ends[k][0], ends[k][1]);
+        if (bond) out[count++] = *bond;
+    }
+    return count;
+}
+
+static bool sb_incidence_build(sb_incidence* in, const sb_model* m, const sb_edge_map* map, bool hinge) {
+    uint32_t count = hinge ? m->hinge_count : m->triangle_count, bonds[5];
+    in->start = calloc((size_t)m->bond_count + 1, sizeof *in->start);
+    uint32_t* cursor = malloc(((size_t)m->bond_count + 1) * sizeof *cursor);
+    bool ok = in->start && cursor;
+    for (uint32_t e = 0; ok && e < count; e++)
+        for (int k = sb_element_bonds(m, map, hinge, e, bonds) - 1; k >= 0; k--) in->start[bonds[k] + 1]++;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) in->start[b + 1] += in->start[b];
+    in->element = ok ? malloc(((size_t)in->start[m->bond_count] + 1) * sizeof *in->element) : NULL;
+    ok = ok && in->element;
+    if (ok) memcpy(cursor, in->start, ((size_t)m->bond_count + 1) * sizeof *cursor);
+    for (uint32_t e = 0; ok && e < count; e++)
+        for (int k = 0, n = sb_element_bonds(m, map, hinge, e, bonds); k < n; k++) in->element[cursor[bonds[k]]++] = e;
+    free(cursor);
+    return ok;
+}
+
+/* live's constant arrays: copies of the model's, in one block. */
+static bool sb_live_constants(sb_breakage* b, const sb_model* m) {
+    size_t nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
+    b->live = *m;
+    b->constants = malloc((4 * nb + 5 * nt + nh + 1) * sizeof(double));
+    if (!b->constants) return false;
+    double* next = b->constants;
+    struct {
+        double** field;
+        const double* from;
+        size_t count;
+    } arrays[] = {{&b->live.bond_r0, m->bond_r0, nb},         {&b->live.bond_k, m->bond_k, nb},
+                  {&b->live.spring_k, m->spring_k, nb},       {&b->live.spring_damping, m->spring_damping, nb},
+                  {&b->live.angle_k, m->angle_k, nt},         {&b->live.stretch_bend_k, m->stretch_bend_k, nt},
+                  {&b->live.tri_len0[0], m->tri_len0[0], nt}, {&b->live.tri_len0[1], m->tri_len0[1], nt},
+                  {&b->live.tri_len0[2], m->tri_len0[2], nt}, {&b->live.hinge_k, m->hinge_k, nh}};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) {
+        memcpy(next, arrays[a].from, arrays[a].count * sizeof(double));
+        *arrays[a].field = next;
+        next += arrays[a].count;
+    }
+    return true;
+}
+
+static bool sb_limits(sb_breakage* b, const sb_model* m) {
+    for (uint32_t e = 0; e < m->bond_count; e++)
+        b->limited_count += m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]);
+    size_t n = b->limited_count ? b->limited_count : 1;
+    b->limited = malloc(n * sizeof *b->limited);
+    b->min2 = malloc(n * sizeof *b->min2);
+    b->max2 = malloc(n * sizeof *b->max2);
+    b->broken = calloc(m->bond_count ? m->bond_count : 1, 1);
+    if (!b->limited || !b->min2 || !b->max2 || !b->broken) return false;
+    for (uint32_t e = 0, k = 0; e < m->bond_count; e++) {
+        if (!(m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]))) continue;
+        b->limited[k] = e;
+        b->min2[k] = m->bond_break_min[e] * m->bond_break_min[e];
+        b->max2[k++] = m->bond_break_max[e] * m->bond_break_max[e];
+    }
+    return true;
+}
+
+static bool sb_incidences(sb_breakage* b, const sb_model* m) {
+    sb_edge_map map;
+    if (!sb_edge_map_init(&map, m->bond_count)) return false;
+    bool inserted;
+    for (uint32_t e = 0; e < m->bond_count; e++) sb_edge_map_upsert(&map, m->bond_i[e], m->bond_j[e], e, &inserted);
+    bool ok = sb_incidence_build(&b->triangles, m, &map, false) && sb_incidence_build(&b->hinges, m, &map, true);
+    sb_edge_map_free(&map);
+    return ok;
+}
+
+sb_breakage* sb_breakage_create(const sb_model* m, bool* ok) {
+    if (!m->breakable) return NULL;
+    sb_breakage* b = calloc(1, sizeof *b);
+    if (b) b->forces = malloc(3 * (size_t)m->vertex_count * sizeof *b->forces);
+    if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m)) {
+        sb_breakage_destroy(b);
+        *ok = false;
+        return NULL;
+    }
+    return b;
+}
+
+void sb_breakage_destroy(sb_breakage* b) {
+    if (!b) return;
+    void* arrays[] = {b->forces, b->constants,       b->limited,           b->min2,         b->max2,
+                      b->broken, b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    free(b);
+}
+
+const sb_model* sb_breakage_model(const sb_breakage* b) { return &b->live; }
+uint32_t sb_breakage_count(const sb_breakage* b) { return b ? b->broken_count : 0; }
+bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) {
+    return b && bond < b->live.bond_count && b->broken[bond];
+}
+
+/* Limited bond k's squared length at the packed positions p, in double. */
+static inline double sb_length2(const sb_breakage* b, const sb_real* p, uint32_t k) {
+    const sb_real *pi = p + 4 * (size_t)b->live.bond_i[b->limited[k]],
+                  *pj = p + 4 * (size_t)b->live.bond_j[b->limited[k]];
+    double dx = (double)pj[0] - pi[0], dy = (double)pj[1] - pi[1], dz = (double)pj[2] - pi[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+static inline bool sb_past(const sb_breakage* b, const sb_real* p, uint32_t k) {
+    double l2 = sb_length2(b, p, k);
+    return (l2 < b->min2[k]) | (l2 > b->max2[k]);
+}
+
+/* The branch-free pass: whether any limited bond is past a limit. */
+static bool sb_any_past(const sb_breakage* b, const sb_real* p) {
+    int any = 0;
+    for (uint32_t k = 0; k < b->limited_count; k++) any |= sb_past(b, p, k);
+    return any != 0;
+}
+
+/* The triangles and hinges on the bond's edge lose their constants. */
+static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
+    sb_model* m = &b->live;
+    for (uint32_t q = b->triangles.start[bond]; q < b->triangles.start[bond + 1]; q++) {
+        uint32_t t = b->triangles.element[q];
+        m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
+        for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
+        if (s->fast) sb_fast_drop_triangle(s->fast, t);
+    }
+    for (uint32_t q = b->hinges.start[bond]; q < b->hinges.start[bond + 1]; q++) {
+        m->hinge_k[b->hinges.element[q]] = 0.0;
+        if (s->fast) sb_fast_drop_hinge(s->fast, b->hinges.element[q]);
+    }
+}
+
+static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k) {
+    uint32_t bond = b->limited[k];
+    sb_model* m = &b->live;
+    b->min2[k] = -1.0;
+    b->max2[k] = INFINITY;
+    b->broken[bond] = 1;
+    b->broken_count++;
+    m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
+    if (s->fast) sb_fast_break_bond(s->fast, bond);
+    sb_drop_elements(s, b, bond);
+    if (s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
+}
+
+/* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
+ * forces at its end, which belongs to the interval after it: after a break
+ * it is the broken state's (otherwise the kinetic energy would keep the
+ * broken bonds' last pull, and the adaptive stepper would count it as a
+ * gain at every later sub-step). The other integrators' velocities use no
+ * force of the step's end. Hard-held vertices (inverse mass 0: the packed
+ * one, sb_inv_mass) keep their handle's velocity. */
+static void sb_rekick(sb_solver* s, const double* before) {
+    if (s->def.integrator != SB_INTEGRATOR_VERLET && s->def.integrator != SB_INTEGRATOR_VELOCITY_VERLET) return;
+    sb_state* st = &s->state;
+    sb_real* v[3] = {st->vx, st->vy, st->vz};
+    const sb_real* f[3] = {st->fx, st->fy, st->fz};
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        double h = 0.5 * s->contact_dt * (s->fast ? s->fast->inv_mass4[4 * (size_t)i] : sb_inv_mass(s)[i]);
+        for (int a = 0; a < 3; a++) {
+            v[a][i] = (sb_real)(v[a][i] + h * (f[a][i] - before[3 * (size_t)i + a]));
+            if (s->fast) s->velocities4[4 * (size_t)i + a] = v[a][i];
+        }
+    }
+}
+
+sb_status sb_breakage_after_step(sb_solver* s) {
+    sb_breakage* b = s->breakage;
+    if (!b) return SB_OK;
+    const sb_real* p = sb_packed_positions(s);
+    if (!sb_any_past(b, p)) return SB_OK;
+    for (uint32_t k = 0; k < b->limited_count; k++)
+        if (sb_past(b, p, k)) sb_break(s, b, k);
+    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
+    return SB_OK;
+}
