@@ -43,7 +43,7 @@ struct sb_solver {
     /* sb_solver_advance_into: where the fused step writes the snapshot (NULL otherwise) */
     sb_real *publish_positions, *publish_velocities;
     bool publish_written;
-    double advance_dt;        /* s, the last advance's dt */
+    double advance_dt;            /* s, the last advance's dt */
     struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays */
     struct sb_self_contact* self; /* self-contact (kernels/self_contact.c); NULL when off */
     /* handles (kernels/handle.c) */

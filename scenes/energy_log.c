@@ -46,6 +46,7 @@ sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err
         const char* name = log->collider_names[c];
         fprintf(log->file, ",%s_fx,%s_fy,%s_fz", name, name, name);
     }
+    if (log->broken_column) fprintf(log->file, ",broken");
     fputc('\n', log->file);
     return flush(log, err);
 }
@@ -59,7 +60,6 @@ static void write_row(FILE* f, double time, const sb_energies* e, const sb_step_
             (unsigned long long)w->rejected, (unsigned long long)w->newton, (unsigned long long)w->cg,
             (unsigned long long)w->unconverged, contacts);
     for (uint32_t k = 0; k < force_count; k++) fprintf(f, ",%.17g", forces[k]);
-    fputc('\n', f);
 }
 
 static bool keep_time(sb_energy_log* log, double time) {
@@ -75,9 +75,11 @@ static bool keep_time(sb_energy_log* log, double time) {
 }
 
 sb_status sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work,
-                            uint32_t contacts, const double* forces, sb_error* err) {
+                            uint32_t contacts, const double* forces, uint32_t broken, sb_error* err) {
     if (!keep_time(log, time)) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     write_row(log->file, time, energies, work, contacts, forces, 3 * log->collider_count);
+    if (log->broken_column) fprintf(log->file, ",%u", broken);
+    fputc('\n', log->file);
     return flush(log, err);
 }
 

@@ -6,7 +6,9 @@
  * the previous frame, from sb_solver_last_step; all 0 on frame 0), then
  * contacts (the vertex contacts of the last advance before the frame) and
  * per collider <name>_fx,<name>_fy,<name>_fz (the force it received from
- * the bodies over that advance, N, sb_solver_contact_force; 0 on frame 0). */
+ * the bodies over that advance, N, sb_solver_contact_force; 0 on frame 0),
+ * and, when the model can break (broken_column), broken: the bonds broken
+ * so far (sb_solver_broken_count). */
 #ifndef SB_ENERGY_LOG_H
 #define SB_ENERGY_LOG_H
 
@@ -34,6 +36,7 @@ typedef struct sb_energy_log {
     uint32_t count, capacity;
     char** collider_names;
     uint32_t collider_count;
+    bool broken_column; /* set before the log is opened */
 } sb_energy_log;
 
 /* Adds a collider's three force columns; only before the log is opened.
@@ -42,9 +45,10 @@ bool sb_energy_log_add_collider(sb_energy_log* log, const char* name);
 /* Creates (or empties) the file at path and writes the header. */
 sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err);
 /* Writes and flushes a row, 17 significant digits; forces holds 3 per
- * collider (may be NULL without colliders). */
+ * collider (may be NULL without colliders); broken is written only with
+ * broken_column. */
 sb_status sb_energy_log_add(sb_energy_log* log, double time, const sb_energies* energies, const sb_step_work* work,
-                            uint32_t contacts, const double* forces, sb_error* err);
+                            uint32_t contacts, const double* forces, uint32_t broken, sb_error* err);
 /* Closes the file (reporting a failed close) and frees the log. */
 sb_status sb_energy_log_close(sb_energy_log* log, sb_error* err);
 

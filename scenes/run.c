@@ -228,8 +228,8 @@ static int record_frame(run_job* job, sb_error* err) {
         sb_handle_force(job->handles.handles[h], f); /* set at the last force evaluation: 0 at rest on frame 0 */
         f += 3;
     }
-    sb_status status =
-        sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts, job->forces, err);
+    sb_status status = sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts,
+                                         job->forces, sb_solver_broken_count(job->solver), err);
     if (status == SB_OK) status = write_index(job, false, err);
     job->work = (sb_step_work){0};
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
@@ -294,6 +294,8 @@ static void report(const run_job* job, uint32_t frames, double seconds) {
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
     double start = now();
+    job->log.broken_column = sb_scene_number(&job->scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
+                             sb_scene_number(&job->scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0;
     if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK ||
         sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;

@@ -62,6 +62,9 @@ typedef enum sb_scene_type {
     X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")                              \
     X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")                                   \
     X(BEND_K, "bend.k", NUMBER, "0", "dihedral bending across interior edges, J/rad^2; 0 = off")                       \
+    X(BOND_BREAK_STRAIN, "bond.break_strain", NUMBER, "0",                                                             \
+      "breakage: a bond breaks beyond its rest length times (1 + this), and the triangles and hinges on its edge "     \
+      "go with it; 0 = never")                                                                                         \
     X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")                                    \
     X(DENSITY, "density", NUMBER, "0",                                                                                 \
       "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "                                  \
@@ -78,6 +81,8 @@ typedef enum sb_scene_type {
       "springs: join vertices nearer than this, m; 0 = off")                                                           \
     X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "springs: vicinity, N/m")                               \
     X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1", "springs: vicinity, N s/m")                 \
+    X(SPRINGS_BREAK_STRAIN, "springs.break_strain", NUMBER, "0",                                                       \
+      "springs: every spring breaks beyond its rest length times (1 + this); 0 = never")                               \
     X(MATERIAL, "material", STRING, "liver",                                                                           \
       "tetrahedral meshes: liver (E 3.5 kPa) or gallbladder (E 1.5 kPa), 1060 kg/m^3")                                 \
     X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500",                                                    \

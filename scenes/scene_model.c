@@ -102,6 +102,7 @@ sb_material_def sb_scene_material(const sb_scene* scene) {
     m.spring_k = sb_scene_number(scene, SB_KEY_SPRING_K);
     m.spring_damping = sb_scene_number(scene, SB_KEY_SPRING_DAMPING);
     m.bend_k = sb_scene_number(scene, SB_KEY_BEND_K);
+    m.break_strain = sb_scene_number(scene, SB_KEY_BOND_BREAK_STRAIN);
     m.mass = sb_scene_number(scene, SB_KEY_MASS);
     m.density = sb_scene_number(scene, SB_KEY_DENSITY);
     return m;
@@ -129,6 +130,7 @@ sb_spring_mesh_def sb_scene_springs(const sb_scene* scene) {
     d.vicinity = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_DISTANCE);
     d.vicinity_k = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_K);
     d.vicinity_damping = sb_scene_number(scene, SB_KEY_SPRINGS_VICINITY_DAMPING);
+    d.break_strain = sb_scene_number(scene, SB_KEY_SPRINGS_BREAK_STRAIN);
     d.mass = sb_scene_number(scene, SB_KEY_MASS);
     d.density = sb_scene_number(scene, SB_KEY_DENSITY);
     return d;

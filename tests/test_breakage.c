@@ -7,10 +7,15 @@
  * handles breaks, and its energies are then those of a model holding only
  * the bonds, triangles and hinges left whole (built independently from the
  * broken set); 1 and 2 threads break the same bonds at the same times and
- * end bitwise equal; bad limits are refused. */
+ * end bitwise equal; bad limits are refused. The program: the committed
+ * scenes/tearing_sheet.yaml breaks bonds (log.csv's broken column counts
+ * up, the same for 1 and 2 threads), and bad break strains exit 2 naming
+ * the line. */
+#define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
 #include "softbond/handle.h"
+#include "tests/test_files.h"
 
 /* What the breakage callback saw. */
 typedef struct break_log {
@@ -389,6 +394,65 @@ static void test_bad_limits_refused(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* log.csv's last column in its last row, and the header's last name. */
+static double last_broken(const char* log) {
+    const char* header_end = strchr(log, '\n');
+    assert_non_null(header_end);
+    assert_int_equal(strncmp(header_end - 7, ",broken", 7), 0);
+    const char* end = log + strlen(log) - 1; /* the last row's newline */
+    const char* comma = end;
+    while (comma > log && *comma != ',') comma--;
+    return atof(comma + 1);
+}
+
+static void test_tearing_scene(void** state) {
+    (void)state;
+    char* logs[2];
+    for (int threads = 1; threads <= 2; threads++) {
+        char dir[16], count[4], path[400];
+        snprintf(dir, sizeof dir, "tear%d", threads);
+        snprintf(count, sizeof count, "%d", threads);
+        tu_result r =
+            tu_run((const char*[]){"run", SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", "--set", "duration=0.5", "--set",
+                                   "output.frames=false", "--threads", count, "--output", dir, NULL});
+        if (r.code != 0) fail_msg("%s", r.err);
+        tu_result_free(&r);
+        snprintf(path, sizeof path, "%s/log.csv", tu_tmp_path(dir));
+        logs[threads - 1] = tu_read_file(path);
+        assert_non_null(logs[threads - 1]);
+    }
+    assert_true(last_broken(logs[0]) > 0);
+    assert_string_equal(logs[0], logs[1]);
+    free(logs[0]);
+    free(logs[1]);
+}
+
+static void assert_scene_fails(const char* text, const char* message) {
+    tu_write_file("bad.yaml", text);
+    tu_result r = tu_run((const char*[]){"run", "bad.yaml", "--output", "never", NULL});
+    if (r.code != 2 || !strstr(r.err, message))
+        fail_msg("expected exit 2 and '%s', got %d: %s", message, r.code, r.err);
+    tu_result_free(&r);
+}
+
+static void test_bad_scene_strains(void** state) {
+    (void)state;
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\nbond: {k: 10, break_strain: -0.1}\n",
+                       "bad.yaml:2: 'bond.break_strain' must be >= 0, got -0.1");
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\nfactory: springs\nsprings:\n  break_strain: many\n",
+                       "bad.yaml:4: 'springs.break_strain' expects a number, got 'many'");
+}
+
+static int setup_dir(void** state) {
+    (void)state;
+    return tu_make_tmp_dir("sb_test_breakage");
+}
+
+static int teardown_dir(void** state) {
+    (void)state;
+    return tu_remove_tmp_dir();
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_spring_breaks_past_max),
@@ -398,6 +462,8 @@ int main(void) {
         cmocka_unit_test(test_threads_break_the_same),
         cmocka_unit_test(test_unbreakable_sheet_never_breaks),
         cmocka_unit_test(test_bad_limits_refused),
+        cmocka_unit_test(test_tearing_scene),
+        cmocka_unit_test(test_bad_scene_strains),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
