@@ -1,0 +1,220 @@
+/* Haptics against a simulated tissue, on a virtual clock: a 10 cm sheet of
+ * 21 x 21 vertices held along its four sides, a 5 mm sphere for the tool;
+ * ten solver steps of 0.1 ms per servo tick of 1 ms, in one thread.
+ * - A scripted probe pressed slowly in and held: the force the hand feels
+ *   is the sheet's static reaction at the same tool position, computed
+ *   separately by a run with the tool on a kinematic path (within 5 %).
+ * - Passivity: a simulated hand (a mass on a spring-damper that follows a
+ *   tapping trajectory and receives the loop's force) taps the sheet ten
+ *   times at the default coupling; the loop's net work on the hand is not
+ *   positive (it takes energy out, into the sheet's damping). */
+#define _POSIX_C_SOURCE 200809L
+#include "test_util.h"
+#include "test_files.h"
+
+#define T 1e-3
+#define DT 1e-4
+#define STEPS_PER_TICK 10
+#define SIDE 21
+#define REST_Z 0.012 /* m: the tool's centre at rest, 7 mm above the sheet */
+
+typedef struct tissue {
+    sb_mesh mesh;
+    sb_model* model;
+    sb_collider* tool;
+    sb_solver* solver;
+} tissue;
+
+/* The sheet, and a sphere at rest above its middle, on the path given (NULL: driven). */
+static void tissue_open(tissue* t, const sb_keyframe* path, uint32_t path_count) {
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = SIDE;
+    sheet.width = sheet.height = 0.1;
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &t->mesh, &err), SB_OK);
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 200;
+    material.angle_k = 0.0005;
+    material.density = 0.5;
+    sb_builder* builder = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(builder, &t->mesh, &material, &err), SB_OK);
+    for (uint32_t row = 0; row < SIDE; row++)
+        for (uint32_t col = 0; col < SIDE; col++)
+            if (row == 0 || col == 0 || row == SIDE - 1 || col == SIDE - 1)
+                sb_builder_vertex(builder, row * SIDE + col)->fixed = true;
+    t->model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(t->model);
+    sb_collider_def c = sb_default_collider_def();
+    c.shape = SB_COLLIDER_SPHERE;
+    c.center[0] = c.center[1] = 0.05;
+    c.center[2] = REST_Z;
+    c.radius = 0.005;
+    c.path = path;
+    c.path_count = path_count;
+    t->tool = sb_collider_create(&c, &err);
+    assert_non_null(t->tool);
+    sb_solver_def def = sb_default_solver_def();
+    def.gravity[0] = def.gravity[1] = def.gravity[2] = 0;
+    def.drag = 20;
+    def.colliders = &t->tool;
+    def.collider_count = 1;
+    def.contact_thickness = 0.0005;
+    def.runtime.threads = 1;
+    t->solver = sb_solver_create(t->model, &def, &err);
+    assert_non_null(t->solver);
+}
+
+static void tissue_close(tissue* t) {
+    sb_solver_destroy(t->solver);
+    sb_collider_destroy(t->tool);
+    sb_model_destroy(t->model);
+    sb_mesh_free(&t->mesh);
+}
+
+/* One servo tick of the whole loop: the simulation's steps during the
+ * tick (each drives the tool, then senses it, as `softbond run` does), then
+ * the servo's tick. */
+static void loop_tick(tissue* t, sb_haptics* h, long i) {
+    for (int s = 0; s < STEPS_PER_TICK; s++) {
+        sb_haptics_drive(h);
+        assert_int_equal(sb_solver_advance(t->solver, DT), SB_OK);
+        sb_haptics_sense(h, t->solver, (double)(i - 1) * T + (s + 1) * DT);
+    }
+    sb_haptics_tick(h, (double)i * T);
+}
+
+static sb_haptics* couple(tissue* t, sb_haptic_device* device) {
+    sb_error err;
+    sb_haptics_def def = sb_default_haptics_def();
+    sb_haptics* h = sb_haptics_create(&def, device, t->tool, 0, &err);
+    assert_non_null(h);
+    return h;
+}
+
+/* The mean over the last `ticks` of the z force the loop sent. */
+static double mean_force_z(sb_haptics* h, long ticks, long total) {
+    sb_haptic_tick tick;
+    double sum = 0;
+    for (long i = 0; i < total; i++) {
+        assert_int_equal(sb_haptics_drain(h, &tick, 1), 1);
+        if (i >= total - ticks) sum += tick.force[2];
+    }
+    return sum / (double)ticks;
+}
+
+static void test_felt_force_is_the_static_reaction(void** state) {
+    (void)state;
+    /* Down 14 mm over 2 s (the sphere's bottom 7.5 mm into the sheet), held 1 s. */
+    const char* script = tu_write_file("press.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
+    sb_haptic_device_def dd = sb_default_haptic_device_def();
+    dd.kind = "scripted";
+    dd.file = script;
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
+    assert_non_null(device);
+    tissue t = {0};
+    tissue_open(&t, NULL, 0);
+    sb_haptics* h = couple(&t, device);
+    const long ticks = 3000;
+    for (long i = 0; i < ticks; i++) loop_tick(&t, h, i);
+    double felt = mean_force_z(h, 200, ticks), proxy[3];
+    sb_haptics_proxy(h, proxy);
+    sb_haptics_destroy(h);
+    sb_haptic_device_close(device);
+    tissue_close(&t);
+
+    /* The same sheet with the tool on a kinematic path to where the proxy
+     * ended, held there: the sheet's reaction, averaged over 0.2 s. */
+    sb_keyframe path[3] = {{.time = 0}, {.time = 2}, {.time = 3}};
+    for (int k = 1; k < 3; k++) path[k].translate[2] = proxy[2] - REST_Z;
+    tissue s = {0};
+    tissue_open(&s, path, 3);
+    double reaction = 0;
+    for (long i = 0; i < ticks * STEPS_PER_TICK; i++) {
+        assert_int_equal(sb_solver_advance(s.solver, DT), SB_OK);
+        double f[3];
+        sb_solver_contact_force(s.solver, 0, f);
+        if (i >= (ticks - 200) * STEPS_PER_TICK) reaction += f[2] / (200.0 * STEPS_PER_TICK);
+    }
+    tissue_close(&s);
+    print_message("proxy %.3f mm below rest, felt %.4f N, static reaction %.4f N\n", 1e3 * (REST_Z - proxy[2]), felt,
+                  reaction);
+    assert_true(reaction > 0.03); /* the sheet was pressed */
+    TU_ASSERT_NEAR(felt, reaction, 0.05 * reaction);
+}
+
+/* ---- the simulated hand ------------------------------------------------ */
+
+typedef struct hand {
+    double z, v;  /* m, m/s: the hand's (device's) height, from the device's origin */
+    double force; /* N: the loop's last force on it, along z */
+    double time;  /* s: how far it has been integrated */
+    double work;  /* J: the loop's work on the hand */
+    double peak;  /* N: the largest force felt */
+} hand;
+
+enum { HAND_TAPS = 10 };
+#define HAND_MASS 0.1      /* kg */
+#define HAND_STIFFNESS 300 /* N/m: the arm's pull towards where it means to be */
+#define HAND_DAMPING 3     /* N s/m */
+
+/* Where the arm means the hand to be: taps 18 mm down from the origin at 2 Hz. */
+static double hand_target(double time) { return -0.018 * fmax(0, sin(2 * M_PI * 2 * time)); }
+
+static sb_status hand_read(void* user, double time, sb_haptic_pose* pose) {
+    hand* h = user;
+    for (; h->time < time - 1e-12; h->time += T) { /* semi-implicit Euler at the servo's rate */
+        double a = (HAND_STIFFNESS * (hand_target(h->time) - h->z) - HAND_DAMPING * h->v + h->force) / HAND_MASS;
+        h->v += a * T;
+        double dz = h->v * T;
+        h->work += h->force * dz;
+        h->z += dz;
+    }
+    *pose = (sb_haptic_pose){.time = time, .position = {0, 0, h->z}, .orientation = {1, 0, 0, 0}};
+    return SB_OK;
+}
+
+static sb_status hand_write(void* user, double time, const double force[3]) {
+    (void)time;
+    hand* h = user;
+    h->force = force[2];
+    h->peak = fmax(h->peak, fabs(force[2]));
+    return SB_OK;
+}
+
+static void test_tapping_hand_gains_no_energy(void** state) {
+    (void)state;
+    hand hand = {0};
+    static const sb_haptic_device_ops ops = {hand_read, hand_write, NULL};
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_custom(&ops, &hand, &err);
+    tissue t = {0};
+    tissue_open(&t, NULL, 0);
+    sb_haptics* h = couple(&t, device);
+    const long ticks = (long)(HAND_TAPS / 2.0 / T);
+    sb_haptic_tick tick;
+    for (long i = 0; i < ticks; i++) {
+        loop_tick(&t, h, i);
+        while (sb_haptics_drain(h, &tick, 1)) {
+        }
+    }
+    print_message("the loop's work on the hand over %d taps: %.3g J; peak force %.3f N\n", HAND_TAPS, hand.work,
+                  hand.peak);
+    assert_true(hand.peak > 0.1); /* it did touch */
+    TU_ASSERT_LE(hand.work, 0);
+    sb_haptics_destroy(h);
+    sb_haptic_device_close(device);
+    tissue_close(&t);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_felt_force_is_the_static_reaction),
+        cmocka_unit_test(test_tapping_hand_gains_no_energy),
+    };
+    if (tu_make_tmp_dir("haptics_tissue") != 0) return 1;
+    int failed = cmocka_run_group_tests(tests, NULL, NULL);
+    tu_remove_tmp_dir();
+    return failed;
+}
