@@ -212,11 +212,8 @@ void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const d
     partial[3 * s->def.collider_count] += 1.0;
 }
 
-/* Adds the torque about a dynamic collider's center of the impulse it
- * receives at the contact point (the opposite of the vertex's) to the
- * chunk's partial sums. */
-static void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
-                                     const double impulse[3]) {
+void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
+                              const double impulse[3]) {
     double* partial = s->contact_partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
     double received[3] = {-impulse[0], -impulse[1], -impulse[2]}, torque[3];
     sb_collider_torque(s->def.colliders[collider], point, received, torque);

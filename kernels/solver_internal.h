@@ -96,6 +96,11 @@ void sb_contact_velocity(const sb_contact* c, double v[3]);
  * answered vertex's impulse m Δv (the collider receives the opposite). */
 void sb_contact_chunk_begin(const sb_solver* solver, uint32_t chunk);
 void sb_contact_record(const sb_solver* solver, uint32_t chunk, int collider, const double impulse[3]);
+/* Adds the torque about a dynamic collider's center of the impulse it
+ * receives at the contact point (the opposite of the vertex's) to the
+ * chunk's partial sums (nothing for a collider that is not dynamic). */
+void sb_contact_record_torque(const sb_solver* solver, uint32_t chunk, int collider, const double point[3],
+                              const double impulse[3]);
 /* The most colliders a solver takes (a bit each in the broad phase). */
 #define SB_MAX_COLLIDERS 64
 /* The fused path's pass over one chunk of the packed state, after its drift
