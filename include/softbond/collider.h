@@ -7,11 +7,14 @@
  * surface normal there, and how much of the vertex's velocity survives
  * (restitution along the normal, Coulomb friction along the surface). The
  * solver then moves the vertex and changes its velocity (kernels/contact.c)
- * and adds the impulse it took to the collider's reaction force.
+ * and adds the impulse it took to the collider's reaction force. pbd and
+ * xpbd ask about the predicted move before their sweeps and keep the answer
+ * as a constraint inside them (kernels/contact_pbd.c); the velocity answer
+ * is the same.
  *
  * The built-in shapes (plane, sphere, capsule, box, triangle mesh) are
- * colliders written on this same interface; a program's own collider is a callback of the same
- * type (sb_collider_create_custom). */
+ * colliders written on this same interface; a program's own collider is a
+ * callback of the same type (sb_collider_create_custom). */
 #ifndef SOFTBOND_COLLIDER_H
 #define SOFTBOND_COLLIDER_H
 
