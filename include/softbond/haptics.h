@@ -174,8 +174,9 @@ SB_API uint32_t sb_haptics_faults(const sb_haptics* haptics);
 SB_API size_t sb_haptics_drain(sb_haptics* haptics, sb_haptic_tick* out, size_t max);
 SB_API uint64_t sb_haptics_dropped(const sb_haptics* haptics);
 
-/* The servo's own measurements (read after sb_haptics_stop, or any time
- * for a rough look). Percentiles from 1 µs bins. */
+/* The servo's own measurements: read them after sb_haptics_stop (the
+ * servo thread writes them while it runs), or between ticks on the virtual
+ * clock. Percentiles from 1 µs bins (periods) and 10 µs bins (ages). */
 typedef struct sb_haptics_stats {
     uint64_t ticks;
     double period_median, period_p99, period_max; /* s, between the starts of ticks */
