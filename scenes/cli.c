@@ -21,6 +21,7 @@ static const option_spec option_specs[] = {
     {"--forces", offsetof(sb_cli_args, forces), false},
     {"--fast", offsetof(sb_cli_args, fast), true},
     {"--budget-ms", offsetof(sb_cli_args, budget_ms), false},
+    {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {

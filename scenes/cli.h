@@ -30,6 +30,7 @@ typedef struct sb_cli_args {
     const char* forces;    /* eval --forces OUT.csv */
     bool fast;             /* eval --fast */
     const char* budget_ms; /* run --budget-ms X */
+    bool no_realtime;      /* run --no-realtime */
     bool help;             /* --help, -h */
 } sb_cli_args;
 

@@ -33,7 +33,7 @@ enum { INDEX_EVERY_FRAME = 1024 };
 
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
-                    "                    [--budget-ms X]\n"
+                    "                    [--budget-ms X] [--no-realtime]\n"
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
                     "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
@@ -51,7 +51,9 @@ void sb_cli_run_usage(FILE* stream) {
                     "--threads (or SOFTBOND_THREADS) sets the solver's threads.\n"
                     "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
                     "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
-                    "(the smallest if none does); it prints what it measured and picked.\n");
+                    "(the smallest if none does); it prints what it measured and picked.\n"
+                    "--no-realtime: with haptics.tool set, the simulation runs as fast as it can\n"
+                    "instead of paced to the wall clock (haptics.realtime: false).\n");
 }
 
 typedef struct run_job {
@@ -179,6 +181,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
     job->solver = sb_solver_create(job->model, &def, err);
     if (!job->solver) return SB_ERR_INVALID;
     if (sb_scene_haptics_create(&job->haptics, &job->scene, &job->colliders, err) != SB_OK) return SB_ERR_INVALID;
+    if (job->args.no_realtime) job->haptics.paced = false;
     size_t n = 3 * (size_t)job->mesh.vertex_count;
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
     return job->buffers ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
@@ -320,7 +323,7 @@ static int execute(run_job* job, sb_error* err) {
 }
 
 int sb_cli_run(int argc, char** argv) {
-    static const char* const accepted[] = {"--output", "--threads", "--budget-ms", NULL};
+    static const char* const accepted[] = {"--output", "--threads", "--budget-ms", "--no-realtime", NULL};
     run_job job = {0};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

@@ -297,7 +297,7 @@ static const char* probe_scene(const char* haptics) {
 }
 
 static tu_result run_probe(const char* haptics) {
-    const char* args[] = {"run", probe_scene(haptics), "--output", tu_tmp_path("probe_out"), NULL};
+    const char* args[] = {"run", probe_scene(haptics), "--output", tu_tmp_path("probe_out"), "--no-realtime", NULL};
     return tu_run(args);
 }
 
@@ -314,7 +314,7 @@ static void assert_scene_refused(const char* haptics, const char* message) {
 static void test_scene_runs_the_servo_and_writes_haptics_csv(void** state) {
     (void)state;
     tu_write_file("down.csv", "time,x,y,z\n0,0,0,0\n1,0,0,-0.01\n");
-    tu_result r = run_probe("  device: scripted\n  file: down.csv\n  tool: probe\n  realtime: false");
+    tu_result r = run_probe("  device: scripted\n  file: down.csv\n  tool: probe");
     if (r.code != 0) fail_msg("%s", r.err);
     tu_result_free(&r);
     char* csv = tu_read_file(tu_tmp_path("probe_out/haptics.csv"));
