@@ -7,6 +7,7 @@
 #include "test_util.h"
 #include "test_files.h"
 
+#include "haptics/coupling.h"
 #include "haptics/udp_protocol.h"
 
 #include <arpa/inet.h>
@@ -18,6 +19,13 @@
 #define T (1 / RATE)
 #define K 700.0 /* the default coupling */
 #define NEVER 1e30
+
+static void quaternion_multiply(const double a[4], const double b[4], double out[4]) {
+    out[0] = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3];
+    out[1] = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2];
+    out[2] = a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1];
+    out[3] = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0];
+}
 
 static bool finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
 static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
@@ -338,6 +346,27 @@ static void test_scene_runs_the_servo_and_writes_haptics_csv(void** state) {
     assert_scene_refused("  device: scripted\n  file: nothere.csv\n  tool: probe", "nothere.csv");
 }
 
+/* The tool turns with the device: a quaternion becomes the collider's
+ * rotation in degrees about x, then y, then z (R = Rz Ry Rx). */
+static void test_quaternion_to_degrees(void** state) {
+    (void)state;
+    double d[3];
+    const double half = M_PI / 360; /* half an angle of one degree, in radians */
+    sb_quaternion_to_degrees((double[4]){cos(90 * half), 0, 0, sin(90 * half)}, d);
+    TU_ASSERT_NEAR(d[0], 0, 1e-12);
+    TU_ASSERT_NEAR(d[1], 0, 1e-12);
+    TU_ASSERT_NEAR(d[2], 90, 1e-12);
+    /* Rz(30) Ry(20) Rx(10) as the product of the three quaternions. */
+    double qx[4] = {cos(10 * half), sin(10 * half), 0, 0}, qy[4] = {cos(20 * half), 0, sin(20 * half), 0},
+           qz[4] = {cos(30 * half), 0, 0, sin(30 * half)}, zy[4], q[4];
+    quaternion_multiply(qz, qy, zy);
+    quaternion_multiply(zy, qx, q);
+    sb_quaternion_to_degrees(q, d);
+    TU_ASSERT_NEAR(d[0], 10, 1e-12);
+    TU_ASSERT_NEAR(d[1], 20, 1e-12);
+    TU_ASSERT_NEAR(d[2], 30, 1e-12);
+}
+
 /* ---- the scripted device ---------------------------------------------- */
 
 static void test_scripted_device_interpolates(void** state) {
@@ -456,6 +485,7 @@ int main(void) {
         cmocka_unit_test(test_limits_refused),
         cmocka_unit_test(test_servo_thread_runs_and_stops),
         cmocka_unit_test(test_scene_runs_the_servo_and_writes_haptics_csv),
+        cmocka_unit_test(test_quaternion_to_degrees),
         cmocka_unit_test(test_scripted_device_interpolates),
         cmocka_unit_test(test_scripted_device_errors_name_the_line),
         cmocka_unit_test(test_udp_device_takes_poses_and_answers_forces),
