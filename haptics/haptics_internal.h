@@ -58,7 +58,5 @@ struct sb_haptics {
 
 /* Seconds since the epoch on the monotonic clock. */
 double sb_haptics_seconds(const struct timespec* epoch);
-/* The servo's measurement of one tick that woke `late` s after its deadline. */
-void sb_haptics_measure_late(sb_haptics* haptics, double late);
 
 #endif

@@ -33,10 +33,6 @@ double sb_haptics_seconds(const struct timespec* epoch) {
     return (double)(now.tv_sec - epoch->tv_sec) + 1e-9 * (double)(now.tv_nsec - epoch->tv_nsec);
 }
 
-void sb_haptics_measure_late(sb_haptics* h, double late) {
-    if (late > h->late_max) h->late_max = late;
-}
-
 static void count_in(uint32_t* bins, int count, double value, double width) {
     double b = value / width;
     bins[b < 0 ? 0 : b >= count - 1 ? count - 1 : (int)b]++;
@@ -158,7 +154,7 @@ static void* servo_loop(void* context) {
         }
         clock_gettime(CLOCK_MONOTONIC, &now);
         double late = seconds_between(&deadline, &now);
-        sb_haptics_measure_late(h, late);
+        if (late > h->late_max) h->late_max = late;
         if (late > h->period) deadline = now;
     }
     return NULL;
