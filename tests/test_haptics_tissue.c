@@ -16,14 +16,26 @@
 #define DT 1e-4
 #define STEPS_PER_TICK 10
 #define SIDE 21
-#define REST_Z 0.012 /* m: the tool's centre at rest, 7 mm above the sheet */
+#define REST_Z 0.012      /* m: the tool's centre at rest, 7 mm above the sheet */
+#define WINDOW_STEPS 1000 /* 0.1 s */
+#define WINDOWS 30
 
 typedef struct tissue {
     sb_mesh mesh;
     sb_model* model;
     sb_collider* tool;
     sb_solver* solver;
+    long steps;
+    double reaction[WINDOWS]; /* N: the tool's contact force along z, averaged over each window */
 } tissue;
+
+/* The tool's contact force after a step, into its window's average. */
+static void record_reaction(tissue* t) {
+    double f[3];
+    sb_solver_contact_force(t->solver, 0, f);
+    long w = t->steps++ / WINDOW_STEPS;
+    if (w < WINDOWS) t->reaction[w] += f[2] / WINDOW_STEPS;
+}
 
 /* The sheet, and a sphere at rest above its middle, on the path given (NULL: driven). */
 static void tissue_open(tissue* t, const sb_keyframe* path, uint32_t path_count) {
@@ -79,6 +91,7 @@ static void loop_tick(tissue* t, sb_haptics* h, long i) {
     for (int s = 0; s < STEPS_PER_TICK; s++) {
         sb_haptics_drive(h);
         assert_int_equal(sb_solver_advance(t->solver, DT), SB_OK);
+        record_reaction(t);
         sb_haptics_sense(h, t->solver, (double)(i - 1) * T + (s + 1) * DT);
     }
     sb_haptics_tick(h, (double)i * T);
@@ -142,6 +155,51 @@ static void test_felt_force_is_the_static_reaction(void** state) {
                   reaction);
     assert_true(reaction > 0.03); /* the sheet was pressed */
     TU_ASSERT_NEAR(felt, reaction, 0.05 * reaction);
+}
+
+/* The probe of the first test driven by the scripted device and, in a
+ * separate run, moved along the same trajectory as a kinematic path: the
+ * sheet's reaction on it over time (0.1 s averages) is the same within 5 %
+ * of its peak. Not closer: the proxy stops short of the device by the felt
+ * force over K (0.07 mm here), where the sheet pushes 0.0015 N less (3 %). The syringe of the interaction issue would
+ * be this comparison with a needle; there is no syringe scene yet. */
+static void test_scripted_device_matches_the_kinematic_path(void** state) {
+    (void)state;
+    const char* script = tu_write_file("press2.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
+    sb_haptic_device_def dd = sb_default_haptic_device_def();
+    dd.kind = "scripted";
+    dd.file = script;
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
+    assert_non_null(device);
+    tissue* felt = calloc(1, sizeof *felt);
+    tissue_open(felt, NULL, 0);
+    sb_haptics* h = couple(felt, device);
+    for (long i = 0; i < 3000; i++) loop_tick(felt, h, i);
+    sb_haptic_tick tick;
+    while (sb_haptics_drain(h, &tick, 1)) {
+    }
+    sb_haptics_destroy(h);
+    sb_haptic_device_close(device);
+
+    sb_keyframe path[3] = {
+        {.time = 0}, {.time = 2, .translate = {0, 0, -0.014}}, {.time = 3, .translate = {0, 0, -0.014}}};
+    tissue* moved = calloc(1, sizeof *moved);
+    tissue_open(moved, path, 3);
+    for (long i = 0; i < 3000 * STEPS_PER_TICK; i++) {
+        assert_int_equal(sb_solver_advance(moved->solver, DT), SB_OK);
+        record_reaction(moved);
+    }
+    double peak = 0;
+    for (int w = 0; w < WINDOWS; w++) peak = fmax(peak, fabs(moved->reaction[w]));
+    assert_true(peak > 0.03);
+    for (int w = 0; w < WINDOWS; w++) TU_ASSERT_NEAR(felt->reaction[w], moved->reaction[w], 0.05 * peak);
+    print_message("reaction at 3 s: %.4f N driven by the device, %.4f N on the path\n", felt->reaction[WINDOWS - 1],
+                  moved->reaction[WINDOWS - 1]);
+    tissue_close(felt);
+    tissue_close(moved);
+    free(felt);
+    free(moved);
 }
 
 /* ---- the simulated hand ------------------------------------------------ */
@@ -211,6 +269,7 @@ static void test_tapping_hand_gains_no_energy(void** state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_felt_force_is_the_static_reaction),
+        cmocka_unit_test(test_scripted_device_matches_the_kinematic_path),
         cmocka_unit_test(test_tapping_hand_gains_no_energy),
     };
     if (tu_make_tmp_dir("haptics_tissue") != 0) return 1;
