@@ -214,6 +214,7 @@ void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const d
 
 void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
                               const double impulse[3]) {
+    if (!s->def.colliders[collider]->dynamic) return; /* its torque sum stays zero */
     double* partial = s->contact_partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
     double received[3] = {-impulse[0], -impulse[1], -impulse[2]}, torque[3];
     sb_collider_torque(s->def.colliders[collider], point, received, torque);
