@@ -314,7 +314,7 @@ static void sb_search_pair(const sb_self_search* q, uint32_t a, uint32_t b);
 
 static void sb_search_self(const sb_self_search* q, uint32_t node) {
     const sb_triangle_bvh* bvh = q->sc->bvh;
-    if (bvh->flat[node]) return;
+    if (sb_triangle_bvh_flat(bvh, node)) return;
     const sb_bvh_node* n = &bvh->nodes[node];
     if (n->leaf) {
         sb_leaf_boxes boxes;

@@ -192,10 +192,9 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
     bvh->order = malloc(triangle_count * sizeof *bvh->order);
     bvh->nodes = calloc(nodes, sizeof *bvh->nodes);
     bvh->bounds = calloc(nodes, sizeof *bvh->bounds);
-    bvh->flat = calloc(nodes, 1);
     bvh->culled = calloc(nodes, 1);
     sb_bvh_builder b = {.bvh = bvh, .centroids = malloc(3 * (size_t)triangle_count * sizeof(double))};
-    if (!bvh->order || !bvh->nodes || !bvh->bounds || !bvh->flat || !bvh->culled || !b.centroids) {
+    if (!bvh->order || !bvh->nodes || !bvh->bounds || !bvh->culled || !b.centroids) {
         free(b.centroids);
         sb_triangle_bvh_destroy(bvh);
         return NULL;
@@ -232,7 +231,7 @@ void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh) {
     if (!bvh) return;
     for (int c = 0; c < 3; c++) free(bvh->corners.corner[c]);
     for (int j = 0; j < 9; j++) free(bvh->scratch.value[j]);
-    free(bvh->order), free(bvh->nodes), free(bvh->bounds), free(bvh->flat), free(bvh->culled);
+    free(bvh->order), free(bvh->nodes), free(bvh->bounds), free(bvh->culled);
     free(bvh->cut), free(bvh->top);
     free(bvh);
 }
@@ -279,7 +278,6 @@ static void sb_refit_leaf(sb_triangle_bvh* bvh, uint32_t i, double margin) {
         b->normals[a] = (float)normal_lo[a] - 1e-5f;
         b->normals[3 + a] = (float)extreme[6 + a] + 1e-5f;
     }
-    bvh->flat[i] = node->connected && sb_normals_flat(b->normals);
 }
 
 static void sb_refit_inner(sb_triangle_bvh* bvh, uint32_t i) {
@@ -291,7 +289,10 @@ static void sb_refit_inner(sb_triangle_bvh* bvh, uint32_t i) {
         b->normals[a] = l->normals[a] < r->normals[a] ? l->normals[a] : r->normals[a];
         b->normals[3 + a] = l->normals[3 + a] > r->normals[3 + a] ? l->normals[3 + a] : r->normals[3 + a];
     }
-    bvh->flat[i] = bvh->nodes[i].connected && sb_normals_flat(b->normals);
+}
+
+bool sb_triangle_bvh_flat(const sb_triangle_bvh* bvh, uint32_t node) {
+    return bvh->nodes[node].connected && sb_normals_flat(bvh->bounds[node].normals);
 }
 
 void sb_triangle_bvh_refit_subtree(sb_triangle_bvh* bvh, uint32_t root, const sb_real* from4, const sb_real* to4,
@@ -311,11 +312,11 @@ void sb_triangle_bvh_refit_top(sb_triangle_bvh* bvh) {
     /* culled, parents first: the top in increasing index, then the cut */
     for (uint32_t k = bvh->top_count; k-- > 0;) {
         uint32_t i = bvh->top[k], parent = bvh->nodes[i].parent;
-        bvh->culled[i] = bvh->flat[i] || (parent != UINT32_MAX && bvh->culled[parent]);
+        bvh->culled[i] = sb_triangle_bvh_flat(bvh, i) || (parent != UINT32_MAX && bvh->culled[parent]);
     }
     for (uint32_t k = 0; k < bvh->cut_count; k++) {
         uint32_t i = bvh->cut[k], parent = bvh->nodes[i].parent;
-        bvh->culled[i] = bvh->flat[i] || (parent != UINT32_MAX && bvh->culled[parent]);
+        bvh->culled[i] = sb_triangle_bvh_flat(bvh, i) || (parent != UINT32_MAX && bvh->culled[parent]);
     }
 }
 

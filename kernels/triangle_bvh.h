@@ -40,9 +40,9 @@ typedef struct sb_triangle_bvh {
     sb_triangle_bounds scratch;  /* per triangle, in the same order: each refit's boxes and normals */
     sb_bvh_node* nodes;
     sb_bvh_bounds* bounds;
-    /* Per node, refitted: flat = connected and its normals within a cone
-     * (no self-contact inside it); culled = flat or below a flat node. */
-    uint8_t *flat, *culled;
+    /* Per top and cut node, set by the refit of the top: flat
+     * (sb_triangle_bvh_flat) or below a flat node. */
+    uint8_t* culled;
     /* The cut: subtrees refitted (and searched) in parallel, and the top
      * nodes above them, in decreasing index (children before parents). */
     uint32_t cut_count, top_count;
@@ -63,6 +63,10 @@ void sb_triangle_bvh_refit_subtree(sb_triangle_bvh* bvh, uint32_t root, const sb
 /* Refits the top nodes from their children (after every subtree of the
  * cut), then sets `culled` of the top and cut nodes. */
 void sb_triangle_bvh_refit_top(sb_triangle_bvh* bvh);
+/* Whether a node is flat: connected and its normals within a cone, so
+ * nothing inside it can touch anything else inside it. Worked out when
+ * asked (the search asks only about the nodes it reaches). */
+bool sb_triangle_bvh_flat(const sb_triangle_bvh* bvh, uint32_t node);
 /* The lowest node above both a and b. */
 uint32_t sb_triangle_bvh_common(const sb_triangle_bvh* bvh, uint32_t a, uint32_t b);
 

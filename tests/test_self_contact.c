@@ -202,9 +202,9 @@ static void test_refit_bounds_every_triangle(void** state) {
             }
         }
         if (fold)
-            assert_false(bvh->flat[0]);
+            assert_false(sb_triangle_bvh_flat(bvh, 0));
         else
-            assert_true(bvh->flat[0] && bvh->culled[0]);
+            assert_true(sb_triangle_bvh_flat(bvh, 0) && bvh->culled[0]);
     }
     free(from4), free(to4);
     for (int c = 0; c < 3; c++) free(corners[c]);
