@@ -44,8 +44,8 @@ struct sb_state_buffer {
     int slot_count;
     uint32_t vertex_count;
     sb_slot* slots;
-    sb_real* arrays;    /* every slot's positions and velocities */
-    atomic_int latest;  /* -1 before the first commit */
+    sb_real* arrays;   /* every slot's positions and velocities */
+    atomic_int latest; /* -1 before the first commit */
     atomic_ullong published, skipped;
 };
 
