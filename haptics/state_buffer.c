@@ -7,10 +7,15 @@
  *   writer: take a slot other than latest whose word is 0, by compare-and-
  *           swap 0 -> WRITING (so no reader holds it, and none can take it
  *           unnoticed); fill it; clear WRITING (release); latest = slot.
- *   reader: i = latest; add 1 to slot i's word; if WRITING was set, the
- *           writer overtook the reader (it published twice and began a
- *           third slot) between the two: take the 1 back and retry.
- *           Otherwise the slot is the reader's until it takes the 1 back.
+ *   reader: i = latest; add 1 to slot i's word; if WRITING was set, or
+ *           latest is no longer i, the writer overtook the reader between
+ *           the two: take the 1 back and retry. Otherwise the slot is the
+ *           reader's until it takes the 1 back. The second check keeps a
+ *           reader's snapshots in order: without it, a reader that read
+ *           latest long ago could take a slot the writer had just filled
+ *           again and cleared but not yet named latest, and its next read
+ *           (of the latest still named) would go back a step (the stress
+ *           test saw this under the thread sanitizer).
  *
  * Why this and not a sequence lock or plain triple buffering: a sequence
  * lock copies the data out and retries when the writer was there meanwhile,
@@ -113,7 +118,8 @@ const sb_snapshot* sb_state_buffer_acquire(sb_state_buffer* b) {
         int i = atomic_load_explicit(&b->latest, memory_order_acquire);
         if (i < 0) return NULL;
         unsigned before = atomic_fetch_add_explicit(&b->slots[i].holders, 1, memory_order_acq_rel);
-        if (!(before & SB_WRITING)) return &b->slots[i].snapshot;
+        if (!(before & SB_WRITING) && atomic_load_explicit(&b->latest, memory_order_acquire) == i)
+            return &b->slots[i].snapshot;
         atomic_fetch_sub_explicit(&b->slots[i].holders, 1, memory_order_release);
     }
     return NULL;
