@@ -186,9 +186,10 @@ static sb_status tetgen_elements(tet_text* t, tet_build* b, long long node_base,
 }
 
 static sb_status tet_read(const char* path, tet_text* t, char** text, bool comments, sb_error* err) {
-    size_t size;
+    size_t size = 0;
     sb_status status = sb_read_whole_file(path, text, &size, err);
-    *t = (tet_text){.path = path, .p = *text, .end = *text + size, .comments = comments};
+    /* a file that could not be read leaves *text NULL: no offset on it */
+    *t = (tet_text){.path = path, .p = *text, .end = *text ? *text + size : NULL, .comments = comments};
     return status;
 }
 
