@@ -145,8 +145,7 @@ sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
     bool ok = rest != NULL;
     for (uint32_t i = 0; ok && i < m->vertex_count; i++)
         rest[3 * i] = m->rest_x[i], rest[3 * i + 1] = m->rest_y[i], rest[3 * i + 2] = m->rest_z[i];
-    ok = ok && (sc->bvh = sb_triangle_bvh_create(m->triangle_count, (const uint32_t* const*)m->tri_v, rest,
-                                                 m->vertex_count)) != NULL;
+    ok = ok && (sc->bvh = sb_triangle_bvh_create(m->triangle_count, (const uint32_t* const*)m->tri_v, rest)) != NULL;
     free(rest);
     ok = ok && sb_self_features(sc, m);
     /* packed arrays 64-byte aligned, as the fast kernels' loads of them want */
@@ -203,16 +202,12 @@ static sb_vec3 sb_at(const sb_real* x4, uint32_t i) {
     return (sb_vec3){p[0], p[1], p[2]};
 }
 
-/* The swept box of vertices v[0..count) grown by r, as lo x y z, hi x y z. */
-static void sb_swept_box(const sb_self_search* q, const uint32_t* v, int count, double r, double box[6]) {
-    for (int a = 0; a < 3; a++) box[a] = INFINITY, box[3 + a] = -INFINITY;
-    for (int k = 0; k < count; k++) {
-        const sb_real *p = q->x0 + 4 * (size_t)v[k], *r1 = q->x1 + 4 * (size_t)v[k];
-        for (int a = 0; a < 3; a++) {
-            double lo = p[a] < r1[a] ? p[a] : r1[a], hi = p[a] < r1[a] ? r1[a] : p[a];
-            box[a] = lo - r < box[a] ? lo - r : box[a];
-            box[3 + a] = hi + r > box[3 + a] ? hi + r : box[3 + a];
-        }
+/* The swept box of vertex v grown by r, as lo x y z, hi x y z. */
+static void sb_swept_box(const sb_self_search* q, uint32_t v, double r, double box[6]) {
+    const sb_real *p = q->x0 + 4 * (size_t)v, *p1 = q->x1 + 4 * (size_t)v;
+    for (int a = 0; a < 3; a++) {
+        box[a] = (p[a] < p1[a] ? p[a] : p1[a]) - r;
+        box[3 + a] = (p[a] < p1[a] ? p1[a] : p[a]) + r;
     }
 }
 
@@ -220,10 +215,28 @@ static bool sb_boxes_meet(const double a[6], const double b[6]) {
     return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
-static sb_moving_quad sb_quad(const sb_self_search* q, const uint32_t v[4]) {
+/* Vertices v moving from x0 to x1 (packed) over the step. */
+static sb_moving_quad sb_quad(const sb_real* x0, const sb_real* x1, const uint32_t v[4]) {
     sb_moving_quad quad;
-    for (int k = 0; k < 4; k++) quad.x0[k] = sb_at(q->x0, v[k]), quad.x1[k] = sb_at(q->x1, v[k]);
+    for (int k = 0; k < 4; k++) quad.x0[k] = sb_at(x0, v[k]), quad.x1[k] = sb_at(x1, v[k]);
     return quad;
+}
+
+/* The squared distance of a pair (vertex 0 and triangle 1 2 3, or edge 0 1
+ * and edge 2 3) at the end of the step, with its closest points' triangle
+ * weights w or edge parameters s, u. */
+static double sb_end_distance2(const sb_moving_quad* q, bool edges, double w[3], double* s, double* u) {
+    return edges ? sb_segments_closest(q->x1[0], q->x1[1], q->x1[2], q->x1[3], s, u)
+                 : sb_point_triangle_closest(q->x1[0], q->x1[1], q->x1[2], q->x1[3], w);
+}
+
+/* Whether the pair, end_distance2 apart at the end of the step, crossed
+ * within h during it; w or s, u then give the points that met. */
+static bool sb_crossed(const sb_moving_quad* q, bool edges, double h, double end_distance2, double w[3], double* s,
+                       double* u) {
+    double t;
+    if (!sb_quad_may_cross(q, sqrt(end_distance2), h)) return false;
+    return edges ? sb_edge_edge_crossing(q, h, &t, s, u) : sb_vertex_triangle_crossing(q, h, &t, w);
 }
 
 static void sb_keep(const sb_self_search* q, uint32_t a, uint32_t b) {
@@ -236,13 +249,10 @@ static void sb_keep(const sb_self_search* q, uint32_t a, uint32_t b) {
 /* Whether the pair (vertices v: vertex and triangle, or edge and edge)
  * crossed in the step or ends it within 2h. */
 static bool sb_near(const sb_self_search* q, const uint32_t v[4], bool edges) {
-    double h = q->sc->h, t, w[3], s, u;
-    sb_moving_quad quad = sb_quad(q, v);
-    double d2 = edges ? sb_segments_closest(quad.x1[0], quad.x1[1], quad.x1[2], quad.x1[3], &s, &u)
-                      : sb_point_triangle_closest(quad.x1[0], quad.x1[1], quad.x1[2], quad.x1[3], w);
-    if (d2 < 4.0 * h * h) return true;
-    if (!sb_quad_may_cross(&quad, sqrt(d2), h)) return false;
-    return edges ? sb_edge_edge_crossing(&quad, h, &t, &s, &u) : sb_vertex_triangle_crossing(&quad, h, &t, w);
+    double h = q->sc->h, w[3], s, u;
+    sb_moving_quad quad = sb_quad(q->x0, q->x1, v);
+    double d2 = sb_end_distance2(&quad, edges, w, &s, &u);
+    return d2 < 4.0 * h * h || sb_crossed(&quad, edges, h, d2, w, &s, &u);
 }
 
 static void sb_union(const double a[6], const double b[6], double out[6]) {
@@ -284,7 +294,7 @@ static void sb_leaf_boxes_of(const sb_self_search* q, const sb_bvh_node* leaf, s
     for (uint32_t k = 0; k < leaf->count; k++) {
         out->triangle[k] = bvh->order[leaf->first + k];
         for (int c = 0; c < 3; c++)
-            sb_swept_box(q, &bvh->corners.corner[c][leaf->first + k], 1, q->sc->h, out->corner[k][c]);
+            sb_swept_box(q, bvh->corners.corner[c][leaf->first + k], q->sc->h, out->corner[k][c]);
         for (int e = 0; e < 3; e++) sb_union(out->corner[k][e], out->corner[k][(e + 1) % 3], out->edge[k][e]);
         sb_union(out->edge[k][0], out->corner[k][2], out->box[k]);
     }
@@ -403,14 +413,11 @@ static bool sb_constraint(const sb_self_contact* sc, const sb_self_candidate* c,
         k->v[0] = c->a;
         for (int j = 0; j < 3; j++) k->v[1 + j] = sc->bvh->tri_v[j][c->b];
     }
-    sb_moving_quad q;
-    for (int j = 0; j < 4; j++) q.x0[j] = sb_at(sc->from4, k->v[j]), q.x1[j] = sb_at(x1, k->v[j]);
-    double h = sc->h, t, w[3], s, u;
-    double d2 = edges ? sb_segments_closest(q.x1[0], q.x1[1], q.x1[2], q.x1[3], &s, &u)
-                      : sb_point_triangle_closest(q.x1[0], q.x1[1], q.x1[2], q.x1[3], w);
+    sb_moving_quad q = sb_quad(sc->from4, x1, k->v);
+    double h = sc->h, w[3], s, u;
+    double d2 = sb_end_distance2(&q, edges, w, &s, &u);
     /* a crossing found replaces the closest points by the points that met */
-    bool crossed = sb_quad_may_cross(&q, sqrt(d2), h) &&
-                   (edges ? sb_edge_edge_crossing(&q, h, &t, &s, &u) : sb_vertex_triangle_crossing(&q, h, &t, w));
+    bool crossed = sb_crossed(&q, edges, h, d2, w, &s, &u);
     if (edges)
         k->beta[0] = 1.0 - s, k->beta[1] = s, k->beta[2] = -(1.0 - u), k->beta[3] = -u;
     else

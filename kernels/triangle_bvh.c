@@ -179,8 +179,7 @@ static bool sb_choose_cut(sb_triangle_bvh* bvh) {
 }
 
 sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t* const tri_v[3],
-                                        const double* positions, uint32_t vertex_count) {
-    (void)vertex_count;
+                                        const double* positions) {
     sb_triangle_bvh* bvh = calloc(1, sizeof *bvh);
     if (!bvh || triangle_count == 0) {
         free(bvh);

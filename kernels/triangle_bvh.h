@@ -52,7 +52,7 @@ typedef struct sb_triangle_bvh {
 /* Builds the hierarchy of the triangles (tri_v, the model's arrays) from
  * the positions (3 per vertex). NULL when out of memory. */
 sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t* const tri_v[3],
-                                        const double* positions, uint32_t vertex_count);
+                                        const double* positions);
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh);
 
 /* Refits the subtree of node `root` from the packed positions (x y z w per

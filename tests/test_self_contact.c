@@ -159,7 +159,7 @@ static void test_refit_bounds_every_triangle(void** state) {
         corners[c] = malloc(t * sizeof(uint32_t));
         for (uint32_t k = 0; k < t; k++) corners[c][k] = mesh.triangles[3 * k + c];
     }
-    sb_triangle_bvh* bvh = sb_triangle_bvh_create(t, (const uint32_t* const*)corners, mesh.positions, n);
+    sb_triangle_bvh* bvh = sb_triangle_bvh_create(t, (const uint32_t* const*)corners, mesh.positions);
     assert_non_null(bvh);
     sb_real *from4 = aligned_alloc(64, 4 * 64 * ((n + 63) / 64) * sizeof(sb_real)),
             *to4 = aligned_alloc(64, 4 * 64 * ((n + 63) / 64) * sizeof(sb_real));
