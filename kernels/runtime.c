@@ -41,19 +41,26 @@ static int sb_available_processors(void) {
 }
 
 int sb_runtime_threads(int requested, sb_error* err) {
+    if (requested > SB_MAX_THREADS) {
+        sb_error_set(err, SB_ERR_INVALID, "threads: %d is above the most a solver takes (%d)", requested,
+                     SB_MAX_THREADS);
+        return -1;
+    }
     if (requested > 0) return requested;
     const char* env = getenv("SOFTBOND_THREADS");
     if (env && *env) {
         char* end;
         errno = 0;
         long n = strtol(env, &end, 10);
-        if (errno || *end || n < 1 || n > 1024) {
-            sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS='%s' is not a thread count from 1 to 1024", env);
+        if (errno || *end || n < 1 || n > SB_MAX_THREADS) {
+            sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS='%s' is not a thread count from 1 to %d", env,
+                         SB_MAX_THREADS);
             return -1;
         }
         return (int)n;
     }
-    return sb_available_processors();
+    int processors = sb_available_processors();
+    return processors < SB_MAX_THREADS ? processors : SB_MAX_THREADS;
 }
 
 const char* sb_runtime_simd(void) { return SB_SIMD_NAME; }
@@ -74,9 +81,8 @@ void sb_runtime_describe(char* out, size_t size) {
         snprintf(out, size, "topology unknown; SIMD %s; %s", SB_SIMD_NAME, SB_DOUBLE ? "double" : "float");
         return;
     }
-    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s",
-             sb_core_count(topology), hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU),
-             sb_cache_kib(topology, HWLOC_OBJ_L2CACHE), sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME,
-             SB_WIDTH, SB_DOUBLE ? "double" : "float");
+    snprintf(out, size, "%d cores, %d PUs, L2 %llu KiB, L3 %llu KiB; SIMD %s (%d lanes); %s", sb_core_count(topology),
+             hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_PU), sb_cache_kib(topology, HWLOC_OBJ_L2CACHE),
+             sb_cache_kib(topology, HWLOC_OBJ_L3CACHE), SB_SIMD_NAME, SB_WIDTH, SB_DOUBLE ? "double" : "float");
     hwloc_topology_destroy(topology);
 }

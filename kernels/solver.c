@@ -121,8 +121,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!isfinite(def->contact_thickness) || def->contact_thickness < 0.0)
         return sb_error_set(err, SB_ERR_INVALID, "contact_thickness must be finite and >= 0 (got %g)",
                             def->contact_thickness);
-    if (def->runtime.threads < 0)
-        return sb_error_set(err, SB_ERR_INVALID, "threads must be >= 0 (got %d)", def->runtime.threads);
+    if (def->runtime.threads < 0 || def->runtime.threads > SB_MAX_THREADS)
+        return sb_error_set(err, SB_ERR_INVALID, "threads must be from 0 to %d (got %d)", SB_MAX_THREADS,
+                            def->runtime.threads);
     if ((unsigned)def->runtime.wait >= SB_WAIT_COUNT)
         return sb_error_set(err, SB_ERR_INVALID, "unknown wait policy %d", (int)def->runtime.wait);
     if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)

@@ -115,12 +115,12 @@ sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scen
     return status;
 }
 
-/* A thread count: a whole number in [min, SB_CLI_MAX_THREADS]. */
+/* A thread count: a whole number in [min, SB_MAX_THREADS]. */
 static bool parse_threads(const char* text, long min, int* out) {
     char* end;
     errno = 0;
     long value = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || errno != 0 || value < min || value > SB_CLI_MAX_THREADS) return false;
+    if (end == text || *end != '\0' || errno != 0 || value < min || value > SB_MAX_THREADS) return false;
     *out = (int)value;
     return true;
 }
@@ -131,12 +131,12 @@ sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* ou
     const char* env = getenv("SOFTBOND_THREADS");
     *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
     if (args->threads && !parse_threads(args->threads, 0, out))
-        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, %d], got '%s'",
-                            SB_CLI_MAX_THREADS, args->threads);
+        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, %d], got '%s'", SB_MAX_THREADS,
+                            args->threads);
     if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
     if (parse_threads(env, 1, out)) return SB_OK;
     return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [1, %d], got '%s'",
-                        SB_CLI_MAX_THREADS, env);
+                        SB_MAX_THREADS, env);
 }
 
 /* The length of the valid UTF-8 sequence at s (2 to 4 bytes), or 0. */

@@ -15,10 +15,6 @@ enum {
     SB_EXIT_SOLVER = 3   /* the solver failed during the run */
 };
 
-/* The most threads --threads, the scene's threads and SOFTBOND_THREADS
- * may ask for: the library's own bound on SOFTBOND_THREADS (runtime.c). */
-enum { SB_CLI_MAX_THREADS = 1024 };
-
 /* The options of every command; a command says which it accepts. */
 typedef struct sb_cli_args {
     const char* input; /* the one positional argument */

@@ -177,6 +177,38 @@ static void test_unknown_wait_policy_is_refused(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* One bound on the thread count, SB_MAX_THREADS, for the solver's def,
+ * sb_runtime_threads and SOFTBOND_THREADS, and the messages say it. */
+static void test_one_thread_bound(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_sheet_model(&mesh);
+    sb_solver_def def = sb_default_solver_def();
+    def.runtime.threads = SB_MAX_THREADS + 1;
+    sb_error err = {0};
+    assert_null(sb_solver_create(model, &def, &err));
+    char expected[128];
+    snprintf(expected, sizeof expected, "threads must be from 0 to %d (got %d)", SB_MAX_THREADS, SB_MAX_THREADS + 1);
+    assert_string_equal(err.message, expected);
+    assert_int_equal(sb_runtime_threads(SB_MAX_THREADS + 1, &err), -1);
+    assert_int_equal(sb_runtime_threads(SB_MAX_THREADS, &err), SB_MAX_THREADS);
+    char* saved = getenv("SOFTBOND_THREADS") ? strdup(getenv("SOFTBOND_THREADS")) : NULL;
+    char value[32];
+    snprintf(value, sizeof value, "%d", SB_MAX_THREADS + 1);
+    setenv("SOFTBOND_THREADS", value, 1);
+    assert_int_equal(sb_runtime_threads(0, &err), -1);
+    snprintf(expected, sizeof expected, "SOFTBOND_THREADS='%d' is not a thread count from 1 to %d", SB_MAX_THREADS + 1,
+             SB_MAX_THREADS);
+    assert_string_equal(err.message, expected);
+    unsetenv("SOFTBOND_THREADS");
+    int automatic = sb_runtime_threads(0, &err);
+    assert_true(automatic >= 1 && automatic <= SB_MAX_THREADS);
+    if (saved) setenv("SOFTBOND_THREADS", saved, 1);
+    free(saved);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
 /* The published snapshot is the solver's state at that step, exactly. */
 static void test_publish_copies_the_state(void** state) {
     (void)state;
@@ -422,6 +454,7 @@ int main(void) {
         cmocka_unit_test(test_wait_policy_names),
         cmocka_unit_test(test_policies_do_not_change_results),
         cmocka_unit_test(test_unknown_wait_policy_is_refused),
+        cmocka_unit_test(test_one_thread_bound),
         cmocka_unit_test(test_publish_copies_the_state),
         cmocka_unit_test(test_held_snapshot_is_left_alone),
         cmocka_unit_test(test_advance_published_equals_publish),

@@ -31,9 +31,15 @@ SB_API const char* sb_wait_policy_name(sb_wait_policy policy);
 /* Returns false when the name is unknown. */
 SB_API bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out);
 
+/* The most threads a solver's team may have: sb_runtime_def.threads,
+ * SOFTBOND_THREADS and the count of processors are held to it (the
+ * `softbond` program's --threads and the scene's threads too). */
+#define SB_MAX_THREADS 1024
+
 /* The threads a solver runs on; the host decides. */
 typedef struct sb_runtime_def {
-    int threads;         /* the team's size, the calling thread included; 0 = sb_runtime_threads(0) */
+    int threads;         /* the team's size, the calling thread included, 0 to SB_MAX_THREADS;
+                          * 0 = sb_runtime_threads(0) */
     bool pin;            /* bind thread i to core i (hwloc; thread 0 is the one that creates the solver,
                           * given its own binding back when the solver is destroyed); off: the
                           * scheduler places them */
@@ -45,8 +51,10 @@ typedef struct sb_runtime_def {
 SB_API sb_runtime_def sb_default_runtime_def(void);
 
 /* The thread count to use: `requested` when > 0, else the SOFTBOND_THREADS
- * environment variable when set, else one per core. Returns -1 and fills
- * err when SOFTBOND_THREADS is not a positive integer. */
+ * environment variable when set, else one per available processor (at
+ * most SB_MAX_THREADS). Returns -1 and fills err when `requested` is above
+ * SB_MAX_THREADS or SOFTBOND_THREADS is not an integer from 1 to
+ * SB_MAX_THREADS. */
 SB_API int sb_runtime_threads(int requested, sb_error* err);
 
 /* One line describing the machine and build: cores, processing units,
