@@ -174,17 +174,35 @@ bool sb_scene_pov(const sb_scene* scene) {
            sb_pov_path(sb_scene_string(scene, SB_KEY_MESH_FILE));
 }
 
+/* The Spring Systems factory makes springs only, and self-contact keeps
+ * the model's triangles apart: with `self_collision` the mesh's triangles
+ * (from vertex `base` on) are added too, without terms (angle and
+ * stretch-bend constants 0, which the step skips), as the body's surface. */
+static sb_status add_spring_body(const sb_mesh* mesh, const sb_spring_mesh_def* springs, bool surface,
+                                 sb_builder* builder, sb_error* err) {
+    uint32_t base = sb_builder_vertex_count(builder);
+    sb_status status = sb_builder_add_spring_mesh(builder, mesh, springs, err);
+    for (uint32_t t = 0; status == SB_OK && surface && t < mesh->triangle_count; t++) {
+        const uint32_t* v = mesh->triangles + 3 * (size_t)t;
+        sb_triangle_def def = sb_default_triangle_def();
+        def.i = base + v[0], def.j = base + v[1], def.k = base + v[2];
+        def.angle_k = 0.0, def.stretch_bend_k = 0.0;
+        if (sb_builder_add_triangle(builder, &def) < 0) status = sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    }
+    return status;
+}
+
 /* One mesh2 object: its triangles over its part of the (placed) mesh,
  * which starts at vertex `first`; a fixed object has every vertex fixed. */
 static sb_status add_pov_object(const sb_pov_object* object, const sb_mesh* mesh, uint32_t first,
-                                const sb_spring_mesh_def* defaults, sb_builder* builder, sb_error* err) {
+                                const sb_spring_mesh_def* defaults, bool surface, sb_builder* builder, sb_error* err) {
     sb_mesh part = {.vertex_count = object->mesh.vertex_count,
                     .positions = mesh->positions + 3 * (size_t)first,
                     .triangle_count = object->mesh.triangle_count,
                     .triangles = object->mesh.triangles};
     sb_spring_mesh_def springs = sb_pov_object_springs(object, defaults);
     uint32_t base = sb_builder_vertex_count(builder);
-    sb_status status = sb_builder_add_spring_mesh(builder, &part, &springs, err);
+    sb_status status = add_spring_body(&part, &springs, surface, builder, err);
     for (uint32_t v = 0; status == SB_OK && object->fixed && v < part.vertex_count; v++)
         sb_builder_vertex(builder, base + v)->fixed = true;
     if (status == SB_OK) return SB_OK;
@@ -208,11 +226,12 @@ static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder*
     sb_status status = sb_pov_load(path, &objects, &count, err);
     free(path);
     sb_spring_mesh_def defaults = sb_scene_springs(scene);
+    bool surface = sb_scene_bool(scene, SB_KEY_SELF_COLLISION);
     for (uint32_t i = 0; i < count && status == SB_OK; i++) {
         if (objects[i].mesh.vertex_count > mesh->vertex_count - first)
             status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
         else
-            status = add_pov_object(&objects[i], mesh, first, &defaults, builder, err);
+            status = add_pov_object(&objects[i], mesh, first, &defaults, surface, builder, err);
         first += objects[i].mesh.vertex_count;
     }
     if (status == SB_OK && first != mesh->vertex_count)
@@ -226,7 +245,7 @@ static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder
     if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
         sb_spring_mesh_def springs = sb_scene_springs(scene);
-        return sb_builder_add_spring_mesh(builder, mesh, &springs, err);
+        return add_spring_body(mesh, &springs, sb_scene_bool(scene, SB_KEY_SELF_COLLISION), builder, err);
     }
     sb_material_def material = sb_scene_material(scene);
     return sb_builder_add_mesh(builder, mesh, &material, err);

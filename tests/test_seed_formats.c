@@ -363,6 +363,41 @@ static void test_pov_scene_run(void** state) {
     free(end);
 }
 
+static double min_z(const double* points, uint32_t first, uint32_t count) {
+    double low = points[3 * first + 2];
+    for (uint32_t v = first; v < first + count; v++) low = fmin(low, points[3 * v + 2]);
+    return low;
+}
+
+/* shapes.pov with self_collision: the free tetrahedron (vertices 4-7, a
+ * body of springs only) lands on the fixed floor and stays on it, at
+ * least the contact thickness h above it less the step's slack, where
+ * without self_collision it falls through (the factory's triangles are
+ * the bodies' surfaces only when self_collision asks for them); the bare
+ * triangle (8-10), beside the floor, still falls freely. */
+static void test_pov_bodies_collide(void** state) {
+    (void)state;
+    tu_write_file("land.yaml", "mesh: {generator: file, file: " DATA "shapes.pov}\n"
+                               "gravity: [0, 0, -9.81]\ndt: 0.0005\nduration: 1\nframe_interval: 1\n"
+                               "drag: 1\ncontact: {thickness: 0.02}\n");
+    const double h = 0.02, fall = 0.5 * 9.81;
+    for (int self = 0; self <= 1; self++) {
+        const char* args[] = {"run",      "land.yaml", "--set", self ? "self_collision=true" : "self_collision=false",
+                              "--output", "land",      NULL};
+        tu_result r = tu_run(args);
+        if (r.code != 0) fail_msg("softbond run failed (%d): %s", r.code, r.err);
+        tu_result_free(&r);
+        double* end = vtu_points(tu_tmp_path("land/frame_000001.vtu"), 11);
+        print_message("self_collision %d: the tetrahedron's lowest point at z = %g m\n", self, min_z(end, 4, 4));
+        if (self)
+            assert_true(min_z(end, 4, 4) > 0.5 * h && min_z(end, 4, 4) < 1.5 * h);
+        else
+            assert_true(min_z(end, 4, 4) < -1.0);
+        assert_true(mean_z(end, 8, 3) < 1.0 - 0.5 * fall); /* drag slows it a little */
+        free(end);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_irit_objects_separate),
@@ -375,6 +410,7 @@ int main(void) {
         cmocka_unit_test(test_pov_through_mesh_load),
         cmocka_unit_test(test_pov_malformed),
         cmocka_unit_test(test_pov_scene_run),
+        cmocka_unit_test(test_pov_bodies_collide),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
