@@ -144,6 +144,7 @@ static void sb_commit_solver(sb_state_buffer* b, sb_snapshot* s, const sb_solver
     s->step = sb_solver_step_count(solver);
     s->time = sb_solver_time(solver);
     s->energies = sb_solver_energies(solver);
+    s->vertex_count = sb_solver_vertex_count(solver); /* tearing adds vertices within the buffer's room */
     sb_state_buffer_commit(b, s);
 }
 
@@ -153,7 +154,7 @@ static void sb_abandon(sb_snapshot* snapshot) {
 }
 
 sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* b) {
-    if (sb_model_vertex_count(sb_solver_model(solver)) != b->vertex_count) return SB_ERR_INVALID;
+    if (sb_solver_vertex_capacity(solver) != b->vertex_count) return SB_ERR_INVALID;
     sb_snapshot* s = sb_state_buffer_begin(b);
     if (!s) {
         atomic_fetch_add_explicit(&b->skipped, 1, memory_order_relaxed);
@@ -165,7 +166,7 @@ sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* b) {
 }
 
 sb_status sb_solver_advance_published(sb_solver* solver, double dt, sb_state_buffer* b) {
-    if (sb_model_vertex_count(sb_solver_model(solver)) != b->vertex_count) return SB_ERR_INVALID;
+    if (sb_solver_vertex_capacity(solver) != b->vertex_count) return SB_ERR_INVALID;
     sb_snapshot* s = sb_state_buffer_begin(b);
     if (!s) {
         atomic_fetch_add_explicit(&b->skipped, 1, memory_order_relaxed);

@@ -31,13 +31,18 @@
  * next step never feels a broken bond. Bond order and one thread: the same
  * bonds break at the same step for any thread count.
  *
- * Not here (issue 12's rest of tearing): the surface splitting — vertex
- * duplication where a tear runs through a vertex, the recoloring and the
- * fast model's update — and cutting. The dead elements stay in the model
- * with zero constants; the incidence lists below (bond → triangles,
- * bond → hinges) are what a topology update starts from. */
+ * Tearing (kernels/topology.c) starts from here: a dying triangle's
+ * vertices and a broken bond's ends are queued, and after the breaks the
+ * queued vertices whose triangles came apart are split (at most
+ * max_splits_per_step new vertices a step). For that the working copy also
+ * has its own element indices and vertex arrays, the latter with the spare
+ * slots the splits fill (sb_solver_def.max_splits), so that every kernel
+ * and every per-vertex buffer of the solver, all sized from the copy, has
+ * room for them from the start. The forces and energies are evaluated
+ * again after a split as after a break. */
 #include "kernels/breakage.h"
 #include "kernels/solver_internal.h"
+#include "kernels/topology.h"
 #include "common/edge_map.h"
 
 #include <math.h>
@@ -53,12 +58,18 @@ struct sb_breakage {
     sb_model live;     /* the model the solver's kernels read */
     double* constants; /* one block: live's own constant arrays */
     uint32_t limited_count;
-    uint32_t* limited;   /* the bonds with a finite limit, in bond order */
-    double *min2, *max2; /* their squared limits; −1 and +inf once broken */
-    uint8_t* broken;     /* per bond */
-    double* forces;      /* 3n: the forces before a break */
+    uint32_t* limited;                   /* the bonds with a finite limit, in bond order */
+    double *min2, *max2;                 /* their squared limits; −1 and +inf once broken */
+    uint8_t* broken;                     /* per bond */
+    uint8_t *triangle_dead, *hinge_dead; /* on a broken bond's edge */
+    double* forces;                      /* 3n: the forces before a break */
     uint32_t broken_count;
     sb_incidence triangles, hinges;
+    /* tearing: NULL without it */
+    sb_topology* topology;
+    double* vertex_block;  /* live's vertex arrays, spare slots included */
+    uint8_t* fixed;        /* live's */
+    uint32_t* index_block; /* live's element indices */
 };
 
 /* The bonds on an element's edges: a triangle's three; a hinge's edge and
@@ -131,7 +142,9 @@ static bool sb_limits(sb_breakage* b, const sb_model* m) {
     b->min2 = malloc(n * sizeof *b->min2);
     b->max2 = malloc(n * sizeof *b->max2);
     b->broken = calloc(m->bond_count ? m->bond_count : 1, 1);
-    if (!b->limited || !b->min2 || !b->max2 || !b->broken) return false;
+    b->triangle_dead = calloc((size_t)m->triangle_count + 1, 1);
+    b->hinge_dead = calloc((size_t)m->hinge_count + 1, 1);
+    if (!b->limited || !b->min2 || !b->max2 || !b->broken || !b->triangle_dead || !b->hinge_dead) return false;
     for (uint32_t e = 0, k = 0; e < m->bond_count; e++) {
         if (!(m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]))) continue;
         b->limited[k] = e;
@@ -151,11 +164,82 @@ static bool sb_incidences(sb_breakage* b, const sb_model* m) {
     return ok;
 }
 
-sb_breakage* sb_breakage_create(const sb_model* m, bool* ok) {
+/* The spare vertex slots: def's max_splits, or by default one for every
+ * 32 limited bonds (at least 256) but no more than the vertices on limited
+ * bonds; none when max_splits < 0 or the model has no triangles. */
+static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, int32_t max_splits) {
+    if (max_splits < 0 || m->triangle_count == 0 || b->limited_count == 0) return 0;
+    uint32_t room = UINT32_MAX / 8 - m->vertex_count;
+    if (max_splits > 0) return (uint32_t)max_splits < room ? (uint32_t)max_splits : room;
+    uint8_t* seen = calloc(m->vertex_count, 1);
+    uint32_t on = 0;
+    for (uint32_t k = 0; seen && k < b->limited_count; k++) {
+        uint32_t ends[2] = {m->bond_i[b->limited[k]], m->bond_j[b->limited[k]]};
+        for (int e = 0; e < 2; e++) {
+            on += !seen[ends[e]];
+            seen[ends[e]] = 1;
+        }
+    }
+    free(seen);
+    uint32_t spare = b->limited_count / 32 < 256 ? 256 : b->limited_count / 32;
+    spare = spare < on ? spare : on;
+    return spare < room ? spare : room;
+}
+
+/* live's own vertex arrays (the spare slots dormant: fixed, no mass, at
+ * vertex 0's rest, in no element) and element indices. */
+static bool sb_live_topology(sb_breakage* b, const sb_model* m, uint32_t spare) {
+    size_t n = m->vertex_count, cap = n + spare, nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
+    b->vertex_block = malloc(8 * cap * sizeof *b->vertex_block);
+    b->fixed = malloc(cap);
+    b->index_block = malloc((2 * nb + 3 * nt + 4 * nh + 1) * sizeof *b->index_block);
+    if (!b->vertex_block || !b->fixed || !b->index_block) return false;
+    sb_model* live = &b->live;
+    double** vertex[8] = {&live->rest_x, &live->rest_y, &live->rest_z, &live->vel_x,
+                          &live->vel_y,  &live->vel_z,  &live->mass,   &live->inv_mass};
+    const double* from[8] = {m->rest_x, m->rest_y, m->rest_z, m->vel_x, m->vel_y, m->vel_z, m->mass, m->inv_mass};
+    for (int a = 0; a < 8; a++) {
+        *vertex[a] = b->vertex_block + a * cap;
+        memcpy(*vertex[a], from[a], n * sizeof(double));
+        for (size_t i = n; i < cap; i++) (*vertex[a])[i] = a < 3 ? from[a][0] : 0.0;
+    }
+    memcpy(b->fixed, m->fixed, n);
+    memset(b->fixed + n, 1, spare);
+    live->fixed = b->fixed;
+    live->vertex_count = (uint32_t)cap;
+    uint32_t** index[9] = {&live->bond_i,   &live->bond_j,   &live->tri_v[0], &live->tri_v[1], &live->tri_v[2],
+                           &live->hinge_e0, &live->hinge_e1, &live->hinge_o0, &live->hinge_o1};
+    const size_t counts[9] = {nb, nb, nt, nt, nt, nh, nh, nh, nh};
+    uint32_t* next = b->index_block;
+    for (int a = 0; a < 9; a++) {
+        memcpy(next, *index[a], counts[a] * sizeof *next);
+        *index[a] = next;
+        next += counts[a];
+    }
+    return true;
+}
+
+/* Tearing, when the model can tear and def allows it. */
+static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
+    uint32_t spare = sb_spare_vertices(b, m, def->max_splits);
+    if (spare == 0) return true;
+    if (!sb_live_topology(b, m, spare)) return false;
+    free(b->forces); /* room for the spare vertices too */
+    b->forces = malloc(3 * (size_t)b->live.vertex_count * sizeof *b->forces);
+    bool ok = b->forces != NULL;
+    uint32_t per_step = def->max_splits_per_step > 0 ? (uint32_t)def->max_splits_per_step : SB_DEFAULT_SPLITS_PER_STEP;
+    if (ok)
+        b->topology =
+            sb_topology_create(&b->live, m->vertex_count, per_step, b->broken, b->triangle_dead, b->hinge_dead, &ok);
+    return ok;
+}
+
+sb_breakage* sb_breakage_create(const sb_model* m, const sb_solver_def* def, bool* ok) {
     if (!m->breakable) return NULL;
     sb_breakage* b = calloc(1, sizeof *b);
-    if (b) b->forces = malloc(3 * (size_t)m->vertex_count * sizeof *b->forces);
-    if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m)) {
+    if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
+    if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
+        !sb_tearing_prepare(b, m, def)) {
         sb_breakage_destroy(b);
         *ok = false;
         return NULL;
@@ -165,8 +249,10 @@ sb_breakage* sb_breakage_create(const sb_model* m, bool* ok) {
 
 void sb_breakage_destroy(sb_breakage* b) {
     if (!b) return;
-    void* arrays[] = {b->forces, b->constants,       b->limited,           b->min2,         b->max2,
-                      b->broken, b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element};
+    sb_topology_destroy(b->topology);
+    void* arrays[] = {b->forces,        b->constants,       b->limited,           b->min2,         b->max2,
+                      b->broken,        b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element,
+                      b->triangle_dead, b->hinge_dead,      b->vertex_block,      b->fixed,        b->index_block};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(b);
 }
@@ -175,6 +261,10 @@ const sb_model* sb_breakage_model(const sb_breakage* b) { return &b->live; }
 uint32_t sb_breakage_count(const sb_breakage* b) { return b ? b->broken_count : 0; }
 bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) {
     return b && bond < b->live.bond_count && b->broken[bond];
+}
+const sb_topology* sb_breakage_topology(const sb_breakage* b) { return b ? b->topology : NULL; }
+bool sb_breakage_triangle_dead(const sb_breakage* b, uint32_t triangle) {
+    return b && triangle < b->live.triangle_count && b->triangle_dead[triangle];
 }
 
 /* Limited bond k's squared length at the packed positions p, in double. */
@@ -197,18 +287,26 @@ static bool sb_any_past(const sb_breakage* b, const sb_real* p) {
     return any != 0;
 }
 
-/* The triangles and hinges on the bond's edge lose their constants. */
+/* The triangles and hinges on the bond's edge lose their constants; with
+ * tearing, their vertices and the bond's ends are queued for splitting. */
 static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
     sb_model* m = &b->live;
+    if (b->topology) {
+        sb_topology_queue(b->topology, m->bond_i[bond]);
+        sb_topology_queue(b->topology, m->bond_j[bond]);
+    }
     for (uint32_t q = b->triangles.start[bond]; q < b->triangles.start[bond + 1]; q++) {
         uint32_t t = b->triangles.element[q];
         m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
         for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
         if (s->fast) sb_fast_drop_triangle(s->fast, t);
+        b->triangle_dead[t] = 1;
+        for (int c = 0; b->topology && c < 3; c++) sb_topology_queue(b->topology, m->tri_v[c][t]);
     }
     for (uint32_t q = b->hinges.start[bond]; q < b->hinges.start[bond + 1]; q++) {
         m->hinge_k[b->hinges.element[q]] = 0.0;
         if (s->fast) sb_fast_drop_hinge(s->fast, b->hinges.element[q]);
+        b->hinge_dead[b->hinges.element[q]] = 1;
     }
 }
 
@@ -250,11 +348,14 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     sb_breakage* b = s->breakage;
     if (!b) return SB_OK;
     const sb_real* p = sb_packed_positions(s);
-    if (!sb_any_past(b, p)) return SB_OK;
-    for (uint32_t k = 0; k < b->limited_count; k++)
+    bool broke = sb_any_past(b, p);
+    if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
+    for (uint32_t k = 0; broke && k < b->limited_count; k++)
         if (sb_past(b, p, k)) sb_break(s, b, k);
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
+    if (!broke && made == 0) return SB_OK;
     sb_status status = sb_solver_compute_forces(s);
     if (status != SB_OK) return status;
     sb_rekick(s, b->forces);

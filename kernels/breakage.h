@@ -4,6 +4,10 @@
 
 #include "softbond/solver.h"
 #include "mesh/model_internal.h"
+#include "kernels/topology.h"
+
+/* New vertices a step may make by default (sb_solver_def.max_splits_per_step). */
+#define SB_DEFAULT_SPLITS_PER_STEP 256
 
 typedef struct sb_breakage sb_breakage;
 
@@ -11,7 +15,7 @@ typedef struct sb_breakage sb_breakage;
  * solver's working copy of it (its per-element constants the solver's own,
  * zeroed as bonds break) and the lists breaking needs; NULL otherwise
  * (*ok false when out of memory). */
-sb_breakage* sb_breakage_create(const sb_model* model, bool* ok);
+sb_breakage* sb_breakage_create(const sb_model* model, const sb_solver_def* def, bool* ok);
 void sb_breakage_destroy(sb_breakage* breakage);
 /* The model every kernel of the solver reads: the working copy. */
 const sb_model* sb_breakage_model(const sb_breakage* breakage);
@@ -23,5 +27,9 @@ sb_status sb_breakage_after_step(sb_solver* solver);
 
 uint32_t sb_breakage_count(const sb_breakage* breakage);
 bool sb_breakage_broken(const sb_breakage* breakage, uint32_t bond);
+/* Tearing's topology, NULL when the solver does not tear. */
+const sb_topology* sb_breakage_topology(const sb_breakage* breakage);
+/* Whether a triangle lost its constants to a broken bond on its edge. */
+bool sb_breakage_triangle_dead(const sb_breakage* breakage, uint32_t triangle);
 
 #endif

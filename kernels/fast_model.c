@@ -312,6 +312,19 @@ void sb_fast_drop_triangle(sb_fast_model* f, uint32_t triangle) {
 
 void sb_fast_drop_hinge(sb_fast_model* f, uint32_t hinge) { f->hinge_k.values[f->hinge_slot[hinge]] = 0; }
 
+void sb_fast_move_corner(sb_fast_model* f, uint32_t triangle, int corner, uint32_t vertex) {
+    f->tri_v[corner][f->triangle_slot[triangle]] = vertex;
+}
+
+void sb_fast_move_bond_end(sb_fast_model* f, uint32_t bond, int end, uint32_t vertex) {
+    int64_t place = f->bond_place[bond];
+    if (place >= 0) (end ? f->bond_j : f->bond_i)[place] = vertex;
+}
+
+void sb_fast_move_hinge_vertex(sb_fast_model* f, uint32_t hinge, int role, uint32_t vertex) {
+    f->hinge_v[role][f->hinge_slot[hinge]] = vertex;
+}
+
 static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
     f->vertex_count = m->vertex_count;
     size_t n = 4 * (size_t)m->vertex_count + 4;

@@ -93,4 +93,11 @@ void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond);
 void sb_fast_drop_triangle(sb_fast_model* fast, uint32_t triangle);
 void sb_fast_drop_hinge(sb_fast_model* fast, uint32_t hinge);
 
+/* Tearing (kernels/topology.c), in place: an element's vertex becomes
+ * another (a split vertex's copy). A bond fused into a triangle follows
+ * its triangle's vertices and has no slot of its own to move. */
+void sb_fast_move_corner(sb_fast_model* fast, uint32_t triangle, int corner, uint32_t vertex);
+void sb_fast_move_bond_end(sb_fast_model* fast, uint32_t bond, int end, uint32_t vertex);
+void sb_fast_move_hinge_vertex(sb_fast_model* fast, uint32_t hinge, int role, uint32_t vertex);
+
 #endif

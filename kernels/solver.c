@@ -128,6 +128,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "unknown wait policy %d", (int)def->runtime.wait);
     if (def->kernels != SB_KERNELS_REFERENCE && def->kernels != SB_KERNELS_FAST)
         return sb_error_set(err, SB_ERR_INVALID, "unknown kernels %d", (int)def->kernels);
+    if (def->max_splits_per_step < 0)
+        return sb_error_set(err, SB_ERR_INVALID, "max_splits_per_step must be >= 0 (got %d)",
+                            (int)def->max_splits_per_step);
     return SB_OK;
 }
 
@@ -153,21 +156,22 @@ static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
 sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err) {
     if (sb_check_def(def, err) != SB_OK) return NULL;
     sb_solver* s = calloc(1, sizeof *s);
-    if (!s || !sb_solver_allocate(s, model->vertex_count)) {
+    bool ok = s != NULL;
+    if (s) s->breakage = sb_breakage_create(model, def, &ok);
+    if (s) s->model = s->breakage ? sb_breakage_model(s->breakage) : model; /* with tearing's spare vertices */
+    if (!ok || !sb_solver_allocate(s, s->model->vertex_count)) {
         sb_solver_destroy(s);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
         return NULL;
     }
-    bool ok = true;
-    s->breakage = sb_breakage_create(model, &ok);
     s->given_model = model;
-    s->model = s->breakage ? sb_breakage_model(s->breakage) : model;
     s->def = *def;
     sb_runaway_box(s);
-    sb_status status =
-        !ok ? sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", model->bond_count)
-        : (s->team = sb_team_create(&def->runtime, err)) ? SB_OK
-                                                         : SB_ERR_INVALID;
+    sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
+    if (status == SB_OK && def->self_collision && sb_breakage_topology(s->breakage))
+        status = sb_error_set(err, SB_ERR_INVALID,
+                              "self_collision with a model that tears is not supported yet (set max_splits < 0 to "
+                              "keep its surface whole)");
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
     if (status == SB_OK) status = sb_contact_prepare(s, err);
     if (status == SB_OK && def->self_collision) status = sb_self_contact_prepare(s, err);
@@ -427,7 +431,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
         st->y[i] = (sb_real)(keep_rest ? m->rest_y[i] : positions[3 * i + 1]);
         st->z[i] = (sb_real)(keep_rest ? m->rest_z[i] : positions[3 * i + 2]);
         bool initial = !positions && !velocities;
-        const double* v = velocities ? velocities + 3 * i : NULL;
+        const double* v = velocities && !m->fixed[i] ? velocities + 3 * i : NULL; /* a spare slot is fixed */
         st->vx[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_x[i] : v ? v[0] : 0.0);
         st->vy[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_y[i] : v ? v[1] : 0.0);
         st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
@@ -446,12 +450,39 @@ uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }
 const sb_model* sb_solver_model(const sb_solver* s) { return s->given_model; }
 uint32_t sb_solver_broken_count(const sb_solver* s) { return sb_breakage_count(s->breakage); }
 bool sb_solver_bond_broken(const sb_solver* s, uint32_t bond) { return sb_breakage_broken(s->breakage, bond); }
+
+uint32_t sb_solver_vertex_count(const sb_solver* s) {
+    const sb_topology* t = sb_breakage_topology(s->breakage);
+    return t ? sb_topology_vertex_count(t) : s->model->vertex_count;
+}
+
+uint32_t sb_solver_vertex_capacity(const sb_solver* s) { return s->model->vertex_count; }
+
+uint32_t sb_solver_vertex_origin(const sb_solver* s, uint32_t vertex) {
+    const sb_topology* t = sb_breakage_topology(s->breakage);
+    if (vertex >= sb_solver_vertex_count(s)) return UINT32_MAX;
+    return t ? sb_topology_origin(t, vertex) : vertex;
+}
+
+void sb_solver_triangle(const sb_solver* s, uint32_t triangle, uint32_t vertices[3]) {
+    for (int c = 0; c < 3; c++) vertices[c] = triangle < s->model->triangle_count ? s->model->tri_v[c][triangle] : 0;
+}
+
+bool sb_solver_triangle_alive(const sb_solver* s, uint32_t triangle) {
+    return triangle < s->model->triangle_count && !sb_breakage_triangle_dead(s->breakage, triangle);
+}
+
+void sb_solver_bond(const sb_solver* s, uint32_t bond, uint32_t ends[2]) {
+    bool in = bond < s->model->bond_count;
+    ends[0] = in ? s->model->bond_i[bond] : 0;
+    ends[1] = in ? s->model->bond_j[bond] : 0;
+}
 sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
 /* Copies one quantity out as 3n interleaved doubles: from the fast path's
  * packed working state when the state's arrays are stale, from the arrays
  * otherwise. Reads only. */
 static void sb_copy_out(const sb_solver* s, const sb_real* packed, const sb_real* soa[3], double* out) {
-    uint32_t n = s->state.vertex_count;
+    uint32_t n = sb_solver_vertex_count(s);
     if (s->fast && !s->published)
         for (size_t k = 0; k < 3 * (size_t)n; k++) out[k] = packed[4 * (k / 3) + k % 3];
     else
@@ -492,7 +523,7 @@ static void sb_copy_worker(void* context, const sb_worker* w) {
     const sb_solver* s = job->solver;
     const sb_state* st = &s->state;
     int64_t begin, end;
-    sb_worker_range(w, st->vertex_count, &begin, &end);
+    sb_worker_range(w, sb_solver_vertex_count(s), &begin, &end);
     sb_real *x = job->positions, *v = job->velocities;
     if (s->fast && !s->published) {
         sb_unpack_xyz(s->positions4, x, begin, end);

@@ -22,6 +22,7 @@
 #include "scenes/progress.h"
 #include "scenes/scene_model.h"
 #include "scenes/stop.h"
+#include "scenes/torn_surface.h"
 #include "scenes/vtk.h"
 
 #include <math.h>
@@ -73,11 +74,13 @@ typedef struct run_job {
     sb_stop stop;         /* the stop conditions, and which ended the run */
     double index_written; /* when frames.pvd was last rewritten (now()) */
     sb_frame_export_def export;
-    double* buffers; /* positions, velocities, forces: 3n each */
+    double* buffers;         /* positions, velocities, forces: 3n each, n the solver's vertex capacity */
+    sb_torn_surface surface; /* what the frames show of a solver that tears */
 } run_job;
 
 static int run_finish(run_job* job, int code) {
     free(job->buffers);
+    sb_torn_surface_free(&job->surface);
     sb_error ignored;
     sb_energy_log_close(&job->log, &ignored);
     sb_output_dir_free(&job->out);
@@ -182,9 +185,10 @@ static sb_status prepare(run_job* job, sb_error* err) {
     if (!job->solver) return SB_ERR_INVALID;
     if (sb_scene_haptics_create(&job->haptics, &job->scene, &job->colliders, err) != SB_OK) return SB_ERR_INVALID;
     if (job->args.no_realtime) job->haptics.paced = false;
-    size_t n = 3 * (size_t)job->mesh.vertex_count;
+    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->solver);
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
-    return job->buffers ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    if (!job->buffers) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    return sb_torn_surface_init(&job->surface, job->solver, err);
 }
 
 static double now(void) {
@@ -206,8 +210,9 @@ static sb_status write_index(run_job* job, bool last, sb_error* err) {
 }
 
 static sb_status write_frame(run_job* job, sb_error* err) {
-    size_t n = 3 * (size_t)job->mesh.vertex_count;
-    sb_vtk_frame frame = {&job->mesh, job->model, job->buffers, job->buffers + n, job->buffers + 2 * n};
+    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->solver);
+    const sb_mesh* surface = sb_torn_surface_update(&job->surface, job->solver, &job->mesh, job->buffers);
+    sb_vtk_frame frame = {surface, job->model, job->buffers, job->buffers + n, job->buffers + 2 * n, job->solver};
     sb_solver_get_positions(job->solver, job->buffers);
     sb_solver_get_velocities(job->solver, job->buffers + n);
     sb_solver_get_forces(job->solver, job->buffers + 2 * n);

@@ -38,8 +38,10 @@ static void write_point_data(FILE* f, const sb_vtk_frame* frame) {
     write_vectors(f, "velocity", frame->velocities, n);
     write_vectors(f, "force", frame->forces, n);
     fprintf(f, "        <DataArray type=\"UInt8\" Name=\"fixed\" format=\"ascii\">\n");
-    for (uint32_t i = 0; i < n; i++)
-        fprintf(f, "%s%d", i % 32 ? " " : "\n          ", sb_model_is_fixed(frame->model, i));
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t origin = frame->solver ? sb_solver_vertex_origin(frame->solver, i) : i;
+        fprintf(f, "%s%d", i % 32 ? " " : "\n          ", sb_model_is_fixed(frame->model, origin));
+    }
     fprintf(f, "\n        </DataArray>\n      </PointData>\n");
 }
 
@@ -109,6 +111,9 @@ static void bond_cells_free(bond_cells* b) {
 
 static void measure_bond(const sb_vtk_frame* frame, uint32_t e, bond_cells* b) {
     sb_bond_info bond = sb_model_bond(frame->model, e);
+    uint32_t ends[2] = {bond.i, bond.j};
+    if (frame->solver) sb_solver_bond(frame->solver, e, ends);
+    bond.i = ends[0], bond.j = ends[1];
     const double* p = frame->positions + 3 * (size_t)bond.i;
     const double* q = frame->positions + 3 * (size_t)bond.j;
     double stretch = hypot(hypot(q[0] - p[0], q[1] - p[1]), q[2] - p[2]) - bond.rest_length;

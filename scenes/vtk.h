@@ -7,13 +7,16 @@
 #include "softbond/softbond.h"
 
 /* One frame: the mesh's triangles as cells, per-point velocity, force and
- * the fixed flag. Arrays are 3n interleaved doubles. */
+ * the fixed flag. Arrays are 3n interleaved doubles. With a solver, the
+ * points are its vertices now (a tearing solver's copies included: each
+ * has its origin's fixed flag) and the bonds its current ends. */
 typedef struct sb_vtk_frame {
     const sb_mesh* mesh;
     const sb_model* model;
     const double* positions;
     const double* velocities;
     const double* forces;
+    const sb_solver* solver; /* or NULL: the model's numbering */
 } sb_vtk_frame;
 
 /* "frame_000012" and suffix: the name of a file of frame `index` inside the

@@ -12,9 +12,7 @@
  * up, the same for 1 and 2 threads), and bad break strains exit 2 naming
  * the line. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-
-#include "softbond/handle.h"
+#include "pulled_sheet.h"
 #include "tests/test_files.h"
 
 /* What the breakage callback saw. */
@@ -174,43 +172,6 @@ static void test_every_integrator_breaks_once(void** state) {
 
 #define SIDE 8
 
-static sb_model* sheet_model(double break_strain) {
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = SIDE;
-    sheet.width = sheet.height = 0.1;
-    sb_mesh mesh = {0};
-    sb_error err;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 200.0;
-    material.angle_k = 1e-3;
-    material.stretch_bend_k = 1e-2;
-    material.bend_k = 1e-4;
-    material.mass = 0.01;
-    material.break_strain = break_strain;
-    sb_model* m = tu_mesh_model(&mesh, &material);
-    sb_mesh_free(&mesh);
-    return m;
-}
-
-/* The first row moves −y and the last +y, 0.05 m each in 0.5 s. */
-static const sb_keyframe down[2] = {{0.0, {0, 0, 0}, {0, 0, 0}}, {0.5, {0, -0.05, 0}, {0, 0, 0}}};
-static const sb_keyframe up[2] = {{0.0, {0, 0, 0}, {0, 0, 0}}, {0.5, {0, 0.05, 0}, {0, 0, 0}}};
-
-static sb_handle* row_handle(uint32_t row, const sb_keyframe* path, uint32_t* vertices) {
-    for (uint32_t i = 0; i < SIDE; i++) vertices[i] = row * SIDE + i;
-    sb_handle_def def = sb_default_handle_def();
-    def.name = row ? "top" : "bottom";
-    def.vertices = vertices;
-    def.vertex_count = SIDE;
-    def.path = path;
-    def.path_count = 2;
-    sb_error err;
-    sb_handle* h = sb_handle_create(&def, &err);
-    if (!h) fail_msg("%s", err.message);
-    return h;
-}
-
 typedef struct pulled_run {
     sb_model* model;
     sb_handle* handles[2];
@@ -220,9 +181,8 @@ typedef struct pulled_run {
 } pulled_run;
 
 static void pulled_start(pulled_run* r, sb_kernels kernels, int threads) {
-    r->model = sheet_model(0.3);
-    r->handles[0] = row_handle(0, down, r->rows[0]);
-    r->handles[1] = row_handle(SIDE - 1, up, r->rows[1]);
+    r->model = ps_sheet_model(SIDE, 0.0, 0.3);
+    ps_handles(SIDE, r->handles, r->rows[0]);
     sb_solver_def def = sb_default_solver_def();
     def.kernels = kernels;
     def.drag = 5.0;
@@ -231,16 +191,12 @@ static void pulled_start(pulled_run* r, sb_kernels kernels, int threads) {
     def.runtime.threads = threads;
     def.on_break = record_break;
     def.break_user = &r->log;
+    def.max_splits = -1; /* the surface stays whole: its dead elements are compared (tests/test_tearing.c splits) */
     r->log.count = 0;
     r->solver = tu_solver(r->model, &def);
 }
 
-static void pulled_end(pulled_run* r) {
-    sb_solver_destroy(r->solver);
-    sb_handle_destroy(r->handles[0]);
-    sb_handle_destroy(r->handles[1]);
-    sb_model_destroy(r->model);
-}
+static void pulled_end(pulled_run* r) { ps_destroy(r->solver, r->handles, r->model); }
 
 /* Whether the edge (a, b) is one of the broken bonds. */
 static bool edge_broken(const sb_solver* s, const sb_model* m, uint32_t a, uint32_t b) {
@@ -252,7 +208,7 @@ static bool edge_broken(const sb_solver* s, const sb_model* m, uint32_t a, uint3
 }
 
 /* The sheet's model rebuilt from scratch with only the elements no broken
- * bond touches: the same vertices, the same constants (sheet_model's). */
+ * bond touches: the same vertices, the same constants (ps_sheet_model's). */
 static sb_model* survivors(const sb_solver* s, const sb_model* m, uint32_t* dead_triangles) {
     sb_builder* b = sb_builder_create();
     uint32_t n = sb_model_vertex_count(m);
@@ -350,7 +306,7 @@ static void test_threads_break_the_same(void** state) {
 
 static void test_unbreakable_sheet_never_breaks(void** state) {
     (void)state;
-    sb_model* m = sheet_model(0.0);
+    sb_model* m = ps_sheet_model(SIDE, 0.0, 0.0);
     break_log log = {0};
     sb_solver_def def = sb_default_solver_def();
     def.on_break = record_break;

@@ -115,7 +115,7 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
         def.self_collision = true;
     }
     sb_solver* solver = tu_solver(model, &def);
-    sb_state_buffer* buffer = sb_state_buffer_create(sb_model_vertex_count(model), 1, &err);
+    sb_state_buffer* buffer = sb_state_buffer_create(sb_solver_vertex_capacity(solver), 1, &err);
     assert_non_null(buffer);
     uint32_t contacts = 0;
     atomic_store(&allocations, 0);

@@ -87,6 +87,17 @@ typedef struct sb_solver_def {
     /* Breakage (kernels/breakage.c): the breakage callback, or NULL. */
     sb_break_fn on_break;
     void* break_user;
+    /* Tearing (kernels/topology.c), for a model with break limits and
+     * triangles: where broken bonds leave a vertex's triangles in separate
+     * fans, the vertex is split, one copy per fan, and the surface opens.
+     * max_splits: the most vertex copies over the run, reserved at
+     * creation (0 = default: one for every 32 breakable bonds, at least
+     * 256, at most the vertices on breakable bonds; negative = no
+     * splitting, the torn elements just lose their constants). Past it a
+     * vertex stays whole. max_splits_per_step: the most a step makes (0 =
+     * default 256, < 0 refused); the rest wait for the next steps, in order. */
+    int32_t max_splits;
+    int32_t max_splits_per_step;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
@@ -163,6 +174,22 @@ SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int*
 SB_API uint32_t sb_solver_broken_count(const sb_solver* solver);
 SB_API bool sb_solver_bond_broken(const sb_solver* solver, uint32_t bond);
 
+/* Tearing's topology (sb_solver_def.max_splits). The solver's vertices are
+ * the model's, then the copies splits made: sb_solver_vertex_count of them
+ * now, never more than sb_solver_vertex_capacity (size buffers for the
+ * getters below by it; both equal the model's count for a solver that
+ * does not tear). A copy's origin is the model vertex it was split from
+ * (a model vertex's is itself; UINT32_MAX past the count). The model's
+ * triangles and bonds keep their numbers; their current vertices and
+ * whether a triangle is alive (no broken bond on its edges) are read
+ * here. Out of range: zeros and false. */
+SB_API uint32_t sb_solver_vertex_count(const sb_solver* solver);
+SB_API uint32_t sb_solver_vertex_capacity(const sb_solver* solver);
+SB_API uint32_t sb_solver_vertex_origin(const sb_solver* solver, uint32_t vertex);
+SB_API void sb_solver_triangle(const sb_solver* solver, uint32_t triangle, uint32_t vertices[3]);
+SB_API bool sb_solver_triangle_alive(const sb_solver* solver, uint32_t triangle);
+SB_API void sb_solver_bond(const sb_solver* solver, uint32_t bond, uint32_t ends[2]);
+
 SB_API double sb_solver_time(const sb_solver* solver);
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
 SB_API const sb_model* sb_solver_model(const sb_solver* solver);
@@ -171,7 +198,8 @@ SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
 /* Copies positions, velocities or the total forces (internal, gravity, drag
- * and external, at the current positions) out as 3n interleaved doubles.
+ * and external, at the current positions) out as 3n interleaved doubles,
+ * n = sb_solver_vertex_count.
  * These getters, like every function here that takes a const sb_solver*,
  * only read; but they read the solver's working state, so call them from the
  * thread that advances it (or while it does not). Other threads read the
@@ -179,9 +207,10 @@ SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 SB_API void sb_solver_get_positions(const sb_solver* solver, double* out);
 SB_API void sb_solver_get_velocities(const sb_solver* solver, double* out);
 SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
-/* Replaces positions and velocities (3n interleaved; velocities may be
- * NULL for zero) and recomputes forces. Fixed vertices keep their rest
- * position. */
+/* Replaces positions and velocities (3n interleaved, n =
+ * sb_solver_vertex_count; velocities may be NULL for zero) and recomputes
+ * forces. Fixed vertices keep their rest position; a torn solver stays
+ * torn. */
 SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
 
 #ifdef __cplusplus

@@ -18,20 +18,23 @@ extern "C" {
 
 /* One published state. Arrays are 3n interleaved (x y z per vertex). */
 typedef struct sb_snapshot {
-    uint64_t sequence;   /* 1 for the first snapshot published, then 2, 3, ... */
-    uint64_t step;       /* the solver's step count (sb_solver_step_count) */
-    double time;         /* s, simulated */
+    uint64_t sequence; /* 1 for the first snapshot published, then 2, 3, ... */
+    uint64_t step;     /* the solver's step count (sb_solver_step_count) */
+    double time;       /* s, simulated */
     sb_energies energies;
-    uint32_t vertex_count;
-    sb_real* positions;  /* m */
-    sb_real* velocities; /* m/s */
+    uint32_t vertex_count; /* the vertices it holds: a tearing solver's grow (sb_solver_vertex_count) */
+    sb_real* positions;    /* m */
+    sb_real* velocities;   /* m/s */
 } sb_snapshot;
 
 typedef struct sb_state_buffer sb_state_buffer;
 
 /* A buffer for snapshots of vertex_count vertices that up to max_readers
  * threads may hold at once (each holding one snapshot at a time); it keeps
- * max_readers + 2 slots. Allocates everything here. */
+ * max_readers + 2 slots. Allocates everything here. For a solver, give
+ * sb_solver_vertex_capacity(solver): the model's vertex count, plus the
+ * spare vertices of a solver that tears (softbond/solver.h); a snapshot's
+ * vertex_count says how many of them it holds. */
 SB_API sb_state_buffer* sb_state_buffer_create(uint32_t vertex_count, int max_readers, sb_error* err);
 SB_API void sb_state_buffer_destroy(sb_state_buffer* buffer);
 
@@ -39,7 +42,7 @@ SB_API void sb_state_buffer_destroy(sb_state_buffer* buffer);
  * time, energies) into a free slot, in parallel on the solver's threads,
  * and makes it the latest. Never blocks and never allocates. SB_ERR_BUSY
  * when every slot is held (more readers than max_readers); SB_ERR_INVALID
- * when the vertex counts differ. */
+ * when the buffer's vertex count is not the solver's capacity. */
 SB_API sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* buffer);
 
 /* Writer: sb_solver_advance, then the new state published as by
@@ -50,7 +53,8 @@ SB_API sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* buf
  * other integrators copy after the advance. Returns the advance's status
  * (nothing is published when it fails); when every slot is held the advance
  * still runs, nothing is published and sb_state_buffer_skipped counts it.
- * SB_ERR_INVALID, before advancing, when the vertex counts differ. */
+ * SB_ERR_INVALID, before advancing, when the buffer's vertex count is not the
+ * solver's capacity. */
 SB_API sb_status sb_solver_advance_published(sb_solver* solver, double dt, sb_state_buffer* buffer);
 
 /* Publications skipped because every slot was held. Any thread. */

@@ -1,0 +1,251 @@
+/* Tearing (kernels/topology.c): a sheet pulled apart by two handles tears
+ * through — its live triangles, joined through their current vertices
+ * (union-find here), fall into separate components, one holding the
+ * bottom row and one the top, and the halves move apart — with the fast
+ * and the reference kernels; every step leaves a valid mesh (live
+ * triangles' vertices below the vertex count, every position finite,
+ * every copy's origin a model vertex); the fast model's colors stay valid
+ * after the splits (checked slot by slot: blocks of a block color share no
+ * vertex, nor do the elements of a SIMD color within a block), and the
+ * fast kernels' energies equal the reference's of the working copy; 1 and
+ * 2 threads tear bitwise the same; a cap on the splits is kept. */
+#define _POSIX_C_SOURCE 200809L
+#include "pulled_sheet.h"
+#include "kernels/solver_internal.h"
+
+#define SIDE 12
+
+typedef struct pulled_run {
+    sb_model* model;
+    sb_handle* handles[2];
+    uint32_t rows[2][SIDE];
+    sb_solver* solver;
+} pulled_run;
+
+static void pulled_start(pulled_run* r, sb_solver_def def) {
+    r->model = ps_sheet_model(SIDE, 0.2, 0.3);
+    ps_handles(SIDE, r->handles, r->rows[0]);
+    def.drag = 5.0;
+    def.gravity[2] = 0.0;
+    def.handles = r->handles;
+    def.handle_count = 2;
+    r->solver = tu_solver(r->model, &def);
+}
+
+static void pulled_end(pulled_run* r) { ps_destroy(r->solver, r->handles, r->model); }
+
+static sb_solver_def kernels_def(sb_kernels kernels, int threads) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = kernels;
+    def.runtime.threads = threads;
+    return def;
+}
+
+static uint32_t find(uint32_t* parent, uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+/* parent[] of the vertices joined by the live triangles. */
+static uint32_t* components(const sb_solver* s) {
+    uint32_t n = sb_solver_vertex_count(s), triangles = sb_model_triangle_count(sb_solver_model(s));
+    uint32_t* parent = malloc(n * sizeof *parent);
+    for (uint32_t i = 0; i < n; i++) parent[i] = i;
+    for (uint32_t t = 0; t < triangles; t++) {
+        if (!sb_solver_triangle_alive(s, t)) continue;
+        uint32_t v[3];
+        sb_solver_triangle(s, t, v);
+        for (int c = 1; c < 3; c++) parent[find(parent, v[c])] = find(parent, v[0]);
+    }
+    return parent;
+}
+
+/* Every live triangle's vertices are below the vertex count, every
+ * position finite, every vertex's origin a model vertex; returns the
+ * vertex count. */
+static uint32_t check_mesh(const sb_solver* s) {
+    uint32_t n = sb_solver_vertex_count(s), model_n = sb_model_vertex_count(sb_solver_model(s));
+    uint32_t triangles = sb_model_triangle_count(sb_solver_model(s));
+    assert_true(n >= model_n && n <= sb_solver_vertex_capacity(s));
+    for (uint32_t t = 0; t < triangles; t++) {
+        uint32_t v[3];
+        sb_solver_triangle(s, t, v);
+        for (int c = 0; c < 3; c++) assert_true(v[c] < n);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t origin = sb_solver_vertex_origin(s, i);
+        assert_true(origin < model_n);
+        if (i < model_n) assert_int_equal(origin, i);
+    }
+    double* x = malloc(3 * (size_t)n * sizeof *x);
+    sb_solver_get_positions(s, x);
+    assert_true(tu_all_finite(x, 3 * (size_t)n));
+    free(x);
+    return n;
+}
+
+/* The run: 0.6 s of 1e-4 s steps, the mesh checked at every step. */
+static void pull(pulled_run* r) {
+    for (int step = 0; step < 6000; step++) {
+        sb_status st = sb_solver_advance(r->solver, 1e-4);
+        if (st != SB_OK) fail_msg("step %d: %s", step, sb_solver_error(r->solver));
+        check_mesh(r->solver);
+    }
+}
+
+static void test_sheet_tears_in_two(void** state) {
+    (void)state;
+    for (int kernels = 0; kernels < 2; kernels++) {
+        pulled_run r;
+        pulled_start(&r, kernels_def((sb_kernels)kernels, 1));
+        pull(&r);
+        const sb_solver* s = r.solver;
+        uint32_t n = sb_solver_vertex_count(s);
+        print_message("kernels %d: %u bonds broken, %u vertices made\n", kernels, sb_solver_broken_count(s),
+                      n - SIDE * SIDE);
+        assert_true(n > SIDE * SIDE);
+        uint32_t* parent = components(s);
+        uint32_t bottom = find(parent, r.rows[0][0]), top = find(parent, r.rows[1][0]);
+        for (uint32_t i = 1; i < SIDE; i++) { /* each row holds together */
+            assert_int_equal(find(parent, r.rows[0][i]), bottom);
+            assert_int_equal(find(parent, r.rows[1][i]), top);
+        }
+        assert_true(bottom != top);
+        /* and the halves are apart: no vertex of the bottom's within 1 cm of the top's */
+        double* x = malloc(3 * (size_t)n * sizeof *x);
+        sb_solver_get_positions(s, x);
+        double nearest = INFINITY;
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t j = 0; j < n; j++)
+                if (find(parent, i) == bottom && find(parent, j) == top)
+                    nearest = fmin(nearest, tu_dist(x + 3 * i, x + 3 * j));
+        print_message("kernels %d: the halves are %g m apart\n", kernels, nearest);
+        assert_true(nearest > 0.01);
+        free(x);
+        free(parent);
+        pulled_end(&r);
+    }
+}
+
+/* No two blocks of a block color share a vertex; within a block, no two
+ * slots of one SIMD color (the overflow color runs one at a time). */
+static void check_group_colors(const sb_element_group* g, const uint32_t* const* v, int arity, uint32_t vertices) {
+    uint32_t* owner = malloc(vertices * sizeof *owner);
+    for (uint32_t k = 0; k < g->block_colors; k++) {
+        for (uint32_t i = 0; i < vertices; i++) owner[i] = UINT32_MAX;
+        if (k == SB_OVERFLOW_COLOR) continue;
+        for (uint32_t b = g->color_first_block[k]; b < g->color_first_block[k + 1]; b++)
+            for (uint32_t r = g->blocks[b].first_range; r < g->blocks[b].first_range + g->blocks[b].range_count; r++)
+                for (uint32_t s = g->ranges[r].begin; s < g->ranges[r].end; s++)
+                    for (int a = 0; a < arity; a++) {
+                        uint32_t i = v[a][s];
+                        assert_true(owner[i] == UINT32_MAX || owner[i] == b);
+                        owner[i] = b;
+                    }
+    }
+    for (uint32_t r = 0; r < g->range_count; r++) {
+        if (g->ranges[r].serial) continue;
+        for (uint32_t i = 0; i < vertices; i++) owner[i] = UINT32_MAX;
+        for (uint32_t s = g->ranges[r].begin; s < g->ranges[r].end; s++)
+            for (int a = 0; a < arity; a++) {
+                assert_true(owner[v[a][s]] == UINT32_MAX || owner[v[a][s]] == s);
+                owner[v[a][s]] = s;
+            }
+    }
+    free(owner);
+}
+
+static void test_colors_stay_valid_and_kernels_agree(void** state) {
+    (void)state;
+    pulled_run r;
+    pulled_start(&r, kernels_def(SB_KERNELS_FAST, 2));
+    pull(&r);
+    const sb_fast_model* f = r.solver->fast;
+    uint32_t vertices = sb_solver_vertex_capacity(r.solver);
+    const uint32_t* bonds[2] = {f->bond_i, f->bond_j};
+    const uint32_t* triangles[3] = {f->tri_v[0], f->tri_v[1], f->tri_v[2]};
+    const uint32_t* hinges[4] = {f->hinge_v[0], f->hinge_v[1], f->hinge_v[2], f->hinge_v[3]};
+    check_group_colors(&f->bonds, bonds, 2, vertices);
+    check_group_colors(&f->triangles, triangles, 3, vertices);
+    check_group_colors(&f->hinges, hinges, 4, vertices);
+    /* the slots and the working copy agree: the same energies */
+    uint32_t n = sb_solver_vertex_capacity(r.solver);
+    double* x = calloc(6 * (size_t)n, sizeof *x);
+    double* force = malloc(3 * (size_t)n * sizeof *force);
+    sb_solver_get_positions(r.solver, x);
+    sb_solver_get_velocities(r.solver, x + 3 * (size_t)n);
+    for (uint32_t i = sb_solver_vertex_count(r.solver); i < n; i++) /* the spare slots sit on vertex 0's rest */
+        sb_model_rest_position(r.model, 0, x + 3 * (size_t)i);
+    sb_energies expected, got = sb_solver_energies(r.solver);
+    sb_error err;
+    assert_int_equal(sb_reference_forces(r.solver->model, x, x + 3 * (size_t)n, force, &expected, &err), SB_OK);
+    for (int t = 0; t < SB_TERM_COUNT; t++) {
+        print_message("%s: %g J (reference %g J)\n", sb_term_name((sb_term)t), got.term[t], expected.term[t]);
+        TU_ASSERT_NEAR(got.term[t], expected.term[t], 1e-3 * sb_energies_internal(&expected) + 1e-15);
+    }
+    free(x);
+    free(force);
+    pulled_end(&r);
+}
+
+static void test_threads_tear_the_same(void** state) {
+    (void)state;
+    pulled_run one, two;
+    pulled_start(&one, kernels_def(SB_KERNELS_FAST, 1));
+    pulled_start(&two, kernels_def(SB_KERNELS_FAST, 2));
+    pull(&one);
+    pull(&two);
+    assert_int_equal(sb_solver_vertex_count(one.solver), sb_solver_vertex_count(two.solver));
+    assert_true(sb_solver_vertex_count(one.solver) > SIDE * SIDE);
+    for (uint32_t t = 0; t < sb_model_triangle_count(one.model); t++) {
+        uint32_t a[3], b[3];
+        sb_solver_triangle(one.solver, t, a);
+        sb_solver_triangle(two.solver, t, b);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    assert_true(tu_state_hash(one.solver) == tu_state_hash(two.solver));
+    pulled_end(&one);
+    pulled_end(&two);
+}
+
+static void test_caps_are_kept(void** state) {
+    (void)state;
+    sb_solver_def def = kernels_def(SB_KERNELS_FAST, 1);
+    def.max_splits = 5;
+    def.max_splits_per_step = 1;
+    pulled_run r;
+    pulled_start(&r, def);
+    uint32_t before = SIDE * SIDE;
+    for (int step = 0; step < 6000; step++) {
+        tu_advance(r.solver, 1e-4, 1);
+        uint32_t now = check_mesh(r.solver);
+        assert_true(now - before <= 2); /* one vertex a step, two copies at most for it in this sheet */
+        before = now;
+    }
+    assert_int_equal(sb_solver_vertex_capacity(r.solver), SIDE * SIDE + 5);
+    pulled_end(&r);
+    /* no splitting: the vertices stay the model's */
+    def.max_splits = -1;
+    pulled_start(&r, def);
+    tu_advance(r.solver, 1e-4, 6000);
+    assert_true(sb_solver_broken_count(r.solver) > 0);
+    assert_int_equal(sb_solver_vertex_count(r.solver), SIDE * SIDE);
+    assert_int_equal(sb_solver_vertex_capacity(r.solver), SIDE * SIDE);
+    pulled_end(&r);
+    def.max_splits_per_step = -1;
+    sb_model* m = ps_sheet_model(SIDE, 0.2, 0.3);
+    sb_error err;
+    assert_null(sb_solver_create(m, &def, &err));
+    assert_non_null(strstr(err.message, "max_splits_per_step"));
+    sb_model_destroy(m);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sheet_tears_in_two),
+        cmocka_unit_test(test_colors_stay_valid_and_kernels_agree),
+        cmocka_unit_test(test_threads_tear_the_same),
+        cmocka_unit_test(test_caps_are_kept),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
