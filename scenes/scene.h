@@ -70,9 +70,9 @@ typedef enum sb_scene_type {
       "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "                                  \
       "wins over mass")                                                                                                \
     X(FACTORY, "factory", STRING, "molecular",                                                                         \
-      "surface model: molecular (bonds, angles, hinges) or springs (stretch, bend and vicinity "                       \
-      "springs); a tetrahedral mesh.file always builds the tissue model, a .pov one springs with "                     \
-      "each object's spring_system_* locals")                                                                          \
+      "surface model: molecular (bonds, angles, hinges), springs (stretch, bend and vicinity "                         \
+      "springs) or net (a sheet's rows and columns as bonds only); a tetrahedral mesh.file always "                    \
+      "builds the tissue model, a .pov one springs with each object's spring_system_* locals")                         \
     X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")                                 \
     X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "springs: per edge, N s/m")                   \
     X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "springs: across adjacent triangles, N/m")                       \

@@ -1,6 +1,7 @@
 /* Builds the library's mesh, model and solver settings from a scene. */
 #include "scenes/scene_model.h"
 #include "common/error.h"
+#include "scenes/net.h"
 #include "scenes/pin.h"
 
 #include <stdio.h>
@@ -243,6 +244,7 @@ static sb_status add_pov(const sb_scene* scene, const sb_mesh* mesh, sb_builder*
 static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder* builder, sb_error* err) {
     if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
     if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
+    if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "net") == 0) return sb_scene_add_net(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
         sb_spring_mesh_def springs = sb_scene_springs(scene);
         return add_spring_body(mesh, &springs, sb_scene_bool(scene, SB_KEY_SELF_COLLISION), builder, err);

@@ -15,6 +15,7 @@
 #include "scenes/handles.h"
 #include "scenes/haptics.h"
 #include "scenes/pin.h"
+#include "scenes/scene_model.h"
 
 #include <math.h>
 #include <string.h>
@@ -138,10 +139,10 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              "'integrator' must be verlet, velocity_verlet, position_verlet, "
                              "symplectic_euler, explicit_euler, implicit_euler, pbd or xpbd, got '%s'",
                              sb_scene_string(scene, SB_KEY_INTEGRATOR));
-    static const char* const factories[] = {"molecular", "springs", NULL};
+    static const char* const factories[] = {"molecular", "springs", "net", NULL};
     static const char* const materials[] = {"liver", "gallbladder", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_FACTORY), factories))
-        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular or springs, got '%s'",
+        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular, springs or net, got '%s'",
                              sb_scene_string(scene, SB_KEY_FACTORY));
     if (!one_of(sb_scene_string(scene, SB_KEY_MATERIAL), materials))
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'",
@@ -227,6 +228,12 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     if (file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] == '\0')
         return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err, "'mesh.generator' is file but 'mesh.file' is not set");
+    bool sheet = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "sheet") == 0;
+    if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "net") == 0 &&
+        (!sheet || sb_scene_bool(scene, SB_KEY_MESH_REORDER) || sb_scene_lod(scene)))
+        return sb_scene_fail(scene, SB_KEY_FACTORY, err,
+                             "'factory' net needs mesh.generator sheet, not renumbered or simplified (its bonds "
+                             "follow the sheet's rows and columns)");
     if (sb_scene_bool(scene, SB_KEY_SELF_COLLISION) && !(sb_scene_number(scene, SB_KEY_CONTACT_THICKNESS) > 0.0))
         return sb_scene_fail(scene, blame(scene, SB_KEY_SELF_COLLISION, SB_KEY_CONTACT_THICKNESS), err,
                              "'self_collision' needs 'contact.thickness' > 0 (the distance kept between surfaces)");

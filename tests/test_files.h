@@ -101,4 +101,14 @@ static inline tu_result tu_run_env(const char* env_name, const char* env_value, 
 
 static inline tu_result tu_run(const char* const* args) { return tu_run_env(NULL, NULL, args); }
 
+/* `softbond run` of a scene file holding TEXT exits 2 with MESSAGE in its
+ * error line. */
+static inline void tu_assert_scene_fails(const char* text, const char* message) {
+    tu_write_file("bad.yaml", text);
+    tu_result r = tu_run((const char*[]){"run", "bad.yaml", "--output", "never", NULL});
+    if (r.code != 2 || !strstr(r.err, message))
+        fail_msg("expected exit 2 and '%s', got %d: %s", message, r.code, r.err);
+    tu_result_free(&r);
+}
+
 #endif

@@ -26,7 +26,4 @@ out=$(mktemp -d)
     done
     echo 'box { <-0.5, -0.02, -1>, <4.7, 0, 1> texture { pigment { checker color rgb <0.85, 0.85, 0.85> color rgb <0.7, 0.7, 0.7> scale 0.1 } finish { ambient 0.35 diffuse 0.65 } } }'
 } >"$out/picture.pov"
-(cd "$out" && povray +Ipicture.pov +Opicture.png +W1000 +H360 +A0.3 -D +FN >/dev/null 2>&1)
-cp "$out/picture.png" docs/images/bouncing_ball.png
-rm -rf "$out"
-echo "wrote docs/images/bouncing_ball.png"
+docs/images/povray.sh "$out" bouncing_ball 1000 360

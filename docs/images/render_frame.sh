@@ -1,7 +1,7 @@
 #!/bin/sh
 # Renders one frame of a scene to docs/images/NAME.png through the POV-Ray
-# export and Debian's povray (ImageMagick is not needed: povray writes the
-# PNG). Run from the repository root after a build:
+# export and Debian's povray (docs/images/povray.sh). Run from the
+# repository root after a build:
 #
 #   docs/images/render_frame.sh NAME SCENE TIME WIDTH HEIGHT [softbond run options...] <extra.pov
 #
@@ -22,7 +22,4 @@ frame=$(ls "$out"/frame_*.pov | tail -n 1)
     echo '#declare to_pov = transform { matrix <1, 0, 0,  0, 0, 1,  0, 1, 0,  0, 0, 0> }'
     cat
 } >"$out/picture.pov"
-(cd "$out" && povray +Ipicture.pov +Opicture.png +W"$width" +H"$height" +A0.3 -D +FN >/dev/null 2>&1)
-cp "$out/picture.png" "docs/images/$name.png"
-rm -rf "$out"
-echo "wrote docs/images/$name.png"
+docs/images/povray.sh "$out" "$name" "$width" "$height"
