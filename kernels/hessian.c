@@ -1,0 +1,117 @@
+/* Element stiffness matrices and products from the terms' dual forces
+ * (kernels/hessian.h), and the projection that makes an element's matrix
+ * positive semi-definite. */
+#include "kernels/hessian.h"
+
+#include <string.h>
+
+uint64_t sb_element_count(const sb_model* m) { return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count; }
+
+sb_element sb_element_at(const sb_model* m, uint64_t e) {
+    if (e < m->bond_count) return (sb_element){SB_ELEMENT_BOND, (uint32_t)e, 2, {m->bond_i[e], m->bond_j[e]}};
+    e -= m->bond_count;
+    if (e < m->triangle_count)
+        return (sb_element){SB_ELEMENT_TRIANGLE, (uint32_t)e, 3, {m->tri_v[0][e], m->tri_v[1][e], m->tri_v[2][e]}};
+    e -= m->triangle_count;
+    return (sb_element){
+        SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
+}
+
+bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f) {
+    bool collapsed = false;
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: sb_bond_forces_dual(m, e->index, x, f, &collapsed); break;
+    case SB_ELEMENT_TRIANGLE: sb_triangle_forces_dual(m, e->index, x, f, &collapsed); break;
+    case SB_ELEMENT_HINGE: sb_hinge_forces_dual(m, e->index, x, f, &collapsed); break;
+    }
+    return !collapsed;
+}
+
+/* The element's vertices at x, seeded with the element-local direction p
+ * (3 count doubles, or NULL for none). */
+static void sb_element_seed(const sb_element* e, const double* x, const double* p, sb_dvec3* out) {
+    static const double zero[3] = {0, 0, 0};
+    for (int a = 0; a < e->count; a++) out[a] = sb_dv3(x + 3 * (size_t)e->vertex[a], p ? p + 3 * a : zero);
+}
+
+bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k) {
+    int size = 3 * e->count;
+    double seed[3 * SB_ELEMENT_MAX];
+    sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
+    for (int col = 0; col < size; col++) {
+        memset(seed, 0, sizeof seed);
+        seed[col] = 1.0;
+        sb_element_seed(e, x, seed, xs);
+        if (!sb_element_forces_dual(m, e, xs, f)) return false;
+        for (int a = 0; a < e->count; a++) {
+            k[(3 * a + 0) * size + col] = -f[a].d.x;
+            k[(3 * a + 1) * size + col] = -f[a].d.y;
+            k[(3 * a + 2) * size + col] = -f[a].d.z;
+        }
+    }
+    return true;
+}
+
+bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out) {
+    memset(out, 0, 3 * (size_t)m->vertex_count * sizeof *out);
+    uint64_t count = sb_element_count(m);
+    for (uint64_t id = 0; id < count; id++) {
+        sb_element e = sb_element_at(m, id);
+        double local[3 * SB_ELEMENT_MAX];
+        for (int a = 0; a < e.count; a++) memcpy(local + 3 * a, p + 3 * (size_t)e.vertex[a], 3 * sizeof(double));
+        sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
+        sb_element_seed(&e, x, local, xs);
+        if (!sb_element_forces_dual(m, &e, xs, f)) return false;
+        for (int a = 0; a < e.count; a++) sb_v3_add_to(out + 3 * (size_t)e.vertex[a], f[a].d, -1.0);
+    }
+    return true;
+}
+
+/* One Jacobi rotation zeroing a[p][q], applied to a (both sides) and to the
+ * eigenvector columns v. */
+static void sb_jacobi_rotate(double* a, double* v, int n, int p, int q) {
+    double apq = a[p * n + q];
+    if (apq == 0.0) return;
+    double theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
+    double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+    double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+    for (int k = 0; k < n; k++) { /* columns p, q */
+        double akp = a[k * n + p], akq = a[k * n + q];
+        a[k * n + p] = c * akp - s * akq;
+        a[k * n + q] = s * akp + c * akq;
+    }
+    for (int k = 0; k < n; k++) { /* rows p, q */
+        double apk = a[p * n + k], aqk = a[q * n + k];
+        a[p * n + k] = c * apk - s * aqk;
+        a[q * n + k] = s * apk + c * aqk;
+    }
+    for (int k = 0; k < n; k++) {
+        double vkp = v[k * n + p], vkq = v[k * n + q];
+        v[k * n + p] = c * vkp - s * vkq;
+        v[k * n + q] = s * vkp + c * vkq;
+    }
+}
+
+void sb_project_positive(double* a, int n) {
+    double v[144], w[144];
+    memset(v, 0, sizeof v);
+    for (int k = 0; k < n; k++) v[k * n + k] = 1.0;
+    memcpy(w, a, (size_t)n * n * sizeof *a);
+    for (int sweep = 0; sweep < 30; sweep++) {
+        double off = 0.0, diag = 0.0;
+        for (int p = 0; p < n; p++) {
+            diag += w[p * n + p] * w[p * n + p];
+            for (int q = p + 1; q < n; q++) off += w[p * n + q] * w[p * n + q];
+        }
+        if (off <= 1e-30 * diag || off == 0.0) break;
+        for (int p = 0; p < n; p++)
+            for (int q = p + 1; q < n; q++) sb_jacobi_rotate(w, v, n, p, q);
+    }
+    /* a = V max(Λ, 0) Vᵀ */
+    for (int r = 0; r < n; r++)
+        for (int c = 0; c < n; c++) {
+            double sum = 0.0;
+            for (int k = 0; k < n; k++) sum += v[r * n + k] * fmax(w[k * n + k], 0.0) * v[c * n + k];
+            a[r * n + c] = sum;
+        }
+}

@@ -1,0 +1,63 @@
+/* Private: exact second derivatives of the internal forces (issue 16).
+ *
+ * An element is what one term couples: a bond (2 vertices: bond stretch and
+ * the damped spring's elastic part), a triangle (3: its three corners' angle
+ * bend and stretch-bend) or a hinge (4). Each term's force formula is run on
+ * dual numbers (common/dual.h): seeded with positions x + ε p it returns the
+ * element's forces and their exact directional derivative ∂f/∂x · p. From
+ * that one function per term come the element stiffness matrix K_e = −∂f/∂x
+ * (3n seeds, kernels/hessian.c), its product with a vector (one seed) and a
+ * vertex's diagonal block (3 seeds).
+ *
+ * The stiffness is the Hessian of the elastic energy, symmetric. The damped
+ * spring's force also depends on x through its direction; that part of
+ * ∂f/∂x is not symmetric and is left out (as Baraff and Witkin do): the
+ * solvers that use K keep the exact residual, so it costs iterations, never
+ * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact. */
+#ifndef SB_HESSIAN_H
+#define SB_HESSIAN_H
+
+#include "common/dual.h"
+#include "mesh/model_internal.h"
+
+typedef enum sb_element_kind { SB_ELEMENT_BOND, SB_ELEMENT_TRIANGLE, SB_ELEMENT_HINGE } sb_element_kind;
+
+enum { SB_ELEMENT_MAX = 4 };
+
+typedef struct sb_element {
+    sb_element_kind kind;
+    uint32_t index; /* bond, triangle or hinge index in the model */
+    int count;      /* vertices */
+    uint32_t vertex[SB_ELEMENT_MAX];
+} sb_element;
+
+/* Elements are numbered bonds, then triangles, then hinges. */
+uint64_t sb_element_count(const sb_model* m);
+sb_element sb_element_at(const sb_model* m, uint64_t e);
+
+/* The element's elastic forces at the dual positions x[0..count): value and
+ * derivative parts in f. False when an edge or a wing collapsed (f is then
+ * not written). Terms the model disables contribute nothing. */
+bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f);
+
+/* One per term family (kernels/hessian_edges.c, _corners.c, _hinges.c). */
+void sb_bond_forces_dual(const sb_model* m, uint32_t bond, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+void sb_triangle_forces_dual(const sb_model* m, uint32_t triangle, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+void sb_hinge_forces_dual(const sb_model* m, uint32_t hinge, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+
+/* K_e = −∂f_e/∂x at x (3n interleaved), row-major 3 count × 3 count in k
+ * (at most 12 × 12). False when the element collapsed. */
+bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k);
+
+/* The spring's damping block d u uᵀ (D_ii = D_jj = −D_ij), row-major 3 × 3;
+ * false for a bond without damping or a collapsed one. */
+bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block);
+
+/* out = K p over every element (3n interleaved); false when one collapsed. */
+bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out);
+
+/* Makes the symmetric size × size matrix a (row-major) positive
+ * semi-definite: eigenvalues below zero become zero (cyclic Jacobi). */
+void sb_project_positive(double* a, int size);
+
+#endif

@@ -1,0 +1,40 @@
+/* A triangle's three corners on dual numbers (kernels/hessian.h): angle bend
+ * and stretch-bend, the formulas of kernels/reference_corners.c. Corner c
+ * sits at local vertex c with neighbours c + 1 and c + 2 (mod 3). */
+#include "kernels/hessian.h"
+#include "kernels/reference_terms.h"
+
+/* Adds one corner's forces to f (local vertices i, j, k). */
+static void sb_corner_dual(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_dvec3* x, int i,
+                           int j, int k, sb_dvec3* f, bool* collapsed) {
+    sb_dvec3 a = sb_dv3_sub(x[j], x[i]), b = sb_dv3_sub(x[k], x[i]);
+    sb_dual A = sb_dv3_length(a), B = sb_dv3_length(b);
+    if (!(A.v >= SB_COLLAPSE_RATIO * a0) || !(B.v >= SB_COLLAPSE_RATIO * b0)) {
+        *collapsed = true;
+        return;
+    }
+    sb_dual inv_a = sb_d_div(sb_d_const(1.0), A), inv_b = sb_d_div(sb_d_const(1.0), B);
+    sb_dvec3 ua = sb_dv3_scale(a, inv_a), ub = sb_dv3_scale(b, inv_b);
+    sb_dual c = sb_dv3_dot(ua, ub), dc = sb_d_sub(c, sb_d_const(cos0));
+    sb_dual S = sb_d_add(sb_d_sub(A, sb_d_const(a0)), sb_d_sub(B, sb_d_const(b0)));
+    sb_dual g = sb_d_add(sb_d_scale(dc, k_angle), sb_d_scale(S, k_sb)), h = sb_d_scale(dc, k_sb);
+    sb_dual minus_h = sb_d_scale(h, -1.0);
+    sb_dvec3 fj = sb_dv3_add(sb_dv3_scale(sb_dv3_sub(ub, sb_dv3_scale(ua, c)), sb_d_scale(sb_d_mul(g, inv_a), -1.0)),
+                             sb_dv3_scale(ua, minus_h));
+    sb_dvec3 fk = sb_dv3_add(sb_dv3_scale(sb_dv3_sub(ua, sb_dv3_scale(ub, c)), sb_d_scale(sb_d_mul(g, inv_b), -1.0)),
+                             sb_dv3_scale(ub, minus_h));
+    f[j] = sb_dv3_add(f[j], fj);
+    f[k] = sb_dv3_add(f[k], fk);
+    f[i] = sb_dv3_sub(f[i], sb_dv3_add(fj, fk));
+}
+
+void sb_triangle_forces_dual(const sb_model* m, uint32_t t, const sb_dvec3* x, sb_dvec3* f, bool* collapsed) {
+    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    *collapsed = false;
+    for (int c = 0; c < 3; c++) f[c] = (sb_dvec3){{0, 0, 0}, {0, 0, 0}};
+    if (k_angle == 0.0 && k_sb == 0.0) return;
+    for (int c = 0; c < 3; c++)
+        sb_corner_dual(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[(c + 2) % 3][t], x, c,
+                       (c + 1) % 3, (c + 2) % 3, f, collapsed);
+}

@@ -1,0 +1,38 @@
+/* The bond's elastic force on dual numbers (kernels/hessian.h): bond
+ * stretch and the damped spring's spring part, E = ½ (k_bond + k_spring)
+ * (r − r0)², F_i = k (r − r0) u, F_j = −F_i; and the spring's damping
+ * block. The same formulas as kernels/reference_edges.c. */
+#include "kernels/hessian.h"
+#include "kernels/reference_terms.h"
+
+static double sb_bond_stiffness(const sb_model* m, uint32_t bond) {
+    double k = 0.0;
+    if (m->term_enabled[SB_TERM_BOND]) k += m->bond_k[bond];
+    if (m->term_enabled[SB_TERM_SPRING]) k += m->spring_k[bond];
+    return k;
+}
+
+void sb_bond_forces_dual(const sb_model* m, uint32_t bond, const sb_dvec3* x, sb_dvec3* f, bool* collapsed) {
+    double k = sb_bond_stiffness(m, bond), r0 = m->bond_r0[bond];
+    sb_dvec3 delta = sb_dv3_sub(x[1], x[0]);
+    sb_dual r = sb_dv3_length(delta);
+    *collapsed = !(r.v >= SB_COLLAPSE_RATIO * r0);
+    if (*collapsed) return;
+    sb_dvec3 u = sb_dv3_scale(delta, sb_d_div(sb_d_const(1.0), r));
+    sb_dual magnitude = sb_d_scale(sb_d_sub(r, sb_d_const(r0)), k);
+    f[0] = sb_dv3_scale(u, magnitude);
+    f[1] = sb_dv3_scale(u, sb_d_scale(magnitude, -1.0));
+}
+
+bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block) {
+    double d = m->term_enabled[SB_TERM_SPRING] ? m->spring_damping[bond] : 0.0;
+    if (d == 0.0) return false;
+    uint32_t i = m->bond_i[bond], j = m->bond_j[bond];
+    sb_vec3 delta = sb_v3_sub(sb_v3(x + 3 * j), sb_v3(x + 3 * i));
+    double r = sb_v3_length(delta);
+    if (!(r >= SB_COLLAPSE_RATIO * m->bond_r0[bond])) return false;
+    double u[3] = {delta.x / r, delta.y / r, delta.z / r};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) block[3 * a + b] = d * u[a] * u[b];
+    return true;
+}

@@ -1,0 +1,204 @@
+/* The exact second derivatives of the internal forces (kernels/hessian.h):
+ * each term's stiffness against central differences of the reference
+ * forces, its symmetry, the matrix-free product against the element
+ * matrices, the damping Jacobian against differences in the velocities, and
+ * the projection to a positive semi-definite matrix. */
+#include "test_util.h"
+
+#include "kernels/hessian.h"
+
+enum { TERM_ALL = SB_TERM_COUNT };
+
+/* A jittered 7 × 6 sheet, folded along x so the hinges are not flat, with
+ * every term on, or only `term` (the others' constants 0). */
+static sb_model* make_model(int term, sb_mesh* mesh) {
+    sb_error err;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = 7;
+    sheet.ny = 6;
+    sheet.jitter = 0.2;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, mesh, &err), SB_OK);
+    for (uint32_t i = 0; i < mesh->vertex_count; i++) {
+        double* p = mesh->positions + 3 * i;
+        p[2] = 0.3 * sin(3.0 * p[0]) + 0.1 * p[1] * p[1];
+    }
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = term == TERM_ALL || term == SB_TERM_BOND ? 50.0 : 0.0;
+    material.spring_k = term == TERM_ALL || term == SB_TERM_SPRING ? 20.0 : 0.0;
+    material.spring_damping = term == TERM_ALL || term == SB_TERM_SPRING ? 0.05 : 0.0;
+    material.angle_k = term == TERM_ALL || term == SB_TERM_ANGLE ? 0.3 : 0.0;
+    material.stretch_bend_k = term == TERM_ALL || term == SB_TERM_STRETCH_BEND ? 2.0 : 0.0;
+    material.bend_k = term == TERM_ALL || term == SB_TERM_BEND ? 0.01 : 0.0;
+    return tu_mesh_model(mesh, &material);
+}
+
+/* Positions moved from the rest by up to 8 % of an edge, so every term is
+ * loaded (forces are not zero). */
+static double* strained_positions(const sb_model* m, uint64_t seed) {
+    tu_rng rng = {seed};
+    double* x = tu_rest_positions(m);
+    for (size_t k = 0; k < 3 * (size_t)sb_model_vertex_count(m); k++) x[k] += tu_uniform(&rng, -0.01, 0.01);
+    return x;
+}
+
+static void forces_at(const sb_model* m, const double* x, const double* v, double* f) {
+    sb_energies energies;
+    sb_error err;
+    assert_int_equal(sb_reference_forces(m, x, v, f, &energies, &err), SB_OK);
+}
+
+/* Column k of K = −∂f/∂x by the fourth-order central difference of the
+ * reference forces, h = 1e-5 m (edges are ~0.14 m): truncation ~(h/L)^4 and
+ * rounding ~1e-16 |f| / h, both below 1e-9 of the stiffness. */
+static void difference_column(const sb_model* m, double* x, size_t k, double* col, double* work) {
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    const double h = 1e-5, weight[4] = {-1.0, 8.0, -8.0, 1.0}, offset[4] = {2, 1, -1, -2};
+    memset(col, 0, n3 * sizeof *col);
+    double saved = x[k];
+    for (int s = 0; s < 4; s++) {
+        x[k] = saved + offset[s] * h;
+        forces_at(m, x, NULL, work);
+        for (size_t r = 0; r < n3; r++) col[r] -= weight[s] * work[r] / (12.0 * h);
+    }
+    x[k] = saved;
+}
+
+static void check_against_differences(int term) {
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(term, &mesh);
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    double* x = strained_positions(m, 7 + (uint64_t)term);
+    double *col = malloc(n3 * sizeof *col), *exact = malloc(n3 * sizeof *exact), *work = malloc(n3 * sizeof *work);
+    double* unit = calloc(n3, sizeof *unit);
+    double worst = 0.0, largest = 0.0;
+    for (size_t k = 0; k < n3; k++) {
+        difference_column(m, x, k, col, work);
+        unit[k] = 1.0;
+        assert_true(sb_stiffness_product(m, x, unit, exact));
+        unit[k] = 0.0;
+        for (size_t r = 0; r < n3; r++) {
+            worst = fmax(worst, fabs(exact[r] - col[r]));
+            largest = fmax(largest, fabs(col[r]));
+        }
+    }
+    print_message("term %d: largest stiffness %.4g, worst error %.3g relative\n", term, largest, worst / largest);
+    assert_true(largest > 0.0);
+    TU_ASSERT_LE(worst, 1e-6 * largest);
+    free(x), free(col), free(exact), free(work), free(unit);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
+static void test_each_term_against_differences(void** state) {
+    (void)state;
+    for (int term = 0; term <= TERM_ALL; term++) check_against_differences(term);
+}
+
+/* Every element's matrix is symmetric (it is an energy's Hessian), and the
+ * product sums the elements' matrices times their slice of p. */
+static void test_elements_symmetric_and_product_consistent(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(TERM_ALL, &mesh);
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    double* x = strained_positions(m, 3);
+    double *p = malloc(n3 * sizeof *p), *product = malloc(n3 * sizeof *product), *sum = calloc(n3, sizeof *sum);
+    tu_rng rng = {11};
+    for (size_t k = 0; k < n3; k++) p[k] = tu_uniform(&rng, -1, 1);
+    double worst_asymmetry = 0.0, largest = 0.0;
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        int size = 3 * e.count;
+        double k[144];
+        assert_true(sb_element_stiffness(m, &e, x, k));
+        for (int r = 0; r < size; r++)
+            for (int c = 0; c < size; c++) {
+                worst_asymmetry = fmax(worst_asymmetry, fabs(k[r * size + c] - k[c * size + r]));
+                largest = fmax(largest, fabs(k[r * size + c]));
+                sum[3 * e.vertex[r / 3] + r % 3] += k[r * size + c] * p[3 * e.vertex[c / 3] + c % 3];
+            }
+    }
+    TU_ASSERT_LE(worst_asymmetry, 1e-12 * largest);
+    assert_true(sb_stiffness_product(m, x, p, product));
+    for (size_t k = 0; k < n3; k++) TU_ASSERT_NEAR(product[k], sum[k], 1e-12 * largest);
+    free(x), free(p), free(product), free(sum);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
+/* D p = −∂f/∂v · p, by a central difference in the velocities (the damped
+ * spring's force is linear in v, so the difference is exact to rounding). */
+static void test_damping_block_against_differences(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(SB_TERM_SPRING, &mesh);
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    double* x = strained_positions(m, 5);
+    double *v = calloc(n3, sizeof *v), *fp = malloc(n3 * sizeof *fp), *fm = malloc(n3 * sizeof *fm);
+    double* expected = calloc(n3, sizeof *expected);
+    tu_rng rng = {13};
+    double p[3] = {tu_uniform(&rng, -1, 1), tu_uniform(&rng, -1, 1), tu_uniform(&rng, -1, 1)};
+    const uint32_t moved = 10; /* perturb one vertex's velocity */
+    for (int s = 1; s >= -1; s -= 2) {
+        for (int c = 0; c < 3; c++) v[3 * moved + c] = s * p[c];
+        forces_at(m, x, v, s > 0 ? fp : fm);
+    }
+    double got[3] = {0, 0, 0}, block[9];
+    for (uint32_t b = 0; b < sb_model_bond_count(m); b++) {
+        sb_bond_info bond = sb_model_bond(m, b);
+        if (bond.i != moved && bond.j != moved) continue;
+        assert_true(sb_bond_damping_block(m, b, x, block));
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) got[r] += block[3 * r + c] * p[c];
+    }
+    for (int c = 0; c < 3; c++) {
+        double difference = -(fp[3 * moved + c] - fm[3 * moved + c]) / 2.0;
+        TU_ASSERT_NEAR(got[c], difference, 1e-12 * fmax(1.0, fabs(difference)));
+    }
+    assert_true(fabs(got[0]) + fabs(got[1]) + fabs(got[2]) > 0.0);
+    free(x), free(v), free(fp), free(fm), free(expected);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
+/* A 12 × 12 matrix Q diag(λ) Qᵀ with known eigenvalues, some negative,
+ * comes back as Q diag(max(λ, 0)) Qᵀ. */
+static void test_projection(void** state) {
+    (void)state;
+    enum { N = 12 };
+    tu_rng rng = {17};
+    double q[N * N], a[N * N], expected[N * N], lambda[N];
+    /* Q: Gram-Schmidt on random columns */
+    for (int c = 0; c < N; c++) {
+        for (int r = 0; r < N; r++) q[r * N + c] = tu_uniform(&rng, -1, 1);
+        for (int prev = 0; prev < c; prev++) {
+            double dot = 0.0;
+            for (int r = 0; r < N; r++) dot += q[r * N + c] * q[r * N + prev];
+            for (int r = 0; r < N; r++) q[r * N + c] -= dot * q[r * N + prev];
+        }
+        double norm = 0.0;
+        for (int r = 0; r < N; r++) norm += q[r * N + c] * q[r * N + c];
+        for (int r = 0; r < N; r++) q[r * N + c] /= sqrt(norm);
+        lambda[c] = c % 3 == 0 ? -tu_uniform(&rng, 0.1, 5) : tu_uniform(&rng, 0.0, 5);
+    }
+    for (int r = 0; r < N; r++)
+        for (int c = 0; c < N; c++) {
+            a[r * N + c] = expected[r * N + c] = 0.0;
+            for (int k = 0; k < N; k++) {
+                a[r * N + c] += q[r * N + k] * lambda[k] * q[c * N + k];
+                expected[r * N + c] += q[r * N + k] * fmax(lambda[k], 0.0) * q[c * N + k];
+            }
+        }
+    sb_project_positive(a, N);
+    for (int k = 0; k < N * N; k++) TU_ASSERT_NEAR(a[k], expected[k], 1e-10);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_each_term_against_differences),
+        cmocka_unit_test(test_elements_symmetric_and_product_consistent),
+        cmocka_unit_test(test_damping_block_against_differences),
+        cmocka_unit_test(test_projection),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
