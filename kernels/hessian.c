@@ -1,6 +1,5 @@
-/* Element stiffness matrices and products from the terms' dual forces
- * (kernels/hessian.h), and the projection that makes an element's matrix
- * positive semi-definite. */
+/* Element stiffness matrices and products from the terms' dual forces, and
+ * their positive semi-definite stand-ins (kernels/hessian.h). */
 #include "kernels/hessian.h"
 
 #include <string.h>
@@ -67,51 +66,21 @@ bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, d
     return true;
 }
 
-/* One Jacobi rotation zeroing a[p][q], applied to a (both sides) and to the
- * eigenvector columns v. */
-static void sb_jacobi_rotate(double* a, double* v, int n, int p, int q) {
-    double apq = a[p * n + q];
-    if (apq == 0.0) return;
-    double theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
-    double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
-    double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
-    for (int k = 0; k < n; k++) { /* columns p, q */
-        double akp = a[k * n + p], akq = a[k * n + q];
-        a[k * n + p] = c * akp - s * akq;
-        a[k * n + q] = s * akp + c * akq;
+bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const double* x, double* k) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    memset(k, 0, 9 * (size_t)e->count * (size_t)e->count * sizeof *k);
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: sb_bond_definite(m, e->index, local, k); break;
+    case SB_ELEMENT_TRIANGLE: sb_triangle_definite(m, e->index, local, k); break;
+    case SB_ELEMENT_HINGE: sb_hinge_definite(m, e->index, local, k); break;
     }
-    for (int k = 0; k < n; k++) { /* rows p, q */
-        double apk = a[p * n + k], aqk = a[q * n + k];
-        a[p * n + k] = c * apk - s * aqk;
-        a[q * n + k] = s * apk + c * aqk;
-    }
-    for (int k = 0; k < n; k++) {
-        double vkp = v[k * n + p], vkq = v[k * n + q];
-        v[k * n + p] = c * vkp - s * vkq;
-        v[k * n + q] = s * vkp + c * vkq;
-    }
+    for (int r = 0; r < 9 * e->count * e->count; r++)
+        if (!isfinite(k[r])) return false;
+    return true;
 }
 
-void sb_project_positive(double* a, int n) {
-    double v[144], w[144];
-    memset(v, 0, sizeof v);
-    for (int k = 0; k < n; k++) v[k * n + k] = 1.0;
-    memcpy(w, a, (size_t)n * n * sizeof *a);
-    for (int sweep = 0; sweep < 30; sweep++) {
-        double off = 0.0, diag = 0.0;
-        for (int p = 0; p < n; p++) {
-            diag += w[p * n + p] * w[p * n + p];
-            for (int q = p + 1; q < n; q++) off += w[p * n + q] * w[p * n + q];
-        }
-        if (off <= 1e-30 * diag || off == 0.0) break;
-        for (int p = 0; p < n; p++)
-            for (int q = p + 1; q < n; q++) sb_jacobi_rotate(w, v, n, p, q);
-    }
-    /* a = V max(Λ, 0) Vᵀ */
-    for (int r = 0; r < n; r++)
-        for (int c = 0; c < n; c++) {
-            double sum = 0.0;
-            for (int k = 0; k < n; k++) sum += v[r * n + k] * fmax(w[k * n + k], 0.0) * v[c * n + k];
-            a[r * n + c] = sum;
-        }
+void sb_add_outer(double* k, int size, const double* w, double scale) {
+    for (int r = 0; r < size; r++)
+        for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];
 }

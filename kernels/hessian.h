@@ -40,7 +40,8 @@ sb_element sb_element_at(const sb_model* m, uint64_t e);
  * not written). Terms the model disables contribute nothing. */
 bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f);
 
-/* One per term family (kernels/hessian_edges.c, _corners.c, _hinges.c). */
+/* One per term family (kernels/hessian_edges.c, _corners.c, _hinges.c);
+ * *collapsed is set when an edge or a wing collapsed (f not written). */
 void sb_bond_forces_dual(const sb_model* m, uint32_t bond, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
 void sb_triangle_forces_dual(const sb_model* m, uint32_t triangle, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
 void sb_hinge_forces_dual(const sb_model* m, uint32_t hinge, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
@@ -49,15 +50,30 @@ void sb_hinge_forces_dual(const sb_model* m, uint32_t hinge, const sb_dvec3* x, 
  * (at most 12 × 12). False when the element collapsed. */
 bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k);
 
+/* A positive semi-definite stand-in for K_e (the definiteness fix of
+ * implicit Euler), equal to K_e at the rest shape wherever K_e is positive
+ * semi-definite there:
+ *   bond: k (u uᵀ + max(0, 1 − r0/r)(I − u uᵀ)) per block, K_e's own
+ *     projection (a compressed bond loses its negative sideways stiffness);
+ *   triangle: per corner, the quadratic form of its energy in (c − c0, S),
+ *     [[kθ, ksb], [ksb, 0]] — indefinite whenever ksb ≠ 0 — keeps its
+ *     positive eigenvalue λ with eigenvector (p, q): λ w wᵀ with
+ *     w = p ∇c + q ∇S (Gauss-Newton on the projected form);
+ *   hinge: k ∇φ ∇φᵀ, the geometric term k (φ − φ0) ∇²φ left out.
+ * Each costs about what its forces cost, where an eigendecomposition of a
+ * 12 × 12 matrix per hinge would cost a hundred times more. */
+bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const double* x, double* k);
+/* k += scale w wᵀ (w of `size` entries, k row-major size × size). */
+void sb_add_outer(double* k, int size, const double* w, double scale);
+void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
+void sb_triangle_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
+void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, double* k);
+
 /* The spring's damping block d u uᵀ (D_ii = D_jj = −D_ij), row-major 3 × 3;
  * false for a bond without damping or a collapsed one. */
 bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block);
 
 /* out = K p over every element (3n interleaved); false when one collapsed. */
 bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out);
-
-/* Makes the symmetric size × size matrix a (row-major) positive
- * semi-definite: eigenvalues below zero become zero (cyclic Jacobi). */
-void sb_project_positive(double* a, int size);
 
 #endif

@@ -38,3 +38,32 @@ void sb_triangle_forces_dual(const sb_model* m, uint32_t t, const sb_dvec3* x, s
         sb_corner_dual(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[(c + 2) % 3][t], x, c,
                        (c + 1) % 3, (c + 2) % 3, f, collapsed);
 }
+
+/* One corner's λ w wᵀ (kernels/hessian.h), added to the triangle's 9 × 9 k. */
+static void sb_corner_definite(double k_angle, double k_sb, const sb_vec3* x, int i, int j, int l, double* k) {
+    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
+    double A = sb_v3_length(a), B = sb_v3_length(b);
+    sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
+    double c = sb_v3_dot(ua, ub);
+    double lambda = 0.5 * (k_angle + sqrt(k_angle * k_angle + 4.0 * k_sb * k_sb));
+    double p = k_sb != 0.0 ? k_sb : 1.0, q = k_sb != 0.0 ? lambda - k_angle : 0.0, norm = sqrt(p * p + q * q);
+    p /= norm, q /= norm;
+    /* w on j and l: p ∇c + q ∇S; on i minus their sum */
+    sb_vec3 wj = sb_v3_add(sb_v3_scale(sb_v3_sub(ub, sb_v3_scale(ua, c)), p / A), sb_v3_scale(ua, q));
+    sb_vec3 wl = sb_v3_add(sb_v3_scale(sb_v3_sub(ua, sb_v3_scale(ub, c)), p / B), sb_v3_scale(ub, q));
+    sb_vec3 wi = sb_v3_scale(sb_v3_add(wj, wl), -1.0);
+    double w[9];
+    const sb_vec3* parts[3] = {&wi, &wj, &wl};
+    const int at[3] = {i, j, l};
+    for (int v = 0; v < 3; v++) {
+        w[3 * at[v]] = parts[v]->x, w[3 * at[v] + 1] = parts[v]->y, w[3 * at[v] + 2] = parts[v]->z;
+    }
+    sb_add_outer(k, 9, w, lambda);
+}
+
+void sb_triangle_definite(const sb_model* m, uint32_t t, const sb_vec3* x, double* k) {
+    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    if (k_angle == 0.0 && k_sb == 0.0) return;
+    for (int c = 0; c < 3; c++) sb_corner_definite(k_angle, k_sb, x, c, (c + 1) % 3, (c + 2) % 3, k);
+}

@@ -36,3 +36,20 @@ bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, do
         for (int b = 0; b < 3; b++) block[3 * a + b] = d * u[a] * u[b];
     return true;
 }
+
+void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {
+    double stiffness = sb_bond_stiffness(m, bond), r0 = m->bond_r0[bond];
+    sb_vec3 delta = sb_v3_sub(x[1], x[0]);
+    double r = sb_v3_length(delta);
+    if (!(r >= SB_COLLAPSE_RATIO * r0)) {
+        k[0] = NAN;
+        return;
+    }
+    double u[3] = {delta.x / r, delta.y / r, delta.z / r}, sideways = fmax(0.0, 1.0 - r0 / r);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double h = stiffness * ((1.0 - sideways) * u[a] * u[b] + (a == b ? sideways : 0.0));
+            k[a * 6 + b] = k[(a + 3) * 6 + b + 3] = h;
+            k[a * 6 + b + 3] = k[(a + 3) * 6 + b] = -h;
+        }
+}

@@ -1,5 +1,6 @@
-/* Implicit (backward) Euler, solved by Newton-Raphson with a
- * preconditioned conjugate-gradient linear solve and matrix-free products.
+/* Implicit (backward) Euler, solved by Newton's method on the exact
+ * Jacobian, with block-Jacobi preconditioned conjugate gradients and a
+ * backtracking line search.
  *
  * Backward Euler, first order, unconditionally stable, and dissipative (it
  * damps an oscillation of frequency ω by 1/√(1 + (ω dt)²) per step):
@@ -7,28 +8,34 @@
  * The unknown is the velocity change Δv = v⁺ − v, with x⁺ = x + dt (v + Δv).
  * Newton drives the residual
  *   R(Δv) = M Δv − dt f(x + dt (v + Δv), v + Δv)
- * to zero: each iteration solves J p = −R, Δv += p, with the Jacobian
- *   J = M − dt ∂f/∂v − dt² ∂f/∂x = M + dt D + dt² K,
- * symmetric and positive definite where the stiffness K = −∂f/∂x is (near a
- * rest shape) — the system conjugate gradients solves. J is never formed:
- * its product with a direction p is a central directional difference of the
- * total force along the path (x⁺ + ε dt p, v⁺ + ε p),
- *   J p = M p − dt [f(x⁺ + ε dt p, v⁺ + ε p) − f(x⁺ − ε dt p, v⁺ − ε p)] / 2ε,
- * with ε chosen so that the largest position perturbation is 1e-6 of the
- * model's size: the truncation error (ε²) and the rounding error (1/ε) of
- * the difference are then both ~1e-12 relative in double. The preconditioner
- * is the mass matrix (z = M⁻¹ r). CG stops at a relative residual of 1e-5,
- * or on a direction of non-positive curvature (a buckling state where K is
- * indefinite), or at its iteration cap; Newton stops when |R| is below
- * implicit_tolerance × its first value or at rounding level, or at its cap.
+ * to zero: each iteration solves J p = −R with
+ *   J = M + dt D + dt² K,
+ * K = −∂f/∂x the elements' exact stiffness (kernels/hessian.h), D = −∂f/∂v
+ * the springs' damping blocks and the drag, assembled once per iteration into
+ * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h).
+ * Where K is indefinite (a compressed bond, a loaded corner, a bent hinge)
+ * CG stops at its first non-positive curvature and keeps its iterate,
+ * counted in sb_step_stats.cg_indefinite; with implicit_definite each
+ * element's K is replaced by its positive semi-definite stand-in
+ * (kernels/hessian.h), J is positive definite and CG never meets one.
  *
- * The Newton iterations run in double on the scalar reference forces
- * (sb_solver_forces_at): a difference of float forces at a 1e-6 perturbation
- * would be noise. The new state then goes through sb_solver_compute_forces,
- * so its forces and energies come from the chosen kernels. Gravity, drag and
- * external forces are part of f and so are treated implicitly too; fixed
- * vertices are masked out of every vector and keep Δv = 0. */
+ * What J leaves out — the stand-ins, the damped spring's dependence on x
+ * through its direction (not symmetric), the soft handles and the external
+ * callback — only changes the direction Newton takes: the residual is
+ * always the exact one, from the scalar reference forces in double, so a
+ * converged step is the backward Euler step. A step p is taken whole when it
+ * lowers |R|, otherwise halved until it does (at most 5 times; the last
+ * trial is kept). CG is preconditioned with the inverses of J's diagonal
+ * blocks and stops at a relative residual of 1e-5 or its cap; Newton stops
+ * when |R| is below implicit_tolerance × its first value or at rounding
+ * level, or at its cap. Fixed vertices and those a hard handle holds are
+ * masked out of every vector: a held vertex is at its target throughout, so
+ * the forces the step sees are those of the placed handle. The new state then
+ * goes through sb_solver_compute_forces, so its forces and energies come
+ * from the chosen kernels. */
 #include "kernels/solver_internal.h"
+#include "kernels/block_matrix.h"
+#include "kernels/handle_internal.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -36,16 +43,24 @@
 #include <string.h>
 
 #define SB_CG_RELATIVE_TOLERANCE 1e-5
-#define SB_DIFFERENCE_STEP 1e-6
+#define SB_LINE_SEARCH_HALVINGS 5
 
 /* The work vectors, 3n doubles each, allocated once per solver. */
-enum { W_X0, W_V0, W_DV, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_XP, W_VP, W_FP, W_FM, W_COUNT };
+enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
+
+struct sb_implicit {
+    double* work;            /* W_COUNT × 3n */
+    double* inverse_blocks;  /* 9n: the preconditioner */
+    sb_block_matrix* matrix; /* J */
+};
 
 typedef struct sb_newton {
     sb_solver* s;
     size_t n3;
-    double dt, size; /* size: the model's diameter, m, scales the difference step */
-    double* a[W_COUNT];
+    double dt;
+    double* a[W_COUNT]; /* W_MASK: 1 on a vertex that moves, 0 on one held */
+    sb_block_matrix* j;
+    double* inverse_blocks;
 } sb_newton;
 
 static double sb_dot(const double* a, const double* b, size_t n) {
@@ -54,9 +69,8 @@ static double sb_dot(const double* a, const double* b, size_t n) {
     return sum;
 }
 
-static void sb_mask_fixed(const sb_model* m, double* a) {
-    for (uint32_t i = 0; i < m->vertex_count; i++)
-        if (m->fixed[i]) a[3 * i] = a[3 * i + 1] = a[3 * i + 2] = 0.0;
+static void sb_apply_mask(const sb_newton* w, double* a) {
+    for (size_t k = 0; k < w->n3; k++) a[k] *= w->a[W_MASK][k];
 }
 
 /* xt, vt at the current Δv, f the total force there, rhs = −R(Δv). */
@@ -69,42 +83,87 @@ static sb_status sb_newton_point(sb_newton* w) {
     }
     sb_status status = sb_solver_forces_at(w->s, a[W_XT], a[W_VT], a[W_F]);
     for (size_t k = 0; k < w->n3; k++) a[W_RHS][k] = dt * a[W_F][k] - mass[k / 3] * a[W_DV][k];
-    sb_mask_fixed(w->s->model, a[W_RHS]);
+    sb_apply_mask(w, a[W_RHS]);
     return status;
 }
 
-/* out = J d, by the central directional difference of the header. */
-static sb_status sb_jacobian_product(sb_newton* w, const double* d, double* out) {
-    double **a = w->a, dt = w->dt;
-    const double* mass = w->s->model->mass;
-    double largest = 0.0;
-    for (size_t k = 0; k < w->n3; k++) largest = fmax(largest, fabs(d[k]));
-    if (largest == 0.0) {
-        memset(out, 0, w->n3 * sizeof *out);
-        return SB_OK;
-    }
-    double eps = SB_DIFFERENCE_STEP * w->size / (dt * largest);
-    for (int sign = 1; sign >= -1; sign -= 2) {
-        for (size_t k = 0; k < w->n3; k++) {
-            a[W_XP][k] = a[W_XT][k] + sign * eps * dt * d[k];
-            a[W_VP][k] = a[W_VT][k] + sign * eps * d[k];
+/* The springs' damping blocks at x, dt D, into J. */
+static void sb_add_damping(sb_newton* w, const double* x) {
+    const sb_model* m = w->s->model;
+    double block[9];
+    for (uint32_t b = 0; b < m->bond_count; b++) {
+        if (!sb_bond_damping_block(m, b, x, block)) continue;
+        uint32_t i = m->bond_i[b], j = m->bond_j[b];
+        double *ii = sb_block_matrix_at(w->j, i, i), *jj = sb_block_matrix_at(w->j, j, j);
+        double *ij = sb_block_matrix_at(w->j, i, j), *ji = sb_block_matrix_at(w->j, j, i);
+        for (int k = 0; k < 9; k++) {
+            ii[k] += w->dt * block[k], jj[k] += w->dt * block[k];
+            ij[k] -= w->dt * block[k], ji[k] -= w->dt * block[k];
         }
-        sb_status status = sb_solver_forces_at(w->s, a[W_XP], a[W_VP], a[sign > 0 ? W_FP : W_FM]);
-        if (status != SB_OK) return status;
     }
-    for (size_t k = 0; k < w->n3; k++) out[k] = mass[k / 3] * d[k] - dt * (a[W_FP][k] - a[W_FM][k]) / (2.0 * eps);
-    sb_mask_fixed(w->s->model, out);
+}
+
+/* J = M (1 + dt drag) + dt D + dt² K at the current point. */
+static sb_status sb_assemble(sb_newton* w) {
+    sb_solver* s = w->s;
+    const sb_model* m = s->model;
+    const double* x = w->a[W_XT];
+    sb_block_matrix_zero(w->j);
+    double k[144];
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        bool ok =
+            !s->def.implicit_definite ? sb_element_stiffness(m, &e, x, k) : sb_element_stiffness_definite(m, &e, x, k);
+        if (!ok)
+            return sb_error_set(&s->error, SB_ERR_DEGENERATE,
+                                "implicit_euler: element %llu (vertices %u, %u, ...) collapsed", (unsigned long long)id,
+                                e.vertex[0], e.vertex[1]);
+        sb_block_matrix_add_element(w->j, &e, k, w->dt * w->dt);
+    }
+    sb_add_damping(w, x);
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        double* block = w->j->block + 9 * (size_t)w->j->diagonal[i];
+        double diagonal = m->mass[i] * (1.0 + w->dt * s->def.drag);
+        block[0] += diagonal, block[4] += diagonal, block[8] += diagonal;
+    }
     return SB_OK;
 }
 
-/* z = M⁻¹ r on free vertices. */
+/* Inverts a 3 × 3 block by its adjugate; false when it is singular. */
+static bool sb_invert3(const double* a, double* out) {
+    double c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
+    double det = a[0] * c0 + a[1] * c1 + a[2] * c2;
+    if (!(fabs(det) > 0.0) || !isfinite(det)) return false;
+    double inv = 1.0 / det;
+    double adjugate[9] = {c0, a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                          c1, a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                          c2, a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
+    for (int k = 0; k < 9; k++) out[k] = adjugate[k] * inv;
+    return true;
+}
+
+/* The block-Jacobi preconditioner: the inverse of each diagonal block (of
+ * the mass alone where a block is singular, without the projection). */
+static void sb_prepare_preconditioner(sb_newton* w) {
+    const sb_model* m = w->s->model;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        double* inverse = w->inverse_blocks + 9 * (size_t)i;
+        if (sb_invert3(w->j->block + 9 * (size_t)w->j->diagonal[i], inverse)) continue;
+        memset(inverse, 0, 9 * sizeof *inverse);
+        inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i] > 0 ? m->inv_mass[i] : 1.0 / m->mass[i];
+    }
+}
+
 static void sb_precondition(const sb_newton* w, const double* r, double* z) {
-    const double* inv_mass = w->s->model->inv_mass;
-    for (size_t k = 0; k < w->n3; k++) z[k] = inv_mass[k / 3] * r[k];
+    for (size_t i = 0; i < w->n3 / 3; i++) {
+        const double *b = w->inverse_blocks + 9 * i, *ri = r + 3 * i;
+        for (int u = 0; u < 3; u++) z[3 * i + u] = b[3 * u] * ri[0] + b[3 * u + 1] * ri[1] + b[3 * u + 2] * ri[2];
+    }
+    sb_apply_mask(w, z);
 }
 
 /* Solves J sol = rhs by preconditioned CG from sol = 0; counts iterations. */
-static sb_status sb_conjugate_gradients(sb_newton* w, int cap, int* iterations) {
+static void sb_conjugate_gradients(sb_newton* w, int cap, sb_step_stats* stats) {
     double **a = w->a, *sol = a[W_SOL], *res = a[W_RES], *z = a[W_Z], *d = a[W_D], *q = a[W_Q];
     size_t n3 = w->n3;
     memset(sol, 0, n3 * sizeof *sol);
@@ -113,11 +172,12 @@ static sb_status sb_conjugate_gradients(sb_newton* w, int cap, int* iterations) 
     memcpy(d, z, n3 * sizeof *d);
     double rz = sb_dot(res, z, n3), target = SB_CG_RELATIVE_TOLERANCE * sqrt(sb_dot(res, res, n3));
     for (int it = 0; it < cap; it++) {
-        sb_status status = sb_jacobian_product(w, d, q);
-        if (status != SB_OK) return status;
+        sb_block_matrix_multiply(w->j, d, q);
+        sb_apply_mask(w, q);
         double curvature = sb_dot(d, q, n3);
-        if (!(curvature > 0.0)) {                          /* not positive definite here: keep what we have */
-            if (it == 0) memcpy(sol, z, n3 * sizeof *sol); /* J ≈ M: a mass-scaled step */
+        if (!(curvature > 0.0)) { /* not positive definite here: keep what we have */
+            stats->cg_indefinite++;
+            if (it == 0) memcpy(sol, z, n3 * sizeof *sol); /* the preconditioned residual */
             break;
         }
         double alpha = rz / curvature;
@@ -125,14 +185,29 @@ static sb_status sb_conjugate_gradients(sb_newton* w, int cap, int* iterations) 
             sol[k] += alpha * d[k];
             res[k] -= alpha * q[k];
         }
-        ++*iterations;
+        stats->cg_iterations++;
         if (sqrt(sb_dot(res, res, n3)) <= target) break;
         sb_precondition(w, res, z);
         double rz_next = sb_dot(res, z, n3), beta = rz_next / rz;
         rz = rz_next;
         for (size_t k = 0; k < n3; k++) d[k] = z[k] + beta * d[k];
     }
-    return SB_OK;
+}
+
+/* Δv += α sol with α = 1, ½, ¼, … until |R| falls below `norm` (at most
+ * SB_LINE_SEARCH_HALVINGS halvings; the last trial stays). Leaves the new
+ * point evaluated; returns its |R| (NaN on a failed evaluation: status). */
+static double sb_line_search(sb_newton* w, double norm, sb_status* status) {
+    double **a = w->a, alpha = 1.0, trial = NAN;
+    memcpy(a[W_DV_START], a[W_DV], w->n3 * sizeof(double));
+    for (int halving = 0; halving <= SB_LINE_SEARCH_HALVINGS; halving++, alpha *= 0.5) {
+        for (size_t k = 0; k < w->n3; k++) a[W_DV][k] = a[W_DV_START][k] + alpha * a[W_SOL][k];
+        *status = sb_newton_point(w);
+        if (*status != SB_OK) return NAN;
+        trial = sqrt(sb_dot(a[W_RHS], a[W_RHS], w->n3));
+        if (trial < norm) break;
+    }
+    return trial;
 }
 
 /* The residual's rounding level: 1e-12 of the magnitudes it is made of. */
@@ -150,19 +225,49 @@ static double sb_residual_floor(const sb_newton* w) {
 }
 
 bool sb_implicit_prepare(sb_solver* s) {
-    size_t n3 = 3 * (size_t)s->model->vertex_count;
-    s->implicit_work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
-    return s->implicit_work != NULL;
+    size_t n = s->model->vertex_count, n3 = 3 * n;
+    struct sb_implicit* im = calloc(1, sizeof *im);
+    s->implicit = im;
+    if (!im) return false;
+    im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
+    im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
+    im->matrix = sb_block_matrix_create(s->model);
+    return im->work && im->inverse_blocks && im->matrix;
 }
 
+void sb_implicit_destroy(sb_solver* s) {
+    struct sb_implicit* im = s->implicit;
+    if (!im) return;
+    free(im->work), free(im->inverse_blocks);
+    sb_block_matrix_destroy(im->matrix);
+    free(im);
+    s->implicit = NULL;
+}
+
+/* The step's start; a vertex a hard handle holds gets the Δv that puts it
+ * at its target, and the mask keeps it there. */
 static sb_newton sb_newton_init(sb_solver* s, double dt) {
-    sb_newton w = {.s = s, .n3 = 3 * (size_t)s->model->vertex_count, .dt = dt};
-    for (int k = 0; k < W_COUNT; k++) w.a[k] = s->implicit_work + (size_t)k * w.n3;
-    w.size = s->runaway * 1e-6; /* the runaway box is 1e6 model diameters */
+    struct sb_implicit* im = s->implicit;
+    sb_newton w = {.s = s,
+                   .n3 = 3 * (size_t)s->model->vertex_count,
+                   .dt = dt,
+                   .j = im->matrix,
+                   .inverse_blocks = im->inverse_blocks};
+    for (int k = 0; k < W_COUNT; k++) w.a[k] = im->work + (size_t)k * w.n3;
     const sb_state* st = &s->state;
     sb_interleave(w.a[W_X0], st->x, st->y, st->z, st->vertex_count);
     sb_interleave(w.a[W_V0], st->vx, st->vy, st->vz, st->vertex_count);
+    const double* inv_mass = sb_inv_mass(s);
+    for (size_t k = 0; k < w.n3; k++) w.a[W_MASK][k] = inv_mass[k / 3] > 0.0 ? 1.0 : 0.0;
     memset(w.a[W_DV], 0, w.n3 * sizeof(double));
+    if (s->pinned_inv_mass) {
+        double* target = w.a[W_XT];
+        for (size_t k = 0; k < w.n3; k++) target[k] = w.a[W_X0][k] + dt * w.a[W_V0][k];
+        sb_handles_place_predicted(s, target);
+        for (size_t k = 0; k < w.n3; k++)
+            if (w.a[W_MASK][k] == 0.0 && !s->model->fixed[k / 3])
+                w.a[W_DV][k] = (target[k] - w.a[W_X0][k]) / dt - w.a[W_V0][k];
+    }
     return w;
 }
 
@@ -184,22 +289,22 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     const double tolerance = s->def.implicit_tolerance > 0 ? s->def.implicit_tolerance : 1e-8;
     const int newton_cap = s->def.implicit_newton_iterations > 0 ? s->def.implicit_newton_iterations : 20;
     const int cg_cap = s->def.implicit_cg_iterations > 0 ? s->def.implicit_cg_iterations : 200;
-    double first = 0.0;
+    sb_status status = sb_newton_point(&w);
+    if (status != SB_OK) return status;
+    double first = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3)), norm = first;
     bool converged = false;
-    for (int it = 0;; it++) {
-        sb_status status = sb_newton_point(&w);
-        if (status != SB_OK) return status;
-        double norm = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3));
-        if (it == 0) first = norm;
-        if (!isfinite(norm)) break; /* the state check names the vertex */
+    for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
         if (norm <= tolerance * first || norm <= sb_residual_floor(&w)) {
             converged = true;
             break;
         }
         if (it == newton_cap) break;
-        status = sb_conjugate_gradients(&w, cg_cap, &s->stats.cg_iterations);
+        status = sb_assemble(&w);
         if (status != SB_OK) return status;
-        for (size_t k = 0; k < w.n3; k++) w.a[W_DV][k] += w.a[W_SOL][k];
+        sb_prepare_preconditioner(&w);
+        sb_conjugate_gradients(&w, cg_cap, &s->stats);
+        norm = sb_line_search(&w, norm, &status);
+        if (status != SB_OK) return status;
         s->stats.newton_iterations++;
     }
     if (!converged) s->stats.converged = false;

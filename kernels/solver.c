@@ -71,7 +71,7 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->forces4);
     free(s->weight4);
     free(s->external);
-    free(s->implicit_work);
+    sb_implicit_destroy(s);
     free(s->stretch4);
     sb_pbd_destroy(s->pbd);
     sb_backup_destroy(s->backup);

@@ -32,7 +32,7 @@ struct sb_solver {
     struct sb_backup* backup; /* adaptive stepping: the state before a sub-step */
     double trial_substep;     /* adaptive: the size the next sub-step tries (0: the whole dt) */
     double energy_peak;       /* adaptive: the largest energy scale since the state was set */
-    double* implicit_work;    /* implicit Euler: 7 arrays of 3n doubles */
+    struct sb_implicit* implicit; /* implicit Euler's matrix and work vectors (kernels/implicit_euler.c) */
     sb_real* stretch4;        /* the blow-up rule's packed copy of the positions (generic integrators) */
     /* contact (kernels/contact.c); NULL without colliders */
     double* contact_from;     /* 3n: positions at the start of a step the fused path does not take */
@@ -157,6 +157,7 @@ sb_status sb_integrate_position_verlet(sb_solver* solver, double dt);
 sb_status sb_integrate_implicit_euler(sb_solver* solver, double dt);
 /* Allocates implicit Euler's work arrays; false when out of memory. */
 bool sb_implicit_prepare(sb_solver* solver);
+void sb_implicit_destroy(sb_solver* solver);
 /* pbd and xpbd (kernels/pbd.c). */
 sb_status sb_integrate_pbd(sb_solver* solver, double dt);
 /* Colors the constraints and allocates the work arrays (at creation). */

@@ -140,6 +140,8 @@ typedef enum sb_scene_type {
       "implicit_euler: Newton iterations per step, at most")                                                           \
     X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
+    X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false",                                                           \
+      "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                       \
     X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \

@@ -292,6 +292,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.implicit_tolerance = sb_scene_number(scene, SB_KEY_IMPLICIT_TOLERANCE);
     def.implicit_newton_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_NEWTON_ITERATIONS);
     def.implicit_cg_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_CG_ITERATIONS);
+    def.implicit_definite = sb_scene_bool(scene, SB_KEY_IMPLICIT_DEFINITE);
     def.pbd_iterations = (int)sb_scene_integer(scene, SB_KEY_PBD_ITERATIONS);
     def.self_collision = sb_scene_bool(scene, SB_KEY_SELF_COLLISION);
     def.contact_thickness = sb_scene_number(scene, SB_KEY_CONTACT_THICKNESS);

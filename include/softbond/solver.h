@@ -102,10 +102,14 @@ typedef struct sb_solver_def {
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
      * conjugate gradients of at most implicit_cg_iterations. 0 = default
-     * (1e-8, 20, 200). */
+     * (1e-8, 20, 200). Each Newton iteration solves with the exact Jacobian
+     * (kernels/implicit_euler.c); implicit_definite replaces each element's
+     * stiffness by a positive semi-definite stand-in, so that CG never meets
+     * a negative curvature (sb_step_stats.cg_indefinite counts those it met). */
     double implicit_tolerance;
     int implicit_newton_iterations;
     int implicit_cg_iterations;
+    bool implicit_definite;
     /* pbd, xpbd: constraint projection sweeps per step (0 = default 10);
      * see kernels/pbd.c for the constraints and the stiffness mapping. */
     int pbd_iterations;
@@ -148,6 +152,7 @@ typedef struct sb_step_stats {
     int newton_iterations;  /* implicit_euler: Newton iterations, summed over sub-steps */
     int cg_iterations;      /* implicit_euler: conjugate-gradient iterations, summed */
     bool converged;         /* implicit_euler: every Newton solve met its tolerance */
+    uint32_t cg_indefinite; /* implicit_euler: CG solves stopped at a non-positive curvature */
     uint32_t substeps;      /* sub-steps accepted (1 without adaptive stepping) */
     uint32_t rejected;      /* adaptive: sub-steps undone and retried at half the size */
     uint32_t contacts;      /* vertex contacts answered, summed over sub-steps */

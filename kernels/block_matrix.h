@@ -1,0 +1,31 @@
+/* Private: a sparse matrix of 3 × 3 blocks, one block row per vertex, with
+ * the pattern of a model's elements (two vertices couple when an element
+ * holds both): the assembled Jacobian of implicit Euler
+ * (kernels/implicit_euler.c). Rows are sorted; assembly and the product
+ * run in a fixed order, so the result does not depend on the thread count. */
+#ifndef SB_BLOCK_MATRIX_H
+#define SB_BLOCK_MATRIX_H
+
+#include "kernels/hessian.h"
+
+typedef struct sb_block_matrix {
+    uint32_t rows;
+    uint32_t* row_start; /* rows + 1 */
+    uint32_t* column;    /* per block */
+    uint32_t* diagonal;  /* per row: its (i, i) block */
+    double* block;       /* 9 per block, row-major */
+} sb_block_matrix;
+
+/* The pattern of m's elements (and every diagonal block); NULL when out of memory. */
+sb_block_matrix* sb_block_matrix_create(const sb_model* m);
+void sb_block_matrix_destroy(sb_block_matrix* a);
+
+void sb_block_matrix_zero(sb_block_matrix* a);
+/* The block (i, j), which must be in the pattern. */
+double* sb_block_matrix_at(sb_block_matrix* a, uint32_t i, uint32_t j);
+/* Adds scale × the element's 3 count × 3 count matrix k. */
+void sb_block_matrix_add_element(sb_block_matrix* a, const sb_element* e, const double* k, double scale);
+/* out = A p (3 rows doubles each). */
+void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out);
+
+#endif
