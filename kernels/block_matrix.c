@@ -1,7 +1,7 @@
 /* A sparse matrix of 3 × 3 blocks with the pattern of a model's elements
- * (kernels/block_matrix.h). The pattern is built once: every element lists
- * each ordered pair of its vertices, each row's columns are sorted and made
- * unique. */
+ * (kernels/block_matrix.h): every element lists each ordered pair of its
+ * vertices, each row's columns are sorted and made unique, in place in
+ * arrays sized for every pair (so a rebuild after tearing never allocates). */
 #include "kernels/block_matrix.h"
 
 #include <stdlib.h>
@@ -12,74 +12,73 @@ static int sb_compare_u32(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
-/* Each row's candidate columns: itself and every vertex of every element it is in. */
-static uint32_t* sb_candidate_columns(const sb_model* m, uint32_t* start) {
-    uint32_t n = m->vertex_count;
-    uint64_t count = sb_element_count(m);
-    memset(start, 0, (n + 1) * sizeof *start);
-    for (uint32_t i = 0; i < n; i++) start[i + 1] = 1;
+/* Every element lists each ordered pair of its vertices: at most this many
+ * blocks whatever the elements' vertices are (tearing re-points them). */
+static uint64_t sb_block_capacity(const sb_model* m) {
+    uint64_t capacity = m->vertex_count, count = sb_element_count(m);
     for (uint64_t id = 0; id < count; id++) {
         sb_element e = sb_element_at(m, id);
-        for (int a = 0; a < e.count; a++) start[e.vertex[a] + 1] += (uint32_t)e.count;
+        capacity += (uint64_t)e.count * (uint64_t)e.count;
     }
-    for (uint32_t i = 0; i < n; i++) start[i + 1] += start[i];
-    uint32_t* columns = malloc((start[n] ? start[n] : 1) * sizeof *columns);
-    uint32_t* fill = malloc((n ? n : 1) * sizeof *fill);
-    if (!columns || !fill) {
-        free(columns), free(fill);
-        return NULL;
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        fill[i] = start[i] + 1;
-        columns[start[i]] = i;
-    }
-    for (uint64_t id = 0; id < count; id++) {
-        sb_element e = sb_element_at(m, id);
-        for (int a = 0; a < e.count; a++)
-            for (int b = 0; b < e.count; b++) columns[fill[e.vertex[a]]++] = e.vertex[b];
-    }
-    free(fill);
-    return columns;
+    return capacity;
 }
 
 sb_block_matrix* sb_block_matrix_create(const sb_model* m) {
     uint32_t n = m->vertex_count;
+    uint64_t capacity = sb_block_capacity(m);
     sb_block_matrix* a = calloc(1, sizeof *a);
-    uint32_t* start = malloc((n + 1) * sizeof *start);
-    uint32_t* candidates = start ? sb_candidate_columns(m, start) : NULL;
-    if (a) a->row_start = malloc((n + 1) * sizeof *a->row_start);
-    if (a && a->row_start) a->diagonal = malloc((n ? n : 1) * sizeof *a->diagonal);
-    if (!candidates || !a || !a->diagonal) {
-        free(start), free(candidates);
-        sb_block_matrix_destroy(a);
+    if (!a || capacity > UINT32_MAX) {
+        free(a);
         return NULL;
     }
     a->rows = n;
-    uint32_t kept = 0;
-    for (uint32_t i = 0; i < n; i++) { /* sort and keep the unique columns in place */
-        uint32_t* row = candidates + start[i];
-        uint32_t length = start[i + 1] - start[i];
-        qsort(row, length, sizeof *row, sb_compare_u32);
-        a->row_start[i] = kept;
-        for (uint32_t k = 0; k < length; k++)
-            if (k == 0 || row[k] != row[k - 1]) candidates[kept++] = row[k];
-    }
-    a->row_start[n] = kept;
-    free(start);
-    a->column = realloc(candidates, (kept ? kept : 1) * sizeof *a->column);
-    a->block = malloc(9 * (size_t)(kept ? kept : 1) * sizeof *a->block);
-    if (!a->column || !a->block) {
-        if (!a->column) free(candidates);
+    a->row_start = malloc(((size_t)n + 1) * sizeof *a->row_start);
+    a->fill = malloc(((size_t)n + 1) * sizeof *a->fill);
+    a->diagonal = malloc((n ? n : 1) * sizeof *a->diagonal);
+    a->column = malloc(capacity * sizeof *a->column);
+    a->block = malloc(9 * capacity * sizeof *a->block);
+    if (!a->row_start || !a->fill || !a->diagonal || !a->column || !a->block) {
         sb_block_matrix_destroy(a);
         return NULL;
     }
-    for (uint32_t i = 0; i < n; i++) a->diagonal[i] = (uint32_t)(sb_block_matrix_at(a, i, i) - a->block) / 9;
+    sb_block_matrix_rebuild(a, m);
     return a;
+}
+
+void sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m) {
+    uint32_t n = a->rows, *start = a->fill, *columns = a->column;
+    uint64_t count = sb_element_count(m);
+    /* each row's candidates: itself, then every vertex of every element it is in */
+    memset(start, 0, ((size_t)n + 1) * sizeof *start);
+    for (uint64_t id = 0; id < count; id++) {
+        sb_element e = sb_element_at(m, id);
+        for (int v = 0; v < e.count; v++) start[e.vertex[v] + 1] += (uint32_t)e.count;
+    }
+    for (uint32_t i = 0; i < n; i++) start[i + 1] += start[i] + 1;
+    for (uint32_t i = 0; i < n; i++) { /* row_start: where each row's next candidate goes */
+        a->row_start[i] = start[i] + 1;
+        columns[start[i]] = i;
+    }
+    for (uint64_t id = 0; id < count; id++) {
+        sb_element e = sb_element_at(m, id);
+        for (int v = 0; v < e.count; v++)
+            for (int w = 0; w < e.count; w++) columns[a->row_start[e.vertex[v]]++] = e.vertex[w];
+    }
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < n; i++) { /* sort each row and keep its unique columns, in place */
+        uint32_t first = start[i], length = a->row_start[i] - first;
+        qsort(columns + first, length, sizeof *columns, sb_compare_u32);
+        a->row_start[i] = kept;
+        for (uint32_t k = 0; k < length; k++)
+            if (k == 0 || columns[first + k] != columns[first + k - 1]) columns[kept++] = columns[first + k];
+    }
+    a->row_start[n] = kept;
+    for (uint32_t i = 0; i < n; i++) a->diagonal[i] = (uint32_t)((sb_block_matrix_at(a, i, i) - a->block) / 9);
 }
 
 void sb_block_matrix_destroy(sb_block_matrix* a) {
     if (!a) return;
-    free(a->row_start), free(a->column), free(a->diagonal), free(a->block);
+    free(a->row_start), free(a->fill), free(a->column), free(a->diagonal), free(a->block);
     free(a);
 }
 

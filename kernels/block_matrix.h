@@ -11,6 +11,7 @@
 typedef struct sb_block_matrix {
     uint32_t rows;
     uint32_t* row_start; /* rows + 1 */
+    uint32_t* fill;      /* rows + 1: the rebuild's work space */
     uint32_t* column;    /* per block */
     uint32_t* diagonal;  /* per row: its (i, i) block */
     double* block;       /* 9 per block, row-major */
@@ -18,6 +19,9 @@ typedef struct sb_block_matrix {
 
 /* The pattern of m's elements (and every diagonal block); NULL when out of memory. */
 sb_block_matrix* sb_block_matrix_create(const sb_model* m);
+/* The pattern again, after the elements' vertices changed (tearing);
+ * the values are undefined until zeroed. Never allocates. */
+void sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m);
 void sb_block_matrix_destroy(sb_block_matrix* a);
 
 void sb_block_matrix_zero(sb_block_matrix* a);

@@ -49,9 +49,10 @@
 enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
 
 struct sb_implicit {
-    double* work;            /* W_COUNT × 3n */
-    double* inverse_blocks;  /* 9n: the preconditioner */
-    sb_block_matrix* matrix; /* J */
+    double* work;              /* W_COUNT × 3n */
+    double* inverse_blocks;    /* 9n: the preconditioner */
+    sb_block_matrix* matrix;   /* J */
+    uint32_t pattern_vertices; /* sb_solver_vertex_count when its pattern was built */
 };
 
 typedef struct sb_newton {
@@ -143,14 +144,14 @@ static bool sb_invert3(const double* a, double* out) {
 }
 
 /* The block-Jacobi preconditioner: the inverse of each diagonal block (of
- * the mass alone where a block is singular, without the projection). */
+ * the mass alone where a block is singular: possible with an indefinite K). */
 static void sb_prepare_preconditioner(sb_newton* w) {
     const sb_model* m = w->s->model;
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double* inverse = w->inverse_blocks + 9 * (size_t)i;
         if (sb_invert3(w->j->block + 9 * (size_t)w->j->diagonal[i], inverse)) continue;
-        memset(inverse, 0, 9 * sizeof *inverse);
-        inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i] > 0 ? m->inv_mass[i] : 1.0 / m->mass[i];
+        memset(inverse, 0, 9 * sizeof *inverse); /* held, fixed and dormant vertices are masked anyway */
+        if (m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
     }
 }
 
@@ -232,6 +233,7 @@ bool sb_implicit_prepare(sb_solver* s) {
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
     im->matrix = sb_block_matrix_create(s->model);
+    im->pattern_vertices = sb_solver_vertex_count(s);
     return im->work && im->inverse_blocks && im->matrix;
 }
 
@@ -248,6 +250,10 @@ void sb_implicit_destroy(sb_solver* s) {
  * at its target, and the mask keeps it there. */
 static sb_newton sb_newton_init(sb_solver* s, double dt) {
     struct sb_implicit* im = s->implicit;
+    if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
+        sb_block_matrix_rebuild(im->matrix, s->model);
+        im->pattern_vertices = sb_solver_vertex_count(s);
+    }
     sb_newton w = {.s = s,
                    .n3 = 3 * (size_t)s->model->vertex_count,
                    .dt = dt,

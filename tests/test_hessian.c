@@ -5,6 +5,7 @@
  * the positive semi-definite stand-ins of the definiteness fix. */
 #include "test_util.h"
 
+#include "kernels/block_matrix.h"
 #include "kernels/hessian.h"
 
 enum { TERM_ALL = SB_TERM_COUNT };
@@ -126,6 +127,37 @@ static void test_elements_symmetric_and_product_consistent(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* The assembled block matrix times p is the matrix-free product. */
+static void test_assembled_matrix_product(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(TERM_ALL, &mesh);
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    double* x = strained_positions(m, 9);
+    double *p = malloc(n3 * sizeof *p), *free_product = malloc(n3 * sizeof *free_product);
+    double* assembled_product = malloc(n3 * sizeof *assembled_product);
+    tu_rng rng = {19};
+    for (size_t k = 0; k < n3; k++) p[k] = tu_uniform(&rng, -1, 1);
+    sb_block_matrix* a = sb_block_matrix_create(m);
+    assert_non_null(a);
+    sb_block_matrix_zero(a);
+    double k[144];
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        assert_true(sb_element_stiffness(m, &e, x, k));
+        sb_block_matrix_add_element(a, &e, k, 1.0);
+    }
+    sb_block_matrix_multiply(a, p, assembled_product);
+    assert_true(sb_stiffness_product(m, x, p, free_product));
+    double largest = tu_max_abs(free_product, n3);
+    assert_true(largest > 0.0);
+    for (size_t r = 0; r < n3; r++) TU_ASSERT_NEAR(assembled_product[r], free_product[r], 1e-12 * largest);
+    sb_block_matrix_destroy(a);
+    free(x), free(p), free(free_product), free(assembled_product);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
 /* D p = −∂f/∂v · p, by a central difference in the velocities (the damped
  * spring's force is linear in v, so the difference is exact to rounding). */
 static void test_damping_block_against_differences(void** state) {
@@ -219,6 +251,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_each_term_against_differences),
         cmocka_unit_test(test_elements_symmetric_and_product_consistent),
+        cmocka_unit_test(test_assembled_matrix_product),
         cmocka_unit_test(test_damping_block_against_differences),
         cmocka_unit_test(test_definite_stand_in),
     };
