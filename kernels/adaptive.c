@@ -47,10 +47,9 @@ typedef struct sb_backup {
     sb_energies energies;
 } sb_backup;
 
-/* The sb_real arrays a step may change, and their lengths. */
-static int sb_step_arrays(sb_solver* s, sb_real** arrays, size_t* lengths) {
+int sb_solver_step_arrays(const sb_solver* s, sb_real** arrays, size_t* lengths) {
     size_t n = s->state.vertex_count;
-    sb_state* st = &s->state;
+    const sb_state* st = &s->state;
     sb_real* soa[12] = {st->x,  st->y,  st->z,  st->vx,    st->vy,    st->vz,
                         st->fx, st->fy, st->fz, s->disp_x, s->disp_y, s->disp_z};
     int count = 0;
@@ -76,9 +75,9 @@ void sb_backup_destroy(sb_backup* backup) {
 }
 
 sb_backup* sb_backup_create(sb_solver* s) {
-    sb_real* arrays[16];
-    size_t lengths[16], total = 1;
-    int count = sb_step_arrays(s, arrays, lengths);
+    sb_real* arrays[SB_STEP_ARRAYS];
+    size_t lengths[SB_STEP_ARRAYS], total = 1;
+    int count = sb_solver_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) total += lengths[a];
     sb_backup* snap = calloc(1, sizeof *snap);
     if (!snap) return NULL;
@@ -93,9 +92,9 @@ sb_backup* sb_backup_create(sb_solver* s) {
 
 static void sb_backup_copy(sb_solver* s, bool save) {
     sb_backup* snap = s->backup;
-    sb_real* arrays[16];
-    size_t lengths[16], offset = 0;
-    int count = sb_step_arrays(s, arrays, lengths);
+    sb_real* arrays[SB_STEP_ARRAYS];
+    size_t lengths[SB_STEP_ARRAYS], offset = 0;
+    int count = sb_solver_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) {
         sb_real* saved = snap->reals + offset;
         if (save)

@@ -44,6 +44,7 @@
 #include "kernels/solver_internal.h"
 #include "kernels/topology.h"
 #include "common/edge_map.h"
+#include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -263,6 +264,7 @@ bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) {
     return b && bond < b->live.bond_count && b->broken[bond];
 }
 const sb_topology* sb_breakage_topology(const sb_breakage* b) { return b ? b->topology : NULL; }
+sb_topology* sb_breakage_topology_to_load(sb_breakage* b) { return b ? b->topology : NULL; }
 bool sb_breakage_triangle_dead(const sb_breakage* b, uint32_t triangle) {
     return b && triangle < b->live.triangle_count && b->triangle_dead[triangle];
 }
@@ -310,7 +312,8 @@ static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
     }
 }
 
-static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k) {
+/* Breaks limited bond k; the callback too when `notify`. */
+static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k, bool notify) {
     uint32_t bond = b->limited[k];
     sb_model* m = &b->live;
     b->min2[k] = -1.0;
@@ -320,7 +323,7 @@ static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k) {
     m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
     if (s->fast) sb_fast_break_bond(s->fast, bond);
     sb_drop_elements(s, b, bond);
-    if (s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
+    if (notify && s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
 }
 
 /* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
@@ -351,7 +354,7 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     bool broke = sb_any_past(b, p);
     if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     for (uint32_t k = 0; broke && k < b->limited_count; k++)
-        if (sb_past(b, p, k)) sb_break(s, b, k);
+        if (sb_past(b, p, k)) sb_break(s, b, k, true);
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
@@ -361,4 +364,48 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     sb_rekick(s, b->forces);
     sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
     return SB_OK;
+}
+
+/* ---- the saved state (kernels/solver_state.c) ---------------------------- */
+
+void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
+    sb_sections_put(w, &b->broken_count, sizeof b->broken_count);
+    for (uint32_t k = 0; k < b->limited_count; k++)
+        if (b->broken[b->limited[k]]) sb_sections_put(w, &b->limited[k], sizeof b->limited[k]);
+}
+
+/* The position of bond in the limited list (in bond order), or UINT32_MAX. */
+static uint32_t sb_limited_index(const sb_breakage* b, uint32_t bond) {
+    uint32_t lo = 0, hi = b->limited_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (b->limited[mid] < bond)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < b->limited_count && b->limited[lo] == bond ? lo : UINT32_MAX;
+}
+
+sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
+    uint32_t count, bond, last = 0;
+    if (b->broken_count > 0)
+        return sb_error_set(err, SB_ERR_INVALID, "the solver has broken bonds already: load into a new solver");
+    if (!sb_cursor_take(&r, &count, sizeof count) || r.left != 4 * (size_t)count)
+        return sb_error_set(err, SB_ERR_PARSE, "the broken bonds' section has the wrong length");
+    for (uint32_t q = 0; q < count; q++) {
+        sb_cursor_take(&r, &bond, sizeof bond);
+        if (sb_limited_index(b, bond) == UINT32_MAX || (q > 0 && bond <= last))
+            return sb_error_set(err, SB_ERR_PARSE, "broken bond %u is not a breakable bond of the model in order",
+                                bond);
+        last = bond;
+    }
+    return SB_OK;
+}
+
+void sb_breakage_load(sb_solver* s, sb_cursor* r) {
+    uint32_t count = 0, bond;
+    sb_cursor_take(r, &count, sizeof count);
+    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++)
+        sb_break(s, s->breakage, sb_limited_index(s->breakage, bond), false);
 }

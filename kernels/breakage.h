@@ -4,6 +4,7 @@
 
 #include "softbond/solver.h"
 #include "mesh/model_internal.h"
+#include "common/sections.h"
 #include "kernels/topology.h"
 
 /* New vertices a step may make by default (sb_solver_def.max_splits_per_step). */
@@ -25,10 +26,19 @@ const sb_model* sb_breakage_model(const sb_breakage* breakage);
  * evaluates the forces and energies again. */
 sb_status sb_breakage_after_step(sb_solver* solver);
 
+/* The broken bonds, for the saved state (kernels/solver_state.c): written;
+ * checked (each a limited bond of the model, in increasing order, into a
+ * solver with none broken yet); broken again, without the callback. */
+void sb_breakage_save(const sb_breakage* breakage, sb_sections_writer* w);
+sb_status sb_breakage_check(const sb_breakage* breakage, sb_cursor r, sb_error* err);
+void sb_breakage_load(sb_solver* solver, sb_cursor* r);
+
 uint32_t sb_breakage_count(const sb_breakage* breakage);
 bool sb_breakage_broken(const sb_breakage* breakage, uint32_t bond);
-/* Tearing's topology, NULL when the solver does not tear. */
+/* Tearing's topology, NULL when the solver does not tear (the second for
+ * loading a saved state). */
 const sb_topology* sb_breakage_topology(const sb_breakage* breakage);
+sb_topology* sb_breakage_topology_to_load(sb_breakage* breakage);
 /* Whether a triangle lost its constants to a broken bond on its edge. */
 bool sb_breakage_triangle_dead(const sb_breakage* breakage, uint32_t triangle);
 

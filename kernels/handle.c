@@ -384,6 +384,44 @@ double sb_handles_work(sb_solver* s, const sb_real* before) {
     return work;
 }
 
+/* ---- the saved state (kernels/solver_state.c) ----------------------------- */
+
+/* A handle's fields that change as it runs, as doubles. */
+static int sb_handle_moving(sb_handle* h, double* fields[], size_t counts[]) {
+    double* list[] = {&h->release_time, (double*)h->driven_to, h->pose0, h->pose1, &h->dt, h->force, h->grab};
+    size_t sizes[] = {1, 6, 12, 12, 1, 3, 3 * (size_t)h->count};
+    int n = (int)(sizeof sizes / sizeof *sizes);
+    for (int k = 0; k < n; k++) fields[k] = list[k], counts[k] = sizes[k];
+    return n;
+}
+
+void sb_handles_save(const sb_solver* s, sb_sections_writer* w) {
+    for (uint32_t k = 0; k < s->def.handle_count; k++) {
+        sb_handle* h = s->def.handles[k];
+        uint8_t flags[2] = {h->held, h->driven};
+        sb_sections_put(w, flags, sizeof flags);
+        double* fields[8];
+        size_t counts[8];
+        for (int f = 0, n = sb_handle_moving(h, fields, counts); f < n; f++)
+            sb_sections_put(w, fields[f], counts[f] * sizeof(double));
+    }
+}
+
+void sb_handles_load(sb_solver* s, sb_cursor* r) {
+    for (uint32_t k = 0; k < s->def.handle_count; k++) {
+        sb_handle* h = s->def.handles[k];
+        uint8_t flags[2] = {0, 0};
+        sb_cursor_take(r, flags, sizeof flags);
+        h->held = flags[0] != 0;
+        h->driven = flags[1] != 0;
+        double* fields[8];
+        size_t counts[8];
+        for (int f = 0, n = sb_handle_moving(h, fields, counts); f < n; f++)
+            sb_cursor_take(r, fields[f], counts[f] * sizeof(double));
+    }
+    if (s->def.handle_count) sb_handles_pin(s);
+}
+
 /* Where the soft handles' forces read positions and velocities and add
  * forces: 3n interleaved doubles, or (x NULL) the packed working state. */
 typedef struct sb_force_view {

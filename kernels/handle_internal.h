@@ -4,6 +4,7 @@
 
 #include "softbond/handle.h"
 #include "softbond/solver.h"
+#include "common/sections.h"
 
 /* At solver creation: checks each handle's vertices against the model,
  * attaches it, grabs its vertices at the rest shape and pins the held hard
@@ -27,6 +28,14 @@ void sb_handles_place_predicted(sb_solver* solver, double* x);
 void sb_handles_forces(sb_solver* solver, const double* x, const double* v, double* f, double* external);
 /* The same on the packed working state (solver->external kept). */
 void sb_handles_forces_packed(sb_solver* solver);
+
+/* The handles' state that changes as they run (held, the poses of the
+ * step, where the program drove them, the grab positions, the reported
+ * force, the release time): written for the saved state
+ * (kernels/solver_state.c), and read back from as many bytes as
+ * sb_handles_save writes (the caller checked the length), pins included. */
+void sb_handles_save(const sb_solver* solver, sb_sections_writer* w);
+void sb_handles_load(sb_solver* solver, sb_cursor* r);
 
 /* The hard handles' work (J) over the sub-step just taken (adaptive.c);
  * `before` holds the state's arrays before it, n values each: x, y, z, vx,

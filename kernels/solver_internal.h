@@ -170,6 +170,11 @@ int sb_pbd_iterations(const sb_solver_def* def);
 sb_status sb_solver_step(sb_solver* solver, double dt);
 /* sb_solver_step over sub-steps with energy control (kernels/adaptive.c). */
 sb_status sb_adaptive_advance(sb_solver* solver, double dt);
+/* The sb_real arrays a step may change and their lengths (the state's,
+ * the displacement, the fast path's packed ones): what the adaptive
+ * stepper's backup and the saved state (kernels/solver_state.c) copy. */
+#define SB_STEP_ARRAYS 16
+int sb_solver_step_arrays(const sb_solver* solver, sb_real** arrays, size_t* lengths);
 /* The adaptive stepper's copy of the state, made at creation. */
 struct sb_backup* sb_backup_create(sb_solver* solver);
 void sb_backup_destroy(struct sb_backup* backup);

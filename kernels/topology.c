@@ -404,3 +404,61 @@ uint32_t sb_topology_split(sb_solver* s, sb_topology* t, double* before) {
     }
     return made;
 }
+
+/* ---- the saved state (kernels/solver_state.c) ---------------------------- */
+
+/* Everything a split changes that a later step reads, as byte ranges: the
+ * topology's counts, queue, origins and stars, and the working copy's
+ * vertex arrays and element indices. The same list writes and reads. */
+typedef struct sb_range {
+    void* at;
+    size_t bytes;
+} sb_range;
+
+static int sb_topology_ranges(sb_topology* t, sb_range* out) {
+    sb_model* m = t->live;
+    size_t cap = t->capacity, nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
+    sb_range list[] = {{&t->count, 4},        {&t->refused, 4},      {&t->head, 4},          {&t->queued, 4},
+                       {t->origin, 4 * cap},  {t->queue, 4 * cap},   {t->pending, cap},      {m->rest_x, 8 * cap},
+                       {m->rest_y, 8 * cap},  {m->rest_z, 8 * cap},  {m->vel_x, 8 * cap},    {m->vel_y, 8 * cap},
+                       {m->vel_z, 8 * cap},   {m->mass, 8 * cap},    {m->inv_mass, 8 * cap}, {m->fixed, cap},
+                       {m->bond_i, 4 * nb},   {m->bond_j, 4 * nb},   {m->tri_v[0], 4 * nt},  {m->tri_v[1], 4 * nt},
+                       {m->tri_v[2], 4 * nt}, {m->hinge_e0, 4 * nh}, {m->hinge_e1, 4 * nh},  {m->hinge_o0, 4 * nh},
+                       {m->hinge_o1, 4 * nh}};
+    int n = (int)(sizeof list / sizeof *list);
+    memcpy(out, list, sizeof list);
+    for (int k = 0; k < SB_STARS; k++) {
+        size_t entries = (size_t)sb_element_count(m, k) * sb_arity[k];
+        out[n++] = (sb_range){t->stars[k].start, 4 * (cap + 1)};
+        out[n++] = (sb_range){t->stars[k].count, 4 * (cap + 1)};
+        out[n++] = (sb_range){t->stars[k].entry, 4 * entries};
+    }
+    return n;
+}
+
+enum { SB_TOPOLOGY_RANGES = 25 + 3 * SB_STARS };
+
+void sb_topology_save(const sb_topology* t, sb_sections_writer* w) {
+    sb_range ranges[SB_TOPOLOGY_RANGES];
+    int n = sb_topology_ranges((sb_topology*)t, ranges); /* reads only */
+    for (int k = 0; k < n; k++) sb_sections_put(w, ranges[k].at, ranges[k].bytes);
+}
+
+void sb_topology_load(sb_solver* s, sb_topology* t, sb_cursor* r) {
+    sb_range ranges[SB_TOPOLOGY_RANGES];
+    int n = sb_topology_ranges(t, ranges);
+    for (int k = 0; k < n; k++) sb_cursor_take(r, ranges[k].at, ranges[k].bytes);
+    const sb_model* m = t->live;
+    for (uint32_t v = 0; v < t->capacity; v++) /* the handles pin theirs again after */
+        sb_set_mass(s, t->live, v, m->mass[v], false);
+    if (!s->fast) return;
+    for (uint32_t e = 0; e < m->triangle_count; e++)
+        for (int c = 0; c < 3; c++) sb_fast_move_corner(s->fast, e, c, m->tri_v[c][e]);
+    for (uint32_t e = 0; e < m->bond_count; e++) {
+        sb_fast_move_bond_end(s->fast, e, 0, m->bond_i[e]);
+        sb_fast_move_bond_end(s->fast, e, 1, m->bond_j[e]);
+    }
+    uint32_t* roles[4] = {m->hinge_e0, m->hinge_e1, m->hinge_o0, m->hinge_o1};
+    for (uint32_t e = 0; e < m->hinge_count; e++)
+        for (int a = 0; a < 4; a++) sb_fast_move_hinge_vertex(s->fast, e, a, roles[a][e]);
+}

@@ -4,6 +4,7 @@
 #define SB_TOPOLOGY_H
 
 #include "mesh/model_internal.h"
+#include "common/sections.h"
 
 struct sb_solver;
 typedef struct sb_topology sb_topology;
@@ -36,5 +37,15 @@ uint32_t sb_topology_vertex_count(const sb_topology* topology);
 uint32_t sb_topology_origin(const sb_topology* topology, uint32_t vertex);
 /* Splits not made because no spare vertex was left. */
 uint32_t sb_topology_refused(const sb_topology* topology);
+
+/* The topology's state for the saved state (kernels/solver_state.c): its
+ * counts, queue, origins and stars, and the working copy's vertex arrays
+ * and element indices; read back from as many bytes as sb_topology_save
+ * writes (the caller checked the length), after the broken bonds were
+ * broken again: every vertex's mass set again where the solver keeps it
+ * (unpinned: the handles pin theirs after) and every element's fast slot
+ * pointed at its vertices. */
+void sb_topology_save(const sb_topology* topology, sb_sections_writer* w);
+void sb_topology_load(struct sb_solver* solver, sb_topology* topology, sb_cursor* r);
 
 #endif

@@ -22,6 +22,8 @@ static const option_spec option_specs[] = {
     {"--fast", offsetof(sb_cli_args, fast), true},
     {"--budget-ms", offsetof(sb_cli_args, budget_ms), false},
     {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
+    {"--checkpoint-every", offsetof(sb_cli_args, checkpoint_every), false},
+    {"--resume", offsetof(sb_cli_args, resume), false},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {

@@ -20,14 +20,16 @@ typedef struct sb_cli_args {
     const char* input; /* the one positional argument */
     const char** sets; /* each --set key=value, in order */
     int set_count;
-    const char* output;    /* run --output DIR */
-    const char* threads;   /* run --threads N */
-    const char* positions; /* eval --positions POS.csv */
-    const char* forces;    /* eval --forces OUT.csv */
-    bool fast;             /* eval --fast */
-    const char* budget_ms; /* run --budget-ms X */
-    bool no_realtime;      /* run --no-realtime */
-    bool help;             /* --help, -h */
+    const char* output;           /* run --output DIR */
+    const char* threads;          /* run --threads N */
+    const char* positions;        /* eval --positions POS.csv */
+    const char* forces;           /* eval --forces OUT.csv */
+    bool fast;                    /* eval --fast */
+    const char* budget_ms;        /* run --budget-ms X */
+    bool no_realtime;             /* run --no-realtime */
+    const char* checkpoint_every; /* run --checkpoint-every T */
+    const char* resume;           /* run --resume DIR */
+    bool help;                    /* --help, -h */
 } sb_cli_args;
 
 /* Parses argv[1..] (argv[0] is the command's name). `accepted` lists the

@@ -6,6 +6,8 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 void sb_step_work_add(sb_step_work* work, const sb_step_stats* stats) {
     work->steps++;
@@ -49,6 +51,27 @@ sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err
     if (log->broken_column) fprintf(log->file, ",broken");
     fputc('\n', log->file);
     return flush(log, err);
+}
+
+sb_status sb_energy_log_resume(sb_energy_log* log, const char* path, uint64_t bytes, double* times, uint32_t count,
+                               sb_error* err) {
+    log->times = times;
+    log->count = log->capacity = count;
+    if (!(log->path = strdup(path))) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    if (!(log->file = fopen(path, "r+"))) return write_fail(log, err);
+    struct stat info;
+    if (fstat(fileno(log->file), &info) != 0 || (uint64_t)info.st_size < bytes)
+        return sb_error_set(err, SB_ERR_IO, "%s: shorter than the checkpoint's %llu bytes", path,
+                            (unsigned long long)bytes);
+    errno = 0;
+    if (ftruncate(fileno(log->file), (off_t)bytes) != 0 || fseeko(log->file, (off_t)bytes, SEEK_SET) != 0)
+        return write_fail(log, err);
+    return SB_OK;
+}
+
+uint64_t sb_energy_log_bytes(const sb_energy_log* log) {
+    off_t at = ftello(log->file);
+    return at > 0 ? (uint64_t)at : 0;
 }
 
 static void write_row(FILE* f, double time, const sb_energies* e, const sb_step_work* w, uint32_t contacts,

@@ -44,6 +44,13 @@ typedef struct sb_energy_log {
 bool sb_energy_log_add_collider(sb_energy_log* log, const char* name);
 /* Creates (or empties) the file at path and writes the header. */
 sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err);
+/* Goes on with the log at path as a checkpoint left it (scenes/checkpoint.h):
+ * cut to `bytes` (the rows after the checkpoint are written again), the
+ * frames' times taken over (count of them, malloc'd: the log frees them). */
+sb_status sb_energy_log_resume(sb_energy_log* log, const char* path, uint64_t bytes, double* times, uint32_t count,
+                               sb_error* err);
+/* The bytes written so far (every row is flushed). */
+uint64_t sb_energy_log_bytes(const sb_energy_log* log);
 /* Writes and flushes a row, 17 significant digits; forces holds 3 per
  * collider (may be NULL without colliders); broken is written only with
  * broken_column. */

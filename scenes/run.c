@@ -10,6 +10,7 @@
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/budget.h"
+#include "scenes/checkpoint.h"
 #include "scenes/cli.h"
 #include "scenes/colliders.h"
 #include "scenes/energy_log.h"
@@ -28,13 +29,15 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 enum { INDEX_EVERY_FRAME = 1024 };
 
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
-                    "                    [--budget-ms X] [--no-realtime]\n"
+                    "                    [--budget-ms X] [--no-realtime] [--checkpoint-every T]\n"
+                    "       softbond run SCENE.yaml [--set key=value]... --resume DIR [--threads N]\n"
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
                     "(per frame: the energy of each term, the solver's steps, sub-steps and\n"
@@ -54,7 +57,11 @@ void sb_cli_run_usage(FILE* stream) {
                     "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
                     "(the smallest if none does); it prints what it measured and picked.\n"
                     "--no-realtime: with haptics.tool set, the simulation runs as fast as it can\n"
-                    "instead of paced to the wall clock (haptics.realtime: false).\n");
+                    "instead of paced to the wall clock (haptics.realtime: false).\n"
+                    "--checkpoint-every T writes DIR/checkpoint.sbck (the whole state, atomically)\n"
+                    "after the first frame at or past each T seconds of simulated time; --resume DIR\n"
+                    "goes on from it, appending to DIR's frames and log.csv exactly as the run would\n"
+                    "have: give the same scene and --set options (another scene is refused).\n");
 }
 
 typedef struct run_job {
@@ -76,9 +83,14 @@ typedef struct run_job {
     sb_frame_export_def export;
     double* buffers;         /* positions, velocities, forces: 3n each, n the solver's vertex capacity */
     sb_torn_surface surface; /* what the frames show of a solver that tears */
+    /* checkpoints (checkpoint.h): every > 0 when they are written */
+    sb_run_state resumed; /* --resume: where the checkpoint left the run */
+    uint64_t scene_hash;
+    double checkpoint_every, next_checkpoint;
 } run_job;
 
 static int run_finish(run_job* job, int code) {
+    free(job->resumed.times);
     free(job->buffers);
     sb_torn_surface_free(&job->surface);
     sb_error ignored;
@@ -165,6 +177,56 @@ static sb_status make_force_columns(run_job* job, sb_error* err) {
     return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
 }
 
+/* The frames a run writes at most: floor(end / interval) + 1, and one at a stop. */
+static uint64_t most_frames(const run_job* job) {
+    double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
+    sb_stop stop = sb_stop_from_scene(&job->scene);
+    return (uint64_t)floor(sb_stop_end(&stop) / interval + 1e-9) + 2;
+}
+
+/* DIR/checkpoint.sbck of --resume DIR. */
+static const char* checkpoint_path(run_job* job) { return sb_output_dir_path(&job->out, "checkpoint.sbck"); }
+
+/* --resume DIR: the checkpoint read and the solver's state loaded, and
+ * log.csv at least as long as the checkpoint says; nothing written yet. */
+static sb_status resume(run_job* job, sb_error* err) {
+    job->out.dir = strdup(job->args.resume);
+    if (!job->out.dir) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    sb_status status = sb_checkpoint_read(checkpoint_path(job), job->scene_hash, job->mesh.vertex_count,
+                                          most_frames(job), &job->resumed, job->solver, err);
+    if (status != SB_OK) return status;
+    struct stat info;
+    const char* log = sb_output_dir_path(&job->out, "log.csv");
+    if (stat(log, &info) != 0 || (uint64_t)info.st_size < job->resumed.log_bytes)
+        return sb_error_set(err, SB_ERR_INVALID, "%s: missing or shorter than the checkpoint's %llu bytes", log,
+                            (unsigned long long)job->resumed.log_bytes);
+    job->checkpoint_every = job->resumed.every;
+    job->next_checkpoint = job->resumed.next;
+    return SB_OK;
+}
+
+/* --checkpoint-every T and --resume DIR (checkpoint.h); not with a haptic
+ * device, whose motion no run repeats. */
+static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
+    const char* every = job->args.checkpoint_every;
+    if (!every && !job->args.resume) return SB_OK;
+    if (job->haptics.enabled)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "--checkpoint-every, --resume: not with haptics.tool (a device's "
+                            "motion is not repeated by a resumed run)");
+    if (job->args.resume && job->args.output)
+        return sb_error_set(err, SB_ERR_INVALID, "--resume DIR writes into DIR: leave out --output");
+    sb_status status = sb_checkpoint_scene_hash(&job->scene, &job->args, &job->scene_hash, err);
+    if (status == SB_OK && job->args.resume) status = resume(job, err);
+    if (status != SB_OK || !every) return status;
+    char* end;
+    job->checkpoint_every = strtod(every, &end);
+    if (end == every || *end != '\0' || !(job->checkpoint_every > 0.0) || !isfinite(job->checkpoint_every))
+        return sb_error_set(err, SB_ERR_INVALID, "--checkpoint-every: expected seconds > 0, got '%s'", every);
+    if (!job->args.resume) job->next_checkpoint = job->checkpoint_every;
+    return SB_OK;
+}
+
 /* The scene, its model and a solver for it: all the input, checked. */
 static sb_status prepare(run_job* job, sb_error* err) {
     if (job->args.output && job->args.output[0] == '\0')
@@ -188,7 +250,8 @@ static sb_status prepare(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->solver);
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
     if (!job->buffers) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    return sb_torn_surface_init(&job->surface, job->solver, err);
+    status = sb_torn_surface_init(&job->surface, job->solver, err);
+    return status == SB_OK ? prepare_checkpoints(job, err) : status;
 }
 
 static double now(void) {
@@ -243,6 +306,22 @@ static int record_frame(run_job* job, sb_error* err) {
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
 }
 
+/* After a frame: the checkpoint, when one is due. */
+static int checkpoint(run_job* job, sb_error* err) {
+    double t = sb_solver_time(job->solver), every = job->checkpoint_every;
+    if (!(every > 0.0) || t < job->next_checkpoint - 1e-9 * every) return SB_EXIT_OK;
+    job->next_checkpoint = every * (floor(t / every + 1e-9) + 1.0);
+    sb_run_state run = {.frames = job->log.count,
+                        .log_bytes = sb_energy_log_bytes(&job->log),
+                        .every = every,
+                        .next = job->next_checkpoint,
+                        .stop = job->stop,
+                        .times = job->log.times};
+    sb_status status =
+        sb_checkpoint_write(checkpoint_path(job), job->scene_hash, job->mesh.vertex_count, &run, job->solver, err);
+    return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
+}
+
 static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_error* err) {
     double dt = sb_scene_number(&job->scene, SB_KEY_DT);
     while (sb_solver_step_count(job->solver) < step) {
@@ -263,17 +342,18 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
 static int simulate(run_job* job, sb_error* err) {
     double dt = sb_scene_number(&job->scene, SB_KEY_DT);
     double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
-    job->stop = sb_stop_from_scene(&job->scene);
+    job->stop = job->args.resume ? job->resumed.stop : sb_stop_from_scene(&job->scene);
     double end = sb_stop_end(&job->stop);
     uint64_t frames = (uint64_t)floor(end / interval + 1e-9) + 1;
     uint64_t steps = (uint64_t)ceil(end / dt - 1e-9);
     sb_progress progress = sb_progress_start(steps, dt);
     int code = SB_EXIT_OK;
-    bool stopped = false; /* a stop condition fired: its frame is the last */
-    for (uint64_t k = 0; k < frames && code == SB_EXIT_OK && !stopped; k++) {
+    bool stopped = job->stop.reason != SB_STOP_RUNNING; /* a stop condition fired: its frame is the last */
+    for (uint64_t k = job->log.count; k < frames && code == SB_EXIT_OK && !stopped; k++) {
         code = advance_to(job, (uint64_t)llround((double)k * interval / dt), &progress, err);
         stopped = job->stop.reason != SB_STOP_RUNNING;
         if (code == SB_EXIT_OK) code = record_frame(job, err);
+        if (code == SB_EXIT_OK) code = checkpoint(job, err);
     }
     if (code == SB_EXIT_OK && !stopped) {
         code = advance_to(job, steps, &progress, err);
@@ -298,15 +378,30 @@ static void report(const run_job* job, uint32_t frames, double seconds) {
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", frames, dir, seconds);
 }
 
+/* The output folder and log.csv: made anew, or (--resume) as the
+ * checkpoint left them, the log cut to its rows and the frames' times
+ * taken over. */
+static sb_status open_output(run_job* job, sb_error* err) {
+    if (!job->args.resume) {
+        sb_status status = sb_output_dir_create(&job->out, job->args.output, job->scene.name, err);
+        return status == SB_OK ? sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) : status;
+    }
+    sb_run_state* run = &job->resumed;
+    double* times = run->times;
+    run->times = NULL; /* the log's now */
+    printf("softbond: resuming %s at frame %llu (t = %.9g s)\n", job->out.dir, (unsigned long long)run->frames,
+           sb_solver_time(job->solver));
+    return sb_energy_log_resume(&job->log, sb_output_dir_path(&job->out, "log.csv"), run->log_bytes, times,
+                                (uint32_t)run->frames, err);
+}
+
 /* Simulates, then writes the whole index and closes the log even after a
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
     double start = now();
     job->log.broken_column = sb_scene_number(&job->scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
                              sb_scene_number(&job->scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0;
-    if (sb_output_dir_create(&job->out, job->args.output, job->scene.name, err) != SB_OK ||
-        sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) != SB_OK)
-        return SB_EXIT_FAILURE;
+    if (open_output(job, err) != SB_OK) return SB_EXIT_FAILURE;
     if (sb_scene_haptics_start(&job->haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;
     int code = simulate(job, err);
@@ -328,7 +423,8 @@ static int execute(run_job* job, sb_error* err) {
 }
 
 int sb_cli_run(int argc, char** argv) {
-    static const char* const accepted[] = {"--output", "--threads", "--budget-ms", "--no-realtime", NULL};
+    static const char* const accepted[] = {"--output",           "--threads", "--budget-ms", "--no-realtime",
+                                           "--checkpoint-every", "--resume",  NULL};
     run_job job = {0};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

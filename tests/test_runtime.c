@@ -8,6 +8,7 @@
 #include "kernels/team.h"
 
 #include <pthread.h>
+#include <stdio.h>
 #include <stdatomic.h>
 
 /* Under the thread sanitizer every memory access is checked: smaller runs. */

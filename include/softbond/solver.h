@@ -218,6 +218,28 @@ SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
  * torn. */
 SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
 
+/* Checkpoints: the solver's whole state as bytes, from which a run
+ * continues bitwise as if it had not stopped (kernels/solver_state.c says
+ * what is in it: the state, the Verlet displacement, the clock and step
+ * count, the adaptive step size and energy peak, the colliders' poses and
+ * dynamic bodies, the handles, the broken bonds, the last step's
+ * statistics and contact forces). A versioned format with a header (the
+ * size of sb_real, the vertex count, a hash of the model and of the
+ * definition's integrator, kernels, adaptive, self-contact, colliders and
+ * handles) and a checksum; the layout is the host's byte order.
+ * sb_solver_state_size gives the bytes sb_solver_save_state writes into a
+ * buffer at least that large. sb_solver_load_state reads them into a
+ * solver made as the saving one was (the same model, colliders and handles
+ * in the same order: created anew, or one in which no bond has broken);
+ * the thread count may differ. It refuses, with one line and the solver
+ * unchanged, a truncated or corrupt buffer, another format version, the
+ * other precision's, or another model's or set-up's. A program's own
+ * collider (sb_collider_create_custom) keeps its state in its user data:
+ * the program saves that itself. */
+SB_API size_t sb_solver_state_size(const sb_solver* solver);
+SB_API sb_status sb_solver_save_state(const sb_solver* solver, void* buffer, size_t size, sb_error* err);
+SB_API sb_status sb_solver_load_state(sb_solver* solver, const void* buffer, size_t size, sb_error* err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -506,6 +506,37 @@ void sb_collider_set_pose(sb_collider* c, const double translate[3], const doubl
     c->driven = true;
 }
 
+/* The fields that change as the collider runs: its bounds, the poses of
+ * the step, the pose the program drove it to, and a dynamic one's body. */
+static int sb_collider_moving(sb_collider* c, double* fields[], size_t counts[]) {
+    double* list[] = {c->bounds,           c->pose0,           c->pose1,    &c->t0,           &c->t1,
+                      c->driven_pose,      c->position,        c->velocity, c->next_position, c->orientation,
+                      c->next_orientation, c->angular_momentum};
+    size_t sizes[] = {6, 12, 12, 1, 1, 12, 3, 3, 3, 4, 4, 3};
+    int n = (int)(sizeof sizes / sizeof *sizes);
+    for (int k = 0; k < n; k++) fields[k] = list[k], counts[k] = sizes[k];
+    return n;
+}
+
+void sb_collider_save(const sb_collider* c, sb_sections_writer* w) {
+    double* fields[16];
+    size_t counts[16];
+    int n = sb_collider_moving((sb_collider*)c, fields, counts); /* reads only */
+    for (int k = 0; k < n; k++) sb_sections_put(w, fields[k], counts[k] * sizeof(double));
+    uint8_t driven = c->driven;
+    sb_sections_put(w, &driven, 1);
+}
+
+void sb_collider_load(sb_collider* c, sb_cursor* r) {
+    double* fields[16];
+    size_t counts[16];
+    int n = sb_collider_moving(c, fields, counts);
+    for (int k = 0; k < n; k++) sb_cursor_take(r, fields[k], counts[k] * sizeof(double));
+    uint8_t driven = 0;
+    sb_cursor_take(r, &driven, 1);
+    c->driven = driven != 0;
+}
+
 void sb_collider_state(const sb_collider* c, double position[3], double velocity[3]) {
     double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     if (c && c->dynamic) {

@@ -32,6 +32,7 @@
 
 #include "softbond/collider.h"
 #include "softbond/mesh.h"
+#include "common/sections.h"
 
 struct sb_collider {
     char name[64];
@@ -101,6 +102,13 @@ void sb_dynamic_begin_step(sb_collider* collider, double t0, double t1);
 /* A dynamic collider's orientation now (row-major, from the rest frame)
  * and angular velocity (rad/s, world). */
 void sb_dynamic_spin(const sb_collider* collider, double rotation[9], double angular_velocity[3]);
+
+/* The collider's state that changes as it runs (the saved state,
+ * kernels/solver_state.c): written, and read back from as many bytes as
+ * sb_collider_save writes (the caller checked the length). A program's own
+ * collider keeps its own state in its user data. */
+void sb_collider_save(const sb_collider* collider, sb_sections_writer* w);
+void sb_collider_load(sb_collider* collider, sb_cursor* r);
 
 /* The built-in shape's bounds for its poses at t0 and t1 (kernels/colliders/bounds.c). */
 void sb_collider_step_bounds(sb_collider* collider);

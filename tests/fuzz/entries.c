@@ -12,7 +12,17 @@
  *   gmsh           the same for a .msh file
  *   positions_csv  sb_positions_read for a mesh of 4 vertices
  *   assimp_ply     sb_mesh_load_ex of a .ply file: the PLY check, then
- *                  assimp in its isolated child */
+ *                  assimp in its isolated child
+ *   checkpoint     sb_checkpoint_read (`softbond run --resume`) of the bytes
+ *                  into a new solver of a small rig (a breakable 4 x 4
+ *                  sheet, a floor, a dynamic ball, a hard and a soft
+ *                  handle: every section of the solver's state), then
+ *                  again with the checksums of the solver's state and of
+ *                  the file made to match, so that mutations reach the
+ *                  sections behind them; its seed is the rig's checkpoint
+ *                  (sb_checkpoint_write, scene hash CHECKPOINT_SCENE_HASH)
+ *                  after 20 steps of 0.1 ms with the hard handle driven
+ *                  5 cm away (sb_handle_set_pose): 7 bonds broken */
 #define _POSIX_C_SOURCE 200809L
 #include "tests/fuzz/entries.h"
 
@@ -21,6 +31,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "common/sections.h"
+#include "scenes/checkpoint.h"
 #include "scenes/positions_csv.h"
 #include "scenes/scene.h"
 #include "softbond/softbond.h"
@@ -132,6 +144,120 @@ static int positions_csv(const uint8_t* data, size_t size) {
     return 0;
 }
 
+/* ---- checkpoint ---------------------------------------------------------- */
+
+enum { CHECKPOINT_SIDE = 4, CHECKPOINT_FRAMES = 100 };
+#define CHECKPOINT_SCENE_HASH 0x5eedull
+
+/* A solver with every kind of state, and what it owns. */
+typedef struct checkpoint_rig {
+    sb_model* model;
+    sb_collider* colliders[2];
+    sb_handle* handles[2];
+    uint32_t rows[2][CHECKPOINT_SIDE];
+    sb_solver* solver;
+} checkpoint_rig;
+
+static void checkpoint_rig_free(checkpoint_rig* r) {
+    sb_solver_destroy(r->solver);
+    for (int k = 0; k < 2; k++) {
+        sb_collider_destroy(r->colliders[k]);
+        sb_handle_destroy(r->handles[k]);
+    }
+    sb_model_destroy(r->model);
+}
+
+static sb_model* checkpoint_sheet(void) {
+    sb_sheet_def def = sb_default_sheet_def();
+    def.nx = def.ny = CHECKPOINT_SIDE;
+    sb_mesh mesh = {0};
+    sb_error err;
+    if (sb_mesh_generate_sheet(&def, &mesh, &err) != SB_OK) return NULL;
+    sb_material_def material = sb_default_material_def();
+    material.break_strain = 0.05;
+    sb_builder* builder = sb_builder_create();
+    sb_model* model =
+        sb_builder_add_mesh(builder, &mesh, &material, &err) == SB_OK ? sb_builder_compile(builder, &err) : NULL;
+    sb_builder_destroy(builder);
+    sb_mesh_free(&mesh);
+    return model;
+}
+
+static sb_handle* checkpoint_handle(checkpoint_rig* r, int k, double stiffness) {
+    for (uint32_t i = 0; i < CHECKPOINT_SIDE; i++)
+        r->rows[k][i] = (uint32_t)k * (CHECKPOINT_SIDE - 1) * CHECKPOINT_SIDE + i;
+    sb_handle_def def = sb_default_handle_def();
+    def.vertices = r->rows[k];
+    def.vertex_count = CHECKPOINT_SIDE;
+    def.stiffness = stiffness;
+    sb_error err;
+    return sb_handle_create(&def, &err);
+}
+
+/* The rig; false when it could not be made. */
+static bool checkpoint_rig_create(checkpoint_rig* r) {
+    *r = (checkpoint_rig){.model = checkpoint_sheet()};
+    sb_collider_def floor = sb_default_collider_def(), ball = sb_default_collider_def();
+    floor.shape = SB_COLLIDER_PLANE;
+    floor.normal[2] = 1.0;
+    floor.point[2] = -0.01;
+    ball.shape = SB_COLLIDER_SPHERE;
+    ball.radius = 0.1;
+    ball.center[2] = 0.2;
+    ball.mass = 1.0;
+    sb_error err;
+    r->colliders[0] = sb_collider_create(&floor, &err);
+    r->colliders[1] = sb_collider_create(&ball, &err);
+    r->handles[0] = checkpoint_handle(r, 0, 0.0);
+    r->handles[1] = checkpoint_handle(r, 1, 10.0);
+    if (!r->model || !r->colliders[0] || !r->colliders[1] || !r->handles[0] || !r->handles[1]) return false;
+    sb_solver_def def = sb_default_solver_def();
+    def.runtime.threads = 1;
+    def.colliders = r->colliders;
+    def.collider_count = 2;
+    def.handles = r->handles;
+    def.handle_count = 2;
+    return (r->solver = sb_solver_create(r->model, &def, &err)) != NULL;
+}
+
+/* The last 8 bytes of a sections file made the checksum of the rest. */
+static void reseal(uint8_t* data, size_t size) {
+    if (size < 24) return;
+    uint64_t sum = sb_hash(SB_HASH_START, data, size - 24);
+    memcpy(data + size - 8, &sum, sizeof sum);
+}
+
+/* The solver state inside, then the whole file. */
+static void reseal_checkpoint(uint8_t* data, size_t size) {
+    sb_sections_reader r = {.data = data, .size = size};
+    sb_cursor state;
+    if (sb_sections_find(&r, "SOLV", &state)) reseal(data + (state.at - data), state.left);
+    reseal(data, size);
+}
+
+static void read_checkpoint(const uint8_t* data, size_t size) {
+    const char* path = write_input(".sbck", data, size);
+    checkpoint_rig rig;
+    sb_run_state run;
+    sb_error err;
+    if (checkpoint_rig_create(&rig) && path &&
+        sb_checkpoint_read(path, CHECKPOINT_SCENE_HASH, CHECKPOINT_SIDE * CHECKPOINT_SIDE, CHECKPOINT_FRAMES, &run,
+                           rig.solver, &err) == SB_OK)
+        free(run.times);
+    checkpoint_rig_free(&rig);
+}
+
+static int checkpoint(const uint8_t* data, size_t size) {
+    read_checkpoint(data, size);
+    uint8_t* copy = malloc(size ? size : 1);
+    if (!copy) return 0;
+    memcpy(copy, data, size);
+    reseal_checkpoint(copy, size);
+    read_checkpoint(copy, size);
+    free(copy);
+    return 0;
+}
+
 const sb_fuzz_entry sb_fuzz_entries[] = {
     {"scene_yaml", scene_yaml},
     {"scene_set", scene_set},
@@ -143,6 +269,7 @@ const sb_fuzz_entry sb_fuzz_entries[] = {
     {"gmsh", gmsh},
     {"positions_csv", positions_csv},
     {"assimp_ply", assimp_ply},
+    {"checkpoint", checkpoint},
 };
 const size_t sb_fuzz_entry_count = sizeof sb_fuzz_entries / sizeof sb_fuzz_entries[0];
 

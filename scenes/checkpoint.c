@@ -1,0 +1,187 @@
+/* The run's checkpoints (see checkpoint.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/checkpoint.h"
+#include "scenes/atomic_file.h"
+#include "common/error.h"
+#include "common/sections.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define SB_CHECKPOINT_MAGIC "SBCHKPNT"
+#define SB_CHECKPOINT_VERSION 1
+
+static const char sb_run_tag[4] = {'R', 'U', 'N', ' '}, sb_times_tag[4] = {'T', 'I', 'M', 'E'},
+                  sb_solver_tag[4] = {'S', 'O', 'L', 'V'};
+
+/* A whole regular file (caller frees). */
+static sb_status read_bytes(const char* path, uint8_t** data, size_t* size, sb_error* err) {
+    FILE* file = fopen(path, "rb");
+    if (!file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat info;
+    sb_status status = SB_OK;
+    if (fstat(fileno(file), &info) != 0 || !S_ISREG(info.st_mode))
+        status = sb_error_set(err, SB_ERR_IO, "%s: not a regular file", path);
+    else if (!(*data = malloc((size_t)info.st_size + 1)))
+        status = sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    else if ((*size = fread(*data, 1, (size_t)info.st_size, file)) != (size_t)info.st_size || ferror(file))
+        status = sb_error_set(err, SB_ERR_IO, "%s: cannot read: %s", path, strerror(errno ? errno : EIO));
+    fclose(file);
+    return status;
+}
+
+sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* args, uint64_t* hash, sb_error* err) {
+    uint8_t* text = NULL;
+    size_t size = 0;
+    sb_status status = read_bytes(scene->path, &text, &size, err);
+    if (status != SB_OK) {
+        free(text);
+        return status;
+    }
+    uint64_t h = sb_hash(SB_HASH_START, text, size);
+    free(text);
+    for (int i = 0; i < args->set_count; i++) h = sb_hash(h, args->sets[i], strlen(args->sets[i]) + 1);
+    *hash = h;
+    return SB_OK;
+}
+
+/* The "RUN " section's values, in order. */
+static void run_values(const sb_run_state* run, uint64_t counts[2], double values[8], uint32_t* reason) {
+    const sb_stop* s = &run->stop;
+    counts[0] = run->frames, counts[1] = run->log_bytes;
+    double list[8] = {run->every,  run->next,   s->kinetic_energy, s->min_time,
+                      s->max_time, s->duration, s->time,           s->kinetic};
+    memcpy(values, list, sizeof list);
+    *reason = (uint32_t)s->reason;
+}
+
+/* The whole checkpoint into w (counting only without a buffer). */
+static bool write_all(sb_sections_writer* w, void* buffer, size_t capacity, uint64_t scene_hash, uint32_t vertex_count,
+                      const sb_run_state* run, const sb_solver* solver, size_t state_size) {
+    sb_sections_header header = {.version = SB_CHECKPOINT_VERSION,
+                                 .real_size = sizeof(sb_real),
+                                 .vertex_count = vertex_count,
+                                 .hash = scene_hash};
+    memcpy(header.magic, SB_CHECKPOINT_MAGIC, 8);
+    uint64_t counts[2];
+    double values[8];
+    uint32_t reason;
+    run_values(run, counts, values, &reason);
+    sb_sections_begin(w, buffer, capacity, &header);
+    sb_sections_open(w, sb_run_tag);
+    sb_sections_put(w, counts, sizeof counts);
+    sb_sections_put(w, values, sizeof values);
+    sb_sections_put(w, &reason, sizeof reason);
+    sb_sections_close(w);
+    sb_sections_open(w, sb_times_tag);
+    sb_sections_put(w, run->times, run->frames * sizeof *run->times);
+    sb_sections_close(w);
+    sb_sections_open(w, sb_solver_tag);
+    bool fits = w->data && w->size <= w->capacity && state_size <= w->capacity - w->size;
+    if (fits) sb_solver_save_state(solver, w->data + w->size, state_size, NULL);
+    w->size += state_size;
+    sb_sections_close(w);
+    return sb_sections_end(w);
+}
+
+sb_status sb_checkpoint_write(const char* path, uint64_t scene_hash, uint32_t vertex_count, const sb_run_state* run,
+                              const sb_solver* solver, sb_error* err) {
+    size_t state_size = sb_solver_state_size(solver);
+    sb_sections_writer w;
+    write_all(&w, NULL, 0, scene_hash, vertex_count, run, solver, state_size);
+    size_t size = w.size;
+    void* data = malloc(size);
+    if (!data) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory (%zu bytes)", path, size);
+    write_all(&w, data, size, scene_hash, vertex_count, run, solver, state_size);
+    sb_atomic_file file;
+    sb_status status = sb_atomic_open(&file, path, err);
+    if (status == SB_OK) {
+        fwrite(data, 1, size, file.stream);
+        status = sb_atomic_commit(&file, err);
+    }
+    free(data);
+    return status;
+}
+
+/* The "RUN " section into run (times not yet). */
+static sb_status read_run(const char* path, const sb_sections_reader* r, uint64_t max_frames, sb_run_state* run,
+                          sb_error* err) {
+    sb_cursor c;
+    uint64_t counts[2];
+    double v[8];
+    uint32_t reason;
+    if (!sb_sections_find(r, sb_run_tag, &c) || !sb_cursor_take(&c, counts, sizeof counts) ||
+        !sb_cursor_take(&c, v, sizeof v) || !sb_cursor_take(&c, &reason, sizeof reason))
+        return sb_error_set(err, SB_ERR_PARSE, "%s: no whole RUN section", path);
+    if (counts[0] < 1 || counts[0] > max_frames || reason > SB_STOP_DURATION || !(v[0] > 0.0))
+        return sb_error_set(err, SB_ERR_PARSE, "%s: the run's state is out of range (%llu frames, at most %llu)", path,
+                            (unsigned long long)counts[0], (unsigned long long)max_frames);
+    *run = (sb_run_state){.frames = counts[0], .log_bytes = counts[1], .every = v[0], .next = v[1]};
+    run->stop = (sb_stop){.kinetic_energy = v[2],
+                          .min_time = v[3],
+                          .max_time = v[4],
+                          .duration = v[5],
+                          .reason = (sb_stop_reason)reason,
+                          .time = v[6],
+                          .kinetic = v[7]};
+    return SB_OK;
+}
+
+static sb_status read_times(const char* path, const sb_sections_reader* r, sb_run_state* run, sb_error* err) {
+    sb_cursor c;
+    size_t bytes = run->frames * sizeof *run->times;
+    if (!sb_sections_find(r, sb_times_tag, &c) || c.left != bytes)
+        return sb_error_set(err, SB_ERR_PARSE, "%s: the frame times do not match the %llu frames", path,
+                            (unsigned long long)run->frames);
+    if (!(run->times = malloc(bytes))) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
+    sb_cursor_take(&c, run->times, bytes);
+    return SB_OK;
+}
+
+static sb_status check_header(const char* path, const sb_sections_header* h, uint64_t scene_hash, uint32_t vertex_count,
+                              sb_error* err) {
+    if (h->real_size != sizeof(sb_real))
+        return sb_error_set(err, SB_ERR_INVALID, "%s: written by a %s build of softbond, this one is %s", path,
+                            h->real_size == 8 ? "double" : "float", sizeof(sb_real) == 8 ? "double" : "float");
+    if (h->hash != scene_hash)
+        return sb_error_set(err, SB_ERR_INVALID, "%s: written for another scene (its file or its --set options differ)",
+                            path);
+    if (h->vertex_count != vertex_count)
+        return sb_error_set(err, SB_ERR_INVALID, "%s: written for a mesh of %u vertices, this one has %u", path,
+                            h->vertex_count, vertex_count);
+    return SB_OK;
+}
+
+static sb_status read_checked(const char* path, const uint8_t* data, size_t size, uint64_t scene_hash,
+                              uint32_t vertex_count, uint64_t max_frames, sb_run_state* run, sb_solver* solver,
+                              sb_error* err) {
+    sb_sections_reader r;
+    sb_cursor state;
+    sb_status status = sb_sections_read(&r, data, size, SB_CHECKPOINT_MAGIC, SB_CHECKPOINT_VERSION, path, err);
+    if (status == SB_OK) status = check_header(path, &r.header, scene_hash, vertex_count, err);
+    if (status == SB_OK) status = read_run(path, &r, max_frames, run, err);
+    if (status == SB_OK) status = read_times(path, &r, run, err);
+    if (status == SB_OK && !sb_sections_find(&r, sb_solver_tag, &state))
+        status = sb_error_set(err, SB_ERR_PARSE, "%s: no solver state", path);
+    if (status == SB_OK && sb_solver_load_state(solver, state.at, state.left, err) != SB_OK)
+        status = sb_error_prefix(err, SB_ERR_PARSE, path);
+    if (status != SB_OK) {
+        free(run->times);
+        run->times = NULL;
+    }
+    return status;
+}
+
+sb_status sb_checkpoint_read(const char* path, uint64_t scene_hash, uint32_t vertex_count, uint64_t max_frames,
+                             sb_run_state* run, sb_solver* solver, sb_error* err) {
+    size_t size = 0;
+    uint8_t* data = NULL;
+    *run = (sb_run_state){0};
+    sb_status status = read_bytes(path, &data, &size, err);
+    if (status == SB_OK)
+        status = read_checked(path, data, size, scene_hash, vertex_count, max_frames, run, solver, err);
+    free(data);
+    return status;
+}

@@ -1,0 +1,45 @@
+/* `softbond run`'s checkpoints: --checkpoint-every T writes
+ * DIR/checkpoint.sbck (atomically, scenes/atomic_file.c) after the first
+ * frame at or past each multiple of T seconds of simulated time; --resume
+ * DIR reads it back and the run goes on from that frame as if it had not
+ * stopped. The file is common/sections.h's layout (magic "SBCHKPNT"): the
+ * header's hash is the scene's (its file's bytes and every --set, so a
+ * checkpoint of another scene, or of the same scene with other --set
+ * values, is refused), its vertex count the mesh's; the sections are the
+ * run's own state ("RUN ": the frames written, log.csv's length after
+ * them, the interval and when the next checkpoint is due, the stop
+ * conditions' state; "TIME": each frame's time, for frames.pvd) and the
+ * solver's saved state ("SOLV", sb_solver_save_state: the solver's own
+ * header, hash and checksum inside). */
+#ifndef SB_CHECKPOINT_H
+#define SB_CHECKPOINT_H
+
+#include "scenes/cli.h"
+#include "scenes/stop.h"
+
+/* The run's side of a checkpoint. */
+typedef struct sb_run_state {
+    uint64_t frames;    /* frames written (rows of log.csv) */
+    uint64_t log_bytes; /* log.csv's length after them */
+    double every, next; /* s: the interval, and when the next checkpoint is due */
+    sb_stop stop;
+    double* times; /* each frame's time (frames of them; read: the caller frees) */
+} sb_run_state;
+
+/* The hash a checkpoint of this scene carries: the scene file's bytes and
+ * each --set in order. */
+sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* args, uint64_t* hash, sb_error* err);
+
+/* Writes the checkpoint at path atomically. */
+sb_status sb_checkpoint_write(const char* path, uint64_t scene_hash, uint32_t vertex_count, const sb_run_state* run,
+                              const sb_solver* solver, sb_error* err);
+
+/* Reads the checkpoint at path: checks it whole (one line naming the path
+ * for a missing, truncated or corrupt file, another format version, the
+ * other precision, another scene or mesh, more than max_frames frames),
+ * then loads the solver's state (made as the saving run's was) and fills
+ * run. Nothing is changed when it fails. */
+sb_status sb_checkpoint_read(const char* path, uint64_t scene_hash, uint32_t vertex_count, uint64_t max_frames,
+                             sb_run_state* run, sb_solver* solver, sb_error* err);
+
+#endif

@@ -1,0 +1,589 @@
+/* The solver's saved state (sb_solver_save_state, sb_solver_load_state):
+ * a run saved at some step and loaded into a new solver (new colliders and
+ * handles, made as the first were, on two threads instead of one) goes on
+ * bitwise as the uninterrupted run: positions, velocities, forces,
+ * energies, clock, statistics, contact forces, the colliders' and the
+ * handles' state at every step after — for a Verlet sheet on a floor
+ * under a spinning dynamic ball, an adaptive run that rejects sub-steps,
+ * xpbd on a floor, hard and soft handles (one released before the save),
+ * a sheet torn by its handles (bonds broken and vertices split before and
+ * after the save) and
+ * the reference kernels with a generic integrator. Bad input is refused
+ * with one line and leaves the solver as it was: every truncation tried, a
+ * flipped byte anywhere, another model, another set-up, the other
+ * precision, a buffer too small to save into.
+ *
+ * The program: `softbond run --checkpoint-every T` of a committed scene,
+ * then the crash of a kill -9 made by hand (the frames from the
+ * checkpoint's on removed, one left half written, a half row at the end of
+ * log.csv), then `--resume DIR`: every file of the folder is then byte
+ * for byte the uninterrupted run's (frames, log.csv, frames.pvd) — for a
+ * net catching a dynamic ball (Verlet, contact), an adaptive bouncing
+ * ball, a cloth draped with xpbd, a hook that lets go, a sheet torn
+ * apart. A truncated or corrupt checkpoint, one of another scene or of
+ * other --set values, a missing one: one line, exit 2. */
+#define _POSIX_C_SOURCE 200809L
+#include "test_util.h"
+#include "pulled_sheet.h"
+
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include "common/sections.h"
+#include "tests/test_files.h"
+
+#define SIDE 12
+
+/* What one run owns; a case builds it the same way every time. */
+typedef struct rig {
+    sb_model* model;
+    sb_collider* colliders[2];
+    uint32_t collider_count;
+    sb_handle* handles[2];
+    uint32_t handle_count;
+    uint32_t rows[2][SIDE];
+    sb_solver* solver;
+} rig;
+
+typedef void (*rig_make)(rig* r, int threads);
+
+static sb_model* sheet(double break_strain) {
+    sb_sheet_def def = sb_default_sheet_def();
+    def.nx = def.ny = SIDE;
+    def.width = def.height = 0.1;
+    def.jitter = 0.1;
+    sb_mesh mesh = {0};
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&def, &mesh, &err), SB_OK);
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 200.0;
+    material.angle_k = 1e-3;
+    material.stretch_bend_k = 1e-2;
+    material.bend_k = 1e-4;
+    material.mass = 0.01;
+    material.break_strain = break_strain;
+    sb_model* m = tu_mesh_model(&mesh, &material);
+    sb_mesh_free(&mesh);
+    return m;
+}
+
+static sb_collider* collider(const sb_collider_def* def) {
+    sb_error err;
+    sb_collider* c = sb_collider_create(def, &err);
+    if (!c) fail_msg("%s", err.message);
+    return c;
+}
+
+/* A floor 5 mm under the sheet (the sheet lies in z = 0 about its center). */
+static sb_collider* floor_plane(void) {
+    sb_collider_def d = sb_default_collider_def();
+    d.shape = SB_COLLIDER_PLANE;
+    d.name = "floor";
+    d.point[2] = -0.005;
+    d.normal[2] = 1.0;
+    d.friction = 0.3;
+    return collider(&d);
+}
+
+/* A spinning ball thrown down onto the middle of the sheet. */
+static sb_collider* thrown_ball(void) {
+    sb_collider_def d = sb_default_collider_def();
+    d.shape = SB_COLLIDER_SPHERE;
+    d.name = "ball";
+    d.radius = 0.02;
+    d.center[2] = 0.022;
+    d.mass = 0.05;
+    d.velocity[2] = -1.0;
+    d.angular_velocity[2] = 20.0;
+    d.friction = 0.5;
+    return collider(&d);
+}
+
+static sb_solver_def rig_def(rig* r, sb_integrator integrator, int threads) {
+    sb_solver_def def = sb_default_solver_def();
+    def.integrator = integrator;
+    def.runtime.threads = threads;
+    def.colliders = r->colliders;
+    def.collider_count = r->collider_count;
+    def.handles = r->handles;
+    def.handle_count = r->handle_count;
+    return def;
+}
+
+static void verlet_ball(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->colliders[0] = floor_plane();
+    r->colliders[1] = thrown_ball();
+    r->collider_count = 2;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
+    r->solver = tu_solver(r->model, &def);
+}
+
+static void adaptive_ball(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->colliders[0] = thrown_ball();
+    r->collider_count = 1;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
+    def.adaptive = true;
+    def.drag = 1.0;
+    r->solver = tu_solver(r->model, &def);
+}
+
+static void xpbd_floor(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->colliders[0] = floor_plane();
+    r->collider_count = 1;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_XPBD, threads);
+    r->solver = tu_solver(r->model, &def);
+}
+
+static void reference_floor(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->colliders[0] = floor_plane();
+    r->collider_count = 1;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_SYMPLECTIC_EULER, threads);
+    def.kernels = SB_KERNELS_REFERENCE;
+    r->solver = tu_solver(r->model, &def);
+}
+
+static sb_handle* row_handle(rig* r, int k, uint32_t row, double stiffness, double release, double pull) {
+    for (uint32_t i = 0; i < SIDE; i++) r->rows[k][i] = row * SIDE + i;
+    sb_keyframe path[2] = {{0.0, {0, 0, 0}, {0, 0, 0}}, {0.05, {0, pull, 0.01}, {0, 0, 10}}};
+    sb_handle_def def = sb_default_handle_def();
+    def.name = k ? "soft" : "hard";
+    def.vertices = r->rows[k];
+    def.vertex_count = SIDE;
+    def.stiffness = stiffness;
+    def.damping = stiffness > 0 ? 0.05 : 0.0;
+    def.path = path;
+    def.path_count = 2;
+    def.release_time = release;
+    sb_error err;
+    sb_handle* h = sb_handle_create(&def, &err);
+    if (!h) fail_msg("%s", err.message);
+    return h;
+}
+
+/* The hard handle lets go at 5 ms, before the save; the soft one holds. */
+static void handles(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->handles[0] = row_handle(r, 0, 0, 0.0, 0.005, -0.01);
+    r->handles[1] = row_handle(r, 1, SIDE - 1, 50.0, INFINITY, 0.01);
+    r->handle_count = 2;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
+    r->solver = tu_solver(r->model, &def);
+}
+
+/* tests/pulled_sheet.h's sheet, its rows pulled apart 10 cm in 0.5 s: it
+ * tears (bonds break, vertices split). */
+static void torn(rig* r, int threads) {
+    r->model = ps_sheet_model(SIDE, 0.2, 0.3);
+    ps_handles(SIDE, r->handles, r->rows[0]);
+    r->handle_count = 2;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
+    def.drag = 5.0;
+    def.gravity[2] = 0.0;
+    r->solver = tu_solver(r->model, &def);
+}
+
+static void rig_free(rig* r) {
+    sb_solver_destroy(r->solver);
+    for (uint32_t c = 0; c < r->collider_count; c++) sb_collider_destroy(r->colliders[c]);
+    for (uint32_t k = 0; k < r->handle_count; k++) sb_handle_destroy(r->handles[k]);
+    sb_model_destroy(r->model);
+    *r = (rig){0};
+}
+
+/* A hash of everything a program can see of the run after a step. */
+static uint64_t observed(const rig* r) {
+    const sb_solver* s = r->solver;
+    size_t n = 3 * (size_t)sb_solver_vertex_capacity(s);
+    double* values = calloc(3 * n, sizeof *values);
+    sb_solver_get_positions(s, values);
+    sb_solver_get_velocities(s, values + n);
+    sb_solver_get_forces(s, values + 2 * n);
+    uint64_t h = sb_hash(SB_HASH_START, values, 3 * n * sizeof *values);
+    free(values);
+    sb_energies e = sb_solver_energies(s);
+    sb_step_stats stats = sb_solver_last_step(s);
+    double clock[4] = {sb_solver_time(s), stats.last_substep, stats.min_substep, (double)sb_solver_step_count(s)};
+    uint32_t counts[5] = {stats.substeps, stats.rejected, stats.contacts, sb_solver_broken_count(s),
+                          sb_solver_vertex_count(s)};
+    h = sb_hash(h, &e, sizeof e);
+    h = sb_hash(h, clock, sizeof clock);
+    h = sb_hash(h, counts, sizeof counts);
+    for (uint32_t c = 0; c < r->collider_count; c++) {
+        double body[21];
+        sb_collider_state(r->colliders[c], body, body + 3);
+        sb_collider_orientation(r->colliders[c], body + 6, body + 15);
+        sb_solver_contact_force(s, c, body + 18);
+        h = sb_hash(h, body, sizeof body);
+    }
+    for (uint32_t k = 0; k < r->handle_count; k++) {
+        double force[3], target[3];
+        bool held = sb_handle_held(r->handles[k]);
+        sb_handle_force(r->handles[k], force);
+        sb_handle_target(r->handles[k], 0, target);
+        h = sb_hash(h, &held, sizeof held);
+        h = sb_hash(h, force, sizeof force);
+        h = sb_hash(h, target, sizeof target);
+    }
+    return h;
+}
+
+static void advance(rig* r, double dt) {
+    if (sb_solver_advance(r->solver, dt) != SB_OK) fail_msg("%s", sb_solver_error(r->solver));
+}
+
+/* What the uninterrupted run showed about the case after the save. */
+typedef struct after_save {
+    uint32_t contacts, rejected, broken_at_save, broken_at_end, vertices_at_save, vertices_at_end;
+    bool hard_held;
+} after_save;
+
+/* Runs `make` for `steps` steps of dt on one thread, saving after `save`;
+ * a new rig on two threads loads it and must observe the same after every
+ * later step. */
+static after_save check_resume(rig_make make, double dt, int save, int steps) {
+    rig a = {0}, b = {0};
+    make(&a, 1);
+    for (int k = 0; k < save; k++) advance(&a, dt);
+    size_t size = sb_solver_state_size(a.solver);
+    void* saved = malloc(size);
+    sb_error err = {0};
+    assert_int_equal(sb_solver_save_state(a.solver, saved, size, &err), SB_OK);
+    after_save seen = {.broken_at_save = sb_solver_broken_count(a.solver),
+                       .vertices_at_save = sb_solver_vertex_count(a.solver)};
+    uint64_t* expected = malloc((size_t)steps * sizeof *expected);
+    for (int k = save; k < steps; k++) {
+        advance(&a, dt);
+        expected[k] = observed(&a);
+        seen.contacts += sb_solver_last_step(a.solver).contacts;
+        seen.rejected += sb_solver_last_step(a.solver).rejected;
+    }
+    seen.broken_at_end = sb_solver_broken_count(a.solver);
+    seen.vertices_at_end = sb_solver_vertex_count(a.solver);
+    print_message("saved at step %d: %u contacts, %u rejected after; %u broken and %u vertices at the save, %u and %u "
+                  "at the end\n",
+                  save, seen.contacts, seen.rejected, seen.broken_at_save, seen.vertices_at_save, seen.broken_at_end,
+                  seen.vertices_at_end);
+    seen.hard_held = a.handle_count && sb_handle_held(a.handles[0]);
+    rig_free(&a);
+
+    make(&b, 2);
+    if (sb_solver_load_state(b.solver, saved, size, &err) != SB_OK) fail_msg("%s", err.message);
+    assert_int_equal(sb_solver_step_count(b.solver), save);
+    for (int k = save; k < steps; k++) {
+        advance(&b, dt);
+        if (observed(&b) != expected[k])
+            fail_msg("step %d after a load at step %d: not the uninterrupted run", k + 1, save);
+    }
+    rig_free(&b);
+    free(expected);
+    free(saved);
+    return seen;
+}
+
+static void test_verlet_contact_dynamic_ball(void** state) {
+    (void)state;
+    after_save seen = check_resume(verlet_ball, 1e-4, 60, 200);
+    assert_true(seen.contacts > 0);
+}
+
+static void test_adaptive(void** state) {
+    (void)state;
+    after_save seen = check_resume(adaptive_ball, 2e-2, 2, 6);
+    assert_true(seen.rejected > 0); /* the step size carried over is what matters */
+}
+
+static void test_xpbd(void** state) {
+    (void)state;
+    after_save seen = check_resume(xpbd_floor, 1e-3, 20, 60);
+    assert_true(seen.contacts > 0);
+}
+
+static void test_reference_kernels(void** state) {
+    (void)state;
+    after_save seen = check_resume(reference_floor, 5e-4, 50, 100);
+    assert_true(seen.contacts > 0);
+}
+
+static void test_handles(void** state) {
+    (void)state;
+    after_save seen = check_resume(handles, 1e-4, 100, 250);
+    assert_false(seen.hard_held); /* released before the save */
+}
+
+static void test_breaking(void** state) {
+    (void)state;
+    after_save seen = check_resume(torn, 1e-4, 1500, 2500);
+    assert_true(seen.broken_at_save > 0);
+    assert_true(seen.broken_at_end > seen.broken_at_save);
+    assert_true(seen.vertices_at_save > SIDE * SIDE);          /* split before the save */
+    assert_true(seen.vertices_at_end > seen.vertices_at_save); /* and after */
+}
+
+/* ---- refusals ------------------------------------------------------------- */
+
+/* A rig advanced 50 steps and its saved state. */
+static void* saved_ball(rig* r, size_t* size) {
+    verlet_ball(r, 1);
+    for (int k = 0; k < 50; k++) advance(r, 1e-4);
+    *size = sb_solver_state_size(r->solver);
+    void* data = malloc(*size);
+    assert_int_equal(sb_solver_save_state(r->solver, data, *size, NULL), SB_OK);
+    return data;
+}
+
+/* Loading `data` fails with a message starting with `start` and leaves the solver as it was. */
+static void assert_refused(rig* r, const void* data, size_t size, const char* start) {
+    uint64_t before = observed(r);
+    sb_error err = {0};
+    assert_int_not_equal(sb_solver_load_state(r->solver, data, size, &err), SB_OK);
+    if (strncmp(err.message, start, strlen(start)) != 0) fail_msg("'%s' does not start with '%s'", err.message, start);
+    assert_null(strchr(err.message, '\n'));
+    assert_true(observed(r) == before);
+}
+
+static void test_truncated_and_corrupt_are_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    size_t size;
+    uint8_t* data = saved_ball(&a, &size);
+    verlet_ball(&fresh, 1);
+    for (size_t cut = 0; cut < size; cut += cut < 64 ? 1 : 97) assert_refused(&fresh, data, cut, "solver state: ");
+    assert_refused(&fresh, data, size - 1, "solver state: ");
+    /* every 13th byte, and every byte of the header and of the checksum's section */
+    for (size_t at = 0; at < size; at = at < 32 || at + 33 >= size ? at + 1 : at + 13) {
+        data[at] ^= 0x10;
+        assert_refused(&fresh, data, size, "solver state: ");
+        data[at] ^= 0x10;
+    }
+    assert_refused(&fresh, data, 8, "solver state: not a softbond SBSOLVER file (too short)");
+    data[8] ^= 1; /* the version */
+    assert_refused(&fresh, data, size, "solver state: format version");
+    data[8] ^= 1;
+    data[size / 2] ^= 0x80;
+    assert_refused(&fresh, data, size, "solver state: corrupt (the checksum does not match the contents)");
+    data[size / 2] ^= 0x80;
+    sb_error err;
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK); /* whole again */
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
+/* The header rewritten and the checksum made to match: what another build would write. */
+static void reseal(uint8_t* data, size_t size) {
+    uint64_t sum = sb_hash(SB_HASH_START, data, size - 24);
+    memcpy(data + size - 8, &sum, sizeof sum);
+}
+
+static void test_other_model_setup_or_precision_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, other = {0};
+    size_t size;
+    uint8_t* data = saved_ball(&a, &size);
+    other.model = sheet(0.0);
+    other.colliders[0] = floor_plane();
+    other.colliders[1] = floor_plane(); /* not the dynamic ball */
+    other.collider_count = 2;
+    sb_solver_def def = rig_def(&other, SB_INTEGRATOR_VERLET, 1);
+    other.solver = tu_solver(other.model, &def);
+    assert_refused(&other, data, size, "solver state: saved from another model or solver set-up");
+    rig_free(&other);
+    xpbd_floor(&other, 1);
+    assert_refused(&other, data, size, "solver state: saved from another model or solver set-up");
+    rig_free(&other);
+    uint32_t real_size = sizeof(sb_real) == 8 ? 4 : 8;
+    memcpy(data + 12, &real_size, sizeof real_size);
+    reseal(data, size);
+    verlet_ball(&other, 1);
+    assert_refused(&other, data, size,
+                   sizeof(sb_real) == 8 ? "solver state: written by a float build, this one is double"
+                                        : "solver state: written by a double build, this one is float");
+    rig_free(&other);
+    sb_error err;
+    uint8_t small[64];
+    assert_int_equal(sb_solver_save_state(a.solver, small, sizeof small, &err), SB_ERR_INVALID);
+    assert_non_null(strstr(err.message, "too small"));
+    free(data);
+    rig_free(&a);
+}
+
+/* ---- the program ------------------------------------------------------------ */
+
+/* Runs softbond and fails the test unless it exits 0. */
+static void run_ok(const char* const* args) {
+    tu_result r = tu_run(args);
+    if (r.code != 0) fail_msg("softbond %s %s: exit %d: %s", args[0], args[1], r.code, r.err);
+    tu_result_free(&r);
+}
+
+static void shell(const char* format, const char* a, const char* b) {
+    char command[1200];
+    snprintf(command, sizeof command, format, a, b);
+    assert_int_equal(system(command), 0);
+}
+
+/* The frames the checkpoint in dir says were written. */
+static uint64_t checkpoint_frames(const char* dir) {
+    char path[64];
+    snprintf(path, sizeof path, "%s/checkpoint.sbck", dir);
+    char* data = tu_read_file(tu_tmp_path(path));
+    assert_non_null(data);
+    struct stat info;
+    assert_int_equal(stat(tu_tmp_path(path), &info), 0);
+    sb_sections_reader r;
+    sb_cursor run;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, (size_t)info.st_size, "SBCHKPNT", 1, path, &err), SB_OK);
+    assert_true(sb_sections_find(&r, "RUN ", &run));
+    uint64_t frames;
+    assert_true(sb_cursor_take(&run, &frames, sizeof frames));
+    free(data);
+    return frames;
+}
+
+/* What a kill -9 after the checkpoint's frame could leave in dir: frame
+ * `first` half written, the later ones not yet, a half row in log.csv. */
+static void crash(const char* dir, uint64_t first) {
+    DIR* d = opendir(tu_tmp_path(dir));
+    assert_non_null(d);
+    for (struct dirent* e; (e = readdir(d));) {
+        unsigned long k;
+        char path[128];
+        if (sscanf(e->d_name, "frame_%lu", &k) != 1 || k < first) continue;
+        snprintf(path, sizeof path, "%s/%.100s", dir, e->d_name);
+        assert_int_equal(k == first ? truncate(tu_tmp_path(path), 10) : unlink(tu_tmp_path(path)), 0);
+    }
+    closedir(d);
+    shell("printf '0.9,12' >> '%s/%s/log.csv'", tu_tmp_dir, dir);
+}
+
+/* Every file of a is in b with the same bytes, and b has no other. */
+static void assert_same_folders(const char* a, const char* b) {
+    shell("diff -r '%s' '%s' >&2", tu_tmp_path(a), tu_tmp_path(b));
+}
+
+/* The scene run whole with checkpoints into "whole", the same into
+ * "resumed", crashed after its last checkpoint and resumed. */
+static void check_program_resume(const char* scene, const char* every, const char* const* sets) {
+    char path[500];
+    snprintf(path, sizeof path, "%s/scenes/%s", SB_SOURCE_DIR, scene);
+    const char* args[24] = {"run", path, "--checkpoint-every", every, "--output", "whole"};
+    int n = 6;
+    for (; *sets; sets++) {
+        args[n++] = "--set";
+        args[n++] = *sets;
+    }
+    shell("rm -rf '%s' '%s'", tu_tmp_path("whole"), tu_tmp_path("resumed"));
+    run_ok(args);
+    shell("cp -r '%s' '%s'", tu_tmp_path("whole"), tu_tmp_path("resumed"));
+    uint64_t frames = checkpoint_frames("resumed");
+    print_message("%s: the checkpoint after frame %llu\n", scene, (unsigned long long)frames - 1);
+    crash("resumed", frames);
+    args[2] = "--resume", args[3] = "resumed", args[4] = args[5] = NULL;
+    for (int k = 6; k < n; k++) args[k - 2] = args[k];
+    args[n - 2] = NULL;
+    run_ok(args);
+    assert_same_folders("whole", "resumed");
+}
+
+static void test_program_verlet_dynamic_ball(void** state) {
+    (void)state;
+    check_program_resume("ball_net.yaml", "0.2", (const char*[]){"duration=0.3", NULL});
+}
+
+static void test_program_adaptive(void** state) {
+    (void)state;
+    check_program_resume("bouncing_ball.yaml", "0.6", (const char*[]){"adaptive=true", "dt=0.004", "duration=1", NULL});
+}
+
+static void test_program_xpbd(void** state) {
+    (void)state;
+    check_program_resume("draped_sheet.yaml", "0.3",
+                         (const char*[]){"integrator=xpbd", "dt=0.002", "duration=0.5", NULL});
+}
+
+static void test_program_handles(void** state) {
+    (void)state;
+    check_program_resume("hook_pull.yaml", "2.6", (const char*[]){"duration=3", NULL}); /* released at 2.5 s */
+}
+
+static void test_program_breaking(void** state) {
+    (void)state;
+    check_program_resume("tearing_sheet.yaml", "0.6", (const char*[]){NULL}); /* bonds break from 0.4 s */
+}
+
+static void assert_fails(const char* const* args, const char* message) {
+    tu_result r = tu_run(args);
+    char expected[700];
+    snprintf(expected, sizeof expected, "softbond: %s\n", message);
+    assert_string_equal(r.err, expected);
+    assert_int_equal(r.code, 2);
+    tu_result_free(&r);
+}
+
+static void test_program_refusals(void** state) {
+    (void)state;
+    char scene[500], other[500];
+    snprintf(scene, sizeof scene, "%s/scenes/hook_pull.yaml", SB_SOURCE_DIR);
+    snprintf(other, sizeof other, "%s/scenes/tearing_sheet.yaml", SB_SOURCE_DIR);
+    shell("rm -rf '%s' '%s'", tu_tmp_path("c"), tu_tmp_path("d"));
+    run_ok((const char*[]){"run", scene, "--set", "duration=0.1", "--checkpoint-every", "0.05", "--output", "c", NULL});
+    shell("cp '%s' '%s'", tu_tmp_path("c/checkpoint.sbck"), tu_tmp_path("saved.sbck"));
+    assert_fails((const char*[]){"run", other, "--resume", "c", NULL},
+                 "c/checkpoint.sbck: written for another scene (its file or its --set options differ)");
+    assert_fails((const char*[]){"run", scene, "--set", "duration=0.2", "--resume", "c", NULL},
+                 "c/checkpoint.sbck: written for another scene (its file or its --set options differ)");
+    assert_fails((const char*[]){"run", scene, "--set", "duration=0.1", "--resume", "nowhere", NULL},
+                 "nowhere/checkpoint.sbck: cannot open: No such file or directory");
+    assert_fails((const char*[]){"run", scene, "--resume", "c", "--output", "d", NULL},
+                 "--resume DIR writes into DIR: leave out --output");
+    assert_fails((const char*[]){"run", scene, "--checkpoint-every", "0", NULL},
+                 "--checkpoint-every: expected seconds > 0, got '0'");
+    shell("head -c 1000 '%s' > '%s'", tu_tmp_path("saved.sbck"), tu_tmp_path("c/checkpoint.sbck"));
+    tu_result r = tu_run((const char*[]){"run", scene, "--set", "duration=0.1", "--resume", "c", NULL});
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "c/checkpoint.sbck: truncated"));
+    tu_result_free(&r);
+    shell("cp '%s' '%s'", tu_tmp_path("saved.sbck"), tu_tmp_path("c/checkpoint.sbck"));
+    FILE* f = fopen(tu_tmp_path("c/checkpoint.sbck"), "r+b");
+    assert_non_null(f);
+    fseek(f, 3000, SEEK_SET);
+    fputc('x', f);
+    fclose(f);
+    assert_fails((const char*[]){"run", scene, "--set", "duration=0.1", "--resume", "c", NULL},
+                 "c/checkpoint.sbck: corrupt (the checksum does not match the contents)");
+}
+
+static int setup_dir(void** state) {
+    (void)state;
+    return tu_make_tmp_dir("sb_test_checkpoint");
+}
+
+static int teardown_dir(void** state) {
+    (void)state;
+    return tu_remove_tmp_dir();
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_verlet_contact_dynamic_ball),
+        cmocka_unit_test(test_adaptive),
+        cmocka_unit_test(test_xpbd),
+        cmocka_unit_test(test_reference_kernels),
+        cmocka_unit_test(test_handles),
+        cmocka_unit_test(test_breaking),
+        cmocka_unit_test(test_truncated_and_corrupt_are_refused),
+        cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
+        cmocka_unit_test(test_program_verlet_dynamic_ball),
+        cmocka_unit_test(test_program_adaptive),
+        cmocka_unit_test(test_program_xpbd),
+        cmocka_unit_test(test_program_handles),
+        cmocka_unit_test(test_program_breaking),
+        cmocka_unit_test(test_program_refusals),
+    };
+    return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
+}
