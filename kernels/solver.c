@@ -444,6 +444,28 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
     return status;
 }
 
+/* Forces are linear in gravity: m (g' − g) is added to each vertex's total
+ * force wherever it is kept (the fast path's packed forces and weights, the
+ * state's arrays), as if evaluated with g' at the current state. */
+sb_status sb_solver_set_gravity(sb_solver* s, const double gravity[3]) {
+    for (int c = 0; c < 3; c++)
+        if (!isfinite(gravity[c])) return sb_error_set(&s->error, SB_ERR_INVALID, "gravity must be finite");
+    const sb_model* m = s->model;
+    double change[3];
+    for (int c = 0; c < 3; c++) change[c] = gravity[c] - s->def.gravity[c];
+    sb_real* soa[3] = {s->state.fx, s->state.fy, s->state.fz};
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        for (int c = 0; c < 3; c++) {
+            soa[c][i] = (sb_real)(soa[c][i] + m->mass[i] * change[c]);
+            if (!s->fast) continue;
+            size_t k = 4 * (size_t)i + c;
+            s->forces4[k] = (sb_real)(s->forces4[k] + m->mass[i] * change[c]);
+            s->weight4[k] = (sb_real)(m->mass[i] * gravity[c]);
+        }
+    memcpy(s->def.gravity, gravity, sizeof s->def.gravity);
+    return SB_OK;
+}
+
 const char* sb_solver_error(const sb_solver* s) { return s->error.message; }
 double sb_solver_time(const sb_solver* s) { return s->time; }
 uint64_t sb_solver_step_count(const sb_solver* s) { return s->steps; }

@@ -1,6 +1,7 @@
 /* The solver (include/softbond/solver.h): both Verlet integrators are second
  * order, conserve energy without drift, bring a damped pinned sheet to rest,
- * integrate gravity and external forces exactly, catch a blow-up and reject
+ * integrate gravity and external forces exactly, take a new gravity between
+ * steps, catch a blow-up and reject
  * bad time steps.
  *
  * The state is sb_real (float unless SB_DOUBLE), so every tolerance below is
@@ -366,6 +367,58 @@ static void test_free_fall(void** state) {
     sb_model_destroy(m);
 }
 
+/* The mean vertical velocity of a free 4 x 4 sheet of equal masses: its
+ * centre of mass's, which only gravity changes (internal forces cancel). */
+static double mean_vz(const sb_solver* s, uint32_t n) {
+    double v[3 * 16], sum = 0.0;
+    sb_solver_get_velocities(s, v);
+    for (uint32_t i = 0; i < n; i++) sum += v[3 * i + 2];
+    return sum / n;
+}
+
+/* sb_solver_set_gravity between steps: off, the centre of mass keeps its
+ * velocity; reversed, it gains g t upward (within one step's g dt: the
+ * position form's velocity is a difference across the step of the change); for the fast and the reference
+ * kernels, Verlet's two forms and pbd. A non-finite gravity is refused and
+ * changes nothing. */
+static void test_set_gravity(void** state) {
+    (void)state;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = 4;
+    sheet.width = sheet.height = 0.1;
+    sb_mesh mesh = {0};
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
+    sb_material_def material = sb_default_material_def();
+    material.mass = 0.01;
+    sb_model* m = tu_mesh_model(&mesh, &material);
+    sb_mesh_free(&mesh);
+    const sb_integrator chosen[3] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET, SB_INTEGRATOR_PBD};
+    const double g = 9.81, dt = 1e-3, T = 0.05;
+    for (int k = 0; k < 6; k++) {
+        sb_solver_def def = sb_default_solver_def();
+        def.integrator = chosen[k % 3];
+        def.kernels = k < 3 ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+        def.runtime.threads = 1;
+        sb_solver* s = tu_solver(m, &def);
+        tu_advance(s, dt, 50);
+        double falling = mean_vz(s, 16);
+        TU_ASSERT_NEAR(falling, -g * T, 1e-3 * g * T);
+        const double off[3] = {0, 0, 0}, up[3] = {0, 0, g}, bad[3] = {0, NAN, 0};
+        assert_int_equal(sb_solver_set_gravity(s, off), SB_OK);
+        tu_advance(s, dt, 50);
+        TU_ASSERT_NEAR(mean_vz(s, 16), falling, g * dt);
+        assert_int_equal(sb_solver_set_gravity(s, up), SB_OK);
+        tu_advance(s, dt, 50);
+        TU_ASSERT_NEAR(mean_vz(s, 16), falling + g * T, g * dt);
+        assert_int_equal(sb_solver_set_gravity(s, bad), SB_ERR_INVALID);
+        tu_advance(s, dt, 50);
+        TU_ASSERT_NEAR(mean_vz(s, 16), falling + 2 * g * T, g * dt);
+        sb_solver_destroy(s);
+    }
+    sb_model_destroy(m);
+}
+
 typedef struct force_log {
     double F[3];
     uint32_t only_vertex; /* UINT32_MAX: every vertex */
@@ -516,6 +569,7 @@ int main(void) {
         cmocka_unit_test(test_pinned_sheet_comes_to_rest),
         cmocka_unit_test(test_horizontal_sheet_settles_with_drag),
         cmocka_unit_test(test_free_fall),
+        cmocka_unit_test(test_set_gravity),
         cmocka_unit_test(test_external_force),
         cmocka_unit_test(test_blow_up_is_caught),
         cmocka_unit_test(test_invalid_dt),

@@ -217,6 +217,12 @@ SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
  * forces. Fixed vertices keep their rest position; a torn solver stays
  * torn. */
 SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
+/* Changes gravity (m/s², finite) between steps: the forces of the current
+ * state are updated to it, so the next step feels the new gravity from its
+ * start (a viewer's "reverse gravity" and "gravity off"); the energies'
+ * gravity term follows from that step on. On the thread that advances the
+ * solver. SB_ERR_INVALID, and nothing changes, for a non-finite value. */
+SB_API sb_status sb_solver_set_gravity(sb_solver* solver, const double gravity[3]);
 
 /* Checkpoints: the solver's whole state as bytes, from which a run
  * continues bitwise as if it had not stopped (kernels/solver_state.c says
