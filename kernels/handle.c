@@ -188,6 +188,13 @@ sb_status sb_handle_grab(sb_handle* h) {
     return SB_OK;
 }
 
+sb_status sb_handle_grab_vertex(sb_handle* h, uint32_t vertex) {
+    if (h->count != 1 || !h->solver || vertex >= h->solver->model->vertex_count)
+        return sb_error_set(NULL, SB_ERR_INVALID, "handle '%s': cannot hold vertex %u", h->name, vertex);
+    h->vertices[0] = vertex;
+    return sb_handle_grab(h);
+}
+
 void sb_handle_release(sb_handle* h) {
     h->held = false;
     memset(h->force, 0, sizeof h->force);

@@ -3,7 +3,8 @@
  * both kernel choices; released vertices move freely and a re-grab holds
  * them where they are; a pose set by the program is reached to the bit; adaptive stepping counts a hard handle's work;
  * a soft handle's reported force is the sum of its spring-dampers worked out by hand, and it holds a hanging mass at
- * the static stretch m g / k; 1 and 2 threads give the same state; bad definitions are refused. */
+ * the static stretch m g / k; a one-vertex handle moves to another vertex; 1 and 2 threads give the same state; bad
+ * definitions are refused. */
 #include "test_util.h"
 
 #include "softbond/handle.h"
@@ -256,6 +257,49 @@ static void test_soft_force_is_the_sum_of_its_springs(void** state) {
     sb_model_destroy(m);
 }
 
+/* A one-vertex soft handle moved to another vertex (a mouse's pick): it
+ * holds the new vertex where it was, pulls it toward its moved target, and
+ * a handle of two vertices, one not attached, or a
+ * vertex outside the model is refused. */
+static void test_grab_another_vertex(void** state) {
+    (void)state;
+    sb_model* m = three_masses(0.05);
+    const double k = 40.0;
+    uint32_t first = 0;
+    sb_handle_def hd = sb_default_handle_def();
+    hd.vertices = &first;
+    hd.vertex_count = 1;
+    hd.stiffness = k;
+    sb_handle* h = make_handle(&hd);
+    assert_int_equal(sb_handle_grab_vertex(h, 2), SB_ERR_INVALID); /* not attached */
+    sb_solver_def def = handle_def(&h, 1, SB_INTEGRATOR_EXPLICIT_EULER, SB_KERNELS_REFERENCE);
+    def.gravity[2] = 0.0;
+    sb_solver* s = tu_solver(m, &def);
+    assert_int_equal(sb_handle_grab_vertex(h, 3), SB_ERR_INVALID);
+    assert_int_equal(sb_handle_grab_vertex(h, 2), SB_OK);
+    double grabbed[3], x[9];
+    sb_handle_target(h, 0, grabbed);
+    sb_solver_get_positions(s, x);
+    for (int c = 0; c < 3; c++) assert_true(grabbed[c] == x[6 + c]);
+    const double lift[3] = {0, 0, 0.01}, none[3] = {0, 0, 0};
+    sb_handle_set_pose(h, lift, none);
+    tu_advance(s, 1e-3, 3); /* explicit Euler moves by the velocity before the step: the pull shows at the third */
+    double force[3];
+    sb_handle_force(h, force);
+    sb_solver_get_positions(s, x);
+    TU_ASSERT_NEAR(force[2], k * (grabbed[2] + 0.01 - x[8]), 1e-6);
+    assert_true(force[2] > 0.3 && x[8] > 0.0); /* vertex 2 alone is pulled up */
+    uint32_t two[2] = {0, 1};
+    hd.vertices = two;
+    hd.vertex_count = 2;
+    sb_handle* pair = make_handle(&hd);
+    assert_int_equal(sb_handle_grab_vertex(pair, 2), SB_ERR_INVALID);
+    sb_handle_destroy(pair);
+    sb_solver_destroy(s);
+    sb_handle_destroy(h);
+    sb_model_destroy(m);
+}
+
 /* A 0.1 kg mass hanging from a soft handle of k = 100 N/m settles m g / k
  * = 9.81 mm below it, and the handle holds it with m g. */
 static void test_soft_handle_holds_a_hanging_mass(void** state) {
@@ -374,6 +418,7 @@ int main(void) {
         cmocka_unit_test(test_soft_handle_holds_a_hanging_mass),
         cmocka_unit_test(test_threads_deterministic),
         cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_grab_another_vertex),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

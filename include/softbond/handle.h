@@ -74,6 +74,11 @@ SB_API void sb_handle_set_pose(sb_handle* handle, const double translate[3], con
 SB_API void sb_handle_release(sb_handle* handle);
 SB_API sb_status sb_handle_grab(sb_handle* handle);
 SB_API bool sb_handle_held(const sb_handle* handle);
+/* A handle of one vertex (a mouse that picks any vertex): holds `vertex`
+ * instead, grabbed where it is now (its target there, the pose unchanged).
+ * SB_ERR_INVALID when the handle holds more than one vertex, is not
+ * attached to a solver, or the vertex is not in the solver's model. */
+SB_API sb_status sb_handle_grab_vertex(sb_handle* handle, uint32_t vertex);
 /* The force (N) a soft handle exerted on the body at the last force
  * evaluation of the last step; zeros for a hard or released handle. */
 SB_API void sb_handle_force(const sb_handle* handle, double force[3]);
