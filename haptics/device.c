@@ -19,6 +19,7 @@ static const struct {
     {"none", sb_device_none_open},
     {"scripted", sb_device_scripted_open},
     {"udp", sb_device_udp_open},
+    {"mouse", sb_device_mouse_open},
 };
 
 sb_haptic_device_def sb_default_haptic_device_def(void) {
@@ -34,7 +35,7 @@ bool sb_haptic_device_kind_known(const char* kind) {
 sb_haptic_device* sb_haptic_device_open(const sb_haptic_device_def* def, sb_error* err) {
     for (size_t i = 0; i < sizeof sb_device_kinds / sizeof sb_device_kinds[0]; i++)
         if (def->kind && strcmp(def->kind, sb_device_kinds[i].kind) == 0) return sb_device_kinds[i].open(def, err);
-    sb_error_set(err, SB_ERR_INVALID, "haptic device: unknown kind '%s' (none, scripted, udp)",
+    sb_error_set(err, SB_ERR_INVALID, "haptic device: unknown kind '%s' (none, scripted, udp, mouse)",
                  def->kind ? def->kind : "(null)");
     return NULL;
 }
@@ -60,6 +61,11 @@ sb_status sb_haptic_device_read(sb_haptic_device* device, double time, sb_haptic
 
 sb_status sb_haptic_device_write(sb_haptic_device* device, double time, const double force[3]) {
     return device->ops.write(device->user, time, force);
+}
+
+void* sb_haptic_device_user_if(const sb_haptic_device* device,
+                               sb_status (*read)(void* user, double time, sb_haptic_pose* pose)) {
+    return device && device->ops.read == read ? device->user : NULL;
 }
 
 void sb_haptic_device_close(sb_haptic_device* device) {

@@ -12,5 +12,10 @@ typedef sb_haptic_device* (*sb_device_open_fn)(const sb_haptic_device_def* def, 
 sb_haptic_device* sb_device_none_open(const sb_haptic_device_def* def, sb_error* err);
 sb_haptic_device* sb_device_scripted_open(const sb_haptic_device_def* def, sb_error* err);
 sb_haptic_device* sb_device_udp_open(const sb_haptic_device_def* def, sb_error* err);
+sb_haptic_device* sb_device_mouse_open(const sb_haptic_device_def* def, sb_error* err);
+
+/* The device's user data when its read call is `read` (it is of that kind), else NULL. */
+void* sb_haptic_device_user_if(const sb_haptic_device* device,
+                               sb_status (*read)(void* user, double time, sb_haptic_pose* pose));
 
 #endif

@@ -20,7 +20,7 @@ sb_status sb_scene_haptics_check(const sb_scene* scene, sb_error* err) {
     const char* kind = sb_scene_string(scene, SB_KEY_HAPTICS_DEVICE);
     if (!sb_haptic_device_kind_known(kind))
         return sb_scene_fail(scene, SB_KEY_HAPTICS_DEVICE, err,
-                             "'haptics.device': expected none, scripted or udp, got '%s'", kind);
+                             "'haptics.device': expected none, scripted, udp or mouse, got '%s'", kind);
     if (strcmp(kind, "scripted") == 0 && sb_scene_string(scene, SB_KEY_HAPTICS_FILE)[0] == '\0')
         return sb_scene_fail(scene, SB_KEY_HAPTICS_DEVICE, err, "'haptics.device: scripted' needs haptics.file");
     int64_t port = sb_scene_integer(scene, SB_KEY_HAPTICS_PORT);

@@ -114,7 +114,7 @@ typedef enum sb_scene_type {
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "            \
       "contact.thickness > 0)")                                                                                        \
     X(HAPTICS_DEVICE, "haptics.device", STRING, "none",                                                                \
-      "the haptic device: none, scripted (haptics.file) or udp (haptics.port); README, \"Haptics\"")                   \
+      "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view); README, \"Haptics\"")                   \
     X(HAPTICS_FILE, "haptics.file", STRING, "''",                                                                      \
       "scripted: the CSV trajectory (time,x,y,z[,qw,qx,qy,qz][,button]), relative to the scene")                       \
     X(HAPTICS_PORT, "haptics.port", INTEGER, "47000", "udp: the port on 127.0.0.1 poses arrive at")                    \

@@ -66,9 +66,11 @@ SB_API uint64_t sb_pose_buffer_writes(const sb_pose_buffer* buffer);
  *               (s, m, unit quaternion, 0/1), times increasing, linear
  *               between rows, held before the first and after the last;
  *   "udp":      poses in and forces out over UDP on 127.0.0.1 (README,
- *               "Haptics", has the packets). */
+ *               "Haptics", has the packets);
+ *   "mouse":    the pose the program last gave sb_haptic_device_move (the
+ *               viewer's cursor), from any thread; forces are dropped. */
 typedef struct sb_haptic_device_def {
-    const char* kind; /* "none", "scripted", "udp" */
+    const char* kind; /* "none", "scripted", "udp", "mouse" */
     const char* file; /* scripted: the CSV */
     int port;         /* udp: the port softbond listens on (default 47000) */
 } sb_haptic_device_def;
@@ -92,6 +94,9 @@ SB_API sb_haptic_device* sb_haptic_device_custom(const sb_haptic_device_ops* ops
 SB_API sb_status sb_haptic_device_read(sb_haptic_device* device, double time, sb_haptic_pose* pose);
 SB_API sb_status sb_haptic_device_write(sb_haptic_device* device, double time, const double force[3]);
 SB_API void sb_haptic_device_close(sb_haptic_device* device);
+/* A "mouse" device's next pose (any thread; the servo reads the latest
+ * whole). Nothing for a device of another kind. */
+SB_API void sb_haptic_device_move(sb_haptic_device* device, const sb_haptic_pose* pose);
 /* Whether `kind` names a built-in device. */
 SB_API bool sb_haptic_device_kind_known(const char* kind);
 
