@@ -9,19 +9,14 @@
  * handles.h).
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/budget.h"
 #include "scenes/checkpoint.h"
 #include "scenes/cli.h"
-#include "scenes/colliders.h"
 #include "scenes/energy_log.h"
 #include "common/error.h"
 #include "scenes/frame_export.h"
-#include "scenes/handles.h"
-#include "scenes/haptics.h"
-#include "scenes/point_load.h"
 #include "scenes/output_dir.h"
 #include "scenes/progress.h"
-#include "scenes/scene_model.h"
+#include "scenes/simulation.h"
 #include "scenes/stop.h"
 #include "scenes/torn_surface.h"
 #include "scenes/vtk.h"
@@ -66,15 +61,8 @@ void sb_cli_run_usage(FILE* stream) {
 
 typedef struct run_job {
     sb_cli_args args;
-    sb_scene scene;
-    sb_mesh mesh;
-    sb_model* model;
-    sb_solver* solver;
-    sb_point_load load;           /* the solver's external force reads it */
-    sb_scene_colliders colliders; /* the solver reads them: destroyed after it */
-    sb_scene_handles handles;     /* the same */
-    sb_scene_haptics haptics;     /* the device and the servo driving a tool (haptics.h) */
-    double* forces;               /* 3 per collider, then 3 per soft handle: a frame's forces */
+    sb_simulation sim; /* the scene, its model, colliders, handles, haptics and solver */
+    double* forces;    /* 3 per collider, then 3 per soft handle: a frame's forces */
     sb_output_dir out;
     sb_energy_log log;
     sb_step_work work;    /* the solver's work since the last frame */
@@ -96,70 +84,19 @@ static int run_finish(run_job* job, int code) {
     sb_error ignored;
     sb_energy_log_close(&job->log, &ignored);
     sb_output_dir_free(&job->out);
-    sb_scene_haptics_free(&job->haptics);
-    sb_solver_destroy(job->solver);
-    sb_scene_colliders_free(&job->colliders);
-    sb_scene_handles_free(&job->handles);
+    sb_simulation_free(&job->sim);
     free(job->forces);
-    sb_model_destroy(job->model);
-    sb_mesh_free(&job->mesh);
-    sb_scene_free(&job->scene);
     sb_cli_args_free(&job->args);
     return code;
-}
-
-/* --budget-ms: a positive finite number of milliseconds. */
-static sb_status budget(const run_job* job, double* ms, sb_error* err) {
-    char* end;
-    *ms = strtod(job->args.budget_ms, &end);
-    if (end == job->args.budget_ms || *end != '\0' || !(*ms > 0.0) || !isfinite(*ms))
-        return sb_error_set(err, SB_ERR_INVALID, "--budget-ms: expected a number of milliseconds > 0, got '%s'",
-                            job->args.budget_ms);
-    return SB_OK;
-}
-
-static sb_status make_mesh(run_job* job, const sb_solver_def* def, sb_error* err) {
-    if (!job->args.budget_ms) return sb_scene_make_mesh(&job->scene, &job->mesh, err);
-    double ms;
-    sb_status status = budget(job, &ms, err);
-    if (status == SB_OK) status = sb_budget_mesh(&job->scene, def, ms, &job->mesh, stdout, err);
-    fflush(stdout);
-    return status;
-}
-
-static sb_status make_model(run_job* job, const sb_solver_def* def, sb_error* err) {
-    sb_status status = make_mesh(job, def, err);
-    if (status != SB_OK) return status;
-    bool from_file = strcmp(sb_scene_string(&job->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
-    char* source = from_file ? sb_scene_path(&job->scene, SB_KEY_MESH_FILE) : NULL;
-    job->model = sb_scene_build_model(&job->scene, &job->mesh, source ? source : job->scene.path, err);
-    free(source);
-    return job->model ? SB_OK : SB_ERR_INVALID;
 }
 
 /* The frame formats (checked by sb_scene_validate), shown with up against
  * gravity (+z without gravity). */
 static void set_export(run_job* job) {
     char bad[64];
-    sb_frame_formats_parse(sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), &job->export.formats, bad, sizeof bad);
-    const double* g = sb_scene_vec3(&job->scene, SB_KEY_GRAVITY);
-    bool none = g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0;
-    for (int k = 0; k < 3; k++) job->export.up[k] = none ? (k == 2) : -g[k];
-}
-
-static sb_status make_colliders(run_job* job, sb_solver_def* def, sb_error* err) {
-    sb_status status = sb_scene_colliders_read(&job->scene, &job->colliders, err);
-    if (status == SB_OK) status = sb_scene_colliders_create(&job->colliders, err);
-    if (status == SB_OK) sb_scene_colliders_attach(&job->colliders, def);
-    return status;
-}
-
-/* The handles, their vertices selected in the model. */
-static sb_status make_handles(run_job* job, sb_solver_def* def, sb_error* err) {
-    sb_status status = sb_scene_handles_read(&job->scene, &job->handles, err);
-    if (status == SB_OK) status = sb_scene_handles_create(&job->handles, job->model, err);
-    if (status == SB_OK) sb_scene_handles_attach(&job->handles, def);
-    return status;
+    sb_frame_formats_parse(sb_scene_string(&job->sim.scene, SB_KEY_OUTPUT_FORMATS), &job->export.formats, bad,
+                           sizeof bad);
+    sb_simulation_up(&job->sim, job->export.up);
 }
 
 static bool soft(const sb_scene_handle* handle) { return handle->def.stiffness > 0.0; }
@@ -167,20 +104,21 @@ static bool soft(const sb_scene_handle* handle) { return handle->def.stiffness >
 /* A force column of log.csv (<name>_fx,_fy,_fz) for each collider, then
  * for each soft handle. */
 static sb_status make_force_columns(run_job* job, sb_error* err) {
-    uint32_t count = job->colliders.count + job->handles.count;
+    uint32_t count = job->sim.colliders.count + job->sim.handles.count;
     job->forces = calloc(3 * (size_t)(count ? count : 1), sizeof *job->forces);
     bool ok = job->forces != NULL;
-    for (uint32_t c = 0; c < job->colliders.count && ok; c++)
-        ok = sb_energy_log_add_collider(&job->log, job->colliders.entries[c].name);
-    for (uint32_t h = 0; h < job->handles.count && ok; h++)
-        if (soft(&job->handles.entries[h])) ok = sb_energy_log_add_collider(&job->log, job->handles.entries[h].name);
+    for (uint32_t c = 0; c < job->sim.colliders.count && ok; c++)
+        ok = sb_energy_log_add_collider(&job->log, job->sim.colliders.entries[c].name);
+    for (uint32_t h = 0; h < job->sim.handles.count && ok; h++)
+        if (soft(&job->sim.handles.entries[h]))
+            ok = sb_energy_log_add_collider(&job->log, job->sim.handles.entries[h].name);
     return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
 }
 
 /* The frames a run writes at most: floor(end / interval) + 1, and one at a stop. */
 static uint64_t most_frames(const run_job* job) {
-    double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
-    sb_stop stop = sb_stop_from_scene(&job->scene);
+    double interval = sb_scene_number(&job->sim.scene, SB_KEY_FRAME_INTERVAL);
+    sb_stop stop = sb_stop_from_scene(&job->sim.scene);
     return (uint64_t)floor(sb_stop_end(&stop) / interval + 1e-9) + 2;
 }
 
@@ -192,8 +130,8 @@ static const char* checkpoint_path(run_job* job) { return sb_output_dir_path(&jo
 static sb_status resume(run_job* job, sb_error* err) {
     job->out.dir = strdup(job->args.resume);
     if (!job->out.dir) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    sb_status status = sb_checkpoint_read(checkpoint_path(job), job->scene_hash, job->mesh.vertex_count,
-                                          most_frames(job), &job->resumed, job->solver, err);
+    sb_status status = sb_checkpoint_read(checkpoint_path(job), job->scene_hash, job->sim.mesh.vertex_count,
+                                          most_frames(job), &job->resumed, job->sim.solver, err);
     if (status != SB_OK) return status;
     struct stat info;
     const char* log = sb_output_dir_path(&job->out, "log.csv");
@@ -210,13 +148,13 @@ static sb_status resume(run_job* job, sb_error* err) {
 static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
     const char* every = job->args.checkpoint_every;
     if (!every && !job->args.resume) return SB_OK;
-    if (job->haptics.enabled)
+    if (job->sim.haptics.enabled)
         return sb_error_set(err, SB_ERR_INVALID,
                             "--checkpoint-every, --resume: not with haptics.tool (a device's "
                             "motion is not repeated by a resumed run)");
     if (job->args.resume && job->args.output)
         return sb_error_set(err, SB_ERR_INVALID, "--resume DIR writes into DIR: leave out --output");
-    sb_status status = sb_checkpoint_scene_hash(&job->scene, &job->args, &job->scene_hash, err);
+    sb_status status = sb_checkpoint_scene_hash(&job->sim.scene, &job->args, &job->scene_hash, err);
     if (status == SB_OK && job->args.resume) status = resume(job, err);
     if (status != SB_OK || !every) return status;
     char* end;
@@ -231,26 +169,16 @@ static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
 static sb_status prepare(run_job* job, sb_error* err) {
     if (job->args.output && job->args.output[0] == '\0')
         return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
-    sb_status status = sb_cli_scene(job->args.input, &job->args, &job->scene, err);
+    sb_status status = sb_simulation_prepare(&job->sim, &job->args, err);
+    if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
+    if (status == SB_OK) status = make_force_columns(job, err);
     if (status != SB_OK) return status;
     set_export(job);
-    sb_solver_def def = sb_scene_solver_def(&job->scene);
-    status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
-    if (status == SB_OK) status = make_colliders(job, &def, err);
-    if (status == SB_OK) status = make_model(job, &def, err);
-    if (status == SB_OK) status = make_handles(job, &def, err);
-    if (status == SB_OK) status = make_force_columns(job, err);
-    if (status == SB_OK) status = sb_point_load_prepare(&job->scene, job->model, &job->load, err);
-    if (status != SB_OK) return status;
-    sb_point_load_attach(&job->load, &def);
-    job->solver = sb_solver_create(job->model, &def, err);
-    if (!job->solver) return SB_ERR_INVALID;
-    if (sb_scene_haptics_create(&job->haptics, &job->scene, &job->colliders, err) != SB_OK) return SB_ERR_INVALID;
-    if (job->args.no_realtime) job->haptics.paced = false;
-    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->solver);
+    if (job->args.no_realtime) job->sim.haptics.paced = false;
+    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->sim.solver);
     job->buffers = malloc(3 * (n ? n : 1) * sizeof(double));
     if (!job->buffers) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    status = sb_torn_surface_init(&job->surface, job->solver, err);
+    status = sb_torn_surface_init(&job->surface, job->sim.solver, err);
     return status == SB_OK ? prepare_checkpoints(job, err) : status;
 }
 
@@ -261,7 +189,7 @@ static double now(void) {
 }
 
 static bool writes_vtu(const run_job* job) {
-    return sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
+    return sb_scene_bool(&job->sim.scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
 }
 
 /* frames.pvd: after each frame while short, then once a second; always at the end. */
@@ -273,34 +201,35 @@ static sb_status write_index(run_job* job, bool last, sb_error* err) {
 }
 
 static sb_status write_frame(run_job* job, sb_error* err) {
-    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->solver);
-    const sb_mesh* surface = sb_torn_surface_update(&job->surface, job->solver, &job->mesh, job->buffers);
-    sb_vtk_frame frame = {surface, job->model, job->buffers, job->buffers + n, job->buffers + 2 * n, job->solver};
-    sb_solver_get_positions(job->solver, job->buffers);
-    sb_solver_get_velocities(job->solver, job->buffers + n);
-    sb_solver_get_forces(job->solver, job->buffers + 2 * n);
+    size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->sim.solver);
+    const sb_mesh* surface = sb_torn_surface_update(&job->surface, job->sim.solver, &job->sim.mesh, job->buffers);
+    sb_vtk_frame frame = {surface,          job->sim.model,       job->buffers,
+                          job->buffers + n, job->buffers + 2 * n, job->sim.solver};
+    sb_solver_get_positions(job->sim.solver, job->buffers);
+    sb_solver_get_velocities(job->sim.solver, job->buffers + n);
+    sb_solver_get_forces(job->sim.solver, job->buffers + 2 * n);
     return sb_frame_export(&job->export, &job->out, job->log.count, &frame, err);
 }
 
 static int record_frame(run_job* job, sb_error* err) {
-    if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK) return SB_EXIT_FAILURE;
-    sb_energies energies = sb_solver_energies(job->solver);
+    if (sb_scene_bool(&job->sim.scene, SB_KEY_OUTPUT_FRAMES) && write_frame(job, err) != SB_OK) return SB_EXIT_FAILURE;
+    sb_energies energies = sb_solver_energies(job->sim.solver);
     /* the last advance's contacts and forces; none before the first */
-    bool advanced = sb_solver_step_count(job->solver) > 0;
-    uint32_t contacts = advanced ? sb_solver_last_step(job->solver).contacts : 0;
-    for (uint32_t c = 0; c < job->colliders.count; c++) {
+    bool advanced = sb_solver_step_count(job->sim.solver) > 0;
+    uint32_t contacts = advanced ? sb_solver_last_step(job->sim.solver).contacts : 0;
+    for (uint32_t c = 0; c < job->sim.colliders.count; c++) {
         double* f = job->forces + 3 * (size_t)c;
         f[0] = f[1] = f[2] = 0.0;
-        if (advanced) sb_solver_contact_force(job->solver, c, f);
+        if (advanced) sb_solver_contact_force(job->sim.solver, c, f);
     }
-    double* f = job->forces + 3 * (size_t)job->colliders.count;
-    for (uint32_t h = 0; h < job->handles.count; h++) {
-        if (!soft(&job->handles.entries[h])) continue;
-        sb_handle_force(job->handles.handles[h], f); /* set at the last force evaluation: 0 at rest on frame 0 */
+    double* f = job->forces + 3 * (size_t)job->sim.colliders.count;
+    for (uint32_t h = 0; h < job->sim.handles.count; h++) {
+        if (!soft(&job->sim.handles.entries[h])) continue;
+        sb_handle_force(job->sim.handles.handles[h], f); /* set at the last force evaluation: 0 at rest on frame 0 */
         f += 3;
     }
-    sb_status status = sb_energy_log_add(&job->log, sb_solver_time(job->solver), &energies, &job->work, contacts,
-                                         job->forces, sb_solver_broken_count(job->solver), err);
+    sb_status status = sb_energy_log_add(&job->log, sb_solver_time(job->sim.solver), &energies, &job->work, contacts,
+                                         job->forces, sb_solver_broken_count(job->sim.solver), err);
     if (status == SB_OK) status = write_index(job, false, err);
     job->work = (sb_step_work){0};
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
@@ -308,7 +237,7 @@ static int record_frame(run_job* job, sb_error* err) {
 
 /* After a frame: the checkpoint, when one is due. */
 static int checkpoint(run_job* job, sb_error* err) {
-    double t = sb_solver_time(job->solver), every = job->checkpoint_every;
+    double t = sb_solver_time(job->sim.solver), every = job->checkpoint_every;
     if (!(every > 0.0) || t < job->next_checkpoint - 1e-9 * every) return SB_EXIT_OK;
     job->next_checkpoint = every * (floor(t / every + 1e-9) + 1.0);
     sb_run_state run = {.frames = job->log.count,
@@ -317,32 +246,34 @@ static int checkpoint(run_job* job, sb_error* err) {
                         .next = job->next_checkpoint,
                         .stop = job->stop,
                         .times = job->log.times};
-    sb_status status =
-        sb_checkpoint_write(checkpoint_path(job), job->scene_hash, job->mesh.vertex_count, &run, job->solver, err);
+    sb_status status = sb_checkpoint_write(checkpoint_path(job), job->scene_hash, job->sim.mesh.vertex_count, &run,
+                                           job->sim.solver, err);
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;
 }
 
 static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_error* err) {
-    double dt = sb_scene_number(&job->scene, SB_KEY_DT);
-    while (sb_solver_step_count(job->solver) < step) {
-        sb_scene_haptics_before_step(&job->haptics, job->solver);
-        if (sb_solver_advance(job->solver, dt) != SB_OK) {
-            sb_error_set(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->solver));
+    double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
+    while (sb_solver_step_count(job->sim.solver) < step) {
+        sb_scene_haptics_before_step(&job->sim.haptics, job->sim.solver);
+        if (sb_solver_advance(job->sim.solver, dt) != SB_OK) {
+            sb_error_set(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->sim.solver));
             return SB_EXIT_SOLVER;
         }
-        if (sb_scene_haptics_after_step(&job->haptics, job->solver, err) != SB_OK) return SB_EXIT_FAILURE;
-        sb_step_stats stats = sb_solver_last_step(job->solver);
+        if (sb_scene_haptics_after_step(&job->sim.haptics, job->sim.solver, err) != SB_OK) return SB_EXIT_FAILURE;
+        sb_step_stats stats = sb_solver_last_step(job->sim.solver);
         sb_step_work_add(&job->work, &stats);
-        sb_progress_update(progress, sb_solver_step_count(job->solver));
-        if (sb_stop_after_step(&job->stop, sb_solver_time(job->solver), sb_solver_energies(job->solver).kinetic)) break;
+        sb_progress_update(progress, sb_solver_step_count(job->sim.solver));
+        if (sb_stop_after_step(&job->stop, sb_solver_time(job->sim.solver),
+                               sb_solver_energies(job->sim.solver).kinetic))
+            break;
     }
     return SB_EXIT_OK;
 }
 
 static int simulate(run_job* job, sb_error* err) {
-    double dt = sb_scene_number(&job->scene, SB_KEY_DT);
-    double interval = sb_scene_number(&job->scene, SB_KEY_FRAME_INTERVAL);
-    job->stop = job->args.resume ? job->resumed.stop : sb_stop_from_scene(&job->scene);
+    double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
+    double interval = sb_scene_number(&job->sim.scene, SB_KEY_FRAME_INTERVAL);
+    job->stop = job->args.resume ? job->resumed.stop : sb_stop_from_scene(&job->sim.scene);
     double end = sb_stop_end(&job->stop);
     uint64_t frames = (uint64_t)floor(end / interval + 1e-9) + 1;
     uint64_t steps = (uint64_t)ceil(end / dt - 1e-9);
@@ -360,7 +291,7 @@ static int simulate(run_job* job, sb_error* err) {
         if (code == SB_EXIT_OK && job->stop.reason != SB_STOP_RUNNING) code = record_frame(job, err);
     }
     if (code == SB_EXIT_OK && job->stop.reason == SB_STOP_RUNNING)
-        sb_stop_at_end(&job->stop, sb_solver_time(job->solver), sb_solver_energies(job->solver).kinetic);
+        sb_stop_at_end(&job->stop, sb_solver_time(job->sim.solver), sb_solver_energies(job->sim.solver).kinetic);
     sb_progress_end(&progress);
     return code;
 }
@@ -371,9 +302,9 @@ static void report(const run_job* job, uint32_t frames, double seconds) {
         printf("softbond: %u frame%s and log.csv in %s (open %s/frames.pvd in ParaView), "
                "%.1f s\n",
                frames, frames == 1 ? "" : "s", dir, dir, seconds);
-    else if (sb_scene_bool(&job->scene, SB_KEY_OUTPUT_FRAMES))
+    else if (sb_scene_bool(&job->sim.scene, SB_KEY_OUTPUT_FRAMES))
         printf("softbond: %u frame%s (%s) and log.csv in %s, %.1f s\n", frames, frames == 1 ? "" : "s",
-               sb_scene_string(&job->scene, SB_KEY_OUTPUT_FORMATS), dir, seconds);
+               sb_scene_string(&job->sim.scene, SB_KEY_OUTPUT_FORMATS), dir, seconds);
     else
         printf("softbond: log.csv (%u rows) in %s, %.1f s\n", frames, dir, seconds);
 }
@@ -383,14 +314,14 @@ static void report(const run_job* job, uint32_t frames, double seconds) {
  * taken over. */
 static sb_status open_output(run_job* job, sb_error* err) {
     if (!job->args.resume) {
-        sb_status status = sb_output_dir_create(&job->out, job->args.output, job->scene.name, err);
+        sb_status status = sb_output_dir_create(&job->out, job->args.output, job->sim.scene.name, err);
         return status == SB_OK ? sb_energy_log_open(&job->log, sb_output_dir_path(&job->out, "log.csv"), err) : status;
     }
     sb_run_state* run = &job->resumed;
     double* times = run->times;
     run->times = NULL; /* the log's now */
     printf("softbond: resuming %s at frame %llu (t = %.9g s)\n", job->out.dir, (unsigned long long)run->frames,
-           sb_solver_time(job->solver));
+           sb_solver_time(job->sim.solver));
     return sb_energy_log_resume(&job->log, sb_output_dir_path(&job->out, "log.csv"), run->log_bytes, times,
                                 (uint32_t)run->frames, err);
 }
@@ -399,13 +330,13 @@ static sb_status open_output(run_job* job, sb_error* err) {
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
     double start = now();
-    job->log.broken_column = sb_scene_number(&job->scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
-                             sb_scene_number(&job->scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0;
+    job->log.broken_column = sb_scene_number(&job->sim.scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
+                             sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0;
     if (open_output(job, err) != SB_OK) return SB_EXIT_FAILURE;
-    if (sb_scene_haptics_start(&job->haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
+    if (sb_scene_haptics_start(&job->sim.haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;
     int code = simulate(job, err);
-    if (sb_scene_haptics_finish(&job->haptics, code == SB_EXIT_OK ? err : &(sb_error){0}) != SB_OK &&
+    if (sb_scene_haptics_finish(&job->sim.haptics, code == SB_EXIT_OK ? err : &(sb_error){0}) != SB_OK &&
         code == SB_EXIT_OK)
         code = SB_EXIT_FAILURE;
     sb_error index_err;
@@ -434,7 +365,7 @@ int sb_cli_run(int argc, char** argv) {
         return run_finish(&job, SB_EXIT_OK);
     }
     if (prepare(&job, &err) != SB_OK) return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
-    sb_point_load_print(&job.load, &job.scene, job.model, stdout);
+    sb_point_load_print(&job.sim.load, &job.sim.scene, job.sim.model, stdout);
     int code = execute(&job, &err);
     if (code != SB_EXIT_OK) sb_cli_fail(code, &err);
     return run_finish(&job, code);

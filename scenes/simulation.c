@@ -1,0 +1,104 @@
+/* A scene made ready to advance (scenes/simulation.h). Nothing is created
+ * before the scene is valid; the model is compiled before the handles
+ * select their vertices in it. */
+#include "scenes/simulation.h"
+#include "scenes/budget.h"
+#include "scenes/scene_model.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* --budget-ms: a positive finite number of milliseconds. */
+static sb_status budget(const char* text, double* ms, sb_error* err) {
+    char* end;
+    *ms = strtod(text, &end);
+    if (end == text || *end != '\0' || !(*ms > 0.0) || !isfinite(*ms))
+        return sb_error_set(err, SB_ERR_INVALID, "--budget-ms: expected a number of milliseconds > 0, got '%s'", text);
+    return SB_OK;
+}
+
+static sb_status make_mesh(sb_simulation* sim, const sb_cli_args* args, const sb_solver_def* def, sb_error* err) {
+    if (!args->budget_ms) return sb_scene_make_mesh(&sim->scene, &sim->mesh, err);
+    double ms;
+    sb_status status = budget(args->budget_ms, &ms, err);
+    if (status == SB_OK) status = sb_budget_mesh(&sim->scene, def, ms, &sim->mesh, stdout, err);
+    fflush(stdout);
+    return status;
+}
+
+static sb_status make_model(sb_simulation* sim, const sb_cli_args* args, const sb_solver_def* def, sb_error* err) {
+    sb_status status = make_mesh(sim, args, def, err);
+    if (status != SB_OK) return status;
+    bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
+    char* source = from_file ? sb_scene_path(&sim->scene, SB_KEY_MESH_FILE) : NULL;
+    sim->model = sb_scene_build_model(&sim->scene, &sim->mesh, source ? source : sim->scene.path, err);
+    free(source);
+    return sim->model ? SB_OK : SB_ERR_INVALID;
+}
+
+static sb_status make_colliders(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_colliders_read(&sim->scene, &sim->colliders, err);
+    if (status == SB_OK) status = sb_scene_colliders_create(&sim->colliders, err);
+    if (status == SB_OK) sb_scene_colliders_attach(&sim->colliders, def);
+    return status;
+}
+
+/* The scene's handles, their vertices selected in the model. */
+static sb_status make_handles(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_handles_read(&sim->scene, &sim->handles, err);
+    if (status == SB_OK) status = sb_scene_handles_create(&sim->handles, sim->model, err);
+    if (status == SB_OK) sb_scene_handles_attach(&sim->handles, def);
+    return status;
+}
+
+/* def's handles, then extra. */
+static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def* def, sb_error* err) {
+    uint32_t count = def->handle_count;
+    if (!(sim->attached = malloc((count + 1) * sizeof *sim->attached)))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    if (count) memcpy(sim->attached, def->handles, count * sizeof *sim->attached);
+    sim->attached[count] = extra;
+    def->handles = sim->attached;
+    def->handle_count = count + 1;
+    return SB_OK;
+}
+
+sb_status sb_simulation_prepare(sb_simulation* sim, const sb_cli_args* args, sb_error* err) {
+    sb_status status = sb_cli_scene(args->input, args, &sim->scene, err);
+    if (status != SB_OK) return status;
+    sim->def = sb_scene_solver_def(&sim->scene);
+    status = sb_cli_threads(args, &sim->scene, &sim->def.runtime.threads, err);
+    if (status == SB_OK) status = make_colliders(sim, &sim->def, err);
+    if (status == SB_OK) status = make_model(sim, args, &sim->def, err);
+    if (status == SB_OK) status = make_handles(sim, &sim->def, err);
+    if (status == SB_OK) status = sb_point_load_prepare(&sim->scene, sim->model, &sim->load, err);
+    if (status == SB_OK) sb_point_load_attach(&sim->load, &sim->def);
+    return status;
+}
+
+sb_status sb_simulation_start(sb_simulation* sim, sb_handle* extra, sb_error* err) {
+    if (extra && add_handle(sim, extra, &sim->def, err) != SB_OK) return SB_ERR_NOMEM;
+    sim->solver = sb_solver_create(sim->model, &sim->def, err);
+    if (!sim->solver) return SB_ERR_INVALID;
+    return sb_scene_haptics_create(&sim->haptics, &sim->scene, &sim->colliders, err);
+}
+
+void sb_simulation_free(sb_simulation* sim) {
+    sb_scene_haptics_free(&sim->haptics);
+    sb_solver_destroy(sim->solver);
+    sb_scene_colliders_free(&sim->colliders);
+    sb_scene_handles_free(&sim->handles);
+    free(sim->attached);
+    sb_model_destroy(sim->model);
+    sb_mesh_free(&sim->mesh);
+    sb_scene_free(&sim->scene);
+    memset(sim, 0, sizeof *sim);
+}
+
+void sb_simulation_up(const sb_simulation* sim, double up[3]) {
+    const double* g = sb_scene_vec3(&sim->scene, SB_KEY_GRAVITY);
+    bool none = g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0;
+    for (int k = 0; k < 3; k++) up[k] = none ? (k == 2) : -g[k];
+}
