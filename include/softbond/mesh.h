@@ -85,8 +85,8 @@ typedef struct sb_mesh_load_report {
  * sb_mesh_objects_free. def and report may be NULL (defaults; no report).
  * softbond's own OBJ and OFF readers drop nothing: a face with a repeated
  * vertex is kept and reported when a model is compiled. */
-SB_API sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects, uint32_t* object_count,
-                          sb_mesh_load_report* report, sb_error* err);
+SB_API sb_status sb_mesh_load_ex(const char* path, const sb_mesh_load_def* def, sb_mesh** objects,
+                                 uint32_t* object_count, sb_mesh_load_report* report, sb_error* err);
 
 /* Frees each mesh and the array; safe on NULL. */
 SB_API void sb_mesh_objects_free(sb_mesh* objects, uint32_t count);
@@ -146,8 +146,8 @@ typedef struct sb_simplify_report {
 } sb_simplify_report;
 
 SB_API sb_simplify_def sb_default_simplify_def(void);
-SB_API sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin, sb_simplify_report* report,
-                           sb_error* err);
+SB_API sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin,
+                                  sb_simplify_report* report, sb_error* err);
 
 /* Renumbers the vertices along a Morton (Z-order) curve through the
  * bounding box and sorts the triangles by their lowest vertex, so that
@@ -164,6 +164,12 @@ typedef struct sb_mesh_export_def {
     double up[3];            /* pov: the direction shown up, e.g. against
                                 gravity; the nearest axis is used; default
                                 0, 0, 1 */
+    /* pov: the camera's eye and the point it looks at (m, in the mesh's
+     * coordinates), both or neither; NULL (the default): looking at the
+     * bounding box's centre from the front, above and the right, far enough
+     * to see all of it (a film keeps one camera for every frame) */
+    const double* eye;
+    const double* target;
 } sb_mesh_export_def;
 
 SB_API sb_mesh_export_def sb_default_mesh_export_def(void);
@@ -181,8 +187,8 @@ SB_API sb_mesh_export_def sb_default_mesh_export_def(void);
  *           a plain texture, so that `povray frame.pov` renders it
  * The assimp formats store positions as float. The file is written in place,
  * not atomically. Errors name the path. */
-SB_API sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
-                         sb_error* err);
+SB_API sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh,
+                                const sb_mesh_export_def* def, sb_error* err);
 
 /* The file extension of an export format (".ply", ".obj", ".gltf", ".glb",
  * ".itd", ".pov"); NULL when sb_mesh_export does not know the format. */

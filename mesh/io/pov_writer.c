@@ -14,8 +14,8 @@
  *     frames render as the scene it came from;
  *   - a white background, a plain orange texture with some ambient light so
  *     that faces turned away stay visible, a perspective camera looking at
- *     the centre of the bounding box from the front, above and the right,
- *     and a light above the camera.
+ *     the centre of the bounding box from the front, above and the right
+ *     (or from def->eye at def->target), and a light above the camera.
  *
  * The camera's horizontal field of view is 50°; at SB_POV_DISTANCE times
  * the bounding sphere's radius the sphere fits the image's height for any
@@ -68,10 +68,21 @@ static pov_view view_of(const sb_mesh* mesh, const double* positions, const pov_
     return view;
 }
 
-static void write_setting(FILE* f, const pov_view* view) {
+/* The eye: def's, or from the front, above and the right of the view. */
+static void place_eye(const sb_mesh_export_def* def, const pov_axes* axes, pov_view* view, double eye[3]) {
     static const double direction[3] = {0.4, 0.6, -0.7}; /* centre to eye, length ~1 */
-    double eye[3], lamp[3], r = view->radius;
-    for (int k = 0; k < 3; k++) eye[k] = view->center[k] + SB_POV_DISTANCE * r * direction[k];
+    if (def->eye && def->target) {
+        to_pov(axes, def->eye, eye);
+        to_pov(axes, def->target, view->center);
+        double d[3] = {eye[0] - view->center[0], eye[1] - view->center[1], eye[2] - view->center[2]};
+        view->radius = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / SB_POV_DISTANCE;
+        return;
+    }
+    for (int k = 0; k < 3; k++) eye[k] = view->center[k] + SB_POV_DISTANCE * view->radius * direction[k];
+}
+
+static void write_setting(FILE* f, const pov_view* view, const double eye[3]) {
+    double lamp[3], r = view->radius;
     for (int k = 0; k < 3; k++) lamp[k] = eye[k] + (k == 1 ? 2.0 * r : 0.0);
     fprintf(f,
             "#version 3.7;\n"
@@ -109,9 +120,11 @@ static void write_object(FILE* f, const pov_axes* axes) {
 void sb_pov_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def) {
     pov_axes axes = axes_for(def->up);
     pov_view view = view_of(mesh, def->positions, &axes);
+    double eye[3];
+    place_eye(def, &axes, &view, eye);
     fprintf(f, "// softbond frame: %u vertices, %u triangles, up <%g, %g, %g>\n", mesh->vertex_count,
             mesh->triangle_count, def->up[0], def->up[1], def->up[2]);
-    write_setting(f, &view);
+    write_setting(f, &view, eye);
     write_mesh2(f, mesh, def->positions);
     write_object(f, &axes);
 }
