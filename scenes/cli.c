@@ -24,6 +24,12 @@ static const option_spec option_specs[] = {
     {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
     {"--checkpoint-every", offsetof(sb_cli_args, checkpoint_every), false},
     {"--resume", offsetof(sb_cli_args, resume), false},
+    {"--screenshot", offsetof(sb_cli_args, screenshot), false},
+    {"--frames", offsetof(sb_cli_args, frames), false},
+    {"--script", offsetof(sb_cli_args, script), false},
+    {"--size", offsetof(sb_cli_args, size), false},
+    {"--movie", offsetof(sb_cli_args, movie), false},
+    {"--fps", offsetof(sb_cli_args, fps), false},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {
@@ -94,7 +100,27 @@ sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cl
         if (status != SB_OK) return status;
     }
     if (!out->input && !out->help)
-        return usage_fail(err, argv[0], "missing %s", strcmp(argv[0], "run") == 0 ? "SCENE" : "MESH");
+        return usage_fail(err, argv[0], "missing %s",
+                          strcmp(argv[0], "eval") == 0 || strcmp(argv[0], "info") == 0 ? "MESH" : "SCENE");
+    return SB_OK;
+}
+
+/* A whole number in [lo, hi] from text, or false. */
+static bool whole(const char* text, long lo, long hi, long* out) {
+    char* end;
+    *out = strtol(text, &end, 10);
+    return end != text && *end == '\0' && *out >= lo && *out <= hi;
+}
+
+sb_status sb_cli_size(const char* text, int* width, int* height, sb_error* err) {
+    long w, h;
+    char copy[64];
+    snprintf(copy, sizeof copy, "%s", text);
+    char* x = strchr(copy, 'x');
+    if (x) *x = '\0';
+    if (!x || !whole(copy, 16, 8192, &w) || !whole(x + 1, 16, 8192, &h))
+        return sb_error_set(err, SB_ERR_INVALID, "--size: expected WxH (16 to 8192 pixels each), got '%s'", text);
+    *width = (int)w, *height = (int)h;
     return SB_OK;
 }
 

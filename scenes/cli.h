@@ -29,6 +29,12 @@ typedef struct sb_cli_args {
     bool no_realtime;             /* run --no-realtime */
     const char* checkpoint_every; /* run --checkpoint-every T */
     const char* resume;           /* run --resume DIR */
+    const char* screenshot;       /* view --screenshot FILE.png */
+    const char* frames;           /* view --frames N */
+    const char* script;           /* view --script FILE */
+    const char* size;             /* view, film --size WxH */
+    const char* movie;            /* film --movie OUT.mp4 */
+    const char* fps;              /* film --fps F */
     bool help;                    /* --help, -h */
 } sb_cli_args;
 
@@ -47,6 +53,9 @@ sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scen
  * 0, else SOFTBOND_THREADS, else 0 (the runtime's default). */
 sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err);
 
+/* --size "WxH", each 16 to 8192 pixels. */
+sb_status sb_cli_size(const char* text, int* width, int* height, sb_error* err);
+
 /* Prints "softbond: message" on stderr, one line (control bytes and bytes
  * that are not UTF-8 escaped: \n, \x1b), and returns code. */
 int sb_cli_fail(int code, const sb_error* err);
@@ -54,6 +63,11 @@ int sb_cli_fail(int code, const sb_error* err);
 int sb_cli_run(int argc, char** argv);
 int sb_cli_eval(int argc, char** argv);
 int sb_cli_info(int argc, char** argv);
+/* `softbond view` and `softbond film` (viewer/): the real-time viewer and the film maker. */
+int sb_cli_view(int argc, char** argv);
+int sb_cli_film(int argc, char** argv);
+void sb_cli_view_usage(FILE* stream);
+void sb_cli_film_usage(FILE* stream);
 /* `softbond tetra IN OUT` (tetra.c): its own arguments, two positional. */
 int sb_cli_tetra(int argc, char** argv);
 void sb_cli_run_usage(FILE* stream);

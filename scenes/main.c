@@ -1,12 +1,16 @@
-/* The `softbond` program: `run` a scene, `eval` a mesh's energies and
- * forces, `info` on a mesh, `tetra` a closed surface. See README.md
- * ("Running a scene", "softbond eval", "softbond info", "softbond tetra"). */
+/* The `softbond` program: `run` a scene, `view` it running, `film` it,
+ * `eval` a mesh's energies and forces, `info` on a mesh, `tetra` a closed
+ * surface. See README.md ("Running a scene", "Viewer", "softbond eval",
+ * "softbond info", "softbond tetra"). */
 #include "scenes/cli.h"
 
 #include <string.h>
 
 static void usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+                    "       softbond view SCENE.yaml [--set key=value]... [--screenshot FILE.png --frames N]\n"
+                    "                          [--script FILE]\n"
+                    "       softbond film SCENE.yaml [--movie OUT.mp4] [--size WxH] [--fps F]\n"
                     "       softbond eval MESH [--set key=value]... [--positions POS.csv]\n"
                     "                          [--forces OUT.csv] [--fast]\n"
                     "       softbond info MESH\n"
@@ -26,6 +30,8 @@ int main(int argc, char** argv) {
     if (strcmp(command, "eval") == 0) return sb_cli_eval(argc - 1, argv + 1);
     if (strcmp(command, "info") == 0) return sb_cli_info(argc - 1, argv + 1);
     if (strcmp(command, "tetra") == 0) return sb_cli_tetra(argc - 1, argv + 1);
+    if (strcmp(command, "view") == 0) return sb_cli_view(argc - 1, argv + 1);
+    if (strcmp(command, "film") == 0) return sb_cli_film(argc - 1, argv + 1);
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
         usage(stdout);
         return SB_EXIT_OK;

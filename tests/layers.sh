@@ -1,6 +1,7 @@
 #!/bin/sh
 # The layers run one way (DESIGN.md): common <- mesh <- kernels <- haptics,
-# mesh/io on top of mesh, scenes (the program) on top of all. Fails on any
+# mesh/io on top of mesh, scenes (the program) on top of all, the viewer
+# (viewer/: view and film) on top of scenes. Fails on any
 # #include "DIR/..." that reaches a layer above the file's own.
 set -eu
 cd "$1"
@@ -19,6 +20,7 @@ check "mesh/*.c mesh/*.h" "mesh/io|kernels|haptics|scenes|bench"
 check "mesh/io/*.c mesh/io/*.h" "kernels|haptics|scenes|bench"
 check "kernels/*.c kernels/*.h kernels/colliders/*.c kernels/colliders/*.h" "mesh/io|haptics|scenes|bench"
 check "haptics/*.c haptics/*.h" "mesh/io|scenes|bench"
-check "include/softbond/*.h" "common|mesh|kernels|haptics|scenes|bench"
+check "include/softbond/*.h" "common|mesh|kernels|haptics|scenes|viewer|bench"
+check "scenes/*.c scenes/*.h" "viewer|bench"
 [ $status -eq 0 ] && echo "layers: one way"
 exit $status

@@ -1,0 +1,61 @@
+/* `softbond film` (viewer/film.c): the default scene for 0.3 s at 30 frames
+ * per second and 64 x 48 pixels makes an MP4 whose video stream ffprobe
+ * counts 10 frames in, and no two consecutive decoded frames are the same
+ * (ffmpeg's framemd5 of each). A missing povray is said in one line, exit 2. */
+#define _POSIX_C_SOURCE 200809L
+#include "test_util.h"
+
+#include <stdio.h>
+
+#define DIR "test_film_out"
+
+/* The lines a command prints, joined, or fails. */
+static void output_of(const char* command, char* out, size_t size) {
+    FILE* p = popen(command, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, size - 1, p);
+    out[n] = '\0';
+    assert_int_equal(pclose(p), 0);
+}
+
+static void test_ten_frames_that_differ(void** state) {
+    (void)state;
+    char command[1024], text[8192];
+    snprintf(command, sizeof command,
+             "rm -rf " DIR " && %s film %s/scenes/default.yaml --set duration=0.3 --fps 30 --size 64x48 --output " DIR
+             " >/dev/null",
+             SB_PROGRAM, SB_SOURCE_DIR);
+    assert_int_equal(system(command), 0);
+    output_of("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames,width,height "
+              "-of csv=p=0 " DIR "/default.mp4",
+              text, sizeof text);
+    printf("ffprobe: %s", text);
+    assert_string_equal(text, "64,48,10\n");
+    output_of("ffmpeg -v error -i " DIR "/default.mp4 -f framemd5 - | grep -v '^#' | awk -F, '{print $6}'", text,
+              sizeof text);
+    char* hashes[16];
+    int n = 0;
+    for (char* line = strtok(text, "\n"); line && n < 16; line = strtok(NULL, "\n")) hashes[n++] = line;
+    assert_int_equal(n, 10);
+    for (int k = 1; k < n; k++)
+        if (strcmp(hashes[k], hashes[k - 1]) == 0) fail_msg("frames %d and %d are the same", k - 1, k);
+}
+
+static void test_missing_povray_is_said(void** state) {
+    (void)state;
+    char command[1024], text[1024];
+    snprintf(command, sizeof command,
+             "PATH=/nonexistent %s film %s/scenes/default.yaml --output " DIR "_missing 2>&1; echo exit $?", SB_PROGRAM,
+             SB_SOURCE_DIR);
+    output_of(command, text, sizeof text);
+    assert_string_equal(text, "softbond: film: povray is not on PATH (install Debian's povray: apt-get install "
+                              "povray)\nexit 2\n");
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ten_frames_that_differ),
+        cmocka_unit_test(test_missing_povray_is_said),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,246 @@
+/* The viewer (viewer/view.h), run in this process under Xvfb with Mesa's
+ * software OpenGL (ctest starts it through xvfb-run). Each case runs the
+ * default scene (the 30 x 30 sheet held at its top corners) with a script
+ * and checks the picture (PNG) or the last snapshot drawn:
+ *   - paused at rest: the screenshot is not blank, and the box of the
+ *     pixels that are not background matches the sheet's corners projected
+ *     here (a pinhole camera written in this file) within a few pixels;
+ *   - F2 off: far fewer dark (edge) pixels on the sheet;
+ *   - F3: the strain colour scale (red and blue) appears at the right edge;
+ *   - g: gravity off from the start, every published vertical velocity is 0;
+ *   - r: gravity reversed, the sheet rises;
+ *   - a scripted drag of the middle vertex pulls it toward the cursor;
+ *   - a bad script line is refused naming file:line. */
+#include "test_util.h"
+
+#include "viewer/view.h"
+#include "viewer/input_script.h"
+
+#include <stb/stb_image.h>
+#include <stdio.h>
+
+#define SCENE SB_SOURCE_DIR "/scenes/default.yaml"
+enum { W = 480, H = 360 };
+static const unsigned char BACKGROUND[3] = {219, 227, 237}; /* the clear colour 0.86, 0.89, 0.93 */
+
+typedef struct picture {
+    unsigned char* rgb;
+    int width, height;
+} picture;
+
+static void write_script(const char* path, const char* text) {
+    FILE* f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* Runs the viewer on the default scene with the script (for at most
+ * `frames` frames; 0: until the script quits); the screenshot is read back
+ * when png is not NULL. */
+static void run_view(const char* name, const char* script_text, uint64_t frames, sb_view_result* result, picture* png) {
+    char script[256], shot[256];
+    snprintf(script, sizeof script, "test_viewer_%s.txt", name);
+    snprintf(shot, sizeof shot, "test_viewer_%s.png", name);
+    write_script(script, script_text);
+    const char* sets[] = {"threads=1"};
+    sb_cli_args args = {.input = SCENE, .sets = sets, .set_count = 1};
+    sb_view_options o = sb_default_view_options(&args);
+    o.width = W, o.height = H, o.script = script, o.screenshot = shot, o.frames = frames;
+    sb_error err;
+    if (sb_view_run(&o, result, &err) != SB_OK) fail_msg("%s", err.message);
+    if (!png) return;
+    int channels;
+    png->rgb = stbi_load(shot, &png->width, &png->height, &channels, 3);
+    assert_non_null(png->rgb);
+    assert_int_equal(png->width, W);
+    assert_int_equal(png->height, H);
+}
+
+/* Two screenshots of the viewer, the second with the keys of script b. */
+static void two_pictures(const char* a, const char* b, uint64_t frames, picture* first, picture* second) {
+    sb_view_result r;
+    run_view("first", a, frames, &r, first);
+    sb_view_result_free(&r);
+    run_view("second", b, frames, &r, second);
+    sb_view_result_free(&r);
+}
+
+static bool background(const unsigned char* p) {
+    for (int c = 0; c < 3; c++)
+        if (abs(p[c] - BACKGROUND[c]) > 6) return false;
+    return true;
+}
+
+/* Below the overlay's two lines at the top, above its line at the bottom. */
+static bool in_scene(int y) { return y >= 52 && y < H - 30; }
+
+/* A pinhole camera from the result's eye and target: pixel of p. */
+static void project(const sb_camera* camera, const double p[3], double pixel[2]) {
+    double eye[3], f[3], r[3], u[3], d[3];
+    sb_camera_eye(camera, eye);
+    for (int k = 0; k < 3; k++) f[k] = camera->target[k] - eye[k], d[k] = p[k] - eye[k];
+    double n = tu_norm(f);
+    for (int k = 0; k < 3; k++) f[k] /= n;
+    tu_cross(f, camera->up, r);
+    n = tu_norm(r);
+    for (int k = 0; k < 3; k++) r[k] /= n;
+    tu_cross(r, f, u);
+    double t = tan(0.5 * camera->fov), z = tu_dot(d, f);
+    pixel[0] = 0.5 * W + 0.5 * H * tu_dot(d, r) / (z * t);
+    pixel[1] = 0.5 * H - 0.5 * H * tu_dot(d, u) / (z * t);
+}
+
+static void test_screenshot_shows_the_sheet_where_the_camera_looks(void** state) {
+    (void)state;
+    sb_view_result r;
+    picture png;
+    run_view("rest", "0 key space\n", 5, &r, &png);
+    assert_true(r.frames >= 1 && r.time == 0.0);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < r.vertex_count; i++) {
+        double pixel[2];
+        project(&r.camera, r.positions + 3 * i, pixel);
+        for (int k = 0; k < 2; k++) lo[k] = fmin(lo[k], pixel[k]), hi[k] = fmax(hi[k], pixel[k]);
+    }
+    int seen[2][2] = {{W, H}, {-1, -1}}, colours = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const unsigned char* p = png.rgb + 3 * (y * W + x);
+            if (p[0] != png.rgb[0] || p[1] != png.rgb[1] || p[2] != png.rgb[2]) colours++;
+            if (!in_scene(y) || background(p)) continue;
+            seen[0][0] = x < seen[0][0] ? x : seen[0][0], seen[0][1] = y < seen[0][1] ? y : seen[0][1];
+            seen[1][0] = x > seen[1][0] ? x : seen[1][0], seen[1][1] = y > seen[1][1] ? y : seen[1][1];
+        }
+    printf("sheet: projected x %.1f..%.1f y %.1f..%.1f, drawn x %d..%d y %d..%d\n", lo[0], hi[0], lo[1], hi[1],
+           seen[0][0], seen[1][0], seen[0][1], seen[1][1]);
+    assert_true(colours > W * H / 20); /* not blank, not one colour */
+    TU_ASSERT_NEAR(seen[0][0], lo[0], 3.0);
+    TU_ASSERT_NEAR(seen[1][0], hi[0], 3.0);
+    TU_ASSERT_NEAR(seen[0][1], lo[1], 3.0);
+    TU_ASSERT_NEAR(seen[1][1], hi[1], 3.0);
+    free(png.rgb);
+    sb_view_result_free(&r);
+}
+
+static int dark_pixels(const picture* png) {
+    int dark = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const unsigned char* p = png->rgb + 3 * (y * W + x);
+            dark += in_scene(y) && p[0] < 90 && p[1] < 90 && p[2] < 90;
+        }
+    return dark;
+}
+
+static void test_f2_hides_the_edges(void** state) {
+    (void)state;
+    picture with, without;
+    two_pictures("0 key space\n", "0 key space\n0 key F2\n", 5, &with, &without);
+    int a = dark_pixels(&with), b = dark_pixels(&without);
+    printf("dark pixels: %d with edges, %d without\n", a, b);
+    assert_true(a > 1000 && b < a / 10);
+    free(with.rgb);
+    free(without.rgb);
+}
+
+/* Strongly red and strongly blue pixels in the colour scale's column. */
+static void scale_colours(const picture* png, int* red, int* blue) {
+    *red = *blue = 0;
+    for (int y = 100; y < 380 && y < H; y++)
+        for (int x = W - 50; x < W - 26; x++) {
+            const unsigned char* p = png->rgb + 3 * (y * W + x);
+            *red += p[0] > 200 && p[1] < 80 && p[2] < 80;
+            *blue += p[2] > 200 && p[0] < 80 && p[1] < 80;
+        }
+}
+
+static void test_f3_shows_the_colour_scale(void** state) {
+    (void)state;
+    picture plain, strained;
+    two_pictures("0.05 quit\n", "0.05 key F3\n0.05 quit\n", 0, &plain, &strained);
+    int red0, blue0, red1, blue1;
+    scale_colours(&plain, &red0, &blue0);
+    scale_colours(&strained, &red1, &blue1);
+    printf("scale column: red %d, blue %d without F3; red %d, blue %d with\n", red0, blue0, red1, blue1);
+    assert_true(red0 == 0 && blue0 == 0 && red1 > 50 && blue1 > 50);
+    free(plain.rgb);
+    free(strained.rgb);
+}
+
+static void test_g_turns_gravity_off(void** state) {
+    (void)state;
+    sb_view_result r;
+    run_view("gravity_off", "0 key g\n0.2 quit\n", 0, &r, NULL);
+    assert_true(r.time >= 0.2 && r.step > 0);
+    double largest = 0.0;
+    for (uint32_t i = 0; i < r.vertex_count; i++) largest = fmax(largest, fabs(r.velocities[3 * i + 2]));
+    printf("gravity off: t = %.3f s, largest |vz| %g m/s\n", r.time, largest);
+    assert_true(largest < 1e-6); /* rounding of the rest state's forces; falling, it is ~2 m/s */
+    sb_view_result_free(&r);
+}
+
+static double mean_z(const sb_view_result* r) {
+    double sum = 0.0;
+    for (uint32_t i = 0; i < r->vertex_count; i++) sum += r->positions[3 * i + 2];
+    return sum / r->vertex_count;
+}
+
+static void test_r_reverses_gravity(void** state) {
+    (void)state;
+    sb_view_result r;
+    run_view("reversed", "0 key r\n0.2 quit\n", 0, &r, NULL);
+    printf("gravity reversed: t = %.3f s, mean z %.4f m\n", r.time, mean_z(&r));
+    assert_true(r.time >= 0.2 && mean_z(&r) > 0.02);
+    sb_view_result_free(&r);
+}
+
+/* The middle vertex (15, 15) of the sheet at rest, pressed, then the
+ * cursor 60 pixels to its right: it follows toward the cursor's point. */
+static void test_scripted_drag_pulls_the_vertex(void** state) {
+    (void)state;
+    const uint32_t middle = 15 * 30 + 15;
+    double rest[3] = {15.0 / 29.0, 15.0 / 29.0, 0.0}, lo[3] = {0, 0, 0}, hi[3] = {1, 1, 0}, up[3] = {0, 0, 1}, pixel[2];
+    sb_camera camera = sb_camera_fit(lo, hi, up);
+    project(&camera, rest, pixel);
+    char script[256];
+    snprintf(script, sizeof script, "0 press %.1f %.1f\n0.02 move %.1f %.1f\n0.4 quit\n", pixel[0], pixel[1],
+             pixel[0] + 60, pixel[1]);
+    sb_view_result r;
+    run_view("drag", script, 0, &r, NULL);
+    assert_int_equal(r.picked, middle);
+    const double* x = r.positions + 3 * middle;
+    double moved = x[0] - rest[0], wanted = r.target[0] - rest[0];
+    printf("drag: vertex %lld, target x %.3f m (%.3f from rest), vertex x %.3f m (moved %.3f) at t = %.3f s\n",
+           (long long)r.picked, r.target[0], wanted, x[0], moved, r.time);
+    assert_true(wanted > 0.1 && moved > 0.35 * wanted);
+    sb_view_result_free(&r);
+}
+
+static void test_script_errors_name_the_line(void** state) {
+    (void)state;
+    write_script("test_viewer_bad.txt", "# a comment\n0 key F1\n0.5 press 10\n");
+    sb_input_script s;
+    sb_error err;
+    assert_int_equal(sb_input_script_load("test_viewer_bad.txt", &s, &err), SB_ERR_INVALID);
+    assert_non_null(strstr(err.message, "test_viewer_bad.txt:3:"));
+    write_script("test_viewer_bad.txt", "0.5 key F1\n0.1 key q\n");
+    assert_int_equal(sb_input_script_load("test_viewer_bad.txt", &s, &err), SB_ERR_INVALID);
+    assert_non_null(strstr(err.message, "test_viewer_bad.txt:2: time 0.1 is before"));
+    write_script("test_viewer_bad.txt", "0 key F6\n");
+    assert_int_equal(sb_input_script_load("test_viewer_bad.txt", &s, &err), SB_ERR_INVALID);
+    assert_non_null(strstr(err.message, "test_viewer_bad.txt:1: expected key NAME"));
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_script_errors_name_the_line),
+        cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
+        cmocka_unit_test(test_f2_hides_the_edges),
+        cmocka_unit_test(test_f3_shows_the_colour_scale),
+        cmocka_unit_test(test_g_turns_gravity_off),
+        cmocka_unit_test(test_r_reverses_gravity),
+        cmocka_unit_test(test_scripted_drag_pulls_the_vertex),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

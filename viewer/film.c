@@ -1,0 +1,268 @@
+/* `softbond film SCENE`: the Spring Systems film maker, finished. The scene
+ * (any scene: a .pov file of mesh2 objects through mesh.file, with gravity
+ * and the contact between its bodies) is simulated; each frame is written
+ * as a POV-Ray scene by the mesh export (sb_mesh_export "pov"), every
+ * frame with the same camera (the viewer's starting camera); Debian's
+ * povray renders them two at a time, one per core; Debian's ffmpeg
+ * assembles the pictures into an H.264 MP4. One progress bar runs over
+ * the three phases. */
+#define _POSIX_C_SOURCE 200809L
+#include "scenes/cli.h"
+#include "common/error.h"
+#include "scenes/output_dir.h"
+#include "scenes/simulation.h"
+#include "viewer/camera.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <spawn.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+enum { RENDERERS = 2, BAR = 40 };
+
+void sb_cli_film_usage(FILE* stream) {
+    fprintf(stream, "usage: softbond film SCENE.yaml [--set key=value]... [--movie OUT.mp4] [--size WxH]\n"
+                    "                     [--fps F] [--output DIR] [--threads N]\n"
+                    "Simulates the scene for its duration, writes a POV-Ray scene per frame (F frames per\n"
+                    "simulated second, default 30) to DIR (default out/<scene name>/film), renders them\n"
+                    "with povray (WxH pixels, default 640x480; two at a time) and assembles an H.264 MP4\n"
+                    "with ffmpeg (default DIR/<scene name>.mp4). Needs Debian's povray and ffmpeg.\n");
+}
+
+typedef struct film_job {
+    sb_cli_args args;
+    sb_simulation sim;
+    sb_output_dir out;
+    int width, height;
+    double fps;
+    uint32_t frames;
+    double eye[3], target[3]; /* the camera of every frame */
+    char* movie;
+    double done, total; /* the progress bar's work: steps, then frames (x RENDER_WEIGHT), then the encoding */
+} film_job;
+
+/* ---- progress ------------------------------------------------------------ */
+
+static void progress(film_job* job, double add, const char* phase) {
+    job->done += add;
+    if (!isatty(STDERR_FILENO)) return;
+    int filled = (int)(BAR * fmin(1.0, job->done / job->total));
+    char bar[BAR + 1];
+    for (int i = 0; i < BAR; i++) bar[i] = i < filled ? '#' : '.';
+    bar[BAR] = '\0';
+    fprintf(stderr, "\rsoftbond: film [%s] %3.0f%%  %-12s", bar, 100.0 * fmin(1.0, job->done / job->total), phase);
+    fflush(stderr);
+}
+
+/* ---- the programs it runs ------------------------------------------------- */
+
+static bool on_path(const char* program) {
+    const char* path = getenv("PATH");
+    char dir[4096];
+    for (const char* p = path ? path : ""; *p;) {
+        size_t n = strcspn(p, ":");
+        snprintf(dir, sizeof dir, "%.*s/%s", (int)n, p, program);
+        if (access(dir, X_OK) == 0) return true;
+        p += n + (p[n] == ':');
+    }
+    return false;
+}
+
+static sb_status need(const char* program, const char* package, sb_error* err) {
+    return on_path(program)
+               ? SB_OK
+               : sb_error_set(err, SB_ERR_INVALID, "film: %s is not on PATH (install Debian's %s: apt-get install %s)",
+                              program, package, package);
+}
+
+/* Starts argv quietly (stdout and stderr to /dev/null); its pid, or -1. */
+static pid_t start(char* const* argv) {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+    pid_t pid;
+    int failed = posix_spawnp(&pid, argv[0], &actions, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    return failed ? -1 : pid;
+}
+
+static bool succeeded(pid_t pid) {
+    int status;
+    while (waitpid(pid, &status, 0) == -1)
+        if (errno != EINTR) return false;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+/* ---- the phases ------------------------------------------------------------- */
+
+static const char* frame_path(film_job* job, uint32_t k, const char* extension) {
+    char name[64];
+    snprintf(name, sizeof name, "frame_%06u.%s", k, extension);
+    return sb_output_dir_path(&job->out, name);
+}
+
+static sb_status write_frame(film_job* job, uint32_t k, double* positions, sb_error* err) {
+    sb_mesh_export_def def = sb_default_mesh_export_def();
+    sb_solver_get_positions(job->sim.solver, positions);
+    def.positions = positions;
+    def.eye = job->eye;
+    def.target = job->target;
+    sb_simulation_up(&job->sim, def.up);
+    return sb_mesh_export(frame_path(job, k, "pov"), "pov", &job->sim.mesh, &def, err);
+}
+
+static sb_status simulate(film_job* job, sb_error* err) {
+    double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
+    double* positions = malloc(3 * ((size_t)job->sim.mesh.vertex_count + 1) * sizeof *positions);
+    if (!positions) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    sb_status status = SB_OK;
+    for (uint32_t k = 0; k < job->frames && status == SB_OK; k++) {
+        uint64_t step = (uint64_t)llround(k / (job->fps * dt));
+        while (status == SB_OK && sb_solver_step_count(job->sim.solver) < step) {
+            if (sb_solver_advance(job->sim.solver, dt) != SB_OK)
+                status = sb_error_set(err, SB_ERR_UNSTABLE, "%s", sb_solver_error(job->sim.solver));
+            progress(job, 1.0, "simulating");
+        }
+        if (status == SB_OK) status = write_frame(job, k, positions, err);
+    }
+    free(positions);
+    return status;
+}
+
+static pid_t start_povray(film_job* job, uint32_t k) {
+    char in[4200], out[4200], w[32], h[32];
+    snprintf(in, sizeof in, "+I%s", frame_path(job, k, "pov"));
+    snprintf(out, sizeof out, "+O%s", frame_path(job, k, "png"));
+    snprintf(w, sizeof w, "+W%d", job->width);
+    snprintf(h, sizeof h, "+H%d", job->height);
+    char* argv[] = {"povray", in, out, w, h, "+FN", "-D", "+A0.3", "-V", NULL};
+    return start(argv);
+}
+
+/* Two povrays at a time, frames in order; the first failure names its frame. */
+static sb_status render(film_job* job, sb_error* err) {
+    pid_t running[RENDERERS];
+    uint32_t frame_of[RENDERERS], next = 0;
+    int count = 0;
+    sb_status status = SB_OK;
+    while (count > 0 || (next < job->frames && status == SB_OK)) {
+        while (count < RENDERERS && next < job->frames && status == SB_OK) {
+            frame_of[count] = next;
+            running[count] = start_povray(job, next++);
+            if (running[count] < 0)
+                status = sb_error_set(err, SB_ERR_IO, "film: cannot start povray");
+            else
+                count++;
+        }
+        if (count == 0) break;
+        bool ok = succeeded(running[0]);
+        if (!ok && status == SB_OK)
+            status = sb_error_set(err, SB_ERR_IO, "film: povray failed on %s", frame_path(job, frame_of[0], "pov"));
+        memmove(running, running + 1, (size_t)(count - 1) * sizeof *running);
+        memmove(frame_of, frame_of + 1, (size_t)(count - 1) * sizeof *frame_of);
+        count--;
+        progress(job, 1.0, "rendering");
+    }
+    return status;
+}
+
+static sb_status encode(film_job* job, sb_error* err) {
+    char rate[32], pattern[4200];
+    snprintf(rate, sizeof rate, "%g", job->fps);
+    snprintf(pattern, sizeof pattern, "%s/frame_%%06d.png", job->out.dir);
+    char* argv[] = {"ffmpeg",   "-y",   "-loglevel", "error",    "-framerate", rate,  "-i",
+                    pattern,    "-c:v", "libx264",   "-pix_fmt", "yuv420p",    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                    job->movie, NULL};
+    progress(job, 0.0, "encoding");
+    pid_t pid = start(argv);
+    if (pid < 0 || !succeeded(pid)) return sb_error_set(err, SB_ERR_IO, "film: ffmpeg could not make %s", job->movie);
+    progress(job, 1.0, "done");
+    return SB_OK;
+}
+
+/* ---- the command -------------------------------------------------------------- */
+
+static sb_status options(film_job* job, sb_error* err) {
+    job->width = 640, job->height = 480, job->fps = 30.0;
+    if (job->args.size && sb_cli_size(job->args.size, &job->width, &job->height, err) != SB_OK) return SB_ERR_INVALID;
+    if (job->args.fps) {
+        char* end;
+        job->fps = strtod(job->args.fps, &end);
+        if (end == job->args.fps || *end != '\0' || !(job->fps > 0.0 && job->fps <= 1000.0))
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "--fps: expected a number of frames per second in (0, 1000], got '%s'", job->args.fps);
+    }
+    sb_status status = need("povray", "povray", err);
+    return status == SB_OK ? need("ffmpeg", "ffmpeg", err) : status;
+}
+
+/* The viewer's starting camera on the rest shape. */
+static void place_camera(film_job* job) {
+    double lo[3], hi[3], up[3], p[3];
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (uint32_t i = 0; i < job->sim.mesh.vertex_count; i++) {
+        sb_model_rest_position(job->sim.model, i, p);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], p[k]), hi[k] = fmax(hi[k], p[k]);
+    }
+    sb_simulation_up(&job->sim, up);
+    sb_camera camera = sb_camera_fit(lo, hi, up);
+    sb_camera_eye(&camera, job->eye);
+    memcpy(job->target, camera.target, sizeof job->target);
+}
+
+static sb_status prepare(film_job* job, sb_error* err) {
+    sb_status status = options(job, err);
+    if (status == SB_OK) status = sb_simulation_prepare(&job->sim, &job->args, err);
+    if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
+    if (status != SB_OK) return status;
+    double duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);
+    job->frames = (uint32_t)fmin(floor(duration * job->fps + 1e-9) + 1, 1e6);
+    place_camera(job);
+    char dir[4096];
+    snprintf(dir, sizeof dir, "out/%s/film", job->sim.scene.name);
+    status = sb_output_dir_create(&job->out, job->args.output ? job->args.output : dir, job->sim.scene.name, err);
+    if (status != SB_OK) return status;
+    char movie[4200];
+    snprintf(movie, sizeof movie, "%s/%s.mp4", job->out.dir, job->sim.scene.name);
+    job->movie = strdup(job->args.movie ? job->args.movie : movie);
+    double steps = ceil(duration / sb_scene_number(&job->sim.scene, SB_KEY_DT));
+    job->total = steps + 20.0 * job->frames + 20.0; /* a frame renders in about the time of 20 steps */
+    return job->movie ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+}
+
+static int film_finish(film_job* job, int code) {
+    free(job->movie);
+    sb_output_dir_free(&job->out);
+    sb_simulation_free(&job->sim);
+    sb_cli_args_free(&job->args);
+    return code;
+}
+
+int sb_cli_film(int argc, char** argv) {
+    static const char* const accepted[] = {"--movie", "--size", "--fps", "--output", "--threads", NULL};
+    film_job job = {0};
+    sb_error err;
+    if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)
+        return film_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    if (job.args.help) {
+        sb_cli_film_usage(stdout);
+        return film_finish(&job, SB_EXIT_OK);
+    }
+    if (prepare(&job, &err) != SB_OK) return film_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    sb_status status = simulate(&job, &err);
+    int code = status == SB_ERR_UNSTABLE ? SB_EXIT_SOLVER : SB_EXIT_FAILURE;
+    if (status == SB_OK) status = render(&job, &err);
+    if (status == SB_OK) status = encode(&job, &err);
+    if (isatty(STDERR_FILENO)) fprintf(stderr, "\n");
+    if (status != SB_OK) return film_finish(&job, sb_cli_fail(code, &err));
+    printf("softbond: %u frames (%dx%d, %g per second) in %s, movie %s\n", job.frames, job.width, job.height, job.fps,
+           job.out.dir, job.movie);
+    return film_finish(&job, SB_EXIT_OK);
+}

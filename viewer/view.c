@@ -1,0 +1,483 @@
+/* The viewer (viewer/view.h).
+ *
+ * Design. Two threads. The simulation thread (viewer/sim_thread.c) owns
+ * the solver and publishes snapshots; this thread, the render thread,
+ * never calls the solver: it holds the latest snapshot of the state buffer
+ * while it draws it, and meets the simulation thread once a frame in a
+ * small record of controls (keys, the mouse's pick and target) and a
+ * report (rates, collider poses, the mouse's force). A frame: events from
+ * the window and the script (the script's times are simulated seconds of
+ * the snapshot shown), the newest snapshot, the exchange, drawing, then a
+ * sleep to the next frame time. */
+#define _POSIX_C_SOURCE 200809L
+#include "viewer/view.h"
+#include "common/error.h"
+#include "viewer/collider_draw.h"
+#include "viewer/input_script.h"
+#include "viewer/mesh_draw.h"
+#include "viewer/overlay.h"
+#include "viewer/screenshot.h"
+#include "viewer/sim_thread.h"
+#include "viewer/window.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const double PICK_PIXELS = 15.0; /* a press this close to a vertex's image picks it */
+
+typedef enum drag_kind { DRAG_NONE, DRAG_ORBIT, DRAG_PAN, DRAG_PICK, DRAG_TOOL } drag_kind;
+
+typedef struct view_app {
+    const sb_view_options* options;
+    sb_simulation sim;
+    sb_handle* grab;
+    sb_state_buffer* buffer;
+    sb_sim_thread thread;
+    int tool_index; /* the haptic tool's collider, -1 = none or not a mouse */
+    sb_window* window;
+    sb_shaders shaders;
+    sb_mesh_draw mesh;
+    sb_collider_draw colliders;
+    sb_overlay overlay;
+    sb_camera camera, home;
+    sb_draw_flags flags;
+    bool help, running;
+    sb_sim_controls controls;
+    sb_sim_report report;
+    sb_input_script script;
+    const sb_snapshot* shown;
+    uint64_t shown_sequence;
+    drag_kind drag;
+    double last_x, last_y;
+    double plane_point[3]; /* the drag plane (facing the camera) of a pick or the tool */
+    int width, height;
+    double draw_seconds;
+    uint64_t frames;
+} view_app;
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void nap_until(double when) {
+    double wait = when - now();
+    if (wait <= 0) return;
+    struct timespec t = {.tv_sec = (time_t)wait, .tv_nsec = (long)((wait - floor(wait)) * 1e9)};
+    while (nanosleep(&t, &t) == -1 && errno == EINTR) {
+    }
+}
+
+sb_view_options sb_default_view_options(const sb_cli_args* args) {
+    return (sb_view_options){.args = args, .width = 960, .height = 720, .fps = 60.0, .realtime = 1.0};
+}
+
+/* ---- the simulation ------------------------------------------------------ */
+
+/* The mouse's spring: stiff as the lightest free vertex allows at the
+ * scene's dt (k dt² / m = 0.05), damped near critically (c = 2 √(k m)). */
+static sb_status make_grab(view_app* a, sb_error* err) {
+    const sb_model* m = a->sim.model;
+    double lightest = INFINITY, dt = sb_scene_number(&a->sim.scene, SB_KEY_DT);
+    for (uint32_t i = 0; i < sb_model_vertex_count(m); i++)
+        if (!sb_model_is_fixed(m, i)) lightest = fmin(lightest, sb_model_mass(m, i));
+    if (!isfinite(lightest)) lightest = 1.0;
+    double k = 0.05 * lightest / (dt * dt);
+    a->grab = sb_sim_grab_handle(k, 2.0 * sqrt(k * lightest), err);
+    return a->grab ? SB_OK : SB_ERR_INVALID;
+}
+
+/* The scene's tool, when a "mouse" device drives it. */
+static int mouse_tool(const sb_simulation* sim) {
+    if (!sim->haptics.enabled || strcmp(sb_scene_string(&sim->scene, SB_KEY_HAPTICS_DEVICE), "mouse") != 0) return -1;
+    const char* tool = sb_scene_string(&sim->scene, SB_KEY_HAPTICS_TOOL);
+    for (uint32_t c = 0; c < sim->colliders.count; c++)
+        if (strcmp(sim->colliders.entries[c].name, tool) == 0) return (int)c;
+    return -1;
+}
+
+static sb_status start_simulation(view_app* a, sb_error* err) {
+    sb_status status = sb_simulation_prepare(&a->sim, a->options->args, err);
+    if (status == SB_OK) status = make_grab(a, err);
+    if (status == SB_OK) status = sb_simulation_start(&a->sim, a->grab, err);
+    if (status != SB_OK) return status;
+    a->sim.haptics.paced = false; /* the simulation thread paces itself */
+    a->tool_index = mouse_tool(&a->sim);
+    if (!(a->buffer = sb_state_buffer_create(sb_model_vertex_count(a->sim.model), 2, err))) return SB_ERR_NOMEM;
+    a->thread = (sb_sim_thread){.sim = &a->sim, .buffer = a->buffer, .grab = a->grab, .realtime = a->options->realtime};
+    if (a->tool_index >= 0) {
+        a->thread.mouse = a->sim.haptics.device;
+        sb_collider_state(a->sim.colliders.colliders[a->tool_index], a->thread.tool_rest, NULL);
+    }
+    a->controls.pick = -1;
+    return sb_solver_publish(a->sim.solver, a->buffer) == SB_OK
+               ? SB_OK
+               : sb_error_set(err, SB_ERR_INVALID, "view: cannot publish the first state");
+}
+
+/* ---- the picture ----------------------------------------------------------- */
+
+static void rest_box(const sb_model* m, double lo[3], double hi[3]) {
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (uint32_t i = 0; i < sb_model_vertex_count(m); i++) {
+        double p[3];
+        sb_model_rest_position(m, i, p);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], p[k]), hi[k] = fmax(hi[k], p[k]);
+    }
+}
+
+static sb_status start_drawing(view_app* a, sb_error* err) {
+    const sb_view_options* o = a->options;
+    if (!(a->window = sb_window_open(o->width, o->height, "softbond view", err))) return SB_ERR_INVALID;
+    sb_window_size(a->window, &a->width, &a->height);
+    double lo[3], hi[3], up[3], center[3], extent = 0.0;
+    rest_box(a->sim.model, lo, hi);
+    sb_simulation_up(&a->sim, up);
+    for (int k = 0; k < 3; k++) center[k] = 0.5 * (lo[k] + hi[k]), extent = fmax(extent, hi[k] - lo[k]);
+    a->camera = a->home = sb_camera_fit(lo, hi, up);
+    a->flags = (sb_draw_flags){.edges = true, .faces = true};
+    sb_status status = sb_shaders_build(&a->shaders, err);
+    if (status == SB_OK) status = sb_mesh_draw_create(&a->mesh, a->sim.model, err);
+    if (status == SB_OK) status = sb_collider_draw_create(&a->colliders, &a->sim.colliders, extent, center, err);
+    if (status == SB_OK) status = sb_overlay_create(&a->overlay, err);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    return status;
+}
+
+/* Holds the newest snapshot (letting the one before go) and uploads it. */
+static void take_snapshot(view_app* a) {
+    const sb_snapshot* s = sb_state_buffer_acquire(a->buffer);
+    if (!s) return;
+    if (a->shown && s->sequence == a->shown_sequence) {
+        sb_state_buffer_release(a->buffer, s);
+        if (a->flags.strain) sb_mesh_draw_update(&a->mesh, a->shown->positions, true);
+        return;
+    }
+    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
+    a->shown = s;
+    a->shown_sequence = s->sequence;
+    sb_mesh_draw_update(&a->mesh, s->positions, a->flags.strain);
+}
+
+/* ---- the mouse ------------------------------------------------------------- */
+
+static double distance2(const double a[2], const double b[2]) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+}
+
+/* The vertex of the shown snapshot whose image is nearest (x, y), within PICK_PIXELS; -1 if none. */
+static int64_t pick_vertex(const view_app* a, double x, double y) {
+    if (!a->shown) return -1;
+    int64_t best = -1;
+    double best2 = PICK_PIXELS * PICK_PIXELS, cursor[2] = {x, y};
+    for (uint32_t i = 0; i < a->shown->vertex_count; i++) {
+        double p[3] = {a->shown->positions[3 * i], a->shown->positions[3 * i + 1], a->shown->positions[3 * i + 2]};
+        double pixel[2];
+        if (!sb_camera_project(&a->camera, p, a->width, a->height, pixel)) continue;
+        double d2 = distance2(pixel, cursor);
+        if (d2 < best2) best2 = d2, best = i;
+    }
+    return best;
+}
+
+/* Where the cursor's ray meets the drag plane (through plane_point, facing the camera). */
+static void cursor_point(const view_app* a, double x, double y, double out[3]) {
+    double origin[3], direction[3], forward[3];
+    sb_camera_ray(&a->camera, x, y, a->width, a->height, origin, direction);
+    sb_camera_forward(&a->camera, forward);
+    double along = 0.0, toward = 0.0;
+    for (int k = 0; k < 3; k++) {
+        along += (a->plane_point[k] - origin[k]) * forward[k];
+        toward += direction[k] * forward[k];
+    }
+    double t = toward > 1e-9 ? along / toward : 0.0;
+    for (int k = 0; k < 3; k++) out[k] = origin[k] + t * direction[k];
+}
+
+static void press(view_app* a, const sb_view_event* e) {
+    a->last_x = e->x, a->last_y = e->y;
+    if (e->button != SB_BUTTON_LEFT || e->shift) {
+        a->drag = e->button == SB_BUTTON_RIGHT && !e->shift ? DRAG_ORBIT : DRAG_PAN;
+        return;
+    }
+    if (a->tool_index >= 0 && !e->ctrl) {
+        memcpy(a->plane_point, a->report.poses[a->tool_index] + 9, sizeof a->plane_point);
+        a->drag = DRAG_TOOL;
+        a->controls.tool = true;
+        cursor_point(a, e->x, e->y, a->controls.target);
+        return;
+    }
+    int64_t v = pick_vertex(a, e->x, e->y);
+    if (v < 0) {
+        a->drag = DRAG_ORBIT;
+        return;
+    }
+    for (int k = 0; k < 3; k++) a->plane_point[k] = a->shown->positions[3 * v + k];
+    a->drag = DRAG_PICK;
+    a->controls.pick = v;
+    a->controls.picks++;
+    memcpy(a->controls.target, a->plane_point, sizeof a->plane_point);
+}
+
+static void move(view_app* a, const sb_view_event* e) {
+    double dx = e->x - a->last_x, dy = e->y - a->last_y;
+    a->last_x = e->x, a->last_y = e->y;
+    switch (a->drag) {
+    case DRAG_ORBIT: sb_camera_orbit(&a->camera, dx, dy); break;
+    case DRAG_PAN: sb_camera_pan(&a->camera, dx, dy, a->height); break;
+    case DRAG_PICK:
+    case DRAG_TOOL: cursor_point(a, e->x, e->y, a->controls.target); break;
+    case DRAG_NONE: break;
+    }
+}
+
+static void release(view_app* a, const sb_view_event* e) {
+    move(a, e);
+    if (a->drag == DRAG_PICK) a->controls.pick = -1;
+    a->drag = DRAG_NONE;
+}
+
+/* ---- keys -------------------------------------------------------------------- */
+
+static void key(view_app* a, sb_view_key k) {
+    sb_draw_flags* f = &a->flags;
+    sb_sim_controls* c = &a->controls;
+    switch (k) {
+    case SB_VKEY_F1: f->vertices = !f->vertices; break;
+    case SB_VKEY_F2: f->edges = !f->edges; break;
+    case SB_VKEY_F3: f->strain = !f->strain; break;
+    case SB_VKEY_F4: f->faces = !f->faces; break;
+    case SB_VKEY_F5: f->texture = !f->texture; break;
+    case SB_VKEY_R: c->gravity_reversed = !c->gravity_reversed; break;
+    case SB_VKEY_S: c->stopped = !c->stopped; break;
+    case SB_VKEY_G: c->gravity_off = !c->gravity_off; break;
+    case SB_VKEY_SPACE: c->paused = !c->paused; break;
+    case SB_VKEY_BACKSPACE: c->resets++; break;
+    case SB_VKEY_H: a->help = !a->help; break;
+    case SB_VKEY_C: a->camera = a->home; break;
+    case SB_VKEY_ESCAPE: a->running = false; break;
+    default: break;
+    }
+    if (k == SB_VKEY_F3 && f->strain && a->shown) sb_mesh_draw_update(&a->mesh, a->shown->positions, true);
+}
+
+static void handle(view_app* a, const sb_view_event* e) {
+    switch (e->kind) {
+    case SB_EVENT_KEY: key(a, e->key); break;
+    case SB_EVENT_PRESS: press(a, e); break;
+    case SB_EVENT_MOVE: move(a, e); break;
+    case SB_EVENT_RELEASE: release(a, e); break;
+    case SB_EVENT_SCROLL: sb_camera_zoom(&a->camera, e->y); break;
+    case SB_EVENT_QUIT: a->running = false; break;
+    }
+}
+
+static void events(view_app* a) {
+    const sb_view_event* list;
+    size_t count;
+    sb_window_poll(a->window, &list, &count);
+    for (size_t i = 0; i < count; i++) handle(a, &list[i]);
+    sb_view_event e;
+    double t = a->shown ? a->shown->time : 0.0;
+    while (sb_input_script_next(&a->script, t, &e)) handle(a, &e);
+}
+
+/* ---- the overlay ----------------------------------------------------------------- */
+
+static const float INK[4] = {0.08f, 0.08f, 0.1f, 1.0f}, ALARM[4] = {0.8f, 0.05f, 0.05f, 1.0f},
+                   PAPER[4] = {1.0f, 1.0f, 1.0f, 0.85f};
+
+static const char* mode(const view_app* a) {
+    const sb_sim_controls* c = &a->controls;
+    return c->paused             ? "paused"
+           : c->stopped          ? "stopped"
+           : c->gravity_off      ? "gravity off"
+           : c->gravity_reversed ? "gravity reversed"
+                                 : "";
+}
+
+static void statistics(view_app* a) {
+    char line[512];
+    const sb_snapshot* s = a->shown;
+    if (!s) return;
+    snprintf(line, sizeof line, "t = %.3f s   %.2fx real time   %.0f steps/s   %u vertices   %s", s->time,
+             a->report.realtime_factor, a->report.steps_per_second, s->vertex_count, mode(a));
+    sb_overlay_text(&a->overlay, 10, 10, 2.0f, line, INK);
+    double internal = sb_energies_internal(&s->energies);
+    snprintf(line, sizeof line, "energy: kinetic %.4g J   internal %.4g J   gravity %.4g J   total %.4g J",
+             s->energies.kinetic, internal, s->energies.gravity, s->energies.kinetic + internal + s->energies.gravity);
+    sb_overlay_text(&a->overlay, 10, 32, 2.0f, line, INK);
+    if (a->controls.pick >= 0) {
+        const double* f = a->report.pick_force;
+        snprintf(line, sizeof line, "vertex %lld held: force %.4g N  [%.3g, %.3g, %.3g]", (long long)a->controls.pick,
+                 sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), f[0], f[1], f[2]);
+        sb_overlay_text(&a->overlay, 10, 54, 2.0f, line, INK);
+    }
+    if (a->report.failure[0]) sb_overlay_text(&a->overlay, 10, 76, 2.0f, a->report.failure, ALARM);
+    sb_overlay_text(&a->overlay, 10, (float)a->height - 24, 2.0f, "h: keys", INK);
+}
+
+static void help(view_app* a) {
+    char text[2048] = "keys\n";
+    size_t used = strlen(text);
+    for (int k = SB_VKEY_NONE + 1; k < SB_VKEY_COUNT; k++)
+        used += (size_t)snprintf(text + used, sizeof text - used, "%-10s %s\n", sb_view_key_name((sb_view_key)k),
+                                 sb_view_key_meaning((sb_view_key)k));
+    snprintf(text + used, sizeof text - used,
+             "\nmouse\nleft on a vertex: drag it (a spring)\nleft elsewhere, right: orbit\nshift+left, middle: pan\n"
+             "wheel: zoom%s",
+             a->tool_index >= 0 ? "\nleft: move the haptic tool (ctrl+left: a vertex)" : "");
+    float w, h;
+    sb_overlay_measure(text, 2.0f, &w, &h);
+    float x = 0.5f * ((float)a->width - w), y = 0.5f * ((float)a->height - h);
+    sb_overlay_rect(&a->overlay, x - 12, y - 12, w + 24, h + 24, PAPER);
+    sb_overlay_text(&a->overlay, x, y, 2.0f, text, INK);
+}
+
+/* The strain colours from −scale (blue) to +scale (red), at the right edge. */
+static void color_scale(view_app* a) {
+    const int steps = 64;
+    float x = (float)a->width - 50, top = 120, height = 240;
+    for (int i = 0; i < steps; i++) {
+        float rgba[4];
+        double strain = a->mesh.strain_scale * (1.0 - 2.0 * (i + 0.5) / steps);
+        sb_strain_color(strain, a->mesh.strain_scale, rgba);
+        sb_overlay_rect(&a->overlay, x, top + height * i / steps, 24, height / steps + 1, rgba);
+    }
+    char label[64];
+    snprintf(label, sizeof label, "+%.2g%%", 100 * a->mesh.strain_scale);
+    float w, h;
+    sb_overlay_measure(label, 2.0f, &w, &h);
+    sb_overlay_text(&a->overlay, x + 24 - w, top - 22, 2.0f, label, INK);
+    snprintf(label, sizeof label, "-%.2g%%", 100 * a->mesh.strain_scale);
+    sb_overlay_measure(label, 2.0f, &w, &h);
+    sb_overlay_text(&a->overlay, x + 24 - w, top + height + 8, 2.0f, label, INK);
+    sb_overlay_text(&a->overlay, x - 40, top + height + 30, 2.0f, "strain", INK);
+}
+
+/* ---- a frame -------------------------------------------------------------------------- */
+
+static void draw(view_app* a) {
+    sb_window_size(a->window, &a->width, &a->height);
+    glViewport(0, 0, a->width, a->height);
+    glClearColor(0.86f, 0.89f, 0.93f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    float matrix[16], light[3];
+    double forward[3];
+    sb_camera_matrix(&a->camera, (double)a->width / a->height, matrix);
+    sb_camera_forward(&a->camera, forward);
+    for (int k = 0; k < 3; k++) light[k] = (float)-forward[k];
+    sb_collider_draw_render(&a->colliders, &a->shaders, matrix, light, (const double(*)[12])a->report.poses,
+                            a->report.collider_count);
+    if (a->shown) sb_mesh_draw_render(&a->mesh, &a->shaders, matrix, light, a->flags);
+    sb_overlay_clear(&a->overlay);
+    statistics(a);
+    if (a->flags.strain) color_scale(a);
+    if (a->help) help(a);
+    sb_overlay_draw(&a->overlay, &a->shaders, a->width, a->height);
+}
+
+static sb_status frame_loop(view_app* a, sb_error* err) {
+    const sb_view_options* o = a->options;
+    double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = now();
+    for (a->running = true; a->running;) {
+        double start = now();
+        events(a);
+        take_snapshot(a);
+        sb_sim_thread_exchange(&a->thread, &a->controls, &a->report);
+        draw(a);
+        a->frames++;
+        bool last = !a->running || (o->frames && a->frames >= o->frames);
+        if (last && o->screenshot && sb_screenshot_save(o->screenshot, a->width, a->height, err) != SB_OK)
+            return SB_ERR_IO;
+        sb_window_swap(a->window);
+        a->draw_seconds += now() - start;
+        if (last) break;
+        next += period;
+        nap_until(next);
+    }
+    return SB_OK;
+}
+
+/* ---- the run ---------------------------------------------------------------------------- */
+
+/* Script events at time 0 apply before the first step (the snapshot shown is the rest state). */
+static void early_events(view_app* a) {
+    take_snapshot(a);
+    sb_view_event e;
+    while (sb_input_script_next(&a->script, 0.0, &e)) handle(a, &e);
+    a->thread.controls = a->controls;
+}
+
+static void fill_result(const view_app* a, sb_view_result* r, double wall, double simulated, uint64_t steps) {
+    *r = (sb_view_result){
+        .picked = a->controls.pick, .frames = a->frames, .camera = a->camera, .width = a->width, .height = a->height};
+    memcpy(r->target, a->controls.target, sizeof r->target);
+    r->frame_seconds = a->frames ? a->draw_seconds / a->frames : 0.0;
+    r->steps_per_second = wall > 0 ? steps / wall : 0.0;
+    r->realtime_factor = wall > 0 ? simulated / wall : 0.0;
+    if (!a->shown) return;
+    uint32_t n = a->shown->vertex_count;
+    r->vertex_count = n;
+    r->time = a->shown->time;
+    r->step = a->shown->step;
+    r->positions = malloc(3 * ((size_t)n + 1) * sizeof *r->positions);
+    r->velocities = malloc(3 * ((size_t)n + 1) * sizeof *r->velocities);
+    for (size_t k = 0; k < 3 * (size_t)n && r->positions && r->velocities; k++) {
+        r->positions[k] = a->shown->positions[k];
+        r->velocities[k] = a->shown->velocities[k];
+    }
+}
+
+static void finish(view_app* a) {
+    sb_sim_thread_stop(&a->thread);
+    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
+    if (a->window) {
+        sb_overlay_free(&a->overlay);
+        sb_collider_draw_free(&a->colliders);
+        sb_mesh_draw_free(&a->mesh);
+        sb_shaders_free(&a->shaders);
+        sb_window_close(a->window);
+    }
+    sb_input_script_free(&a->script);
+    sb_error ignored;
+    sb_scene_haptics_finish(&a->sim.haptics, &ignored);
+    sb_simulation_free(&a->sim);
+    sb_handle_destroy(a->grab);
+    sb_state_buffer_destroy(a->buffer);
+}
+
+sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb_error* err) {
+    view_app a = {.options = options, .tool_index = -1};
+    sb_status status = options->script ? sb_input_script_load(options->script, &a.script, err) : SB_OK;
+    if (status == SB_OK) status = start_simulation(&a, err);
+    if (status == SB_OK) status = start_drawing(&a, err);
+    if (status == SB_OK) status = sb_scene_haptics_start(&a.sim.haptics, "/dev/null", err);
+    double wall = now(), simulated = 0.0;
+    uint64_t steps = 0;
+    if (status == SB_OK) {
+        early_events(&a);
+        status = sb_sim_thread_start(&a.thread, err);
+    }
+    if (status == SB_OK) status = frame_loop(&a, err);
+    sb_sim_thread_stop(&a.thread);
+    wall = now() - wall;
+    if (a.sim.solver) {
+        simulated = sb_solver_time(a.sim.solver);
+        steps = sb_solver_step_count(a.sim.solver);
+    }
+    if (result) fill_result(&a, result, wall, simulated, steps);
+    finish(&a);
+    return status;
+}
+
+void sb_view_result_free(sb_view_result* r) {
+    free(r->positions);
+    free(r->velocities);
+    *r = (sb_view_result){0};
+}
