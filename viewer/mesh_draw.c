@@ -1,9 +1,10 @@
 /* Drawing the bodies (viewer/mesh_draw.h). The positions and the normals
  * (area-weighted per vertex, worked out here each frame) go to the GPU
- * once per new snapshot; the strain colouring needs a colour per bond, so
- * it draws from its own buffer of two vertices per bond, filled only while
- * it is on. The texture is a checker in the plane of the rest shape's two
- * largest extents. */
+ * once per new snapshot, the triangles and edges once per new topology;
+ * the strain colouring needs a colour per edge, so it draws from its own
+ * buffer of two vertices per edge, filled only while it is on. The
+ * texture is a checker in the plane of the rest shape's two largest
+ * extents; a split vertex takes its origin's place in it. */
 #include "viewer/mesh_draw.h"
 #include "common/error.h"
 
@@ -65,56 +66,47 @@ static GLuint checker_texture(void) {
     return t;
 }
 
-static bool copy_topology(sb_mesh_draw* d, const sb_model* model) {
-    d->vertex_count = sb_model_vertex_count(model);
-    d->edge_count = sb_model_bond_count(model);
-    d->triangle_count = sb_model_triangle_count(model);
-    size_t n = (size_t)d->vertex_count + 1, e = (size_t)d->edge_count + 1;
-    d->edges = malloc(2 * e * sizeof *d->edges);
+static bool allocate(sb_mesh_draw* d, const sb_model* model) {
+    size_t n = (size_t)d->capacity + 1, e = (size_t)sb_model_bond_count(model) + 1;
     d->rest = malloc(e * sizeof *d->rest);
-    d->positions = malloc(3 * n * sizeof *d->positions);
-    d->normals = malloc(3 * n * sizeof *d->normals);
+    d->uv = malloc(2 * n * sizeof *d->uv);
+    d->positions = calloc(3 * n, sizeof *d->positions);
+    d->normals = calloc(3 * n, sizeof *d->normals);
     d->strain_vertices = malloc(14 * e * sizeof *d->strain_vertices);
-    d->triangles = malloc(3 * ((size_t)d->triangle_count + 1) * sizeof *d->triangles);
-    if (!d->edges || !d->rest || !d->positions || !d->normals || !d->strain_vertices || !d->triangles) return false;
-    for (uint32_t k = 0; k < d->triangle_count; k++) sb_model_triangle(model, k, d->triangles + 3 * k);
-    for (uint32_t b = 0; b < d->edge_count; b++) {
-        sb_bond_info info = sb_model_bond(model, b);
-        d->edges[2 * b] = info.i, d->edges[2 * b + 1] = info.j;
-        d->rest[b] = (float)info.rest_length;
-    }
+    if (!d->rest || !d->uv || !d->positions || !d->normals || !d->strain_vertices) return false;
+    for (uint32_t b = 0; b + 1 < e; b++) d->rest[b] = (float)sb_model_bond(model, b).rest_length;
     return true;
 }
 
-sb_status sb_mesh_draw_create(sb_mesh_draw* d, const sb_model* model, sb_error* err) {
-    *d = (sb_mesh_draw){0};
-    float* uv = texture_coordinates(model);
-    if (!uv || !copy_topology(d, model)) {
-        free(uv);
-        sb_mesh_draw_free(d);
-        return sb_error_set(err, SB_ERR_NOMEM, "view: out of memory");
-    }
-    size_t n = d->vertex_count;
+static void make_buffers(sb_mesh_draw* d, const sb_model* model) {
+    size_t n = d->capacity, e = sb_model_bond_count(model), t = sb_model_triangle_count(model);
     glGenVertexArrays(1, &d->vao);
     glBindVertexArray(d->vao);
     d->positions_vbo = buffer(GL_ARRAY_BUFFER, NULL, 3 * n * sizeof(float), GL_STREAM_DRAW);
     attribute(d->positions_vbo, SB_ATTR_POSITION, 3, 0, 0);
     d->normals_vbo = buffer(GL_ARRAY_BUFFER, NULL, 3 * n * sizeof(float), GL_STREAM_DRAW);
     attribute(d->normals_vbo, SB_ATTR_NORMAL, 3, 0, 0);
-    d->uv_vbo = buffer(GL_ARRAY_BUFFER, uv, 2 * n * sizeof(float), GL_STATIC_DRAW);
+    d->uv_vbo = buffer(GL_ARRAY_BUFFER, NULL, 2 * n * sizeof(float), GL_STREAM_DRAW);
     attribute(d->uv_vbo, SB_ATTR_UV, 2, 0, 0);
-    free(uv);
-    d->triangles_ebo =
-        buffer(GL_ELEMENT_ARRAY_BUFFER, d->triangles, 3 * (size_t)d->triangle_count * sizeof(uint32_t), GL_STATIC_DRAW);
+    d->triangles_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 3 * t * sizeof(uint32_t), GL_STREAM_DRAW);
     glBindVertexArray(0);
-    d->edges_ebo =
-        buffer(GL_ELEMENT_ARRAY_BUFFER, d->edges, 2 * (size_t)d->edge_count * sizeof *d->edges, GL_STREAM_DRAW);
+    d->edges_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 2 * e * sizeof(uint32_t), GL_STREAM_DRAW);
     glGenVertexArrays(1, &d->strain_vao);
     glBindVertexArray(d->strain_vao);
-    d->strain_vbo = buffer(GL_ARRAY_BUFFER, NULL, 14 * (size_t)d->edge_count * sizeof(float), GL_STREAM_DRAW);
+    d->strain_vbo = buffer(GL_ARRAY_BUFFER, NULL, 14 * e * sizeof(float), GL_STREAM_DRAW);
     attribute(d->strain_vbo, SB_ATTR_POSITION, 3, 7 * sizeof(float), 0);
     attribute(d->strain_vbo, SB_ATTR_COLOR, 4, 7 * sizeof(float), 3 * sizeof(float));
     glBindVertexArray(0);
+}
+
+sb_status sb_mesh_draw_create(sb_mesh_draw* d, const sb_model* model, uint32_t capacity, sb_error* err) {
+    *d = (sb_mesh_draw){.capacity = capacity};
+    d->model_uv = texture_coordinates(model);
+    if (!d->model_uv || !allocate(d, model)) {
+        sb_mesh_draw_free(d);
+        return sb_error_set(err, SB_ERR_NOMEM, "view: out of memory");
+    }
+    make_buffers(d, model);
     d->texture = checker_texture();
     return SB_OK;
 }
@@ -127,13 +119,29 @@ void sb_mesh_draw_free(sb_mesh_draw* d) {
         glDeleteVertexArrays(1, &d->strain_vao);
         glDeleteTextures(1, &d->texture);
     }
-    free(d->edges);
     free(d->rest);
+    free(d->model_uv);
+    free(d->uv);
     free(d->positions);
     free(d->normals);
     free(d->strain_vertices);
-    free(d->triangles);
     *d = (sb_mesh_draw){0};
+}
+
+void sb_mesh_draw_topology(sb_mesh_draw* d, const sb_view_topology* t) {
+    d->topology = t;
+    d->triangle_count = t->triangle_count;
+    d->edge_count = t->edge_count;
+    for (uint32_t i = 0; i < t->vertex_count; i++)
+        memcpy(d->uv + 2 * i, d->model_uv + 2 * t->origins[i], 2 * sizeof *d->uv);
+    glBindBuffer(GL_ARRAY_BUFFER, d->uv_vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(2 * (size_t)t->vertex_count * sizeof(float)), d->uv);
+    glBindVertexArray(d->vao);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(3 * (size_t)t->triangle_count * sizeof(uint32_t)),
+                    t->triangles);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d->edges_ebo);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(2 * (size_t)t->edge_count * sizeof(uint32_t)), t->edges);
 }
 
 void sb_strain_color(double strain, double scale, float rgba[4]) {
@@ -149,45 +157,65 @@ void sb_strain_color(double strain, double scale, float rgba[4]) {
 static void compute_normals(sb_mesh_draw* d) {
     const float* x = d->positions;
     float* n = d->normals;
-    memset(n, 0, 3 * (size_t)d->vertex_count * sizeof *n);
+    memset(n, 0, 3 * (size_t)d->capacity * sizeof *n);
     for (uint32_t k = 0; k < d->triangle_count; k++) {
-        const uint32_t* t = d->triangles + 3 * k;
+        const uint32_t* t = d->topology->triangles + 3 * k;
         float a[3], b[3];
         for (int c = 0; c < 3; c++) a[c] = x[3 * t[1] + c] - x[3 * t[0] + c], b[c] = x[3 * t[2] + c] - x[3 * t[0] + c];
         float cr[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
         for (int v = 0; v < 3; v++)
             for (int c = 0; c < 3; c++) n[3 * t[v] + c] += cr[c];
     }
-    for (uint32_t i = 0; i < d->vertex_count; i++) {
+    for (uint32_t i = 0; i < d->capacity; i++) {
         float* ni = n + 3 * i;
         float len = sqrtf(ni[0] * ni[0] + ni[1] * ni[1] + ni[2] * ni[2]);
         for (int c = 0; c < 3 && len > 0; c++) ni[c] /= len;
     }
 }
 
-static double edge_strain(const sb_mesh_draw* d, uint32_t b) {
-    const float *p = d->positions + 3 * d->edges[2 * b], *q = d->positions + 3 * d->edges[2 * b + 1];
-    double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-    return d->rest[b] > 0 ? (sqrt(dx * dx + dy * dy + dz * dz) - d->rest[b]) / d->rest[b] : 0.0;
+/* Edge e's strain: its length over its bond's rest length, less 1. */
+static double edge_strain(const sb_mesh_draw* d, uint32_t e) {
+    const uint32_t* ends = d->topology->edges + 2 * e;
+    const float *p = d->positions + 3 * ends[0], *q = d->positions + 3 * ends[1];
+    double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], rest = d->rest[d->topology->bonds[e]];
+    return rest > 0 ? (sqrt(dx * dx + dy * dy + dz * dz) - rest) / rest : 0.0;
 }
 
-/* The strain lines: each bond's two ends in its colour. */
-static void fill_strain(sb_mesh_draw* d) {
+/* The colour scale's end: the 98th percentile of |strain| (a histogram of
+ * 256 bins up to the largest), so that a few wild edges of a tear do not
+ * wash out the rest. */
+static double strain_scale(const sb_mesh_draw* d) {
+    enum { BINS = 256 };
     double largest = 0.0;
-    for (uint32_t b = 0; b < d->edge_count; b++) largest = fmax(largest, fabs(edge_strain(d, b)));
-    d->strain_scale = fmax(largest, 1e-6);
+    for (uint32_t e = 0; e < d->edge_count; e++) largest = fmax(largest, fabs(edge_strain(d, e)));
+    if (!(largest > 1e-6)) return 1e-6;
+    uint32_t counts[BINS] = {0};
+    for (uint32_t e = 0; e < d->edge_count; e++) {
+        int bin = (int)(BINS * fabs(edge_strain(d, e)) / largest);
+        counts[bin < BINS ? bin : BINS - 1]++;
+    }
+    uint64_t seen = 0, wanted = (uint64_t)ceil(0.98 * d->edge_count);
+    int bin = 0;
+    while (bin < BINS - 1 && (seen += counts[bin]) < wanted) bin++;
+    return fmax(largest * (bin + 1) / BINS, 1e-6);
+}
+
+/* The strain lines: each edge's two ends in its colour. */
+static void fill_strain(sb_mesh_draw* d) {
+    d->strain_scale = strain_scale(d);
     for (uint32_t b = 0; b < d->edge_count; b++) {
         float rgba[4];
         sb_strain_color(edge_strain(d, b), d->strain_scale, rgba);
         for (int end = 0; end < 2; end++) {
             float* out = d->strain_vertices + 14 * (size_t)b + 7 * end;
-            memcpy(out, d->positions + 3 * d->edges[2 * b + end], 3 * sizeof *out);
+            memcpy(out, d->positions + 3 * d->topology->edges[2 * b + end], 3 * sizeof *out);
             memcpy(out + 3, rgba, sizeof rgba);
         }
     }
 }
 
-void sb_mesh_draw_update(sb_mesh_draw* d, const sb_real* positions, bool strain) {
+void sb_mesh_draw_update(sb_mesh_draw* d, const sb_real* positions, uint32_t count, bool strain) {
+    d->vertex_count = count < d->capacity ? count : d->capacity;
     for (size_t k = 0; k < 3 * (size_t)d->vertex_count; k++) d->positions[k] = (float)positions[k];
     compute_normals(d);
     size_t bytes = 3 * (size_t)d->vertex_count * sizeof(float);

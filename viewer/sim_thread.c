@@ -55,6 +55,9 @@ typedef struct sim_state {
     double window_wall, window_sim; /* the rate window's start */
     uint64_t window_steps;
     bool failed;
+    sb_view_topology topology; /* read here when the solver tears; handed over at an exchange */
+    uint32_t broken, vertices; /* what the last read saw */
+    bool tears, handed;        /* handed: the last read is in t->topology */
 } sim_state;
 
 static void apply_gravity(sb_sim_thread* t, const sb_sim_controls* c) {
@@ -128,6 +131,8 @@ static bool exchange(sb_sim_thread* t, sim_state* s, bool first) {
     measure(t, s, &t->report);
     fill_report(t, &t->report);
     if (s->failed) snprintf(t->report.failure, sizeof t->report.failure, "%s", sb_solver_error(t->sim->solver));
+    if (!s->handed) sb_view_topology_copy(&t->topology, &s->topology);
+    s->handed = true;
     pthread_mutex_unlock(&t->lock);
     bool was_running = !s->applied.paused && !s->applied.stopped;
     if (apply(t, s, &c)) sb_solver_publish(t->sim->solver, t->buffer);
@@ -164,6 +169,17 @@ static bool step(sb_sim_thread* t, sim_state* s, double dt, bool publish) {
     return status == SB_OK;
 }
 
+/* A tearing solver's topology read again when bonds broke or vertices split. */
+static void follow_tearing(sb_sim_thread* t, sim_state* s) {
+    const sb_solver* solver = t->sim->solver;
+    if (!s->tears || (sb_solver_broken_count(solver) == s->broken && sb_solver_vertex_count(solver) == s->vertices))
+        return;
+    s->broken = sb_solver_broken_count(solver);
+    s->vertices = sb_solver_vertex_count(solver);
+    sb_view_topology_read(&s->topology, solver);
+    s->handed = false;
+}
+
 /* Steps until the simulated time reaches the paced target or BATCH_WALL
  * has passed; the last step publishes. */
 static void batch(sb_sim_thread* t, sim_state* s) {
@@ -177,12 +193,17 @@ static void batch(sb_sim_thread* t, sim_state* s) {
         last = sb_solver_time(t->sim->solver) + 2 * dt > goal || now() - start >= BATCH_WALL;
         s->failed = !step(t, s, dt, last);
     }
+    follow_tearing(t, s);
 }
 
 static void* run(void* arg) {
     sb_sim_thread* t = arg;
-    sim_state s = {.window_wall = now(), .window_sim = sb_solver_time(t->sim->solver)};
-    s.scratch = malloc(3 * ((size_t)t->sim->mesh.vertex_count + 1) * sizeof *s.scratch);
+    const sb_solver* solver = t->sim->solver;
+    sim_state s = {.window_wall = now(), .window_sim = sb_solver_time(solver), .handed = true};
+    s.scratch = malloc(3 * ((size_t)sb_solver_vertex_capacity(solver) + 1) * sizeof *s.scratch);
+    s.tears = sb_solver_vertex_capacity(solver) > sb_model_vertex_count(sb_solver_model(solver));
+    if (s.tears && sb_view_topology_create(&s.topology, solver, NULL) != SB_OK) s.tears = false;
+    s.topology.version = t->topology.version; /* each read after it counts on from the start's */
     s.applied.pick = -1;
     s.wall_origin = now();
     for (bool first = true; exchange(t, &s, first); first = false) {
@@ -192,10 +213,13 @@ static void* run(void* arg) {
             batch(t, &s);
     }
     free(s.scratch);
+    sb_view_topology_free(&s.topology);
     return NULL;
 }
 
 sb_status sb_sim_thread_start(sb_sim_thread* t, sb_error* err) {
+    if (sb_view_topology_create(&t->topology, t->sim->solver, err) != SB_OK) return SB_ERR_NOMEM;
+    sb_view_topology_read(&t->topology, t->sim->solver);
     if (pthread_mutex_init(&t->lock, NULL) != 0) return sb_error_set(err, SB_ERR_NOMEM, "cannot make a mutex");
     sb_solver_publish(t->sim->solver, t->buffer);
     if (pthread_create(&t->thread, NULL, run, t) != 0) {
@@ -213,14 +237,19 @@ void sb_sim_thread_stop(sb_sim_thread* t) {
     pthread_mutex_unlock(&t->lock);
     pthread_join(t->thread, NULL);
     pthread_mutex_destroy(&t->lock);
+    sb_view_topology_free(&t->topology);
     t->started = false;
 }
 
-void sb_sim_thread_exchange(sb_sim_thread* t, const sb_sim_controls* controls, sb_sim_report* report) {
+bool sb_sim_thread_exchange(sb_sim_thread* t, const sb_sim_controls* controls, sb_sim_report* report,
+                            sb_view_topology* topology) {
     pthread_mutex_lock(&t->lock);
     bool quit = t->controls.quit;
     t->controls = *controls;
     t->controls.quit |= quit;
     *report = t->report;
+    bool changed = topology->version != t->topology.version;
+    if (changed) sb_view_topology_copy(topology, &t->topology);
     pthread_mutex_unlock(&t->lock);
+    return changed;
 }

@@ -8,6 +8,7 @@
 #define SB_VIEWER_SIM_THREAD_H
 
 #include "scenes/simulation.h"
+#include "viewer/topology.h"
 
 #include <pthread.h>
 
@@ -44,9 +45,10 @@ typedef struct sb_sim_thread {
     sb_haptic_device* mouse; /* the scene's "mouse" haptic device, or NULL */
     double tool_rest[3];     /* m: the tool's rest position, the device's origin */
     double realtime;         /* the pace: simulated seconds per wall second (0 = as fast as it can) */
-    pthread_mutex_t lock;    /* guards controls and report */
+    pthread_mutex_t lock;    /* guards controls, report and topology */
     sb_sim_controls controls;
     sb_sim_report report;
+    sb_view_topology topology; /* the latest handed over */
     pthread_t thread;
     bool started;
 } sb_sim_thread;
@@ -56,13 +58,17 @@ typedef struct sb_sim_thread {
 sb_handle* sb_sim_grab_handle(double stiffness, double damping, sb_error* err);
 
 /* Starts the thread on a prepared simulation (its solver made with the
- * grab handle attached) and a buffer for its vertices with room for one
- * reader. Controls already set in t->controls apply before the first step. */
+ * grab handle attached) and a buffer for its vertices' capacity with room
+ * for two held snapshots. Controls already set in t->controls apply before
+ * the first step. t->topology is the solver's from here on. */
 sb_status sb_sim_thread_start(sb_sim_thread* t, sb_error* err);
 /* Asks it to finish and joins it. */
 void sb_sim_thread_stop(sb_sim_thread* t);
 
-/* Render thread: copies the controls in and the report out, under the lock. */
-void sb_sim_thread_exchange(sb_sim_thread* t, const sb_sim_controls* controls, sb_sim_report* report);
+/* Render thread: copies the controls in and the report out, under the
+ * lock, and the topology into `topology` (made for the same solver) when it
+ * changed since `topology->version`; true then. */
+bool sb_sim_thread_exchange(sb_sim_thread* t, const sb_sim_controls* controls, sb_sim_report* report,
+                            sb_view_topology* topology);
 
 #endif

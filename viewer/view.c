@@ -47,6 +47,7 @@ typedef struct view_app {
     bool help, running;
     sb_sim_controls controls;
     sb_sim_report report;
+    sb_view_topology topology; /* what is drawn: the solver's at the start, then the simulation thread's */
     sb_input_script script;
     const sb_snapshot* shown;
     uint64_t shown_sequence;
@@ -107,7 +108,10 @@ static sb_status start_simulation(view_app* a, sb_error* err) {
     if (status != SB_OK) return status;
     a->sim.haptics.paced = false; /* the simulation thread paces itself */
     a->tool_index = mouse_tool(&a->sim);
-    if (!(a->buffer = sb_state_buffer_create(sb_model_vertex_count(a->sim.model), 2, err))) return SB_ERR_NOMEM;
+    uint32_t capacity = sb_solver_vertex_capacity(a->sim.solver);
+    if (!(a->buffer = sb_state_buffer_create(capacity, 2, err))) return SB_ERR_NOMEM;
+    if (sb_view_topology_create(&a->topology, a->sim.solver, err) != SB_OK) return SB_ERR_NOMEM;
+    sb_view_topology_read(&a->topology, a->sim.solver);
     a->thread = (sb_sim_thread){.sim = &a->sim, .buffer = a->buffer, .grab = a->grab, .realtime = a->options->realtime};
     if (a->tool_index >= 0) {
         a->thread.mouse = a->sim.haptics.device;
@@ -141,7 +145,9 @@ static sb_status start_drawing(view_app* a, sb_error* err) {
     a->camera = a->home = sb_camera_fit(lo, hi, up);
     a->flags = (sb_draw_flags){.edges = true, .faces = true};
     sb_status status = sb_shaders_build(&a->shaders, err);
-    if (status == SB_OK) status = sb_mesh_draw_create(&a->mesh, a->sim.model, err);
+    if (status == SB_OK)
+        status = sb_mesh_draw_create(&a->mesh, a->sim.model, sb_solver_vertex_capacity(a->sim.solver), err);
+    if (status == SB_OK) sb_mesh_draw_topology(&a->mesh, &a->topology);
     if (status == SB_OK) status = sb_collider_draw_create(&a->colliders, &a->sim.colliders, extent, center, err);
     if (status == SB_OK) status = sb_overlay_create(&a->overlay, err);
     glEnable(GL_DEPTH_TEST);
@@ -155,13 +161,13 @@ static void take_snapshot(view_app* a) {
     if (!s) return;
     if (a->shown && s->sequence == a->shown_sequence) {
         sb_state_buffer_release(a->buffer, s);
-        if (a->flags.strain) sb_mesh_draw_update(&a->mesh, a->shown->positions, true);
+        if (a->flags.strain) sb_mesh_draw_update(&a->mesh, a->shown->positions, a->shown->vertex_count, true);
         return;
     }
     if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
     a->shown = s;
     a->shown_sequence = s->sequence;
-    sb_mesh_draw_update(&a->mesh, s->positions, a->flags.strain);
+    sb_mesh_draw_update(&a->mesh, s->positions, s->vertex_count, a->flags.strain);
 }
 
 /* ---- the mouse ------------------------------------------------------------- */
@@ -263,7 +269,8 @@ static void key(view_app* a, sb_view_key k) {
     case SB_VKEY_ESCAPE: a->running = false; break;
     default: break;
     }
-    if (k == SB_VKEY_F3 && f->strain && a->shown) sb_mesh_draw_update(&a->mesh, a->shown->positions, true);
+    if (k == SB_VKEY_F3 && f->strain && a->shown)
+        sb_mesh_draw_update(&a->mesh, a->shown->positions, a->shown->vertex_count, true);
 }
 
 static void handle(view_app* a, const sb_view_event* e) {
@@ -389,7 +396,8 @@ static sb_status frame_loop(view_app* a, sb_error* err) {
         double start = now();
         events(a);
         take_snapshot(a);
-        sb_sim_thread_exchange(&a->thread, &a->controls, &a->report);
+        if (sb_sim_thread_exchange(&a->thread, &a->controls, &a->report, &a->topology))
+            sb_mesh_draw_topology(&a->mesh, &a->topology);
         draw(a);
         a->frames++;
         bool last = !a->running || (o->frames && a->frames >= o->frames);
@@ -445,6 +453,7 @@ static void finish(view_app* a) {
         sb_window_close(a->window);
     }
     sb_input_script_free(&a->script);
+    sb_view_topology_free(&a->topology);
     sb_error ignored;
     sb_scene_haptics_finish(&a->sim.haptics, &ignored);
     sb_simulation_free(&a->sim);

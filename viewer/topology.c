@@ -1,0 +1,63 @@
+/* The viewer's copy of a tearing solver's topology (viewer/topology.h). */
+#include "viewer/topology.h"
+#include "common/error.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct room {
+    size_t vertices, triangles, bonds;
+} room;
+
+static room room_of(const sb_solver* solver) {
+    const sb_model* m = sb_solver_model(solver);
+    return (room){sb_solver_vertex_capacity(solver) + 1, sb_model_triangle_count(m) + 1, sb_model_bond_count(m) + 1};
+}
+
+sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, sb_error* err) {
+    room r = room_of(solver);
+    *t = (sb_view_topology){0};
+    t->origins = malloc(r.vertices * sizeof *t->origins);
+    t->triangles = malloc(3 * r.triangles * sizeof *t->triangles);
+    t->edges = malloc(2 * r.bonds * sizeof *t->edges);
+    t->bonds = malloc(r.bonds * sizeof *t->bonds);
+    if (t->origins && t->triangles && t->edges && t->bonds) return SB_OK;
+    sb_view_topology_free(t);
+    return sb_error_set(err, SB_ERR_NOMEM, "view: out of memory for the topology");
+}
+
+void sb_view_topology_free(sb_view_topology* t) {
+    free(t->origins);
+    free(t->triangles);
+    free(t->edges);
+    free(t->bonds);
+    *t = (sb_view_topology){0};
+}
+
+void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver) {
+    const sb_model* m = sb_solver_model(solver);
+    t->vertex_count = sb_solver_vertex_count(solver);
+    for (uint32_t i = 0; i < t->vertex_count; i++) t->origins[i] = sb_solver_vertex_origin(solver, i);
+    t->triangle_count = 0;
+    for (uint32_t k = 0; k < sb_model_triangle_count(m); k++)
+        if (sb_solver_triangle_alive(solver, k))
+            sb_solver_triangle(solver, k, t->triangles + 3 * (size_t)t->triangle_count++);
+    t->edge_count = 0;
+    for (uint32_t b = 0; b < sb_model_bond_count(m); b++) {
+        if (sb_solver_bond_broken(solver, b)) continue;
+        sb_solver_bond(solver, b, t->edges + 2 * (size_t)t->edge_count);
+        t->bonds[t->edge_count++] = b;
+    }
+    t->version++;
+}
+
+void sb_view_topology_copy(sb_view_topology* to, const sb_view_topology* from) {
+    to->vertex_count = from->vertex_count;
+    to->triangle_count = from->triangle_count;
+    to->edge_count = from->edge_count;
+    to->version = from->version;
+    memcpy(to->origins, from->origins, from->vertex_count * sizeof *to->origins);
+    memcpy(to->triangles, from->triangles, 3 * (size_t)from->triangle_count * sizeof *to->triangles);
+    memcpy(to->edges, from->edges, 2 * (size_t)from->edge_count * sizeof *to->edges);
+    memcpy(to->bonds, from->bonds, from->edge_count * sizeof *to->bonds);
+}
