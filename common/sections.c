@@ -14,9 +14,11 @@ uint64_t sb_hash(uint64_t hash, const void* data, size_t size) {
     return hash;
 }
 
-/* Writes at offset when it fits (a counting writer never does). */
+/* Writes at offset when it fits (a counting writer never does; an empty
+ * array may be NULL). */
 static void sb_write_at(sb_sections_writer* w, size_t offset, const void* bytes, size_t size) {
-    if (w->data && offset <= w->capacity && size <= w->capacity - offset) memcpy(w->data + offset, bytes, size);
+    if (w->data && size > 0 && offset <= w->capacity && size <= w->capacity - offset)
+        memcpy(w->data + offset, bytes, size);
 }
 
 void sb_sections_put(sb_sections_writer* w, const void* bytes, size_t size) {
@@ -129,7 +131,7 @@ bool sb_sections_find(const sb_sections_reader* r, const char tag[4], sb_cursor*
 
 bool sb_cursor_take(sb_cursor* c, void* out, size_t size) {
     if (size > c->left) return false;
-    memcpy(out, c->at, size);
+    if (size > 0) memcpy(out, c->at, size); /* an empty array may be NULL */
     c->at += size;
     c->left -= size;
     return true;

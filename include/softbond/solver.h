@@ -228,11 +228,12 @@ SB_API sb_status sb_solver_set_gravity(sb_solver* solver, const double gravity[3
  * continues bitwise as if it had not stopped (kernels/solver_state.c says
  * what is in it: the state, the Verlet displacement, the clock and step
  * count, the adaptive step size and energy peak, the colliders' poses and
- * dynamic bodies, the handles, the broken bonds, the last step's
- * statistics and contact forces). A versioned format with a header (the
- * size of sb_real, the vertex count, a hash of the model and of the
- * definition's integrator, kernels, adaptive, self-contact, colliders and
- * handles) and a checksum; the layout is the host's byte order.
+ * dynamic bodies, the handles, the broken bonds and tearing's topology,
+ * the last step's statistics and contact forces). A versioned format with
+ * a header (the size of sb_real, the vertex count, a hash of the model and
+ * of the definition's integrator, kernels, adaptive, self-contact,
+ * colliders, handles and tearing's caps) and a checksum; the layout is the
+ * host's byte order.
  * sb_solver_state_size gives the bytes sb_solver_save_state writes into a
  * buffer at least that large. sb_solver_load_state reads them into a
  * solver made as the saving one was (the same model, colliders and handles
