@@ -135,9 +135,9 @@ def shapes():
 
 
 def map_on_table():
-    return scene("Map on table: a map falling onto a fixed table", (0.6, 1.6, -2.4, 0, 0.6, 0), [
-        mesh2("Table", box((0, 0.35, 0), (0.4, 0.35, 0.3), 5), FIXED, "0.55, 0.35, 0.2"),
-        mesh2("Map", grid(21, (-0.45, 0.9, -0.45), (0, 0, 0.9), (0.9, 0, 0)), free(300, 20, 0.5, 0.05, 0.3, 0),
+    return scene("Map on table: a map, tilted, falling flat onto a fixed table", (0.6, 1.6, -2.4, 0, 0.6, 0), [
+        mesh2("Table", box((0, 0.35, 0), (0.4, 0.35, 0.3), 2), FIXED, "0.55, 0.35, 0.2"),
+        mesh2("Map", grid(21, (-0.35, 0.8, -0.25), (0, 0.1, 0.5), (0.7, 0, 0)), free(300, 20, 0.5, 0.05, 0.3, 0),
               "0.95, 0.9, 0.7")])
 
 
