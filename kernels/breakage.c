@@ -43,6 +43,8 @@
 #include "kernels/breakage.h"
 #include "kernels/solver_internal.h"
 #include "kernels/topology.h"
+#include "kernels/cutting.h"
+#include "common/error.h"
 #include "common/edge_map.h"
 #include "common/error.h"
 
@@ -68,6 +70,7 @@ struct sb_breakage {
     sb_incidence triangles, hinges;
     /* tearing: NULL without it */
     sb_topology* topology;
+    sb_cutting* cutting;   /* the blades; NULL without */
     double* vertex_block;  /* live's vertex arrays, spare slots included */
     uint8_t* fixed;        /* live's */
     uint32_t* index_block; /* live's element indices */
@@ -166,23 +169,25 @@ static bool sb_incidences(sb_breakage* b, const sb_model* m) {
 }
 
 /* The spare vertex slots: def's max_splits, or by default one for every
- * 32 limited bonds (at least 256) but no more than the vertices on limited
- * bonds; none when max_splits < 0 or the model has no triangles. */
-static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, int32_t max_splits) {
-    if (max_splits < 0 || m->triangle_count == 0 || b->limited_count == 0) return 0;
+ * 32 bonds that can break (limited, or every bond with blades; at least
+ * 256) but no more than the vertices on them; none when max_splits < 0 or
+ * the model has no triangles. */
+static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
+    uint32_t breakable = def->blade_count ? m->bond_count : b->limited_count;
+    if (def->max_splits < 0 || m->triangle_count == 0 || breakable == 0) return 0;
     uint32_t room = UINT32_MAX / 8 - m->vertex_count;
-    if (max_splits > 0) return (uint32_t)max_splits < room ? (uint32_t)max_splits : room;
+    if (def->max_splits > 0) return (uint32_t)def->max_splits < room ? (uint32_t)def->max_splits : room;
     uint8_t* seen = calloc(m->vertex_count, 1);
     uint32_t on = 0;
-    for (uint32_t k = 0; seen && k < b->limited_count; k++) {
-        uint32_t ends[2] = {m->bond_i[b->limited[k]], m->bond_j[b->limited[k]]};
+    for (uint32_t k = 0; seen && k < breakable; k++) {
+        uint32_t bond = def->blade_count ? k : b->limited[k], ends[2] = {m->bond_i[bond], m->bond_j[bond]};
         for (int e = 0; e < 2; e++) {
             on += !seen[ends[e]];
             seen[ends[e]] = 1;
         }
     }
     free(seen);
-    uint32_t spare = b->limited_count / 32 < 256 ? 256 : b->limited_count / 32;
+    uint32_t spare = breakable / 32 < 256 ? 256 : breakable / 32;
     spare = spare < on ? spare : on;
     return spare < room ? spare : room;
 }
@@ -222,7 +227,7 @@ static bool sb_live_topology(sb_breakage* b, const sb_model* m, uint32_t spare) 
 
 /* Tearing, when the model can tear and def allows it. */
 static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
-    uint32_t spare = sb_spare_vertices(b, m, def->max_splits);
+    uint32_t spare = sb_spare_vertices(b, m, def);
     if (spare == 0) return true;
     if (!sb_live_topology(b, m, spare)) return false;
     free(b->forces); /* room for the spare vertices too */
@@ -235,22 +240,31 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
     return ok;
 }
 
-sb_breakage* sb_breakage_create(const sb_model* m, const sb_solver_def* def, bool* ok) {
-    if (!m->breakable) return NULL;
+sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
+    *out = NULL;
+    if (!m->breakable && def->blade_count == 0) return SB_OK;
     sb_breakage* b = calloc(1, sizeof *b);
+    sb_status status =
+        b && def->blade_count ? sb_cutting_create(def->blades, def->blade_count, &b->cutting, err) : SB_OK;
+    if (status != SB_OK) {
+        free(b);
+        return status;
+    }
     if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
     if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
         !sb_tearing_prepare(b, m, def)) {
         sb_breakage_destroy(b);
-        *ok = false;
-        return NULL;
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
     }
-    return b;
+    b->live.breakable = true; /* with blades too: per-slot constants in the fast model, zeroed as bonds go */
+    *out = b;
+    return SB_OK;
 }
 
 void sb_breakage_destroy(sb_breakage* b) {
     if (!b) return;
     sb_topology_destroy(b->topology);
+    sb_cutting_destroy(b->cutting);
     void* arrays[] = {b->forces,        b->constants,       b->limited,           b->min2,         b->max2,
                       b->broken,        b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element,
                       b->triangle_dead, b->hinge_dead,      b->vertex_block,      b->fixed,        b->index_block};
@@ -312,18 +326,27 @@ static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
     }
 }
 
-/* Breaks limited bond k; the callback too when `notify`. */
-static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k, bool notify) {
-    uint32_t bond = b->limited[k];
+/* Breaks bond `bond`; the callback too when `notify`. */
+static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify) {
     sb_model* m = &b->live;
-    b->min2[k] = -1.0;
-    b->max2[k] = INFINITY;
     b->broken[bond] = 1;
     b->broken_count++;
     m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
     if (s->fast) sb_fast_break_bond(s->fast, bond);
     sb_drop_elements(s, b, bond);
     if (notify && s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
+}
+
+/* Limited bond k past a limit: its limits never match again. */
+static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k, bool notify) {
+    b->min2[k] = -1.0;
+    b->max2[k] = INFINITY;
+    if (!b->broken[b->limited[k]]) sb_break_bond(s, b, b->limited[k], notify); /* a blade may have severed it */
+}
+
+static void sb_sever(void* solver, uint32_t bond) {
+    sb_solver* s = solver;
+    sb_break_bond(s, s->breakage, bond, true);
 }
 
 /* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
@@ -352,9 +375,11 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     if (!b) return SB_OK;
     const sb_real* p = sb_packed_positions(s);
     bool broke = sb_any_past(b, p);
-    if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
+    if (!broke && !b->cutting && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     for (uint32_t k = 0; broke && k < b->limited_count; k++)
         if (sb_past(b, p, k)) sb_break(s, b, k, true);
+    if (b->cutting)
+        broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->contact_dt, s->time, sb_sever, s) > 0;
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
@@ -370,8 +395,8 @@ sb_status sb_breakage_after_step(sb_solver* s) {
 
 void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
     sb_sections_put(w, &b->broken_count, sizeof b->broken_count);
-    for (uint32_t k = 0; k < b->limited_count; k++)
-        if (b->broken[b->limited[k]]) sb_sections_put(w, &b->limited[k], sizeof b->limited[k]);
+    for (uint32_t e = 0; e < b->live.bond_count; e++)
+        if (b->broken[e]) sb_sections_put(w, &e, sizeof e);
 }
 
 /* The position of bond in the limited list (in bond order), or UINT32_MAX. */
@@ -395,7 +420,8 @@ sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
         return sb_error_set(err, SB_ERR_PARSE, "the broken bonds' section has the wrong length");
     for (uint32_t q = 0; q < count; q++) {
         sb_cursor_take(&r, &bond, sizeof bond);
-        if (sb_limited_index(b, bond) == UINT32_MAX || (q > 0 && bond <= last))
+        bool breakable = bond < b->live.bond_count && (b->cutting || sb_limited_index(b, bond) != UINT32_MAX);
+        if (!breakable || (q > 0 && bond <= last))
             return sb_error_set(err, SB_ERR_PARSE, "broken bond %u is not a breakable bond of the model in order",
                                 bond);
         last = bond;
@@ -406,6 +432,11 @@ sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
 void sb_breakage_load(sb_solver* s, sb_cursor* r) {
     uint32_t count = 0, bond;
     sb_cursor_take(r, &count, sizeof count);
-    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++)
-        sb_break(s, s->breakage, sb_limited_index(s->breakage, bond), false);
+    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++) {
+        uint32_t k = sb_limited_index(s->breakage, bond);
+        if (k != UINT32_MAX)
+            sb_break(s, s->breakage, k, false);
+        else
+            sb_break_bond(s, s->breakage, bond, false); /* a blade severed it */
+    }
 }

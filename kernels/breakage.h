@@ -12,18 +12,19 @@
 
 typedef struct sb_breakage sb_breakage;
 
-/* At solver creation, before the fast model: for a breakable model, the
- * solver's working copy of it (its per-element constants the solver's own,
- * zeroed as bonds break) and the lists breaking needs; NULL otherwise
- * (*ok false when out of memory). */
-sb_breakage* sb_breakage_create(const sb_model* model, const sb_solver_def* def, bool* ok);
+/* At solver creation, before the fast model: for a breakable model or one
+ * with blades, the solver's working copy of it (its per-element constants
+ * the solver's own, zeroed as bonds break) and the lists breaking needs,
+ * in *out; NULL otherwise. Errors: a bad blade, out of memory. */
+sb_status sb_breakage_create(const sb_model* model, const sb_solver_def* def, sb_breakage** out, sb_error* err);
 void sb_breakage_destroy(sb_breakage* breakage);
 /* The model every kernel of the solver reads: the working copy. */
 const sb_model* sb_breakage_model(const sb_breakage* breakage);
 
 /* After an accepted (sub-)step: breaks the bonds whose length is past a
- * limit (in bond order, the callback for each), and when any broke,
- * evaluates the forces and energies again. */
+ * limit (in bond order, the callback for each), then those a blade crossed
+ * (kernels/cutting.c), splits where the surface came apart, and when any
+ * of these happened evaluates the forces and energies again. */
 sb_status sb_breakage_after_step(sb_solver* solver);
 
 /* The broken bonds, for the saved state (kernels/solver_state.c): written;

@@ -156,10 +156,12 @@ static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
 sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err) {
     if (sb_check_def(def, err) != SB_OK) return NULL;
     sb_solver* s = calloc(1, sizeof *s);
-    bool ok = s != NULL;
-    if (s) s->breakage = sb_breakage_create(model, def, &ok);
+    if (s && sb_breakage_create(model, def, &s->breakage, err) != SB_OK) {
+        free(s);
+        return NULL;
+    }
     if (s) s->model = s->breakage ? sb_breakage_model(s->breakage) : model; /* with tearing's spare vertices */
-    if (!ok || !sb_solver_allocate(s, s->model->vertex_count)) {
+    if (!s || !sb_solver_allocate(s, s->model->vertex_count)) {
         sb_solver_destroy(s);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory creating a solver for %u vertices", model->vertex_count);
         return NULL;

@@ -331,7 +331,8 @@ static sb_status open_output(run_job* job, sb_error* err) {
 static int execute(run_job* job, sb_error* err) {
     double start = now();
     job->log.broken_column = sb_scene_number(&job->sim.scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
-                             sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0;
+                             sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0 ||
+                             job->sim.blades.count > 0;
     if (open_output(job, err) != SB_OK) return SB_EXIT_FAILURE;
     if (sb_scene_haptics_start(&job->sim.haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;

@@ -106,12 +106,19 @@ typedef enum sb_scene_type {
       "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
       "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
     X(HANDLES, "handles", LIST, "[]",                                                                                  \
-      "vertices driven to a moving pose: a list of maps {name; vertices: [indices] or at: [x, y, z] with radius; "   \
-      "stiffness, damping (soft when stiffness > 0); path, interpolation; release_at} (scenes/handles.c)")            \
+      "vertices driven to a moving pose: a list of maps {name; vertices: [indices] or at: [x, y, z] with radius; "     \
+      "stiffness, damping (soft when stiffness > 0); path, interpolation; release_at} (scenes/handles.c)")             \
+    X(BLADES, "blades", LIST, "[]",                                                                                    \
+      "edges that cut the bonds they cross as they move: a list of maps {a, b: the ends, m; path, interpolation} "     \
+      "(scenes/blades.c)")                                                                                             \
+    X(TEARING_MAX_SPLITS, "tearing.max_splits", INTEGER, "0",                                                          \
+      "vertex copies tearing may make over the run (spare vertices reserved); 0 = default, -1 = no splitting")         \
+    X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0",                                        \
+      "vertex copies a step may make, the rest wait; 0 = default 256")                                                 \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0",                                                             \
-      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")           \
+      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")            \
     X(SELF_COLLISION, "self_collision", BOOL, "false",                                                                 \
-      "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "            \
+      "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "             \
       "contact.thickness > 0)")                                                                                        \
     X(HAPTICS_DEVICE, "haptics.device", STRING, "none",                                                                \
       "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view); README, \"Haptics\"")                   \
@@ -147,9 +154,9 @@ typedef enum sb_scene_type {
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
     X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \
       "J: stop when the total kinetic energy falls below it (not before stop.min_time); 0 = never")                    \
-    X(STOP_MIN_TIME, "stop.min_time", NUMBER, "0", "s: no kinetic-energy stop before this time")                      \
+    X(STOP_MIN_TIME, "stop.min_time", NUMBER, "0", "s: no kinetic-energy stop before this time")                       \
     X(STOP_MAX_TIME, "stop.max_time", NUMBER, "0",                                                                     \
-      "s: the watchdog, the run ends here at the latest; 0 = the duration")                                           \
+      "s: the watchdog, the run ends here at the latest; 0 = the duration")                                            \
     X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "simulated time between frames, s (>= dt)")                    \
     X(THREADS, "threads", INTEGER, "0", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")               \
     X(WAIT, "wait", STRING, "passive",                                                                                 \

@@ -13,6 +13,7 @@
 #include "scenes/colliders.h"
 #include "scenes/frame_export.h"
 #include "scenes/handles.h"
+#include "scenes/blades.h"
 #include "scenes/haptics.h"
 #include "scenes/pin.h"
 #include "scenes/scene_model.h"
@@ -81,6 +82,8 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_IMPLICIT_NEWTON_ITERATIONS, 1, 1000},
     {SB_KEY_IMPLICIT_CG_ITERATIONS, 1, 100000},
     {SB_KEY_PBD_ITERATIONS, 1, 100000},
+    {SB_KEY_TEARING_MAX_SPLITS, -1, INT32_MAX},
+    {SB_KEY_TEARING_MAX_SPLITS_PER_STEP, 0, INT32_MAX},
 };
 
 static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
@@ -246,6 +249,7 @@ sb_status sb_scene_validate(const sb_scene* scene, sb_error* err) {
     if (status == SB_OK) status = check_combinations(scene, err);
     if (status == SB_OK) status = sb_scene_colliders_check(scene, err);
     if (status == SB_OK) status = sb_scene_handles_check(scene, err);
+    if (status == SB_OK) status = sb_scene_blades_check(scene, err);
     if (status == SB_OK) status = sb_scene_haptics_check(scene, err);
     return status;
 }

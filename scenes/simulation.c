@@ -73,6 +73,8 @@ sb_status sb_simulation_prepare(sb_simulation* sim, const sb_cli_args* args, sb_
     if (status == SB_OK) status = make_colliders(sim, &sim->def, err);
     if (status == SB_OK) status = make_model(sim, args, &sim->def, err);
     if (status == SB_OK) status = make_handles(sim, &sim->def, err);
+    if (status == SB_OK) status = sb_scene_blades_read(&sim->scene, &sim->blades, err);
+    if (status == SB_OK) sb_scene_blades_attach(&sim->blades, &sim->def);
     if (status == SB_OK) status = sb_point_load_prepare(&sim->scene, sim->model, &sim->load, err);
     if (status == SB_OK) sb_point_load_attach(&sim->load, &sim->def);
     return status;
@@ -90,6 +92,7 @@ void sb_simulation_free(sb_simulation* sim) {
     sb_solver_destroy(sim->solver);
     sb_scene_colliders_free(&sim->colliders);
     sb_scene_handles_free(&sim->handles);
+    sb_scene_blades_free(&sim->blades);
     free(sim->attached);
     sb_model_destroy(sim->model);
     sb_mesh_free(&sim->mesh);

@@ -1,10 +1,11 @@
-/* A scene made ready to advance: its mesh, model, colliders, handles, point
+/* A scene made ready to advance: its mesh, model, colliders, handles, blades, point
  * load, haptic device and solver, as `softbond run`, `view` and `film` make
  * them from the same arguments. */
 #ifndef SB_SCENE_SIMULATION_H
 #define SB_SCENE_SIMULATION_H
 
 #include "scenes/cli.h"
+#include "scenes/blades.h"
 #include "scenes/colliders.h"
 #include "scenes/handles.h"
 #include "scenes/haptics.h"
@@ -18,6 +19,7 @@ typedef struct sb_simulation {
     sb_point_load load;           /* the solver's external force reads it */
     sb_scene_colliders colliders; /* the solver reads them: destroyed after it */
     sb_scene_handles handles;     /* the same */
+    sb_scene_blades blades;       /* copied by the solver */
     sb_handle** attached;         /* the scene's handles, then the caller's extra one */
     sb_scene_haptics haptics;     /* the device and the servo driving a tool (haptics.h) */
     sb_solver_def def;            /* the solver's settings, as prepared */

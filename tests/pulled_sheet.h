@@ -1,5 +1,6 @@
 /* A breakable sheet pulled apart by two hard handles on its first and last
- * rows, shared by tests/test_breakage.c and tests/test_tearing.c. */
+ * rows, and the pieces of a torn surface, shared by tests/test_breakage.c,
+ * tests/test_tearing.c and tests/test_cutting.c. */
 #ifndef SB_TEST_PULLED_SHEET_H
 #define SB_TEST_PULLED_SHEET_H
 
@@ -57,6 +58,25 @@ static inline void ps_destroy(sb_solver* solver, sb_handle* handles[2], sb_model
     sb_handle_destroy(handles[0]);
     sb_handle_destroy(handles[1]);
     sb_model_destroy(model);
+}
+
+static inline uint32_t ps_find(uint32_t* parent, uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+/* parent[] of the vertices joined by the live triangles. */
+static inline uint32_t* ps_components(const sb_solver* s) {
+    uint32_t n = sb_solver_vertex_count(s), triangles = sb_model_triangle_count(sb_solver_model(s));
+    uint32_t* parent = malloc(n * sizeof *parent);
+    for (uint32_t i = 0; i < n; i++) parent[i] = i;
+    for (uint32_t t = 0; t < triangles; t++) {
+        if (!sb_solver_triangle_alive(s, t)) continue;
+        uint32_t v[3];
+        sb_solver_triangle(s, t, v);
+        for (int c = 1; c < 3; c++) parent[ps_find(parent, v[c])] = ps_find(parent, v[0]);
+    }
+    return parent;
 }
 
 #endif

@@ -8,9 +8,9 @@
  * the bonds, triangles and hinges left whole (built independently from the
  * broken set); 1 and 2 threads break the same bonds at the same times and
  * end bitwise equal; bad limits are refused. The program: the committed
- * scenes/tearing_sheet.yaml breaks bonds (log.csv's broken column counts
- * up, the same for 1 and 2 threads), and bad break strains exit 2 naming
- * the line. */
+ * scenes/tearing_sheet.yaml and scenes/blade_cut.yaml break bonds
+ * (log.csv's broken column counts up, the same for 1 and 2 threads), and
+ * bad break strains, tearing caps and blades exit 2 naming the line. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
 #include "tests/test_files.h"
@@ -361,26 +361,39 @@ static double last_broken(const char* log) {
     return atof(comma + 1);
 }
 
-static void test_tearing_scene(void** state) {
-    (void)state;
+/* A committed scene's log.csv, shortened, run with 1 and 2 threads: the
+ * same, and bonds broken by its end. */
+static void check_scene_breaks(const char* scene, const char* duration) {
     char* logs[2];
     for (int threads = 1; threads <= 2; threads++) {
-        char dir[16], count[4], path[400];
+        char dir[16], count[4], path[400], scene_path[400];
         snprintf(dir, sizeof dir, "tear%d", threads);
         snprintf(count, sizeof count, "%d", threads);
-        tu_result r =
-            tu_run((const char*[]){"run", SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", "--set", "duration=0.5", "--set",
-                                   "output.frames=false", "--threads", count, "--output", dir, NULL});
+        snprintf(scene_path, sizeof scene_path, SB_SOURCE_DIR "/scenes/%s", scene);
+        tu_result r = tu_run((const char*[]){"run", scene_path, "--set", duration, "--set", "output.frames=false",
+                                             "--threads", count, "--output", dir, NULL});
         if (r.code != 0) fail_msg("%s", r.err);
         tu_result_free(&r);
         snprintf(path, sizeof path, "%s/log.csv", tu_tmp_path(dir));
         logs[threads - 1] = tu_read_file(path);
         assert_non_null(logs[threads - 1]);
     }
+    print_message("%s: %g bonds broken\n", scene, last_broken(logs[0]));
     assert_true(last_broken(logs[0]) > 0);
     assert_string_equal(logs[0], logs[1]);
     free(logs[0]);
     free(logs[1]);
+}
+
+static void test_tearing_scene(void** state) {
+    (void)state;
+    check_scene_breaks("tearing_sheet.yaml", "duration=0.5");
+}
+
+/* scenes/blade_cut.yaml: the blade half way up the sheet. */
+static void test_blade_scene(void** state) {
+    (void)state;
+    check_scene_breaks("blade_cut.yaml", "duration=0.4");
 }
 
 static void assert_scene_fails(const char* text, const char* message) {
@@ -397,6 +410,19 @@ static void test_bad_scene_strains(void** state) {
                        "bad.yaml:2: 'bond.break_strain' must be >= 0, got -0.1");
     assert_scene_fails("mesh: {nx: 3, ny: 3}\nfactory: springs\nsprings:\n  break_strain: many\n",
                        "bad.yaml:4: 'springs.break_strain' expects a number, got 'many'");
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\ntearing: {max_splits: -2}\n", "bad.yaml:2: 'tearing.max_splits' must be");
+}
+
+static void test_bad_scene_blades(void** state) {
+    (void)state;
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\nblades:\n  - {a: [0, 0, 0], b: [0, 0, 0]}\n",
+                       "bad.yaml:3: 'blades[0].b': the edge's ends a and b are the same point");
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\nblades:\n  - a: [0, 0, 0]\n", "bad.yaml:3: 'blades[0].b' is not set");
+    assert_scene_fails("mesh: {nx: 3, ny: 3}\nblades:\n  - {a: [0, 0, 0], b: [0, 0, 1], pth: []}\n",
+                       "bad.yaml:3: unknown key 'blades[0].pth' (did you mean 'blades[0].path'?)");
+    assert_scene_fails(
+        "mesh: {nx: 3, ny: 3}\nblades:\n  - {a: [0, 0, 0], b: [0, 0, 1]}\n  - {a: [0, 0], b: [0, 0, 1]}\n",
+        "bad.yaml:4: 'blades[1].a' expects a sequence of 3 numbers");
 }
 
 static int setup_dir(void** state) {
@@ -420,6 +446,8 @@ int main(void) {
         cmocka_unit_test(test_bad_limits_refused),
         cmocka_unit_test(test_tearing_scene),
         cmocka_unit_test(test_bad_scene_strains),
+        cmocka_unit_test(test_blade_scene),
+        cmocka_unit_test(test_bad_scene_blades),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -516,6 +516,11 @@ static void test_program_breaking(void** state) {
     check_program_resume("tearing_sheet.yaml", "0.6", (const char*[]){NULL}); /* bonds break from 0.4 s */
 }
 
+static void test_program_cutting(void** state) {
+    (void)state;
+    check_program_resume("blade_cut.yaml", "0.4", (const char*[]){"duration=0.6", NULL}); /* the blade half way */
+}
+
 static void assert_fails(const char* const* args, const char* message) {
     tu_result r = tu_run(args);
     char expected[700];
@@ -583,6 +588,7 @@ int main(void) {
         cmocka_unit_test(test_program_xpbd),
         cmocka_unit_test(test_program_handles),
         cmocka_unit_test(test_program_breaking),
+        cmocka_unit_test(test_program_cutting),
         cmocka_unit_test(test_program_refusals),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

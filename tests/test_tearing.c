@@ -41,25 +41,6 @@ static sb_solver_def kernels_def(sb_kernels kernels, int threads) {
     return def;
 }
 
-static uint32_t find(uint32_t* parent, uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-}
-
-/* parent[] of the vertices joined by the live triangles. */
-static uint32_t* components(const sb_solver* s) {
-    uint32_t n = sb_solver_vertex_count(s), triangles = sb_model_triangle_count(sb_solver_model(s));
-    uint32_t* parent = malloc(n * sizeof *parent);
-    for (uint32_t i = 0; i < n; i++) parent[i] = i;
-    for (uint32_t t = 0; t < triangles; t++) {
-        if (!sb_solver_triangle_alive(s, t)) continue;
-        uint32_t v[3];
-        sb_solver_triangle(s, t, v);
-        for (int c = 1; c < 3; c++) parent[find(parent, v[c])] = find(parent, v[0]);
-    }
-    return parent;
-}
-
 /* Every live triangle's vertices are below the vertex count, every
  * position finite, every vertex's origin a model vertex; returns the
  * vertex count. */
@@ -104,11 +85,11 @@ static void test_sheet_tears_in_two(void** state) {
         print_message("kernels %d: %u bonds broken, %u vertices made\n", kernels, sb_solver_broken_count(s),
                       n - SIDE * SIDE);
         assert_true(n > SIDE * SIDE);
-        uint32_t* parent = components(s);
-        uint32_t bottom = find(parent, r.rows[0][0]), top = find(parent, r.rows[1][0]);
+        uint32_t* parent = ps_components(s);
+        uint32_t bottom = ps_find(parent, r.rows[0][0]), top = ps_find(parent, r.rows[1][0]);
         for (uint32_t i = 1; i < SIDE; i++) { /* each row holds together */
-            assert_int_equal(find(parent, r.rows[0][i]), bottom);
-            assert_int_equal(find(parent, r.rows[1][i]), top);
+            assert_int_equal(ps_find(parent, r.rows[0][i]), bottom);
+            assert_int_equal(ps_find(parent, r.rows[1][i]), top);
         }
         assert_true(bottom != top);
         /* and the halves are apart: no vertex of the bottom's within 1 cm of the top's */
@@ -117,7 +98,7 @@ static void test_sheet_tears_in_two(void** state) {
         double nearest = INFINITY;
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t j = 0; j < n; j++)
-                if (find(parent, i) == bottom && find(parent, j) == top)
+                if (ps_find(parent, i) == bottom && ps_find(parent, j) == top)
                     nearest = fmin(nearest, tu_dist(x + 3 * i, x + 3 * j));
         print_message("kernels %d: the halves are %g m apart\n", kernels, nearest);
         assert_true(nearest > 0.01);

@@ -9,6 +9,7 @@
 #include "softbond/runtime.h"
 #include "softbond/collider.h"
 #include "softbond/handle.h"
+#include "softbond/blade.h"
 #include "softbond/reference.h"
 
 #ifdef __cplusplus
@@ -98,6 +99,11 @@ typedef struct sb_solver_def {
      * default 256, < 0 refused); the rest wait for the next steps, in order. */
     int32_t max_splits;
     int32_t max_splits_per_step;
+    /* Cutting (softbond/blade.h): blades that sever the bonds they cross;
+     * their definitions are copied. A model with blades can tear even
+     * without break limits (max_splits' default then counts every bond). */
+    const sb_blade_def* blades;
+    uint32_t blade_count;
     /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
