@@ -1,7 +1,7 @@
 /* A sparse matrix of 3 × 3 blocks with the pattern of a model's elements
- * (kernels/block_matrix.h): every element lists each ordered pair of its
- * vertices, each row's columns are sorted and made unique, in place in
- * arrays sized for every pair (so a rebuild after tearing never allocates). */
+ * (kernels/block_matrix.h): row i holds i and every vertex of every element
+ * at i, sorted and unique, in arrays with room for what tearing can add (so
+ * a rebuild never allocates). */
 #include "kernels/block_matrix.h"
 
 #include <stdlib.h>
@@ -12,73 +12,86 @@ static int sb_compare_u32(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
-/* Every element lists each ordered pair of its vertices: at most this many
- * blocks whatever the elements' vertices are (tearing re-points them). */
-static uint64_t sb_block_capacity(const sb_model* m) {
-    uint64_t capacity = m->vertex_count, count = sb_element_count(m);
-    for (uint64_t id = 0; id < count; id++) {
-        sb_element e = sb_element_at(m, id);
-        capacity += (uint64_t)e.count * (uint64_t)e.count;
+/* Row i's columns, sorted and unique, into out (the scratch); returns how many. */
+static uint32_t sb_row_columns(const sb_block_matrix* a, const sb_model* m, uint32_t i, uint32_t* out) {
+    const sb_vertex_elements* v = a->elements;
+    uint32_t count = 0;
+    out[count++] = i;
+    for (uint32_t k = v->start[i]; k < v->start[i + 1]; k++) {
+        sb_element e = sb_element_at(m, sb_entry_element(v->entry[k]));
+        for (int b = 0; b < e.count; b++) out[count++] = e.vertex[b];
     }
-    return capacity;
+    qsort(out, count, sizeof *out, sb_compare_u32);
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < count; k++)
+        if (k == 0 || out[k] != out[k - 1]) out[kept++] = out[k];
+    return kept;
 }
 
-sb_block_matrix* sb_block_matrix_create(const sb_model* m) {
-    uint32_t n = m->vertex_count;
-    uint64_t capacity = sb_block_capacity(m);
-    sb_block_matrix* a = calloc(1, sizeof *a);
-    if (!a || capacity > UINT32_MAX) {
-        free(a);
-        return NULL;
+/* The blocks of the current pattern and its longest row. */
+static uint64_t sb_pattern_size(const sb_block_matrix* a, const sb_model* m, uint32_t* longest) {
+    uint64_t total = 0;
+    *longest = 0;
+    for (uint32_t i = 0; i < a->rows; i++) {
+        uint32_t length = sb_row_columns(a, m, i, a->scratch);
+        total += length;
+        if (length > *longest) *longest = length;
     }
+    return total;
+}
+
+sb_block_matrix* sb_block_matrix_create(const sb_model* m, uint32_t spare) {
+    uint32_t n = m->vertex_count;
+    sb_block_matrix* a = calloc(1, sizeof *a);
+    if (!a) return NULL;
     a->rows = n;
-    a->row_start = malloc(((size_t)n + 1) * sizeof *a->row_start);
-    a->fill = malloc(((size_t)n + 1) * sizeof *a->fill);
-    a->diagonal = malloc((n ? n : 1) * sizeof *a->diagonal);
-    a->column = malloc(capacity * sizeof *a->column);
-    a->block = malloc(9 * capacity * sizeof *a->block);
-    if (!a->row_start || !a->fill || !a->diagonal || !a->column || !a->block) {
+    a->elements = sb_vertex_elements_create(m);
+    uint32_t widest = 1; /* the most candidates a row can have: 1 + 4 per element entry */
+    for (uint32_t i = 0; a->elements && i < n; i++) {
+        uint32_t width = 1 + 4 * (a->elements->start[i + 1] - a->elements->start[i]);
+        if (width > widest) widest = width;
+    }
+    a->scratch = malloc(widest * sizeof *a->scratch);
+    if (!a->elements || !a->scratch) {
         sb_block_matrix_destroy(a);
         return NULL;
     }
-    sb_block_matrix_rebuild(a, m);
+    /* A split of v adds at most two blocks per block of v's row, which is at
+     * most the longest row plus one per earlier split. */
+    uint32_t longest;
+    uint64_t capacity = sb_pattern_size(a, m, &longest) + 2 * (uint64_t)spare * ((uint64_t)longest + spare);
+    a->row_start = malloc(((size_t)n + 1) * sizeof *a->row_start);
+    a->diagonal = malloc((n ? n : 1) * sizeof *a->diagonal);
+    a->column = capacity <= UINT32_MAX ? malloc(capacity * sizeof *a->column) : NULL;
+    a->block = capacity <= UINT32_MAX ? malloc(9 * capacity * sizeof *a->block) : NULL;
+    a->capacity = (uint32_t)capacity;
+    if (!a->row_start || !a->diagonal || !a->column || !a->block || !sb_block_matrix_rebuild(a, m)) {
+        sb_block_matrix_destroy(a);
+        return NULL;
+    }
     return a;
 }
 
-void sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m) {
-    uint32_t n = a->rows, *start = a->fill, *columns = a->column;
-    uint64_t count = sb_element_count(m);
-    /* each row's candidates: itself, then every vertex of every element it is in */
-    memset(start, 0, ((size_t)n + 1) * sizeof *start);
-    for (uint64_t id = 0; id < count; id++) {
-        sb_element e = sb_element_at(m, id);
-        for (int v = 0; v < e.count; v++) start[e.vertex[v] + 1] += (uint32_t)e.count;
-    }
-    for (uint32_t i = 0; i < n; i++) start[i + 1] += start[i] + 1;
-    for (uint32_t i = 0; i < n; i++) { /* row_start: where each row's next candidate goes */
-        a->row_start[i] = start[i] + 1;
-        columns[start[i]] = i;
-    }
-    for (uint64_t id = 0; id < count; id++) {
-        sb_element e = sb_element_at(m, id);
-        for (int v = 0; v < e.count; v++)
-            for (int w = 0; w < e.count; w++) columns[a->row_start[e.vertex[v]]++] = e.vertex[w];
-    }
+bool sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m) {
+    sb_vertex_elements_rebuild(a->elements, m);
+    uint32_t longest;
+    if (sb_pattern_size(a, m, &longest) > a->capacity) return false;
     uint32_t kept = 0;
-    for (uint32_t i = 0; i < n; i++) { /* sort each row and keep its unique columns, in place */
-        uint32_t first = start[i], length = a->row_start[i] - first;
-        qsort(columns + first, length, sizeof *columns, sb_compare_u32);
+    for (uint32_t i = 0; i < a->rows; i++) {
         a->row_start[i] = kept;
-        for (uint32_t k = 0; k < length; k++)
-            if (k == 0 || columns[first + k] != columns[first + k - 1]) columns[kept++] = columns[first + k];
+        uint32_t length = sb_row_columns(a, m, i, a->scratch);
+        memcpy(a->column + kept, a->scratch, length * sizeof *a->column);
+        kept += length;
     }
-    a->row_start[n] = kept;
-    for (uint32_t i = 0; i < n; i++) a->diagonal[i] = (uint32_t)((sb_block_matrix_at(a, i, i) - a->block) / 9);
+    a->row_start[a->rows] = kept;
+    for (uint32_t i = 0; i < a->rows; i++) a->diagonal[i] = (uint32_t)((sb_block_matrix_at(a, i, i) - a->block) / 9);
+    return true;
 }
 
 void sb_block_matrix_destroy(sb_block_matrix* a) {
     if (!a) return;
-    free(a->row_start), free(a->fill), free(a->column), free(a->diagonal), free(a->block);
+    free(a->row_start), free(a->column), free(a->diagonal), free(a->block), free(a->scratch);
+    sb_vertex_elements_destroy(a->elements);
     free(a);
 }
 

@@ -6,22 +6,26 @@
 #ifndef SB_BLOCK_MATRIX_H
 #define SB_BLOCK_MATRIX_H
 
-#include "kernels/hessian.h"
+#include "kernels/vertex_elements.h"
 
 typedef struct sb_block_matrix {
     uint32_t rows;
     uint32_t* row_start; /* rows + 1 */
-    uint32_t* fill;      /* rows + 1: the rebuild's work space */
     uint32_t* column;    /* per block */
     uint32_t* diagonal;  /* per row: its (i, i) block */
     double* block;       /* 9 per block, row-major */
+    uint32_t capacity;   /* blocks the arrays hold */
+    sb_vertex_elements* elements;
+    uint32_t* scratch; /* one row's candidate columns */
 } sb_block_matrix;
 
-/* The pattern of m's elements (and every diagonal block); NULL when out of memory. */
-sb_block_matrix* sb_block_matrix_create(const sb_model* m);
-/* The pattern again, after the elements' vertices changed (tearing);
- * the values are undefined until zeroed. Never allocates. */
-void sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m);
+/* The pattern of m's elements (and every diagonal block), with room for
+ * what `spare` vertex splits (tearing) can add; NULL when out of memory. */
+sb_block_matrix* sb_block_matrix_create(const sb_model* m, uint32_t spare);
+/* The pattern again, after the elements' vertices changed (tearing); the
+ * values are undefined until zeroed. Never allocates; false (and the
+ * pattern unchanged) if it would pass the room reserved. */
+bool sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m);
 void sb_block_matrix_destroy(sb_block_matrix* a);
 
 void sb_block_matrix_zero(sb_block_matrix* a);

@@ -232,7 +232,7 @@ bool sb_implicit_prepare(sb_solver* s) {
     if (!im) return false;
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
-    im->matrix = sb_block_matrix_create(s->model);
+    im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - sb_solver_vertex_count(s));
     im->pattern_vertices = sb_solver_vertex_count(s);
     return im->work && im->inverse_blocks && im->matrix;
 }
@@ -249,11 +249,7 @@ void sb_implicit_destroy(sb_solver* s) {
 /* The step's start; a vertex a hard handle holds gets the Δv that puts it
  * at its target, and the mask keeps it there. */
 static sb_newton sb_newton_init(sb_solver* s, double dt) {
-    struct sb_implicit* im = s->implicit;
-    if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
-        sb_block_matrix_rebuild(im->matrix, s->model);
-        im->pattern_vertices = sb_solver_vertex_count(s);
-    }
+    const struct sb_implicit* im = s->implicit;
     sb_newton w = {.s = s,
                    .n3 = 3 * (size_t)s->model->vertex_count,
                    .dt = dt,
@@ -291,6 +287,13 @@ static void sb_store_state(sb_solver* s, const sb_newton* w) {
 }
 
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
+    struct sb_implicit* im = s->implicit;
+    if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
+        if (!sb_block_matrix_rebuild(im->matrix, s->model))
+            return sb_error_set(&s->error, SB_ERR_NOMEM,
+                                "implicit_euler: the torn surface's matrix outgrew its reserve");
+        im->pattern_vertices = sb_solver_vertex_count(s);
+    }
     sb_newton w = sb_newton_init(s, dt);
     const double tolerance = s->def.implicit_tolerance > 0 ? s->def.implicit_tolerance : 1e-8;
     const int newton_cap = s->def.implicit_newton_iterations > 0 ? s->def.implicit_newton_iterations : 20;

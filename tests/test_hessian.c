@@ -138,7 +138,7 @@ static void test_assembled_matrix_product(void** state) {
     double* assembled_product = malloc(n3 * sizeof *assembled_product);
     tu_rng rng = {19};
     for (size_t k = 0; k < n3; k++) p[k] = tu_uniform(&rng, -1, 1);
-    sb_block_matrix* a = sb_block_matrix_create(m);
+    sb_block_matrix* a = sb_block_matrix_create(m, 0);
     assert_non_null(a);
     sb_block_matrix_zero(a);
     double k[144];
