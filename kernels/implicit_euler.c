@@ -273,19 +273,6 @@ static sb_newton sb_newton_init(sb_solver* s, double dt) {
     return w;
 }
 
-static void sb_store_state(sb_solver* s, const sb_newton* w) {
-    sb_state* st = &s->state;
-    sb_real* pos[3] = {st->x, st->y, st->z};
-    sb_real* vel[3] = {st->vx, st->vy, st->vz};
-    for (uint32_t i = 0; i < st->vertex_count; i++) {
-        if (s->model->fixed[i]) continue;
-        for (int c = 0; c < 3; c++) {
-            pos[c][i] = (sb_real)w->a[W_XT][3 * i + c];
-            vel[c][i] = (sb_real)w->a[W_VT][3 * i + c];
-        }
-    }
-}
-
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     struct sb_implicit* im = s->implicit;
     if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
@@ -317,7 +304,7 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
         s->stats.newton_iterations++;
     }
     if (!converged) s->stats.converged = false;
-    sb_store_state(s, &w);
+    sb_store_free_vertices(s, w.a[W_XT], w.a[W_VT]);
     s->has_displacement = false;
     return sb_solver_compute_forces(s);
 }

@@ -16,9 +16,15 @@
  * has run away: no stable simulation of a soft body goes there. */
 #define SB_RUNAWAY_DIAMETERS 1e6
 
-static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {
-    "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler", "position_verlet", "implicit_euler", "pbd",
-    "xpbd"};
+static const char* const sb_integrator_names[SB_INTEGRATOR_COUNT] = {"verlet",
+                                                                     "velocity_verlet",
+                                                                     "explicit_euler",
+                                                                     "symplectic_euler",
+                                                                     "position_verlet",
+                                                                     "implicit_euler",
+                                                                     "pbd",
+                                                                     "xpbd",
+                                                                     "vbd"};
 
 const char* sb_integrator_name(sb_integrator integrator) {
     return (unsigned)integrator < SB_INTEGRATOR_COUNT ? sb_integrator_names[integrator] : "unknown";
@@ -41,6 +47,7 @@ sb_solver_def sb_default_solver_def(void) {
                            .implicit_newton_iterations = 20,
                            .implicit_cg_iterations = 200,
                            .pbd_iterations = 10,
+                           .vbd_iterations = 10,
                            .runtime = sb_default_runtime_def(),
                            .min_dt = 1e-9};
 }
@@ -72,6 +79,7 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->weight4);
     free(s->external);
     sb_implicit_destroy(s);
+    sb_vbd_destroy(s->vbd);
     free(s->stretch4);
     sb_pbd_destroy(s->pbd);
     sb_backup_destroy(s->backup);
@@ -113,6 +121,8 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "implicit tolerance and iteration caps must be >= 0");
     if (def->pbd_iterations < 0)
         return sb_error_set(err, SB_ERR_INVALID, "pbd_iterations must be >= 0 (got %d)", def->pbd_iterations);
+    if (def->vbd_iterations < 0)
+        return sb_error_set(err, SB_ERR_INVALID, "vbd_iterations must be >= 0 (got %d)", def->vbd_iterations);
     if (def->adaptive && !(def->min_dt > 0.0 && isfinite(def->min_dt)))
         return sb_error_set(err, SB_ERR_INVALID, "min_dt must be positive and finite (got %g)", def->min_dt);
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)
@@ -143,6 +153,7 @@ static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
         ok &= (s->external = calloc(3 * (size_t)m->vertex_count + 1, sizeof(double))) != NULL;
     if (!s->fast) ok &= (s->stretch4 = malloc((4 * (size_t)m->vertex_count + 1) * sizeof(sb_real))) != NULL;
     if (s->def.integrator == SB_INTEGRATOR_IMPLICIT_EULER) ok &= sb_implicit_prepare(s);
+    if (s->def.integrator == SB_INTEGRATOR_VBD) ok &= sb_vbd_prepare(s);
     if (ok && (s->def.integrator == SB_INTEGRATOR_PBD || s->def.integrator == SB_INTEGRATOR_XPBD) &&
         sb_pbd_prepare(s) != SB_OK) {
         if (err) *err = s->error;
@@ -243,6 +254,7 @@ static sb_status sb_integrate(sb_solver* s, double dt) {
     case SB_INTEGRATOR_IMPLICIT_EULER: return sb_integrate_implicit_euler(s, dt);
     case SB_INTEGRATOR_PBD:
     case SB_INTEGRATOR_XPBD: return sb_integrate_pbd(s, dt);
+    case SB_INTEGRATOR_VBD: return sb_integrate_vbd(s, dt);
     default: return sb_error_set(&s->error, SB_ERR_INVALID, "unknown integrator %d", (int)s->def.integrator);
     }
 }
@@ -518,6 +530,19 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
         out[3 * i] = a[i];
         out[3 * i + 1] = b[i];
         out[3 * i + 2] = c[i];
+    }
+}
+
+void sb_store_free_vertices(sb_solver* s, const double* x, const double* v) {
+    sb_state* st = &s->state;
+    sb_real* pos[3] = {st->x, st->y, st->z};
+    sb_real* vel[3] = {st->vx, st->vy, st->vz};
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        if (s->model->fixed[i]) continue;
+        for (int c = 0; c < 3; c++) {
+            pos[c][i] = (sb_real)x[3 * (size_t)i + c];
+            vel[c][i] = (sb_real)v[3 * (size_t)i + c];
+        }
     }
 }
 

@@ -28,12 +28,12 @@ struct sb_solver {
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
-    double* external;         /* 3n: the external forces of the last evaluation (NULL without a callback) */
-    struct sb_backup* backup; /* adaptive stepping: the state before a sub-step */
-    double trial_substep;     /* adaptive: the size the next sub-step tries (0: the whole dt) */
-    double energy_peak;       /* adaptive: the largest energy scale since the state was set */
+    double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
+    struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
+    double trial_substep;         /* adaptive: the size the next sub-step tries (0: the whole dt) */
+    double energy_peak;           /* adaptive: the largest energy scale since the state was set */
     struct sb_implicit* implicit; /* implicit Euler's matrix and work vectors (kernels/implicit_euler.c) */
-    sb_real* stretch4;        /* the blow-up rule's packed copy of the positions (generic integrators) */
+    sb_real* stretch4;            /* the blow-up rule's packed copy of the positions (generic integrators) */
     /* contact (kernels/contact.c); NULL without colliders */
     double* contact_from;     /* 3n: positions at the start of a step the fused path does not take */
     double* contact_partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
@@ -45,6 +45,7 @@ struct sb_solver {
     bool publish_written;
     double advance_dt;            /* s, the last advance's dt */
     struct sb_pbd* pbd;           /* pbd, xpbd: colored constraints and work arrays */
+    struct sb_vbd* vbd;           /* vbd: the vertex colors and work arrays (kernels/vbd.c) */
     struct sb_self_contact* self; /* self-contact (kernels/self_contact.c); NULL when off */
     /* handles (kernels/handle.c) */
     bool soft_handles;       /* a soft one among def.handles: its forces join the external ones */
@@ -134,6 +135,9 @@ sb_status sb_solver_advance_into(sb_solver* solver, double dt, sb_real* position
 
 /* out[3i..3i+2] = (a[i], b[i], c[i]): SoA to interleaved doubles. */
 void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_real* c, uint32_t n);
+/* The state's positions and velocities from interleaved doubles, on every
+ * vertex that is not fixed (an implicit integrator's result). */
+void sb_store_free_vertices(sb_solver* solver, const double* x, const double* v);
 
 /* The fast kernels' counterparts (kernels/solver_fast.c). */
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
@@ -158,6 +162,12 @@ sb_status sb_integrate_implicit_euler(sb_solver* solver, double dt);
 /* Allocates implicit Euler's work arrays; false when out of memory. */
 bool sb_implicit_prepare(sb_solver* solver);
 void sb_implicit_destroy(sb_solver* solver);
+/* vbd (kernels/vbd.c): prepare allocates everything a step needs. */
+sb_status sb_integrate_vbd(sb_solver* solver, double dt);
+bool sb_vbd_prepare(sb_solver* solver);
+void sb_vbd_destroy(struct sb_vbd* vbd);
+int sb_vbd_iterations(const sb_solver_def* def);
+
 /* pbd and xpbd (kernels/pbd.c). */
 sb_status sb_integrate_pbd(sb_solver* solver, double dt);
 /* Colors the constraints and allocates the work arrays (at creation). */

@@ -137,7 +137,7 @@ typedef enum sb_scene_type {
       "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
     X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
-      "implicit_euler, pbd or xpbd")                                                                                   \
+      "implicit_euler, pbd, xpbd or vbd")                                                                              \
     X(ADAPTIVE, "adaptive", BOOL, "false",                                                                             \
       "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")                    \
     X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                                          \
@@ -148,8 +148,9 @@ typedef enum sb_scene_type {
     X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
     X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false",                                                           \
-      "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                       \
+      "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                        \
     X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
+    X(VBD_ITERATIONS, "vbd.iterations", INTEGER, "10", "vbd: Gauss-Seidel sweeps over the vertex colors per step")     \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
     X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \

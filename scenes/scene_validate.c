@@ -84,6 +84,7 @@ static const integer_rule integer_rules[] = {
     {SB_KEY_PBD_ITERATIONS, 1, 100000},
     {SB_KEY_TEARING_MAX_SPLITS, -1, INT32_MAX},
     {SB_KEY_TEARING_MAX_SPLITS_PER_STEP, 0, INT32_MAX},
+    {SB_KEY_VBD_ITERATIONS, 1, 100000},
 };
 
 static sb_status check_number(const sb_scene* scene, const number_rule* rule, sb_error* err) {
@@ -140,7 +141,7 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
                              "'integrator' must be verlet, velocity_verlet, position_verlet, "
-                             "symplectic_euler, explicit_euler, implicit_euler, pbd or xpbd, got '%s'",
+                             "symplectic_euler, explicit_euler, implicit_euler, pbd, xpbd or vbd, got '%s'",
                              sb_scene_string(scene, SB_KEY_INTEGRATOR));
     static const char* const factories[] = {"molecular", "springs", "net", NULL};
     static const char* const materials[] = {"liver", "gallbladder", NULL};

@@ -277,7 +277,7 @@ static void test_validation_names_where_the_value_was_set(void** state) {
                       "1: 'mesh.generator' must be sheet, icosphere or file, got 'cube'");
     assert_load_fails("v7.yaml", "integrator: rk4\n",
                       "1: 'integrator' must be verlet, velocity_verlet, position_verlet, "
-                      "symplectic_euler, explicit_euler, implicit_euler, pbd or xpbd, got 'rk4'");
+                      "symplectic_euler, explicit_euler, implicit_euler, pbd, xpbd or vbd, got 'rk4'");
     assert_load_fails("v7b.yaml", "adaptive: true\nmin_dt: 0\n", "2: 'min_dt' must be > 0, got 0");
     assert_load_fails("v8.yaml", "kernels: gpu\n", "1: 'kernels' must be reference or fast, got 'gpu'");
     assert_load_fails("v9.yaml", "mesh:\n  generator: file\n",

@@ -25,11 +25,12 @@ typedef enum sb_integrator {
     SB_INTEGRATOR_IMPLICIT_EULER,   /* backward Euler, Newton-Raphson with matrix-free CG */
     SB_INTEGRATOR_PBD,              /* position-based: predict, project bond and corner constraints */
     SB_INTEGRATOR_XPBD,             /* its compliant form: compliance 1/k, λ accumulated */
+    SB_INTEGRATOR_VBD,              /* Vertex Block Descent: per-vertex Newton steps on backward Euler's potential */
     SB_INTEGRATOR_COUNT
 } sb_integrator;
 
 /* "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
- * "position_verlet", "implicit_euler", "pbd", "xpbd". */
+ * "position_verlet", "implicit_euler", "pbd", "xpbd", "vbd". */
 SB_API const char* sb_integrator_name(sb_integrator integrator);
 /* Returns false when the name is unknown. */
 SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
@@ -119,6 +120,9 @@ typedef struct sb_solver_def {
     /* pbd, xpbd: constraint projection sweeps per step (0 = default 10);
      * see kernels/pbd.c for the constraints and the stiffness mapping. */
     int pbd_iterations;
+    /* vbd: Gauss-Seidel sweeps over the vertex colors per step (0 = default
+     * 10); see kernels/vbd.c. */
+    int vbd_iterations;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
      * external forces exceeds adaptive_tolerance × (the largest sum of the

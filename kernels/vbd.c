@@ -1,0 +1,287 @@
+/* Vertex Block Descent (Chen, Liu, Yang and Yuksel, ACM TOG 2024),
+ * integrator `vbd`.
+ *
+ * A step minimises backward Euler's incremental potential
+ *   G(x) = Σ_i m_i/(2 dt²) |x_i − y_i|² + E(x),  y = x⁰ + dt v⁰ + dt² (g + f_ext/m),
+ * by block coordinate descent: each vertex in turn takes one Newton step on
+ * G with every other vertex held, a 3 × 3 solve
+ *   H_i Δx_i = −g_i,  H_i = m_i/dt² I + Σ_e K_e,ii (+ damping),
+ *   g_i = m_i/dt² (x_i − y_i) − Σ_e f_e,i(x),
+ * with each incident element's force and diagonal block from the terms'
+ * dual forces (kernels/hessian.h: three seeds on the vertex's own
+ * coordinates). A vertex whose H_i is not positive definite keeps its
+ * position for that sweep (as the paper does). vbd_iterations sweeps run
+ * per step; v = (x − x⁰)/dt at the end. Converged, it is backward Euler.
+ *
+ * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
+ * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External
+ * forces and soft handles are taken at the start of the step (in y);
+ * vertices a hard handle holds sit at their targets and are not moved.
+ *
+ * Parallel and deterministic: the vertices are colored so that no two of a
+ * color share an element (greedy, in vertex order); the vertices of one
+ * color depend only on other colors, so they are updated at once, split
+ * over the team, with a barrier between colors. Each update reads and
+ * writes the same values whatever the split: the state is bitwise the same
+ * for any thread count. Tearing: a vertex split off keeps its origin's
+ * color (it shares elements only with vertices its origin shared them
+ * with), and the elements at each vertex and the color lists are rebuilt in
+ * place when the vertex count changed. Runs in double on the scalar
+ * reference's terms with either kernel choice; the new state's forces and
+ * energies come from the chosen kernels. */
+#include "kernels/solver_internal.h"
+#include "kernels/handle_internal.h"
+#include "kernels/vertex_elements.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct sb_vbd {
+    sb_vertex_elements* elements;
+    uint32_t *color, *color_start, *order; /* per vertex; colors + 1; vertices by color */
+    uint32_t color_count;
+    uint32_t built_vertices; /* sb_solver_vertex_count when the lists were built */
+    double *x, *x0, *y;      /* 3n each */
+    double* previous_v;      /* 3n: the velocities at the start of the last step */
+    bool has_previous;
+};
+
+typedef struct sb_vbd_job {
+    const sb_solver* s;
+    struct sb_vbd* vbd;
+    double dt;
+    int iterations;
+} sb_vbd_job;
+
+int sb_vbd_iterations(const sb_solver_def* def) { return def->vbd_iterations > 0 ? def->vbd_iterations : 10; }
+
+/* Greedy coloring in vertex order: the smallest color no earlier neighbour
+ * (a vertex sharing an element) has; `used` marks colors per vertex. */
+static void sb_vbd_color(struct sb_vbd* v, const sb_model* m, uint32_t* used) {
+    const sb_vertex_elements* at = v->elements;
+    v->color_count = 0;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        for (uint32_t k = at->start[i]; k < at->start[i + 1]; k++) {
+            sb_element e = sb_element_at(m, sb_entry_element(at->entry[k]));
+            for (int b = 0; b < e.count; b++)
+                if (e.vertex[b] < i) used[v->color[e.vertex[b]]] = i + 1;
+        }
+        uint32_t c = 0;
+        while (used[c] == i + 1) c++;
+        v->color[i] = c;
+        if (c + 1 > v->color_count) v->color_count = c + 1;
+    }
+}
+
+/* The vertices that move (not fixed, not dormant), by color, in vertex order
+ * within a color: a counting sort. */
+static void sb_vbd_order(struct sb_vbd* v, const sb_model* m) {
+    memset(v->color_start, 0, ((size_t)v->color_count + 1) * sizeof *v->color_start);
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        if (!m->fixed[i]) v->color_start[v->color[i] + 1]++;
+    for (uint32_t c = 0; c < v->color_count; c++) v->color_start[c + 1] += v->color_start[c];
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        if (!m->fixed[i]) v->order[v->color_start[v->color[i]]++] = i;
+    for (uint32_t c = v->color_count; c > 0; c--) v->color_start[c] = v->color_start[c - 1];
+    v->color_start[0] = 0;
+}
+
+void sb_vbd_destroy(struct sb_vbd* v) {
+    if (!v) return;
+    sb_vertex_elements_destroy(v->elements);
+    free(v->color), free(v->color_start), free(v->order), free(v->x), free(v->x0), free(v->y), free(v->previous_v);
+    free(v);
+}
+
+bool sb_vbd_prepare(sb_solver* s) {
+    const sb_model* m = s->model;
+    size_t n = m->vertex_count, n3 = 3 * n + 1;
+    struct sb_vbd* v = calloc(1, sizeof *v);
+    s->vbd = v;
+    if (!v) return false;
+    v->elements = sb_vertex_elements_create(m);
+    v->color = calloc(n + 1, sizeof *v->color);
+    v->order = malloc((n + 1) * sizeof *v->order);
+    v->x = malloc(n3 * sizeof *v->x), v->x0 = malloc(n3 * sizeof *v->x0), v->y = malloc(n3 * sizeof *v->y);
+    v->previous_v = malloc(n3 * sizeof *v->previous_v);
+    /* a vertex has fewer neighbours than 4 per element entry: so many colors at most */
+    size_t widest = 1;
+    for (size_t i = 0; v->elements && i < n; i++)
+        if (4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1 > widest)
+            widest = 4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1;
+    uint32_t* used = calloc(widest + 1, sizeof *used);
+    bool ok = v->elements && v->color && v->order && v->x && v->x0 && v->y && v->previous_v && used;
+    if (ok) sb_vbd_color(v, m, used);
+    free(used);
+    ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
+    if (ok) sb_vbd_order(v, m);
+    v->built_vertices = sb_solver_vertex_count(s);
+    return ok;
+}
+
+/* After tearing split vertices: the new ones take their origin's color. */
+static void sb_vbd_follow_topology(sb_solver* s, struct sb_vbd* v) {
+    uint32_t count = sb_solver_vertex_count(s);
+    if (count == v->built_vertices) return;
+    for (uint32_t i = v->built_vertices; i < count; i++) v->color[i] = v->color[sb_solver_vertex_origin(s, i)];
+    sb_vertex_elements_rebuild(v->elements, s->model);
+    sb_vbd_order(v, s->model);
+    v->built_vertices = count;
+}
+
+/* Solves the symmetric 3 × 3 system h d = r by Cholesky; false when h is
+ * not positive definite. */
+static bool sb_solve3(const double* h, const double* r, double* d) {
+    double l00 = h[0];
+    if (!(l00 > 0.0)) return false;
+    l00 = sqrt(l00);
+    double l10 = h[3] / l00, l20 = h[6] / l00;
+    double l11 = h[4] - l10 * l10;
+    if (!(l11 > 0.0)) return false;
+    l11 = sqrt(l11);
+    double l21 = (h[7] - l20 * l10) / l11;
+    double l22 = h[8] - l20 * l20 - l21 * l21;
+    if (!(l22 > 0.0)) return false;
+    l22 = sqrt(l22);
+    double z0 = r[0] / l00, z1 = (r[1] - l10 * z0) / l11, z2 = (r[2] - l20 * z0 - l21 * z1) / l22;
+    d[2] = z2 / l22;
+    d[1] = (z1 - l21 * d[2]) / l11;
+    d[0] = (z0 - l10 * d[1] - l20 * d[2]) / l00;
+    return true;
+}
+
+/* Adds one element's force on its vertex `place` (to f) and that vertex's
+ * diagonal stiffness block (to h), by three seeds. */
+static void sb_vbd_element(const sb_model* m, const sb_element* e, int place, const double* x, double* f, double* h) {
+    sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
+    for (int axis = 0; axis < 3; axis++) {
+        double seed[3] = {0, 0, 0};
+        seed[axis] = 1.0;
+        for (int a = 0; a < e->count; a++)
+            xs[a] = (sb_dvec3){sb_v3(x + 3 * (size_t)e->vertex[a]), a == place ? sb_v3(seed) : (sb_vec3){0, 0, 0}};
+        if (!sb_element_forces_dual(m, e, xs, forces)) return; /* collapsed: the step's force check reports it */
+        const sb_vec3 column = forces[place].d;
+        h[axis] -= column.x, h[3 + axis] -= column.y, h[6 + axis] -= column.z;
+        if (axis == 0) {
+            f[0] += forces[place].v.x, f[1] += forces[place].v.y, f[2] += forces[place].v.z;
+        }
+    }
+}
+
+/* A damped spring on vertex `place` of bond b: D (v_other − v_self) with
+ * v = (x − x⁰)/dt, and D/dt on the diagonal. */
+static void sb_vbd_damping(const sb_model* m, uint32_t b, int place, const double* x, const double* x0, double dt,
+                           double* f, double* h) {
+    double d[9];
+    if (!sb_bond_damping_block(m, b, x, d)) return;
+    uint32_t self = place == 0 ? m->bond_i[b] : m->bond_j[b], other = place == 0 ? m->bond_j[b] : m->bond_i[b];
+    double relative[3];
+    for (int c = 0; c < 3; c++)
+        relative[c] = ((x[3 * other + c] - x0[3 * other + c]) - (x[3 * self + c] - x0[3 * self + c])) / dt;
+    for (int r = 0; r < 3; r++) {
+        f[r] += d[3 * r] * relative[0] + d[3 * r + 1] * relative[1] + d[3 * r + 2] * relative[2];
+        for (int c = 0; c < 3; c++) h[3 * r + c] += d[3 * r + c] / dt;
+    }
+}
+
+/* One vertex's Newton step on the incremental potential. */
+static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
+    const sb_solver* s = job->s;
+    const sb_model* m = s->model;
+    const struct sb_vbd* v = job->vbd;
+    double dt = job->dt, *x = v->x;
+    double inertia = m->mass[i] / (dt * dt), drag = m->mass[i] * s->def.drag / dt;
+    double f[3] = {0, 0, 0}, h[9] = {0};
+    for (int c = 0; c < 3; c++) {
+        f[c] = -inertia * (x[3 * i + c] - v->y[3 * i + c]) - drag * (x[3 * i + c] - v->x0[3 * i + c]);
+        h[4 * c] = inertia + drag;
+    }
+    for (uint32_t k = v->elements->start[i]; k < v->elements->start[i + 1]; k++) {
+        uint32_t id = sb_entry_element(v->elements->entry[k]);
+        sb_element e = sb_element_at(m, id);
+        sb_vbd_element(m, &e, sb_entry_place(v->elements->entry[k]), x, f, h);
+        if (e.kind == SB_ELEMENT_BOND)
+            sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
+    }
+    double step[3];
+    if (!sb_solve3(h, f, step)) return; /* not positive definite here: this vertex waits */
+    for (int c = 0; c < 3; c++) x[3 * i + c] += step[c];
+}
+
+static void sb_vbd_sweeps(void* context, const sb_worker* w) {
+    const sb_vbd_job* job = context;
+    const struct sb_vbd* v = job->vbd;
+    const double* inv_mass = sb_inv_mass(job->s);
+    for (int it = 0; it < job->iterations; it++)
+        for (uint32_t c = 0; c < v->color_count; c++) {
+            int64_t begin, end, count = v->color_start[c + 1] - v->color_start[c];
+            sb_worker_range(w, count, &begin, &end);
+            for (int64_t k = begin; k < end; k++) {
+                uint32_t i = v->order[v->color_start[c] + k];
+                if (inv_mass[i] > 0.0) sb_vbd_vertex(job, i);
+            }
+            sb_worker_barrier(w);
+        }
+}
+
+/* The first guess (the paper's adaptive initialisation): x⁰ + dt v⁰ +
+ * dt² ã ĝ, where ã is the vertex's last acceleration along gravity, clamped
+ * to [0, |g|]. Guessing y itself moves a hanging sheet's every vertex down
+ * by dt² g each step, and the few sweeps cannot carry the support back
+ * across a large sheet: it stretches more each step. */
+static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const sb_solver_def* def, size_t i, double dt) {
+    const double* g = def->gravity;
+    double length = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    if (!v->has_previous || length == 0.0) return 0.0;
+    double along = 0.0;
+    for (int c = 0; c < 3; c++) along += (v->y[3 * i + c] - v->previous_v[3 * i + c]) / dt * g[c] / length;
+    return fmin(fmax(along, 0.0), length);
+}
+
+/* x⁰, the inertial target y and the first guess (held vertices at their
+ * targets); v⁰ is kept for the next step's guess. */
+static void sb_vbd_predict(sb_solver* s, struct sb_vbd* v, double dt) {
+    const sb_model* m = s->model;
+    const sb_state* st = &s->state;
+    size_t n = st->vertex_count;
+    const double* g = s->def.gravity;
+    double length = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    sb_interleave(v->x0, st->x, st->y, st->z, st->vertex_count);
+    sb_interleave(v->y, st->vx, st->vy, st->vz, st->vertex_count); /* v⁰ for now */
+    for (size_t i = 0; i < n; i++) {
+        double guess = m->fixed[i] ? 0.0 : sb_vbd_guess_acceleration(v, &s->def, i, dt);
+        for (int c = 0; c < 3; c++) {
+            size_t q = 3 * i + c;
+            double velocity = v->y[q];
+            v->previous_v[q] = velocity;
+            if (m->fixed[i]) {
+                v->x[q] = v->y[q] = v->x0[q];
+                continue;
+            }
+            double acceleration = g[c] + (s->external ? s->external[q] * m->inv_mass[i] : 0.0);
+            v->y[q] = v->x0[q] + dt * velocity + dt * dt * acceleration;
+            v->x[q] = v->x0[q] + dt * velocity + (length > 0 ? dt * dt * guess * g[c] / length : 0.0);
+        }
+    }
+    v->has_previous = true;
+    if (s->pinned_inv_mass) sb_handles_place_predicted(s, v->x);
+}
+
+/* v = (x − x⁰)/dt (into y, no longer needed) and the new state. */
+static void sb_vbd_finish(sb_solver* s, struct sb_vbd* v, double dt) {
+    for (size_t q = 0; q < 3 * (size_t)s->state.vertex_count; q++) v->y[q] = (v->x[q] - v->x0[q]) / dt;
+    sb_store_free_vertices(s, v->x, v->y);
+}
+
+sb_status sb_integrate_vbd(sb_solver* s, double dt) {
+    sb_fast_publish(s); /* the state's arrays current */
+    struct sb_vbd* v = s->vbd;
+    sb_vbd_follow_topology(s, v);
+    sb_vbd_predict(s, v, dt);
+    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def)};
+    sb_team_run(s->team, sb_team_size(s->team), sb_vbd_sweeps, &job);
+    sb_vbd_finish(s, v, dt);
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
+}
