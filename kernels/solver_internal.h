@@ -167,6 +167,11 @@ sb_status sb_integrate_vbd(sb_solver* solver, double dt);
 bool sb_vbd_prepare(sb_solver* solver);
 void sb_vbd_destroy(struct sb_vbd* vbd);
 int sb_vbd_iterations(const sb_solver_def* def);
+/* Its part of a saved state (kernels/solver_state.c). */
+struct sb_sections_writer;
+struct sb_cursor;
+void sb_vbd_save(const sb_solver* solver, struct sb_sections_writer* w);
+void sb_vbd_load(sb_solver* solver, struct sb_cursor* r);
 
 /* pbd and xpbd (kernels/pbd.c). */
 sb_status sb_integrate_pbd(sb_solver* solver, double dt);

@@ -32,6 +32,7 @@
 #include "kernels/solver_internal.h"
 #include "kernels/handle_internal.h"
 #include "kernels/vertex_elements.h"
+#include "common/sections.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -284,4 +285,21 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_vbd_finish(s, v, dt);
     s->has_displacement = false;
     return sb_solver_compute_forces(s);
+}
+
+/* The checkpoint's part (kernels/solver_state.c): the velocities the next
+ * first guess compares with, and whether there are any yet. */
+static size_t sb_vbd_state_bytes(const sb_solver* s) { return 3 * (size_t)s->model->vertex_count * sizeof(double) + 1; }
+
+void sb_vbd_save(const sb_solver* s, sb_sections_writer* w) {
+    uint8_t has = s->vbd->has_previous;
+    sb_sections_put(w, &has, 1);
+    sb_sections_put(w, s->vbd->previous_v, sb_vbd_state_bytes(s) - 1);
+}
+
+void sb_vbd_load(sb_solver* s, sb_cursor* r) {
+    uint8_t has;
+    sb_cursor_take(r, &has, 1);
+    sb_cursor_take(r, s->vbd->previous_v, sb_vbd_state_bytes(s) - 1);
+    s->vbd->has_previous = has;
 }
