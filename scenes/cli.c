@@ -30,6 +30,7 @@ static const option_spec option_specs[] = {
     {"--size", offsetof(sb_cli_args, size), false},
     {"--movie", offsetof(sb_cli_args, movie), false},
     {"--fps", offsetof(sb_cli_args, fps), false},
+    {"--render-share", offsetof(sb_cli_args, render_share), false},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {

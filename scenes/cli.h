@@ -35,6 +35,7 @@ typedef struct sb_cli_args {
     const char* size;             /* view, film --size WxH */
     const char* movie;            /* film --movie OUT.mp4 */
     const char* fps;              /* film --fps F */
+    const char* render_share;     /* view --render-share X */
     bool help;                    /* --help, -h */
 } sb_cli_args;
 

@@ -27,6 +27,7 @@
 #include <time.h>
 
 static const double PICK_PIXELS = 15.0; /* a press this close to a vertex's image picks it */
+enum { WARM_UP_FRAMES = 3 };            /* frames drawn before the render share applies */
 
 typedef enum drag_kind { DRAG_NONE, DRAG_ORBIT, DRAG_PAN, DRAG_PICK, DRAG_TOOL } drag_kind;
 
@@ -74,7 +75,8 @@ static void nap_until(double when) {
 }
 
 sb_view_options sb_default_view_options(const sb_cli_args* args) {
-    return (sb_view_options){.args = args, .width = 960, .height = 720, .fps = 60.0, .realtime = 1.0};
+    return (sb_view_options){
+        .args = args, .width = 960, .height = 720, .fps = 60.0, .realtime = 1.0, .render_share = 0.15};
 }
 
 /* ---- the simulation ------------------------------------------------------ */
@@ -110,8 +112,8 @@ static sb_status start_simulation(view_app* a, sb_error* err) {
     a->tool_index = mouse_tool(&a->sim);
     uint32_t capacity = sb_solver_vertex_capacity(a->sim.solver);
     if (!(a->buffer = sb_state_buffer_create(capacity, 2, err))) return SB_ERR_NOMEM;
-    if (sb_view_topology_create(&a->topology, a->sim.solver, err) != SB_OK) return SB_ERR_NOMEM;
-    sb_view_topology_read(&a->topology, a->sim.solver);
+    if (sb_view_topology_create(&a->topology, a->sim.solver, &a->sim.mesh, err) != SB_OK) return SB_ERR_NOMEM;
+    sb_view_topology_read(&a->topology, a->sim.solver, &a->sim.mesh);
     a->thread = (sb_sim_thread){.sim = &a->sim, .buffer = a->buffer, .grab = a->grab, .realtime = a->options->realtime};
     if (a->tool_index >= 0) {
         a->thread.mouse = a->sim.haptics.device;
@@ -212,7 +214,9 @@ static void press(view_app* a, const sb_view_event* e) {
         return;
     }
     if (a->tool_index >= 0 && !e->ctrl) {
-        memcpy(a->plane_point, a->report.poses[a->tool_index] + 9, sizeof a->plane_point);
+        bool reported = a->report.collider_count > (uint32_t)a->tool_index; /* not before the first exchange */
+        memcpy(a->plane_point, reported ? a->report.poses[a->tool_index] + 9 : a->thread.tool_rest,
+               sizeof a->plane_point);
         a->drag = DRAG_TOOL;
         a->controls.tool = true;
         cursor_point(a, e->x, e->y, a->controls.target);
@@ -389,24 +393,46 @@ static void draw(view_app* a) {
     sb_overlay_draw(&a->overlay, &a->shaders, a->width, a->height);
 }
 
+static double cpu_seconds(clockid_t clock) {
+    struct timespec t;
+    return clock_gettime(clock, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0.0;
+}
+
+/* The process's processor time but the simulation's threads' (the solver's
+ * team works inside sb_solver_advance on the simulation thread and its
+ * workers, whose clocks are not at hand: the team's time is counted only
+ * when it has one thread): what drawing has used so far. */
+static double drawing_cpu(const view_app* a) {
+    clockid_t simulation;
+    double sim = pthread_getcpuclockid(a->thread.thread, &simulation) == 0 ? cpu_seconds(simulation) : 0.0;
+    return cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - sim;
+}
+
 static sb_status frame_loop(view_app* a, sb_error* err) {
     const sb_view_options* o = a->options;
-    double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = now();
+    double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = now(), begin = next;
     for (a->running = true; a->running;) {
-        double start = now();
+        double start = now(), cpu_before = drawing_cpu(a);
         events(a);
         take_snapshot(a);
         if (sb_sim_thread_exchange(&a->thread, &a->controls, &a->report, &a->topology))
             sb_mesh_draw_topology(&a->mesh, &a->topology);
         draw(a);
         a->frames++;
-        bool last = !a->running || (o->frames && a->frames >= o->frames);
+        bool last =
+            !a->running || (o->frames && a->frames >= o->frames) || (o->seconds > 0 && now() - begin >= o->seconds);
         if (last && o->screenshot && sb_screenshot_save(o->screenshot, a->width, a->height, err) != SB_OK)
             return SB_ERR_IO;
         sb_window_swap(a->window);
         a->draw_seconds += now() - start;
         if (last) break;
-        next += period;
+        /* the next frame one period on, and not before the renderer has
+         * rested used (1/share − 1), used the processor time the frame took
+         * on this thread and the renderer's own (llvmpipe's): its share */
+        double share = o->render_share, used = drawing_cpu(a) - cpu_before;
+        bool warm = a->frames > WARM_UP_FRAMES; /* the first frames compile shaders and fill buffers */
+        double rest = warm && share > 0 && share < 1 ? used * (1.0 / share - 1.0) : 0.0;
+        next = fmax(next + period, now() + rest);
         nap_until(next);
     }
     return SB_OK;

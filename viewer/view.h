@@ -12,10 +12,16 @@ typedef struct sb_view_options {
     const sb_cli_args* args; /* the scene, --set, --threads */
     const char* screenshot;  /* PNG of the last frame, or NULL */
     uint64_t frames;         /* stop after this many frames; 0 = until closed */
+    double seconds;          /* stop after this many wall-clock seconds; 0 = until closed */
     const char* script;      /* scripted input (viewer/input_script.h), or NULL */
     int width, height;       /* pixels */
     double fps;              /* frames per second drawn at most */
     double realtime;         /* simulated seconds per wall second; 0 = as fast as it can */
+    /* The most of the wall clock the render thread takes: after a frame
+     * that took d seconds to draw it waits at least d (1/share − 1), so a
+     * slow renderer (Mesa's llvmpipe on the solver's cores) lowers its
+     * frame rate instead of the solver's; 1 = no limit. Default 0.15. */
+    double render_share;
 } sb_view_options;
 
 sb_view_options sb_default_view_options(const sb_cli_args* args);
@@ -37,8 +43,8 @@ typedef struct sb_view_result {
     int width, height;
 } sb_view_result;
 
-/* Runs the viewer until the window closes, the script quits, `escape` or
- * options->frames frames. On error nothing was shown, or err says what
+/* Runs the viewer until the window closes, the script quits, `escape`,
+ * options->frames frames or options->seconds. On error nothing was shown, or err says what
  * failed. */
 sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb_error* err);
 void sb_view_result_free(sb_view_result* result);

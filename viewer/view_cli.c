@@ -17,6 +17,8 @@ void sb_cli_view_usage(FILE* stream) {
                     "wheel to zoom; with haptics.device: mouse, drag moves the haptic tool.\n"
                     "--screenshot FILE.png saves the last frame; --frames N stops after N frames;\n"
                     "--script FILE plays keys and mouse events at simulated times (README, \"Viewer\").\n"
+                    "--render-share X: drawing takes at most this share of the wall clock (default 0.15;\n"
+                    "1 = no limit): a slow software renderer lowers its frame rate, not the solver's.\n"
                     "Headless: xvfb-run -a softbond view ...\n");
 }
 
@@ -29,13 +31,21 @@ static sb_status view_options(const sb_cli_args* args, sb_view_options* o, sb_er
             return sb_error_set(err, SB_ERR_INVALID, "--frames: expected a whole number >= 1, got '%s'", args->frames);
         o->frames = (uint64_t)frames;
     }
+    if (args->render_share) {
+        char* end;
+        o->render_share = strtod(args->render_share, &end);
+        if (end == args->render_share || *end != '\0' || !(o->render_share > 0.0 && o->render_share <= 1.0))
+            return sb_error_set(err, SB_ERR_INVALID, "--render-share: expected a number in (0, 1], got '%s'",
+                                args->render_share);
+    }
     o->screenshot = args->screenshot;
     o->script = args->script;
     return args->size ? sb_cli_size(args->size, &o->width, &o->height, err) : SB_OK;
 }
 
 int sb_cli_view(int argc, char** argv) {
-    static const char* const accepted[] = {"--threads", "--screenshot", "--frames", "--script", "--size", NULL};
+    static const char* const accepted[] = {"--threads", "--screenshot",   "--frames", "--script",
+                                           "--size",    "--render-share", NULL};
     sb_cli_args args;
     sb_error err;
     int code = SB_EXIT_OK;
