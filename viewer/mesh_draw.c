@@ -79,7 +79,7 @@ static bool allocate(sb_mesh_draw* d, const sb_model* model) {
 }
 
 static void make_buffers(sb_mesh_draw* d, const sb_model* model) {
-    size_t n = d->capacity, e = sb_model_bond_count(model), t = sb_model_triangle_count(model);
+    size_t n = d->capacity, e = sb_model_bond_count(model);
     glGenVertexArrays(1, &d->vao);
     glBindVertexArray(d->vao);
     d->positions_vbo = buffer(GL_ARRAY_BUFFER, NULL, 3 * n * sizeof(float), GL_STREAM_DRAW);
@@ -88,9 +88,9 @@ static void make_buffers(sb_mesh_draw* d, const sb_model* model) {
     attribute(d->normals_vbo, SB_ATTR_NORMAL, 3, 0, 0);
     d->uv_vbo = buffer(GL_ARRAY_BUFFER, NULL, 2 * n * sizeof(float), GL_STREAM_DRAW);
     attribute(d->uv_vbo, SB_ATTR_UV, 2, 0, 0);
-    d->triangles_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 3 * t * sizeof(uint32_t), GL_STREAM_DRAW);
+    d->triangles_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 0, GL_STREAM_DRAW); /* filled by sb_mesh_draw_topology */
     glBindVertexArray(0);
-    d->edges_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 2 * e * sizeof(uint32_t), GL_STREAM_DRAW);
+    d->edges_ebo = buffer(GL_ELEMENT_ARRAY_BUFFER, NULL, 0, GL_STREAM_DRAW);
     glGenVertexArrays(1, &d->strain_vao);
     glBindVertexArray(d->strain_vao);
     d->strain_vbo = buffer(GL_ARRAY_BUFFER, NULL, 14 * e * sizeof(float), GL_STREAM_DRAW);
@@ -137,11 +137,12 @@ void sb_mesh_draw_topology(sb_mesh_draw* d, const sb_view_topology* t) {
     glBindBuffer(GL_ARRAY_BUFFER, d->uv_vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(2 * (size_t)t->vertex_count * sizeof(float)), d->uv);
     glBindVertexArray(d->vao);
-    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(3 * (size_t)t->triangle_count * sizeof(uint32_t)),
-                    t->triangles);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(3 * (size_t)t->triangle_count * sizeof(uint32_t)), t->triangles,
+                 GL_STREAM_DRAW);
     glBindVertexArray(0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d->edges_ebo);
-    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)(2 * (size_t)t->edge_count * sizeof(uint32_t)), t->edges);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(2 * (size_t)t->edge_count * sizeof(uint32_t)), t->edges,
+                 GL_STREAM_DRAW);
 }
 
 void sb_strain_color(double strain, double scale, float rgba[4]) {

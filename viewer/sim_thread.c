@@ -176,7 +176,7 @@ static void follow_tearing(sb_sim_thread* t, sim_state* s) {
         return;
     s->broken = sb_solver_broken_count(solver);
     s->vertices = sb_solver_vertex_count(solver);
-    sb_view_topology_read(&s->topology, solver);
+    sb_view_topology_read(&s->topology, solver, &t->sim->mesh);
     s->handed = false;
 }
 
@@ -202,7 +202,7 @@ static void* run(void* arg) {
     sim_state s = {.window_wall = now(), .window_sim = sb_solver_time(solver), .handed = true};
     s.scratch = malloc(3 * ((size_t)sb_solver_vertex_capacity(solver) + 1) * sizeof *s.scratch);
     s.tears = sb_solver_vertex_capacity(solver) > sb_model_vertex_count(sb_solver_model(solver));
-    if (s.tears && sb_view_topology_create(&s.topology, solver, NULL) != SB_OK) s.tears = false;
+    if (s.tears && sb_view_topology_create(&s.topology, solver, &t->sim->mesh, NULL) != SB_OK) s.tears = false;
     s.topology.version = t->topology.version; /* each read after it counts on from the start's */
     s.applied.pick = -1;
     s.wall_origin = now();
@@ -218,8 +218,8 @@ static void* run(void* arg) {
 }
 
 sb_status sb_sim_thread_start(sb_sim_thread* t, sb_error* err) {
-    if (sb_view_topology_create(&t->topology, t->sim->solver, err) != SB_OK) return SB_ERR_NOMEM;
-    sb_view_topology_read(&t->topology, t->sim->solver);
+    if (sb_view_topology_create(&t->topology, t->sim->solver, &t->sim->mesh, err) != SB_OK) return SB_ERR_NOMEM;
+    sb_view_topology_read(&t->topology, t->sim->solver, &t->sim->mesh);
     if (pthread_mutex_init(&t->lock, NULL) != 0) return sb_error_set(err, SB_ERR_NOMEM, "cannot make a mutex");
     sb_solver_publish(t->sim->solver, t->buffer);
     if (pthread_create(&t->thread, NULL, run, t) != 0) {

@@ -9,13 +9,18 @@ typedef struct room {
     size_t vertices, triangles, bonds;
 } room;
 
-static room room_of(const sb_solver* solver) {
-    const sb_model* m = sb_solver_model(solver);
-    return (room){sb_solver_vertex_capacity(solver) + 1, sb_model_triangle_count(m) + 1, sb_model_bond_count(m) + 1};
+static bool tears(const sb_solver* solver) {
+    return sb_solver_vertex_capacity(solver) > sb_model_vertex_count(sb_solver_model(solver));
 }
 
-sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, sb_error* err) {
-    room r = room_of(solver);
+static room room_of(const sb_solver* solver, const sb_mesh* mesh) {
+    const sb_model* m = sb_solver_model(solver);
+    size_t triangles = tears(solver) ? sb_model_triangle_count(m) : mesh->triangle_count;
+    return (room){sb_solver_vertex_capacity(solver) + 1, triangles + 1, sb_model_bond_count(m) + 1};
+}
+
+sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh, sb_error* err) {
+    room r = room_of(solver, mesh);
     *t = (sb_view_topology){0};
     t->origins = malloc(r.vertices * sizeof *t->origins);
     t->triangles = malloc(3 * r.triangles * sizeof *t->triangles);
@@ -34,14 +39,26 @@ void sb_view_topology_free(sb_view_topology* t) {
     *t = (sb_view_topology){0};
 }
 
-void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver) {
+/* The surface: the mesh's triangles (a model of springs has no triangle
+ * elements), or a tearing solver's live ones with their current vertices. */
+static void read_triangles(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh) {
     const sb_model* m = sb_solver_model(solver);
-    t->vertex_count = sb_solver_vertex_count(solver);
-    for (uint32_t i = 0; i < t->vertex_count; i++) t->origins[i] = sb_solver_vertex_origin(solver, i);
     t->triangle_count = 0;
+    if (!tears(solver)) {
+        t->triangle_count = mesh->triangle_count;
+        memcpy(t->triangles, mesh->triangles, 3 * (size_t)mesh->triangle_count * sizeof *t->triangles);
+        return;
+    }
     for (uint32_t k = 0; k < sb_model_triangle_count(m); k++)
         if (sb_solver_triangle_alive(solver, k))
             sb_solver_triangle(solver, k, t->triangles + 3 * (size_t)t->triangle_count++);
+}
+
+void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh) {
+    const sb_model* m = sb_solver_model(solver);
+    t->vertex_count = sb_solver_vertex_count(solver);
+    for (uint32_t i = 0; i < t->vertex_count; i++) t->origins[i] = sb_solver_vertex_origin(solver, i);
+    read_triangles(t, solver, mesh);
     t->edge_count = 0;
     for (uint32_t b = 0; b < sb_model_bond_count(m); b++) {
         if (sb_solver_bond_broken(solver, b)) continue;

@@ -18,11 +18,12 @@ typedef struct sb_view_topology {
     uint64_t version;    /* counts the changes */
 } sb_view_topology;
 
-/* Room for the solver's capacity, its model's triangles and bonds. */
-sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, sb_error* err);
+/* Room for the solver's capacity, the surface's triangles (mesh's, or the
+ * model's when the solver tears) and the model's bonds. */
+sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh, sb_error* err);
 void sb_view_topology_free(sb_view_topology* t);
 /* Reads the solver's topology now (its thread); version + 1. */
-void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver);
+void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh);
 /* Copies from into to (both made for the same solver). */
 void sb_view_topology_copy(sb_view_topology* to, const sb_view_topology* from);
 
