@@ -1,5 +1,5 @@
 /* Haptics on a virtual clock (the test steps the servo; nothing is timed):
- * the scripted device and its errors, the UDP device's packets, the
+ * the scripted device and its errors, the mouse device, the UDP device's packets, the
  * coupling against an elastic wall worked out by hand (two springs in
  * series), the clamp and the stiffness limit on every tick, the watchdogs'
  * ramps, and the refusals. */
@@ -399,6 +399,36 @@ static void test_scripted_device_interpolates(void** state) {
     sb_haptic_device_close(d);
 }
 
+/* The mouse device: at rest at the origin until moved, then the last pose
+ * given, at the time asked; sb_haptic_device_move leaves other kinds alone. */
+static void test_mouse_device_gives_the_last_move(void** state) {
+    (void)state;
+    sb_haptic_device_def def = sb_default_haptic_device_def();
+    def.kind = "mouse";
+    sb_error err;
+    sb_haptic_device* d = sb_haptic_device_open(&def, &err);
+    assert_non_null(d);
+    sb_haptic_pose p;
+    assert_int_equal(sb_haptic_device_read(d, 0.5, &p), SB_OK);
+    assert_true(p.time == 0.5 && p.position[0] == 0 && p.position[2] == 0 && p.orientation[0] == 1 && p.buttons == 0);
+    sb_haptic_pose moved = {.position = {0.01, -0.02, 0.03}, .orientation = {1, 0, 0, 0}, .buttons = 1};
+    sb_haptic_device_move(d, &moved);
+    moved.position[2] = 0.04;
+    sb_haptic_device_move(d, &moved);
+    assert_int_equal(sb_haptic_device_read(d, 0.75, &p), SB_OK);
+    assert_true(p.time == 0.75 && p.position[0] == 0.01 && p.position[1] == -0.02 && p.position[2] == 0.04);
+    assert_int_equal(p.buttons, 1);
+    double force[3] = {1, 2, 3};
+    assert_int_equal(sb_haptic_device_write(d, 1, force), SB_OK);
+    sb_haptic_device_close(d);
+    def.kind = "none";
+    d = sb_haptic_device_open(&def, &err);
+    sb_haptic_device_move(d, &moved);
+    assert_int_equal(sb_haptic_device_read(d, 0, &p), SB_OK);
+    assert_true(p.position[2] == 0);
+    sb_haptic_device_close(d);
+}
+
 static void assert_scripted_refused(const char* text, const char* where) {
     sb_haptic_device_def def = sb_default_haptic_device_def();
     def.kind = "scripted";
@@ -487,6 +517,7 @@ int main(void) {
         cmocka_unit_test(test_scene_runs_the_servo_and_writes_haptics_csv),
         cmocka_unit_test(test_quaternion_to_degrees),
         cmocka_unit_test(test_scripted_device_interpolates),
+        cmocka_unit_test(test_mouse_device_gives_the_last_move),
         cmocka_unit_test(test_scripted_device_errors_name_the_line),
         cmocka_unit_test(test_udp_device_takes_poses_and_answers_forces),
     };

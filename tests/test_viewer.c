@@ -10,6 +10,7 @@
  *   - g: gravity off from the start, every published vertical velocity is 0;
  *   - r: gravity reversed, the sheet rises;
  *   - a scripted drag of the middle vertex pulls it toward the cursor;
+ *   - with the "mouse" haptic device, a drag moves the probe into the sheet;
  *   - a bad script line is refused naming file:line. */
 #include "test_util.h"
 
@@ -35,16 +36,17 @@ static void write_script(const char* path, const char* text) {
     fclose(f);
 }
 
-/* Runs the viewer on the default scene with the script (for at most
- * `frames` frames; 0: until the script quits); the screenshot is read back
- * when png is not NULL. */
-static void run_view(const char* name, const char* script_text, uint64_t frames, sb_view_result* result, picture* png) {
+/* Runs the viewer on a scene with one --set (or none) and the script (for
+ * at most `frames` frames; 0: until the script quits); the screenshot is
+ * read back when png is not NULL. */
+static void run_scene(const char* scene, const char* set, const char* name, const char* script_text, uint64_t frames,
+                      sb_view_result* result, picture* png) {
     char script[256], shot[256];
     snprintf(script, sizeof script, "test_viewer_%s.txt", name);
     snprintf(shot, sizeof shot, "test_viewer_%s.png", name);
     write_script(script, script_text);
-    const char* sets[] = {"threads=1"};
-    sb_cli_args args = {.input = SCENE, .sets = sets, .set_count = 1};
+    const char* sets[] = {"threads=1", set};
+    sb_cli_args args = {.input = scene, .sets = sets, .set_count = set ? 2 : 1};
     sb_view_options o = sb_default_view_options(&args);
     o.width = W, o.height = H, o.script = script, o.screenshot = shot, o.frames = frames;
     sb_error err;
@@ -55,6 +57,11 @@ static void run_view(const char* name, const char* script_text, uint64_t frames,
     assert_non_null(png->rgb);
     assert_int_equal(png->width, W);
     assert_int_equal(png->height, H);
+}
+
+/* The default scene. */
+static void run_view(const char* name, const char* script_text, uint64_t frames, sb_view_result* result, picture* png) {
+    run_scene(SCENE, NULL, name, script_text, frames, result, png);
 }
 
 /* Two screenshots of the viewer, the second with the keys of script b. */
@@ -217,6 +224,32 @@ static void test_scripted_drag_pulls_the_vertex(void** state) {
     sb_view_result_free(&r);
 }
 
+/* haptics_probe.yaml with the mouse device: the probe (a 5 mm sphere 7 mm
+ * above the sheet's middle) pressed and dragged 60 pixels down the screen
+ * over 0.6 s (29 mm at the probe) pushes the sheet's middle vertex more
+ * than 5 mm down. A jump as fast as a frame lets the probe slip between
+ * the sheet's vertices (contact is per vertex). */
+static void test_mouse_moves_the_haptic_tool(void** state) {
+    (void)state;
+    const char* scene = SB_SOURCE_DIR "/scenes/haptics_probe.yaml";
+    double probe[3] = {0.05, 0.05, 0.012}, lo[3] = {0, 0, 0}, hi[3] = {0.1, 0.1, 0}, up[3] = {0, 0, 1}, pixel[2];
+    sb_camera camera = sb_camera_fit(lo, hi, up);
+    project(&camera, probe, pixel);
+    char script[1024];
+    int used = snprintf(script, sizeof script, "0 press %.1f %.1f\n", pixel[0], pixel[1]);
+    for (int k = 1; k <= 12; k++) /* 5 pixels every 50 ms: a hand's pace, the proxy stays on the sheet */
+        used += snprintf(script + used, sizeof script - (size_t)used, "%.2f move %.1f %.1f\n", 0.05 * k, pixel[0],
+                         pixel[1] + 5.0 * k);
+    snprintf(script + used, sizeof script - (size_t)used, "0.8 quit\n");
+    sb_view_result r;
+    run_scene(scene, "haptics.device=mouse", "mouse", script, 0, &r, NULL);
+    const uint32_t middle = 10 * 21 + 10;
+    printf("mouse device: %llu frames, cursor target z %.4f m, the sheet's middle at z %.4f m (t = %.3f s)\n",
+           (unsigned long long)r.frames, r.target[2], r.positions[3 * middle + 2], r.time);
+    assert_true(r.picked < 0 && r.target[2] < -0.005 && r.positions[3 * middle + 2] < -0.005);
+    sb_view_result_free(&r);
+}
+
 static void test_script_errors_name_the_line(void** state) {
     (void)state;
     write_script("test_viewer_bad.txt", "# a comment\n0 key F1\n0.5 press 10\n");
@@ -241,6 +274,7 @@ int main(void) {
         cmocka_unit_test(test_g_turns_gravity_off),
         cmocka_unit_test(test_r_reverses_gravity),
         cmocka_unit_test(test_scripted_drag_pulls_the_vertex),
+        cmocka_unit_test(test_mouse_moves_the_haptic_tool),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
