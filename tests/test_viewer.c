@@ -7,6 +7,7 @@
  *     here (a pinhole camera written in this file) within a few pixels;
  *   - F2 off: far fewer dark (edge) pixels on the sheet;
  *   - F3: the strain colour scale (red and blue) appears at the right edge;
+ *   - h: the list of keys on a white card;
  *   - g: gravity off from the start, every published vertical velocity is 0;
  *   - r: gravity reversed, the sheet rises;
  *   - a scripted drag of the middle vertex pulls it toward the cursor;
@@ -175,6 +176,23 @@ static void test_f3_shows_the_colour_scale(void** state) {
     free(strained.rgb);
 }
 
+/* h: the list of keys on a white card over most of the picture. */
+static void test_h_shows_the_keys(void** state) {
+    (void)state;
+    picture plain, help;
+    two_pictures("0 key space\n", "0 key space\n0 key h\n", 5, &plain, &help);
+    int white[2] = {0, 0};
+    for (int i = 0; i < W * H; i++)
+        for (int k = 0; k < 2; k++) {
+            const unsigned char* p = (k ? help.rgb : plain.rgb) + 3 * i;
+            white[k] += p[0] > 240 && p[1] > 240 && p[2] > 240;
+        }
+    printf("white pixels: %d without h, %d with\n", white[0], white[1]);
+    assert_true(white[0] < W * H / 100 && white[1] > W * H / 4);
+    free(plain.rgb);
+    free(help.rgb);
+}
+
 static void test_g_turns_gravity_off(void** state) {
     (void)state;
     sb_view_result r;
@@ -271,6 +289,7 @@ int main(void) {
         cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),
+        cmocka_unit_test(test_h_shows_the_keys),
         cmocka_unit_test(test_g_turns_gravity_off),
         cmocka_unit_test(test_r_reverses_gravity),
         cmocka_unit_test(test_scripted_drag_pulls_the_vertex),

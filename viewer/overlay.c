@@ -12,7 +12,7 @@
 #include <stb/stb_easy_font.h>
 #pragma GCC diagnostic pop
 
-enum { GLYPH_BUFFER = 64 * 1024, FLOATS = 6 };
+enum { GLYPH_BUFFER = 64 * 1024, FLOATS = 6, LINE_HEIGHT = 12 /* stb_easy_font's, pixels */ };
 
 sb_status sb_overlay_create(sb_overlay* o, sb_error* err) {
     *o = (sb_overlay){.capacity = 1 << 16};
@@ -61,15 +61,26 @@ void sb_overlay_rect(sb_overlay* o, float x, float y, float w, float h, const fl
     quad(o, x, y, x + w, y + h, rgba);
 }
 
-void sb_overlay_text(sb_overlay* o, float x, float y, float scale, const char* text, const float rgba[4]) {
+/* One line (stb's buffer holds about 240 characters' quads). */
+static void text_line(sb_overlay* o, float x, float y, float scale, const char* line, size_t length,
+                      const float rgba[4]) {
     static char glyphs[GLYPH_BUFFER];
-    char copy[1024];
-    snprintf(copy, sizeof copy, "%s", text);
+    char copy[256];
+    snprintf(copy, sizeof copy, "%.*s", (int)length, line);
     int quads = stb_easy_font_print(0, 0, copy, NULL, glyphs, sizeof glyphs);
     for (int q = 0; q < quads; q++) {
         const float* a = (const float*)(glyphs + 64 * q);      /* corner 0: x y z, then 4 colour bytes */
         const float* c = (const float*)(glyphs + 64 * q + 32); /* corner 2, opposite */
         quad(o, x + scale * a[0], y + scale * a[1], x + scale * c[0], y + scale * c[1], rgba);
+    }
+}
+
+void sb_overlay_text(sb_overlay* o, float x, float y, float scale, const char* text, const float rgba[4]) {
+    for (const char* line = text;; y += LINE_HEIGHT * scale) {
+        size_t length = strcspn(line, "\n");
+        text_line(o, x, y, scale, line, length, rgba);
+        if (!line[length]) break;
+        line += length + 1;
     }
 }
 
