@@ -12,7 +12,9 @@
  *   - r: gravity reversed, the sheet rises;
  *   - a scripted drag of the middle vertex pulls it toward the cursor;
  *   - with the "mouse" haptic device, a drag moves the probe into the sheet;
- *   - a bad script line is refused naming file:line. */
+ *   - a bad script line is refused naming file:line;
+ *   - without a display, one line and exit 2. */
+#define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
 #include "viewer/view.h"
@@ -268,6 +270,21 @@ static void test_mouse_moves_the_haptic_tool(void** state) {
     sb_view_result_free(&r);
 }
 
+/* Without a display the program says so in one line and exits with 2. */
+static void test_no_display_is_said(void** state) {
+    (void)state;
+    char command[1024], text[1024];
+    snprintf(command, sizeof command, "env -u DISPLAY -u WAYLAND_DISPLAY %s view " SCENE " 2>&1; echo exit $?",
+             SB_PROGRAM);
+    FILE* p = popen(command, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    pclose(p);
+    assert_string_equal(text, "softbond: view: no display to open a window on (is DISPLAY set? headless: xvfb-run -a "
+                              "softbond view ...)\nexit 2\n");
+}
+
 static void test_script_errors_name_the_line(void** state) {
     (void)state;
     write_script("test_viewer_bad.txt", "# a comment\n0 key F1\n0.5 press 10\n");
@@ -286,6 +303,7 @@ static void test_script_errors_name_the_line(void** state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_script_errors_name_the_line),
+        cmocka_unit_test(test_no_display_is_said),
         cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),
