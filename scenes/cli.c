@@ -31,6 +31,8 @@ static const option_spec option_specs[] = {
     {"--movie", offsetof(sb_cli_args, movie), false},
     {"--fps", offsetof(sb_cli_args, fps), false},
     {"--render-share", offsetof(sb_cli_args, render_share), false},
+    {"--eye", offsetof(sb_cli_args, eye), false},
+    {"--target", offsetof(sb_cli_args, target), false},
 };
 
 static bool accepts(const char* const* accepted, const char* name) {

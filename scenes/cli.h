@@ -36,6 +36,8 @@ typedef struct sb_cli_args {
     const char* movie;            /* film --movie OUT.mp4 */
     const char* fps;              /* film --fps F */
     const char* render_share;     /* view --render-share X */
+    const char* eye;              /* film --eye x,y,z */
+    const char* target;           /* film --target x,y,z */
     bool help;                    /* --help, -h */
 } sb_cli_args;
 

@@ -1,7 +1,8 @@
 /* `softbond film` (viewer/film.c): the default scene for 0.3 s at 30 frames
  * per second and 64 x 48 pixels makes an MP4 whose video stream ffprobe
  * counts 10 frames in, and no two consecutive decoded frames are the same
- * (ffmpeg's framemd5 of each). A missing povray is said in one line, exit 2. */
+ * (ffmpeg's framemd5 of each). A missing povray, or an --eye that is not
+ * x,y,z, is said in one line, exit 2. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -52,10 +53,21 @@ static void test_missing_povray_is_said(void** state) {
                               "povray)\nexit 2\n");
 }
 
+static void test_bad_camera_is_refused(void** state) {
+    (void)state;
+    char command[1024], text[1024];
+    snprintf(command, sizeof command,
+             "%s film %s/scenes/default.yaml --eye 1,2 --output " DIR "_bad 2>&1; echo exit $?", SB_PROGRAM,
+             SB_SOURCE_DIR);
+    output_of(command, text, sizeof text);
+    assert_string_equal(text, "softbond: --eye: expected x,y,z in metres, got '1,2'\nexit 2\n");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ten_frames_that_differ),
         cmocka_unit_test(test_missing_povray_is_said),
+        cmocka_unit_test(test_bad_camera_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -28,11 +28,13 @@ enum { RENDERERS = 2, BAR = 40 };
 
 void sb_cli_film_usage(FILE* stream) {
     fprintf(stream, "usage: softbond film SCENE.yaml [--set key=value]... [--movie OUT.mp4] [--size WxH]\n"
-                    "                     [--fps F] [--output DIR] [--threads N]\n"
+                    "                     [--fps F] [--eye x,y,z] [--target x,y,z] [--output DIR] [--threads N]\n"
                     "Simulates the scene for its duration, writes a POV-Ray scene per frame (F frames per\n"
                     "simulated second, default 30) to DIR (default out/<scene name>/film), renders them\n"
                     "with povray (WxH pixels, default 640x480; two at a time) and assembles an H.264 MP4\n"
-                    "with ffmpeg (default DIR/<scene name>.mp4). Needs Debian's povray and ffmpeg.\n");
+                    "with ffmpeg (default DIR/<scene name>.mp4). The camera: --eye and --target (m, the\n"
+                    "scene's coordinates), by default the viewer's starting camera. Needs Debian's povray\n"
+                    "and ffmpeg.\n");
 }
 
 typedef struct film_job {
@@ -203,8 +205,20 @@ static sb_status options(film_job* job, sb_error* err) {
     return status == SB_OK ? need("ffmpeg", "ffmpeg", err) : status;
 }
 
-/* The viewer's starting camera on the rest shape. */
-static void place_camera(film_job* job) {
+/* "x,y,z" (m) into out. */
+static sb_status point(const char* option, const char* text, double out[3], sb_error* err) {
+    char* end = (char*)text;
+    for (int k = 0; k < 3; k++) {
+        const char* from = end + (k > 0 && *end == ',');
+        out[k] = strtod(from, &end);
+        if (end == from || !isfinite(out[k])) break;
+        if (k == 2 && *end == '\0') return SB_OK;
+    }
+    return sb_error_set(err, SB_ERR_INVALID, "%s: expected x,y,z in metres, got '%s'", option, text);
+}
+
+/* --eye and --target where given, else the viewer's starting camera on the rest shape. */
+static sb_status place_camera(film_job* job, sb_error* err) {
     double lo[3], hi[3], up[3], p[3];
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (uint32_t i = 0; i < job->sim.mesh.vertex_count; i++) {
@@ -215,6 +229,8 @@ static void place_camera(film_job* job) {
     sb_camera camera = sb_camera_fit(lo, hi, up);
     sb_camera_eye(&camera, job->eye);
     memcpy(job->target, camera.target, sizeof job->target);
+    sb_status status = job->args.eye ? point("--eye", job->args.eye, job->eye, err) : SB_OK;
+    return status == SB_OK && job->args.target ? point("--target", job->args.target, job->target, err) : status;
 }
 
 static sb_status prepare(film_job* job, sb_error* err) {
@@ -224,7 +240,7 @@ static sb_status prepare(film_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     double duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);
     job->frames = (uint32_t)fmin(floor(duration * job->fps + 1e-9) + 1, 1e6);
-    place_camera(job);
+    if ((status = place_camera(job, err)) != SB_OK) return status;
     char dir[4096];
     snprintf(dir, sizeof dir, "out/%s/film", job->sim.scene.name);
     status = sb_output_dir_create(&job->out, job->args.output ? job->args.output : dir, job->sim.scene.name, err);
@@ -246,7 +262,8 @@ static int film_finish(film_job* job, int code) {
 }
 
 int sb_cli_film(int argc, char** argv) {
-    static const char* const accepted[] = {"--movie", "--size", "--fps", "--output", "--threads", NULL};
+    static const char* const accepted[] = {"--movie", "--size",   "--fps",     "--output",
+                                           "--eye",   "--target", "--threads", NULL};
     film_job job = {0};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)
