@@ -21,6 +21,9 @@ demo: build
 # thread: the solver's team, the state and pose buffers) under the thread sanitizer.
 # The fuzz corpus's replay (label fuzz, tests/fuzz/) runs under the address
 # and undefined-behaviour sanitizers only, where a memory error shows.
+# The viewer's tests (label viewer, also no_sanitizer: tests/test_viewer.c
+# under xvfb-run with Mesa's llvmpipe, tests/test_film.c with povray and
+# ffmpeg) run in float and double only: Mesa is not built for the sanitizers.
 test: deps
 	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build build -j $(JOBS)
