@@ -21,7 +21,14 @@
  * the bonds with a finite limit compares their squared end lengths (in
  * double, from the current positions) with the squared limits, branch-free
  * (it vectorizes); only when one is past does a second, serial pass in bond
- * order break them, each once: a broken bond's limits become −1 and +inf,
+ * order break them, each once. The fused Verlet step skips the first pass:
+ * its force kernels have every bond's squared length in hand already and
+ * compare it with the limits' margins (kernels/fast_model.h,
+ * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
+ * after a step that met a bond near a limit (measured at 100k vertices: a
+ * quiet step of a breakable sheet went from 1.5x the unbreakable one's
+ * time to 1.1-1.3x, bench/results/tearing.md). A broken bond's limits become −1 and +inf,
+ * so it never matches again: a broken bond's limits become −1 and +inf,
  * so it never matches again. For each it zeroes the bond's constants and
  * rest length (no collapse or blow-up check for it any more) and, the
  * first step of tearing, those of every triangle that has the bond's edge
@@ -349,6 +356,18 @@ static void sb_sever(void* solver, uint32_t bond) {
     sb_break_bond(s, s->breakage, bond, true);
 }
 
+/* The serial pass: breaks the limited bonds past a limit, in bond order;
+ * whether any. */
+static bool sb_break_past(sb_solver* s, sb_breakage* b, const sb_real* p) {
+    bool any = false;
+    for (uint32_t k = 0; k < b->limited_count; k++)
+        if (sb_past(b, p, k)) {
+            sb_break(s, b, k, true);
+            any = true;
+        }
+    return any;
+}
+
 /* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
  * forces at its end, which belongs to the interval after it: after a break
  * it is the broken state's (otherwise the kinetic energy would keep the
@@ -374,12 +393,12 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     sb_breakage* b = s->breakage;
     if (!b) return SB_OK;
     const sb_real* p = sb_packed_positions(s);
-    bool broke = sb_any_past(b, p);
-    if (!broke && !b->cutting && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
-    for (uint32_t k = 0; broke && k < b->limited_count; k++)
-        if (sb_past(b, p, k)) sb_break(s, b, k, true);
+    /* the fused step's kernels measured every bond at these positions and flag one near a limit */
+    bool measured = sb_fused(s) && s->fast->limits_measured;
+    bool broke = (measured ? s->near_limits : sb_any_past(b, p)) && sb_break_past(s, b, p);
     if (b->cutting)
         broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->contact_dt, s->time, sb_sever, s) > 0;
+    if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;

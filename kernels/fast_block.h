@@ -14,6 +14,13 @@ static inline int sb_block_count(uint32_t s, uint32_t end, uint32_t step) {
     return (int)(end - s < step ? end - s : step);
 }
 
+/* Whether a lane's squared length is at or past the margin of its break
+ * limits (min2 may be NULL: no bond has a min). */
+static inline bool sb_near_limit(const sb_real* max2, const sb_real* min2, uint32_t s, sb_wide squared, int count) {
+    return sb_w_any(sb_w_less(sb_w_load(max2 + s), squared), count) ||
+           (min2 && sb_w_any(sb_w_less(squared, sb_w_load(min2 + s)), count));
+}
+
 static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
     return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
 }

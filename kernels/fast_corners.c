@@ -63,12 +63,12 @@ static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle
     out->energy[3] = sb_w_add(out->energy[3], sb_w_mul(ks, strain_energy));
 }
 
-bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
-                     double energy[4]) {
+int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
+                    double energy[4]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO), zero = sb_w_set(0);
     sb_wide sums[4] = {zero, zero, zero, zero};
-    bool collapsed = false;
+    bool collapsed = false, near = false, limits = m->fused_bonds && m->tri_edge_near_max2[0];
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
         sb_windex v[3];
@@ -87,6 +87,7 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
             t.unit[c] = sb_wv_scale(e, t.inverse[c]);
             t.strain[c] = sb_w_sub(length[c], rest);
             collapsed |= sb_w_any(sb_w_less(length[c], sb_w_mul(ratio, rest)), count);
+            if (limits) near |= sb_near_limit(m->tri_edge_near_max2[c], m->tri_edge_near_min2[c], s, squared, count);
         }
         sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
         sb_wtriangle_out out = {{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}}, {zero, zero, zero, zero}};
@@ -97,5 +98,5 @@ bool sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t b
         for (int e = 0; e < 4; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     }
     for (int e = 0; e < 4; e++) energy[e] += sb_w_sum(sums[e], SB_WIDTH);
-    return collapsed;
+    return (collapsed ? SB_KERNEL_COLLAPSED : 0) | (near ? SB_KERNEL_NEAR_LIMIT : 0);
 }

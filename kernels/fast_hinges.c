@@ -28,8 +28,8 @@ static sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
     return result;
 }
 
-bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
-                    double energy[1]) {
+int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
+                   double energy[1]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide limit_ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
     sb_wide sum = sb_w_set(0);
@@ -66,5 +66,5 @@ bool sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
         sum = sb_w_add(sum, sb_w_keep(sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta), count));
     }
     energy[0] += sb_w_sum(sum, SB_WIDTH);
-    return collapsed;
+    return collapsed ? SB_KERNEL_COLLAPSED : 0;
 }

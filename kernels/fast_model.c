@@ -7,6 +7,7 @@
 #include "kernels/wide.h"
 #include "common/edge_map.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) / step * step; }
@@ -291,7 +292,53 @@ static bool sb_fast_places(sb_fast_model* f, const sb_model* m, const int64_t* o
     return ok;
 }
 
+/* Where bond b's margins are: its bond slot's or its fused edge's. */
+static void sb_limit_slots(const sb_fast_model* f, uint32_t bond, sb_real** max2, sb_real** min2) {
+    int64_t place = f->bond_place[bond];
+    uint32_t slot = place >= 0 ? (uint32_t)place : (uint32_t)((-1 - place) / 3);
+    int c = place >= 0 ? 0 : (int)((-1 - place) % 3);
+    sb_real* maxima = place >= 0 ? f->bond_near_max2 : f->tri_edge_near_max2[c];
+    sb_real* minima = place >= 0 ? f->bond_near_min2 : f->tri_edge_near_min2[c];
+    *max2 = maxima + slot;
+    *min2 = minima ? minima + slot : NULL;
+}
+
+/* The margins of the limits (sb_fast_model.bond_near_max2), for a model
+ * with a finite limit on some bond. */
+static bool sb_fast_limits(sb_fast_model* f, const sb_model* m) {
+    bool limited = false, any_min = false, ok = true;
+    for (uint32_t b = 0; b < m->bond_count; b++) {
+        limited |= isfinite(m->bond_break_max[b]) || m->bond_break_min[b] > 0.0;
+        any_min |= m->bond_break_min[b] > 0.0;
+    }
+    if (!limited) return true;
+    f->limits_measured = f->has_bond || f->has_spring || f->bonds.count == 0;
+    size_t slots[2] = {f->bonds.capacity + 1, f->triangles.capacity + 1};
+    sb_real** arrays[8] = {&f->bond_near_max2,        &f->tri_edge_near_max2[0], &f->tri_edge_near_max2[1],
+                           &f->tri_edge_near_max2[2], &f->bond_near_min2,        &f->tri_edge_near_min2[0],
+                           &f->tri_edge_near_min2[1], &f->tri_edge_near_min2[2]};
+    for (int a = 0; a < (any_min ? 8 : 4); a++) {
+        size_t n = slots[a % 4 != 0];
+        ok = ok && (*arrays[a] = malloc(n * sizeof **arrays[a])) != NULL;
+        for (size_t s = 0; ok && s < n; s++) (*arrays[a])[s] = a < 4 ? (sb_real)INFINITY : 0;
+    }
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
+        sb_real *max2, *min2;
+        sb_limit_slots(f, b, &max2, &min2);
+        double hi = m->bond_break_max[b], lo = m->bond_break_min[b];
+        *max2 = (sb_real)(hi * hi * (1.0 - SB_LIMIT_MARGIN));
+        if (min2) *min2 = (sb_real)(lo * lo * (1.0 + SB_LIMIT_MARGIN));
+    }
+    return ok;
+}
+
 void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
+    if (f->bond_near_max2) { /* never near again */
+        sb_real *max2, *min2;
+        sb_limit_slots(f, bond, &max2, &min2);
+        *max2 = (sb_real)INFINITY;
+        if (min2) *min2 = 0;
+    }
     int64_t place = f->bond_place[bond];
     if (place < 0) {
         uint32_t slot = (uint32_t)((-1 - place) / 3);
@@ -345,7 +392,7 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
     ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m) &&
          (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) &&
-         (!m->breakable || sb_fast_places(f, m, owner));
+         (!m->breakable || (sb_fast_places(f, m, owner) && sb_fast_limits(f, m)));
     free(owner);
     if (!ok) {
         sb_fast_model_destroy(f);
@@ -379,7 +426,9 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->hinge_k.values,
                       f->bond_place,
                       f->triangle_slot,
-                      f->hinge_slot};
+                      f->hinge_slot,
+                      f->bond_near_max2,
+                      f->bond_near_min2};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -387,6 +436,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_len0[c]);
         free(f->tri_edge_owned[c]);
         free(f->tri_edge_r0[c]);
+        free(f->tri_edge_near_max2[c]);
+        free(f->tri_edge_near_min2[c]);
     }
     for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
     free(f);

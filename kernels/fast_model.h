@@ -81,7 +81,19 @@ typedef struct sb_fast_model {
      * −1 − (3 slot + c) for edge c of a triangle slot (a fused bond). */
     int64_t* bond_place;
     uint32_t *triangle_slot, *hinge_slot;
+    /* The break limits' margins (a model with limits only; NULL
+     * otherwise): per bond slot and per fused edge, the squared max length
+     * shrunk by SB_LIMIT_MARGIN (+inf for none) and, when some bond has a
+     * min length, the squared min grown by it. A bond inside them is not
+     * past its limits, which the kernels tell breakage (SB_KERNEL_NEAR_LIMIT),
+     * so that the fused step needs no pass of its own over the bonds. */
+    sb_real *bond_near_max2, *bond_near_min2;
+    sb_real *tri_edge_near_max2[3], *tri_edge_near_min2[3];
+    bool limits_measured; /* every bond with a limit is in a pass that runs (the bond pass may not) */
 } sb_fast_model;
+
+/* Relative margin of the squared break limits, far above sb_real's rounding. */
+#define SB_LIMIT_MARGIN 1e-5
 
 sb_fast_model* sb_fast_model_create(const sb_model* model, sb_error* err);
 void sb_fast_model_destroy(sb_fast_model* fast);
@@ -89,7 +101,7 @@ void sb_fast_model_destroy(sb_fast_model* fast);
 /* Breakage, in place (a breakable model only): bond `bond` loses its
  * stiffness, damping and rest length (so no collapse check either); a
  * triangle its corners' constants and rest lengths; a hinge its constant. */
-void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond);
+void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond); /* its limits' margins too */
 void sb_fast_drop_triangle(sb_fast_model* fast, uint32_t triangle);
 void sb_fast_drop_hinge(sb_fast_model* fast, uint32_t hinge);
 

@@ -53,7 +53,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef bool (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
+typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
+
+/* What the force passes report: an edge collapsed; a bond near its break
+ * limits (SB_KERNEL_NEAR_LIMIT). */
+typedef struct sb_pass_flags {
+    atomic_int collapsed, near_limit;
+} sb_pass_flags;
 
 /* Where each pass keeps its per-block (per-chunk) sums in solver->partials. */
 typedef struct sb_partial_layout {
@@ -99,21 +105,22 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
 }
 
 static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint32_t b, sb_fast_kernel kernel,
-                         int terms, const sb_fast_frame* frame, double* partials, atomic_int* collapsed) {
+                         int terms, const sb_fast_frame* frame, double* partials, sb_pass_flags* flags) {
     const sb_block block = g->blocks[b];
     double* energy = partials + (size_t)terms * b;
     memset(energy, 0, (size_t)terms * sizeof *energy);
-    bool bad = false;
+    int raised = 0;
     for (uint32_t r = block.first_range; r < block.first_range + block.range_count; r++)
-        bad |= kernel(f, frame, g->ranges[r].begin, g->ranges[r].end, g->ranges[r].serial, energy);
-    if (bad) sb_worker_raise(collapsed);
+        raised |= kernel(f, frame, g->ranges[r].begin, g->ranges[r].end, g->ranges[r].serial, energy);
+    if (raised & SB_KERNEL_COLLAPSED) sb_worker_raise(&flags->collapsed);
+    if (raised & SB_KERNEL_NEAR_LIMIT) sb_worker_raise(&flags->near_limit);
 }
 
 /* Runs one kernel over a whole group. Called by all workers of the job;
  * returns with all of them past the last block color's barrier. The
  * overflow block color, whose blocks may share vertices, runs on worker 0. */
 static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_element_group* g, sb_fast_kernel kernel,
-                          int terms, const sb_fast_frame* frame, double* partials, atomic_int* collapsed) {
+                          int terms, const sb_fast_frame* frame, double* partials, sb_pass_flags* flags) {
     for (uint32_t k = 0; k < g->block_colors; k++) {
         int64_t first = g->color_first_block[k], last = g->color_first_block[k + 1], begin = first, end = last;
         if (k != SB_OVERFLOW_COLOR) {
@@ -123,19 +130,18 @@ static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_e
         } else if (w->index != 0) {
             begin = end; /* worker 0 alone */
         }
-        for (int64_t b = begin; b < end; b++)
-            sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, collapsed);
+        for (int64_t b = begin; b < end; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, flags);
         sb_worker_barrier(w);
     }
 }
 
-static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, atomic_int* collapsed) {
+static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, sb_pass_flags* flags) {
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
-    if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, collapsed);
+    if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, flags);
     if (f->has_corners || f->fused_bonds)
-        sb_group_pass(w, f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, collapsed);
-    if (f->has_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, collapsed);
+        sb_group_pass(w, f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, flags);
+    if (f->has_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
 }
 
 /* Serial, on one thread: the callback need not be thread-safe; then the
@@ -348,7 +354,8 @@ typedef struct sb_fast_job {
     sb_partial_layout layout;
     sb_step_constants constants;
     double dt;
-    atomic_int collapsed, bad;
+    sb_pass_flags flags;
+    atomic_int bad;
 } sb_fast_job;
 
 static void sb_publish_job(void* context, const sb_worker* w) {
@@ -366,7 +373,7 @@ void sb_fast_publish(sb_solver* s) {
 static void sb_forces_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
     sb_pack_pass(w, job->solver, &job->layout);
-    sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
+    sb_force_passes(w, job->solver, &job->layout, &job->flags);
     sb_external_step(w, job->solver);
     sb_publish_pass(w, job->solver);
 }
@@ -375,8 +382,9 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
     sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
     sb_team_run(s->team, sb_team_size(s->team), sb_forces_job, &job);
     s->published = true;
+    s->near_limits = atomic_load(&job.flags.near_limit) != 0;
     sb_collect_energies(s, &job.layout, false);
-    return atomic_load(&job.collapsed) ? sb_report_collapse(s) : SB_OK;
+    return atomic_load(&job.flags.collapsed) ? sb_report_collapse(s) : SB_OK;
 }
 
 /* Worker 0 puts the vertices the hard handles hold at their targets
@@ -392,7 +400,7 @@ static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt);
     sb_self_contact_packed(w, job->solver, job->dt);
     sb_handle_step(w, job->solver, job->dt);
-    sb_force_passes(w, job->solver, &job->layout, &job->collapsed);
+    sb_force_passes(w, job->solver, &job->layout, &job->flags);
     sb_external_step(w, job->solver);
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);
 }
@@ -415,7 +423,8 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     s->published = false;
     s->publish_written = s->publish_positions != NULL;
     sb_collect_energies(s, &job.layout, true);
-    bool bad = atomic_load(&job.bad), collapsed = atomic_load(&job.collapsed);
+    s->near_limits = atomic_load(&job.flags.near_limit) != 0;
+    bool bad = atomic_load(&job.bad), collapsed = atomic_load(&job.flags.collapsed);
     if (bad || collapsed) sb_fast_publish(s);
     if (bad) return sb_check_state(s);
     return collapsed ? sb_report_collapse(s) : SB_OK;

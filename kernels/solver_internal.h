@@ -28,6 +28,7 @@ struct sb_solver {
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
+    bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
     double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
     double trial_substep;         /* adaptive: the size the next sub-step tries (0: the whole dt) */
