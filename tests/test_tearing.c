@@ -8,7 +8,8 @@
  * after the splits (checked slot by slot: blocks of a block color share no
  * vertex, nor do the elements of a SIMD color within a block), and the
  * fast kernels' energies equal the reference's of the working copy; 1 and
- * 2 threads tear bitwise the same; a cap on the splits is kept. */
+ * 2 threads tear bitwise the same, with every integrator; a cap on the
+ * splits is kept. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
 #include "kernels/solver_internal.h"
@@ -65,14 +66,17 @@ static uint32_t check_mesh(const sb_solver* s) {
     return n;
 }
 
-/* The run: 0.6 s of 1e-4 s steps, the mesh checked at every step. */
-static void pull(pulled_run* r) {
-    for (int step = 0; step < 6000; step++) {
-        sb_status st = sb_solver_advance(r->solver, 1e-4);
+/* The run: `steps` steps of dt, the mesh checked at every step. */
+static void pull_for(pulled_run* r, double dt, int steps) {
+    for (int step = 0; step < steps; step++) {
+        sb_status st = sb_solver_advance(r->solver, dt);
         if (st != SB_OK) fail_msg("step %d: %s", step, sb_solver_error(r->solver));
         check_mesh(r->solver);
     }
 }
+
+/* 0.6 s: torn through. */
+static void pull(pulled_run* r) { pull_for(r, 1e-4, 6000); }
 
 static void test_sheet_tears_in_two(void** state) {
     (void)state;
@@ -189,6 +193,31 @@ static void test_threads_tear_the_same(void** state) {
     pulled_end(&two);
 }
 
+/* Every integrator tears the sheet (kernels/topology.c re-points what each
+ * of them reads: the working copy, the fast slots, pbd's colored
+ * constraints), a valid mesh at every step, the same for 1 and 2 threads. */
+static void test_every_integrator_tears(void** state) {
+    (void)state;
+    for (int i = 0; i < SB_INTEGRATOR_COUNT; i++) {
+        uint64_t hash[2];
+        uint32_t made = 0;
+        for (int threads = 1; threads <= 2; threads++) {
+            sb_solver_def def = kernels_def(SB_KERNELS_FAST, threads);
+            def.integrator = (sb_integrator)i;
+            pulled_run r;
+            pulled_start(&r, def);
+            bool implicit = def.integrator == SB_INTEGRATOR_IMPLICIT_EULER || def.integrator == SB_INTEGRATOR_VBD;
+            pull_for(&r, implicit ? 1e-3 : 1e-4, implicit ? 250 : 2500); /* to the first splits */
+            made = sb_solver_vertex_count(r.solver) - SIDE * SIDE;
+            hash[threads - 1] = tu_state_hash(r.solver);
+            pulled_end(&r);
+        }
+        print_message("%s: %u vertices split off\n", sb_integrator_name((sb_integrator)i), made);
+        assert_true(made > 0);
+        assert_true(hash[0] == hash[1]);
+    }
+}
+
 static void test_caps_are_kept(void** state) {
     (void)state;
     sb_solver_def def = kernels_def(SB_KERNELS_FAST, 1);
@@ -223,9 +252,8 @@ static void test_caps_are_kept(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sheet_tears_in_two),
-        cmocka_unit_test(test_colors_stay_valid_and_kernels_agree),
-        cmocka_unit_test(test_threads_tear_the_same),
+        cmocka_unit_test(test_sheet_tears_in_two),    cmocka_unit_test(test_colors_stay_valid_and_kernels_agree),
+        cmocka_unit_test(test_threads_tear_the_same), cmocka_unit_test(test_every_integrator_tears),
         cmocka_unit_test(test_caps_are_kept),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
