@@ -121,8 +121,9 @@ void sb_block_matrix_add_element(sb_block_matrix* a, const sb_element* e, const 
         }
 }
 
-void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out) {
-    for (uint32_t i = 0; i < a->rows; i++) {
+void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,
+                                   uint32_t end) {
+    for (uint32_t i = begin; i < end; i++) {
         double sum[3] = {0, 0, 0};
         for (uint32_t b = a->row_start[i]; b < a->row_start[i + 1]; b++) {
             const double *block = a->block + 9 * (size_t)b, *q = p + 3 * (size_t)a->column[b];
@@ -131,4 +132,8 @@ void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double*
         }
         memcpy(out + 3 * (size_t)i, sum, sizeof sum);
     }
+}
+
+void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out) {
+    sb_block_matrix_multiply_rows(a, p, out, 0, a->rows);
 }

@@ -33,7 +33,9 @@ void sb_block_matrix_zero(sb_block_matrix* a);
 double* sb_block_matrix_at(sb_block_matrix* a, uint32_t i, uint32_t j);
 /* Adds scale × the element's 3 count × 3 count matrix k. */
 void sb_block_matrix_add_element(sb_block_matrix* a, const sb_element* e, const double* k, double scale);
-/* out = A p (3 rows doubles each). */
+/* out = A p (3 rows doubles each); the second form only rows [begin, end). */
 void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out);
+void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,
+                                   uint32_t end);
 
 #endif

@@ -12,7 +12,8 @@
  *   J = M + dt D + dt² K,
  * K = −∂f/∂x the elements' exact stiffness (kernels/hessian.h), D = −∂f/∂v
  * the springs' damping blocks and the drag, assembled once per iteration into
- * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h).
+ * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h),
+ * on the solver's threads (sb_assemble_worker, sb_product_worker).
  * Where K is indefinite (a compressed bond, a loaded corner, a bent hinge)
  * CG stops at its first non-positive curvature and keeps its iterate,
  * counted in sb_step_stats.cg_indefinite; with implicit_definite each
@@ -48,8 +49,12 @@
 /* The work vectors, 3n doubles each, allocated once per solver. */
 enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
 
+/* Elements a worker computes between two scatters. */
+#define SB_ASSEMBLY_CHUNK 64
+
 struct sb_implicit {
     double* work;              /* W_COUNT × 3n */
+    double* element_matrices;  /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
     double* inverse_blocks;    /* 9n: the preconditioner */
     sb_block_matrix* matrix;   /* J */
     uint32_t pattern_vertices; /* sb_solver_vertex_count when its pattern was built */
@@ -104,30 +109,83 @@ static void sb_add_damping(sb_newton* w, const double* x) {
     }
 }
 
+/* The stiffness pass, on the team: in rounds, each worker computes the
+ * matrices of its chunk of SB_ASSEMBLY_CHUNK elements (chunk r·width + w),
+ * then worker 0 adds the round's chunks in element order. The additions
+ * are those of one thread, in one order: J is bitwise the same for any
+ * thread count. A collapsed element raises `collapsed` (the lowest one's
+ * number kept by worker 0). */
+typedef struct sb_assembly {
+    sb_newton* w;
+    double* matrices;
+    uint64_t count, collapsed;
+} sb_assembly;
+
+static void sb_assemble_worker(void* context, const sb_worker* worker) {
+    sb_assembly* job = context;
+    const sb_solver* s = job->w->s;
+    const sb_model* m = s->model;
+    const double* x = job->w->a[W_XT];
+    uint64_t per_round = (uint64_t)worker->width * SB_ASSEMBLY_CHUNK;
+    for (uint64_t round = 0; round < job->count; round += per_round) {
+        uint64_t first = round + (uint64_t)worker->index * SB_ASSEMBLY_CHUNK;
+        double* mine = job->matrices + (size_t)worker->index * SB_ASSEMBLY_CHUNK * 144;
+        for (uint64_t id = first; id < first + SB_ASSEMBLY_CHUNK && id < job->count; id++) {
+            sb_element e = sb_element_at(m, id);
+            double* k = mine + (id - first) * 144;
+            bool ok = !s->def.implicit_definite ? sb_element_stiffness(m, &e, x, k)
+                                                : sb_element_stiffness_definite(m, &e, x, k);
+            if (!ok) k[0] = NAN; /* worker 0 names it */
+        }
+        sb_worker_barrier(worker);
+        if (worker->index == 0)
+            for (uint64_t id = round; id < round + per_round && id < job->count; id++) {
+                const double* k = job->matrices + (id - round) * 144;
+                if (isnan(k[0])) {
+                    if (job->collapsed == UINT64_MAX) job->collapsed = id;
+                    continue;
+                }
+                sb_element e = sb_element_at(m, id);
+                sb_block_matrix_add_element(job->w->j, &e, k, job->w->dt * job->w->dt);
+            }
+        sb_worker_barrier(worker);
+    }
+}
+
 /* J = M (1 + dt drag) + dt D + dt² K at the current point. */
 static sb_status sb_assemble(sb_newton* w) {
     sb_solver* s = w->s;
     const sb_model* m = s->model;
-    const double* x = w->a[W_XT];
     sb_block_matrix_zero(w->j);
-    double k[144];
-    for (uint64_t id = 0; id < sb_element_count(m); id++) {
-        sb_element e = sb_element_at(m, id);
-        bool ok =
-            !s->def.implicit_definite ? sb_element_stiffness(m, &e, x, k) : sb_element_stiffness_definite(m, &e, x, k);
-        if (!ok)
-            return sb_error_set(&s->error, SB_ERR_DEGENERATE,
-                                "implicit_euler: element %llu (vertices %u, %u, ...) collapsed", (unsigned long long)id,
-                                e.vertex[0], e.vertex[1]);
-        sb_block_matrix_add_element(w->j, &e, k, w->dt * w->dt);
+    sb_assembly job = {w, s->implicit->element_matrices, sb_element_count(m), UINT64_MAX};
+    sb_team_run(s->team, sb_team_size(s->team), sb_assemble_worker, &job);
+    if (job.collapsed != UINT64_MAX) {
+        sb_element e = sb_element_at(m, job.collapsed);
+        return sb_error_set(&s->error, SB_ERR_DEGENERATE,
+                            "implicit_euler: element %llu (vertices %u, %u, ...) collapsed",
+                            (unsigned long long)job.collapsed, e.vertex[0], e.vertex[1]);
     }
-    sb_add_damping(w, x);
+    sb_add_damping(w, w->a[W_XT]);
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double* block = w->j->block + 9 * (size_t)w->j->diagonal[i];
         double diagonal = m->mass[i] * (1.0 + w->dt * s->def.drag);
         block[0] += diagonal, block[4] += diagonal, block[8] += diagonal;
     }
     return SB_OK;
+}
+
+/* q = J d on the team, each worker its own rows. */
+typedef struct sb_product {
+    const sb_block_matrix* j;
+    const double* d;
+    double* q;
+} sb_product;
+
+static void sb_product_worker(void* context, const sb_worker* worker) {
+    const sb_product* job = context;
+    int64_t begin, end;
+    sb_worker_range(worker, job->j->rows, &begin, &end);
+    sb_block_matrix_multiply_rows(job->j, job->d, job->q, (uint32_t)begin, (uint32_t)end);
 }
 
 /* Inverts a 3 × 3 block by its adjugate; false when it is singular. */
@@ -173,7 +231,8 @@ static void sb_conjugate_gradients(sb_newton* w, int cap, sb_step_stats* stats) 
     memcpy(d, z, n3 * sizeof *d);
     double rz = sb_dot(res, z, n3), target = SB_CG_RELATIVE_TOLERANCE * sqrt(sb_dot(res, res, n3));
     for (int it = 0; it < cap; it++) {
-        sb_block_matrix_multiply(w->j, d, q);
+        sb_product product = {w->j, d, q};
+        sb_team_run(w->s->team, sb_team_size(w->s->team), sb_product_worker, &product);
         sb_apply_mask(w, q);
         double curvature = sb_dot(d, q, n3);
         if (!(curvature > 0.0)) { /* not positive definite here: keep what we have */
@@ -232,15 +291,16 @@ bool sb_implicit_prepare(sb_solver* s) {
     if (!im) return false;
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
+    im->element_matrices = malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * 144 * sizeof(double));
     im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - sb_solver_vertex_count(s));
     im->pattern_vertices = sb_solver_vertex_count(s);
-    return im->work && im->inverse_blocks && im->matrix;
+    return im->work && im->inverse_blocks && im->matrix && im->element_matrices;
 }
 
 void sb_implicit_destroy(sb_solver* s) {
     struct sb_implicit* im = s->implicit;
     if (!im) return;
-    free(im->work), free(im->inverse_blocks);
+    free(im->work), free(im->inverse_blocks), free(im->element_matrices);
     sb_block_matrix_destroy(im->matrix);
     free(im);
     s->implicit = NULL;
