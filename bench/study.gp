@@ -7,9 +7,10 @@
 #   gnuplot -e "results='DIR'" bench/study.gp
 if (!exists("results")) results = "bench/results"
 stability = results . "/stability.csv"
-names = "verlet velocity_verlet position_verlet symplectic_euler explicit_euler implicit_euler pbd xpbd"
+names = "verlet velocity_verlet position_verlet symplectic_euler explicit_euler implicit_euler pbd xpbd vbd"
 
 set terminal pngcairo size 1000,700 enhanced font "sans,11"
+set linetype 9 lc rgb "#8c564b" # the ninth integrator (vbd) gets its own colour
 set datafile separator whitespace
 set logscale xy
 set format x "10^{%L}"
@@ -32,10 +33,10 @@ plot for [i=1:words(names)] rows(stability, word(names, i), 1, 5) using 1:2 with
 
 set xlabel "CPU time of the run (s)"
 set ylabel "largest vertex error (m)"
-do for [where in "middle corner"] {
-    precision = results . (where eq "middle" ? "/work_precision.csv" : "/work_precision_corner.csv")
-    set output results . (where eq "middle" ? "/work_precision.png" : "/work_precision_corner.png")
-    set title "Work-precision: error after 0.2 s of a 0.5 N push at the sheet's " . (where eq "middle" ? "middle" : "free corner") . ", against CPU time"
+do for [where in "middle corner large"] {
+    precision = results . "/work_precision" . (where eq "middle" ? "" : "_" . where) . ".csv"
+    set output results . "/work_precision" . (where eq "middle" ? "" : "_" . where) . ".png"
+    set title (where eq "large" ? "Work-precision at scale: 48 x 48 sheet, fast kernels, a 0.5 N push at the middle for 0.2 s" : "Work-precision: error after 0.2 s of a 0.5 N push at the sheet's " . (where eq "middle" ? "middle" : "free corner") . ", against CPU time")
     plot for [i=1:words(names)] rows(precision, word(names, i), 5, 6) using 1:2 with linespoints lw 2 pt i title word(names, i) noenhanced
 }
 
