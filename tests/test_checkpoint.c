@@ -47,25 +47,7 @@ typedef struct rig {
 
 typedef void (*rig_make)(rig* r, int threads);
 
-static sb_model* sheet(double break_strain) {
-    sb_sheet_def def = sb_default_sheet_def();
-    def.nx = def.ny = SIDE;
-    def.width = def.height = 0.1;
-    def.jitter = 0.1;
-    sb_mesh mesh = {0};
-    sb_error err;
-    assert_int_equal(sb_mesh_generate_sheet(&def, &mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 200.0;
-    material.angle_k = 1e-3;
-    material.stretch_bend_k = 1e-2;
-    material.bend_k = 1e-4;
-    material.mass = 0.01;
-    material.break_strain = break_strain;
-    sb_model* m = tu_mesh_model(&mesh, &material);
-    sb_mesh_free(&mesh);
-    return m;
-}
+static sb_model* sheet(double break_strain) { return ps_sheet_model(SIDE, 0.1, break_strain); }
 
 static sb_collider* collider(const sb_collider_def* def) {
     sb_error err;
