@@ -22,6 +22,7 @@
 
 #include <stb/stb_image.h>
 #include <stdio.h>
+#include <unistd.h>
 
 #define SCENE SB_SOURCE_DIR "/scenes/default.yaml"
 enum { W = 480, H = 360 };
@@ -53,7 +54,17 @@ static void run_scene(const char* scene, const char* set, const char* name, cons
     sb_view_options o = sb_default_view_options(&args);
     o.width = W, o.height = H, o.script = script, o.screenshot = shot, o.frames = frames;
     sb_error err;
-    if (sb_view_run(&o, result, &err) != SB_OK) fail_msg("%s", err.message);
+    /* Xvfb under load once refused a window mid-run (glfwInit failed after
+     * four windows had opened and closed, in CI's double build): a window
+     * that cannot open is tried twice more, a second apart. */
+    sb_status status = SB_OK;
+    for (int attempt = 0; attempt < 3; attempt++) {
+        status = sb_view_run(&o, result, &err);
+        if (status == SB_OK || !strstr(err.message, "no display")) break;
+        print_message("attempt %d: %s\n", attempt + 1, err.message);
+        sleep(1);
+    }
+    if (status != SB_OK) fail_msg("%s", err.message);
     if (!png) return;
     int channels;
     png->rgb = stbi_load(shot, &png->width, &png->height, &channels, 3);
@@ -281,8 +292,11 @@ static void test_no_display_is_said(void** state) {
     size_t n = fread(text, 1, sizeof text - 1, p);
     text[n] = '\0';
     pclose(p);
-    assert_string_equal(text, "softbond: view: no display to open a window on (is DISPLAY set? headless: xvfb-run -a "
-                              "softbond view ...)\nexit 2\n");
+    const char* expected = "softbond: view: no display to open a window on (is DISPLAY set? headless: xvfb-run -a "
+                           "softbond view ...)";
+    assert_memory_equal(text, expected, strlen(expected));
+    assert_non_null(strstr(text, "\nexit 2\n"));
+    assert_ptr_equal(strchr(text, '\n'), strstr(text, "\nexit 2\n")); /* one line, then the status */
 }
 
 static void test_script_errors_name_the_line(void** state) {

@@ -72,8 +72,12 @@ static void on_scroll(GLFWwindow* g, double dx, double dy) {
 
 sb_window* sb_window_open(int width, int height, const char* title, sb_error* err) {
     if (!glfwInit()) {
-        sb_error_set(err, SB_ERR_INVALID,
-                     "view: no display to open a window on (is DISPLAY set? headless: xvfb-run -a softbond view ...)");
+        const char* why = NULL;
+        glfwGetError(&why); /* GLFW's own account, e.g. the display it could not open */
+        sb_error_set(
+            err, SB_ERR_INVALID,
+            "view: no display to open a window on (is DISPLAY set? headless: xvfb-run -a softbond view ...)%s%s",
+            why ? "; GLFW: " : "", why ? why : "");
         return NULL;
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
