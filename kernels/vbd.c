@@ -231,9 +231,7 @@ static void sb_vbd_sweeps(void* context, const sb_worker* w) {
  * to [0, |g|]. Guessing y itself moves a hanging sheet's every vertex down
  * by dt² g each step, and the few sweeps cannot carry the support back
  * across a large sheet: it stretches more each step. */
-static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const sb_solver_def* def, size_t i, double dt) {
-    const double* g = def->gravity;
-    double length = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const double* g, double length, size_t i, double dt) {
     if (!v->has_previous || length == 0.0) return 0.0;
     double along = 0.0;
     for (int c = 0; c < 3; c++) along += (v->y[3 * i + c] - v->previous_v[3 * i + c]) / dt * g[c] / length;
@@ -251,7 +249,7 @@ static void sb_vbd_predict(sb_solver* s, struct sb_vbd* v, double dt) {
     sb_interleave(v->x0, st->x, st->y, st->z, st->vertex_count);
     sb_interleave(v->y, st->vx, st->vy, st->vz, st->vertex_count); /* v⁰ for now */
     for (size_t i = 0; i < n; i++) {
-        double guess = m->fixed[i] ? 0.0 : sb_vbd_guess_acceleration(v, &s->def, i, dt);
+        double guess = m->fixed[i] ? 0.0 : sb_vbd_guess_acceleration(v, g, length, i, dt);
         for (int c = 0; c < 3; c++) {
             size_t q = 3 * i + c;
             double velocity = v->y[q];
