@@ -31,6 +31,9 @@ struct sb_haptics {
 
     /* The simulation thread's own. */
     sb_contact_model sensed;
+    double sensed_before;                /* s: the time of the sense before sensed's (a step's length) */
+    sb_haptic_pose drive_from, drive_to; /* the device's last two poses the drive read */
+    bool driven;
     double mean_force[3]; /* N: the tool's contact force averaged over sense_time */
     double sim_proxy[3];
 

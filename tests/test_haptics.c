@@ -186,6 +186,37 @@ static void test_stiff_wall_is_felt_through_the_coupling_and_clamped(void** stat
     rig_close(&deep);
 }
 
+/* Simulation steps shorter than the servo's period (ten a tick here), the
+ * device moving at 10 mm/s, nothing touched: each step takes the tool a
+ * step's share of the device's move (1 µm), on from the newest pose along
+ * the device's last move, so it is where the device is at the step's end;
+ * it does not jump a tick's move (10 µm) at the first step of each tick. */
+static void test_short_steps_move_the_tool_a_steps_share(void** state) {
+    (void)state;
+    rig r = {.device = pressing(0.01, 1.0)};
+    sb_haptics_def def = rig_def();
+    rig_open(&r, &def, 0);
+    const int steps = 10;
+    double before[3] = {0, 0, 0}, proxy[3];
+    sb_haptic_tick tick;
+    for (long i = 0; i < 20; i++) {
+        sb_haptics_tick(r.haptics, (double)i * T);
+        assert_int_equal(sb_haptics_drain(r.haptics, &tick, 1), 1);
+        for (int s = 1; s <= steps; s++) {
+            double step_end = (double)i * T + s * T / steps;
+            sb_haptics_drive(r.haptics);
+            sb_haptics_proxy(r.haptics, proxy);
+            if (i >= 2) { /* two poses read, two steps sensed */
+                TU_ASSERT_NEAR(proxy[2], -0.01 * step_end, 1e-12);
+                TU_ASSERT_NEAR(before[2] - proxy[2], 0.01 * T / steps, 1e-12);
+            }
+            memcpy(before, proxy, sizeof before);
+            sb_haptics_sense_force(r.haptics, (double[3]){0, 0, 0}, ++r.step, step_end);
+        }
+    }
+    rig_close(&r);
+}
+
 /* The watchdogs: the force ramps from its value to exactly zero within
  * ramp_time of the fault (stall: stall_time after the last step), never
  * rising meanwhile, and comes back when a stall ends. */
@@ -510,6 +541,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_wall_feels_springs_in_series),
         cmocka_unit_test(test_stiff_wall_is_felt_through_the_coupling_and_clamped),
+        cmocka_unit_test(test_short_steps_move_the_tool_a_steps_share),
         cmocka_unit_test(test_stalled_simulation_ramps_to_zero_and_back),
         cmocka_unit_test(test_nonfinite_pose_and_device_error_ramp_to_zero),
         cmocka_unit_test(test_limits_refused),

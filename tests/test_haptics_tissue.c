@@ -161,8 +161,8 @@ static void test_felt_force_is_the_static_reaction(void** state) {
  * separate run, moved along the same trajectory as a kinematic path: the
  * sheet's reaction on it over time (0.1 s averages) is the same within 5 %
  * of its peak. Not closer: the proxy stops short of the device by the felt
- * force over K (0.07 mm here), where the sheet pushes 0.0015 N less (3 %). The syringe of the interaction issue would
- * be this comparison with a needle; there is no syringe scene yet. */
+ * force over K (0.07 mm here), where the sheet pushes 0.0015 N less (3 %). The syringe of the interaction issue
+ * makes this comparison with a needle: tests/test_haptics_syringe.c. */
 static void test_scripted_device_matches_the_kinematic_path(void** state) {
     (void)state;
     const char* script = tu_write_file("press2.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");

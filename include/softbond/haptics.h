@@ -111,7 +111,7 @@ typedef struct sb_haptics_def {
     double stall_time;       /* s without a new step before the force ramps down (default 0.05) */
     double ramp_time;        /* s, a ramp from full force to zero or back (default 0.05) */
     /* s: the tool's contact force is averaged over about this time (an
-     * exponential average, default 0.005): a step's contact impulses come
+     * exponential average, default 0.002): a step's contact impulses come
      * and go, their mean is the tissue's push. 0 = each step's own. */
     double sense_time;
     bool realtime;         /* ask for SCHED_FIFO on the servo thread (default true) */
@@ -161,7 +161,9 @@ SB_API double sb_haptics_clock(const sb_haptics* haptics);
 SB_API void sb_haptics_tick(sb_haptics* haptics, double time);
 
 /* Simulation thread, before a step: the tool goes to the proxy for the
- * latest device pose (sb_collider_set_pose). */
+ * device at the step's end (sb_collider_set_pose): the latest pose, moved
+ * on along the device's last move when steps are shorter than the servo's
+ * period (the step's length taken from the last two sb_haptics_sense). */
 SB_API void sb_haptics_drive(sb_haptics* haptics);
 /* Simulation thread, after a step: the tool's contact force becomes the
  * contact model the servo reads; `time` on the servo's clock. */
