@@ -1,7 +1,14 @@
 /* Fast per-hinge kernel: the dihedral bending term of
  * kernels/reference_hinges.c (which derives the gradient), in SIMD.
- * atan2 has no SIMD instruction, so the angle difference is computed as
- * the atan2 of the rotation from the rest normal pair, lane by lane. */
+ *
+ * The angle: φ = atan2((n0 × n1)·ê, n0·n1) by kernels/wide.h's vector
+ * atan2 (a polynomial, within one unit in the last place of π of libm), then
+ * φ − φ0 wrapped into (−π, π] with the reference's own two comparisons, lane
+ * by lane without a branch. A fold through itself therefore behaves as in
+ * the reference: φ jumps from π to −π, the difference does not. A
+ * formulation without inverse trigonometry (the rotation from the rest
+ * normal pair) would need sin φ0 and cos φ0 per hinge: one more stream to
+ * read for the same accuracy. */
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
 #include "common/geometry.h"
@@ -16,16 +23,12 @@
 
 #define SB_MIN_WING_RATIO 1e-12
 
-/* φ − φ0 per lane, wrapped into (−π, π]. */
+/* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does. */
 static sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
-    sb_real s[SB_WIDTH], c[SB_WIDTH], p[SB_WIDTH], out[SB_WIDTH];
-    memcpy(s, &sine, sizeof s);
-    memcpy(c, &cosine, sizeof c);
-    memcpy(p, &phi0, sizeof p);
-    for (int l = 0; l < SB_WIDTH; l++) out[l] = (sb_real)sb_angle_difference(atan2(s[l], c[l]), p[l]);
-    sb_wide result;
-    memcpy(&result, out, sizeof result);
-    return result;
+    const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
+    sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);
+    d = sb_w_pick_greater(d, pi, sb_w_sub(d, two_pi), d);
+    return sb_w_pick_greater(d, sb_w_sub(sb_w_set(0), pi), d, sb_w_add(d, two_pi));
 }
 
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,

@@ -130,6 +130,94 @@ static void test_icosphere(void** state) {
     compare_with_reference(SHAPE_SPHERE, false);
 }
 
+/* Lone hinges (4 vertices each, hinges only) folded near where the angle
+ * is delicate: near flat (φ0 and φ within 0.05 rad of 0), through itself
+ * (φ0 within 0.1 of ±π, φ up to 0.2 from it, so φ crosses ±π and wraps),
+ * and nearly closed (flat at rest, folded to within 0.1–0.3 of ±π: φ − φ0
+ * near ±π but not at it, where the reference's force flips sign). */
+typedef enum { FOLD_NEAR_FLAT, FOLD_THROUGH_ITSELF, FOLD_NEARLY_CLOSED } fold;
+
+/* The hinge's edge along x, o0 in the plane, o1 turned by `angle` about
+ * the edge: its dihedral angle is ±angle. */
+static void place_hinge(double* x, double at, double angle, tu_rng* rng, double jitter) {
+    const double wing[4][3] = {{0, 0, 0}, {1, 0, 0}, {0.4, -0.7, 0}, {0.55, 0.8 * cos(angle), 0.8 * sin(angle)}};
+    for (int a = 0; a < 4; a++)
+        for (int c = 0; c < 3; c++) x[3 * a + c] = wing[a][c] + (c == 0 ? at : 0) + tu_uniform(rng, -jitter, jitter);
+}
+
+static double random_sign(tu_rng* rng) { return tu_uniform(rng, -1, 1) < 0 ? -1.0 : 1.0; }
+
+/* Rest and current angle of one hinge of the given fold. */
+static void fold_angles(fold kind, tu_rng* rng, double* rest, double* now) {
+    if (kind == FOLD_NEAR_FLAT) {
+        *rest = tu_uniform(rng, -0.05, 0.05);
+        *now = *rest + tu_uniform(rng, -0.05, 0.05);
+    } else if (kind == FOLD_THROUGH_ITSELF) {
+        *rest = random_sign(rng) * (M_PI - tu_uniform(rng, 0, 0.1));
+        *now = *rest + tu_uniform(rng, -0.2, 0.2);
+    } else {
+        *rest = tu_uniform(rng, -0.05, 0.05);
+        *now = *rest + random_sign(rng) * (M_PI - tu_uniform(rng, 0.1, 0.3));
+    }
+}
+
+static void compare_hinges(fold kind) {
+    enum { hinges = 3 * 16 + 5 }; /* whole blocks and a part block at any width */
+    uint32_t n = 4 * hinges;
+    double *rest = malloc(3 * n * sizeof *rest), *x = malloc(3 * n * sizeof *x);
+    double *f = malloc(3 * n * sizeof *f), *fast_f = malloc(3 * n * sizeof *fast_f);
+    tu_rng rng = {40 + (uint64_t)kind};
+    for (uint32_t h = 0; h < hinges; h++) {
+        double rest_angle, angle;
+        fold_angles(kind, &rng, &rest_angle, &angle);
+        place_hinge(rest + 12 * h, 2.0 * h, rest_angle, &rng, 0.0);
+        place_hinge(x + 12 * h, 2.0 * h, angle, &rng, 0.01);
+    }
+    for (uint32_t k = 0; k < 3 * n; k++) x[k] = (sb_real)x[k];
+    sb_builder* builder = sb_builder_create();
+    for (uint32_t i = 0; i < n; i++) {
+        sb_vertex_def vertex = sb_default_vertex_def();
+        memcpy(vertex.position, rest + 3 * i, sizeof vertex.position);
+        assert_true(sb_builder_add_vertex(builder, &vertex) >= 0);
+    }
+    for (uint32_t h = 0; h < hinges; h++)
+        assert_true(sb_builder_add_hinge(builder, &(sb_hinge_def){4 * h, 4 * h + 1, 4 * h + 2, 4 * h + 3, 0.2}) >= 0);
+    sb_error err;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    if (!model) fail_msg("%s", err.message);
+    sb_energies reference;
+    assert_int_equal(sb_reference_forces(model, x, NULL, f, &reference, &err), SB_OK);
+    sb_solver* solver = make_fast_solver(model, 2);
+    assert_int_equal(sb_solver_set_state(solver, x, NULL), SB_OK);
+    sb_solver_get_forces(solver, fast_f);
+    double largest = tu_max_abs(f, 3 * n), worst = 0.0;
+    for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
+    print_message("fold %d: largest hinge force error %.3g of the largest force\n", (int)kind, worst / largest);
+    TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
+    TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
+                   FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    free(rest);
+    free(x);
+    free(f);
+    free(fast_f);
+}
+
+static void test_hinges_near_flat(void** state) {
+    (void)state;
+    compare_hinges(FOLD_NEAR_FLAT);
+}
+static void test_hinges_through_themselves(void** state) {
+    (void)state;
+    compare_hinges(FOLD_THROUGH_ITSELF);
+}
+static void test_hinges_nearly_closed(void** state) {
+    (void)state;
+    compare_hinges(FOLD_NEARLY_CLOSED);
+}
+
 /* Marks the vertices of range r's real slots with `mark`; fails on a vertex
  * already marked with it. */
 static void mark_range(const sb_color_range* range, int arity, uint32_t* const* ids, uint32_t* owner, uint32_t mark,
@@ -349,6 +437,9 @@ int main(void) {
         cmocka_unit_test(test_sliver_triangles),
         cmocka_unit_test(test_nearly_straight_angles),
         cmocka_unit_test(test_icosphere),
+        cmocka_unit_test(test_hinges_near_flat),
+        cmocka_unit_test(test_hinges_through_themselves),
+        cmocka_unit_test(test_hinges_nearly_closed),
         cmocka_unit_test(test_coloring),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_collapse_reported),

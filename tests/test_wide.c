@@ -1,0 +1,102 @@
+/* kernels/wide.h's vector atan2 against libm's atan2 (in double, of the same
+ * sb_real arguments) over the whole circle, in every lane. */
+#include "test_util.h"
+
+#include "kernels/wide.h"
+
+/* The bounds stated in kernels/wide.h: 1.1 units in the last place of π. */
+#define ATAN2_BOUND (sizeof(sb_real) == sizeof(float) ? 2.6e-7 : 5e-16)
+
+/* Evaluates sb_w_atan2 on n (y, x) pairs, SB_WIDTH at a time (n a multiple
+ * of SB_WIDTH); returns the largest difference from libm, and checks that
+ * every result has libm's sign. */
+static double worst_error(const sb_real* y, const sb_real* x, size_t n) {
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i += SB_WIDTH) {
+        sb_real out[SB_WIDTH];
+        sb_w_store(out, sb_w_atan2(sb_w_load(y + i), sb_w_load(x + i)));
+        for (int l = 0; l < SB_WIDTH; l++) {
+            double expected = atan2((double)y[i + l], (double)x[i + l]);
+            if (!signbit(out[l]) != !signbit(expected))
+                fail_msg("atan2(%.9g, %.9g): %.9g, libm %.9g", (double)y[i + l], (double)x[i + l], (double)out[l],
+                         expected);
+            worst = fmax(worst, fabs(out[l] - expected));
+        }
+    }
+    return worst;
+}
+
+/* Round n up to a whole number of blocks by repeating the first pair. */
+static size_t pad(sb_real* y, sb_real* x, size_t n) {
+    while (n % SB_WIDTH) {
+        y[n] = y[0];
+        x[n] = x[0];
+        n++;
+    }
+    return n;
+}
+
+/* Points on circles of radius 1e-20 to 1e20, evenly around, then the same
+ * angles with each coordinate's last bits jittered by the rounding to sb_real. */
+static void test_whole_circle(void** state) {
+    (void)state;
+    enum { angles = 1 << 16, radii = 5 };
+    const double radius[radii] = {1e-20, 1e-3, 1.0, 7.5e3, 1e20};
+    size_t capacity = (size_t)angles * radii + SB_WIDTH;
+    sb_real *y = malloc(capacity * sizeof *y), *x = malloc(capacity * sizeof *x);
+    size_t n = 0;
+    for (int r = 0; r < radii; r++)
+        for (int a = 0; a < angles; a++) {
+            double theta = -M_PI + 2.0 * M_PI * (a + 0.37) / angles;
+            y[n] = (sb_real)(radius[r] * sin(theta));
+            x[n] = (sb_real)(radius[r] * cos(theta));
+            n++;
+        }
+    double worst = worst_error(y, x, pad(y, x, n));
+    print_message("whole circle: largest error %.3g rad against libm (bound %.3g)\n", worst, ATAN2_BOUND);
+    TU_ASSERT_LE(worst, ATAN2_BOUND);
+    free(y);
+    free(x);
+}
+
+/* Random pairs in a box, where the reduction's branches meet: |y| = |x|,
+ * |y| = tan(π/8) |x| and their neighbours. */
+static void test_branch_edges(void** state) {
+    (void)state;
+    enum { count = 1 << 14 };
+    sb_real y[count + SB_WIDTH], x[count + SB_WIDTH];
+    tu_rng rng = {11};
+    const double ratios[] = {1.0, 0.41421356237309504880, 2.41421356237309504880};
+    for (int i = 0; i < count; i++) {
+        double u = tu_uniform(&rng, -1.0, 1.0), ratio = ratios[i % 3];
+        double wiggle = 1.0 + (i % 7 - 3) * TU_REAL_EPS;
+        x[i] = (sb_real)u;
+        y[i] = (sb_real)(i % 2 ? -1.0 : 1.0) * (sb_real)(fabs(u) * ratio * wiggle);
+    }
+    double worst = worst_error(y, x, pad(y, x, count));
+    print_message("branch edges: largest error %.3g rad\n", worst);
+    TU_ASSERT_LE(worst, ATAN2_BOUND);
+}
+
+/* Zeros and the axes: libm's values and signs (±0, ±π/2, ±π). */
+static void test_axes_and_zeros(void** state) {
+    (void)state;
+    const sb_real values[] = {0.0f, -0.0f, 1.0f, -1.0f, 3e-30f};
+    enum { n = sizeof values / sizeof values[0] };
+    sb_real y[n * n + SB_WIDTH], x[n * n + SB_WIDTH];
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            y[i * n + j] = values[i];
+            x[i * n + j] = values[j];
+        }
+    TU_ASSERT_LE(worst_error(y, x, pad(y, x, n * n)), ATAN2_BOUND);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_whole_circle),
+        cmocka_unit_test(test_branch_edges),
+        cmocka_unit_test(test_axes_and_zeros),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
