@@ -37,19 +37,28 @@ bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, do
     return true;
 }
 
-void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {
+/* k (u uᵀ + σ (I − u uᵀ)) on x_j − x_i, σ = 1 − r0/r: the bond's stiffness
+ * in closed form; `definite` clamps σ at 0 (kernels/hessian.h). */
+static bool sb_bond_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double* k) {
     double stiffness = sb_bond_stiffness(m, bond), r0 = m->bond_r0[bond];
     sb_vec3 delta = sb_v3_sub(x[1], x[0]);
     double r = sb_v3_length(delta);
-    if (!(r >= SB_COLLAPSE_RATIO * r0)) {
-        k[0] = NAN;
-        return;
-    }
-    double u[3] = {delta.x / r, delta.y / r, delta.z / r}, sideways = fmax(0.0, 1.0 - r0 / r);
+    if (!(r >= SB_COLLAPSE_RATIO * r0)) return false;
+    double u[3] = {delta.x / r, delta.y / r, delta.z / r}, sideways = 1.0 - r0 / r;
+    if (definite) sideways = fmax(0.0, sideways);
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
             double h = stiffness * ((1.0 - sideways) * u[a] * u[b] + (a == b ? sideways : 0.0));
             k[a * 6 + b] = k[(a + 3) * 6 + b + 3] = h;
             k[a * 6 + b + 3] = k[(a + 3) * 6 + b] = -h;
         }
+    return true;
+}
+
+bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {
+    return sb_bond_matrix(m, bond, x, false, k);
+}
+
+void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {
+    if (!sb_bond_matrix(m, bond, x, true, k)) k[0] = NAN;
 }

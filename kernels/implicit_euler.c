@@ -1,6 +1,7 @@
 /* Implicit (backward) Euler, solved by Newton's method on the exact
- * Jacobian, with block-Jacobi preconditioned conjugate gradients and a
- * backtracking line search.
+ * Jacobian, its systems by a sparse Cholesky factorization or by
+ * block-Jacobi preconditioned conjugate gradients, with a backtracking line
+ * search.
  *
  * Backward Euler, first order, unconditionally stable, and dissipative (it
  * damps an oscillation of frequency ω by 1/√(1 + (ω dt)²) per step):
@@ -11,11 +12,17 @@
  * to zero: each iteration solves J p = −R with
  *   J = M + dt D + dt² K,
  * K = −∂f/∂x the elements' exact stiffness (kernels/hessian.h), D = −∂f/∂v
- * the springs' damping blocks and the drag, assembled once per iteration into
+ * the springs' damping blocks and the drag, assembled into
  * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h),
  * on the solver's threads (sb_assemble_worker, sb_product_worker).
- * Where K is indefinite (a compressed bond, a loaded corner, a bent hinge)
- * CG stops at its first non-positive curvature and keeps its iterate,
+ * With a factorization (implicit_solver, kernels/sparse_cholesky.h) a J
+ * that is not positive definite is assembled again from the positive
+ * semi-definite stand-ins, which always factor, and a factored J serves the
+ * next Newton iterations while each cuts |R| fourfold (modified Newton: an
+ * assembly and a factorization cost about ten solves). With CG, J is
+ * assembled at every iteration, and where K is indefinite (a compressed
+ * bond, a loaded corner, a bent hinge) CG stops at its first non-positive
+ * curvature and keeps its iterate,
  * counted in sb_step_stats.cg_indefinite; with implicit_definite each
  * element's K is replaced by its positive semi-definite stand-in
  * (kernels/hessian.h), J is positive definite and CG never meets one.
@@ -36,6 +43,7 @@
  * from the chosen kernels. */
 #include "kernels/solver_internal.h"
 #include "kernels/block_matrix.h"
+#include "kernels/sparse_cholesky.h"
 #include "kernels/handle_internal.h"
 #include "common/error.h"
 
@@ -45,6 +53,12 @@
 
 #define SB_CG_RELATIVE_TOLERANCE 1e-5
 #define SB_LINE_SEARCH_HALVINGS 5
+/* A Newton iteration on a factored J that cut |R| at least this much leaves
+ * J and its factors to the next (CG, whose cost is its iterations, always
+ * assembles afresh). */
+#define SB_REUSE_CONTRACTION 0.25
+/* `auto` factors J when its stiffness outweighs the mass this many times. */
+#define SB_AUTO_FACTOR_RATIO 100.0
 
 /* The work vectors, 3n doubles each, allocated once per solver. */
 enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
@@ -53,11 +67,12 @@ enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, 
 #define SB_ASSEMBLY_CHUNK 64
 
 struct sb_implicit {
-    double* work;              /* W_COUNT × 3n */
-    double* element_matrices;  /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
-    double* inverse_blocks;    /* 9n: the preconditioner */
-    sb_block_matrix* matrix;   /* J */
-    uint32_t pattern_vertices; /* sb_solver_vertex_count when its pattern was built */
+    double* work;                 /* W_COUNT × 3n */
+    double* element_matrices;     /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
+    double* inverse_blocks;       /* 9n: the preconditioner */
+    sb_block_matrix* matrix;      /* J */
+    sb_sparse_cholesky* cholesky; /* its factorization; NULL when CG solves */
+    uint32_t pattern_vertices;    /* sb_solver_vertex_count when its pattern was built */
 };
 
 typedef struct sb_newton {
@@ -67,6 +82,8 @@ typedef struct sb_newton {
     double* a[W_COUNT]; /* W_MASK: 1 on a vertex that moves, 0 on one held */
     sb_block_matrix* j;
     double* inverse_blocks;
+    sb_sparse_cholesky* cholesky;
+    bool factored; /* J's factorization is current: solve with it, not CG */
 } sb_newton;
 
 static double sb_dot(const double* a, const double* b, size_t n) {
@@ -119,6 +136,7 @@ typedef struct sb_assembly {
     sb_newton* w;
     double* matrices;
     uint64_t count, collapsed;
+    bool definite; /* the positive semi-definite stand-ins */
 } sb_assembly;
 
 static void sb_assemble_worker(void* context, const sb_worker* worker) {
@@ -133,8 +151,7 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
         for (uint64_t id = first; id < first + SB_ASSEMBLY_CHUNK && id < job->count; id++) {
             sb_element e = sb_element_at(m, id);
             double* k = mine + (id - first) * 144;
-            bool ok = !s->def.implicit_definite ? sb_element_stiffness(m, &e, x, k)
-                                                : sb_element_stiffness_definite(m, &e, x, k);
+            bool ok = !job->definite ? sb_element_stiffness(m, &e, x, k) : sb_element_stiffness_definite(m, &e, x, k);
             if (!ok) k[0] = NAN; /* worker 0 names it */
         }
         sb_worker_barrier(worker);
@@ -153,11 +170,11 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
 }
 
 /* J = M (1 + dt drag) + dt D + dt² K at the current point. */
-static sb_status sb_assemble(sb_newton* w) {
+static sb_status sb_assemble(sb_newton* w, bool definite) {
     sb_solver* s = w->s;
     const sb_model* m = s->model;
     sb_block_matrix_zero(w->j);
-    sb_assembly job = {w, s->implicit->element_matrices, sb_element_count(m), UINT64_MAX};
+    sb_assembly job = {w, s->implicit->element_matrices, sb_element_count(m), UINT64_MAX, definite};
     sb_team_run(s->team, sb_team_size(s->team), sb_assemble_worker, &job);
     if (job.collapsed != UINT64_MAX) {
         sb_element e = sb_element_at(m, job.collapsed);
@@ -254,6 +271,53 @@ static void sb_conjugate_gradients(sb_newton* w, int cap, sb_step_stats* stats) 
     }
 }
 
+/* Whether dt² K outweighs the mass SB_AUTO_FACTOR_RATIO times at some
+ * moving vertex (by the traces of J's diagonal blocks): CG's iterations grow
+ * as the square root of that ratio, and about a hundred cost what a
+ * factorization does, so `auto` factors only past it. It depends on the
+ * state alone, not on earlier steps: a resumed run chooses alike. */
+static bool sb_stiffness_dominates(const sb_newton* w) {
+    const sb_solver* s = w->s;
+    for (uint32_t i = 0; i < s->model->vertex_count; i++) {
+        if (w->a[W_MASK][3 * (size_t)i] == 0.0) continue;
+        const double* block = w->j->block + 9 * (size_t)w->j->diagonal[i];
+        double mass = s->model->mass[i] * (1.0 + w->dt * s->def.drag);
+        if (block[0] + block[4] + block[8] > 3.0 * (1.0 + SB_AUTO_FACTOR_RATIO) * mass) return true;
+    }
+    return false;
+}
+
+/* J at the current point, factored or its preconditioner prepared. A J
+ * that does not factor (not positive definite: a compressed bond's sideways
+ * stiffness outweighs its vertices' mass) is assembled again from the
+ * positive semi-definite stand-ins, which always factors: Newton's direction
+ * is then that of a modified Newton, the residual still the exact one. */
+static sb_status sb_prepare_jacobian(sb_newton* w) {
+    bool definite = w->s->def.implicit_definite;
+    sb_status status = sb_assemble(w, definite);
+    if (status != SB_OK) return status;
+    bool factor = w->cholesky && (w->s->def.implicit_solver == SB_LINEAR_CHOLESKY || sb_stiffness_dominates(w));
+    w->factored = factor && sb_sparse_cholesky_factor(w->cholesky, w->j, w->a[W_MASK]);
+    if (factor && !w->factored && !definite) {
+        status = sb_assemble(w, true);
+        if (status != SB_OK) return status;
+        w->factored = sb_sparse_cholesky_factor(w->cholesky, w->j, w->a[W_MASK]);
+    }
+    if (w->factored) w->s->stats.factorizations++;
+    if (!w->factored) sb_prepare_preconditioner(w);
+    return SB_OK;
+}
+
+/* sol = J⁻¹ rhs: by the factorization, or by CG where there is none. */
+static void sb_solve_newton_system(sb_newton* w, int cg_cap, sb_step_stats* stats) {
+    if (w->factored && sb_sparse_cholesky_solve(w->cholesky, w->a[W_RHS], w->a[W_SOL])) return;
+    if (w->factored) { /* the solve failed (out of memory): CG from here */
+        w->factored = false;
+        sb_prepare_preconditioner(w);
+    }
+    sb_conjugate_gradients(w, cg_cap, stats);
+}
+
 /* Δv += α sol with α = 1, ½, ¼, … until |R| falls below `norm` (at most
  * SB_LINE_SEARCH_HALVINGS halvings; the last trial stays). Leaves the new
  * point evaluated; returns its |R| (NaN on a failed evaluation: status). */
@@ -284,6 +348,12 @@ static double sb_residual_floor(const sb_newton* w) {
     return 1e-12 * (sqrt(momentum) + w->dt * (force + sqrt(weight))) + 1e-300;
 }
 
+/* Whether the Newton systems are factored (implicit_solver, kernels/implicit_euler.c). */
+static bool sb_implicit_factors(const sb_solver* s) {
+    if (s->def.implicit_solver == SB_LINEAR_AUTO) return s->model->vertex_count <= SB_CHOLESKY_AUTO_VERTICES;
+    return s->def.implicit_solver == SB_LINEAR_CHOLESKY;
+}
+
 bool sb_implicit_prepare(sb_solver* s) {
     size_t n = s->model->vertex_count, n3 = 3 * n;
     struct sb_implicit* im = calloc(1, sizeof *im);
@@ -294,7 +364,10 @@ bool sb_implicit_prepare(sb_solver* s) {
     im->element_matrices = malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * 144 * sizeof(double));
     im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - sb_solver_vertex_count(s));
     im->pattern_vertices = sb_solver_vertex_count(s);
-    return im->work && im->inverse_blocks && im->matrix && im->element_matrices;
+    if (!im->work || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;
+    if (!sb_implicit_factors(s)) return true;
+    im->cholesky = sb_sparse_cholesky_create(im->matrix);
+    return im->cholesky != NULL;
 }
 
 void sb_implicit_destroy(sb_solver* s) {
@@ -302,6 +375,7 @@ void sb_implicit_destroy(sb_solver* s) {
     if (!im) return;
     free(im->work), free(im->inverse_blocks), free(im->element_matrices);
     sb_block_matrix_destroy(im->matrix);
+    sb_sparse_cholesky_destroy(im->cholesky);
     free(im);
     s->implicit = NULL;
 }
@@ -314,7 +388,8 @@ static sb_newton sb_newton_init(sb_solver* s, double dt) {
                    .n3 = 3 * (size_t)s->model->vertex_count,
                    .dt = dt,
                    .j = im->matrix,
-                   .inverse_blocks = im->inverse_blocks};
+                   .inverse_blocks = im->inverse_blocks,
+                   .cholesky = im->cholesky};
     for (int k = 0; k < W_COUNT; k++) w.a[k] = im->work + (size_t)k * w.n3;
     const sb_state* st = &s->state;
     sb_interleave(w.a[W_X0], st->x, st->y, st->z, st->vertex_count);
@@ -339,6 +414,8 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
         if (!sb_block_matrix_rebuild(im->matrix, s->model))
             return sb_error_set(&s->error, SB_ERR_NOMEM,
                                 "implicit_euler: the torn surface's matrix outgrew its reserve");
+        if (im->cholesky && !sb_sparse_cholesky_analyze(im->cholesky, im->matrix))
+            return sb_error_set(&s->error, SB_ERR_NOMEM, "implicit_euler: out of memory factoring the torn surface");
         im->pattern_vertices = sb_solver_vertex_count(s);
     }
     sb_newton w = sb_newton_init(s, dt);
@@ -348,19 +425,22 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     sb_status status = sb_newton_point(&w);
     if (status != SB_OK) return status;
     double first = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3)), norm = first;
-    bool converged = false;
+    bool converged = false, stale = true;
     for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
         if (norm <= tolerance * first || norm <= sb_residual_floor(&w)) {
             converged = true;
             break;
         }
         if (it == newton_cap) break;
-        status = sb_assemble(&w);
-        if (status != SB_OK) return status;
-        sb_prepare_preconditioner(&w);
-        sb_conjugate_gradients(&w, cg_cap, &s->stats);
+        if (stale) {
+            status = sb_prepare_jacobian(&w);
+            if (status != SB_OK) return status;
+        }
+        sb_solve_newton_system(&w, cg_cap, &s->stats);
+        double previous = norm;
         norm = sb_line_search(&w, norm, &status);
         if (status != SB_OK) return status;
+        stale = !w.factored || !(norm <= SB_REUSE_CONTRACTION * previous);
         s->stats.newton_iterations++;
     }
     if (!converged) s->stats.converged = false;

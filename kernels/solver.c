@@ -39,6 +39,16 @@ bool sb_integrator_from_name(const char* name, sb_integrator* out) {
     return false;
 }
 
+bool sb_linear_solver_from_name(const char* name, sb_linear_solver* out) {
+    static const char* const names[SB_LINEAR_COUNT] = {"auto", "cg", "cholesky"};
+    for (int i = 0; i < SB_LINEAR_COUNT; i++)
+        if (strcmp(name, names[i]) == 0) {
+            *out = (sb_linear_solver)i;
+            return true;
+        }
+    return false;
+}
+
 sb_solver_def sb_default_solver_def(void) {
     return (sb_solver_def){.integrator = SB_INTEGRATOR_VERLET,
                            .kernels = SB_KERNELS_FAST,
@@ -119,6 +129,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!isfinite(def->implicit_tolerance) || def->implicit_tolerance < 0.0 || def->implicit_newton_iterations < 0 ||
         def->implicit_cg_iterations < 0)
         return sb_error_set(err, SB_ERR_INVALID, "implicit tolerance and iteration caps must be >= 0");
+    if ((unsigned)def->implicit_solver >= SB_LINEAR_COUNT)
+        return sb_error_set(err, SB_ERR_INVALID, "implicit_solver must be SB_LINEAR_AUTO, _CG or _CHOLESKY, got %d",
+                            (int)def->implicit_solver);
     if (def->pbd_iterations < 0)
         return sb_error_set(err, SB_ERR_INVALID, "pbd_iterations must be >= 0 (got %d)", def->pbd_iterations);
     if (def->vbd_iterations < 0)

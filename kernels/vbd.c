@@ -153,20 +153,17 @@ static bool sb_solve3(const double* h, const double* r, double* d) {
 }
 
 /* Adds one element's force on its vertex `place` (to f) and that vertex's
- * diagonal stiffness block (to h), by three seeds. */
+ * diagonal stiffness block (to h), one run seeded with its three axes. */
 static void sb_vbd_element(const sb_model* m, const sb_element* e, int place, const double* x, double* f, double* h) {
     sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) xs[a] = sb_dv3_at(x + 3 * (size_t)e->vertex[a]);
+    for (int axis = 0; axis < 3; axis++) sb_dv3_seed_axis(&xs[place], axis, axis);
+    if (!sb_element_forces_dual(m, e, xs, forces)) return; /* collapsed: the step's force check reports it */
+    sb_vec3 force = sb_dv3_value(forces[place]);
+    f[0] += force.x, f[1] += force.y, f[2] += force.z;
     for (int axis = 0; axis < 3; axis++) {
-        double seed[3] = {0, 0, 0};
-        seed[axis] = 1.0;
-        for (int a = 0; a < e->count; a++)
-            xs[a] = (sb_dvec3){sb_v3(x + 3 * (size_t)e->vertex[a]), a == place ? sb_v3(seed) : (sb_vec3){0, 0, 0}};
-        if (!sb_element_forces_dual(m, e, xs, forces)) return; /* collapsed: the step's force check reports it */
-        const sb_vec3 column = forces[place].d;
+        sb_vec3 column = sb_dv3_derivative(forces[place], axis);
         h[axis] -= column.x, h[3 + axis] -= column.y, h[6 + axis] -= column.z;
-        if (axis == 0) {
-            f[0] += forces[place].v.x, f[1] += forces[place].v.y, f[2] += forces[place].v.z;
-        }
     }
 }
 

@@ -293,6 +293,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.implicit_newton_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_NEWTON_ITERATIONS);
     def.implicit_cg_iterations = (int)sb_scene_integer(scene, SB_KEY_IMPLICIT_CG_ITERATIONS);
     def.implicit_definite = sb_scene_bool(scene, SB_KEY_IMPLICIT_DEFINITE);
+    sb_linear_solver_from_name(sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER), &def.implicit_solver);
     def.pbd_iterations = (int)sb_scene_integer(scene, SB_KEY_PBD_ITERATIONS);
     def.max_splits = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS);
     def.max_splits_per_step = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS_PER_STEP);

@@ -134,6 +134,11 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
         return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'",
                              sb_scene_string(scene, SB_KEY_KERNELS));
+    sb_linear_solver linear;
+    if (!sb_linear_solver_from_name(sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER), &linear))
+        return sb_scene_fail(scene, SB_KEY_IMPLICIT_SOLVER, err,
+                             "'implicit.solver' must be auto, cg or cholesky, got '%s'",
+                             sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER));
     sb_wait_policy wait;
     if (!sb_wait_policy_from_name(sb_scene_string(scene, SB_KEY_WAIT), &wait))
         return sb_scene_fail(scene, SB_KEY_WAIT, err, "'wait' must be spin, yield or passive, got '%s'",

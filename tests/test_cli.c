@@ -470,7 +470,8 @@ static void test_run_writes_frames_and_log(void** state) {
 
 /* The solver's work since the previous frame: 20 steps of 1 ms per 20 ms
  * frame (none before frame 0); implicit Euler's Newton and CG iterations
- * (at least one of each per step, CG at least once per Newton iteration);
+ * (with CG: at least one of each per step, CG at least once per Newton
+ * iteration);
  * adaptive sub-steps at least one per step, and many where dt = 20 ms is
  * far past Verlet's limit: with bonds of 5000 N/m on 0.01 kg vertices,
  * omega_max > 2 sqrt(k/m) = 1400 rad/s, 2/omega_max < 1.4 ms, so
@@ -478,12 +479,13 @@ static void test_run_writes_frames_and_log(void** state) {
 static void test_run_logs_solver_work(void** state) {
     (void)state;
     tu_write_file("tiny.yaml", tiny_scene);
-    const char* const cases[][3] = {{"integrator=verlet", "dt=0.001", "bond.k=50"},
-                                    {"integrator=implicit_euler", "dt=0.001", "bond.k=50"},
-                                    {"adaptive=true", "dt=0.02", "bond.k=5000"}};
+    const char* const cases[][4] = {{"integrator=verlet", "dt=0.001", "bond.k=50", "implicit.solver=auto"},
+                                    {"integrator=implicit_euler", "dt=0.001", "bond.k=50", "implicit.solver=cg"},
+                                    {"adaptive=true", "dt=0.02", "bond.k=5000", "implicit.solver=auto"}};
     for (int c = 0; c < 3; c++) {
-        tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", cases[c][0], "--set", cases[c][1], "--set",
-                                             cases[c][2], "--set", "output.frames=false", "--output", "work", NULL});
+        tu_result r =
+            tu_run((const char*[]){"run", "tiny.yaml", "--set", cases[c][0], "--set", cases[c][1], "--set", cases[c][2],
+                                   "--set", cases[c][3], "--set", "output.frames=false", "--output", "work", NULL});
         if (r.code != 0) fail_msg("%s: %s", cases[c][0], r.err);
         tu_result_free(&r);
         double rows[8][LOG_COLUMNS];

@@ -450,10 +450,17 @@ static void test_fixed_gravity_external(void** state) {
 }
 
 /* ---- the implicit solver reports its iterations ----------------------------------- */
+static sb_solver_def implicit_def(sb_linear_solver linear) {
+    sb_solver_def def = base_def(SB_INTEGRATOR_IMPLICIT_EULER);
+    def.implicit_solver = linear;
+    return def;
+}
+
+/* Newton with conjugate gradients. */
 static void test_implicit_iterations(void** state) {
     (void)state;
     sb_model* m = chain(0.0);
-    sb_solver_def def = base_def(SB_INTEGRATOR_IMPLICIT_EULER);
+    sb_solver_def def = implicit_def(SB_LINEAR_CG);
     sb_solver* s = tu_solver(m, &def);
     double x[3 * NC];
     for (int i = 0; i < NC; ++i) sb_model_rest_position(m, (uint32_t)i, x + 3 * i);
@@ -492,7 +499,7 @@ static void test_implicit_iterations(void** state) {
     double solution[2][3 * NC];
     x[3 * 2] -= 0.07;
     for (int definite = 0; definite < 2; definite++) {
-        def = base_def(SB_INTEGRATOR_IMPLICIT_EULER);
+        def = implicit_def(SB_LINEAR_CG);
         def.implicit_definite = definite;
         def.implicit_tolerance = 1e-10;
         s = tu_solver(m, &def);
@@ -518,6 +525,63 @@ static void test_implicit_iterations(void** state) {
     tu_advance(s, 0.001, 1);
     sb_solver_last_iterations(s, &newton, &cg);
     assert_true(newton == 0 && cg == 0);
+    sb_solver_destroy(s);
+    sb_model_destroy(m);
+}
+
+/* Newton with the sparse Cholesky factorization: the backward Euler step CG
+ * reaches, without a CG iteration, chosen by default for a small model. A
+ * bond compressed at ω dt ≈ 10 makes the exact Jacobian indefinite (its
+ * sideways stiffness, dt² k (1 − r0/r), outweighs the mass): CG, which only
+ * explores the stretch's directions, does not notice, the factorization
+ * does and factors the positive semi-definite stand-ins' Jacobian instead.
+ * A large stretch that also compresses a bond converges the same way. */
+static void test_implicit_cholesky(void** state) {
+    (void)state;
+    sb_model* m = chain(0.0);
+    double x[3 * NC], solution[3][3 * NC];
+    for (int i = 0; i < NC; ++i) sb_model_rest_position(m, (uint32_t)i, x + 3 * i);
+    x[3 * 3] += 0.01;
+    const sb_linear_solver linear[3] = {SB_LINEAR_CG, SB_LINEAR_CHOLESKY, SB_LINEAR_AUTO};
+    for (int k = 0; k < 3; k++) {
+        sb_solver_def def = implicit_def(linear[k]);
+        def.implicit_tolerance = 1e-10;
+        sb_solver* s = tu_solver(m, &def);
+        assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
+        tu_advance(s, 0.05, 1);
+        sb_step_stats stats = sb_solver_last_step(s);
+        print_message("small stretch, %s: %d Newton, %d CG iterations, %u factorizations\n",
+                      k == 0   ? "cg"
+                      : k == 1 ? "cholesky"
+                               : "auto",
+                      stats.newton_iterations, stats.cg_iterations, stats.factorizations);
+        assert_true(stats.converged);
+        if (linear[k] == SB_LINEAR_CG) {
+            assert_int_equal(stats.factorizations, 0);
+            assert_int_equal(stats.cg_indefinite, 0);
+        } else {
+            assert_int_equal(stats.cg_iterations, 0);
+            assert_true(stats.factorizations >= 1 && stats.factorizations <= (uint32_t)stats.newton_iterations);
+        }
+        sb_solver_get_positions(s, solution[k]);
+        sb_solver_destroy(s);
+    }
+    for (int k = 0; k < 3 * NC; k++) {
+        TU_ASSERT_NEAR(solution[1][k], solution[0][k], 1e-6 * chain_L);
+        assert_true(solution[2][k] == solution[1][k]);
+    }
+    x[3 * 3 + 1] += 0.5;
+    x[3 * 2] -= 0.07;
+    sb_solver_def def = implicit_def(SB_LINEAR_CHOLESKY);
+    sb_solver* s = tu_solver(m, &def);
+    assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
+    tu_advance(s, 0.05, 1);
+    sb_step_stats stats = sb_solver_last_step(s);
+    print_message("large stretch, cholesky: %d Newton, %d CG iterations, %u factorizations\n", stats.newton_iterations,
+                  stats.cg_iterations, stats.factorizations);
+    assert_true(stats.converged);
+    assert_int_equal(stats.cg_iterations, 0);
+    assert_true(stats.factorizations >= 1);
     sb_solver_destroy(s);
     sb_model_destroy(m);
 }
@@ -743,8 +807,9 @@ static void test_scene_keys(void** state) {
     sb_solver_def def = sb_scene_solver_def(&scene);
     assert_int_equal(def.integrator, SB_INTEGRATOR_VERLET);
     assert_false(def.adaptive);
+    assert_int_equal(def.implicit_solver, SB_LINEAR_AUTO);
     const char* sets[] = {"integrator=implicit_euler", "adaptive=true", "min_dt=1e-6", "implicit.tolerance=1e-10",
-                          "implicit={newton_iterations: 7, cg_iterations: 33}"};
+                          "implicit={newton_iterations: 7, cg_iterations: 33, solver: cholesky}"};
     for (int i = 0; i < 5; ++i)
         if (sb_scene_set(&scene, sets[i], &err) != SB_OK) fail_msg("%s: %s", sets[i], err.message);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
@@ -753,6 +818,10 @@ static void test_scene_keys(void** state) {
     assert_true(def.adaptive);
     assert_true(def.min_dt == 1e-6 && def.implicit_tolerance == 1e-10);
     assert_true(def.implicit_newton_iterations == 7 && def.implicit_cg_iterations == 33);
+    assert_int_equal(def.implicit_solver, SB_LINEAR_CHOLESKY);
+    assert_int_equal(sb_scene_set(&scene, "implicit.solver=cg", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_solver_def(&scene).implicit_solver, SB_LINEAR_CG);
     for (int k = 0; k < NI; ++k) {
         char set[64];
         snprintf(set, sizeof set, "integrator=%s", sb_integrator_name((sb_integrator)k));
@@ -775,6 +844,7 @@ int main(void) {
         cmocka_unit_test(test_stability_limit_sheet),
         cmocka_unit_test(test_fixed_gravity_external),
         cmocka_unit_test(test_implicit_iterations),
+        cmocka_unit_test(test_implicit_cholesky),
         cmocka_unit_test(test_adaptive),
         cmocka_unit_test(test_adaptive_external_work),
         cmocka_unit_test(test_adaptive_min_dt),

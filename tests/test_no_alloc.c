@@ -87,6 +87,7 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
     def.external_force = push;
     def.runtime.threads = 2;
     def.implicit_cg_iterations = 20;
+    def.implicit_solver = SB_LINEAR_CG; /* CHOLMOD allocates its workspace in every factorization */
     sb_error err;
     sb_collider_def floor_def = sb_default_collider_def();
     floor_def.point[2] = 1.0 - 0.001; /* the sheet rests on it, the thickness away */

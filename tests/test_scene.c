@@ -280,6 +280,8 @@ static void test_validation_names_where_the_value_was_set(void** state) {
                       "symplectic_euler, explicit_euler, implicit_euler, pbd, xpbd or vbd, got 'rk4'");
     assert_load_fails("v7b.yaml", "adaptive: true\nmin_dt: 0\n", "2: 'min_dt' must be > 0, got 0");
     assert_load_fails("v8.yaml", "kernels: gpu\n", "1: 'kernels' must be reference or fast, got 'gpu'");
+    assert_load_fails("v8b.yaml", "implicit:\n  solver: lu\n",
+                      "2: 'implicit.solver' must be auto, cg or cholesky, got 'lu'");
     assert_load_fails("v9.yaml", "mesh:\n  generator: file\n",
                       "2: 'mesh.generator' is file but 'mesh.file' is not set");
     assert_load_fails("v10.yaml", "mesh: {nx: 1}\n", "1: 'mesh.nx' must be in [2, 65536], got 1");

@@ -50,6 +50,17 @@ typedef enum sb_kernels {
     SB_KERNELS_FAST           /* SIMD on the solver's threads: the default */
 } sb_kernels;
 
+/* implicit_euler's linear solves (sb_solver_def.implicit_solver). */
+typedef enum sb_linear_solver {
+    SB_LINEAR_AUTO,     /* SB_LINEAR_CHOLESKY up to SB_CHOLESKY_AUTO_VERTICES vertices, SB_LINEAR_CG above */
+    SB_LINEAR_CG,       /* block-Jacobi preconditioned conjugate gradients */
+    SB_LINEAR_CHOLESKY, /* a sparse Cholesky factorization (CHOLMOD) */
+    SB_LINEAR_COUNT
+} sb_linear_solver;
+#define SB_CHOLESKY_AUTO_VERTICES 20000
+/* "auto", "cg", "cholesky"; false for another name. */
+SB_API bool sb_linear_solver_from_name(const char* name, sb_linear_solver* out);
+
 /* Called once per free vertex per force evaluation; adds to force[] (N). */
 typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, const double position[3],
                                      const double velocity[3], double force[3]);
@@ -114,6 +125,15 @@ typedef struct sb_solver_def {
      * stiffness by a positive semi-definite stand-in, so that CG never meets
      * a negative curvature (sb_step_stats.cg_indefinite counts those it met). */
     double implicit_tolerance;
+    /* implicit_euler's linear solver: SB_LINEAR_AUTO (the default) factors
+     * the Jacobian (SB_LINEAR_CHOLESKY, a sparse Cholesky) for models of at
+     * most SB_CHOLESKY_AUTO_VERTICES vertices and solves by conjugate
+     * gradients (SB_LINEAR_CG) above. A Jacobian that is not positive
+     * definite is factored from the positive semi-definite stand-ins
+     * instead; a factored one is reused by the next Newton iteration while
+     * the last one cut the residual at least fourfold
+     * (kernels/implicit_euler.c). The factorization allocates. */
+    sb_linear_solver implicit_solver;
     int implicit_newton_iterations;
     int implicit_cg_iterations;
     bool implicit_definite;
@@ -159,17 +179,18 @@ SB_API const char* sb_solver_error(const sb_solver* solver);
 
 /* What the last sb_solver_advance did. */
 typedef struct sb_step_stats {
-    int newton_iterations;  /* implicit_euler: Newton iterations, summed over sub-steps */
-    int cg_iterations;      /* implicit_euler: conjugate-gradient iterations, summed */
-    bool converged;         /* implicit_euler: every Newton solve met its tolerance */
-    uint32_t cg_indefinite; /* implicit_euler: CG solves stopped at a non-positive curvature */
-    uint32_t substeps;      /* sub-steps accepted (1 without adaptive stepping) */
-    uint32_t rejected;      /* adaptive: sub-steps undone and retried at half the size */
-    uint32_t contacts;      /* vertex contacts answered, summed over sub-steps */
-    uint32_t self_contacts; /* self-contact pairs corrected, summed over sub-steps */
-    uint32_t self_dropped;  /* self-contact candidates dropped: the buffers (16 per triangle) were full */
-    double last_substep;    /* s, the last accepted sub-step */
-    double min_substep;     /* s, the smallest accepted sub-step */
+    int newton_iterations;   /* implicit_euler: Newton iterations, summed over sub-steps */
+    int cg_iterations;       /* implicit_euler: conjugate-gradient iterations, summed */
+    bool converged;          /* implicit_euler: every Newton solve met its tolerance */
+    uint32_t cg_indefinite;  /* implicit_euler: CG solves stopped at a non-positive curvature */
+    uint32_t factorizations; /* implicit_euler: Jacobians factored (SB_LINEAR_CHOLESKY), summed */
+    uint32_t substeps;       /* sub-steps accepted (1 without adaptive stepping) */
+    uint32_t rejected;       /* adaptive: sub-steps undone and retried at half the size */
+    uint32_t contacts;       /* vertex contacts answered, summed over sub-steps */
+    uint32_t self_contacts;  /* self-contact pairs corrected, summed over sub-steps */
+    uint32_t self_dropped;   /* self-contact candidates dropped: the buffers (16 per triangle) were full */
+    double last_substep;     /* s, the last accepted sub-step */
+    double min_substep;      /* s, the smallest accepted sub-step */
 } sb_step_stats;
 
 SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);

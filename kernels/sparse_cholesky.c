@@ -1,0 +1,113 @@
+/* CHOLMOD's supernodal Cholesky on the block matrix (kernels/sparse_cholesky.h).
+ *
+ * The matrix goes to CHOLMOD as its lower triangle in compressed columns:
+ * scalar column 3 i + c holds, for each block (i, j) of block row i with
+ * j ≥ i, the rows 3 j + r (r ≥ c on the diagonal block), whose values are
+ * A(3 j + r, 3 i + c) = A(3 i + c, 3 j + r) = block(i, j)[3 c + r] by
+ * symmetry; block rows are sorted, so the rows of each column are too. */
+#include "kernels/sparse_cholesky.h"
+
+#include <stdlib.h>
+#include <suitesparse/cholmod.h>
+
+struct sb_sparse_cholesky {
+    cholmod_common common;
+    cholmod_sparse* a;
+    cholmod_factor* factor;
+    size_t* source;           /* per entry of a: its value's index in the block matrix's values */
+    cholmod_dense *x, *y, *e; /* cholmod_solve2's solution and workspaces, kept */
+};
+
+/* The lower triangle's entries column by column: counts them, and where p
+ * is given writes the column starts, rows and sources. */
+static size_t sb_lower_pattern(const sb_block_matrix* a, int* p, int* row, size_t* source) {
+    size_t count = 0;
+    for (uint32_t i = 0; i < a->rows; i++)
+        for (uint32_t c = 0; c < 3; c++) {
+            if (p) p[3 * i + c] = (int)count;
+            for (uint32_t k = a->diagonal[i]; k < a->row_start[i + 1]; k++) {
+                uint32_t j = a->column[k];
+                for (uint32_t r = j == i ? c : 0; r < 3; r++, count++)
+                    if (p) row[count] = (int)(3 * j + r), source[count] = 9 * (size_t)k + 3 * c + r;
+            }
+        }
+    if (p) p[3 * (size_t)a->rows] = (int)count;
+    return count;
+}
+
+static void sb_cholesky_free_matrices(sb_sparse_cholesky* f) {
+    cholmod_free_sparse(&f->a, &f->common);
+    cholmod_free_factor(&f->factor, &f->common);
+    free(f->source);
+    f->source = NULL;
+}
+
+/* A placeholder of the identity's values on the pattern. */
+static void sb_fill_identity(cholmod_sparse* s) {
+    const int *p = s->p, *row = s->i;
+    double* x = s->x;
+    for (size_t col = 0; col < s->ncol; col++)
+        for (int k = p[col]; k < p[col + 1]; k++) x[k] = (size_t)row[k] == col ? 1.0 : 0.0;
+}
+
+bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
+    sb_cholesky_free_matrices(f);
+    size_t n = 3 * (size_t)a->rows, count = sb_lower_pattern(a, NULL, NULL, NULL);
+    f->a = cholmod_allocate_sparse(n, n, count, 1, 1, -1, CHOLMOD_REAL, &f->common);
+    f->source = malloc((count ? count : 1) * sizeof *f->source);
+    if (!f->a || !f->source) return false;
+    sb_lower_pattern(a, f->a->p, f->a->i, f->source);
+    f->factor = cholmod_analyze(f->a, &f->common);
+    if (!f->factor) return false;
+    /* the first numeric factorization allocates the factor's values: do it now */
+    sb_fill_identity(f->a);
+    return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
+}
+
+sb_sparse_cholesky* sb_sparse_cholesky_create(const sb_block_matrix* a) {
+    sb_sparse_cholesky* f = calloc(1, sizeof *f);
+    if (!f) return NULL;
+    cholmod_start(&f->common);
+    f->common.print = 0;
+    f->common.error_handler = NULL;
+    f->common.supernodal = CHOLMOD_SUPERNODAL;
+    f->common.nmethods = 1;
+    f->common.method[0].ordering = CHOLMOD_AMD;
+    if (!sb_sparse_cholesky_analyze(f, a)) {
+        sb_sparse_cholesky_destroy(f);
+        return NULL;
+    }
+    return f;
+}
+
+void sb_sparse_cholesky_destroy(sb_sparse_cholesky* f) {
+    if (!f) return;
+    sb_cholesky_free_matrices(f);
+    cholmod_free_dense(&f->x, &f->common);
+    cholmod_free_dense(&f->y, &f->common);
+    cholmod_free_dense(&f->e, &f->common);
+    cholmod_finish(&f->common);
+    free(f);
+}
+
+bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
+    const int *p = f->a->p, *row = f->a->i;
+    double* x = f->a->x;
+    for (size_t col = 0; col < f->a->ncol; col++)
+        for (int k = p[col]; k < p[col + 1]; k++) {
+            size_t r = (size_t)row[k];
+            x[k] = mask[r] != 0.0 && mask[col] != 0.0 ? a->block[f->source[k]] : r == col ? 1.0 : 0.0;
+        }
+    return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
+}
+
+bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
+    size_t n = f->a->nrow;
+
+    cholmod_dense b = {
+        .nrow = n, .ncol = 1, .nzmax = n, .d = n, .x = (void*)rhs, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
+    if (!cholmod_solve2(CHOLMOD_A, f->factor, &b, NULL, &f->x, NULL, &f->y, &f->e, &f->common)) return false;
+    const double* solution = f->x->x;
+    for (size_t k = 0; k < n; k++) out[k] = solution[k];
+    return true;
+}
