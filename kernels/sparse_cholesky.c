@@ -7,8 +7,27 @@
  * symmetry; block rows are sorted, so the rows of each column are too. */
 #include "kernels/sparse_cholesky.h"
 
+#include <omp.h>
 #include <stdlib.h>
 #include <suitesparse/cholmod.h>
+
+/* Debian's CHOLMOD runs a few short loops (clearing its maps, zeroing a
+ * supernode) on four OpenMP threads of its own. Beside the solver's team on
+ * a small machine they cost a fifth more CPU than they save, and they would
+ * make the result's threads the runtime's, not the solver's: a call runs
+ * with OpenMP's active levels at 0, so its parallel loops run on the calling
+ * thread (the setting is libgomp's global; it is restored after the call). */
+typedef struct sb_serial_openmp {
+    int saved;
+} sb_serial_openmp;
+
+static sb_serial_openmp sb_openmp_serial_begin(void) {
+    sb_serial_openmp state = {omp_get_max_active_levels()};
+    omp_set_max_active_levels(0);
+    return state;
+}
+
+static void sb_openmp_serial_end(sb_serial_openmp state) { omp_set_max_active_levels(state.saved); }
 
 struct sb_sparse_cholesky {
     cholmod_common common;
@@ -50,7 +69,7 @@ static void sb_fill_identity(cholmod_sparse* s) {
         for (int k = p[col]; k < p[col + 1]; k++) x[k] = (size_t)row[k] == col ? 1.0 : 0.0;
 }
 
-bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
+static bool sb_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
     sb_cholesky_free_matrices(f);
     size_t n = 3 * (size_t)a->rows, count = sb_lower_pattern(a, NULL, NULL, NULL);
     f->a = cholmod_allocate_sparse(n, n, count, 1, 1, -1, CHOLMOD_REAL, &f->common);
@@ -62,6 +81,13 @@ bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a)
     /* the first numeric factorization allocates the factor's values: do it now */
     sb_fill_identity(f->a);
     return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
+}
+
+bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
+    sb_serial_openmp openmp = sb_openmp_serial_begin();
+    bool ok = sb_analyze(f, a);
+    sb_openmp_serial_end(openmp);
+    return ok;
 }
 
 sb_sparse_cholesky* sb_sparse_cholesky_create(const sb_block_matrix* a) {
@@ -90,7 +116,7 @@ void sb_sparse_cholesky_destroy(sb_sparse_cholesky* f) {
     free(f);
 }
 
-bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
+static bool sb_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
     const int *p = f->a->p, *row = f->a->i;
     double* x = f->a->x;
     for (size_t col = 0; col < f->a->ncol; col++)
@@ -101,7 +127,7 @@ bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, 
     return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
 }
 
-bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
+static bool sb_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
     size_t n = f->a->nrow;
 
     cholmod_dense b = {
@@ -110,4 +136,18 @@ bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* 
     const double* solution = f->x->x;
     for (size_t k = 0; k < n; k++) out[k] = solution[k];
     return true;
+}
+
+bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
+    sb_serial_openmp openmp = sb_openmp_serial_begin();
+    bool ok = sb_factor(f, a, mask);
+    sb_openmp_serial_end(openmp);
+    return ok;
+}
+
+bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
+    sb_serial_openmp openmp = sb_openmp_serial_begin();
+    bool ok = sb_solve(f, rhs, out);
+    sb_openmp_serial_end(openmp);
+    return ok;
 }

@@ -11,7 +11,8 @@
  * BLAS (Debian's serial OpenBLAS: three times the simplicial factorization's
  * speed on the 900-vertex default scene, and one thread, so it neither fights
  * the solver's team nor depends on its size: the result is the same for any
- * thread count). A matrix that is not positive definite (an indefinite
+ * thread count; CHOLMOD's own OpenMP loops are kept on the calling thread,
+ * see kernels/sparse_cholesky.c). A matrix that is not positive definite (an indefinite
  * stiffness outweighing the mass) fails to factor; the caller then solves by
  * conjugate gradients. */
 #ifndef SB_SPARSE_CHOLESKY_H
