@@ -26,28 +26,46 @@ bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dve
     return !collapsed;
 }
 
-/* The element's vertices at x, no seed yet. */
-static void sb_element_at_x(const sb_element* e, const double* x, sb_dvec3* out) {
-    for (int a = 0; a < e->count; a++) out[a] = sb_dv3_at(x + 3 * (size_t)e->vertex[a]);
+/* The element's vertices at x, seeded with the element-local direction p
+ * (3 count doubles, or NULL for none). */
+static void sb_element_seed(const sb_element* e, const double* x, const double* p, sb_dvec3* out) {
+    static const double zero[3] = {0, 0, 0};
+    for (int a = 0; a < e->count; a++) out[a] = sb_dv3(x + 3 * (size_t)e->vertex[a], p ? p + 3 * a : zero);
 }
 
-/* One run seeded with every coordinate of the element: seed 3 a + c moves
- * vertex a along axis c, so column 3 a + c of K_e is −f's derivative there. */
-/* The hinge's (or any element's) stiffness by the dual run. */
+/* The hinge's (or any element's) stiffness by one dual run per column. */
 static bool sb_element_stiffness_dual(const sb_model* m, const sb_element* e, const double* x, double* k) {
     int size = 3 * e->count;
+    double seed[3 * SB_ELEMENT_MAX];
     sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
-    sb_element_at_x(e, x, xs);
-    for (int a = 0; a < e->count; a++)
-        for (int c = 0; c < 3; c++) sb_dv3_seed_axis(&xs[a], 3 * a + c, c);
-    if (!sb_element_forces_dual(m, e, xs, f)) return false;
-    for (int a = 0; a < e->count; a++)
-        for (int col = 0; col < size; col++) {
-            sb_vec3 column = sb_dv3_derivative(f[a], col);
-            k[(3 * a + 0) * size + col] = -column.x;
-            k[(3 * a + 1) * size + col] = -column.y;
-            k[(3 * a + 2) * size + col] = -column.z;
+    for (int col = 0; col < size; col++) {
+        memset(seed, 0, sizeof seed);
+        seed[col] = 1.0;
+        sb_element_seed(e, x, seed, xs);
+        if (!sb_element_forces_dual(m, e, xs, f)) return false;
+        for (int a = 0; a < e->count; a++) {
+            k[(3 * a + 0) * size + col] = -f[a].d.x;
+            k[(3 * a + 1) * size + col] = -f[a].d.y;
+            k[(3 * a + 2) * size + col] = -f[a].d.z;
         }
+    }
+    return true;
+}
+
+/* The hinge's share by three dual runs, seeded with the vertex's axes. */
+static bool sb_element_vertex_share_dual(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                                         double* block) {
+    double seed[3 * SB_ELEMENT_MAX];
+    sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
+    for (int axis = 0; axis < 3; axis++) {
+        memset(seed, 0, sizeof seed);
+        seed[3 * place + axis] = 1.0;
+        sb_element_seed(e, x, seed, xs);
+        if (!sb_element_forces_dual(m, e, xs, forces)) return false;
+        const sb_vec3 column = forces[place].d;
+        block[axis] -= column.x, block[3 + axis] -= column.y, block[6 + axis] -= column.z;
+    }
+    f[0] += forces[place].v.x, f[1] += forces[place].v.y, f[2] += forces[place].v.z;
     return true;
 }
 
@@ -62,16 +80,29 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
     return sb_element_stiffness_dual(m, e, x, k);
 }
 
+bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                             double* block) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: return sb_bond_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_HINGE: break;
+    }
+    return sb_element_vertex_share_dual(m, e, x, place, f, block);
+}
+
 bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out) {
     memset(out, 0, 3 * (size_t)m->vertex_count * sizeof *out);
     uint64_t count = sb_element_count(m);
     for (uint64_t id = 0; id < count; id++) {
         sb_element e = sb_element_at(m, id);
+        double local[3 * SB_ELEMENT_MAX];
+        for (int a = 0; a < e.count; a++) memcpy(local + 3 * a, p + 3 * (size_t)e.vertex[a], 3 * sizeof(double));
         sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
-        sb_element_at_x(&e, x, xs);
-        for (int a = 0; a < e.count; a++) sb_dv3_seed(&xs[a], 0, p + 3 * (size_t)e.vertex[a]);
+        sb_element_seed(&e, x, local, xs);
         if (!sb_element_forces_dual(m, &e, xs, f)) return false;
-        for (int a = 0; a < e.count; a++) sb_v3_add_to(out + 3 * (size_t)e.vertex[a], sb_dv3_derivative(f[a], 0), -1.0);
+        for (int a = 0; a < e.count; a++) sb_v3_add_to(out + 3 * (size_t)e.vertex[a], f[a].d, -1.0);
     }
     return true;
 }

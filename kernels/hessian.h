@@ -54,6 +54,16 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
 bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
 bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 
+/* Vertex `place` of the element (at x, 3n interleaved): adds its force to f
+ * and its diagonal block K_e,pp to block (3 × 3); false when the element
+ * collapsed (nothing added). Bonds and triangles in closed form, hinges by
+ * the dual run seeded with the vertex's three axes. What vbd needs. */
+bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                             double* block);
+bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block);
+bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
+                              double* block);
+
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive
  * semi-definite there:

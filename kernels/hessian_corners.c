@@ -45,7 +45,7 @@ void sb_triangle_forces_dual(const sb_model* m, uint32_t t, const sb_dvec3* x, s
     double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
     double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
     *collapsed = false;
-    for (int c = 0; c < 3; c++) f[c] = (sb_dvec3){0};
+    for (int c = 0; c < 3; c++) f[c] = (sb_dvec3){{0, 0, 0}, {0, 0, 0}};
     if (k_angle == 0.0 && k_sb == 0.0) return;
     for (int c = 0; c < 3; c++)
         sb_corner_dual(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[(c + 2) % 3][t], x, c,
@@ -97,9 +97,16 @@ static void sb_add_block(double* k, int size, int row, int col, const double* m,
             k[(3 * row + r) * size + 3 * col + c] += s * (transpose ? m[3 * c + r] : m[3 * r + c]);
 }
 
-/* Adds one corner's stiffness to the triangle's 9 × 9 k; false when an edge collapsed. */
-static bool sb_corner_stiffness(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_vec3* x, int i,
-                                int j, int l, double* k) {
+/* A corner's Hessian in (a, b), blocks aa, ab, bb (H_ba = abᵀ), and its
+ * forces on i, j, l. */
+typedef struct sb_corner_hessian {
+    double aa[9], ab[9], bb[9];
+    sb_vec3 force[3]; /* on i, j, l */
+} sb_corner_hessian;
+
+/* The corner at local vertex i (neighbours j, l); false when an edge collapsed. */
+static bool sb_corner_hessian_at(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_vec3* x,
+                                 int i, int j, int l, sb_corner_hessian* out) {
     sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
     double A = sb_v3_length(a), B = sb_v3_length(b);
     if (!(A >= SB_COLLAPSE_RATIO * a0) || !(B >= SB_COLLAPSE_RATIO * b0)) return false;
@@ -108,7 +115,8 @@ static bool sb_corner_stiffness(double k_angle, double k_sb, double cos0, double
     double g = k_angle * dc + k_sb * S, h = k_sb * dc;
     sb_vec3 ca = sb_v3_scale(sb_v3_sub(ub, sb_v3_scale(ua, c)), 1.0 / A);
     sb_vec3 cb = sb_v3_scale(sb_v3_sub(ua, sb_v3_scale(ub, c)), 1.0 / B);
-    double aa[9] = {0}, ab[9] = {0}, bb[9] = {0};
+    double *aa = out->aa, *ab = out->ab, *bb = out->bb;
+    memset(out, 0, sizeof *out);
     /* kθ ∇c ∇cᵀ + ksb (∇c ∇Sᵀ + ∇S ∇cᵀ) */
     sb_add_uv(aa, ca, ca, k_angle), sb_add_uv(aa, ca, ua, k_sb), sb_add_uv(aa, ua, ca, k_sb);
     sb_add_uv(ab, ca, cb, k_angle), sb_add_uv(ab, ca, ub, k_sb), sb_add_uv(ab, ua, cb, k_sb);
@@ -123,7 +131,35 @@ static bool sb_corner_stiffness(double k_angle, double k_sb, double cos0, double
     /* h ∇²S */
     sb_add_identity(aa, h / A), sb_add_uv(aa, ua, ua, -h / A);
     sb_add_identity(bb, h / B), sb_add_uv(bb, ub, ub, -h / B);
-    /* to the vertices: a = x_j − x_i, b = x_l − x_i */
+    /* −∇E: F_j = −(g ∇_a c + h â), F_l = −(g ∇_b c + h b̂), F_i = −F_j − F_l */
+    out->force[1] = sb_v3_scale(sb_v3_add(sb_v3_scale(ca, g), sb_v3_scale(ua, h)), -1.0);
+    out->force[2] = sb_v3_scale(sb_v3_add(sb_v3_scale(cb, g), sb_v3_scale(ub, h)), -1.0);
+    out->force[0] = sb_v3_scale(sb_v3_add(out->force[1], out->force[2]), -1.0);
+    return true;
+}
+
+/* The triangle's corners one by one; false when an edge collapsed. */
+typedef void (*sb_corner_visit)(const sb_corner_hessian* h, int i, int j, int l, void* context);
+
+static bool sb_triangle_corners(const sb_model* m, uint32_t t, const sb_vec3* x, sb_corner_visit visit, void* context) {
+    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    for (int c = 0; c < 3; c++) {
+        sb_corner_hessian h;
+        int j = (c + 1) % 3, l = (c + 2) % 3;
+        if (!sb_corner_hessian_at(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[l][t], x, c, j, l,
+                                  &h))
+            return false;
+        visit(&h, c, j, l, context);
+    }
+    return true;
+}
+
+/* Adds a corner to the triangle's 9 × 9 k (a = x_j − x_i, b = x_l − x_i). */
+static void sb_add_corner_matrix(const sb_corner_hessian* h, int i, int j, int l, void* context) {
+    double* k = context;
+    const double *aa = h->aa, *ab = h->ab, *bb = h->bb;
     sb_add_block(k, 9, j, j, aa, false, 1.0), sb_add_block(k, 9, l, l, bb, false, 1.0);
     sb_add_block(k, 9, j, l, ab, false, 1.0), sb_add_block(k, 9, l, j, ab, true, 1.0);
     sb_add_block(k, 9, i, j, aa, false, -1.0), sb_add_block(k, 9, i, j, ab, true, -1.0);
@@ -132,17 +168,35 @@ static bool sb_corner_stiffness(double k_angle, double k_sb, double cos0, double
     sb_add_block(k, 9, l, i, ab, true, -1.0), sb_add_block(k, 9, l, i, bb, false, -1.0);
     sb_add_block(k, 9, i, i, aa, false, 1.0), sb_add_block(k, 9, i, i, bb, false, 1.0);
     sb_add_block(k, 9, i, i, ab, false, 1.0), sb_add_block(k, 9, i, i, ab, true, 1.0);
-    return true;
 }
 
 bool sb_triangle_stiffness(const sb_model* m, uint32_t t, const sb_vec3* x, double* k) {
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
     memset(k, 0, 81 * sizeof *k);
-    if (k_angle == 0.0 && k_sb == 0.0) return true;
-    for (int c = 0; c < 3; c++)
-        if (!sb_corner_stiffness(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[(c + 2) % 3][t], x, c,
-                                 (c + 1) % 3, (c + 2) % 3, k))
-            return false;
-    return true;
+    return sb_triangle_corners(m, t, x, sb_add_corner_matrix, k);
+}
+
+/* One vertex's share: its force and diagonal block. */
+typedef struct sb_vertex_share {
+    int place;
+    double* f;
+    double* block;
+} sb_vertex_share;
+
+static void sb_add_corner_share(const sb_corner_hessian* h, int i, int j, int l, void* context) {
+    sb_vertex_share* share = context;
+    int at = share->place == i ? 0 : share->place == j ? 1 : 2;
+    sb_vec3 force = h->force[at];
+    share->f[0] += force.x, share->f[1] += force.y, share->f[2] += force.z;
+    if (at == 1) sb_add_block(share->block, 3, 0, 0, h->aa, false, 1.0);
+    if (at == 2) sb_add_block(share->block, 3, 0, 0, h->bb, false, 1.0);
+    if (at == 0) {
+        sb_add_block(share->block, 3, 0, 0, h->aa, false, 1.0), sb_add_block(share->block, 3, 0, 0, h->bb, false, 1.0);
+        sb_add_block(share->block, 3, 0, 0, h->ab, false, 1.0), sb_add_block(share->block, 3, 0, 0, h->ab, true, 1.0);
+    }
+    (void)l;
+}
+
+bool sb_triangle_vertex_share(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f, double* block) {
+    sb_vertex_share share = {place, f, block};
+    return sb_triangle_corners(m, t, x, sb_add_corner_share, &share);
 }

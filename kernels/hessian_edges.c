@@ -59,6 +59,18 @@ bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x
     return sb_bond_matrix(m, bond, x, false, k);
 }
 
+bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block) {
+    double k[36];
+    if (!sb_bond_matrix(m, bond, x, false, k)) return false;
+    sb_vec3 delta = sb_v3_sub(x[1], x[0]);
+    double r = sb_v3_length(delta), pull = sb_bond_stiffness(m, bond) * (r - m->bond_r0[bond]) / r;
+    double sign = place == 0 ? 1.0 : -1.0; /* a stretched bond pulls i towards j */
+    f[0] += sign * pull * delta.x, f[1] += sign * pull * delta.y, f[2] += sign * pull * delta.z;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) block[3 * a + b] += k[a * 6 + b]; /* both diagonal blocks are the same */
+    return true;
+}
+
 void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {
     if (!sb_bond_matrix(m, bond, x, true, k)) k[0] = NAN;
 }

@@ -42,19 +42,19 @@ void sb_hinge_forces_dual(const sb_model* m, uint32_t h, const sb_dvec3* x, sb_d
     if (*collapsed) return;
     /* the wrap of sb_angle_difference moves the value by 2π, not the slope */
     double delta = sb_angle_difference(phi.v, m->hinge_phi0[h]);
-    sb_dual magnitude = sb_d_chain(k * delta, phi, k);
+    sb_dual magnitude = sb_d(k * delta, k * phi.d);
     for (int a = 0; a < 4; a++) f[a] = sb_dv3_scale(u[a], magnitude);
 }
 
 void sb_hinge_definite(const sb_model* m, uint32_t h, const sb_vec3* x, double* k) {
     sb_dvec3 xs[4], u[4];
-    for (int a = 0; a < 4; a++) xs[a] = sb_dv3_at((const double[3]){x[a].x, x[a].y, x[a].z});
+    for (int a = 0; a < 4; a++) xs[a] = (sb_dvec3){x[a], {0, 0, 0}};
     sb_dual phi;
     if (!sb_hinge_angle_dual(xs, &phi, u)) {
         k[0] = NAN;
         return;
     }
     double w[12];
-    for (int a = 0; a < 4; a++) w[3 * a] = u[a].x.v, w[3 * a + 1] = u[a].y.v, w[3 * a + 2] = u[a].z.v;
+    for (int a = 0; a < 4; a++) w[3 * a] = u[a].v.x, w[3 * a + 1] = u[a].v.y, w[3 * a + 2] = u[a].v.z;
     sb_add_outer(k, 12, w, sb_hinge_stiffness(m, h));
 }

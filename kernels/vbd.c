@@ -7,9 +7,9 @@
  * G with every other vertex held, a 3 × 3 solve
  *   H_i Δx_i = −g_i,  H_i = m_i/dt² I + Σ_e K_e,ii (+ damping),
  *   g_i = m_i/dt² (x_i − y_i) − Σ_e f_e,i(x),
- * with each incident element's force and diagonal block from the terms'
- * dual forces (kernels/hessian.h: three seeds on the vertex's own
- * coordinates). A vertex whose H_i is not positive definite keeps its
+ * with each incident element's force and diagonal block
+ * (sb_element_vertex_share, kernels/hessian.h: bonds and triangles in closed
+ * form, hinges by their dual run). A vertex whose H_i is not positive definite keeps its
  * position for that sweep (as the paper does). vbd_iterations sweeps run
  * per step; v = (x − x⁰)/dt at the end. Converged, it is backward Euler.
  *
@@ -152,21 +152,6 @@ static bool sb_solve3(const double* h, const double* r, double* d) {
     return true;
 }
 
-/* Adds one element's force on its vertex `place` (to f) and that vertex's
- * diagonal stiffness block (to h), one run seeded with its three axes. */
-static void sb_vbd_element(const sb_model* m, const sb_element* e, int place, const double* x, double* f, double* h) {
-    sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
-    for (int a = 0; a < e->count; a++) xs[a] = sb_dv3_at(x + 3 * (size_t)e->vertex[a]);
-    for (int axis = 0; axis < 3; axis++) sb_dv3_seed_axis(&xs[place], axis, axis);
-    if (!sb_element_forces_dual(m, e, xs, forces)) return; /* collapsed: the step's force check reports it */
-    sb_vec3 force = sb_dv3_value(forces[place]);
-    f[0] += force.x, f[1] += force.y, f[2] += force.z;
-    for (int axis = 0; axis < 3; axis++) {
-        sb_vec3 column = sb_dv3_derivative(forces[place], axis);
-        h[axis] -= column.x, h[3 + axis] -= column.y, h[6 + axis] -= column.z;
-    }
-}
-
 /* A damped spring on vertex `place` of bond b: D (v_other − v_self) with
  * v = (x − x⁰)/dt, and D/dt on the diagonal. */
 static void sb_vbd_damping(const sb_model* m, uint32_t b, int place, const double* x, const double* x0, double dt,
@@ -198,7 +183,8 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
     for (uint32_t k = v->elements->start[i]; k < v->elements->start[i + 1]; k++) {
         uint32_t id = sb_entry_element(v->elements->entry[k]);
         sb_element e = sb_element_at(m, id);
-        sb_vbd_element(m, &e, sb_entry_place(v->elements->entry[k]), x, f, h);
+        /* a collapsed element adds nothing: the step's force check reports it */
+        sb_element_vertex_share(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
         if (e.kind == SB_ELEMENT_BOND)
             sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
     }

@@ -127,6 +127,46 @@ static void test_elements_symmetric_and_product_consistent(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* vbd's per-vertex share of every element: the force is the dual run's
+ * (the reference formulas), the block the element matrix's diagonal block. */
+static void test_vertex_share(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(TERM_ALL, &mesh);
+    double* x = strained_positions(m, 5);
+    double largest_k = 0.0, largest_f = 0.0, worst_k = 0.0, worst_f = 0.0;
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        int size = 3 * e.count;
+        double k[144];
+        sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
+        for (int a = 0; a < e.count; a++) xs[a] = sb_dv3(x + 3 * (size_t)e.vertex[a], (const double[3]){0, 0, 0});
+        assert_true(sb_element_stiffness(m, &e, x, k));
+        assert_true(sb_element_forces_dual(m, &e, xs, forces));
+        for (int place = 0; place < e.count; place++) {
+            double f[3] = {0, 0, 0}, block[9] = {0};
+            assert_true(sb_element_vertex_share(m, &e, x, place, f, block));
+            sb_vec3 expected = forces[place].v;
+            const double want[3] = {expected.x, expected.y, expected.z};
+            for (int r = 0; r < 3; r++) {
+                largest_f = fmax(largest_f, fabs(want[r]));
+                worst_f = fmax(worst_f, fabs(f[r] - want[r]));
+                for (int c = 0; c < 3; c++) {
+                    double diagonal = k[(3 * place + r) * size + 3 * place + c];
+                    largest_k = fmax(largest_k, fabs(diagonal));
+                    worst_k = fmax(worst_k, fabs(block[3 * r + c] - diagonal));
+                }
+            }
+        }
+    }
+    assert_true(largest_f > 0.0 && largest_k > 0.0);
+    TU_ASSERT_LE(worst_f, 1e-12 * largest_f);
+    TU_ASSERT_LE(worst_k, 1e-12 * largest_k);
+    free(x);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
 /* The assembled block matrix times p is the matrix-free product. */
 static void test_assembled_matrix_product(void** state) {
     (void)state;
@@ -252,6 +292,7 @@ int main(void) {
         cmocka_unit_test(test_each_term_against_differences),
         cmocka_unit_test(test_elements_symmetric_and_product_consistent),
         cmocka_unit_test(test_assembled_matrix_product),
+        cmocka_unit_test(test_vertex_share),
         cmocka_unit_test(test_damping_block_against_differences),
         cmocka_unit_test(test_definite_stand_in),
     };
