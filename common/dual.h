@@ -34,11 +34,6 @@ static inline sb_dual sb_d_sqrt(sb_dual a) {
     double r = sqrt(a.v);
     return (sb_dual){r, a.d / (2.0 * r)};
 }
-/* atan2(y, x): d = (x dy − y dx) / (x² + y²). */
-static inline sb_dual sb_d_atan2(sb_dual y, sb_dual x) {
-    return (sb_dual){atan2(y.v, x.v), (x.v * y.d - y.v * x.d) / (x.v * x.v + y.v * y.v)};
-}
-
 /* The point at x + ε p, as a dual vector (both 3 doubles). */
 static inline sb_dvec3 sb_dv3(const double* x, const double* p) { return (sb_dvec3){sb_v3(x), sb_v3(p)}; }
 static inline sb_dvec3 sb_dv3_add(sb_dvec3 a, sb_dvec3 b) {

@@ -1,6 +1,7 @@
 /* A hinge on dual numbers (kernels/hessian.h): E = ½ k (φ − φ0)², the
  * gradient of kernels/reference_hinges.c; local vertices e0, e1, o0, o1.
- * The dihedral angle's derivative comes through atan2's (common/dual.h). */
+ * The dihedral angle's derivative is ∇φ · ẋ with ∇φ = −u (the gradient the
+ * reference derives), so atan2 runs on values only. */
 #include "kernels/hessian.h"
 
 #define SB_MIN_WING_RATIO 1e-12 /* as kernels/reference_hinges.c */
@@ -16,8 +17,6 @@ static bool sb_hinge_angle_dual(const sb_dvec3* x, sb_dual* phi, sb_dvec3* u) {
     double limit = SB_MIN_WING_RATIO * length.v * length.v;
     if (!(length.v > 0.0) || !(n0_sq.v > limit * limit) || !(n1_sq.v > limit * limit)) return false;
     sb_dual inv_length = sb_d_div(sb_d_const(1.0), length);
-    sb_dual sine = sb_d_mul(sb_dv3_dot(sb_dv3_cross(n0, n1), edge), inv_length);
-    *phi = sb_d_atan2(sine, sb_dv3_dot(n0, n1));
     sb_dvec3 w0 = sb_dv3_scale(n0, sb_d_div(sb_d_const(1.0), n0_sq));
     sb_dvec3 w1 = sb_dv3_scale(n1, sb_d_div(sb_d_const(1.0), n1_sq));
     sb_dvec3 unit_edge = sb_dv3_scale(edge, inv_length);
@@ -27,6 +26,10 @@ static bool sb_hinge_angle_dual(const sb_dvec3* x, sb_dual* phi, sb_dvec3* u) {
                       sb_dv3_scale(w1, sb_d_scale(sb_dv3_dot(sb_dv3_sub(o1, e0), unit_edge), -1.0)));
     u[2] = sb_dv3_scale(w0, length);
     u[3] = sb_dv3_scale(w1, length);
+    /* φ's value by atan2; its derivative is ∇φ · ẋ = −Σ u · ẋ, no dual atan2 */
+    double sine = sb_v3_dot(sb_v3_cross(n0.v, n1.v), edge.v) / length.v;
+    *phi = sb_d(atan2(sine, sb_v3_dot(n0.v, n1.v)), 0.0);
+    for (int a = 0; a < 4; a++) phi->d -= sb_v3_dot(u[a].v, x[a].d);
     return true;
 }
 
