@@ -21,6 +21,20 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+/* cmocka's run of the group `tests`, only its cases whose names match
+ * SB_TEST_FILTER (cmocka's pattern: * and ?) when that is set:
+ * tests/CMakeLists.txt gives the thread sanitizer only a program's cases
+ * that run threads. */
+#define TU_RUN_TESTS(tests)                                                                                            \
+    (getenv("SB_TEST_FILTER") ? cmocka_set_test_filter(getenv("SB_TEST_FILTER")) : (void)0,                            \
+     cmocka_run_group_tests(tests, NULL, NULL))
+
+/* 1 in the builds with a sanitizer (tests/CMakeLists.txt): a test may
+ * leave out there a repeat that only needs checking once (it says which). */
+#ifndef SB_TEST_SANITIZED
+#define SB_TEST_SANITIZED 0
+#endif
+
 /* The rounding unit of the solver's state (float by default). */
 #define TU_REAL_EPS ((double)(sizeof(sb_real) == sizeof(float) ? FLT_EPSILON : DBL_EPSILON))
 
