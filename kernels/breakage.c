@@ -12,9 +12,9 @@
  * Euler, pbd and xpbd through solver->model, the fast kernels through the
  * fast model, which is per solver too and was built from the copy with its
  * constants never folded to one value, so each element's can be zeroed in
- * place. A bond fused into a triangle (kernels/fast_corners.c) already
- * carries a per-slot weight: breaking it zeroes that weight, so the fused
- * kernel runs as before, with no branch per element. A model without
+ * place. A bond fused into a triangle (kernels/fast_corners.c) is carried
+ * by an ownership bit of its triangle's slot: breaking it clears that bit,
+ * so the fused kernel runs as before, with no branch per element. A model without
  * limits gets none of this: the same fast model, the same step.
  *
  * After each accepted step (each accepted adaptive sub-step) one pass over

@@ -25,4 +25,12 @@ static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
     return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
 }
 
+/* Bit `bit` of each lane's flag byte (flags padded like the slots), as 1 or
+ * 0: the compiler turns the loop into a byte load and a widening. */
+static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) {
+    sb_real lanes[SB_WIDTH];
+    for (int l = 0; l < SB_WIDTH; l++) lanes[l] = (sb_real)(flags[l] >> bit & 1u);
+    return sb_w_load(lanes);
+}
+
 #endif

@@ -12,10 +12,15 @@
  * the reference machine: 0.57 ns per gathered and 0.73 ns per scatter-added
  * element, against a few ns of arithmetic per triangle), and a bond on a
  * triangle's edge needs exactly the positions and the length the triangle
- * kernel already has. So when the bond constants are uniform and undamped
- * (kernels/fast_model.c decides), each such bond is owned by one triangle
- * (weight 1 on that triangle's edge, 0 on its other triangle) and costs no
- * memory access of its own. */
+ * kernel already has. So each bond on a triangle's edge is owned by one
+ * triangle (kernels/fast_model.c: a bit per edge in one byte per triangle)
+ * and costs no index or scatter of its own: its stretch, its spring and,
+ * when the model has damping, the spring's damping from the edge's
+ * relative velocity (the same half-step velocity the bond kernel and the
+ * reference read, gathered for the triangle's three vertices only then).
+ * Uniform constants are one value; non-uniform ones (or a breakable
+ * model's) are carried per triangle slot and edge. The bond's rest length
+ * is the triangle's own where they agree (no stream of its own). */
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
 #include "kernels/reference_terms.h"
@@ -50,14 +55,32 @@ static inline void sb_fast_corner(const sb_wtriangle* t, int c, sb_wide cos0, sb
     out->energy[1] = sb_w_add(out->energy[1], sb_w_mul(sb_w_mul(ksb, dc), s));
 }
 
-/* Adds the stretch of edge c (owned with weight w, rest length r0). */
-static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t, int c, sb_wide length, uint32_t s,
-                                      sb_wtriangle_out* out) {
-    sb_wide w = sb_w_load(m->tri_edge_owned[c] + s), stretch = sb_w_sub(length, sb_w_load(m->tri_edge_r0[c] + s));
-    sb_wide kb = sb_w_mul(w, sb_w_set(m->bond_k.uniform)), ks = sb_w_mul(w, sb_w_set(m->spring_k.uniform));
-    sb_wvec3 f = sb_wv_scale(t->unit[c], sb_w_mul(sb_w_add(kb, ks), stretch));
+/* What the fused bonds of a block of triangles need besides the shared
+ * edge geometry: the edge rest lengths and, with damping, the velocities. */
+typedef struct sb_wfused {
+    sb_wide rest[3]; /* the triangle's edge rest lengths tri_len0 */
+    sb_wvec3 velocity[3];
+} sb_wfused;
+
+/* Adds the bond edge c owns (if it does; a lane's constants are zero
+ * otherwise): stretch, spring and damping along the edge. */
+static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t, const sb_wfused* e, int c,
+                                      sb_wide length, uint32_t s, sb_wtriangle_out* out) {
+    int j = (c + 1) % 3;
+    sb_wide owned = sb_w_bit(m->tri_owned + s, c);
+    sb_wide r0 = m->tri_edge_r0[c] ? sb_w_load(m->tri_edge_r0[c] + s) : e->rest[c];
+    sb_wide stretch = sb_w_sub(length, r0);
+    sb_wide kb = sb_w_mul(owned, sb_w_constant(m->tri_edge_bond_k[c], s));
+    sb_wide ks = sb_w_mul(owned, sb_w_constant(m->tri_edge_spring_k[c], s));
+    sb_wide magnitude = sb_w_mul(sb_w_add(kb, ks), stretch);
+    if (m->fused_damping) {
+        sb_wide opening = sb_wv_dot(sb_wv_sub(e->velocity[j], e->velocity[c]), t->unit[c]);
+        sb_wide d = sb_w_mul(owned, sb_w_constant(m->tri_edge_damping[c], s));
+        magnitude = sb_w_add(magnitude, sb_w_mul(d, opening));
+    }
+    sb_wvec3 f = sb_wv_scale(t->unit[c], magnitude);
     out->force[c] = sb_wv_add(out->force[c], f);
-    out->force[(c + 1) % 3] = sb_wv_sub(out->force[(c + 1) % 3], f);
+    out->force[j] = sb_wv_sub(out->force[j], f);
     sb_wide strain_energy = sb_w_mul(sb_w_set((sb_real)0.5), sb_w_mul(stretch, stretch));
     out->energy[2] = sb_w_add(out->energy[2], sb_w_mul(kb, strain_energy));
     out->energy[3] = sb_w_add(out->energy[3], sb_w_mul(ks, strain_energy));
@@ -78,6 +101,7 @@ int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
             p[c] = sb_wv_load4(fr->positions4, v[c]);
         }
         sb_wtriangle t;
+        sb_wfused fused;
         sb_wide length[3];
         for (int c = 0; c < 3; c++) {
             sb_wvec3 e = sb_wv_sub(p[(c + 1) % 3], p[c]);
@@ -86,14 +110,16 @@ int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t be
             length[c] = sb_w_mul(squared, t.inverse[c]);
             t.unit[c] = sb_wv_scale(e, t.inverse[c]);
             t.strain[c] = sb_w_sub(length[c], rest);
+            fused.rest[c] = rest;
             collapsed |= sb_w_any(sb_w_less(length[c], sb_w_mul(ratio, rest)), count);
             if (limits) near |= sb_near_limit(m->tri_edge_near_max2[c], m->tri_edge_near_min2[c], s, squared, count);
         }
         sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
         sb_wtriangle_out out = {{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}}, {zero, zero, zero, zero}};
         for (int c = 0; c < 3; c++) sb_fast_corner(&t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, &out);
+        for (int c = 0; c < 3 && m->fused_damping; c++) fused.velocity[c] = sb_wv_load4(fr->velocities4, v[c]);
         if (m->fused_bonds)
-            for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, c, length[c], s, &out);
+            for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, &fused, c, length[c], s, &out);
         for (int c = 0; c < 3; c++) sb_wv_add4(fr->forces4, v[c], out.force[c], count);
         for (int e = 0; e < 4; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     }

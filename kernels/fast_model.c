@@ -136,13 +136,20 @@ static sb_real* sb_gather_real(const double* in, const sb_element_group* g, bool
 
 /* Folds a uniform constant to one value, except in a breakable model (its
  * elements' constants are zeroed one by one as they break): then the
- * values are kept per slot and the uniform value beside them. */
-static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, const sb_element_group* g, bool fold,
-                                           bool* ok) {
+ * values are kept per slot and the uniform value beside them. The
+ * uniformity is that of `in` (count values); the slots take their values
+ * from `slots_from`, indexed like the group's source. */
+static sb_fast_constant sb_constant_from(const double* in, uint32_t count, const double* slots_from,
+                                         const sb_element_group* g, bool fold, bool* ok) {
     bool uniform = true;
     for (uint32_t e = 1; e < count && uniform; e++) uniform = in[e] == in[0];
-    sb_real value = uniform && count ? (sb_real)in[0] : 0; /* the fused bonds read it (per-slot weights) */
-    return (sb_fast_constant){uniform && fold ? NULL : sb_gather_real(in, g, ok), value};
+    sb_real value = uniform && count ? (sb_real)in[0] : 0;
+    return (sb_fast_constant){uniform && fold ? NULL : sb_gather_real(slots_from, g, ok), value};
+}
+
+static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, const sb_element_group* g, bool fold,
+                                           bool* ok) {
+    return sb_constant_from(in, count, in, g, fold, ok);
 }
 
 static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
@@ -184,19 +191,10 @@ static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* ow
     return ok;
 }
 
-static bool sb_uniform(const double* values, uint32_t count) {
-    for (uint32_t e = 1; e < count; e++)
-        if (values[e] != values[0]) return false;
-    return true;
-}
-
 /* Which triangle edge owns each bond: owner[b] = 3 t + c for edge c of
- * triangle t, −1 for none. Fusion needs uniform, undamped bond constants. */
+ * triangle t, −1 for none. */
 static int64_t* sb_bond_owners(const sb_model* m, bool* ok) {
-    bool fusable = m->triangle_count > 0 && m->bond_count > 0 && sb_uniform(m->bond_k, m->bond_count) &&
-                   sb_uniform(m->spring_k, m->bond_count) && sb_uniform(m->spring_damping, m->bond_count) &&
-                   m->spring_damping[0] == 0.0;
-    if (!fusable) return NULL;
+    if (m->triangle_count == 0 || m->bond_count == 0) return NULL;
     int64_t* owner = malloc(m->bond_count * sizeof *owner);
     sb_edge_map map;
     if (!owner || !sb_edge_map_init(&map, m->bond_count)) {
@@ -218,25 +216,70 @@ static int64_t* sb_bond_owners(const sb_model* m, bool* ok) {
     return owner;
 }
 
-/* Per triangle edge: weight 1 and the bond's rest length where it owns a bond. */
+/* Per triangle edge (3 arrays of triangle_count, edge c's at c · nt): the
+ * owned bond's rest length and constants, 0 where the edge owns none. */
+typedef struct sb_edge_values {
+    double *r0, *bond_k, *spring_k, *damping;
+    uint8_t* owned; /* per triangle, bit c */
+} sb_edge_values;
+
+static bool sb_edge_values_fill(sb_edge_values* e, const sb_model* m, const int64_t* owner) {
+    size_t nt = m->triangle_count;
+    double** arrays[4] = {&e->r0, &e->bond_k, &e->spring_k, &e->damping};
+    bool ok = (e->owned = calloc(nt, 1)) != NULL;
+    for (int a = 0; a < 4; a++) ok = (*arrays[a] = calloc(3 * nt, sizeof(double))) != NULL && ok;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
+        if (owner[b] < 0) continue;
+        int c = (int)(owner[b] % 3);
+        size_t t = (size_t)(owner[b] / 3), at = c * nt + t;
+        e->owned[t] |= (uint8_t)(1u << c);
+        e->r0[at] = m->bond_r0[b];
+        e->bond_k[at] = m->bond_k[b];
+        e->spring_k[at] = m->spring_k[b];
+        e->damping[at] = m->spring_damping[b];
+    }
+    return ok;
+}
+
+static void sb_edge_values_free(sb_edge_values* e) {
+    free(e->r0);
+    free(e->bond_k);
+    free(e->spring_k);
+    free(e->damping);
+    free(e->owned);
+}
+
+/* Whether every owned bond of edge c has the triangle's own rest length
+ * there (in sb_real), so that the kernel can reuse tri_len0[c]. */
+static bool sb_edge_rest_shared(const sb_model* m, const sb_edge_values* e, int c) {
+    if (m->breakable) return false;
+    for (uint32_t t = 0; t < m->triangle_count; t++)
+        if ((e->owned[t] >> c & 1u) && (sb_real)e->r0[c * (size_t)m->triangle_count + t] != (sb_real)m->tri_len0[c][t])
+            return false;
+    return true;
+}
+
+/* The fused bonds' flags, rest lengths and constants per triangle slot. */
 static bool sb_fast_fused_edges(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
     size_t nt = m->triangle_count;
-    double* weight = calloc(3 * nt, sizeof *weight);
-    double* rest = calloc(3 * nt, sizeof *rest);
-    bool ok = weight && rest;
-    for (uint32_t b = 0; ok && b < m->bond_count; b++)
-        if (owner[b] >= 0) {
-            int c = (int)(owner[b] % 3);
-            size_t t = (size_t)(owner[b] / 3);
-            weight[c * nt + t] = 1.0;
-            rest[c * nt + t] = m->bond_r0[b];
-        }
+    sb_edge_values e = {0};
+    bool ok = sb_edge_values_fill(&e, m, owner);
+    f->tri_owned = ok ? malloc(f->triangles.capacity + SB_WIDTH) : NULL;
+    ok = ok && f->tri_owned;
+    for (uint32_t s = 0; ok && s < f->triangles.capacity + SB_WIDTH; s++)
+        f->tri_owned[s] = s < f->triangles.capacity ? e.owned[f->triangles.source[s]] : 0;
     for (int c = 0; ok && c < 3; c++) {
-        f->tri_edge_owned[c] = sb_gather_real(weight + c * nt, &f->triangles, &ok);
-        f->tri_edge_r0[c] = sb_gather_real(rest + c * nt, &f->triangles, &ok);
+        size_t at = c * nt;
+        if (!sb_edge_rest_shared(m, &e, c)) f->tri_edge_r0[c] = sb_gather_real(e.r0 + at, &f->triangles, &ok);
+        bool fold = !m->breakable;
+        f->tri_edge_bond_k[c] = sb_constant_from(m->bond_k, m->bond_count, e.bond_k + at, &f->triangles, fold, &ok);
+        f->tri_edge_spring_k[c] =
+            sb_constant_from(m->spring_k, m->bond_count, e.spring_k + at, &f->triangles, fold, &ok);
+        f->tri_edge_damping[c] =
+            sb_constant_from(m->spring_damping, m->bond_count, e.damping + at, &f->triangles, fold, &ok);
     }
-    free(weight);
-    free(rest);
+    for (size_t k = 0; ok && k < 3 * nt; k++) f->fused_damping |= e.damping[k] != 0.0;
+    sb_edge_values_free(&e);
     f->fused_bonds = ok;
     return ok;
 }
@@ -343,8 +386,7 @@ void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
     if (place < 0) {
         uint32_t slot = (uint32_t)((-1 - place) / 3);
         int c = (int)((-1 - place) % 3);
-        f->tri_edge_owned[c][slot] = 0;
-        f->tri_edge_r0[c][slot] = 0;
+        f->tri_owned[slot] &= (uint8_t) ~(1u << c);
         return;
     }
     f->bond_k.values[place] = f->spring_k.values[place] = f->spring_damping.values[place] = 0;
@@ -428,14 +470,17 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->triangle_slot,
                       f->hinge_slot,
                       f->bond_near_max2,
-                      f->bond_near_min2};
+                      f->bond_near_min2,
+                      f->tri_owned};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
         free(f->tri_cos0[c]);
         free(f->tri_len0[c]);
-        free(f->tri_edge_owned[c]);
         free(f->tri_edge_r0[c]);
+        free(f->tri_edge_bond_k[c].values);
+        free(f->tri_edge_spring_k[c].values);
+        free(f->tri_edge_damping[c].values);
         free(f->tri_edge_near_max2[c]);
         free(f->tri_edge_near_min2[c]);
     }

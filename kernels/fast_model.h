@@ -63,11 +63,16 @@ typedef struct sb_fast_model {
     sb_real *tri_cos0[3], *tri_len0[3];
     sb_fast_constant angle_k, stretch_bend_k;
     bool has_corners;
-    /* fused bonds (see kernels/fast_corners.c): edge c of a triangle slot
-     * carries its bond with weight tri_edge_owned[c] (1 or 0), rest length
-     * tri_edge_r0[c] and the uniform bond_k and spring_k */
-    bool fused_bonds;
-    sb_real *tri_edge_owned[3], *tri_edge_r0[3];
+    /* Fused bonds (see kernels/fast_corners.c): edge c of a triangle slot
+     * carries the bond it owns when bit c of tri_owned is set, with that
+     * bond's constants (one value when uniform, else per slot) and rest
+     * length: tri_edge_r0[c], or, when NULL, the triangle's own tri_len0[c]
+     * (every owned bond's rest length is its edge's, and the model is not
+     * breakable, whose triangles' rest lengths are zeroed on their own). */
+    bool fused_bonds, fused_damping;
+    uint8_t* tri_owned;
+    sb_real* tri_edge_r0[3];
+    sb_fast_constant tri_edge_bond_k[3], tri_edge_spring_k[3], tri_edge_damping[3];
 
     sb_element_group hinges;
     uint32_t* hinge_v[4]; /* e0, e1, o0, o1 */

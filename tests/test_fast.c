@@ -26,22 +26,54 @@ static void make_mesh(shape kind, sb_mesh* mesh) {
     assert_int_equal(status, SB_OK);
 }
 
-/* With damping every bond goes through the bond kernel; without it the
- * triangles own their edges' bonds (the fused path). */
-static sb_model* make_model(const sb_mesh* mesh, bool damped) {
+/* The bonds of a model: uniform and undamped, uniform and damped (both
+ * fused into the triangles that own their edges), or mixed: every edge's
+ * bond with constants and a rest length of its own (some damped, some not,
+ * fused with per-slot constants), and bonds no triangle owns (i, i + 2),
+ * which the bond kernel computes. */
+typedef enum { BONDS_UNDAMPED, BONDS_DAMPED, BONDS_MIXED } bonds;
+
+static bool is_edge(const sb_mesh* mesh, uint32_t i, uint32_t j) {
+    for (uint32_t t = 0; t < mesh->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t a = mesh->triangles[3 * t + c], b = mesh->triangles[3 * t + (c + 1) % 3];
+            if ((a == i && b == j) || (a == j && b == i)) return true;
+        }
+    return false;
+}
+
+static void add_mixed_bonds(sb_builder* builder, const sb_mesh* mesh) {
+    tu_rng rng = {7};
+    for (uint32_t t = 0; t < mesh->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t i = mesh->triangles[3 * t + c], j = mesh->triangles[3 * t + (c + 1) % 3];
+            if (i > j) continue; /* each interior edge once */
+            double rest = t % 2 ? -1.0 : tu_dist(mesh->positions + 3 * i, mesh->positions + 3 * j) * 1.03;
+            double damping = c == 1 ? 0.0 : tu_uniform(&rng, 0.02, 0.08);
+            assert_true(tu_bond(builder, i, j, rest, tu_uniform(&rng, 30, 70), tu_uniform(&rng, 10, 30), damping) >= 0);
+        }
+    for (uint32_t i = 0; i + 2 < mesh->vertex_count; i += 5)
+        if (!is_edge(mesh, i, i + 2))
+            assert_true(tu_bond(builder, i, i + 2, -1.0, tu_uniform(&rng, 30, 70), 5.0, tu_uniform(&rng, 0, 0.05)) >=
+                        0);
+}
+
+static sb_model* make_model(const sb_mesh* mesh, bonds kind) {
     sb_material_def material = sb_default_material_def();
-    material.bond_k = 50.0;
+    bool mixed = kind == BONDS_MIXED;
+    material.bond_k = mixed ? 0.0 : 50.0;
     material.angle_k = 0.3;
     material.stretch_bend_k = 2.0;
-    material.spring_k = 20.0;
-    material.spring_damping = damped ? 0.05 : 0.0;
+    material.spring_k = mixed ? 0.0 : 20.0;
+    material.spring_damping = kind == BONDS_DAMPED ? 0.05 : 0.0;
     material.bend_k = 0.01;
     sb_builder* builder = sb_builder_create();
     sb_error err;
     assert_int_equal(sb_builder_add_mesh(builder, mesh, &material, &err), SB_OK);
+    if (mixed) add_mixed_bonds(builder, mesh);
     sb_model* model = sb_builder_compile(builder, &err);
     sb_builder_destroy(builder);
-    assert_non_null(model);
+    if (!model) fail_msg("%s", err.message);
     return model;
 }
 
@@ -70,10 +102,11 @@ static sb_solver* make_fast_solver(const sb_model* model, int threads) {
     return solver;
 }
 
-static void compare_with_reference(shape kind, bool damped) {
+static void compare_with_reference(shape kind, bonds variant) {
+    static const char* names[] = {"undamped", "damped", "mixed"};
     sb_mesh mesh = {0};
     make_mesh(kind, &mesh);
-    sb_model* model = make_model(&mesh, damped);
+    sb_model* model = make_model(&mesh, variant);
     uint32_t n = mesh.vertex_count;
     double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
     double* fast_f = malloc(3 * n * sizeof *fast_f);
@@ -87,8 +120,8 @@ static void compare_with_reference(shape kind, bool damped) {
         sb_solver_get_forces(solver, fast_f);
         double largest = tu_max_abs(f, 3 * n), worst = 0.0;
         for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-        print_message("shape %d%s seed %llu: largest force error %.3g of the largest force\n", (int)kind,
-                      damped ? " damped" : " fused", (unsigned long long)seed, worst / largest);
+        print_message("shape %d, %s bonds, seed %llu: largest force error %.3g of the largest force\n", (int)kind,
+                      names[variant], (unsigned long long)seed, worst / largest);
         TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
         sb_energies fast = sb_solver_energies(solver);
         double scale = 0.0;
@@ -106,28 +139,28 @@ static void compare_with_reference(shape kind, bool damped) {
 
 static void test_regular_sheet(void** state) {
     (void)state;
-    compare_with_reference(SHAPE_SHEET, true);
-    compare_with_reference(SHAPE_SHEET, false);
+    for (int variant = BONDS_UNDAMPED; variant <= BONDS_MIXED; variant++)
+        compare_with_reference(SHAPE_SHEET, (bonds)variant);
 }
 static void test_jittered_sheet(void** state) {
     (void)state;
-    compare_with_reference(SHAPE_JITTERED, true);
-    compare_with_reference(SHAPE_JITTERED, false);
+    for (int variant = BONDS_UNDAMPED; variant <= BONDS_MIXED; variant++)
+        compare_with_reference(SHAPE_JITTERED, (bonds)variant);
 }
 static void test_sliver_triangles(void** state) {
     (void)state;
-    compare_with_reference(SHAPE_SLIVERS, true);
-    compare_with_reference(SHAPE_SLIVERS, false);
+    for (int variant = BONDS_UNDAMPED; variant <= BONDS_MIXED; variant++)
+        compare_with_reference(SHAPE_SLIVERS, (bonds)variant);
 }
 static void test_nearly_straight_angles(void** state) {
     (void)state;
-    compare_with_reference(SHAPE_FLATTENED, true);
-    compare_with_reference(SHAPE_FLATTENED, false);
+    for (int variant = BONDS_UNDAMPED; variant <= BONDS_MIXED; variant++)
+        compare_with_reference(SHAPE_FLATTENED, (bonds)variant);
 }
 static void test_icosphere(void** state) {
     (void)state;
-    compare_with_reference(SHAPE_SPHERE, true);
-    compare_with_reference(SHAPE_SPHERE, false);
+    for (int variant = BONDS_UNDAMPED; variant <= BONDS_MIXED; variant++)
+        compare_with_reference(SHAPE_SPHERE, (bonds)variant);
 }
 
 /* Lone hinges (4 vertices each, hinges only) folded near where the angle
@@ -229,12 +262,12 @@ static void mark_range(const sb_color_range* range, int arity, uint32_t* const* 
         }
 }
 
-/* Every element appears exactly once; within an element color no two
+/* Every element of the group (model elements numbered below
+ * element_count) appears exactly once; within an element color no two
  * elements share a vertex (SIMD lanes); within a block color no two blocks
  * share a vertex (threads). */
 static void check_group(const sb_element_group* g, uint32_t element_count, uint32_t vertex_count, int arity,
                         uint32_t* const* ids) {
-    assert_int_equal(g->count, element_count);
     uint8_t* seen = calloc(element_count + 1, 1);
     uint32_t* lane_owner = malloc(vertex_count * sizeof *lane_owner);
     uint32_t* block_owner = malloc(vertex_count * sizeof *block_owner);
@@ -258,10 +291,21 @@ static void check_group(const sb_element_group* g, uint32_t element_count, uint3
             }
         }
     }
-    for (uint32_t e = 0; e < element_count; e++) assert_int_equal(seen[e], 1);
+    uint32_t count = 0;
+    for (uint32_t e = 0; e < element_count; e++) count += seen[e];
+    assert_int_equal(count, g->count);
     free(seen);
     free(lane_owner);
     free(block_owner);
+}
+
+/* The triangle edges that own a bond. */
+static uint32_t owned_edges(const sb_fast_model* fast) {
+    uint32_t owned = 0;
+    for (uint32_t r = 0; r < fast->triangles.range_count; r++)
+        for (uint32_t s = fast->triangles.ranges[r].begin; s < fast->triangles.ranges[r].end; s++)
+            for (int c = 0; c < 3; c++) owned += fast->tri_owned[s] >> c & 1u;
+    return owned;
 }
 
 static void test_coloring(void** state) {
@@ -270,11 +314,14 @@ static void test_coloring(void** state) {
     sb_error err;
     assert_int_equal(sb_mesh_generate_icosphere(4, 1.0, &mesh, &err), SB_OK); /* 5120 triangles: 20 blocks */
     assert_int_equal(sb_mesh_reorder(&mesh, NULL, &err), SB_OK);
-    sb_model* model = make_model(&mesh, true);
+    sb_model* model = make_model(&mesh, BONDS_MIXED); /* bonds (i, i + 2) in the bond group */
     sb_fast_model* fast = sb_fast_model_create(model, &err);
     assert_non_null(fast);
+    assert_true(fast->bonds.count > 0);
     check_group(&fast->bonds, sb_model_bond_count(model), mesh.vertex_count, 2,
                 (uint32_t* const[]){fast->bond_i, fast->bond_j});
+    assert_int_equal(fast->triangles.count, sb_model_triangle_count(model));
+    assert_int_equal(fast->hinges.count, sb_model_hinge_count(model));
     check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 3, fast->tri_v);
     check_group(&fast->hinges, sb_model_hinge_count(model), mesh.vertex_count, 4, fast->hinge_v);
     print_message("blocks (block colors): %u (%u) bond, %u (%u) triangle, %u (%u) hinge\n", fast->bonds.block_count,
@@ -282,21 +329,25 @@ static void test_coloring(void** state) {
                   fast->hinges.block_count, fast->hinges.block_colors);
     assert_true(fast->triangles.block_count >= 16);
     assert_true(fast->triangles.block_colors <= 8); /* compact blocks of a surface have few neighbours */
+    /* per-slot constants and rest lengths of their own for the fused bonds */
+    assert_true(fast->fused_damping && fast->tri_edge_bond_k[0].values && fast->tri_edge_r0[0]);
+    assert_int_equal(owned_edges(fast) + fast->bonds.count, sb_model_bond_count(model));
     sb_fast_model_destroy(fast);
     sb_model_destroy(model);
-    /* undamped uniform bonds: every bond is owned by exactly one triangle edge */
-    model = make_model(&mesh, false);
-    fast = sb_fast_model_create(model, &err);
-    assert_non_null(fast);
-    assert_true(fast->fused_bonds);
-    assert_int_equal(fast->bonds.count, 0);
-    double owned = 0.0;
-    for (uint32_t r = 0; r < fast->triangles.range_count; r++)
-        for (uint32_t s = fast->triangles.ranges[r].begin; s < fast->triangles.ranges[r].end; s++)
-            for (int c = 0; c < 3; c++) owned += fast->tri_edge_owned[c][s];
-    assert_true(owned == (double)sb_model_bond_count(model));
-    sb_fast_model_destroy(fast);
-    sb_model_destroy(model);
+    /* uniform bonds, damped or not: every bond is owned by exactly one
+     * triangle edge, its constants one value, its rest length the edge's */
+    for (int kind = BONDS_UNDAMPED; kind <= BONDS_DAMPED; kind++) {
+        model = make_model(&mesh, (bonds)kind);
+        fast = sb_fast_model_create(model, &err);
+        assert_non_null(fast);
+        assert_true(fast->fused_bonds);
+        assert_int_equal(fast->fused_damping, kind == BONDS_DAMPED);
+        assert_int_equal(fast->bonds.count, 0);
+        assert_int_equal(owned_edges(fast), sb_model_bond_count(model));
+        for (int c = 0; c < 3; c++) assert_true(!fast->tri_edge_r0[c] && !fast->tri_edge_bond_k[c].values);
+        sb_fast_model_destroy(fast);
+        sb_model_destroy(model);
+    }
     sb_mesh_free(&mesh);
 }
 
@@ -325,6 +376,20 @@ static uint64_t run_steps(const sb_model* model, int threads, sb_integrator inte
     return h;
 }
 
+/* The state after 1000 steps is bitwise the same for 1, 2 (twice) and 3 threads. */
+static void assert_same_for_threads(const sb_model* model, sb_integrator integrator) {
+    uint64_t one = run_steps(model, 1, integrator);
+    uint64_t two = run_steps(model, 2, integrator);
+    uint64_t again = run_steps(model, 2, integrator);
+    uint64_t three = run_steps(model, 3, integrator);
+    print_message("%s: hash %016llx (1 thread) %016llx (2) %016llx (2 again) %016llx (3)\n",
+                  sb_integrator_name(integrator), (unsigned long long)one, (unsigned long long)two,
+                  (unsigned long long)again, (unsigned long long)three);
+    assert_true(one == two);
+    assert_true(two == again);
+    assert_true(one == three);
+}
+
 static void test_determinism(void** state) {
     (void)state;
     sb_mesh mesh = {0};
@@ -342,28 +407,20 @@ static void test_determinism(void** state) {
     sb_model* model = sb_builder_compile(builder, &err);
     sb_builder_destroy(builder);
     assert_non_null(model);
-    for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++) {
-        uint64_t one = run_steps(model, 1, (sb_integrator)integrator);
-        uint64_t two = run_steps(model, 2, (sb_integrator)integrator);
-        uint64_t again = run_steps(model, 2, (sb_integrator)integrator);
-        uint64_t three = run_steps(model, 3, (sb_integrator)integrator);
-        print_message("%s: hash %016llx (1 thread) %016llx (2) %016llx (2 again) %016llx (3)\n",
-                      sb_integrator_name((sb_integrator)integrator), (unsigned long long)one, (unsigned long long)two,
-                      (unsigned long long)again, (unsigned long long)three);
-        assert_true(one == two);
-        assert_true(two == again);
-        assert_true(one == three);
-    }
+    for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++)
+        assert_same_for_threads(model, (sb_integrator)integrator);
+    sb_model_destroy(model);
+    model = make_model(&mesh, BONDS_MIXED); /* per-slot fused constants, and the bond kernel */
+    assert_same_for_threads(model, SB_INTEGRATOR_VERLET);
     sb_model_destroy(model);
     sb_mesh_free(&mesh);
 }
 
-/* The fast kernels notice a collapsed edge and the solver names it. */
 static void test_collapse_reported(void** state) {
     (void)state;
     sb_mesh mesh = {0};
     make_mesh(SHAPE_SHEET, &mesh);
-    sb_model* model = make_model(&mesh, true);
+    sb_model* model = make_model(&mesh, BONDS_DAMPED);
     sb_solver* solver = make_fast_solver(model, 2);
     double* x = malloc(3 * mesh.vertex_count * sizeof *x);
     memcpy(x, mesh.positions, 3 * mesh.vertex_count * sizeof *x);
