@@ -8,16 +8,18 @@
  *                Δ, v, x, f (10 arrays); forces: x read, f read and written
  *                (3); kick: reads mass, inverse mass, weight, x, f, v and
  *                writes v (7): 20 arrays of 4 s = 80 s
- *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s);
- *                when the bonds are fused into it (uniform, undamped bonds:
- *                the default terms) 3 edge weights + 3 bond rest lengths (6 s)
- *   per bond     only the bonds no triangle owns (none on these meshes by
- *                default; all of them with --all-terms, whose damping keeps
- *                them in the bond kernel): i, j (8 B) + r0 (s)
+ *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
+ *                + 1 byte of flags: which of its edges' bonds it owns
+ *                (kernels/fast_model.h; every bond of these meshes is on a
+ *                triangle's edge, and an owned bond's rest length is the
+ *                edge's, so its constants, uniform, cost nothing more)
+ *   per bond     only the bonds no triangle owns: none on these meshes
  *   per hinge    4 indices (16 B) + φ0 (s)               (--all-terms only)
+ *   damping      (--all-terms) the force pass reads the half-step
+ *                velocities too: 4 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
- * Float, default terms: 320 B per vertex, 60 B per triangle; a 1M-vertex
- * sheet (2M triangles) moves about 440 MB per step.
+ * Float, default terms: 320 B per vertex, 37 B per triangle; a 1M-vertex
+ * sheet (2M triangles) moves about 394 MB per step.
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -56,12 +58,9 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = 80.0 * s;
-    double fused_bonds = all_terms ? 0.0 : (double)c.bonds, free_bonds = (double)c.bonds - fused_bonds;
-    double triangle_bytes = 12.0 + (fused_bonds > 0 ? 12.0 : 6.0) * s;
-    double bond_bytes = 8.0 + s, hinge_bytes = 16.0 + s;
-    c.bytes_per_step =
-        vertex_bytes * c.vertices + bond_bytes * free_bonds + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
+    double vertex_bytes = (80.0 + (all_terms ? 4.0 : 0.0)) * s;
+    double triangle_bytes = 12.0 + 6.0 * s + 1.0, hinge_bytes = 16.0 + s;
+    c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
     c.flops_per_step = SB_FLOPS_VERTEX * c.vertices + bond_flops * c.bonds + SB_FLOPS_TRIANGLE * c.triangles +
                        SB_FLOPS_HINGE * c.hinges;
@@ -69,9 +68,10 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 }
 
 const char* sb_bench_byte_model_text(void) {
-    return "bytes/step = 80s per vertex (20 packed x y z w streams over drift, forces, kick) + (12+12s) per"
-           " triangle with fused bonds [with --all-terms: (12+6s) per triangle, (8+s) per bond, (16+s) per hinge];"
-           " s = sizeof(sb_real); gathers assumed cached, writes counted once";
+    return "bytes/step = 80s per vertex (20 packed x y z w streams over drift, forces, kick) + (13+6s) per"
+           " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
+           " --all-terms: +4s per vertex (velocities for damping), (16+s) per hinge]; s = sizeof(sb_real);"
+           " gathers assumed cached, writes counted once";
 }
 
 const char* sb_bench_flop_model_text(void) {
