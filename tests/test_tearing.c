@@ -195,26 +195,34 @@ static void test_threads_tear_the_same(void** state) {
 
 /* Every integrator tears the sheet (kernels/topology.c re-points what each
  * of them reads: the working copy, the fast slots, pbd's colored
- * constraints), a valid mesh at every step, the same for 1 and 2 threads. */
+ * constraints, implicit Euler's matrix pattern and its factorization's
+ * analysis), a valid mesh at every step, the same for 1 and 2 threads.
+ * The last case is implicit Euler again with every system factored. */
 static void test_every_integrator_tears(void** state) {
     (void)state;
-    for (int i = 0; i < SB_INTEGRATOR_COUNT; i++) {
+    for (int i = 0; i <= SB_INTEGRATOR_COUNT; i++) {
+        bool factored = i == SB_INTEGRATOR_COUNT;
         uint64_t hash[2];
-        uint32_t made = 0;
+        uint32_t made = 0, factorizations = 0;
         for (int threads = 1; threads <= 2; threads++) {
             sb_solver_def def = kernels_def(SB_KERNELS_FAST, threads);
-            def.integrator = (sb_integrator)i;
+            def.integrator = factored ? SB_INTEGRATOR_IMPLICIT_EULER : (sb_integrator)i;
+            def.implicit_solver = factored ? SB_LINEAR_CHOLESKY : SB_LINEAR_AUTO;
             pulled_run r;
             pulled_start(&r, def);
             bool implicit = def.integrator == SB_INTEGRATOR_IMPLICIT_EULER || def.integrator == SB_INTEGRATOR_VBD;
             pull_for(&r, implicit ? 1e-3 : 1e-4, implicit ? 250 : 2500); /* to the first splits */
             made = sb_solver_vertex_count(r.solver) - SIDE * SIDE;
+            factorizations = sb_solver_last_step(r.solver).factorizations;
             hash[threads - 1] = tu_state_hash(r.solver);
             pulled_end(&r);
         }
-        print_message("%s: %u vertices split off\n", sb_integrator_name((sb_integrator)i), made);
+        print_message("%s%s: %u vertices split off\n",
+                      sb_integrator_name(factored ? SB_INTEGRATOR_IMPLICIT_EULER : (sb_integrator)i),
+                      factored ? " (cholesky)" : "", made);
         assert_true(made > 0);
         assert_true(hash[0] == hash[1]);
+        if (factored) assert_true(factorizations > 0);
     }
 }
 
