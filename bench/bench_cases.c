@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define SB_BENCH_BOND_K 100.0
 #define SB_BENCH_DENSITY 0.1       /* kg/m² */
@@ -199,4 +200,10 @@ void sb_bench_setup_free(sb_bench_setup* s) {
     sb_model_destroy(s->model);
     sb_mesh_free(&s->mesh);
     memset(s, 0, sizeof *s);
+}
+
+double sb_bench_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }

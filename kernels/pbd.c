@@ -49,9 +49,7 @@
  * bitwise the same for any thread count. Small models (under ~1024
  * constraints a color per thread) run on fewer threads than asked. The projection works in double on
  * its own copy of the positions. */
-#include "kernels/solver_internal.h"
-#include "kernels/coloring.h"
-#include "kernels/contact_pbd.h"
+#include "kernels/pbd_internal.h"
 #include "kernels/handle_internal.h"
 #include "common/error.h"
 #include "softbond/runtime.h"
@@ -59,21 +57,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* One kind of constraint item (bonds or triangles), sorted by color. */
-typedef struct sb_pbd_group {
-    uint32_t count;
-    uint32_t* items; /* model indices, color by color, model order within a color */
-    uint32_t first[SB_MAX_COLORS + 1];
-    double* lambda; /* xpbd: 1 per bond, 3 per triangle (one per corner) */
-} sb_pbd_group;
-
-typedef struct sb_pbd {
-    int threads;
-    sb_pbd_group bonds, triangles;
-    double *x, *x0;            /* 3n: positions being projected, positions at the start */
-    sb_pbd_contacts* contacts; /* NULL without colliders (kernels/contact_pbd.c) */
-} sb_pbd;
 
 static void sb_pbd_group_free(sb_pbd_group* g) {
     free(g->items);
@@ -87,6 +70,7 @@ void sb_pbd_destroy(sb_pbd* p) {
     free(p->x);
     free(p->x0);
     sb_pbd_contacts_destroy(p->contacts);
+    sb_pbd_wide_destroy(p->wide);
     free(p);
 }
 
@@ -165,7 +149,9 @@ sb_status sb_pbd_prepare(sb_solver* s) {
         p->x = malloc(n3 * sizeof *p->x);
         p->x0 = malloc(n3 * sizeof *p->x0);
     }
-    if (!p || !p->x || !p->x0 || !sb_pbd_build(p, s->model) || !sb_pbd_contacts_create(s, &p->contacts)) {
+    bool built = p && p->x && p->x0 && sb_pbd_build(p, s->model) && sb_pbd_contacts_create(s, &p->contacts);
+    if (built && sb_pbd_wide_applies(s)) built = (p->wide = sb_pbd_wide_create(p, s->model)) != NULL;
+    if (!built) {
         sb_pbd_destroy(p);
         return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory preparing the position-based solver");
     }
@@ -340,6 +326,7 @@ int sb_pbd_iterations(const sb_solver_def* def) { return def->pbd_iterations > 0
 sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     sb_fast_publish(s); /* the state's arrays current */
     sb_pbd* p = s->pbd;
+    if (p->wide) return sb_pbd_wide_step(s, dt);
     sb_pbd_predict(s, dt);
     if (s->pinned_inv_mass) sb_handles_place_predicted(s, p->x);
     sb_pbd_step k = {

@@ -406,6 +406,8 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status == SB_OK ? sb_check_stretch(s) : status;
     }
+    if (s->forces_stale) /* pbd's SIMD step (kernels/fast_pbd.c) checked the state; the energies wait */
+        return status == SB_OK ? sb_check_stretch(s) : status;
     if (status == SB_OK && after) status = sb_contact_after_step(s, dt);
     if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);
     if (status == SB_OK && s->def.handle_count) status = sb_handles_after_step(s, dt);
@@ -463,7 +465,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
         st->vy[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_y[i] : v ? v[1] : 0.0);
         st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
     }
-    s->has_displacement = false;
+    s->has_displacement = s->forces_stale = false;
     s->trial_substep = s->energy_peak = 0.0;
     sb_status status = sb_check_state(s);
     if (status == SB_OK) status = sb_solver_compute_forces(s);
@@ -526,7 +528,21 @@ void sb_solver_bond(const sb_solver* s, uint32_t bond, uint32_t ends[2]) {
     ends[0] = in ? s->model->bond_i[bond] : 0;
     ends[1] = in ? s->model->bond_j[bond] : 0;
 }
-sb_energies sb_solver_energies(const sb_solver* s) { return s->energies; }
+sb_status sb_solver_settle(sb_solver* s) {
+    if (!s->forces_stale) return SB_OK;
+    s->forces_stale = false;
+    sb_status status = sb_solver_compute_forces(s);
+    if (status == SB_OK) sb_update_energies(s);
+    return status;
+}
+
+/* The getters of forces and energies settle them first: a cache of the
+ * current state filled on demand, so the solver is written through a
+ * const pointer (never a const object: sb_solver_create allocates it). */
+sb_energies sb_solver_energies(const sb_solver* s) {
+    sb_solver_settle((sb_solver*)s);
+    return s->energies;
+}
 /* Copies one quantity out as 3n interleaved doubles: from the fast path's
  * packed working state when the state's arrays are stale, from the arrays
  * otherwise. Reads only. */
@@ -570,6 +586,7 @@ void sb_solver_get_velocities(const sb_solver* s, double* out) {
 }
 
 void sb_solver_get_forces(const sb_solver* s, double* out) {
+    sb_solver_settle((sb_solver*)s);
     const sb_real* soa[3] = {s->state.fx, s->state.fy, s->state.fz};
     sb_copy_out(s, s->forces4, soa, out);
 }

@@ -28,6 +28,7 @@ struct sb_solver {
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     sb_real* weight4; /* m g per vertex, packed */
     bool published;
+    bool forces_stale; /* pbd, xpbd: the step left the new state's forces and energies to sb_solver_settle */
     bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
     double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
@@ -146,6 +147,11 @@ sb_status sb_fast_compute_forces(sb_solver* solver);
 sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
 /* Fills the state's arrays from the packed working state, when stale. */
 void sb_fast_publish(sb_solver* solver);
+
+/* The forces and energies of the current state, evaluated now where the
+ * last step left them for later (forces_stale); the getters that return
+ * them call it first. */
+sb_status sb_solver_settle(sb_solver* solver);
 
 /* Fills the solver's error naming the first vertex that is not finite or ran
  * away; SB_OK if there is none. */

@@ -288,6 +288,7 @@ size_t sb_solver_state_size(const sb_solver* s) {
 }
 
 sb_status sb_solver_save_state(const sb_solver* s, void* buffer, size_t size, sb_error* err) {
+    sb_solver_settle((sb_solver*)s); /* the forces and energies it writes: a pbd step may have left them for later */
     sb_sections_writer w;
     if (!buffer || !sb_state_write(s, &w, buffer, size))
         return sb_error_set(err, SB_ERR_INVALID, "solver state: a buffer of %zu bytes is too small (it takes %zu)",
@@ -346,5 +347,6 @@ sb_status sb_solver_load_state(sb_solver* s, const void* buffer, size_t size, sb
     if (status != SB_OK) return status;
     for (int p = 0; p < SB_PART_COUNT; p++)
         if (sb_parts[p].present(s)) sb_parts[p].load(s, &found[p]);
+    s->forces_stale = false; /* saved settled */
     return SB_OK;
 }

@@ -224,8 +224,8 @@ static inline sb_wvec3 sb_wv_gather(const sb_real* x, const sb_real* y, const sb
 #if defined(__AVX512F__) && !SB_DOUBLE
 /* Lanes are loaded four per register in the order (0,4,8,12), (1,5,9,13),
  * (2,6,10,14), (3,7,11,15), so that a 4x4 transpose inside each 128-bit
- * lane leaves x, y and z in natural lane order. */
-static inline sb_wvec3 sb_wv_load4(const sb_real* p4, sb_windex i) {
+ * lane leaves x, y, z and w in natural lane order. */
+static inline sb_wvec3 sb_wv_load4w(const sb_real* p4, sb_windex i, sb_wide* w) {
     uint32_t id[16];
     _mm512_storeu_si512((void*)id, i);
     __m512 r[4];
@@ -238,6 +238,7 @@ static inline sb_wvec3 sb_wv_load4(const sb_real* p4, sb_windex i) {
     __m512 t0 = _mm512_unpacklo_ps(r[0], r[1]), t1 = _mm512_unpackhi_ps(r[0], r[1]);
     __m512 t2 = _mm512_unpacklo_ps(r[2], r[3]), t3 = _mm512_unpackhi_ps(r[2], r[3]);
     __m512d d0 = _mm512_castps_pd(t0), d1 = _mm512_castps_pd(t1), d2 = _mm512_castps_pd(t2), d3 = _mm512_castps_pd(t3);
+    *w = _mm512_castpd_ps(_mm512_unpackhi_pd(d1, d3));
     return (sb_wvec3){_mm512_castpd_ps(_mm512_unpacklo_pd(d0, d2)), _mm512_castpd_ps(_mm512_unpackhi_pd(d0, d2)),
                       _mm512_castpd_ps(_mm512_unpacklo_pd(d1, d3))};
 }
@@ -266,20 +267,22 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
 }
 #else
 /* Elsewhere: the components of each lane's vertex, one lane at a time. */
-static inline sb_wvec3 sb_wv_load4(const sb_real* p4, sb_windex i) {
+static inline sb_wvec3 sb_wv_load4w(const sb_real* p4, sb_windex i, sb_wide* w) {
     uint32_t id[SB_WIDTH];
-    sb_real x[SB_WIDTH], y[SB_WIDTH], z[SB_WIDTH];
+    sb_real x[SB_WIDTH], y[SB_WIDTH], z[SB_WIDTH], ws[SB_WIDTH];
     memcpy(id, &i, sizeof id);
     for (int l = 0; l < SB_WIDTH; l++) {
         const sb_real* p = p4 + 4 * (size_t)id[l];
         x[l] = p[0];
         y[l] = p[1];
         z[l] = p[2];
+        ws[l] = p[3];
     }
     sb_wvec3 v;
     memcpy(&v.x, x, sizeof x);
     memcpy(&v.y, y, sizeof y);
     memcpy(&v.z, z, sizeof z);
+    memcpy(w, ws, sizeof ws);
     return v;
 }
 
@@ -298,6 +301,13 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
     }
 }
 #endif
+
+/* The x y z of each lane's packed vertex (sb_wv_load4w also gives w: a
+ * kernel may keep a per-vertex value there, pbd the inverse mass). */
+static inline sb_wvec3 sb_wv_load4(const sb_real* p4, sb_windex i) {
+    sb_wide unused;
+    return sb_wv_load4w(p4, i, &unused);
+}
 
 static inline sb_wvec3 sb_wv_sub(sb_wvec3 a, sb_wvec3 b) {
     return (sb_wvec3){sb_w_sub(a.x, b.x), sb_w_sub(a.y, b.y), sb_w_sub(a.z, b.z)};

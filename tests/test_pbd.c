@@ -54,18 +54,19 @@ static void test_names_and_keys(void** state) {
 }
 
 /* An S × S sheet in the xy plane, spacing h, mass 0.01 per vertex, bonds
- * (k) along rows, columns and one diagonal, two triangles per cell with
- * angle constant kt and stretch-bend 0.5, the top corners pinned. */
-static sb_model* sheet(int S, double h, double k, double kt) {
+ * (k, spring damping d) along rows, columns and one diagonal, two
+ * triangles per cell with angle constant kt and stretch-bend 0.5, the top
+ * corners pinned. */
+static sb_model* sheet(int S, double h, double k, double kt, double d) {
     sb_builder* b = sb_builder_create();
     for (int r = 0; r < S; ++r)
         for (int c = 0; c < S; ++c) tu_vertex(b, h * c, h * r, 0, 0.01, r == S - 1 && (c == 0 || c == S - 1));
     for (int r = 0; r < S; ++r)
         for (int c = 0; c < S; ++c) {
             uint32_t a = (uint32_t)(r * S + c);
-            if (c + 1 < S) tu_bond(b, a, a + 1, -1, k, 0, 0);
-            if (r + 1 < S) tu_bond(b, a, a + S, -1, k, 0, 0);
-            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + S + 1, -1, k, 0, 0);
+            if (c + 1 < S) tu_bond(b, a, a + 1, -1, k, 0, d);
+            if (r + 1 < S) tu_bond(b, a, a + S, -1, k, 0, d);
+            if (c + 1 < S && r + 1 < S) tu_bond(b, a, a + S + 1, -1, k, 0, d);
         }
     for (int r = 0; r + 1 < S; ++r)
         for (int c = 0; c + 1 < S; ++c) {
@@ -91,7 +92,7 @@ static void push_force(void* user, uint32_t vertex, double time, const double po
 static void test_fixed_vertices(void** state) {
     (void)state;
     enum { S = 8 };
-    sb_model* m = sheet(S, 0.05, 200, 0.05);
+    sb_model* m = sheet(S, 0.05, 200, 0.05, 0);
     for (int k = 0; k < 4; ++k) {
         sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
         def.external_force = push_force;
@@ -202,7 +203,7 @@ static void test_xpbd_static_stretch(void** state) {
  * and 2 threads, with either kernel choice. */
 static void test_threads_deterministic(void** state) {
     (void)state;
-    sb_model* m = sheet(100, 0.01, 500, 0.05);
+    sb_model* m = sheet(100, 0.01, 500, 0.05, 0);
     for (int k = 0; k < 4; ++k) {
         uint64_t hashes[2];
         for (int t = 0; t < 2; ++t) {
@@ -217,6 +218,124 @@ static void test_threads_deterministic(void** state) {
                       sb_integrator_name(position_based[k % 2]), k < 2 ? "reference" : "fast",
                       (unsigned long long)hashes[0], (unsigned long long)hashes[1]);
         assert_true(hashes[0] == hashes[1]);
+    }
+    sb_model_destroy(m);
+}
+
+/* Largest |a − b| over 3n values. */
+static double max_difference(const double* a, const double* b, size_t n3) {
+    double worst = 0;
+    for (size_t q = 0; q < n3; ++q) worst = fmax(worst, fabs(a[q] - b[q]));
+    return worst;
+}
+
+/* The SIMD sweeps (fast kernels, kernels/fast_pbd.c) against the scalar
+ * ones (reference kernels, kernels/pbd.c) on a damped 24 × 24 sheet with
+ * bonds and corners: the same constraints in the same order, so the
+ * positions after the first step and after 40 differ by rounding only
+ * (float: sb_real sweeps against double ones; the first step moves the
+ * sheet by g dt² = 4e-5 m, where the float positions' rounding is ~4e-4
+ * of it), measured against how far the sheet moved; the energies (the fast solver's evaluated when asked
+ * for) agree to the float kernels' rounding. */
+static void test_fast_matches_scalar(void** state) {
+    (void)state;
+    enum { S = 24, N = S * S };
+    sb_model* m = sheet(S, 0.01, 500, 0.05, 0.02);
+    const double tolerance = SB_DOUBLE ? 1e-9 : 5e-3, energy_tolerance = SB_DOUBLE ? 1e-9 : 1e-4;
+    for (int k = 0; k < 2; ++k) {
+        sb_solver* solvers[2];
+        double x[2][3 * N], rest[3 * N], worst[2] = {0, 0};
+        for (int q = 0; q < 2; ++q) {
+            sb_solver_def def = pbd_def(position_based[k], q ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE);
+            def.pbd_iterations = 5;
+            solvers[q] = tu_solver(m, &def);
+        }
+        sb_solver_get_positions(solvers[0], rest);
+        for (int phase = 0; phase < 2; ++phase) {
+            for (int q = 0; q < 2; ++q) {
+                tu_advance(solvers[q], 2e-3, phase ? 39 : 1);
+                sb_solver_get_positions(solvers[q], x[q]);
+            }
+            worst[phase] = max_difference(x[0], x[1], 3 * N) / max_difference(x[0], rest, 3 * N);
+        }
+        sb_energies e[2] = {sb_solver_energies(solvers[0]), sb_solver_energies(solvers[1])};
+        double scale = fabs(e[0].kinetic) + fabs(e[0].gravity), energy_error = fabs(e[0].kinetic - e[1].kinetic);
+        for (int t = 0; t < SB_TERM_COUNT; ++t) {
+            scale += fabs(e[0].term[t]);
+            energy_error += fabs(e[0].term[t] - e[1].term[t]);
+        }
+        energy_error = (energy_error + fabs(e[0].gravity - e[1].gravity)) / scale;
+        print_message("fast against scalar sweeps, %-4s: largest position difference / largest move %.3g after 1 "
+                      "step, %.3g after 40; energies differ by %.3g of their scale\n",
+                      sb_integrator_name(position_based[k]), worst[0], worst[1], energy_error);
+        TU_ASSERT_LE(worst[0], tolerance);
+        TU_ASSERT_LE(worst[1], tolerance);
+        TU_ASSERT_LE(energy_error, energy_tolerance);
+        for (int q = 0; q < 2; ++q) sb_solver_destroy(solvers[q]);
+    }
+    sb_model_destroy(m);
+}
+
+/* The fast xpbd step leaves the new state's forces and energies for when
+ * they are asked for: what the getters return then is bitwise what a
+ * solver set to the same state evaluates, and so is a checkpoint's. */
+static void test_energies_when_asked(void** state) {
+    (void)state;
+    enum { S = 16, N = S * S };
+    sb_model* m = sheet(S, 0.01, 500, 0.05, 0.02);
+    sb_solver_def def = pbd_def(SB_INTEGRATOR_XPBD, SB_KERNELS_FAST);
+    sb_solver *s = tu_solver(m, &def), *fresh = tu_solver(m, &def);
+    tu_advance(s, 2e-3, 25);
+    double x[3 * N], v[3 * N], f[2][3 * N];
+    sb_solver_get_positions(s, x);
+    sb_solver_get_velocities(s, v);
+    assert_int_equal(sb_solver_set_state(fresh, x, v), SB_OK);
+    sb_energies asked = sb_solver_energies(s), evaluated = sb_solver_energies(fresh);
+    sb_solver_get_forces(s, f[0]);
+    sb_solver_get_forces(fresh, f[1]);
+    assert_memory_equal(&asked, &evaluated, sizeof asked);
+    assert_memory_equal(f[0], f[1], sizeof f[0]);
+    tu_advance(s, 2e-3, 1);
+    size_t size = sb_solver_state_size(s);
+    unsigned char* saved = malloc(size);
+    assert_non_null(saved);
+    assert_int_equal(sb_solver_save_state(s, saved, size, NULL), SB_OK);
+    sb_energies after = sb_solver_energies(s);
+    assert_int_equal(sb_solver_load_state(fresh, saved, size, NULL), SB_OK);
+    evaluated = sb_solver_energies(fresh);
+    assert_memory_equal(&after, &evaluated, sizeof after);
+    print_message("energies when asked: kinetic %.6g J, bond %.6g J after 25 steps, as a fresh evaluation's\n",
+                  asked.kinetic, asked.term[SB_TERM_BOND]);
+    free(saved);
+    sb_solver_destroy(s);
+    sb_solver_destroy(fresh);
+    sb_model_destroy(m);
+}
+
+/* A free triangle (three bonds, an angle term) collapsed to one point, no
+ * gravity: every edge has length 0, the sweeps cannot move it, and the
+ * step reports the collapse (SB_ERR_DEGENERATE) with either kernel choice. */
+static void test_collapse_reported(void** state) {
+    (void)state;
+    sb_builder* b = sb_builder_create();
+    for (int i = 0; i < 3; ++i) tu_vertex(b, 0.01 * (i == 1), 0.01 * (i == 2), 0, 0.01, false);
+    for (int i = 0; i < 3; ++i) tu_bond(b, (uint32_t)i, (uint32_t)(i + 1) % 3, -1, 500, 0, 0);
+    tu_triangle(b, 0, 1, 2, 0.05, 0);
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    const double x[9] = {0};
+    for (int k = 0; k < 2; ++k) {
+        sb_solver_def def = pbd_def(SB_INTEGRATOR_XPBD, k ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE);
+        def.gravity[2] = 0;
+        sb_solver* s = tu_solver(m, &def);
+        assert_int_not_equal(sb_solver_set_state(s, x, NULL), SB_OK); /* the evaluation reports it at once */
+        sb_status st = sb_solver_advance(s, 1e-3);
+        print_message("collapse, %s kernels: %s: %s\n", k ? "fast" : "reference", sb_status_name(st),
+                      sb_solver_error(s));
+        assert_int_equal(st, SB_ERR_DEGENERATE);
+        TU_ASSERT_CONTAINS(sb_solver_error(s), "step 1 ");
+        TU_ASSERT_CONTAINS(sb_solver_error(s), "collapsed");
+        sb_solver_destroy(s);
     }
     sb_model_destroy(m);
 }
@@ -262,6 +381,8 @@ int main(void) {
         cmocka_unit_test(test_names_and_keys),        cmocka_unit_test(test_fixed_vertices),
         cmocka_unit_test(test_convergence),           cmocka_unit_test(test_xpbd_static_stretch),
         cmocka_unit_test(test_threads_deterministic), cmocka_unit_test(test_blow_up_rule),
+        cmocka_unit_test(test_fast_matches_scalar),   cmocka_unit_test(test_energies_when_asked),
+        cmocka_unit_test(test_collapse_reported),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

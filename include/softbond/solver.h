@@ -230,7 +230,9 @@ SB_API double sb_solver_time(const sb_solver* solver);
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
 SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 
-/* Energies of the current state: each term, kinetic, gravity. */
+/* Energies of the current state: each term, kinetic, gravity. After a pbd
+ * or xpbd step with the fast kernels they are evaluated here, when first
+ * asked for (as are the forces of sb_solver_get_forces). */
 SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
 /* Copies positions, velocities or the total forces (internal, gravity, drag

@@ -1,0 +1,426 @@
+/* The SIMD sweeps of pbd and xpbd: kernels/pbd.c's step and projections
+ * (the formulas are in its design note, which stays the reference) with
+ * SB_WIDTH constraints of one color per SIMD block, in sb_real.
+ *
+ * Layout. Every color of kernels/pbd.c's bond and triangle groups becomes
+ * a run of slots, a multiple of SB_WIDTH, holding the color's constraints
+ * in the same order; a block's unused lanes copy a real constraint and
+ * are masked where positions are written (kernels/wide.h's convention).
+ * The overflow color, whose constraints may share vertices, has one
+ * constraint a block. Each slot keeps copies of what its projection reads
+ * (vertex indices, rest length or rest cosines, compliance α = 1/k, the
+ * damping as β = d/k, whether it is alive) and its λ; the copies are made
+ * again when breakage or tearing changed the model (the broken-bond and
+ * vertex counts say so). The positions being projected are packed x y z w
+ * with the inverse mass (0 on fixed and held vertices) in w, so that one
+ * 16-byte load per vertex brings everything a projection needs of it.
+ *
+ * A step is one job of the solver's team: the prediction (per vertex), the
+ * sweeps (a barrier after each color; the same colors and order as the
+ * scalar sweeps: bond colors, then triangle colors, a triangle's three
+ * corners one after another on its positions kept in registers), then
+ * v = (x − x_prev)/dt into the state's arrays and the packed copies, fused
+ * with the finiteness and runaway check. Lanes of a block and blocks of a
+ * color write disjoint vertices and a block's arithmetic does not depend on
+ * which worker runs it: the state is bitwise the same for any thread count.
+ *
+ * Forces and energies. A position-based step needs no force: unless
+ * something in the next step reads them (an external-force callback, the
+ * adaptive stepper's energy balance, breakage, self-contact), the new
+ * state's forces and energies are evaluated when first asked for
+ * (sb_solver_settle). A collapsed edge (a bond or a corner's edge of
+ * squared length under SB_PBD_COLLAPSED2) is flagged by the sweeps; the
+ * forces are then evaluated at once, and their pass names the element. */
+#include "kernels/pbd_internal.h"
+#include "kernels/wide.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A group's slots, color by color. */
+typedef struct sb_pbd_slots {
+    uint32_t first[SB_MAX_COLORS + 1]; /* first slot of each color, a multiple of SB_WIDTH */
+    uint32_t count[SB_MAX_COLORS];     /* constraints of each color */
+    uint32_t total;                    /* slots */
+    uint32_t* item;                    /* the model index each slot copies */
+} sb_pbd_slots;
+
+typedef struct sb_pbd_wide_bonds {
+    sb_pbd_slots slots;
+    uint32_t *i, *j;
+    sb_real *r0, *alpha, *beta, *alive, *lambda;
+    bool damped; /* a bond with damping: the sweeps read the start positions too */
+} sb_pbd_wide_bonds;
+
+typedef struct sb_pbd_wide_triangles {
+    sb_pbd_slots slots;
+    uint32_t* v[3];
+    sb_real *cos0[3], *alpha, *alive, *lambda[3];
+} sb_pbd_wide_triangles;
+
+struct sb_pbd_wide {
+    sb_pbd_wide_bonds bonds;
+    sb_pbd_wide_triangles triangles;
+    sb_real *x4, *x04;         /* packed: positions being projected (w: inverse mass), positions at the start */
+    uint32_t broken, vertices; /* the model's state the copies were made from */
+};
+
+bool sb_pbd_wide_applies(const sb_solver* s) { return s->fast && !s->def.collider_count && !s->def.handle_count; }
+
+static void* sb_pbd_alloc(uint32_t count, size_t size) { return aligned_alloc(64, ((count * size) / 64 + 1) * 64); }
+
+/* Slots of the colors of g: SB_WIDTH constraints a block, one in the overflow color's. */
+static bool sb_pbd_slots_build(sb_pbd_slots* slots, const sb_pbd_group* g) {
+    slots->first[0] = 0;
+    for (int k = 0; k < SB_MAX_COLORS; k++) {
+        uint32_t count = g->first[k + 1] - g->first[k], per_block = k == SB_OVERFLOW_COLOR ? 1 : SB_WIDTH;
+        slots->count[k] = count;
+        slots->first[k + 1] = slots->first[k] + (count + per_block - 1) / per_block * SB_WIDTH;
+    }
+    slots->total = slots->first[SB_MAX_COLORS];
+    slots->item = sb_pbd_alloc(slots->total, sizeof *slots->item);
+    if (!slots->item) return false;
+    for (int k = 0; k < SB_MAX_COLORS; k++) {
+        uint32_t per_block = k == SB_OVERFLOW_COLOR ? 1 : SB_WIDTH;
+        for (uint32_t s = slots->first[k]; s < slots->first[k + 1]; s++) {
+            uint32_t block = (s - slots->first[k]) / SB_WIDTH, lane = (s - slots->first[k]) % SB_WIDTH;
+            uint32_t e = block * per_block + (lane < per_block ? lane : 0);
+            slots->item[s] = g->items[g->first[k] + (e < slots->count[k] ? e : block * per_block)];
+        }
+    }
+    return true;
+}
+
+/* The copies of the model's bond constants in every slot. */
+static void sb_pbd_bonds_copy(sb_pbd_wide_bonds* b, const sb_model* m) {
+    b->damped = false;
+    for (uint32_t s = 0; s < b->slots.total; s++) {
+        uint32_t e = b->slots.item[s];
+        double k = m->bond_k[e] + m->spring_k[e];
+        bool alive = k > 0; /* a broken bond has no stiffness (kernels/breakage.c) */
+        b->i[s] = m->bond_i[e];
+        b->j[s] = m->bond_j[e];
+        b->r0[s] = (sb_real)m->bond_r0[e];
+        b->alpha[s] = (sb_real)(alive ? 1.0 / k : 1.0);
+        b->beta[s] = (sb_real)(alive ? m->spring_damping[e] / k : 0.0);
+        b->alive[s] = alive;
+        b->damped |= b->beta[s] != 0;
+    }
+}
+
+static void sb_pbd_triangles_copy(sb_pbd_wide_triangles* t, const sb_model* m) {
+    for (uint32_t s = 0; s < t->slots.total; s++) {
+        uint32_t e = t->slots.item[s];
+        bool alive = m->angle_k[e] > 0;
+        for (int c = 0; c < 3; c++) {
+            t->v[c][s] = m->tri_v[c][e];
+            t->cos0[c][s] = (sb_real)m->tri_cos0[c][e];
+        }
+        t->alpha[s] = (sb_real)(alive ? 1.0 / m->angle_k[e] : 1.0);
+        t->alive[s] = alive;
+    }
+}
+
+/* The copies again when breakage or tearing changed the model since. */
+static void sb_pbd_wide_sync(sb_pbd_wide* w, const sb_solver* s) {
+    uint32_t broken = sb_solver_broken_count(s), vertices = sb_solver_vertex_count(s);
+    if (broken == w->broken && vertices == w->vertices) return;
+    sb_pbd_bonds_copy(&w->bonds, s->model);
+    sb_pbd_triangles_copy(&w->triangles, s->model);
+    w->broken = broken;
+    w->vertices = vertices;
+}
+
+void sb_pbd_wide_destroy(sb_pbd_wide* w) {
+    if (!w) return;
+    sb_pbd_wide_bonds* b = &w->bonds;
+    sb_pbd_wide_triangles* t = &w->triangles;
+    void* arrays[] = {b->slots.item, b->i,         b->j,          b->r0,    b->alpha, b->beta,
+                      b->alive,      b->lambda,    t->slots.item, t->v[0],  t->v[1],  t->v[2],
+                      t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive, t->lambda[0],
+                      t->lambda[1],  t->lambda[2], w->x4,         w->x04};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    free(w);
+}
+
+sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
+    sb_pbd_wide* w = calloc(1, sizeof *w);
+    if (!w) return NULL;
+    sb_pbd_wide_bonds* b = &w->bonds;
+    sb_pbd_wide_triangles* t = &w->triangles;
+    bool ok = sb_pbd_slots_build(&b->slots, &p->bonds) && sb_pbd_slots_build(&t->slots, &p->triangles);
+    uint32_t nb = b->slots.total, nt = t->slots.total;
+    uint32_t** indices[5] = {&b->i, &b->j, &t->v[0], &t->v[1], &t->v[2]};
+    uint32_t index_counts[5] = {nb, nb, nt, nt, nt};
+    sb_real** reals[11] = {&b->r0,      &b->alpha,   &b->beta,  &b->alive, &b->lambda,   &t->cos0[0],
+                           &t->cos0[1], &t->cos0[2], &t->alpha, &t->alive, &t->lambda[0]};
+    uint32_t real_counts[11] = {nb, nb, nb, nb, nb, nt, nt, nt, nt, nt, nt};
+    for (int a = 0; ok && a < 5; a++) ok = (*indices[a] = sb_pbd_alloc(index_counts[a], sizeof(uint32_t))) != NULL;
+    for (int a = 0; ok && a < 11; a++) ok = (*reals[a] = sb_pbd_alloc(real_counts[a], sizeof(sb_real))) != NULL;
+    ok = ok && (t->lambda[1] = sb_pbd_alloc(nt, sizeof(sb_real))) && (t->lambda[2] = sb_pbd_alloc(nt, sizeof(sb_real)));
+    ok = ok && (w->x4 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real))) &&
+         (w->x04 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real)));
+    if (!ok) {
+        sb_pbd_wide_destroy(w);
+        return NULL;
+    }
+    sb_pbd_bonds_copy(b, m);
+    sb_pbd_triangles_copy(t, m);
+    w->vertices = m->vertex_count;
+    return w;
+}
+
+/* ---- the step --------------------------------------------------------------- */
+
+typedef struct sb_pbd_wide_job {
+    sb_solver* solver;
+    sb_pbd_wide* wide;
+    double dt;
+    int iterations;
+    bool xpbd;
+    atomic_int collapsed, bad;
+} sb_pbd_wide_job;
+
+/* The constants of one sweep's projections. */
+typedef struct sb_pbd_sweep {
+    sb_real* x4;
+    const sb_real* x04;
+    sb_wide inv_dt2, inv_dt;
+    bool first;      /* the step's first sweep: λ starts at 0 */
+    bool accumulate; /* xpbd: λ kept between sweeps */
+} sb_pbd_sweep;
+
+/* Edges shorter than this (squared, m²) count as collapsed: the direction
+ * is lost; kept far below any rest length so that the force pass, which
+ * then runs, names the element. */
+#define SB_PBD_COLLAPSED2 1e-30
+
+/* Δλ = (−C − α̃ λ − γ rate) / ((1 + γ) W + α̃), λ += Δλ where kept. */
+static inline sb_wide sb_pbd_wide_delta(const sb_pbd_sweep* k, sb_wide C, sb_wide alpha, sb_wide W, sb_wide gamma,
+                                        sb_wide rate, sb_real* lambda) {
+    sb_wide at = sb_w_mul(alpha, k->inv_dt2), zero = sb_w_set(0);
+    sb_wide l = k->first || !k->accumulate ? zero : sb_w_load(lambda);
+    sb_wide numerator = sb_w_sub(sb_w_sub(sb_w_sub(zero, C), sb_w_mul(at, l)), sb_w_mul(gamma, rate));
+    sb_wide d = sb_w_div(numerator, sb_w_add(sb_w_mul(sb_w_add(sb_w_set(1), gamma), W), at));
+    if (k->accumulate) sb_w_store(lambda, sb_w_add(l, d));
+    return d;
+}
+
+/* The bonds of the block at slot s, `count` of them real. Returns whether one collapsed. */
+static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s, int count,
+                                          bool damped) {
+    sb_windex ii = sb_w_index(b->i + s), jj = sb_w_index(b->j + s);
+    sb_wide wi, wj;
+    sb_wvec3 pi = sb_wv_load4w(k->x4, ii, &wi), pj = sb_wv_load4w(k->x4, jj, &wj);
+    sb_wvec3 n = sb_wv_sub(pi, pj);
+    sb_wide r2 = sb_wv_dot(n, n);
+    sb_wmask collapsed = sb_w_less(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2));
+    sb_wide inv_r = sb_w_rsqrt(sb_w_max(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2)));
+    n = sb_wv_scale(n, inv_r); /* 0 for a collapsed bond: it does not move */
+    sb_wide alpha = sb_w_load(b->alpha + s), gamma = sb_w_set(0), rate = sb_w_set(0);
+    if (damped) {
+        gamma = sb_w_mul(sb_w_load(b->beta + s), k->inv_dt);
+        sb_wvec3 moved = sb_wv_sub(sb_wv_sub(pi, sb_wv_load4(k->x04, ii)), sb_wv_sub(pj, sb_wv_load4(k->x04, jj)));
+        rate = sb_wv_dot(n, moved);
+    }
+    sb_wide C = sb_w_sub(sb_w_mul(r2, inv_r), sb_w_load(b->r0 + s));
+    sb_wide d = sb_pbd_wide_delta(k, C, alpha, sb_w_add(wi, wj), gamma, rate, b->lambda + s);
+    d = sb_w_mul(d, sb_w_load(b->alive + s));
+    sb_wv_add4(k->x4, ii, sb_wv_scale(n, sb_w_mul(wi, d)), count);
+    sb_wv_add4(k->x4, jj, sb_wv_scale(n, sb_w_mul(sb_w_sub(sb_w_set(0), wj), d)), count);
+    return sb_w_any(collapsed, count);
+}
+
+/* Corner at p[q] of the triangle (p[q], p[q+1], p[q+2]) of a block, on the
+ * positions in registers: C = â·b̂ − cos θ0. Returns the collapsed lanes. */
+static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], const sb_wide w[3], int q, sb_wide cos0,
+                                          sb_wide alpha, sb_wide alive, sb_real* lambda) {
+    int q1 = (q + 1) % 3, q2 = (q + 2) % 3;
+    sb_wvec3 a = sb_wv_sub(p[q1], p[q]), b = sb_wv_sub(p[q2], p[q]);
+    sb_wide A2 = sb_wv_dot(a, a), B2 = sb_wv_dot(b, b), tiny = sb_w_set((sb_real)SB_PBD_COLLAPSED2);
+    sb_wmask collapsed = sb_w_less(sb_w_min(A2, B2), tiny);
+    sb_wide ia = sb_w_rsqrt(sb_w_max(A2, tiny)), ib = sb_w_rsqrt(sb_w_max(B2, tiny));
+    sb_wvec3 ah = sb_wv_scale(a, ia), bh = sb_wv_scale(b, ib);
+    sb_wide cosine = sb_wv_dot(ah, bh);
+    sb_wvec3 g[3];
+    g[q1] = sb_wv_scale(sb_wv_sub(bh, sb_wv_scale(ah, cosine)), ia);
+    g[q2] = sb_wv_scale(sb_wv_sub(ah, sb_wv_scale(bh, cosine)), ib);
+    g[q] = sb_wv_neg(sb_wv_add(g[q1], g[q2]));
+    sb_wide W = sb_w_set(0);
+    for (int v = 0; v < 3; v++) W = sb_w_add(W, sb_w_mul(w[v], sb_wv_dot(g[v], g[v])));
+    sb_wide zero = sb_w_set(0);
+    sb_wide d = sb_pbd_wide_delta(k, sb_w_sub(cosine, cos0), alpha, W, zero, zero, lambda);
+    d = sb_w_mul(d, alive);
+    for (int v = 0; v < 3; v++) p[v] = sb_wv_add(p[v], sb_wv_scale(g[v], sb_w_mul(w[v], d)));
+    return collapsed;
+}
+
+/* The triangles of the block at slot s: three corners in turn, then each
+ * vertex's move added once. */
+static inline bool sb_pbd_wide_triangle_block(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
+                                              int count) {
+    sb_windex v[3];
+    sb_wvec3 start[3], p[3];
+    sb_wide w[3];
+    for (int c = 0; c < 3; c++) {
+        v[c] = sb_w_index(t->v[c] + s);
+        start[c] = p[c] = sb_wv_load4w(k->x4, v[c], &w[c]);
+    }
+    sb_wide alpha = sb_w_load(t->alpha + s), alive = sb_w_load(t->alive + s);
+    bool collapsed = false;
+    for (int c = 0; c < 3; c++)
+        collapsed |=
+            sb_w_any(sb_pbd_wide_corner(k, p, w, c, sb_w_load(t->cos0[c] + s), alpha, alive, t->lambda[c] + s), count);
+    for (int c = 0; c < 3; c++) sb_wv_add4(k->x4, v[c], sb_wv_sub(p[c], start[c]), count);
+    return collapsed;
+}
+
+/* This worker's blocks of color k of `slots`, [begin, end) in slots. */
+static void sb_pbd_color_share(const sb_worker* w, const sb_pbd_slots* slots, int k, uint32_t* begin, uint32_t* end) {
+    int64_t first = 0, last = (slots->first[k + 1] - slots->first[k]) / SB_WIDTH;
+    if (k != SB_OVERFLOW_COLOR)
+        sb_worker_range(w, last, &first, &last);
+    else if (w->index != 0)
+        first = last; /* worker 0 alone */
+    *begin = slots->first[k] + (uint32_t)first * SB_WIDTH;
+    *end = slots->first[k] + (uint32_t)last * SB_WIDTH;
+}
+
+/* Real lanes of the block at slot s of color k. */
+static int sb_pbd_block_lanes(const sb_pbd_slots* slots, int k, uint32_t s) {
+    if (k == SB_OVERFLOW_COLOR) return 1;
+    uint32_t left = slots->count[k] - (s - slots->first[k]);
+    return left < SB_WIDTH ? (int)left : SB_WIDTH;
+}
+
+/* One block's projections: the group, the sweep, the block's first slot
+ * and its real lanes; returns whether an edge collapsed. */
+typedef bool (*sb_pbd_block_fn)(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes);
+
+static bool sb_pbd_undamped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
+    return sb_pbd_wide_bond_block(group, k, s, lanes, false);
+}
+
+static bool sb_pbd_damped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
+    return sb_pbd_wide_bond_block(group, k, s, lanes, true);
+}
+
+static bool sb_pbd_triangles(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
+    return sb_pbd_wide_triangle_block(group, k, s, lanes);
+}
+
+/* All colors of a group in order, a barrier after each; called by every worker. */
+static bool sb_pbd_colors(const sb_worker* w, const sb_pbd_slots* slots, const void* group, sb_pbd_block_fn project,
+                          const sb_pbd_sweep* k) {
+    bool collapsed = false;
+    for (int color = 0; color < SB_MAX_COLORS; color++) {
+        if (!slots->count[color]) continue;
+        uint32_t begin, end;
+        sb_pbd_color_share(w, slots, color, &begin, &end);
+        for (uint32_t s = begin; s < end; s += SB_WIDTH)
+            collapsed |= project(group, k, s, sb_pbd_block_lanes(slots, color, s));
+        sb_worker_barrier(w);
+    }
+    return collapsed;
+}
+
+/* This worker's vertices [begin, end). */
+static void sb_pbd_vertex_share(const sb_worker* w, const sb_solver* s, int64_t* begin, int64_t* end) {
+    sb_worker_range(w, s->state.vertex_count, begin, end);
+}
+
+/* x* = x + dt v after v += dt (g + f_ext/m − drag v) on free vertices
+ * (in double, as the scalar step), packed with the inverse mass. */
+static void sb_pbd_wide_predict(const sb_worker* w, const sb_pbd_wide_job* job) {
+    const sb_solver* s = job->solver;
+    const sb_model* m = s->model;
+    const sb_state* st = &s->state;
+    const double *inv_mass = sb_inv_mass(s), dt = job->dt;
+    const sb_real* x[3] = {st->x, st->y, st->z};
+    const sb_real* v[3] = {st->vx, st->vy, st->vz};
+    int64_t begin, end;
+    sb_pbd_vertex_share(w, s, &begin, &end);
+    for (int64_t i = begin; i < end; i++) {
+        sb_real *x4 = job->wide->x4 + 4 * i, *x04 = job->wide->x04 + 4 * i;
+        for (int c = 0; c < 3; c++) {
+            double vc = v[c][i];
+            if (!m->fixed[i]) {
+                double external = s->external ? s->external[3 * i + c] * m->inv_mass[i] : 0.0;
+                vc += dt * (s->def.gravity[c] + external - s->def.drag * vc);
+            }
+            x04[c] = x[c][i];
+            x4[c] = (sb_real)(x[c][i] + dt * vc);
+        }
+        x4[3] = (sb_real)inv_mass[i];
+        x04[3] = 0;
+    }
+}
+
+/* v = (x − x_prev)/dt and x into the state's arrays and the packed copies
+ * on free vertices; raises bad for a value not finite or a vertex that ran
+ * away (sb_check_state then names it). */
+static void sb_pbd_wide_finish(const sb_worker* w, sb_pbd_wide_job* job) {
+    sb_solver* s = job->solver;
+    sb_state* st = &s->state;
+    sb_real* x[3] = {st->x, st->y, st->z};
+    sb_real* v[3] = {st->vx, st->vy, st->vz};
+    const double inv_dt = 1.0 / job->dt;
+    int64_t begin, end;
+    sb_pbd_vertex_share(w, s, &begin, &end);
+    int bad = 0;
+    for (int64_t i = begin; i < end; i++) {
+        if (s->model->fixed[i]) continue; /* inverse mass 0: never moved */
+        const sb_real *x4 = job->wide->x4 + 4 * i, *x04 = job->wide->x04 + 4 * i;
+        for (int c = 0; c < 3; c++) {
+            sb_real vc = (sb_real)(((double)x4[c] - x04[c]) * inv_dt);
+            x[c][i] = s->positions4[4 * i + c] = x4[c];
+            v[c][i] = s->velocities4[4 * i + c] = vc;
+            bad |= !(fabs(x4[c] - s->center[c]) <= s->runaway) | !isfinite(vc);
+        }
+    }
+    if (bad) sb_worker_raise(&job->bad);
+}
+
+static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
+    sb_pbd_wide_job* job = context;
+    sb_pbd_wide* wide = job->wide;
+    sb_pbd_wide_predict(w, job);
+    sb_worker_barrier(w);
+    sb_pbd_sweep k = {
+        wide->x4, wide->x04, sb_w_set((sb_real)(1.0 / (job->dt * job->dt))), sb_w_set((sb_real)(1.0 / job->dt)),
+        true,     job->xpbd};
+    bool collapsed = false;
+    for (int it = 0; it < job->iterations; it++, k.first = false) {
+        const sb_pbd_wide_bonds* b = &wide->bonds;
+        collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, &k);
+        collapsed |= sb_pbd_colors(w, &wide->triangles.slots, &wide->triangles, sb_pbd_triangles, &k);
+    }
+    if (collapsed) sb_worker_raise(&job->collapsed);
+    sb_pbd_wide_finish(w, job);
+}
+
+/* Whether anything of the next step reads this step's forces or energies. */
+static bool sb_pbd_needs_forces(const sb_solver* s) {
+    return s->def.adaptive || s->def.external_force || s->soft_handles || s->breakage || s->self;
+}
+
+sb_status sb_pbd_wide_step(sb_solver* s, double dt) {
+    sb_pbd* p = s->pbd;
+    sb_pbd_wide_sync(p->wide, s);
+    sb_pbd_wide_job job = {.solver = s,
+                           .wide = p->wide,
+                           .dt = dt,
+                           .iterations = sb_pbd_iterations(&s->def),
+                           .xpbd = s->def.integrator == SB_INTEGRATOR_XPBD};
+    sb_team_run(s->team, p->threads, sb_pbd_wide_sweeps, &job);
+    s->published = true; /* the state's arrays and the packed positions and velocities hold the new state */
+    s->has_displacement = false;
+    if (atomic_load(&job.bad)) return sb_check_state(s);
+    if (!atomic_load(&job.collapsed) && !sb_pbd_needs_forces(s)) {
+        s->forces_stale = true;
+        return SB_OK;
+    }
+    return sb_solver_compute_forces(s);
+}

@@ -1,0 +1,42 @@
+/* Private: pbd's and xpbd's colored constraints (kernels/pbd.c), shared with
+ * their SIMD sweeps (kernels/fast_pbd.c). */
+#ifndef SB_PBD_INTERNAL_H
+#define SB_PBD_INTERNAL_H
+
+#include "kernels/solver_internal.h"
+#include "kernels/coloring.h"
+#include "kernels/contact_pbd.h"
+
+/* One kind of constraint item (bonds or triangles), sorted by color. */
+typedef struct sb_pbd_group {
+    uint32_t count;
+    uint32_t* items; /* model indices, color by color, model order within a color */
+    uint32_t first[SB_MAX_COLORS + 1];
+    double* lambda; /* xpbd: 1 per bond, 3 per triangle (one per corner) */
+} sb_pbd_group;
+
+typedef struct sb_pbd_wide sb_pbd_wide;
+
+typedef struct sb_pbd {
+    int threads;
+    sb_pbd_group bonds, triangles;
+    double *x, *x0;            /* 3n: positions being projected, positions at the start */
+    sb_pbd_contacts* contacts; /* NULL without colliders (kernels/contact_pbd.c) */
+    sb_pbd_wide* wide;         /* the SIMD sweeps (kernels/fast_pbd.c); NULL where the scalar ones run */
+} sb_pbd;
+
+/* Whether the solver's pbd steps take the SIMD sweeps: the fast kernels,
+ * no colliders and no handles (their passes work on the scalar sweeps'
+ * double positions). */
+bool sb_pbd_wide_applies(const sb_solver* solver);
+/* The SIMD layout of p's colors (the same colors and order); NULL when out
+ * of memory. */
+sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* model);
+void sb_pbd_wide_destroy(sb_pbd_wide* wide);
+/* One step: prediction, the sweeps and v = (x − x_prev)/dt, on the state's
+ * arrays and the packed positions and velocities, the state checked; the
+ * forces and energies of the new state are left to sb_solver_settle
+ * (kernels/solver.c) unless the next step needs them. */
+sb_status sb_pbd_wide_step(sb_solver* solver, double dt);
+
+#endif
