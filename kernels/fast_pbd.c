@@ -15,6 +15,17 @@
  * with the inverse mass (0 on fixed and held vertices) in w, so that one
  * 16-byte load per vertex brings everything a projection needs of it.
  *
+ * Precision. The sweeps move each vertex's displacement in the step,
+ * Δ = x − x_prev, not its position, and each constraint's edges at the
+ * start of the step are taken once a step (x_prev,j − x_prev,i: a float
+ * difference of nearby points, exact or rounded to the edge's own
+ * precision); an edge is then that plus the displacements' difference.
+ * Positions held in float and moved by every projection would be rounded
+ * to the coordinates' precision (6e-8 m at 1 m) hundreds of times a step,
+ * and v = Δ/dt would carry that over dt (3e-4 m/s at dt = 0.2 ms; the fast
+ * Verlet step keeps its displacement for the same reason). Here
+ * x = x_prev + Δ is rounded once a step, as in the scalar sweeps.
+ *
  * A step is one job of the solver's team: the prediction (per vertex), the
  * sweeps (a barrier after each color; the same colors and order as the
  * scalar sweeps: bond colors, then triangle colors, a triangle's three
@@ -50,6 +61,7 @@ typedef struct sb_pbd_slots {
 typedef struct sb_pbd_wide_bonds {
     sb_pbd_slots slots;
     uint32_t *i, *j;
+    sb_real* edge[3]; /* x_i − x_j at the start of the step */
     sb_real *r0, *alpha, *beta, *alive, *lambda;
     bool damped; /* a bond with damping: the sweeps read the start positions too */
 } sb_pbd_wide_bonds;
@@ -57,13 +69,14 @@ typedef struct sb_pbd_wide_bonds {
 typedef struct sb_pbd_wide_triangles {
     sb_pbd_slots slots;
     uint32_t* v[3];
+    sb_real* edge[2][3]; /* x_1 − x_0 and x_2 − x_0 at the start of the step */
     sb_real *cos0[3], *alpha, *alive, *lambda[3];
 } sb_pbd_wide_triangles;
 
 struct sb_pbd_wide {
     sb_pbd_wide_bonds bonds;
     sb_pbd_wide_triangles triangles;
-    sb_real *x4, *x04;         /* packed: positions being projected (w: inverse mass), positions at the start */
+    sb_real *x4, *x04;         /* packed: displacements Δ in the step (w: inverse mass), positions at the start */
     uint32_t broken, vertices; /* the model's state the copies were made from */
 };
 
@@ -142,6 +155,11 @@ void sb_pbd_wide_destroy(sb_pbd_wide* w) {
                       t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive, t->lambda[0],
                       t->lambda[1],  t->lambda[2], w->x4,         w->x04};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    for (int c = 0; c < 3; c++) {
+        free(b->edge[c]);
+        free(t->edge[0][c]);
+        free(t->edge[1][c]);
+    }
     free(w);
 }
 
@@ -160,6 +178,9 @@ sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
     for (int a = 0; ok && a < 5; a++) ok = (*indices[a] = sb_pbd_alloc(index_counts[a], sizeof(uint32_t))) != NULL;
     for (int a = 0; ok && a < 11; a++) ok = (*reals[a] = sb_pbd_alloc(real_counts[a], sizeof(sb_real))) != NULL;
     ok = ok && (t->lambda[1] = sb_pbd_alloc(nt, sizeof(sb_real))) && (t->lambda[2] = sb_pbd_alloc(nt, sizeof(sb_real)));
+    for (int c = 0; ok && c < 3; c++)
+        ok = (b->edge[c] = sb_pbd_alloc(nb, sizeof(sb_real))) && (t->edge[0][c] = sb_pbd_alloc(nt, sizeof(sb_real))) &&
+             (t->edge[1][c] = sb_pbd_alloc(nt, sizeof(sb_real)));
     ok = ok && (w->x4 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real))) &&
          (w->x04 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real)));
     if (!ok) {
@@ -185,8 +206,7 @@ typedef struct sb_pbd_wide_job {
 
 /* The constants of one sweep's projections. */
 typedef struct sb_pbd_sweep {
-    sb_real* x4;
-    const sb_real* x04;
+    sb_real* x4; /* the displacements */
     sb_wide inv_dt2, inv_dt;
     bool first;      /* the step's first sweep: λ starts at 0 */
     bool accumulate; /* xpbd: λ kept between sweeps */
@@ -208,13 +228,18 @@ static inline sb_wide sb_pbd_wide_delta(const sb_pbd_sweep* k, sb_wide C, sb_wid
     return d;
 }
 
+/* The start edges x_i − x_j of a block's lanes. */
+static inline sb_wvec3 sb_pbd_edge(sb_real* const edge[3], uint32_t s) {
+    return (sb_wvec3){sb_w_load(edge[0] + s), sb_w_load(edge[1] + s), sb_w_load(edge[2] + s)};
+}
+
 /* The bonds of the block at slot s, `count` of them real. Returns whether one collapsed. */
 static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s, int count,
                                           bool damped) {
     sb_windex ii = sb_w_index(b->i + s), jj = sb_w_index(b->j + s);
     sb_wide wi, wj;
-    sb_wvec3 pi = sb_wv_load4w(k->x4, ii, &wi), pj = sb_wv_load4w(k->x4, jj, &wj);
-    sb_wvec3 n = sb_wv_sub(pi, pj);
+    sb_wvec3 moved = sb_wv_sub(sb_wv_load4w(k->x4, ii, &wi), sb_wv_load4w(k->x4, jj, &wj)); /* Δ_i − Δ_j */
+    sb_wvec3 n = sb_wv_add(sb_pbd_edge(b->edge, s), moved);
     sb_wide r2 = sb_wv_dot(n, n);
     sb_wmask collapsed = sb_w_less(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2));
     sb_wide inv_r = sb_w_rsqrt(sb_w_max(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2)));
@@ -222,7 +247,6 @@ static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_p
     sb_wide alpha = sb_w_load(b->alpha + s), gamma = sb_w_set(0), rate = sb_w_set(0);
     if (damped) {
         gamma = sb_w_mul(sb_w_load(b->beta + s), k->inv_dt);
-        sb_wvec3 moved = sb_wv_sub(sb_wv_sub(pi, sb_wv_load4(k->x04, ii)), sb_wv_sub(pj, sb_wv_load4(k->x04, jj)));
         rate = sb_wv_dot(n, moved);
     }
     sb_wide C = sb_w_sub(sb_w_mul(r2, inv_r), sb_w_load(b->r0 + s));
@@ -257,8 +281,9 @@ static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], 
     return collapsed;
 }
 
-/* The triangles of the block at slot s: three corners in turn, then each
- * vertex's move added once. */
+/* The triangles of the block at slot s: three corners in turn on the
+ * positions relative to the start of vertex 0 (its displacement, the
+ * others' start edges plus theirs), then each vertex's move added once. */
 static inline bool sb_pbd_wide_triangle_block(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
                                               int count) {
     sb_windex v[3];
@@ -266,7 +291,9 @@ static inline bool sb_pbd_wide_triangle_block(const sb_pbd_wide_triangles* t, co
     sb_wide w[3];
     for (int c = 0; c < 3; c++) {
         v[c] = sb_w_index(t->v[c] + s);
-        start[c] = p[c] = sb_wv_load4w(k->x4, v[c], &w[c]);
+        start[c] = sb_wv_load4w(k->x4, v[c], &w[c]);
+        if (c) start[c] = sb_wv_add(start[c], sb_pbd_edge(t->edge[c - 1], s));
+        p[c] = start[c];
     }
     sb_wide alpha = sb_w_load(t->alpha + s), alive = sb_w_load(t->alive + s);
     bool collapsed = false;
@@ -331,8 +358,8 @@ static void sb_pbd_vertex_share(const sb_worker* w, const sb_solver* s, int64_t*
     sb_worker_range(w, s->state.vertex_count, begin, end);
 }
 
-/* x* = x + dt v after v += dt (g + f_ext/m − drag v) on free vertices
- * (in double, as the scalar step), packed with the inverse mass. */
+/* Δ = dt v after v += dt (g + f_ext/m − drag v) on free vertices (in
+ * double, as the scalar step), packed with the inverse mass; x_prev packed. */
 static void sb_pbd_wide_predict(const sb_worker* w, const sb_pbd_wide_job* job) {
     const sb_solver* s = job->solver;
     const sb_model* m = s->model;
@@ -351,14 +378,14 @@ static void sb_pbd_wide_predict(const sb_worker* w, const sb_pbd_wide_job* job) 
                 vc += dt * (s->def.gravity[c] + external - s->def.drag * vc);
             }
             x04[c] = x[c][i];
-            x4[c] = (sb_real)(x[c][i] + dt * vc);
+            x4[c] = (sb_real)(dt * vc);
         }
         x4[3] = (sb_real)inv_mass[i];
         x04[3] = 0;
     }
 }
 
-/* v = (x − x_prev)/dt and x into the state's arrays and the packed copies
+/* x = x_prev + Δ, v = Δ/dt into the state's arrays and the packed copies
  * on free vertices; raises bad for a value not finite or a vertex that ran
  * away (sb_check_state then names it). */
 static void sb_pbd_wide_finish(const sb_worker* w, sb_pbd_wide_job* job) {
@@ -374,28 +401,45 @@ static void sb_pbd_wide_finish(const sb_worker* w, sb_pbd_wide_job* job) {
         if (s->model->fixed[i]) continue; /* inverse mass 0: never moved */
         const sb_real *x4 = job->wide->x4 + 4 * i, *x04 = job->wide->x04 + 4 * i;
         for (int c = 0; c < 3; c++) {
-            sb_real vc = (sb_real)(((double)x4[c] - x04[c]) * inv_dt);
-            x[c][i] = s->positions4[4 * i + c] = x4[c];
+            sb_real xc = (sb_real)((double)x04[c] + x4[c]), vc = (sb_real)(x4[c] * inv_dt);
+            x[c][i] = s->positions4[4 * i + c] = xc;
             v[c][i] = s->velocities4[4 * i + c] = vc;
-            bad |= !(fabs(x4[c] - s->center[c]) <= s->runaway) | !isfinite(vc);
+            bad |= !(fabs(xc - s->center[c]) <= s->runaway) | !isfinite(vc);
         }
     }
     if (bad) sb_worker_raise(&job->bad);
 }
 
+/* out[c][s] = x_prev of b[s] − x_prev of a[s] for this worker's share of
+ * the blocks of a group's slots. */
+static void sb_pbd_start_edges(const sb_worker* w, const sb_real* x04, const uint32_t* a, const uint32_t* b,
+                               sb_real* const out[3], uint32_t slots) {
+    int64_t begin, end;
+    sb_worker_range(w, slots / SB_WIDTH, &begin, &end);
+    for (uint32_t s = (uint32_t)begin * SB_WIDTH; s < (uint32_t)end * SB_WIDTH; s += SB_WIDTH) {
+        sb_wvec3 e = sb_wv_sub(sb_wv_load4(x04, sb_w_index(b + s)), sb_wv_load4(x04, sb_w_index(a + s)));
+        sb_w_store(out[0] + s, e.x);
+        sb_w_store(out[1] + s, e.y);
+        sb_w_store(out[2] + s, e.z);
+    }
+}
+
 static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
     sb_pbd_wide_job* job = context;
     sb_pbd_wide* wide = job->wide;
+    sb_pbd_wide_bonds* b = &wide->bonds;
+    sb_pbd_wide_triangles* t = &wide->triangles;
     sb_pbd_wide_predict(w, job);
     sb_worker_barrier(w);
-    sb_pbd_sweep k = {
-        wide->x4, wide->x04, sb_w_set((sb_real)(1.0 / (job->dt * job->dt))), sb_w_set((sb_real)(1.0 / job->dt)),
-        true,     job->xpbd};
+    sb_pbd_start_edges(w, wide->x04, b->j, b->i, b->edge, b->slots.total);
+    for (int c = 1; c < 3; c++) sb_pbd_start_edges(w, wide->x04, t->v[0], t->v[c], t->edge[c - 1], t->slots.total);
+    sb_worker_barrier(w);
+    sb_pbd_sweep k = {wide->x4, sb_w_set((sb_real)(1.0 / (job->dt * job->dt))), sb_w_set((sb_real)(1.0 / job->dt)),
+                      true, job->xpbd};
     bool collapsed = false;
     for (int it = 0; it < job->iterations; it++, k.first = false) {
-        const sb_pbd_wide_bonds* b = &wide->bonds;
         collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, &k);
-        collapsed |= sb_pbd_colors(w, &wide->triangles.slots, &wide->triangles, sb_pbd_triangles, &k);
+        collapsed |= sb_pbd_colors(w, &t->slots, t, sb_pbd_triangles, &k);
     }
     if (collapsed) sb_worker_raise(&job->collapsed);
     sb_pbd_wide_finish(w, job);
