@@ -4,10 +4,11 @@
  * a vertex's neighbours hit cache (the blocked coloring keeps a block's
  * vertices there), so each array crosses the memory bus once per pass that
  * streams it. The working state is packed x y z w, 4 s per vertex and array:
- *   per vertex   drift: reads mass, inverse mass, weight, x, Δ, f and writes
- *                Δ, v, x, f (10 arrays); forces: x read, f read and written
- *                (3); kick: reads mass, inverse mass, weight, x, f, v and
- *                writes v (7): 20 arrays of 4 s = 80 s
+ *   per vertex   drift: reads mass, inverse mass, x, Δ, f and writes Δ, v,
+ *                x, f (9 arrays); forces: x read, f read and written (3);
+ *                kick: reads mass, inverse mass, x, f, v and writes v (6):
+ *                18 arrays of 4 s = 72 s (gravity m g is the mass times a
+ *                constant, no stream of its own)
  *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
  *                + 1 byte of flags: which of its edges' bonds it owns
  *                (kernels/fast_model.h; every bond of these meshes is on a
@@ -18,8 +19,8 @@
  *   damping      (--all-terms) the force pass reads the half-step
  *                velocities too: 4 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
- * Float, default terms: 320 B per vertex, 37 B per triangle; a 1M-vertex
- * sheet (2M triangles) moves about 394 MB per step.
+ * Float, default terms: 288 B per vertex, 37 B per triangle; a 1M-vertex
+ * sheet (2M triangles) moves about 362 MB per step.
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -58,7 +59,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = (80.0 + (all_terms ? 4.0 : 0.0)) * s;
+    double vertex_bytes = (72.0 + (all_terms ? 4.0 : 0.0)) * s;
     double triangle_bytes = 12.0 + 6.0 * s + 1.0, hinge_bytes = 16.0 + s;
     c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
@@ -68,7 +69,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 }
 
 const char* sb_bench_byte_model_text(void) {
-    return "bytes/step = 80s per vertex (20 packed x y z w streams over drift, forces, kick) + (13+6s) per"
+    return "bytes/step = 72s per vertex (18 packed x y z w streams over drift, forces, kick) + (13+6s) per"
            " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
            " --all-terms: +4s per vertex (velocities for damping), (16+s) per hinge]; s = sizeof(sb_real);"
            " gathers assumed cached, writes counted once";

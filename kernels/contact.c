@@ -281,7 +281,7 @@ void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
             x4[k] = (sb_real)x[k];
             v4[k] = (sb_real)v[k];
             d4[k] = (sb_real)(v[k] * dt);
-            f4[k] = (sb_real)(s->weight4[4 * (size_t)i + k] - s->def.drag * s->model->mass[i] * v[k]);
+            f4[k] = sb_fast_initial_force(s, i, k, v[k]);
         }
         sb_contact_record(s, chunk, hit, impulse);
         sb_contact_record_torque(s, chunk, hit, point, impulse);

@@ -571,8 +571,7 @@ void sb_self_contact_packed(const sb_worker* w, sb_solver* s, double dt) {
             const sb_real* v = s->velocities4 + 4 * (size_t)i;
             for (int a = 0; a < 3; a++) {
                 s->displacements4[4 * (size_t)i + a] = (sb_real)(v[a] * dt);
-                s->forces4[4 * (size_t)i + a] =
-                    (sb_real)(s->weight4[4 * (size_t)i + a] - s->def.drag * s->model->mass[i] * v[a]);
+                s->forces4[4 * (size_t)i + a] = sb_fast_initial_force(s, i, a, v[a]);
             }
         }
     sb_worker_barrier(w);

@@ -86,7 +86,6 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->velocities4);
     free(s->displacements4);
     free(s->forces4);
-    free(s->weight4);
     free(s->external);
     sb_implicit_destroy(s);
     sb_vbd_destroy(s->vbd);
@@ -474,7 +473,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
 }
 
 /* Forces are linear in gravity: m (g' − g) is added to each vertex's total
- * force wherever it is kept (the fast path's packed forces and weights, the
+ * force wherever it is kept (the fast path's packed forces, the
  * state's arrays), as if evaluated with g' at the current state. */
 sb_status sb_solver_set_gravity(sb_solver* s, const double gravity[3]) {
     for (int c = 0; c < 3; c++)
@@ -489,7 +488,6 @@ sb_status sb_solver_set_gravity(sb_solver* s, const double gravity[3]) {
             if (!s->fast) continue;
             size_t k = 4 * (size_t)i + c;
             s->forces4[k] = (sb_real)(s->forces4[k] + m->mass[i] * change[c]);
-            s->weight4[k] = (sb_real)(m->mass[i] * gravity[c]);
         }
     memcpy(s->def.gravity, gravity, sizeof s->def.gravity);
     return SB_OK;

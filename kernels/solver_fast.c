@@ -38,8 +38,10 @@
  * counts. The blocked coloring is faster at every size and deterministic.
  * What bounds a step now: at 100k the gathers and scatters of the triangle
  * kernel (27 packed loads/adds per triangle); at 1M memory bandwidth (the
- * byte model in bench/bench_model.c moves ~440 MB a step: 13 ms at the
- * ~34 GB/s the STREAM triad reaches here). */
+ * byte model in bench/bench_model.c moved ~440 MB a step: 13 ms at the
+ * ~34 GB/s the STREAM triad reaches here; 362 MB since the bonds' flags
+ * took a byte per triangle and gravity became the mass times a constant
+ * instead of a packed stream of m g). */
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"
@@ -91,17 +93,24 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
-    sb_real** arrays[5] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4, &s->weight4};
+    sb_real** arrays[4] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4};
     bool ok = s->partials != NULL;
-    for (int a = 0; a < 5; a++) {
+    for (int a = 0; a < 4; a++) {
         *arrays[a] = aligned_alloc(64, packed);
         ok = ok && *arrays[a];
         if (*arrays[a]) memset(*arrays[a], 0, packed);
     }
     if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
-    for (size_t k = 0; k < 4 * (size_t)f->vertex_count; k++)
-        s->weight4[k] = (k & 3) == 3 ? 0 : (sb_real)(s->model->mass[k / 4] * s->def.gravity[k & 3]);
     return SB_OK;
+}
+
+sb_real sb_fast_initial_force(const sb_solver* s, uint32_t i, int a, double velocity) {
+    return (sb_real)(s->model->mass[i] * (s->def.gravity[a] - s->def.drag * velocity));
+}
+
+/* Gravity per packed lane: (g_x, g_y, g_z, 0). */
+static void sb_gravity4(const sb_solver* s, sb_real g4[4]) {
+    for (int a = 0; a < 4; a++) g4[a] = a < 3 ? (sb_real)s->def.gravity[a] : 0;
 }
 
 static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint32_t b, sb_fast_kernel kernel,
@@ -188,8 +197,10 @@ static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
  * and sets the packed forces to gravity and drag. */
 static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
     const sb_state* st = &s->state;
-    const sb_real *m4 = s->fast->mass4, *w4 = s->weight4;
+    const sb_real* m4 = s->fast->mass4;
     const sb_real drag = (sb_real)s->def.drag;
+    sb_real g4[4];
+    sb_gravity4(s, g4);
     const sb_real* soa[2][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}};
     int first, last;
     sb_chunk_share(w, p, &first, &last);
@@ -201,7 +212,7 @@ static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
             int a = (int)(k & 3);
             s->positions4[k] = a < 3 ? soa[0][a][i] : 0;
             s->velocities4[k] = a < 3 ? soa[1][a][i] : 0;
-            s->forces4[k] = w4[k] - drag * m4[k] * s->velocities4[k];
+            s->forces4[k] = m4[k] * (g4[a] - drag * s->velocities4[k]);
         }
     }
     sb_worker_barrier(w);
@@ -210,6 +221,7 @@ static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
 /* The Verlet constants of one step. */
 typedef struct sb_step_constants {
     sb_real scale, accel, step, inv_dt, drag, half;
+    sb_real gravity[4]; /* per packed lane: no stream of m g per vertex */
     bool stormer;
 } sb_step_constants;
 
@@ -218,23 +230,24 @@ typedef struct sb_step_constants {
  * forces to gravity and drag. The w lanes have zero mass and inverse mass
  * and stay zero. The arrays are restrict parameters, not locals, because
  * only then does GCC 12 vectorize the loops (its report says so). */
-static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict w4,
-                           sb_real* restrict x, sb_real* restrict d, sb_real* restrict v, sb_real* restrict f,
-                           const sb_step_constants* k, size_t begin, size_t end) {
+static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
+                           sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
+                           size_t begin, size_t end) {
     const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
+    const sb_real* g = k->gravity;
     if (k->stormer)
         for (size_t q = begin; q < end; q++) {
             d[q] = scale * d[q] + accel * im4[q] * f[q];
             v[q] = d[q] * inv_dt;
             x[q] = x[q] + d[q];
-            f[q] = w4[q] - drag * m4[q] * v[q];
+            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         }
     else
         for (size_t q = begin; q < end; q++) {
             v[q] = v[q] + accel * im4[q] * f[q];
             d[q] = step * v[q];
             x[q] = x[q] + d[q];
-            f[q] = w4[q] - drag * m4[q] * v[q];
+            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         }
 }
 
@@ -248,8 +261,8 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_self_contact_save_packed(s, begin, end);
-        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->displacements4, s->velocities4,
-                       s->forces4, k, begin, end);
+        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->positions4, s->displacements4, s->velocities4, s->forces4,
+                       k, begin, end);
         if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
     }
     sb_worker_barrier(w);
@@ -258,17 +271,18 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
 /* Closing half kick of packed reals [begin, end), fused with the energy
  * sums (out[0] kinetic, out[1] gravity); returns how many values are not
  * finite or ran away. */
-static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict w4,
-                         const sb_real* restrict x, sb_real* restrict v, const sb_real* restrict f,
-                         const sb_step_constants* k, sb_real limit, size_t begin, size_t end, double out[2]) {
+static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
+                         sb_real* restrict v, const sb_real* restrict f, const sb_step_constants* k, sb_real limit,
+                         size_t begin, size_t end, double out[2]) {
     const sb_real half = k->half;
+    const sb_real* g = k->gravity;
     sb_real kinetic = 0, gravity = 0;
     int outside = 0;
     for (size_t q = begin; q < end; q++) {
         v[q] = v[q] + half * im4[q] * f[q];
         sb_real free = im4[q] != 0 ? 1 : 0;
         kinetic += (sb_real)0.5 * m4[q] * v[q] * v[q];
-        gravity -= free * w4[q] * x[q];
+        gravity -= free * m4[q] * g[q & 3] * x[q];
         /* written so that NaN fails the comparison and counts as outside */
         outside += !((x[q] <= limit) & (x[q] >= -limit) & (v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
     }
@@ -289,8 +303,8 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->weight4, s->positions4, s->velocities4, s->forces4, k,
-                          limit, begin, end, p->vertices + 2 * c))
+        if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->positions4, s->velocities4, s->forces4, k, limit,
+                          begin, end, p->vertices + 2 * c))
             sb_worker_raise(bad);
         if (s->publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
             sb_unpack_xyz(s->positions4, s->publish_positions, begin / 4, end / 4);
@@ -417,6 +431,7 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         .half = (sb_real)(0.5 * dt),
         .stormer = stormer,
     };
+    sb_gravity4(s, job.constants.gravity);
     sb_team_run(s->team, sb_team_size(s->team), sb_verlet_job, &job);
     s->has_displacement = true;
     s->prev_dt = dt;

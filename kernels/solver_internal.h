@@ -26,7 +26,6 @@ struct sb_solver {
     /* The fast path's working state, packed x y z w per vertex; the state's
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
-    sb_real* weight4; /* m g per vertex, packed */
     bool published;
     bool forces_stale; /* pbd, xpbd: the step left the new state's forces and energies to sb_solver_settle */
     bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
@@ -145,6 +144,8 @@ void sb_store_free_vertices(sb_solver* solver, const double* x, const double* v)
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
 sb_status sb_fast_compute_forces(sb_solver* solver);
 sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
+/* A packed force's starting value, gravity and drag: m (g_a − drag v_a). */
+sb_real sb_fast_initial_force(const sb_solver* solver, uint32_t vertex, int axis, double velocity);
 /* Fills the state's arrays from the packed working state, when stale. */
 void sb_fast_publish(sb_solver* solver);
 

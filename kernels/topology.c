@@ -47,8 +47,7 @@
  * slot, whose vertices they follow) and pbd's constraint colors all stay
  * valid. Each re-pointed element has one slot (padding lanes copy an
  * element's vertices but are masked out of every scatter), which is all a
- * split writes in the fast model; its masses and the packed weights are
- * per vertex. */
+ * split writes in the fast model; its masses are per vertex. */
 #include "kernels/topology.h"
 #include "kernels/solver_internal.h"
 
@@ -356,7 +355,6 @@ static void sb_set_mass(sb_solver* s, sb_model* m, uint32_t i, double mass, bool
     for (int c = 0; c < 3; c++) {
         s->fast->mass4[4 * (size_t)i + c] = (sb_real)mass;
         s->fast->inv_mass4[4 * (size_t)i + c] = (sb_real)moving;
-        s->weight4[4 * (size_t)i + c] = (sb_real)(mass * s->def.gravity[c]);
     }
 }
 
