@@ -246,25 +246,56 @@ static bool triangles_intersect(const double* x, const uint32_t a[3], const uint
     return false;
 }
 
+/* A triangle's bounding box, for the sweep below. */
+typedef struct tri_box {
+    double lo[3], hi[3];
+    uint32_t tri;
+} tri_box;
+
+static int by_low_x(const void* a, const void* b) {
+    double x = ((const tri_box*)a)->lo[0], y = ((const tri_box*)b)->lo[0];
+    return (x > y) - (x < y);
+}
+
+static bool boxes_overlap(const tri_box* a, const tri_box* b) {
+    for (int k = 0; k < 3; k++)
+        if (a->hi[k] < b->lo[k] || b->hi[k] < a->lo[k]) return false;
+    return true;
+}
+
 /* The intersecting pairs of triangles that share no vertex; with split > 0,
- * only pairs of a triangle of vertices below split and one at or above. */
+ * only pairs of a triangle of vertices below split and one at or above.
+ * Only pairs whose bounding boxes overlap can intersect: the boxes sorted
+ * by their low x, each is tried against those that start before it ends
+ * (the same count as trying every pair, a small part of the work). */
 static uint32_t intersecting_pairs(const sb_solver* s, uint32_t split) {
     const sb_model* m = sb_solver_model(s);
     uint32_t n = sb_model_vertex_count(m), t = sb_model_triangle_count(m), found = 0;
     double* x = malloc(3 * (size_t)n * sizeof *x);
     uint32_t* tri = malloc(3 * (size_t)t * sizeof *tri);
+    tri_box* boxes = malloc(t * sizeof *boxes);
     sb_solver_get_positions(s, x);
-    for (uint32_t i = 0; i < t; i++) sb_model_triangle(m, i, tri + 3 * i);
+    for (uint32_t i = 0; i < t; i++) {
+        sb_model_triangle(m, i, tri + 3 * i);
+        boxes[i].tri = i;
+        for (int k = 0; k < 3; k++) {
+            const double *p = x + 3 * tri[3 * i], *q = x + 3 * tri[3 * i + 1], *r = x + 3 * tri[3 * i + 2];
+            boxes[i].lo[k] = fmin(p[k], fmin(q[k], r[k]));
+            boxes[i].hi[k] = fmax(p[k], fmax(q[k], r[k]));
+        }
+    }
+    qsort(boxes, t, sizeof *boxes, by_low_x);
     for (uint32_t i = 0; i < t; i++)
-        for (uint32_t j = i + 1; j < t; j++) {
-            const uint32_t *a = tri + 3 * i, *b = tri + 3 * j;
+        for (uint32_t j = i + 1; j < t && boxes[j].lo[0] <= boxes[i].hi[0]; j++) {
+            if (!boxes_overlap(&boxes[i], &boxes[j])) continue;
+            const uint32_t *a = tri + 3 * boxes[i].tri, *b = tri + 3 * boxes[j].tri;
             bool shared = false;
             for (int p = 0; p < 3; p++)
                 for (int q = 0; q < 3; q++) shared |= a[p] == b[q];
             if (split && (a[0] < split) == (b[0] < split)) continue;
             if (!shared && triangles_intersect(x, a, b)) found++;
         }
-    free(x), free(tri);
+    free(x), free(tri), free(boxes);
     return found;
 }
 
