@@ -148,7 +148,8 @@ typedef enum sb_scene_type {
     X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
     X(IMPLICIT_SOLVER, "implicit.solver", STRING, "auto",                                                              \
-      "implicit_euler's linear solves: cholesky (a sparse factorization), cg, or auto (cholesky up to 20000 vertices)") \
+      "implicit_euler's linear solves: cholesky (a sparse factorization), cg, or auto (cholesky up to 20000 "           \
+      "vertices where the stiffness outweighs the mass a hundredfold)")                                                \
     X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false",                                                           \
       "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                        \
     X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
