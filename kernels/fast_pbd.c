@@ -362,7 +362,6 @@ static void sb_pbd_vertex_share(const sb_worker* w, const sb_solver* s, int64_t*
  * double, as the scalar step), packed with the inverse mass; x_prev packed. */
 static void sb_pbd_wide_predict(const sb_worker* w, const sb_pbd_wide_job* job) {
     const sb_solver* s = job->solver;
-    const sb_model* m = s->model;
     const sb_state* st = &s->state;
     const double *inv_mass = sb_inv_mass(s), dt = job->dt;
     const sb_real* x[3] = {st->x, st->y, st->z};
@@ -372,11 +371,7 @@ static void sb_pbd_wide_predict(const sb_worker* w, const sb_pbd_wide_job* job) 
     for (int64_t i = begin; i < end; i++) {
         sb_real *x4 = job->wide->x4 + 4 * i, *x04 = job->wide->x04 + 4 * i;
         for (int c = 0; c < 3; c++) {
-            double vc = v[c][i];
-            if (!m->fixed[i]) {
-                double external = s->external ? s->external[3 * i + c] * m->inv_mass[i] : 0.0;
-                vc += dt * (s->def.gravity[c] + external - s->def.drag * vc);
-            }
+            double vc = sb_pbd_predicted_velocity(s, (uint32_t)i, c, v[c][i], dt);
             x04[c] = x[c][i];
             x4[c] = (sb_real)(dt * vc);
         }

@@ -37,9 +37,12 @@ bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, do
     return true;
 }
 
-/* k (u uᵀ + σ (I − u uᵀ)) on x_j − x_i, σ = 1 − r0/r: the bond's stiffness
- * in closed form; `definite` clamps σ at 0 (kernels/hessian.h). */
-static bool sb_bond_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double* k) {
+/* The bond's stiffness block k (u uᵀ + σ (I − u uᵀ)) on x_j − x_i,
+ * σ = 1 − r0/r, in closed form (`definite` clamps σ at 0,
+ * kernels/hessian.h), and its force on vertex i, k (r − r0) u; false when
+ * the bond collapsed. */
+static bool sb_bond_block(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double* h,
+                          sb_vec3* force_on_i) {
     double stiffness = sb_bond_stiffness(m, bond), r0 = m->bond_r0[bond];
     sb_vec3 delta = sb_v3_sub(x[1], x[0]);
     double r = sb_v3_length(delta);
@@ -47,10 +50,21 @@ static bool sb_bond_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, b
     double u[3] = {delta.x / r, delta.y / r, delta.z / r}, sideways = 1.0 - r0 / r;
     if (definite) sideways = fmax(0.0, sideways);
     for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            h[3 * a + b] = stiffness * ((1.0 - sideways) * u[a] * u[b] + (a == b ? sideways : 0.0));
+    *force_on_i = sb_v3_scale(delta, stiffness * (r - r0) / r);
+    return true;
+}
+
+/* The 6 × 6 matrix [[H, −H], [−H, H]] of the bond's block. */
+static bool sb_bond_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double* k) {
+    double h[9];
+    sb_vec3 force;
+    if (!sb_bond_block(m, bond, x, definite, h, &force)) return false;
+    for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
-            double h = stiffness * ((1.0 - sideways) * u[a] * u[b] + (a == b ? sideways : 0.0));
-            k[a * 6 + b] = k[(a + 3) * 6 + b + 3] = h;
-            k[a * 6 + b + 3] = k[(a + 3) * 6 + b] = -h;
+            k[a * 6 + b] = k[(a + 3) * 6 + b + 3] = h[3 * a + b];
+            k[a * 6 + b + 3] = k[(a + 3) * 6 + b] = -h[3 * a + b];
         }
     return true;
 }
@@ -60,14 +74,12 @@ bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x
 }
 
 bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block) {
-    double k[36];
-    if (!sb_bond_matrix(m, bond, x, false, k)) return false;
-    sb_vec3 delta = sb_v3_sub(x[1], x[0]);
-    double r = sb_v3_length(delta), pull = sb_bond_stiffness(m, bond) * (r - m->bond_r0[bond]) / r;
+    double h[9];
+    sb_vec3 force;
+    if (!sb_bond_block(m, bond, x, false, h, &force)) return false;
     double sign = place == 0 ? 1.0 : -1.0; /* a stretched bond pulls i towards j */
-    f[0] += sign * pull * delta.x, f[1] += sign * pull * delta.y, f[2] += sign * pull * delta.z;
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++) block[3 * a + b] += k[a * 6 + b]; /* both diagonal blocks are the same */
+    f[0] += sign * force.x, f[1] += sign * force.y, f[2] += sign * force.z;
+    for (int k = 0; k < 9; k++) block[k] += h[k]; /* both diagonal blocks are H */
     return true;
 }
 

@@ -286,7 +286,6 @@ static void sb_pbd_sweeps(void* context, const sb_worker* w) {
 
 /* Predicts x* into p->x (and keeps x in p->x0) from the state. */
 static void sb_pbd_predict(sb_solver* s, double dt) {
-    const sb_model* m = s->model;
     sb_state* st = &s->state;
     sb_pbd* p = s->pbd;
     for (uint32_t i = 0; i < st->vertex_count; i++) {
@@ -294,11 +293,7 @@ static void sb_pbd_predict(sb_solver* s, double dt) {
         const sb_real* x[3] = {&st->x[i], &st->y[i], &st->z[i]};
         for (int c = 0; c < 3; c++) {
             size_t q = 3 * (size_t)i + c;
-            double vc = *v[c];
-            if (!m->fixed[i]) {
-                double external = s->external ? s->external[q] * m->inv_mass[i] : 0.0;
-                vc += dt * (s->def.gravity[c] + external - s->def.drag * vc);
-            }
+            double vc = sb_pbd_predicted_velocity(s, i, c, *v[c], dt);
             p->x0[q] = *x[c];
             p->x[q] = *x[c] + dt * vc;
         }

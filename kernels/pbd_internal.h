@@ -25,6 +25,15 @@ typedef struct sb_pbd {
     sb_pbd_wide* wide;         /* the SIMD sweeps (kernels/fast_pbd.c); NULL where the scalar ones run */
 } sb_pbd;
 
+/* Component c of vertex i's predicted velocity: v + dt (g + f_ext/m − drag v)
+ * on a free vertex, v on a fixed one (the step's prediction, both sweeps). */
+static inline double sb_pbd_predicted_velocity(const sb_solver* s, uint32_t i, int c, double v, double dt) {
+    const sb_model* m = s->model;
+    if (m->fixed[i]) return v;
+    double external = s->external ? s->external[3 * (size_t)i + c] * m->inv_mass[i] : 0.0;
+    return v + dt * (s->def.gravity[c] + external - s->def.drag * v);
+}
+
 /* Whether the solver's pbd steps take the SIMD sweeps: the fast kernels,
  * no colliders and no handles (their passes work on the scalar sweeps'
  * double positions). */
