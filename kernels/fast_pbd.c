@@ -9,11 +9,25 @@
  * The overflow color, whose constraints may share vertices, has one
  * constraint a block. Each slot keeps copies of what its projection reads
  * (vertex indices, rest length or rest cosines, compliance α = 1/k, the
- * damping as β = d/k, whether it is alive) and its λ; the copies are made
- * again when breakage or tearing changed the model (the broken-bond and
- * vertex counts say so). The positions being projected are packed x y z w
- * with the inverse mass (0 on fixed and held vertices) in w, so that one
- * 16-byte load per vertex brings everything a projection needs of it.
+ * damping as β = d/k, whether it is alive; a triangle slot also those of
+ * the bond each edge carries, not alive where it carries none) and its λ;
+ * the copies are made again when breakage or tearing changed the model
+ * (the broken-bond and vertex counts say so). The positions being
+ * projected are packed x y z w with the inverse mass (0 on fixed and held
+ * vertices) in w, so that one 16-byte load per vertex brings everything a
+ * projection needs of it, and one store puts it back.
+ *
+ * Cost. A triangle's six projections (its bonds, then its corners) run on
+ * its vertices in registers, loaded and stored once: the bond pass's own
+ * loads and stores are gone where triangles carry the bonds (the 100 ×
+ * 100 sheet: all of them). Each projection is a chain of dependent
+ * operations (two inverse square roots and a division for a corner), so
+ * SB_PBD_BLOCKS blocks of a color are projected together, step by step,
+ * giving the processor independent chains to overlap (bonds, short
+ * chains, gained nothing from it). Triangles of a color are sorted by the
+ * edges that carry bonds (kernels/pbd.c), and an edge is projected only in
+ * the blocks where some lane carries a live bond there. A corner's
+ * W = Σ w |∇C|² is taken in closed form (sb_pbd_wide_corner).
  *
  * Precision. The sweeps move each vertex's displacement in the step,
  * Δ = x − x_prev, not its position, and each constraint's edges at the
@@ -28,7 +42,7 @@
  *
  * A step is one job of the solver's team: the prediction (per vertex), the
  * sweeps (a barrier after each color; the same colors and order as the
- * scalar sweeps: bond colors, then triangle colors, a triangle's three
+ * scalar sweeps: bond colors, then triangle colors, a triangle's bonds and
  * corners one after another on its positions kept in registers), then
  * v = (x − x_prev)/dt into the state's arrays and the packed copies, fused
  * with the finiteness and runaway check. Lanes of a block and blocks of a
@@ -58,11 +72,16 @@ typedef struct sb_pbd_slots {
     uint32_t* item;                    /* the model index each slot copies */
 } sb_pbd_slots;
 
+/* The copies of distance constraints' constants (a bond's), and λ, per slot. */
+typedef struct sb_pbd_wide_distances {
+    sb_real *r0, *alpha, *beta, *alive, *lambda; /* alive 0: broken, or no bond there */
+} sb_pbd_wide_distances;
+
 typedef struct sb_pbd_wide_bonds {
     sb_pbd_slots slots;
     uint32_t *i, *j;
     sb_real* edge[3]; /* x_i − x_j at the start of the step */
-    sb_real *r0, *alpha, *beta, *alive, *lambda;
+    sb_pbd_wide_distances d;
     bool damped; /* a bond with damping: the sweeps read the start positions too */
 } sb_pbd_wide_bonds;
 
@@ -71,6 +90,8 @@ typedef struct sb_pbd_wide_triangles {
     uint32_t* v[3];
     sb_real* edge[2][3]; /* x_1 − x_0 and x_2 − x_0 at the start of the step */
     sb_real *cos0[3], *alpha, *alive, *lambda[3];
+    sb_pbd_wide_distances bonds[3]; /* the bonds carried by edge c (vertices c, c + 1) */
+    bool damped;                    /* a carried bond with damping */
 } sb_pbd_wide_triangles;
 
 struct sb_pbd_wide {
@@ -106,30 +127,38 @@ static bool sb_pbd_slots_build(sb_pbd_slots* slots, const sb_pbd_group* g) {
     return true;
 }
 
+/* Slot s's copies of bond e's constants (none alive for SB_PBD_NO_BOND). */
+static void sb_pbd_bond_copy(const sb_pbd_wide_distances* d, uint32_t s, const sb_model* m, uint32_t e) {
+    double k = e == SB_PBD_NO_BOND ? 0.0 : m->bond_k[e] + m->spring_k[e];
+    bool alive = k > 0; /* a broken bond has no stiffness (kernels/breakage.c) */
+    d->r0[s] = alive ? (sb_real)m->bond_r0[e] : 0;
+    d->alpha[s] = (sb_real)(alive ? 1.0 / k : 1.0);
+    d->beta[s] = (sb_real)(alive ? m->spring_damping[e] / k : 0.0);
+    d->alive[s] = alive;
+}
+
 /* The copies of the model's bond constants in every slot. */
 static void sb_pbd_bonds_copy(sb_pbd_wide_bonds* b, const sb_model* m) {
     b->damped = false;
     for (uint32_t s = 0; s < b->slots.total; s++) {
         uint32_t e = b->slots.item[s];
-        double k = m->bond_k[e] + m->spring_k[e];
-        bool alive = k > 0; /* a broken bond has no stiffness (kernels/breakage.c) */
         b->i[s] = m->bond_i[e];
         b->j[s] = m->bond_j[e];
-        b->r0[s] = (sb_real)m->bond_r0[e];
-        b->alpha[s] = (sb_real)(alive ? 1.0 / k : 1.0);
-        b->beta[s] = (sb_real)(alive ? m->spring_damping[e] / k : 0.0);
-        b->alive[s] = alive;
-        b->damped |= b->beta[s] != 0;
+        sb_pbd_bond_copy(&b->d, s, m, e);
+        b->damped |= b->d.beta[s] != 0;
     }
 }
 
-static void sb_pbd_triangles_copy(sb_pbd_wide_triangles* t, const sb_model* m) {
+static void sb_pbd_triangles_copy(sb_pbd_wide_triangles* t, const sb_model* m, uint32_t* const edge_bond[3]) {
+    t->damped = false;
     for (uint32_t s = 0; s < t->slots.total; s++) {
         uint32_t e = t->slots.item[s];
         bool alive = m->angle_k[e] > 0;
         for (int c = 0; c < 3; c++) {
             t->v[c][s] = m->tri_v[c][e];
             t->cos0[c][s] = (sb_real)m->tri_cos0[c][e];
+            sb_pbd_bond_copy(&t->bonds[c], s, m, edge_bond[c][e]);
+            t->damped |= t->bonds[c].beta[s] != 0;
         }
         t->alpha[s] = (sb_real)(alive ? 1.0 / m->angle_k[e] : 1.0);
         t->alive[s] = alive;
@@ -141,7 +170,7 @@ static void sb_pbd_wide_sync(sb_pbd_wide* w, const sb_solver* s) {
     uint32_t broken = sb_solver_broken_count(s), vertices = sb_solver_vertex_count(s);
     if (broken == w->broken && vertices == w->vertices) return;
     sb_pbd_bonds_copy(&w->bonds, s->model);
-    sb_pbd_triangles_copy(&w->triangles, s->model);
+    sb_pbd_triangles_copy(&w->triangles, s->model, s->pbd->edge_bond);
     w->broken = broken;
     w->vertices = vertices;
 }
@@ -150,15 +179,15 @@ void sb_pbd_wide_destroy(sb_pbd_wide* w) {
     if (!w) return;
     sb_pbd_wide_bonds* b = &w->bonds;
     sb_pbd_wide_triangles* t = &w->triangles;
-    void* arrays[] = {b->slots.item, b->i,         b->j,          b->r0,    b->alpha, b->beta,
-                      b->alive,      b->lambda,    t->slots.item, t->v[0],  t->v[1],  t->v[2],
-                      t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive, t->lambda[0],
+    void* arrays[] = {b->slots.item, b->i,         b->j,          b->d.r0,  b->d.alpha, b->d.beta,
+                      b->d.alive,    b->d.lambda,  t->slots.item, t->v[0],  t->v[1],    t->v[2],
+                      t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive,   t->lambda[0],
                       t->lambda[1],  t->lambda[2], w->x4,         w->x04};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
-        free(b->edge[c]);
-        free(t->edge[0][c]);
-        free(t->edge[1][c]);
+        sb_pbd_wide_distances* e = &t->bonds[c];
+        void* edge_arrays[] = {b->edge[c], t->edge[0][c], t->edge[1][c], e->r0, e->alpha, e->beta, e->alive, e->lambda};
+        for (size_t a = 0; a < sizeof edge_arrays / sizeof *edge_arrays; a++) free(edge_arrays[a]);
     }
     free(w);
 }
@@ -172,15 +201,18 @@ sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
     uint32_t nb = b->slots.total, nt = t->slots.total;
     uint32_t** indices[5] = {&b->i, &b->j, &t->v[0], &t->v[1], &t->v[2]};
     uint32_t index_counts[5] = {nb, nb, nt, nt, nt};
-    sb_real** reals[11] = {&b->r0,      &b->alpha,   &b->beta,  &b->alive, &b->lambda,   &t->cos0[0],
-                           &t->cos0[1], &t->cos0[2], &t->alpha, &t->alive, &t->lambda[0]};
+    sb_real** reals[11] = {&b->d.r0,    &b->d.alpha, &b->d.beta, &b->d.alive, &b->d.lambda, &t->cos0[0],
+                           &t->cos0[1], &t->cos0[2], &t->alpha,  &t->alive,   &t->lambda[0]};
     uint32_t real_counts[11] = {nb, nb, nb, nb, nb, nt, nt, nt, nt, nt, nt};
     for (int a = 0; ok && a < 5; a++) ok = (*indices[a] = sb_pbd_alloc(index_counts[a], sizeof(uint32_t))) != NULL;
     for (int a = 0; ok && a < 11; a++) ok = (*reals[a] = sb_pbd_alloc(real_counts[a], sizeof(sb_real))) != NULL;
     ok = ok && (t->lambda[1] = sb_pbd_alloc(nt, sizeof(sb_real))) && (t->lambda[2] = sb_pbd_alloc(nt, sizeof(sb_real)));
-    for (int c = 0; ok && c < 3; c++)
-        ok = (b->edge[c] = sb_pbd_alloc(nb, sizeof(sb_real))) && (t->edge[0][c] = sb_pbd_alloc(nt, sizeof(sb_real))) &&
-             (t->edge[1][c] = sb_pbd_alloc(nt, sizeof(sb_real)));
+    for (int c = 0; ok && c < 3; c++) {
+        sb_pbd_wide_distances* e = &t->bonds[c];
+        sb_real** edge_reals[8] = {&b->edge[c], &t->edge[0][c], &t->edge[1][c], &e->r0,
+                                   &e->alpha,   &e->beta,       &e->alive,      &e->lambda};
+        for (int a = 0; ok && a < 8; a++) ok = (*edge_reals[a] = sb_pbd_alloc(a ? nt : nb, sizeof(sb_real))) != NULL;
+    }
     ok = ok && (w->x4 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real))) &&
          (w->x04 = sb_pbd_alloc(4 * m->vertex_count, sizeof(sb_real)));
     if (!ok) {
@@ -188,7 +220,7 @@ sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
         return NULL;
     }
     sb_pbd_bonds_copy(b, m);
-    sb_pbd_triangles_copy(t, m);
+    sb_pbd_triangles_copy(t, m, p->edge_bond);
     w->vertices = m->vertex_count;
     return w;
 }
@@ -233,32 +265,68 @@ static inline sb_wvec3 sb_pbd_edge(sb_real* const edge[3], uint32_t s) {
     return (sb_wvec3){sb_w_load(edge[0] + s), sb_w_load(edge[1] + s), sb_w_load(edge[2] + s)};
 }
 
-/* The bonds of the block at slot s, `count` of them real. Returns whether one collapsed. */
-static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s, int count,
-                                          bool damped) {
-    sb_windex ii = sb_w_index(b->i + s), jj = sb_w_index(b->j + s);
-    sb_wide wi, wj;
-    sb_wvec3 moved = sb_wv_sub(sb_wv_load4w(k->x4, ii, &wi), sb_wv_load4w(k->x4, jj, &wj)); /* Δ_i − Δ_j */
-    sb_wvec3 n = sb_wv_add(sb_pbd_edge(b->edge, s), moved);
-    sb_wide r2 = sb_wv_dot(n, n);
-    sb_wmask collapsed = sb_w_less(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2));
-    sb_wide inv_r = sb_w_rsqrt(sb_w_max(r2, sb_w_set((sb_real)SB_PBD_COLLAPSED2)));
-    n = sb_wv_scale(n, inv_r); /* 0 for a collapsed bond: it does not move */
-    sb_wide alpha = sb_w_load(b->alpha + s), gamma = sb_w_set(0), rate = sb_w_set(0);
+/* The distance constraints of a block's lanes at slot s of d on the edges
+ * n = x_i − x_j (turned into n̂: 0 for a collapsed edge, marked in
+ * *collapsed), W = w_i + w_j, `moved` the edges' change in the step (read
+ * when damped): Δλ, 0 where not alive. */
+static inline sb_wide sb_pbd_wide_distance(const sb_pbd_wide_distances* d, const sb_pbd_sweep* k, uint32_t s,
+                                           sb_wvec3* n, sb_wvec3 moved, sb_wide W, bool damped, sb_wmask* collapsed) {
+    sb_wide r2 = sb_wv_dot(*n, *n), tiny = sb_w_set((sb_real)SB_PBD_COLLAPSED2);
+    *collapsed = sb_w_less(r2, tiny);
+    sb_wide inv_r = sb_w_rsqrt(sb_w_max(r2, tiny));
+    *n = sb_wv_scale(*n, inv_r);
+    sb_wide gamma = sb_w_set(0), rate = sb_w_set(0);
     if (damped) {
-        gamma = sb_w_mul(sb_w_load(b->beta + s), k->inv_dt);
-        rate = sb_wv_dot(n, moved);
+        gamma = sb_w_mul(sb_w_load(d->beta + s), k->inv_dt);
+        rate = sb_wv_dot(*n, moved);
     }
-    sb_wide C = sb_w_sub(sb_w_mul(r2, inv_r), sb_w_load(b->r0 + s));
-    sb_wide d = sb_pbd_wide_delta(k, C, alpha, sb_w_add(wi, wj), gamma, rate, b->lambda + s);
-    d = sb_w_mul(d, sb_w_load(b->alive + s));
-    sb_wv_add4(k->x4, ii, sb_wv_scale(n, sb_w_mul(wi, d)), count);
-    sb_wv_add4(k->x4, jj, sb_wv_scale(n, sb_w_mul(sb_w_sub(sb_w_set(0), wj), d)), count);
-    return sb_w_any(collapsed, count);
+    sb_wide C = sb_w_sub(sb_w_mul(r2, inv_r), sb_w_load(d->r0 + s));
+    sb_wide delta = sb_pbd_wide_delta(k, C, sb_w_load(d->alpha + s), W, gamma, rate, d->lambda + s);
+    return sb_w_mul(delta, sb_w_load(d->alive + s));
+}
+
+/* Blocks projected together. A block's projections are a chain of
+ * dependent operations (a triangle's six, one after another, each tens of
+ * operations long); two independent blocks of a color, their steps
+ * interleaved, give the processor two chains to overlap. Inlined with
+ * `blocks` a constant (1 or 2) so that the loops over them unroll. */
+#define SB_PBD_BLOCKS 3
+#define SB_PBD_INLINE static inline __attribute__((always_inline))
+
+/* The bonds of `blocks` blocks from slot s, lanes[h] of block h real.
+ * Returns whether one collapsed. */
+SB_PBD_INLINE bool sb_pbd_wide_bond_blocks(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s,
+                                           const int lanes[], int blocks, bool damped) {
+    sb_windex ii[SB_PBD_BLOCKS], jj[SB_PBD_BLOCKS];
+    sb_wide wi[SB_PBD_BLOCKS], wj[SB_PBD_BLOCKS], d[SB_PBD_BLOCKS];
+    sb_wvec3 n[SB_PBD_BLOCKS], moved[SB_PBD_BLOCKS], xi[SB_PBD_BLOCKS], xj[SB_PBD_BLOCKS];
+    sb_wmask collapsed[SB_PBD_BLOCKS];
+    bool any = false;
+    for (int h = 0; h < blocks; h++) {
+        uint32_t at = s + (uint32_t)h * SB_WIDTH;
+        ii[h] = sb_w_index(b->i + at), jj[h] = sb_w_index(b->j + at);
+        xi[h] = sb_wv_load4w(k->x4, ii[h], &wi[h]);
+        xj[h] = sb_wv_load4w(k->x4, jj[h], &wj[h]);
+        moved[h] = sb_wv_sub(xi[h], xj[h]); /* Δ_i − Δ_j */
+        n[h] = sb_wv_add(sb_pbd_edge(b->edge, at), moved[h]);
+    }
+    for (int h = 0; h < blocks; h++)
+        d[h] = sb_pbd_wide_distance(&b->d, k, s + (uint32_t)h * SB_WIDTH, &n[h], moved[h], sb_w_add(wi[h], wj[h]),
+                                    damped, &collapsed[h]);
+    for (int h = 0; h < blocks; h++) {
+        sb_wv_store4w(k->x4, ii[h], sb_wv_add(xi[h], sb_wv_scale(n[h], sb_w_mul(wi[h], d[h]))), wi[h], lanes[h]);
+        sb_wv_store4w(k->x4, jj[h], sb_wv_sub(xj[h], sb_wv_scale(n[h], sb_w_mul(wj[h], d[h]))), wj[h], lanes[h]);
+        any |= sb_w_any(collapsed[h], lanes[h]);
+    }
+    return any;
 }
 
 /* Corner at p[q] of the triangle (p[q], p[q+1], p[q+2]) of a block, on the
- * positions in registers: C = â·b̂ − cos θ0. Returns the collapsed lanes. */
+ * positions in registers: C = â·b̂ − cos θ0, with ∇_{q+1} C = (b̂ − c â)/|a|,
+ * ∇_{q+2} C = (â − c b̂)/|b|, ∇_q C = −(the two), whose squares sum to
+ * W = (1 − c²)(w_{q+1}/|a|² + w_{q+2}/|b|² + w_q (1/|a|² + 1/|b|² − 2c/(|a||b|)))
+ * (c = cos θ; the same W as kernels/pbd.c's sum of the three, in closed
+ * form). Returns the collapsed lanes. */
 static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], const sb_wide w[3], int q, sb_wide cos0,
                                           sb_wide alpha, sb_wide alive, sb_real* lambda) {
     int q1 = (q + 1) % 3, q2 = (q + 2) % 3;
@@ -267,41 +335,89 @@ static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], 
     sb_wmask collapsed = sb_w_less(sb_w_min(A2, B2), tiny);
     sb_wide ia = sb_w_rsqrt(sb_w_max(A2, tiny)), ib = sb_w_rsqrt(sb_w_max(B2, tiny));
     sb_wvec3 ah = sb_wv_scale(a, ia), bh = sb_wv_scale(b, ib);
-    sb_wide cosine = sb_wv_dot(ah, bh);
-    sb_wvec3 g[3];
-    g[q1] = sb_wv_scale(sb_wv_sub(bh, sb_wv_scale(ah, cosine)), ia);
-    g[q2] = sb_wv_scale(sb_wv_sub(ah, sb_wv_scale(bh, cosine)), ib);
-    g[q] = sb_wv_neg(sb_wv_add(g[q1], g[q2]));
-    sb_wide W = sb_w_set(0);
-    for (int v = 0; v < 3; v++) W = sb_w_add(W, sb_w_mul(w[v], sb_wv_dot(g[v], g[v])));
+    sb_wide cosine = sb_wv_dot(ah, bh), ia2 = sb_w_mul(ia, ia), ib2 = sb_w_mul(ib, ib);
+    sb_wide w0_ab = sb_w_mul(w[q], sb_w_sub(sb_w_add(ia2, ib2), sb_w_mul(sb_w_add(cosine, cosine), sb_w_mul(ia, ib))));
+    sb_wide sin2 = sb_w_sub(sb_w_set(1), sb_w_mul(cosine, cosine));
+    sb_wide W = sb_w_mul(sin2, sb_w_add(sb_w_add(sb_w_mul(w[q1], ia2), sb_w_mul(w[q2], ib2)), w0_ab));
     sb_wide zero = sb_w_set(0);
-    sb_wide d = sb_pbd_wide_delta(k, sb_w_sub(cosine, cos0), alpha, W, zero, zero, lambda);
-    d = sb_w_mul(d, alive);
-    for (int v = 0; v < 3; v++) p[v] = sb_wv_add(p[v], sb_wv_scale(g[v], sb_w_mul(w[v], d)));
+    sb_wide d = sb_w_mul(sb_pbd_wide_delta(k, sb_w_sub(cosine, cos0), alpha, W, zero, zero, lambda), alive);
+    sb_wvec3 g1 = sb_wv_scale(sb_wv_sub(bh, sb_wv_scale(ah, cosine)), sb_w_mul(ia, d));
+    sb_wvec3 g2 = sb_wv_scale(sb_wv_sub(ah, sb_wv_scale(bh, cosine)), sb_w_mul(ib, d)); /* Δλ ∇C */
+    p[q1] = sb_wv_add(p[q1], sb_wv_scale(g1, w[q1]));
+    p[q2] = sb_wv_add(p[q2], sb_wv_scale(g2, w[q2]));
+    p[q] = sb_wv_sub(p[q], sb_wv_scale(sb_wv_add(g1, g2), w[q]));
     return collapsed;
 }
 
-/* The triangles of the block at slot s: three corners in turn on the
+/* A block of triangles in registers: vertex indices, inverse masses, the
  * positions relative to the start of vertex 0 (its displacement, the
- * others' start edges plus theirs), then each vertex's move added once. */
-static inline bool sb_pbd_wide_triangle_block(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
-                                              int count) {
+ * others' start edges plus theirs) at the start of the sweep and now, and
+ * the start positions alone (edge[0] = 0). */
+typedef struct sb_pbd_triangle_regs {
     sb_windex v[3];
-    sb_wvec3 start[3], p[3];
     sb_wide w[3];
+    sb_wvec3 moved[3], start[3], p[3], edge[3]; /* moved: the displacements loaded */
+    sb_wmask collapsed;
+} sb_pbd_triangle_regs;
+
+SB_PBD_INLINE void sb_pbd_triangle_load(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
+                                        sb_pbd_triangle_regs* r) {
     for (int c = 0; c < 3; c++) {
-        v[c] = sb_w_index(t->v[c] + s);
-        start[c] = sb_wv_load4w(k->x4, v[c], &w[c]);
-        if (c) start[c] = sb_wv_add(start[c], sb_pbd_edge(t->edge[c - 1], s));
-        p[c] = start[c];
+        r->v[c] = sb_w_index(t->v[c] + s);
+        r->moved[c] = r->start[c] = sb_wv_load4w(k->x4, r->v[c], &r->w[c]);
+        r->edge[c] = c ? sb_pbd_edge(t->edge[c - 1], s) : (sb_wvec3){sb_w_set(0), sb_w_set(0), sb_w_set(0)};
+        if (c) r->start[c] = sb_wv_add(r->start[c], r->edge[c]);
+        r->p[c] = r->start[c];
     }
-    sb_wide alpha = sb_w_load(t->alpha + s), alive = sb_w_load(t->alive + s);
-    bool collapsed = false;
+    r->collapsed = 0;
+}
+
+/* The bond carried by edge c (vertices c, c + 1) of a block's triangles. */
+SB_PBD_INLINE void sb_pbd_triangle_edge(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
+                                        sb_pbd_triangle_regs* r, int c, bool damped) {
+    int c1 = (c + 1) % 3;
+    sb_wvec3 n = sb_wv_sub(r->p[c], r->p[c1]), moved = n;
+    if (damped) moved = sb_wv_sub(n, sb_wv_sub(r->edge[c], r->edge[c1]));
+    sb_wmask flat;
+    sb_wide d = sb_pbd_wide_distance(&t->bonds[c], k, s, &n, moved, sb_w_add(r->w[c], r->w[c1]), damped, &flat);
+    r->collapsed |= flat;
+    r->p[c] = sb_wv_add(r->p[c], sb_wv_scale(n, sb_w_mul(r->w[c], d)));
+    r->p[c1] = sb_wv_sub(r->p[c1], sb_wv_scale(n, sb_w_mul(r->w[c1], d)));
+}
+
+/* Whether a live bond is on some lane of `blocks` blocks from slot s. */
+SB_PBD_INLINE bool sb_pbd_carries(const sb_pbd_wide_distances* d, uint32_t s, int blocks) {
+    sb_wmask live = 0;
+    for (int h = 0; h < blocks; h++) live |= sb_w_less(sb_w_set(0), sb_w_load(d->alive + s + (uint32_t)h * SB_WIDTH));
+    return sb_w_any(live, SB_WIDTH);
+}
+
+/* The triangles of `blocks` blocks from slot s: the bonds their edges
+ * carry, then their three corners, in turn on the positions kept in
+ * registers; then each vertex's move added once. */
+SB_PBD_INLINE bool sb_pbd_wide_triangle_blocks(const sb_pbd_wide_triangles* t, const sb_pbd_sweep* k, uint32_t s,
+                                               const int lanes[], int blocks, bool damped) {
+    sb_pbd_triangle_regs r[SB_PBD_BLOCKS];
+    for (int h = 0; h < blocks; h++) sb_pbd_triangle_load(t, k, s + (uint32_t)h * SB_WIDTH, &r[h]);
+    for (int c = 0; c < 3; c++) {
+        if (!sb_pbd_carries(&t->bonds[c], s, blocks)) continue;
+        for (int h = 0; h < blocks; h++) sb_pbd_triangle_edge(t, k, s + (uint32_t)h * SB_WIDTH, &r[h], c, damped);
+    }
     for (int c = 0; c < 3; c++)
-        collapsed |=
-            sb_w_any(sb_pbd_wide_corner(k, p, w, c, sb_w_load(t->cos0[c] + s), alpha, alive, t->lambda[c] + s), count);
-    for (int c = 0; c < 3; c++) sb_wv_add4(k->x4, v[c], sb_wv_sub(p[c], start[c]), count);
-    return collapsed;
+        for (int h = 0; h < blocks; h++) {
+            uint32_t at = s + (uint32_t)h * SB_WIDTH;
+            r[h].collapsed |= sb_pbd_wide_corner(k, r[h].p, r[h].w, c, sb_w_load(t->cos0[c] + at),
+                                                 sb_w_load(t->alpha + at), sb_w_load(t->alive + at), t->lambda[c] + at);
+        }
+    bool any = false;
+    for (int h = 0; h < blocks; h++) {
+        for (int c = 0; c < 3; c++) {
+            sb_wvec3 moved = sb_wv_add(r[h].moved[c], sb_wv_sub(r[h].p[c], r[h].start[c]));
+            sb_wv_store4w(k->x4, r[h].v[c], moved, r[h].w[c], lanes[h]);
+        }
+        any |= sb_w_any(r[h].collapsed, lanes[h]);
+    }
+    return any;
 }
 
 /* This worker's blocks of color k of `slots`, [begin, end) in slots. */
@@ -322,20 +438,31 @@ static int sb_pbd_block_lanes(const sb_pbd_slots* slots, int k, uint32_t s) {
     return left < SB_WIDTH ? (int)left : SB_WIDTH;
 }
 
-/* One block's projections: the group, the sweep, the block's first slot
- * and its real lanes; returns whether an edge collapsed. */
-typedef bool (*sb_pbd_block_fn)(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes);
+/* The projections of one block, or two (not in the overflow color, whose
+ * blocks may share vertices): the group, the sweep, the first block's
+ * slot, each block's real lanes; returns whether an edge collapsed. */
+typedef bool (*sb_pbd_block_fn)(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks);
 
-static bool sb_pbd_undamped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
-    return sb_pbd_wide_bond_block(group, k, s, lanes, false);
+static bool sb_pbd_undamped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks) {
+    (void)blocks;
+    return sb_pbd_wide_bond_blocks(group, k, s, lanes, 1, false);
 }
 
-static bool sb_pbd_damped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
-    return sb_pbd_wide_bond_block(group, k, s, lanes, true);
+static bool sb_pbd_damped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks) {
+    (void)blocks;
+    return sb_pbd_wide_bond_blocks(group, k, s, lanes, 1, true);
 }
 
-static bool sb_pbd_triangles(const void* group, const sb_pbd_sweep* k, uint32_t s, int lanes) {
-    return sb_pbd_wide_triangle_block(group, k, s, lanes);
+static bool sb_pbd_undamped_triangles(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[],
+                                      int blocks) {
+    return blocks == SB_PBD_BLOCKS ? sb_pbd_wide_triangle_blocks(group, k, s, lanes, SB_PBD_BLOCKS, false)
+                                   : sb_pbd_wide_triangle_blocks(group, k, s, lanes, 1, false);
+}
+
+static bool sb_pbd_damped_triangles(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[],
+                                    int blocks) {
+    return blocks == SB_PBD_BLOCKS ? sb_pbd_wide_triangle_blocks(group, k, s, lanes, SB_PBD_BLOCKS, true)
+                                   : sb_pbd_wide_triangle_blocks(group, k, s, lanes, 1, true);
 }
 
 /* All colors of a group in order, a barrier after each; called by every worker. */
@@ -344,10 +471,17 @@ static bool sb_pbd_colors(const sb_worker* w, const sb_pbd_slots* slots, const v
     bool collapsed = false;
     for (int color = 0; color < SB_MAX_COLORS; color++) {
         if (!slots->count[color]) continue;
-        uint32_t begin, end;
+        uint32_t begin, end,
+            step = color == SB_OVERFLOW_COLOR || (project == sb_pbd_undamped_bonds || project == sb_pbd_damped_bonds)
+                       ? 1
+                       : SB_PBD_BLOCKS;
         sb_pbd_color_share(w, slots, color, &begin, &end);
-        for (uint32_t s = begin; s < end; s += SB_WIDTH)
-            collapsed |= project(group, k, s, sb_pbd_block_lanes(slots, color, s));
+        for (uint32_t s = begin, blocks; s < end; s += blocks * SB_WIDTH) {
+            blocks = s + step * SB_WIDTH <= end ? step : 1;
+            int lanes[SB_PBD_BLOCKS] = {sb_pbd_block_lanes(slots, color, s)};
+            for (uint32_t h = 1; h < blocks; h++) lanes[h] = sb_pbd_block_lanes(slots, color, s + h * SB_WIDTH);
+            collapsed |= project(group, k, s, lanes, (int)blocks);
+        }
         sb_worker_barrier(w);
     }
     return collapsed;
@@ -434,7 +568,8 @@ static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
     bool collapsed = false;
     for (int it = 0; it < job->iterations; it++, k.first = false) {
         collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, &k);
-        collapsed |= sb_pbd_colors(w, &t->slots, t, sb_pbd_triangles, &k);
+        collapsed |=
+            sb_pbd_colors(w, &t->slots, t, t->damped ? sb_pbd_damped_triangles : sb_pbd_undamped_triangles, &k);
     }
     if (collapsed) sb_worker_raise(&job->collapsed);
     sb_pbd_wide_finish(w, job);

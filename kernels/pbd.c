@@ -13,6 +13,12 @@
  *        constraint per corner, C = cos θ − cos θ0 (the angle term's rest
  *        cosine; gradients as in DESIGN.md): the corner angles, hence the
  *        triangle's shape, are kept;
+ *      the bonds no such triangle has on an edge first, then the triangles,
+ *      each projecting the bonds on its edges (each bond carried by the
+ *      first triangle, in model order, that has it: edge c from vertex c to
+ *      c + 1, in edge order) and then its three corners: a triangle's
+ *      vertices are loaded and stored once for its six constraints in the
+ *      SIMD sweeps (kernels/fast_pbd.c), as the force path's fused bonds;
  *      - with colliders, after those in each sweep, a contact constraint
  *        (x − p)·n >= 0 per free vertex whose move x_prev → x* touches one
  *        (kernels/contact_pbd.c);
@@ -43,14 +49,15 @@
  * Parallel and deterministic: bonds and triangles are colored
  * (kernels/coloring.h) so that those of one color share no vertex; each
  * iteration runs the bond colors then the triangle colors in order, the
- * constraints of one color in parallel (a triangle's three corners one after
- * another in one work item), the overflow color on one thread. A vertex is
+ * constraints of one color in parallel (a triangle's bonds and corners one
+ * after another in one work item), the overflow color on one thread. A vertex is
  * written by one work item per color and read by no other, so the result is
  * bitwise the same for any thread count. Small models (under ~1024
  * constraints a color per thread) run on fewer threads than asked. The projection works in double on
  * its own copy of the positions. */
 #include "kernels/pbd_internal.h"
 #include "kernels/handle_internal.h"
+#include "common/edge_map.h"
 #include "common/error.h"
 #include "softbond/runtime.h"
 
@@ -67,6 +74,7 @@ void sb_pbd_destroy(sb_pbd* p) {
     if (!p) return;
     sb_pbd_group_free(&p->bonds);
     sb_pbd_group_free(&p->triangles);
+    for (int c = 0; c < 3; c++) free(p->edge_bond[c]);
     free(p->x);
     free(p->x0);
     sb_pbd_contacts_destroy(p->contacts);
@@ -98,7 +106,64 @@ static bool sb_pbd_group_build(sb_pbd_group* g, uint32_t vertex_count, uint32_t 
     return ok;
 }
 
-/* The bonds with a stiffness and a free end; the triangles with an angle constant. */
+/* Which bonds the triangles carry: a bond of `bonds` (model indices,
+ * `count` of them) is carried by edge c of the first triangle (model order)
+ * with an angle constant that has its ends, into p->edge_bond; the bonds
+ * left over are moved to the front of `bonds`, their count returned. */
+static uint32_t sb_pbd_carry_bonds(sb_pbd* p, const sb_model* m, uint32_t* bonds, uint32_t count, bool* ok) {
+    size_t nt = m->triangle_count ? m->triangle_count : 1;
+    for (int c = 0; c < 3; c++) p->edge_bond[c] = malloc(nt * sizeof *p->edge_bond[c]);
+    sb_edge_map map;
+    *ok = p->edge_bond[0] && p->edge_bond[1] && p->edge_bond[2] && sb_edge_map_init(&map, count);
+    if (!*ok) return 0;
+    bool inserted;
+    for (uint32_t e = 0; e < count; e++)
+        sb_edge_map_upsert(&map, m->bond_i[bonds[e]], m->bond_j[bonds[e]], e, &inserted);
+    for (uint32_t t = 0; t < m->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t* e = m->angle_k[t] > 0 ? sb_edge_map_find(&map, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t]) : NULL;
+            p->edge_bond[c][t] = e && *e != SB_PBD_NO_BOND ? bonds[*e] : SB_PBD_NO_BOND;
+            if (e && *e != SB_PBD_NO_BOND) bonds[*e] = SB_PBD_NO_BOND; /* carried by this triangle only */
+            if (e) *e = SB_PBD_NO_BOND;
+        }
+    sb_edge_map_free(&map);
+    uint32_t left = 0;
+    for (uint32_t e = 0; e < count; e++)
+        if (bonds[e] != SB_PBD_NO_BOND) bonds[left++] = bonds[e];
+    return left;
+}
+
+/* Which edges of model triangle t carry a bond: bit c for edge c. */
+static unsigned sb_pbd_carried(const sb_pbd* p, uint32_t t) {
+    unsigned mask = 0;
+    for (int c = 0; c < 3; c++) mask |= (unsigned)(p->edge_bond[c][t] != SB_PBD_NO_BOND) << c;
+    return mask;
+}
+
+/* Sorts the triangles of each color by the edges that carry a bond (a
+ * stable counting sort), so that the SIMD sweeps' blocks mostly hold
+ * triangles that carry bonds on the same edges and project only those.
+ * The triangles of a color share no vertex: their order does not change
+ * the result. */
+static bool sb_pbd_sort_by_carried(sb_pbd* p) {
+    sb_pbd_group* g = &p->triangles;
+    uint32_t* sorted = malloc((g->count ? g->count : 1) * sizeof *sorted);
+    if (!sorted) return false;
+    for (int k = 0; k < SB_MAX_COLORS; k++) {
+        uint32_t cursor[9] = {0};
+        for (uint32_t e = g->first[k]; e < g->first[k + 1]; e++) cursor[sb_pbd_carried(p, g->items[e]) + 1]++;
+        cursor[0] = g->first[k];
+        for (int mask = 1; mask <= 8; mask++) cursor[mask] += cursor[mask - 1];
+        for (uint32_t e = g->first[k]; e < g->first[k + 1]; e++)
+            sorted[cursor[sb_pbd_carried(p, g->items[e])]++] = g->items[e];
+    }
+    memcpy(g->items, sorted, g->count * sizeof *sorted);
+    free(sorted);
+    return true;
+}
+
+/* The bonds with a stiffness and a free end (those no triangle carries in
+ * the bond group); the triangles with an angle constant. */
 static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
     size_t nb = m->bond_count ? m->bond_count : 1, nt = m->triangle_count ? m->triangle_count : 1;
     uint32_t *bi = malloc(nb * sizeof *bi), *bj = malloc(nb * sizeof *bj), *bid = malloc(nb * sizeof *bid);
@@ -108,10 +173,12 @@ static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
     uint32_t bonds = 0, triangles = 0;
     for (uint32_t b = 0; ok && b < m->bond_count; b++) {
         bool free_end = m->inv_mass[m->bond_i[b]] > 0 || m->inv_mass[m->bond_j[b]] > 0;
-        if (m->bond_k[b] + m->spring_k[b] <= 0 || !free_end) continue;
-        bi[bonds] = m->bond_i[b];
-        bj[bonds] = m->bond_j[b];
-        bid[bonds++] = b;
+        if (m->bond_k[b] + m->spring_k[b] > 0 && free_end) bid[bonds++] = b;
+    }
+    if (ok) bonds = sb_pbd_carry_bonds(p, m, bid, bonds, &ok);
+    for (uint32_t e = 0; ok && e < bonds; e++) {
+        bi[e] = m->bond_i[bid[e]];
+        bj[e] = m->bond_j[bid[e]];
     }
     for (uint32_t t = 0; ok && t < m->triangle_count; t++) {
         if (!(m->angle_k[t] > 0)) continue;
@@ -121,7 +188,8 @@ static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
     const uint32_t* bond_ends[2] = {bi, bj};
     const uint32_t* tri_ends[3] = {tv[0], tv[1], tv[2]};
     ok = ok && sb_pbd_group_build(&p->bonds, m->vertex_count, bonds, 2, bond_ends, bid, 1) &&
-         sb_pbd_group_build(&p->triangles, m->vertex_count, triangles, 3, tri_ends, tid, 3);
+         sb_pbd_group_build(&p->triangles, m->vertex_count, triangles, 3, tri_ends, tid, 6) &&
+         sb_pbd_sort_by_carried(p);
     free(bi), free(bj), free(bid), free(tid);
     for (int c = 0; c < 3; c++) free(tv[c]);
     return ok;
@@ -163,7 +231,8 @@ sb_status sb_pbd_prepare(sb_solver* s) {
 /* The constants of one step's projections. */
 typedef struct sb_pbd_step {
     const sb_model* m;
-    const double* inv_mass; /* the model's, 0 where a hard handle holds (kernels/handle.c) */
+    const double* inv_mass;     /* the model's, 0 where a hard handle holds (kernels/handle.c) */
+    uint32_t* const* edge_bond; /* sb_pbd's */
     double *x, *x0;
     double inv_dt2, dt;
     bool xpbd;
@@ -181,9 +250,10 @@ static double sb_pbd_delta(const sb_pbd_step* k, double C, double alpha, double 
     return d;
 }
 
-static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
+/* The distance constraint of bond b on vertices i and j (its own ends, or
+ * the ends of the triangle edge that carries it). */
+static void sb_pbd_distance(const sb_pbd_step* k, uint32_t b, uint32_t i, uint32_t j, double* lambda) {
     const sb_model* m = k->m;
-    uint32_t i = m->bond_i[b], j = m->bond_j[b];
     double *xi = k->x + 3 * (size_t)i, *xj = k->x + 3 * (size_t)j;
     double n[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
     double r = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -201,6 +271,10 @@ static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
         xi[c] += wi * d * n[c];
         xj[c] -= wj * d * n[c];
     }
+}
+
+static void sb_pbd_bond(const sb_pbd_step* k, uint32_t b, double* lambda) {
+    sb_pbd_distance(k, b, k->m->bond_i[b], k->m->bond_j[b], lambda);
 }
 
 /* Corner at vertex v[0] of the triangle (v[0], v[1], v[2]): C = â·b̂ − cos θ0. */
@@ -232,8 +306,13 @@ static void sb_pbd_corner(const sb_pbd_step* k, const uint32_t v[3], double cos0
         for (int c = 0; c < 3; c++) points[q][c] += w[q] * d * grads[q][c];
 }
 
+/* The bonds a triangle carries, on its edges in order, then its three
+ * corners: λ holds the corners' three, then the edges'. */
 static void sb_pbd_triangle(const sb_pbd_step* k, uint32_t t, double* lambda) {
     const sb_model* m = k->m;
+    for (int c = 0; c < 3; c++)
+        if (k->edge_bond[c][t] != SB_PBD_NO_BOND)
+            sb_pbd_distance(k, k->edge_bond[c][t], m->tri_v[c][t], m->tri_v[(c + 1) % 3][t], lambda + 3 + c);
     if (!(m->angle_k[t] > 0)) return; /* on a broken bond's edge (kernels/breakage.c) */
     for (int c = 0; c < 3; c++) {
         uint32_t v[3] = {m->tri_v[c][t], m->tri_v[(c + 1) % 3][t], m->tri_v[(c + 2) % 3][t]};
@@ -277,7 +356,7 @@ static void sb_pbd_sweeps(void* context, const sb_worker* w) {
     if (contacts) sb_pbd_contacts_find(job->solver, contacts, w, k->x0, k->x, false);
     for (int it = 0; it < job->iterations; it++) {
         sb_pbd_group_pass(w, k, &job->pbd->bonds, sb_pbd_bond, 1);
-        sb_pbd_group_pass(w, k, &job->pbd->triangles, sb_pbd_triangle, 3);
+        sb_pbd_group_pass(w, k, &job->pbd->triangles, sb_pbd_triangle, 6);
         if (!contacts) continue;
         if (it == job->iterations - 1) sb_pbd_contacts_find(job->solver, contacts, w, k->x0, k->x, true);
         sb_pbd_contacts_project(contacts, w, k->x);
@@ -324,10 +403,10 @@ sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     if (p->wide) return sb_pbd_wide_step(s, dt);
     sb_pbd_predict(s, dt);
     if (s->pinned_inv_mass) sb_handles_place_predicted(s, p->x);
-    sb_pbd_step k = {
-        s->model, sb_inv_mass(s), p->x, p->x0, 1.0 / (dt * dt), dt, s->def.integrator == SB_INTEGRATOR_XPBD};
+    sb_pbd_step k = {s->model, sb_inv_mass(s),  p->edge_bond, p->x,
+                     p->x0,    1.0 / (dt * dt), dt,           s->def.integrator == SB_INTEGRATOR_XPBD};
     memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
-    memset(p->triangles.lambda, 0, 3 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
+    memset(p->triangles.lambda, 0, 6 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
     sb_pbd_job job = {s, &k, p, sb_pbd_iterations(&s->def)};
     sb_team_run(s->team, p->threads, sb_pbd_sweeps, &job);
     sb_pbd_finish(s, dt);

@@ -12,14 +12,21 @@ typedef struct sb_pbd_group {
     uint32_t count;
     uint32_t* items; /* model indices, color by color, model order within a color */
     uint32_t first[SB_MAX_COLORS + 1];
-    double* lambda; /* xpbd: 1 per bond, 3 per triangle (one per corner) */
+    double* lambda; /* xpbd: 1 per bond, 6 per triangle (its corners, then its edges' bonds) */
 } sb_pbd_group;
+
+/* A triangle edge that carries no bond of its own (sb_pbd.edge_bond). */
+#define SB_PBD_NO_BOND UINT32_MAX
 
 typedef struct sb_pbd_wide sb_pbd_wide;
 
 typedef struct sb_pbd {
     int threads;
-    sb_pbd_group bonds, triangles;
+    sb_pbd_group bonds, triangles; /* bonds: those no triangle carries */
+    /* edge_bond[c][t]: the bond that edge c (vertices c, c + 1) of model
+     * triangle t carries in its projection, or SB_PBD_NO_BOND; each bond
+     * on a triangle's edge is carried by one triangle. */
+    uint32_t* edge_bond[3];
     double *x, *x0;            /* 3n: positions being projected, positions at the start */
     sb_pbd_contacts* contacts; /* NULL without colliders (kernels/contact_pbd.c) */
     sb_pbd_wide* wide;         /* the SIMD sweeps (kernels/fast_pbd.c); NULL where the scalar ones run */

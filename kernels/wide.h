@@ -265,6 +265,23 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
         if (12 + j < count) sb_add_packed(p4, id[12 + j], _mm512_extractf32x4_ps(r[j], 3));
     }
 }
+
+/* The inverse of sb_wv_load4w: the first `count` lanes store x y z w to
+ * their vertices (no read: for a kernel that loaded them and owns them). */
+static inline void sb_wv_store4w(sb_real* p4, sb_windex i, sb_wvec3 v, sb_wide w, int count) {
+    uint32_t id[16];
+    _mm512_storeu_si512((void*)id, i);
+    __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(v.x, v.y)), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(v.x, v.y));
+    __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(v.z, w)), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(v.z, w));
+    __m512 r[4] = {_mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2)), _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2)),
+                   _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3)), _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3))};
+    for (int j = 0; j < 4; j++) {
+        if (j < count) _mm_store_ps(p4 + 4 * (size_t)id[j], _mm512_castps512_ps128(r[j]));
+        if (4 + j < count) _mm_store_ps(p4 + 4 * (size_t)id[4 + j], _mm512_extractf32x4_ps(r[j], 1));
+        if (8 + j < count) _mm_store_ps(p4 + 4 * (size_t)id[8 + j], _mm512_extractf32x4_ps(r[j], 2));
+        if (12 + j < count) _mm_store_ps(p4 + 4 * (size_t)id[12 + j], _mm512_extractf32x4_ps(r[j], 3));
+    }
+}
 #else
 /* Elsewhere: the components of each lane's vertex, one lane at a time. */
 static inline sb_wvec3 sb_wv_load4w(const sb_real* p4, sb_windex i, sb_wide* w) {
@@ -298,6 +315,23 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
         p[0] += x[l];
         p[1] += y[l];
         p[2] += z[l];
+    }
+}
+
+static inline void sb_wv_store4w(sb_real* p4, sb_windex i, sb_wvec3 v, sb_wide w, int count) {
+    uint32_t id[SB_WIDTH];
+    sb_real x[SB_WIDTH], y[SB_WIDTH], z[SB_WIDTH], ws[SB_WIDTH];
+    memcpy(id, &i, sizeof id);
+    memcpy(x, &v.x, sizeof x);
+    memcpy(y, &v.y, sizeof y);
+    memcpy(z, &v.z, sizeof z);
+    memcpy(ws, &w, sizeof ws);
+    for (int l = 0; l < count; l++) {
+        sb_real* p = p4 + 4 * (size_t)id[l];
+        p[0] = x[l];
+        p[1] = y[l];
+        p[2] = z[l];
+        p[3] = ws[l];
     }
 }
 #endif
