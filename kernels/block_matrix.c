@@ -65,11 +65,33 @@ sb_block_matrix* sb_block_matrix_create(const sb_model* m, uint32_t spare) {
     a->column = capacity <= UINT32_MAX ? malloc(capacity * sizeof *a->column) : NULL;
     a->block = capacity <= UINT32_MAX ? malloc(9 * capacity * sizeof *a->block) : NULL;
     a->capacity = (uint32_t)capacity;
-    if (!a->row_start || !a->diagonal || !a->column || !a->block || !sb_block_matrix_rebuild(a, m)) {
+    uint64_t elements = sb_element_count(m), element_blocks = 0;
+    for (uint64_t id = 0; id < elements; id++)
+        element_blocks += (uint64_t)sb_element_at(m, id).count * sb_element_at(m, id).count;
+    a->element_first = malloc((elements + 1) * sizeof *a->element_first);
+    a->element_block = malloc((element_blocks ? element_blocks : 1) * sizeof *a->element_block);
+    if (!a->row_start || !a->diagonal || !a->column || !a->block || !a->element_first || !a->element_block ||
+        !sb_block_matrix_rebuild(a, m)) {
         sb_block_matrix_destroy(a);
         return NULL;
     }
     return a;
+}
+
+static uint32_t sb_block_index(sb_block_matrix* a, uint32_t i, uint32_t j) {
+    return (uint32_t)((sb_block_matrix_at(a, i, j) - a->block) / 9);
+}
+
+/* Each element's block indices (tearing re-points elements, never adds). */
+static void sb_map_element_blocks(sb_block_matrix* a, const sb_model* m) {
+    uint64_t elements = sb_element_count(m), next = 0;
+    for (uint64_t id = 0; id < elements; id++) {
+        sb_element e = sb_element_at(m, id);
+        a->element_first[id] = next;
+        for (int r = 0; r < e.count; r++)
+            for (int c = 0; c < e.count; c++) a->element_block[next++] = sb_block_index(a, e.vertex[r], e.vertex[c]);
+    }
+    a->element_first[elements] = next;
 }
 
 bool sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m) {
@@ -85,12 +107,14 @@ bool sb_block_matrix_rebuild(sb_block_matrix* a, const sb_model* m) {
     }
     a->row_start[a->rows] = kept;
     for (uint32_t i = 0; i < a->rows; i++) a->diagonal[i] = (uint32_t)((sb_block_matrix_at(a, i, i) - a->block) / 9);
+    sb_map_element_blocks(a, m);
     return true;
 }
 
 void sb_block_matrix_destroy(sb_block_matrix* a) {
     if (!a) return;
     free(a->row_start), free(a->column), free(a->diagonal), free(a->block), free(a->scratch);
+    free(a->element_first), free(a->element_block);
     sb_vertex_elements_destroy(a->elements);
     free(a);
 }
@@ -111,14 +135,18 @@ double* sb_block_matrix_at(sb_block_matrix* a, uint32_t i, uint32_t j) {
     return a->block + 9 * (size_t)lo;
 }
 
-void sb_block_matrix_add_element(sb_block_matrix* a, const sb_element* e, const double* k, double scale) {
+void sb_block_matrix_add_element(sb_block_matrix* a, uint64_t id, const sb_element* e, const double* k, double scale,
+                                 uint32_t begin, uint32_t end) {
     int size = 3 * e->count;
-    for (int r = 0; r < e->count; r++)
+    const uint32_t* blocks = a->element_block + a->element_first[id];
+    for (int r = 0; r < e->count; r++) {
+        if (e->vertex[r] < begin || e->vertex[r] >= end) continue;
         for (int c = 0; c < e->count; c++) {
-            double* block = sb_block_matrix_at(a, e->vertex[r], e->vertex[c]);
+            double* block = a->block + 9 * (size_t)blocks[e->count * r + c];
             for (int u = 0; u < 3; u++)
                 for (int w = 0; w < 3; w++) block[3 * u + w] += scale * k[(3 * r + u) * size + 3 * c + w];
         }
+    }
 }
 
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,

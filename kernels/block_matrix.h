@@ -17,6 +17,11 @@ typedef struct sb_block_matrix {
     uint32_t capacity;   /* blocks the arrays hold */
     sb_vertex_elements* elements;
     uint32_t* scratch; /* one row's candidate columns */
+    /* Where each element's blocks are: for element e (kernels/hessian.h's
+     * numbering), its count × count block indices, row-major by place, from
+     * element_first[e]; so an assembly never searches a row. */
+    uint64_t* element_first; /* elements + 1 */
+    uint32_t* element_block;
 } sb_block_matrix;
 
 /* The pattern of m's elements (and every diagonal block), with room for
@@ -31,8 +36,11 @@ void sb_block_matrix_destroy(sb_block_matrix* a);
 void sb_block_matrix_zero(sb_block_matrix* a);
 /* The block (i, j), which must be in the pattern. */
 double* sb_block_matrix_at(sb_block_matrix* a, uint32_t i, uint32_t j);
-/* Adds scale × the element's 3 count × 3 count matrix k. */
-void sb_block_matrix_add_element(sb_block_matrix* a, const sb_element* e, const double* k, double scale);
+/* Adds scale × the 3 count × 3 count matrix k of element `id` (e), the
+ * blocks of rows [begin, end) only: workers owning disjoint rows add an
+ * element at once, and each block still sums its elements in their order. */
+void sb_block_matrix_add_element(sb_block_matrix* a, uint64_t id, const sb_element* e, const double* k, double scale,
+                                 uint32_t begin, uint32_t end);
 /* out = A p (3 rows doubles each); the second form only rows [begin, end). */
 void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out);
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,

@@ -129,10 +129,11 @@ static void sb_add_damping(sb_newton* w, const double* x) {
 
 /* The stiffness pass, on the team: in rounds, each worker computes the
  * matrices of its chunk of SB_ASSEMBLY_CHUNK elements (chunk r·width + w),
- * then worker 0 adds the round's chunks in element order. The additions
- * are those of one thread, in one order: J is bitwise the same for any
- * thread count. A collapsed element raises `collapsed` (the lowest one's
- * number kept by worker 0). */
+ * then every worker adds the round's matrices in element order to the block
+ * rows it owns (an equal share of the rows). Each block sums its elements in
+ * element order whoever adds them: J is bitwise the same for any thread
+ * count. A collapsed element raises `collapsed` (the lowest one's number
+ * kept by worker 0). */
 typedef struct sb_assembly {
     sb_newton* w;
     double* matrices;
@@ -156,7 +157,9 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
     const sb_solver* s = job->w->s;
     const sb_model* m = s->model;
     const double* x = job->w->a[W_XT];
-    uint64_t per_round = (uint64_t)worker->width * SB_ASSEMBLY_CHUNK;
+    uint64_t per_round = (uint64_t)worker->width * SB_ASSEMBLY_CHUNK, rows = job->w->j->rows;
+    uint32_t rows_begin = (uint32_t)(rows * worker->index / worker->width);
+    uint32_t rows_end = (uint32_t)(rows * (worker->index + 1) / worker->width);
     for (uint64_t round = 0; round < job->count; round += per_round) {
         uint64_t first = round + (uint64_t)worker->index * SB_ASSEMBLY_CHUNK;
         double* mine = job->matrices + (size_t)worker->index * SB_ASSEMBLY_CHUNK * 144;
@@ -166,16 +169,15 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
             if (!sb_jacobian_stiffness(m, &e, x, job->definite, k)) k[0] = NAN; /* worker 0 names it */
         }
         sb_worker_barrier(worker);
-        if (worker->index == 0)
-            for (uint64_t id = round; id < round + per_round && id < job->count; id++) {
-                const double* k = job->matrices + (id - round) * 144;
-                if (isnan(k[0])) {
-                    if (job->collapsed == UINT64_MAX) job->collapsed = id;
-                    continue;
-                }
-                sb_element e = sb_element_at(m, id);
-                sb_block_matrix_add_element(job->w->j, &e, k, job->w->dt * job->w->dt);
+        for (uint64_t id = round; id < round + per_round && id < job->count; id++) {
+            const double* k = job->matrices + (id - round) * 144;
+            if (isnan(k[0])) {
+                if (worker->index == 0 && job->collapsed == UINT64_MAX) job->collapsed = id;
+                continue;
             }
+            sb_element e = sb_element_at(m, id);
+            sb_block_matrix_add_element(job->w->j, id, &e, k, job->w->dt * job->w->dt, rows_begin, rows_end);
+        }
         sb_worker_barrier(worker);
     }
 }

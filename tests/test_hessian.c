@@ -185,7 +185,7 @@ static void test_assembled_matrix_product(void** state) {
     for (uint64_t id = 0; id < sb_element_count(m); id++) {
         sb_element e = sb_element_at(m, id);
         assert_true(sb_element_stiffness(m, &e, x, k));
-        sb_block_matrix_add_element(a, &e, k, 1.0);
+        sb_block_matrix_add_element(a, id, &e, k, 1.0, 0, a->rows);
     }
     sb_block_matrix_multiply(a, p, assembled_product);
     assert_true(sb_stiffness_product(m, x, p, free_product));
