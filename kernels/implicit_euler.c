@@ -31,8 +31,9 @@
  * What J leaves out — the stand-ins, the damped spring's dependence on x
  * through its direction (not symmetric), the soft handles and the external
  * callback — only changes the direction Newton takes: the residual is
- * always the exact one, from the scalar reference forces in double, so a
- * converged step is the backward Euler step. A step p is taken whole when it
+ * always the exact one, from the scalar reference forces in double (each
+ * term on a worker of the team, sb_residual_forces), so a converged step is
+ * the backward Euler step. A step p is taken whole when it
  * lowers |R|, otherwise halved until it does (at most 5 times; the last
  * trial is kept). CG is preconditioned with the inverses of J's diagonal
  * blocks and stops at a relative residual of 1e-5 or its cap; Newton stops
@@ -47,6 +48,7 @@
 #include "kernels/sparse_cholesky.h"
 #include "kernels/handle_internal.h"
 #include "common/error.h"
+#include "softbond/reference.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -69,6 +71,7 @@ enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, 
 
 struct sb_implicit {
     double* work;                 /* W_COUNT × 3n */
+    double* term_forces;          /* SB_TERM_COUNT × 3n: the residual's forces, term by term */
     double* element_matrices;     /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
     double* inverse_blocks;       /* 9n: the preconditioner */
     sb_block_matrix* matrix;      /* J */
@@ -97,6 +100,57 @@ static void sb_apply_mask(const sb_newton* w, double* a) {
     for (size_t k = 0; k < w->n3; k++) a[k] *= w->a[W_MASK][k];
 }
 
+/* The residual's internal forces on the team: each term of the scalar
+ * reference (kernels/reference.c) into a buffer of its own, term t on
+ * worker t mod width, then their sum in term order over each worker's
+ * share of the entries. The same bits for any thread count (not the
+ * reference's own sum, which adds each term onto the last). */
+typedef struct sb_term_forces {
+    const sb_model* m;
+    const double *x, *v;
+    double *f, *buffers;
+    size_t n3;
+    sb_status status[SB_TERM_COUNT];
+    sb_error error[SB_TERM_COUNT];
+} sb_term_forces;
+
+static void sb_term_forces_worker(void* context, const sb_worker* w) {
+    sb_term_forces* job = context;
+    double energy;
+    for (int t = w->index; t < SB_TERM_COUNT; t += w->width) {
+        double* f = job->buffers + (size_t)t * job->n3;
+        memset(f, 0, job->n3 * sizeof *f);
+        job->status[t] = sb_reference_term(job->m, (sb_term)t, job->x, job->v, f, &energy, &job->error[t]);
+    }
+    sb_worker_barrier(w);
+    int64_t begin, end;
+    sb_worker_range(w, (int64_t)job->n3, &begin, &end);
+    for (int64_t k = begin; k < end; k++) {
+        double sum = 0.0;
+        for (int t = 0; t < SB_TERM_COUNT; t++) sum += job->buffers[(size_t)t * job->n3 + (size_t)k];
+        job->f[k] = sum;
+    }
+}
+
+/* f = the total force at xt, vt: internal (as above), gravity, drag, external and soft handles. */
+static sb_status sb_residual_forces(sb_newton* w) {
+    sb_solver* s = w->s;
+    sb_term_forces job = {.m = s->model,
+                          .x = w->a[W_XT],
+                          .v = w->a[W_VT],
+                          .f = w->a[W_F],
+                          .buffers = s->implicit->term_forces,
+                          .n3 = w->n3};
+    sb_team_run(s->team, sb_team_size(s->team), sb_term_forces_worker, &job);
+    for (int t = 0; t < SB_TERM_COUNT; t++)
+        if (job.status[t] != SB_OK) {
+            s->error = job.error[t];
+            return job.status[t];
+        }
+    sb_solver_add_body_forces(s, w->a[W_XT], w->a[W_VT], w->a[W_F], NULL);
+    return SB_OK;
+}
+
 /* xt, vt at the current Δv, f the total force there, rhs = −R(Δv). */
 static sb_status sb_newton_point(sb_newton* w) {
     double **a = w->a, dt = w->dt;
@@ -105,7 +159,7 @@ static sb_status sb_newton_point(sb_newton* w) {
         a[W_VT][k] = a[W_V0][k] + a[W_DV][k];
         a[W_XT][k] = a[W_X0][k] + dt * a[W_VT][k];
     }
-    sb_status status = sb_solver_forces_at(w->s, a[W_XT], a[W_VT], a[W_F]);
+    sb_status status = sb_residual_forces(w);
     for (size_t k = 0; k < w->n3; k++) a[W_RHS][k] = dt * a[W_F][k] - mass[k / 3] * a[W_DV][k];
     sb_apply_mask(w, a[W_RHS]);
     return status;
@@ -373,11 +427,12 @@ bool sb_implicit_prepare(sb_solver* s) {
     s->implicit = im;
     if (!im) return false;
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
+    im->term_forces = calloc(SB_TERM_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
     im->element_matrices = malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * 144 * sizeof(double));
     im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - sb_solver_vertex_count(s));
     im->pattern_vertices = sb_solver_vertex_count(s);
-    if (!im->work || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;
+    if (!im->work || !im->term_forces || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;
     if (!sb_implicit_factors(s)) return true;
     im->cholesky = sb_sparse_cholesky_create(im->matrix);
     return im->cholesky != NULL;
@@ -386,7 +441,7 @@ bool sb_implicit_prepare(sb_solver* s) {
 void sb_implicit_destroy(sb_solver* s) {
     struct sb_implicit* im = s->implicit;
     if (!im) return;
-    free(im->work), free(im->inverse_blocks), free(im->element_matrices);
+    free(im->work), free(im->term_forces), free(im->inverse_blocks), free(im->element_matrices);
     sb_block_matrix_destroy(im->matrix);
     sb_sparse_cholesky_destroy(im->cholesky);
     free(im);

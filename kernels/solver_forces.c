@@ -13,12 +13,8 @@ static void sb_add_external(sb_solver* s, uint32_t i, const double* x, const dou
         for (int c = 0; c < 3; c++) ext[c] = f[c] - before[c];
 }
 
-/* f = internal + m (g − drag v) + external, all 3n interleaved doubles. */
-static sb_status sb_total_forces(sb_solver* s, const double* x, const double* v, double* f, sb_energies* energies,
-                                 double* external) {
+void sb_solver_add_body_forces(sb_solver* s, const double* x, const double* v, double* f, double* external) {
     const sb_model* m = s->model;
-    sb_status status = sb_reference_forces(m, x, v, f, energies, &s->error);
-    if (status != SB_OK) return status;
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double* fi = f + 3 * i;
         for (int c = 0; c < 3; c++) fi[c] += m->mass[i] * (s->def.gravity[c] - s->def.drag * v[3 * i + c]);
@@ -26,6 +22,14 @@ static sb_status sb_total_forces(sb_solver* s, const double* x, const double* v,
             sb_add_external(s, i, x + 3 * i, v + 3 * i, fi, external ? external + 3 * i : NULL);
     }
     if (s->soft_handles) sb_handles_forces(s, x, v, f, external);
+}
+
+/* f = internal + m (g − drag v) + external, all 3n interleaved doubles. */
+static sb_status sb_total_forces(sb_solver* s, const double* x, const double* v, double* f, sb_energies* energies,
+                                 double* external) {
+    sb_status status = sb_reference_forces(s->model, x, v, f, energies, &s->error);
+    if (status != SB_OK) return status;
+    sb_solver_add_body_forces(s, x, v, f, external);
     return SB_OK;
 }
 
@@ -46,9 +50,4 @@ static sb_status sb_reference_step_forces(sb_solver* s) {
 
 sb_status sb_solver_compute_forces(sb_solver* s) {
     return s->fast ? sb_fast_compute_forces(s) : sb_reference_step_forces(s);
-}
-
-sb_status sb_solver_forces_at(sb_solver* s, const double* x, const double* v, double* f) {
-    sb_energies ignored;
-    return sb_total_forces(s, x, v, f, &ignored, NULL);
 }

@@ -27,7 +27,7 @@ struct sb_solver {
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     bool published;
-    bool forces_stale; /* pbd, xpbd: the step left the new state's forces and energies to sb_solver_settle */
+    bool forces_stale;            /* pbd, xpbd: the step left the new state's forces and energies to sb_solver_settle */
     bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
     double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
@@ -202,9 +202,8 @@ int sb_solver_step_arrays(const sb_solver* solver, sb_real** arrays, size_t* len
 struct sb_backup* sb_backup_create(sb_solver* solver);
 void sb_backup_destroy(struct sb_backup* backup);
 
-/* Forces in double at given positions and velocities (3n interleaved):
- * reference terms, gravity, drag and external forces on free vertices.
- * Used by the implicit solver's Newton iterations. */
-sb_status sb_solver_forces_at(sb_solver* solver, const double* x, const double* v, double* f);
+/* Adds to f (internal forces at x, v) gravity, drag, the external callback's
+ * forces (remembered in `external` when not NULL) and the soft handles'. */
+void sb_solver_add_body_forces(sb_solver* solver, const double* x, const double* v, double* f, double* external);
 
 #endif
