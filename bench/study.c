@@ -7,7 +7,8 @@
  *
  * Writes DIR/stability.csv, work_precision.csv, work_precision_corner.csv,
  * work_precision_large.csv,
- * paper_tables.csv, paper_tables.md and model_accuracy.csv; bench/study.gp
+ * paper_tables.csv, paper_tables.md, model_accuracy.csv and
+ * lod_accuracy.csv; bench/study.gp
  * draws the charts. Every run uses the double scalar reference for the
  * forces unless a part says otherwise, so the comparison is between
  * integrators, not kernels.
@@ -144,6 +145,7 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < sizeof setups / sizeof *setups; k++) work_precision(out, &setups[k], stable_ratio);
     study_paper_tables(out, quick);
     study_model_accuracy(out, quick);
+    study_lod_accuracy(out, quick);
     printf("wrote the study's files to %s\n", out);
     return 0;
 }

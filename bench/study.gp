@@ -1,7 +1,7 @@
 # The integrator study's charts, from the CSVs in bench/results written by
 # sb_study (bench/study.sh runs both): stability.png, work_precision.png
-# (push at the middle), work_precision_corner.png (push at a free corner)
-# and model_accuracy.png.
+# (push at the middle), work_precision_corner.png (push at a free corner),
+# model_accuracy.png and lod_accuracy.png.
 #
 #   gnuplot bench/study.gp                      (from the repository root)
 #   gnuplot -e "results='DIR'" bench/study.gp
@@ -63,3 +63,23 @@ do for [p=1:3] {
          with linespoints lw 2 pt (2 * m + l) dt l lc m title word(models, m) . ", " . word(loads, l) noenhanced
 }
 unset multiplot
+
+# Level of detail: each level's error against the full model, and its step's cost.
+lod = results . "/lod_accuracy.csv"
+set output results . "/lod_accuracy.png"
+set terminal pngcairo size 1000,600 enhanced font "sans,11"
+set title "Level of detail: the default scene's sheet after 1 s, each simplified level against the full model"
+set logscale xy
+set format x "%g"
+set format y "%g"
+set xlabel "vertices"
+set ylabel "distance from the full model's same vertices at the end (m)"
+set y2label "CPU ms per step (fast kernels, 1 thread)"
+set logscale y2
+set y2tics
+set ytics nomirror
+set key inside left top box opaque
+set datafile separator comma
+plot sprintf("< awk -F, '!/^#/ && NR > 3' %s", lod) using 1:4 with linespoints lw 2 pt 7 title "RMS over the level's vertices", \
+     sprintf("< awk -F, '!/^#/ && NR > 3' %s", lod) using 1:5 with linespoints lw 2 pt 5 title "largest", \
+     sprintf("< awk -F, '!/^#/ && NR > 2' %s", lod) using 1:3 axes x1y2 with linespoints lw 2 pt 9 dt 2 title "ms per step"

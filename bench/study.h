@@ -11,5 +11,8 @@ void study_paper_tables(const char* out, bool quick);
 /* model_accuracy.csv: springs alone against springs with angle and
  * stretch-bend terms, under shear and stretch (study_accuracy.c). */
 void study_model_accuracy(const char* out, bool quick);
+/* lod_accuracy.csv: the default scene's sheet and its simplified levels,
+ * error against the full model beside the step's cost (study_lod.c). */
+void study_lod_accuracy(const char* out, bool quick);
 
 #endif

@@ -2,7 +2,7 @@
 # The integrator study in one command: builds a double-precision Release in
 # build-study/ (so the converged reference is not limited by float), runs
 # sb_study (stability, work-precision at the middle and at a corner, the
-# paper's tables in paper_tables.md, model accuracy), and draws the charts
+# paper's tables in paper_tables.md, model accuracy, level of detail), and draws the charts
 # in bench/results with bench/study.gp.
 #
 #   bench/study.sh [--quick]
