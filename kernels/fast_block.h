@@ -5,6 +5,7 @@
 
 #include "kernels/fast_model.h"
 #include "kernels/wide.h"
+#include "common/geometry.h"
 
 /* Lanes per block: SB_WIDTH, or 1 for the serial overflow color. */
 static inline uint32_t sb_block_step(bool serial) { return serial ? 1u : SB_WIDTH; }
@@ -31,6 +32,15 @@ static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) {
     sb_real lanes[SB_WIDTH];
     for (int l = 0; l < SB_WIDTH; l++) lanes[l] = (sb_real)(flags[l] >> bit & 1u);
     return sb_w_load(lanes);
+}
+
+/* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does
+ * (the hinge kernel and vbd's fast sweep). */
+static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
+    const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
+    sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);
+    d = sb_w_pick_greater(d, pi, sb_w_sub(d, two_pi), d);
+    return sb_w_pick_greater(d, sb_w_sub(sb_w_set(0), pi), d, sb_w_add(d, two_pi));
 }
 
 #endif

@@ -23,14 +23,6 @@
 
 #define SB_MIN_WING_RATIO 1e-12
 
-/* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does. */
-static sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
-    const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
-    sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);
-    d = sb_w_pick_greater(d, pi, sb_w_sub(d, two_pi), d);
-    return sb_w_pick_greater(d, sb_w_sub(sb_w_set(0), pi), d, sb_w_add(d, two_pi));
-}
-
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
                    double energy[1]) {
     uint32_t step = sb_block_step(serial);

@@ -52,23 +52,6 @@ static bool sb_element_stiffness_dual(const sb_model* m, const sb_element* e, co
     return true;
 }
 
-/* The hinge's share by three dual runs, seeded with the vertex's axes. */
-static bool sb_element_vertex_share_dual(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
-                                         double* block) {
-    double seed[3 * SB_ELEMENT_MAX];
-    sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
-    for (int axis = 0; axis < 3; axis++) {
-        memset(seed, 0, sizeof seed);
-        seed[3 * place + axis] = 1.0;
-        sb_element_seed(e, x, seed, xs);
-        if (!sb_element_forces_dual(m, e, xs, forces)) return false;
-        const sb_vec3 column = forces[place].d;
-        block[axis] -= column.x, block[3 + axis] -= column.y, block[6 + axis] -= column.z;
-    }
-    f[0] += forces[place].v.x, f[1] += forces[place].v.y, f[2] += forces[place].v.z;
-    return true;
-}
-
 bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k) {
     sb_vec3 local[SB_ELEMENT_MAX];
     for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
@@ -89,7 +72,7 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
     case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share(m, e->index, local, place, f, block);
     case SB_ELEMENT_HINGE: break;
     }
-    return sb_element_vertex_share_dual(m, e, x, place, f, block);
+    return sb_hinge_vertex_share(m, e->index, local, place, f, block);
 }
 
 bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out) {

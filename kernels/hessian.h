@@ -6,8 +6,9 @@
  * dual numbers (common/dual.h): seeded with positions x + ε p it returns the
  * element's forces and their exact directional derivative ∂f/∂x · p. From
  * that one function per term come the element stiffness matrix K_e = −∂f/∂x
- * (3n seeds, kernels/hessian.c), its product with a vector (one seed) and a
- * vertex's diagonal block (3 seeds).
+ * (3n seeds, kernels/hessian.c) and its product with a vector (one seed);
+ * bonds' and triangles' matrices, and every element's vertex share, are
+ * also written in closed form.
  *
  * The stiffness is the Hessian of the elastic energy, symmetric. The damped
  * spring's force also depends on x through its direction; that part of
@@ -55,14 +56,17 @@ bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x
 bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 
 /* Vertex `place` of the element (at x, 3n interleaved): adds its force to f
- * and its diagonal block K_e,pp to block (3 × 3); false when the element
- * collapsed (nothing added). Bonds and triangles in closed form, hinges by
- * the dual run seeded with the vertex's three axes. What vbd needs. */
+ * and its diagonal block to block (3 × 3); false when the element
+ * collapsed (nothing added). What vbd needs, all in closed form: for bonds
+ * and triangles the exact K_e,pp; for hinges the Gauss-Newton block
+ * k u_p u_pᵀ (u_p = −∇_p φ), the diagonal block of sb_hinge_definite's
+ * stand-in (kernels/hessian_hinges.c says why). */
 bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
                              double* block);
 bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block);
 bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
                               double* block);
+bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, int place, double* f, double* block);
 
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive

@@ -1,8 +1,18 @@
-/* A hinge on dual numbers (kernels/hessian.h): E = ½ k (φ − φ0)², the
- * gradient of kernels/reference_hinges.c; local vertices e0, e1, o0, o1.
- * The dihedral angle's derivative is ∇φ · ẋ with ∇φ = −u (the gradient the
- * reference derives), so atan2 runs on values only. */
+/* A hinge (kernels/hessian.h): E = ½ k (φ − φ0)², the gradient of
+ * kernels/reference_hinges.c; local vertices e0, e1, o0, o1.
+ *
+ * On dual numbers for the stiffness matrix and its products: the dihedral
+ * angle's derivative is ∇φ · ẋ with ∇φ = −u (the gradient the reference
+ * derives), so atan2 runs on values only.
+ *
+ * In closed form for vbd's vertex share and the definite stand-in: the
+ * Gauss-Newton block k ∇φ ∇φᵀ. The exact Hessian adds k (φ − φ0) ∇²φ,
+ * indefinite and as large as the first term once the fold is a few degrees
+ * from rest; vbd needs only a descent direction per vertex, the paper
+ * itself approximates, and the share costs one evaluation of u where the
+ * exact diagonal block took three dual runs (45 % of vbd's step). */
 #include "kernels/hessian.h"
+#include "common/geometry.h"
 
 #define SB_MIN_WING_RATIO 1e-12 /* as kernels/reference_hinges.c */
 
@@ -49,15 +59,46 @@ void sb_hinge_forces_dual(const sb_model* m, uint32_t h, const sb_dvec3* x, sb_d
     for (int a = 0; a < 4; a++) f[a] = sb_dv3_scale(u[a], magnitude);
 }
 
+/* φ and u = −∇φ on each local vertex in double (sb_hinge_angle_dual's
+ * values); false when a wing collapsed. */
+static bool sb_hinge_gradient(const sb_vec3* x, double* phi, sb_vec3* u) {
+    sb_hinge_geometry g = sb_hinge_measure(x[0], x[1], x[2], x[3]);
+    double n0_sq = sb_v3_dot(g.n0, g.n0), n1_sq = sb_v3_dot(g.n1, g.n1);
+    double limit = SB_MIN_WING_RATIO * g.edge_length * g.edge_length;
+    if (!(g.edge_length > 0.0) || !(n0_sq > limit * limit) || !(n1_sq > limit * limit)) return false;
+    sb_vec3 w0 = sb_v3_scale(g.n0, 1.0 / n0_sq), w1 = sb_v3_scale(g.n1, 1.0 / n1_sq);
+    sb_vec3 unit_edge = sb_v3_scale(g.edge, 1.0 / g.edge_length);
+    u[0] = sb_v3_add(sb_v3_scale(w0, sb_v3_dot(sb_v3_sub(x[2], x[1]), unit_edge)),
+                     sb_v3_scale(w1, sb_v3_dot(sb_v3_sub(x[3], x[1]), unit_edge)));
+    u[1] = sb_v3_add(sb_v3_scale(w0, -sb_v3_dot(sb_v3_sub(x[2], x[0]), unit_edge)),
+                     sb_v3_scale(w1, -sb_v3_dot(sb_v3_sub(x[3], x[0]), unit_edge)));
+    u[2] = sb_v3_scale(w0, g.edge_length);
+    u[3] = sb_v3_scale(w1, g.edge_length);
+    *phi = g.phi;
+    return true;
+}
+
 void sb_hinge_definite(const sb_model* m, uint32_t h, const sb_vec3* x, double* k) {
-    sb_dvec3 xs[4], u[4];
-    for (int a = 0; a < 4; a++) xs[a] = (sb_dvec3){x[a], {0, 0, 0}};
-    sb_dual phi;
-    if (!sb_hinge_angle_dual(xs, &phi, u)) {
+    sb_vec3 u[4];
+    double phi;
+    if (!sb_hinge_gradient(x, &phi, u)) {
         k[0] = NAN;
         return;
     }
     double w[12];
-    for (int a = 0; a < 4; a++) w[3 * a] = u[a].v.x, w[3 * a + 1] = u[a].v.y, w[3 * a + 2] = u[a].v.z;
+    for (int a = 0; a < 4; a++) w[3 * a] = u[a].x, w[3 * a + 1] = u[a].y, w[3 * a + 2] = u[a].z;
     sb_add_outer(k, 12, w, sb_hinge_stiffness(m, h));
+}
+
+bool sb_hinge_vertex_share(const sb_model* m, uint32_t h, const sb_vec3* x, int place, double* f, double* block) {
+    sb_vec3 u[4];
+    double phi;
+    if (!sb_hinge_gradient(x, &phi, u)) return false;
+    double k = sb_hinge_stiffness(m, h), magnitude = k * sb_angle_difference(phi, m->hinge_phi0[h]);
+    const double w[3] = {u[place].x, u[place].y, u[place].z};
+    for (int r = 0; r < 3; r++) {
+        f[r] += magnitude * w[r];
+        for (int c = 0; c < 3; c++) block[3 * r + c] += k * w[r] * w[c];
+    }
+    return true;
 }

@@ -8,9 +8,11 @@
  *   H_i Δx_i = −g_i,  H_i = m_i/dt² I + Σ_e K_e,ii (+ damping),
  *   g_i = m_i/dt² (x_i − y_i) − Σ_e f_e,i(x),
  * with each incident element's force and diagonal block
- * (sb_element_vertex_share, kernels/hessian.h: bonds and triangles in closed
- * form, hinges by their dual run). A vertex whose H_i is not positive definite keeps its
- * position for that sweep (as the paper does). vbd_iterations sweeps run
+ * (sb_element_vertex_share, kernels/hessian.h, all in closed form: the
+ * exact blocks of bonds and triangles; for a hinge the Gauss-Newton block
+ * k u_p u_pᵀ, which leaves out k (φ − φ0) ∇²φ: a descent direction is all a
+ * vertex needs, and the paper approximates too). A vertex whose H_i is not
+ * positive definite keeps its position for that sweep (as the paper does). vbd_iterations sweeps run
  * per step; v = (x − x⁰)/dt at the end. Converged, it is backward Euler.
  *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
@@ -26,12 +28,19 @@
  * for any thread count. Tearing: a vertex split off keeps its origin's
  * color (it shares elements only with vertices its origin shared them
  * with), and the elements at each vertex and the color lists are rebuilt in
- * place when the vertex count changed. Runs in double on the scalar
- * reference's terms with either kernel choice; the new state's forces and
- * energies come from the chosen kernels. */
+ * place when the vertex count changed.
+ *
+ * With the reference kernels the sweeps run here, in double on the model's
+ * arrays. With the fast kernels they run in kernels/fast_vbd.c: the same
+ * shares in sb_real, SIMD over the vertices of a color, on a layout built
+ * at creation; a model that may break or tear keeps this file's sweeps
+ * (its constants and elements change under the layout). The first guess,
+ * y and the final velocities are this file's either way; the new state's
+ * forces and energies come from the chosen kernels. */
 #include "kernels/solver_internal.h"
 #include "kernels/handle_internal.h"
 #include "kernels/vertex_elements.h"
+#include "kernels/fast_vbd.h"
 #include "common/sections.h"
 
 #include <math.h>
@@ -46,6 +55,7 @@ struct sb_vbd {
     double *x, *x0, *y;      /* 3n each */
     double* previous_v;      /* 3n: the velocities at the start of the last step */
     bool has_previous;
+    sb_fast_vbd* fast; /* the fast sweep (kernels/fast_vbd.c); NULL: the reference's */
 };
 
 typedef struct sb_vbd_job {
@@ -91,6 +101,7 @@ static void sb_vbd_order(struct sb_vbd* v, const sb_model* m) {
 void sb_vbd_destroy(struct sb_vbd* v) {
     if (!v) return;
     sb_vertex_elements_destroy(v->elements);
+    sb_fast_vbd_destroy(v->fast);
     free(v->color), free(v->color_start), free(v->order), free(v->x), free(v->x0), free(v->y), free(v->previous_v);
     free(v);
 }
@@ -118,6 +129,9 @@ bool sb_vbd_prepare(sb_solver* s) {
     ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
     if (ok) sb_vbd_order(v, m);
     v->built_vertices = sb_solver_vertex_count(s);
+    /* a model that may break or tear changes under the sweep: the reference's, which reads it live */
+    if (ok && s->fast && !s->breakage)
+        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order)) != NULL;
     return ok;
 }
 
@@ -209,6 +223,13 @@ static void sb_vbd_sweeps(void* context, const sb_worker* w) {
         }
 }
 
+static void sb_vbd_fast_sweeps(void* context, const sb_worker* w) {
+    const sb_vbd_job* job = context;
+    struct sb_vbd* v = job->vbd;
+    sb_fast_vbd_step step = {v->x, v->x0, v->y, sb_inv_mass(job->s), job->dt, job->s->def.drag, job->iterations};
+    sb_fast_vbd_run(v->fast, &step, w);
+}
+
 /* The first guess (the paper's adaptive initialisation): x⁰ + dt v⁰ +
  * dt² ã ĝ, where ã is the vertex's last acceleration along gravity, clamped
  * to [0, |g|]. Guessing y itself moves a hanging sheet's every vertex down
@@ -262,7 +283,7 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_vbd_follow_topology(s, v);
     sb_vbd_predict(s, v, dt);
     sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def)};
-    sb_team_run(s->team, sb_team_size(s->team), sb_vbd_sweeps, &job);
+    sb_team_run(s->team, sb_team_size(s->team), v->fast ? sb_vbd_fast_sweeps : sb_vbd_sweeps, &job);
     sb_vbd_finish(s, v, dt);
     s->has_displacement = false;
     return sb_solver_compute_forces(s);
