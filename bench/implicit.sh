@@ -4,7 +4,10 @@
 #   1. implicit_euler on the default scene (900 vertices) at dt = 10 ms,
 #      with implicit.solver cholesky and cg, on 1 and 2 threads;
 #   2. vbd at dt = 1 ms (the haptic rate) on sheets of 3 249 and 10 000
-#      vertices, beside the Verlet sub-step that the same sheet needs.
+#      vertices, beside the Verlet sub-step that the same sheet needs, with
+#      the reference sweeps (double, scalar) and the fast ones (kernels/fast_vbd.c);
+#   3. vbd (fast) on the 100k sheet at 10 x Verlet's largest stable step,
+#      against a Verlet step, and both runs' error against a fine Verlet run.
 # A step's time is the difference of two runs (2 and 2 + N steps) divided
 # by N, so the set-up (mesh, colouring, the factorization's analysis) is
 # not counted. Writes bench/results/implicit.md.
@@ -61,6 +64,54 @@ verlet_substeps() {
     echo ">80"
 }
 
+# One vbd row on an n x n sheet: kernels, sweeps, timed steps. With N = 98
+# the long run of per_step is the 0.1 s stability run itself.
+vbd_row() {
+    n=$1 kernels=$2 sweeps=$3 steps=$4
+    if t=$(per_step 0.001 "$steps" --set integrator=vbd --set vbd.iterations="$sweeps" --set kernels="$kernels" \
+        --set mesh.nx="$n" --set mesh.ny="$n" --threads 2 2>/dev/null); then
+        finite=$(tail -1 "$TMP/out/log.csv" | awk -F, '{ print ($9 == $9 + 0) ? "yes" : "no" }')
+        [ "$steps" -eq 98 ] && ran="0.1 s" || ran="$((steps + 2)) steps"
+        echo "| $n x $n | $((n * n)) | $sub | $kernels | $sweeps | ${t% *} | ${t#* } | $ran, finite: $finite |"
+    else
+        echo "| $n x $n | $((n * n)) | $sub | $kernels | $sweeps | - | - | failed within 0.1 s |"
+    fi
+}
+
+# The final positions of a run on the 100k sheet (its last frame, OBJ) in
+# $TMP/$1, its first in $TMP/start.
+final_positions() {
+    name=$1
+    shift
+    rm -rf "$TMP/frames"
+    "$SB" run "$SCENE" --output "$TMP/frames" --set output.formats=obj --set mesh.nx=317 --set mesh.ny=317 \
+        --set duration="$T100K" --set frame_interval="$T100K" --threads 2 "$@" >/dev/null 2>&1 || return 1
+    grep '^v ' "$TMP/frames/frame_000000.obj" | cut -d' ' -f2-4 >"$TMP/start"
+    grep '^v ' "$(ls "$TMP"/frames/frame_*.obj | tail -1)" | cut -d' ' -f2-4 >"$TMP/$name"
+}
+
+# RMS and largest distance between two position files, and the RMS motion
+# from the start: "rms max motion".
+position_error() {
+    paste -d' ' "$TMP/$1" "$TMP/$2" "$TMP/start" | awk '{
+        d = ($1 - $4)^2 + ($2 - $5)^2 + ($3 - $6)^2; s += d; if (d > m) m = d;
+        w = ($4 - $7)^2 + ($5 - $8)^2 + ($6 - $9)^2; t += w }
+        END { printf "%.3g %.3g %.3g\n", sqrt(s / NR), sqrt(m), sqrt(t / NR) }'
+}
+
+# Verlet's largest stable step on the 100k sheet: the largest of a grid
+# that runs 0.05 s without a vertex running away.
+verlet_largest_step() {
+    for dt in 1e-4 7e-5 5e-5 4e-5 3e-5 2.5e-5 2e-5 1.5e-5 1e-5 7e-6 5e-6; do
+        if "$SB" run "$SCENE" --set output.frames=false --output "$TMP/out" --set duration=0.05 \
+            --set frame_interval=0.05 --set dt="$dt" --set mesh.nx=317 --set mesh.ny=317 --threads 2 >/dev/null 2>&1; then
+            echo "$dt"
+            return
+        fi
+    done
+    echo "none"
+}
+
 STEPS=20
 VBD_STEPS=20
 [ $QUICK -eq 1 ] && STEPS=4 && VBD_STEPS=4
@@ -87,26 +138,55 @@ VBD_STEPS=20
     echo
     echo "Newton, CG and unconverged: the whole run of 2 + $STEPS steps. Target: <= 10 ms a step."
     echo
-    echo "## vbd at dt = 1 ms, the default scene's material, 2 threads, $VBD_STEPS steps"
+    echo "## vbd at dt = 1 ms, the default scene's material, 2 threads"
     echo
-    echo "| sheet | vertices | Verlet sub-steps per 1 ms | vbd sweeps | wall ms/step | CPU ms/step | finite after the run |"
-    echo "|---|--:|--:|--:|--:|--:|---|"
+    echo "| sheet | vertices | Verlet sub-steps per 1 ms | kernels | vbd sweeps | wall ms/step | CPU ms/step | run |"
+    echo "|---|--:|--:|---|--:|--:|--:|---|"
     for n in 57 100; do
         sub=$(verlet_substeps --set mesh.nx=$n --set mesh.ny=$n)
-        for sweeps in 10 4; do
-            t=$(per_step 0.001 $VBD_STEPS --set integrator=vbd --set vbd.iterations=$sweeps \
-                --set mesh.nx=$n --set mesh.ny=$n --threads 2)
-            finite=$(tail -1 "$TMP/out/log.csv" | awk -F, '{ print ($9 == $9 + 0) ? "yes" : "no" }')
-            echo "| $n x $n | $((n * n)) | $sub | $sweeps | ${t% *} | ${t#* } | $finite |"
-        done
+        for sweeps in 10 4; do vbd_row $n reference $sweeps $VBD_STEPS; done
+        for sweeps in 4 2 1; do vbd_row $n fast $sweeps 98; done
     done
-    "$SB" run "$SCENE" --set output.frames=false --output "$TMP/out" --set mesh.nx=57 --set mesh.ny=57 \
-        --set integrator=vbd --set vbd.iterations=4 --set dt=0.001 --set duration=0.1 --set frame_interval=0.01 \
-        --threads 2 >/dev/null 2>&1 && long="ran 0.1 s (100 steps)" || long="failed within 0.1 s"
     echo
     echo "Verlet sub-steps: the fewest of 1, 2, 5, 10, 20, 40, 80 per 1 ms that ran 0.1 s without a"
-    echo "vertex running away. Finite: the energies after the 2 + $VBD_STEPS steps timed; vbd with 4"
-    echo "sweeps on the 57 x 57 sheet $long. Target: vbd stable at 1 ms where Verlet needs >= 10,"
-    echo "below 1 ms a step."
+    echo "vertex running away. Reference rows: 2 + $VBD_STEPS steps timed (the double sweeps of"
+    echo "kernels/vbd.c); fast rows (kernels/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
+    echo "after it finite. Target: vbd stable at 1 ms where Verlet needs >= 10, below 1 ms a step."
+    echo
+    T100K=0.05
+    dt_v=$(verlet_largest_step)
+    echo "## vbd at 10 x Verlet's largest stable step, 317 x 317 sheet (100 489 vertices), 2 threads"
+    echo
+    if [ "$dt_v" = none ]; then
+        echo "Verlet ran away at every step of the grid."
+    else
+        dt_vbd=$(awk -v d="$dt_v" 'BEGIN { printf "%.6g", 10 * d }')
+        dt_fine=$(awk -v d="$dt_v" 'BEGIN { printf "%.6g", d / 4 }')
+        n_v=$(awk -v d="$dt_v" 'BEGIN { printf "%d", 0.01 / d }')
+        final_positions fine --set dt="$dt_fine"
+        final_positions verlet --set dt="$dt_v"
+        echo "| integrator | dt | sweeps | wall ms/step | CPU ms/step | x a Verlet step | RMS error | max error |"
+        echo "|---|--:|--:|--:|--:|--:|--:|--:|"
+        tv=$(per_step "$dt_v" "$n_v" --set mesh.nx=317 --set mesh.ny=317 --threads 2)
+        e=$(position_error verlet fine)
+        echo "| verlet | $dt_v | - | ${tv% *} | ${tv#* } | 1 | $(echo "$e" | cut -d' ' -f1) m | $(echo "$e" | cut -d' ' -f2) m |"
+        for sweeps in 1 2 4; do
+            if final_positions vbd --set integrator=vbd --set vbd.iterations=$sweeps --set dt="$dt_vbd" &&
+                t=$(per_step "$dt_vbd" 10 --set integrator=vbd --set vbd.iterations=$sweeps \
+                    --set mesh.nx=317 --set mesh.ny=317 --threads 2 2>/dev/null); then
+                e=$(position_error vbd fine)
+                ratio=$(awk -v a="${t% *}" -v b="${tv% *}" 'BEGIN { printf "%.1f", a / b }')
+                echo "| vbd | $dt_vbd | $sweeps | ${t% *} | ${t#* } | $ratio | $(echo "$e" | cut -d' ' -f1) m |" \
+                    "$(echo "$e" | cut -d' ' -f2) m |"
+            else
+                echo "| vbd | $dt_vbd | $sweeps | - | - | - | failed | |"
+            fi
+        done
+        echo
+        echo "Verlet's largest stable step: the largest of 1e-4, 7e-5, 5e-5, 4e-5, 3e-5, 2.5e-5, 2e-5, 1.5e-5,"
+        echo "1e-5, 7e-6 and 5e-6 s that ran 0.05 s. Errors: positions after $T100K s against Verlet at"
+        echo "dt = $dt_fine s (a quarter of its stable step), over the 100 489 vertices; the sheet moved"
+        echo "$(echo "$e" | cut -d' ' -f3) m (RMS) in that time. Target: vbd at most 10 x a Verlet step."
+    fi
 } >"$OUT"
 cat "$OUT"

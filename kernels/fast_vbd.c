@@ -14,7 +14,9 @@
  *     end of corner q's second edge and of corner r's first, whatever its
  *     place in the triangle;
  *   hinge: relabelled so that p is e0 or o0 (swapping e0 ↔ e1 with o0 ↔ o1
- *     leaves φ unchanged) with a flag for which.
+ *     leaves φ unchanged) with a flag for which; its other three vertices
+ *     are gathered, p's position is the lane's own (a quarter fewer
+ *     gathers, the sweep's main cost with the hinge's arithmetic).
  * A lane with fewer elements than the block's slots is padded with inert
  * entries (every vertex the lane's own, so each counts as collapsed and
  * adds nothing). Elements whose constants are all zero are left out, as
@@ -27,12 +29,14 @@
  * (kernels/hessian_corners.c's formulas, the apex's four blocks summed in
  * closed form), the hinge's exact force and Gauss-Newton block k u uᵀ. A
  * collapsed element adds nothing (a collapsed triangle nothing at all,
- * where the reference keeps the corners it met before the collapse; the
- * step then fails on the collapse either way).
+ * where the reference keeps the corners it met before the collapse) and is
+ * flagged: vbd.c then evaluates the forces, which report it.
  *
  * A step packs x, x⁰ and y as x y z w per vertex (w: whether the vertex
- * moves, and its mass), sweeps, and unpacks the vertices that moved; each
- * worker packs and unpacks its own range. Every update reads and writes the
+ * moves, and its mass), sweeps, and unpacks the vertices that moved (and
+ * every vertex into the fast path's packed positions, which the stretch
+ * check reads when the forces wait for sb_solver_settle); each worker packs
+ * and unpacks its own range. Every update reads and writes the
  * same values whatever the split over the team: the state is bitwise the
  * same for any thread count. */
 #include "kernels/fast_vbd.h"
@@ -69,7 +73,7 @@ typedef struct sb_vbd_triangles {
 } sb_vbd_triangles;
 
 typedef struct sb_vbd_hinges {
-    uint32_t* v[4];               /* e0, e1, o0, o1 with p at e0 or o0 */
+    uint32_t* v[3];               /* the other three of e0, e1, o0, o1 in order, p being e0 or o0 */
     sb_real *phi0, *k, *opposite; /* opposite: 1 where p is o0 */
 } sb_vbd_hinges;
 
@@ -168,7 +172,7 @@ static void sb_vbd_inert_triangle(sb_vbd_triangles* e, size_t q, uint32_t i) {
     e->k_angle[q] = e->k_sb[q] = 0;
 }
 static void sb_vbd_inert_hinge(sb_vbd_hinges* e, size_t q, uint32_t i) {
-    for (int a = 0; a < 4; a++) e->v[a][q] = i;
+    for (int a = 0; a < 3; a++) e->v[a][q] = i;
     e->phi0[q] = e->k[q] = e->opposite[q] = 0;
 }
 
@@ -196,7 +200,8 @@ static void sb_vbd_put_triangle(sb_vbd_triangles* e, size_t q, const sb_model* m
 static void sb_vbd_put_hinge(sb_vbd_hinges* e, size_t q, const sb_model* m, uint32_t h, int place) {
     uint32_t v[4] = {m->hinge_e0[h], m->hinge_e1[h], m->hinge_o0[h], m->hinge_o1[h]};
     bool swap = place == 1 || place == 3;
-    for (int a = 0; a < 4; a++) e->v[a][q] = v[swap ? a ^ 1 : a];
+    for (int a = 0, at = 0; a < 4; a++)
+        if (a != (place >= 2 ? 2 : 0)) e->v[at++][q] = v[swap ? a ^ 1 : a];
     e->phi0[q] = (sb_real)m->hinge_phi0[h];
     e->k[q] = (sb_real)sb_vbd_hinge_k(m, h);
     e->opposite[q] = place >= 2 ? 1 : 0;
@@ -246,7 +251,7 @@ static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
     }
     ok &= (f->triangles.k_angle = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
     ok &= (f->triangles.k_sb = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
-    for (int a = 0; a < 4; a++) ok &= (f->hinges.v[a] = sb_vbd_alloc(nh, sizeof(uint32_t))) != NULL;
+    for (int a = 0; a < 3; a++) ok &= (f->hinges.v[a] = sb_vbd_alloc(nh, sizeof(uint32_t))) != NULL;
     ok &= (f->hinges.phi0 = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
     ok &= (f->hinges.k = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
     ok &= (f->hinges.opposite = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
@@ -259,7 +264,7 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     free(f->bonds.other), free(f->bonds.r0), free(f->bonds.k), free(f->bonds.damping);
     free(f->triangles.q), free(f->triangles.r), free(f->triangles.k_angle), free(f->triangles.k_sb);
     for (int c = 0; c < 3; c++) free(f->triangles.cos0[c]), free(f->triangles.len0[c]);
-    for (int a = 0; a < 4; a++) free(f->hinges.v[a]);
+    for (int a = 0; a < 3; a++) free(f->hinges.v[a]);
     free(f->hinges.phi0), free(f->hinges.k), free(f->hinges.opposite);
     free(f->x4), free(f->x04), free(f->y4);
     free(f);
@@ -331,6 +336,13 @@ static inline sb_wvec3 sb_wv_madd(sb_wvec3 a, sb_wide s, sb_wvec3 c) {
 /* 1 where a >= b, else 0 (a NaN counts as >=, as the reference's !(a < b) would not: positions are finite). */
 static inline sb_wide sb_w_at_least(sb_wide a, sb_wide b) { return sb_w_pick_greater(b, a, sb_w_set(0), sb_w_set(1)); }
 
+/* a where the flag is 1, b where it is 0 */
+static inline sb_wvec3 sb_wv_pick(sb_wide flag, sb_wvec3 a, sb_wvec3 b) {
+    sb_wide half = sb_w_set((sb_real)0.5);
+    return (sb_wvec3){sb_w_pick_greater(flag, half, a.x, b.x), sb_w_pick_greater(flag, half, a.y, b.y),
+                      sb_w_pick_greater(flag, half, a.z, b.z)};
+}
+
 /* What every share reads of the lanes' vertices, and what they sum. */
 typedef struct sb_vbd_lanes {
     const sb_fast_vbd* f;
@@ -338,7 +350,13 @@ typedef struct sb_vbd_lanes {
     sb_wvec3 x, moved; /* the position, and x − x⁰ */
     sb_wvec3 force;
     sb_wsym3 h;
+    sb_wide lost; /* > 0 where a real element (some constant not 0) collapsed */
 } sb_vbd_lanes;
+
+/* Counts an element with constants of sizes `weight` that collapsed (alive 0). */
+static inline void sb_vbd_lose(sb_vbd_lanes* l, sb_wide alive, sb_wide weight) {
+    l->lost = sb_w_madd(sb_w_sub(sb_w_set(1), alive), sb_w_abs(weight), l->lost);
+}
 
 /* A bond's force k (r − r0) u plus the damping's d u (u · v_rel) and its
  * block (k r0/r + d/dt) u uᵀ + k (1 − r0/r) I (kernels/hessian_edges.c,
@@ -351,7 +369,9 @@ static inline void sb_vbd_bond_share(sb_vbd_lanes* l, size_t at) {
     sb_wide r = sb_w_sqrt(sb_wv_dot(delta, delta)), r0 = sb_w_load(e->r0 + at);
     sb_wide alive = sb_w_at_least(r, sb_w_mul(sb_w_set((sb_real)SB_COLLAPSE_RATIO), r0));
     sb_wide inv_r = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(sb_w_set(1), r), sb_w_set(0));
-    sb_wide k = sb_w_mul(sb_w_load(e->k + at), alive), d = sb_w_mul(sb_w_load(e->damping + at), alive);
+    sb_wide k = sb_w_load(e->k + at), d = sb_w_load(e->damping + at);
+    sb_vbd_lose(l, alive, sb_w_add(k, d));
+    k = sb_w_mul(k, alive), d = sb_w_mul(d, alive);
     sb_wvec3 u = sb_wv_scale(delta, inv_r);
     sb_wvec3 relative = sb_wv_scale(sb_wv_sub(sb_wv_sub(xq, x0q), l->moved), l->inv_dt);
     sb_wide along = sb_w_madd(k, sb_w_sub(r, r0), sb_w_mul(d, sb_wv_dot(u, relative)));
@@ -438,7 +458,9 @@ static inline void sb_vbd_triangle_share(sb_vbd_lanes* l, size_t at) {
     sb_wedge pq = sb_vbd_edge(l->x, xq, sb_w_load(e->len0[0] + at), &alive);
     sb_wedge qr = sb_vbd_edge(xq, xr, sb_w_load(e->len0[1] + at), &alive);
     sb_wedge rp = sb_vbd_edge(xr, l->x, sb_w_load(e->len0[2] + at), &alive);
-    sb_wide ka = sb_w_mul(sb_w_load(e->k_angle + at), alive), ksb = sb_w_mul(sb_w_load(e->k_sb + at), alive);
+    sb_wide ka = sb_w_load(e->k_angle + at), ksb = sb_w_load(e->k_sb + at);
+    sb_vbd_lose(l, alive, sb_w_add(sb_w_abs(ka), sb_w_abs(ksb)));
+    ka = sb_w_mul(ka, alive), ksb = sb_w_mul(ksb, alive);
     sb_vbd_corner_apex(l, pq, sb_wedge_reversed(rp), sb_w_load(e->cos0[0] + at), ka, ksb);
     sb_vbd_corner_end(l, sb_wedge_reversed(pq), qr, sb_w_load(e->cos0[1] + at), ka, ksb);
     sb_vbd_corner_end(l, rp, sb_wedge_reversed(qr), sb_w_load(e->cos0[2] + at), ka, ksb);
@@ -450,8 +472,12 @@ static inline void sb_vbd_triangle_share(sb_vbd_lanes* l, size_t at) {
  * (kernels/reference_hinges.c). A collapsed hinge adds nothing. */
 static inline void sb_vbd_hinge_share(sb_vbd_lanes* l, size_t at) {
     const sb_vbd_hinges* e = &l->f->hinges;
-    sb_wvec3 p[4];
-    for (int a = 0; a < 4; a++) p[a] = sb_wv_load4(l->f->x4, sb_w_index(e->v[a] + at));
+    sb_wvec3 g[3];
+    for (int a = 0; a < 3; a++) g[a] = sb_wv_load4(l->f->x4, sb_w_index(e->v[a] + at));
+    sb_wide opposite = sb_w_load(e->opposite + at), edge_end = sb_w_sub(sb_w_set(1), opposite);
+    /* e0, e1, o0, o1: (p, g0, g1, g2) at e0, (g0, g1, p, g2) at o0 */
+    sb_wvec3 p[4] = {sb_wv_pick(opposite, g[0], l->x), sb_wv_pick(opposite, g[1], g[0]),
+                     sb_wv_pick(opposite, l->x, g[1]), g[2]};
     sb_wvec3 edge = sb_wv_sub(p[1], p[0]);
     sb_wvec3 n0 = sb_wv_cross(sb_wv_sub(p[2], p[0]), sb_wv_sub(p[2], p[1]));
     sb_wvec3 n1 = sb_wv_cross(sb_wv_sub(p[3], p[1]), sb_wv_sub(p[3], p[0]));
@@ -466,13 +492,13 @@ static inline void sb_vbd_hinge_share(sb_vbd_lanes* l, size_t at) {
     sb_wide sine = sb_w_mul(sb_wv_dot(sb_wv_cross(n0, n1), edge), inv_length);
     sb_wide delta = sb_w_angle_delta(sine, sb_wv_dot(n0, n1), sb_w_load(e->phi0 + at));
     sb_wvec3 unit = sb_wv_scale(edge, inv_length);
-    sb_wide opposite = sb_w_load(e->opposite + at), edge_end = sb_w_sub(sb_w_set(1), opposite);
     sb_wide alpha = sb_w_madd(opposite, length, sb_w_mul(edge_end, sb_wv_dot(sb_wv_sub(p[2], p[1]), unit)));
     sb_wide beta = sb_w_mul(edge_end, sb_wv_dot(sb_wv_sub(p[3], p[1]), unit));
     sb_wide w0 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(alpha, n0_sq), sb_w_set(0));
     sb_wide w1 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(beta, n1_sq), sb_w_set(0));
     sb_wvec3 u = sb_wv_add(sb_wv_scale(n0, w0), sb_wv_scale(n1, w1));
     sb_wide k = sb_w_load(e->k + at);
+    sb_vbd_lose(l, alive, k);
     l->force = sb_wv_madd(u, sb_w_mul(k, delta), l->force);
     sb_ws_outer(&l->h, u, k);
 }
@@ -500,14 +526,15 @@ typedef struct sb_vbd_rates {
     sb_wide inv_dt, inv_dt2, drag_per_dt;
 } sb_vbd_rates;
 
-/* One Newton step on each lane's vertex (vbd.c's sb_vbd_vertex). */
-static void sb_vbd_block_update(const sb_fast_vbd* f, uint32_t b, const sb_vbd_rates* rates) {
+/* One Newton step on each lane's vertex (vbd.c's sb_vbd_vertex); whether
+ * an element of a lane collapsed. */
+static bool sb_vbd_block_update(const sb_fast_vbd* f, uint32_t b, const sb_vbd_rates* rates) {
     const sb_vbd_block* block = &f->blocks[b];
     sb_windex id = sb_w_index(f->lane + (size_t)b * SB_WIDTH);
     sb_wide moves, mass;
     sb_wvec3 x = sb_wv_load4(f->x4, id), x0 = sb_wv_load4w(f->x04, id, &moves), y = sb_wv_load4w(f->y4, id, &mass);
     sb_wide inertia = sb_w_mul(mass, rates->inv_dt2), drag = sb_w_mul(mass, rates->drag_per_dt);
-    sb_vbd_lanes l = {.f = f, .inv_dt = rates->inv_dt, .x = x, .moved = sb_wv_sub(x, x0)};
+    sb_vbd_lanes l = {.f = f, .inv_dt = rates->inv_dt, .x = x, .moved = sb_wv_sub(x, x0), .lost = sb_w_set(0)};
     l.force = sb_wv_neg(sb_wv_add(sb_wv_scale(sb_wv_sub(x, y), inertia), sb_wv_scale(l.moved, drag)));
     sb_wide zero = sb_w_set(0), diagonal = sb_w_add(inertia, drag);
     l.h = (sb_wsym3){diagonal, zero, zero, diagonal, zero, diagonal};
@@ -517,6 +544,7 @@ static void sb_vbd_block_update(const sb_fast_vbd* f, uint32_t b, const sb_vbd_r
     for (uint32_t s = 0; s < block->hinges; s++) sb_vbd_hinge_share(&l, block->hinge_at + (size_t)s * SB_WIDTH);
     sb_wvec3 step = sb_wv_scale(sb_ws_solve(&l.h, l.force), moves); /* held vertices (moves 0) wait */
     sb_wv_add4(f->x4, id, step, (int)block->lanes);
+    return sb_w_any(sb_w_less(sb_w_set(0), l.lost), (int)block->lanes);
 }
 
 /* xyz of vertices [begin, end) from 3n interleaved doubles into p4. */
@@ -535,12 +563,18 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     sb_worker_barrier(w);
     const sb_vbd_rates rates = {sb_w_set((sb_real)(1.0 / st->dt)), sb_w_set((sb_real)(1.0 / (st->dt * st->dt))),
                                 sb_w_set((sb_real)(st->drag / st->dt))};
+    bool collapsed = false;
     for (int it = 0; it < st->sweeps; it++)
         for (uint32_t c = 0; c < f->color_count; c++) {
             sb_worker_range(w, f->color_block[c + 1] - f->color_block[c], &begin, &end);
-            for (int64_t b = begin; b < end; b++) sb_vbd_block_update(f, f->color_block[c] + (uint32_t)b, &rates);
+            for (int64_t b = begin; b < end; b++)
+                collapsed |= sb_vbd_block_update(f, f->color_block[c] + (uint32_t)b, &rates);
             sb_worker_barrier(w);
         }
+    if (collapsed) sb_worker_raise(st->collapsed);
+    sb_worker_range(w, f->vertex_count, &begin, &end);
+    for (int64_t i = begin; i < end; i++)
+        for (int c = 0; c < 3; c++) st->positions4[4 * i + c] = f->x4[4 * i + c];
     sb_worker_range(w, f->block_count, &begin, &end);
     for (int64_t b = begin; b < end; b++)
         for (uint32_t l = 0; l < f->blocks[b].lanes; l++) {

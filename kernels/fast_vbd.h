@@ -16,12 +16,17 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
 void sb_fast_vbd_destroy(sb_fast_vbd* f);
 
 /* One step (3n interleaved doubles): x holds the first guess and receives
- * the result on the vertices that move (inv_mass > 0). */
+ * the result on the vertices that move (inv_mass > 0); every vertex's new
+ * position also goes to positions4 (the fast path's packed x y z w).
+ * *collapsed is raised when an element with a constant other than 0
+ * collapsed during the sweeps. */
 typedef struct sb_fast_vbd_step {
     double* x;
     const double *x0, *y, *inv_mass;
     double dt, drag;
     int sweeps;
+    sb_real* positions4;
+    atomic_int* collapsed;
 } sb_fast_vbd_step;
 
 /* The step's team job, on every worker of the team. */

@@ -63,6 +63,7 @@ typedef struct sb_vbd_job {
     struct sb_vbd* vbd;
     double dt;
     int iterations;
+    atomic_int collapsed; /* the fast sweep met a collapsed element */
 } sb_vbd_job;
 
 int sb_vbd_iterations(const sb_solver_def* def) { return def->vbd_iterations > 0 ? def->vbd_iterations : 10; }
@@ -224,10 +225,26 @@ static void sb_vbd_sweeps(void* context, const sb_worker* w) {
 }
 
 static void sb_vbd_fast_sweeps(void* context, const sb_worker* w) {
-    const sb_vbd_job* job = context;
+    sb_vbd_job* job = context;
     struct sb_vbd* v = job->vbd;
-    sb_fast_vbd_step step = {v->x, v->x0, v->y, sb_inv_mass(job->s), job->dt, job->s->def.drag, job->iterations};
+    sb_fast_vbd_step step = {v->x,
+                             v->x0,
+                             v->y,
+                             sb_inv_mass(job->s),
+                             job->dt,
+                             job->s->def.drag,
+                             job->iterations,
+                             job->s->positions4,
+                             &job->collapsed};
     sb_fast_vbd_run(v->fast, &step, w);
+}
+
+/* Whether anything right after the step reads its forces or energies: the
+ * contact, self-contact and handle passes, the adaptive stepper, the
+ * external forces (evaluated with the forces, read by the next step's y). */
+static bool sb_vbd_needs_forces(const sb_solver* s) {
+    return s->def.adaptive || s->def.external_force || s->soft_handles || s->self || s->def.collider_count > 0 ||
+           s->def.handle_count > 0;
 }
 
 /* The first guess (the paper's adaptive initialisation): x⁰ + dt v⁰ +
@@ -282,11 +299,15 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     struct sb_vbd* v = s->vbd;
     sb_vbd_follow_topology(s, v);
     sb_vbd_predict(s, v, dt);
-    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def)};
+    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), 0};
     sb_team_run(s->team, sb_team_size(s->team), v->fast ? sb_vbd_fast_sweeps : sb_vbd_sweeps, &job);
     sb_vbd_finish(s, v, dt);
     s->has_displacement = false;
-    return sb_solver_compute_forces(s);
+    /* The fast sweep leaves the forces and energies to sb_solver_settle when
+     * nothing needs them now (as pbd does): a force pass costs half a sweep.
+     * A collapse it met is reported by evaluating them. */
+    s->forces_stale = v->fast && !atomic_load(&job.collapsed) && !sb_vbd_needs_forces(s);
+    return s->forces_stale ? sb_check_state(s) : sb_solver_compute_forces(s);
 }
 
 /* The checkpoint's part (kernels/solver_state.c): the velocities the next
