@@ -561,10 +561,14 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
 }
 
 void sb_store_free_vertices(sb_solver* s, const double* x, const double* v) {
+    sb_store_free_range(s, x, v, 0, s->state.vertex_count);
+}
+
+void sb_store_free_range(sb_solver* s, const double* x, const double* v, uint32_t begin, uint32_t end) {
     sb_state* st = &s->state;
     sb_real* pos[3] = {st->x, st->y, st->z};
     sb_real* vel[3] = {st->vx, st->vy, st->vz};
-    for (uint32_t i = 0; i < st->vertex_count; i++) {
+    for (uint32_t i = begin; i < end; i++) {
         if (s->model->fixed[i]) continue;
         for (int c = 0; c < 3; c++) {
             pos[c][i] = (sb_real)x[3 * (size_t)i + c];

@@ -139,6 +139,8 @@ void sb_interleave(double* out, const sb_real* a, const sb_real* b, const sb_rea
 /* The state's positions and velocities from interleaved doubles, on every
  * vertex that is not fixed (an implicit integrator's result). */
 void sb_store_free_vertices(sb_solver* solver, const double* x, const double* v);
+/* The same for vertices [begin, end) (vbd: each worker its own range). */
+void sb_store_free_range(sb_solver* solver, const double* x, const double* v, uint32_t begin, uint32_t end);
 
 /* The fast kernels' counterparts (kernels/solver_fast.c). */
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);

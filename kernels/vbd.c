@@ -59,7 +59,7 @@ struct sb_vbd {
 };
 
 typedef struct sb_vbd_job {
-    const sb_solver* s;
+    sb_solver* s;
     struct sb_vbd* vbd;
     double dt;
     int iterations;
@@ -208,8 +208,7 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
     for (int c = 0; c < 3; c++) x[3 * i + c] += step[c];
 }
 
-static void sb_vbd_sweeps(void* context, const sb_worker* w) {
-    const sb_vbd_job* job = context;
+static void sb_vbd_sweeps(sb_vbd_job* job, const sb_worker* w) {
     const struct sb_vbd* v = job->vbd;
     const double* inv_mass = sb_inv_mass(job->s);
     for (int it = 0; it < job->iterations; it++)
@@ -224,8 +223,7 @@ static void sb_vbd_sweeps(void* context, const sb_worker* w) {
         }
 }
 
-static void sb_vbd_fast_sweeps(void* context, const sb_worker* w) {
-    sb_vbd_job* job = context;
+static void sb_vbd_fast_sweeps(sb_vbd_job* job, const sb_worker* w) {
     struct sb_vbd* v = job->vbd;
     sb_fast_vbd_step step = {v->x,
                              v->x0,
@@ -252,56 +250,76 @@ static bool sb_vbd_needs_forces(const sb_solver* s) {
  * to [0, |g|]. Guessing y itself moves a hanging sheet's every vertex down
  * by dt² g each step, and the few sweeps cannot carry the support back
  * across a large sheet: it stretches more each step. */
-static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const double* g, double length, size_t i, double dt) {
+static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const double* g, double length, const double* velocity,
+                                        size_t i, double dt) {
     if (!v->has_previous || length == 0.0) return 0.0;
     double along = 0.0;
-    for (int c = 0; c < 3; c++) along += (v->y[3 * i + c] - v->previous_v[3 * i + c]) / dt * g[c] / length;
+    for (int c = 0; c < 3; c++) along += (velocity[c] - v->previous_v[3 * i + c]) / dt * g[c] / length;
     return fmin(fmax(along, 0.0), length);
 }
 
-/* x⁰, the inertial target y and the first guess (held vertices at their
- * targets); v⁰ is kept for the next step's guess. */
-static void sb_vbd_predict(sb_solver* s, struct sb_vbd* v, double dt) {
+/* x⁰, the inertial target y and the first guess of vertices [begin, end);
+ * v⁰ is kept for the next step's guess. */
+static void sb_vbd_predict(const sb_solver* s, struct sb_vbd* v, double dt, int64_t begin, int64_t end) {
     const sb_model* m = s->model;
     const sb_state* st = &s->state;
-    size_t n = st->vertex_count;
     const double* g = s->def.gravity;
     double length = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-    sb_interleave(v->x0, st->x, st->y, st->z, st->vertex_count);
-    sb_interleave(v->y, st->vx, st->vy, st->vz, st->vertex_count); /* v⁰ for now */
-    for (size_t i = 0; i < n; i++) {
-        double guess = m->fixed[i] ? 0.0 : sb_vbd_guess_acceleration(v, g, length, i, dt);
+    const sb_real *position[3] = {st->x, st->y, st->z}, *velocity[3] = {st->vx, st->vy, st->vz};
+    for (int64_t i = begin; i < end; i++) {
+        const double now[3] = {velocity[0][i], velocity[1][i], velocity[2][i]};
+        double guess = m->fixed[i] ? 0.0 : sb_vbd_guess_acceleration(v, g, length, now, (size_t)i, dt);
         for (int c = 0; c < 3; c++) {
-            size_t q = 3 * i + c;
-            double velocity = v->y[q];
-            v->previous_v[q] = velocity;
+            size_t q = 3 * (size_t)i + c;
+            v->x0[q] = position[c][i];
+            v->previous_v[q] = velocity[c][i];
             if (m->fixed[i]) {
                 v->x[q] = v->y[q] = v->x0[q];
                 continue;
             }
             double acceleration = g[c] + (s->external ? s->external[q] * m->inv_mass[i] : 0.0);
-            v->y[q] = v->x0[q] + dt * velocity + dt * dt * acceleration;
-            v->x[q] = v->x0[q] + dt * velocity + (length > 0 ? dt * dt * guess * g[c] / length : 0.0);
+            v->y[q] = v->x0[q] + dt * velocity[c][i] + dt * dt * acceleration;
+            v->x[q] = v->x0[q] + dt * velocity[c][i] + (length > 0 ? dt * dt * guess * g[c] / length : 0.0);
         }
     }
-    v->has_previous = true;
-    if (s->pinned_inv_mass) sb_handles_place_predicted(s, v->x);
 }
 
-/* v = (x − x⁰)/dt (into y, no longer needed) and the new state. */
-static void sb_vbd_finish(sb_solver* s, struct sb_vbd* v, double dt) {
-    for (size_t q = 0; q < 3 * (size_t)s->state.vertex_count; q++) v->y[q] = (v->x[q] - v->x0[q]) / dt;
-    sb_store_free_vertices(s, v->x, v->y);
+/* v = (x − x⁰)/dt (into y, no longer needed) and the new state of vertices
+ * [begin, end). */
+static void sb_vbd_finish(sb_solver* s, struct sb_vbd* v, double dt, int64_t begin, int64_t end) {
+    for (size_t q = 3 * (size_t)begin; q < 3 * (size_t)end; q++) v->y[q] = (v->x[q] - v->x0[q]) / dt;
+    sb_store_free_range(s, v->x, v->y, (uint32_t)begin, (uint32_t)end);
+}
+
+/* A step on the team: the prediction (then the held vertices at their
+ * targets, on worker 0), the sweeps, the new state; each worker predicts
+ * and finishes its own range of vertices. */
+static void sb_vbd_step(void* context, const sb_worker* w) {
+    sb_vbd_job* job = context;
+    sb_solver* s = job->s;
+    int64_t begin, end;
+    sb_worker_range(w, s->state.vertex_count, &begin, &end);
+    sb_vbd_predict(s, job->vbd, job->dt, begin, end);
+    sb_worker_barrier(w);
+    if (s->pinned_inv_mass) {
+        if (w->index == 0) sb_handles_place_predicted(s, job->vbd->x);
+        sb_worker_barrier(w);
+    }
+    if (job->vbd->fast)
+        sb_vbd_fast_sweeps(job, w);
+    else
+        sb_vbd_sweeps(job, w);
+    sb_worker_barrier(w);
+    sb_vbd_finish(s, job->vbd, job->dt, begin, end);
 }
 
 sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_fast_publish(s); /* the state's arrays current */
     struct sb_vbd* v = s->vbd;
     sb_vbd_follow_topology(s, v);
-    sb_vbd_predict(s, v, dt);
     sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), 0};
-    sb_team_run(s->team, sb_team_size(s->team), v->fast ? sb_vbd_fast_sweeps : sb_vbd_sweeps, &job);
-    sb_vbd_finish(s, v, dt);
+    sb_team_run(s->team, sb_team_size(s->team), sb_vbd_step, &job);
+    v->has_previous = true;
     s->has_displacement = false;
     /* The fast sweep leaves the forces and energies to sb_solver_settle when
      * nothing needs them now (as pbd does): a force pass costs half a sweep.
