@@ -174,7 +174,7 @@ VBD_STEPS=20
         echo "| verlet | $dt_v | - | ${tv% *} | ${tv#* } | 1 | $(echo "$e" | cut -d' ' -f1) m | $(echo "$e" | cut -d' ' -f2) m |"
         for sweeps in 1 2 4; do
             if final_positions vbd --set integrator=vbd --set vbd.iterations=$sweeps --set dt="$dt_vbd" &&
-                t=$(per_step "$dt_vbd" 10 --set integrator=vbd --set vbd.iterations=$sweeps \
+                t=$(per_step "$dt_vbd" 40 --set integrator=vbd --set vbd.iterations=$sweeps \
                     --set mesh.nx=317 --set mesh.ny=317 --threads 2 2>/dev/null); then
                 e=$(position_error vbd fine)
                 ratio=$(awk -v a="${t% *}" -v b="${tv% *}" 'BEGIN { printf "%.1f", a / b }')
