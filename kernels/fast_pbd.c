@@ -285,40 +285,19 @@ static inline sb_wide sb_pbd_wide_distance(const sb_pbd_wide_distances* d, const
     return sb_w_mul(delta, sb_w_load(d->alive + s));
 }
 
-/* Blocks projected together. A block's projections are a chain of
- * dependent operations (a triangle's six, one after another, each tens of
- * operations long); two independent blocks of a color, their steps
- * interleaved, give the processor two chains to overlap. Inlined with
- * `blocks` a constant (1 or 2) so that the loops over them unroll. */
-#define SB_PBD_BLOCKS 3
-#define SB_PBD_INLINE static inline __attribute__((always_inline))
-
-/* The bonds of `blocks` blocks from slot s, lanes[h] of block h real.
- * Returns whether one collapsed. */
-SB_PBD_INLINE bool sb_pbd_wide_bond_blocks(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s,
-                                           const int lanes[], int blocks, bool damped) {
-    sb_windex ii[SB_PBD_BLOCKS], jj[SB_PBD_BLOCKS];
-    sb_wide wi[SB_PBD_BLOCKS], wj[SB_PBD_BLOCKS], d[SB_PBD_BLOCKS];
-    sb_wvec3 n[SB_PBD_BLOCKS], moved[SB_PBD_BLOCKS], xi[SB_PBD_BLOCKS], xj[SB_PBD_BLOCKS];
-    sb_wmask collapsed[SB_PBD_BLOCKS];
-    bool any = false;
-    for (int h = 0; h < blocks; h++) {
-        uint32_t at = s + (uint32_t)h * SB_WIDTH;
-        ii[h] = sb_w_index(b->i + at), jj[h] = sb_w_index(b->j + at);
-        xi[h] = sb_wv_load4w(k->x4, ii[h], &wi[h]);
-        xj[h] = sb_wv_load4w(k->x4, jj[h], &wj[h]);
-        moved[h] = sb_wv_sub(xi[h], xj[h]); /* Δ_i − Δ_j */
-        n[h] = sb_wv_add(sb_pbd_edge(b->edge, at), moved[h]);
-    }
-    for (int h = 0; h < blocks; h++)
-        d[h] = sb_pbd_wide_distance(&b->d, k, s + (uint32_t)h * SB_WIDTH, &n[h], moved[h], sb_w_add(wi[h], wj[h]),
-                                    damped, &collapsed[h]);
-    for (int h = 0; h < blocks; h++) {
-        sb_wv_store4w(k->x4, ii[h], sb_wv_add(xi[h], sb_wv_scale(n[h], sb_w_mul(wi[h], d[h]))), wi[h], lanes[h]);
-        sb_wv_store4w(k->x4, jj[h], sb_wv_sub(xj[h], sb_wv_scale(n[h], sb_w_mul(wj[h], d[h]))), wj[h], lanes[h]);
-        any |= sb_w_any(collapsed[h], lanes[h]);
-    }
-    return any;
+/* The bonds of the block at slot s, `count` of them real. Returns whether one collapsed. */
+static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_pbd_sweep* k, uint32_t s, int count,
+                                          bool damped) {
+    sb_windex ii = sb_w_index(b->i + s), jj = sb_w_index(b->j + s);
+    sb_wide wi, wj;
+    sb_wvec3 xi = sb_wv_load4w(k->x4, ii, &wi), xj = sb_wv_load4w(k->x4, jj, &wj);
+    sb_wvec3 moved = sb_wv_sub(xi, xj); /* Δ_i − Δ_j */
+    sb_wvec3 n = sb_wv_add(sb_pbd_edge(b->edge, s), moved);
+    sb_wmask collapsed;
+    sb_wide d = sb_pbd_wide_distance(&b->d, k, s, &n, moved, sb_w_add(wi, wj), damped, &collapsed);
+    sb_wv_store4w(k->x4, ii, sb_wv_add(xi, sb_wv_scale(n, sb_w_mul(wi, d))), wi, count);
+    sb_wv_store4w(k->x4, jj, sb_wv_sub(xj, sb_wv_scale(n, sb_w_mul(wj, d))), wj, count);
+    return sb_w_any(collapsed, count);
 }
 
 /* Corner at p[q] of the triangle (p[q], p[q+1], p[q+2]) of a block, on the
@@ -348,6 +327,16 @@ static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], 
     p[q] = sb_wv_sub(p[q], sb_wv_scale(sb_wv_add(g1, g2), w[q]));
     return collapsed;
 }
+
+/* Triangle blocks projected together. A triangle's six projections are a
+ * chain of dependent operations, each tens of operations long; a few
+ * independent blocks of a color, their steps interleaved, give the
+ * processor that many chains to overlap (1 thread, the 100 x 100 sheet's
+ * corners step: 1.55 ms one block at a time, 1.13 two, 1.07 three, 1.03
+ * four, load 6-7; bonds, whose chain is short, gained nothing). Inlined
+ * with the count a constant, so that the loops over the blocks unroll. */
+#define SB_PBD_BLOCKS 3
+#define SB_PBD_INLINE static inline __attribute__((always_inline))
 
 /* A block of triangles in registers: vertex indices, inverse masses, the
  * positions relative to the start of vertex 0 (its displacement, the
@@ -438,19 +427,19 @@ static int sb_pbd_block_lanes(const sb_pbd_slots* slots, int k, uint32_t s) {
     return left < SB_WIDTH ? (int)left : SB_WIDTH;
 }
 
-/* The projections of one block, or two (not in the overflow color, whose
- * blocks may share vertices): the group, the sweep, the first block's
- * slot, each block's real lanes; returns whether an edge collapsed. */
+/* The projections of `blocks` blocks of a color: the group, the sweep, the
+ * first block's slot, each block's real lanes; returns whether an edge
+ * collapsed. */
 typedef bool (*sb_pbd_block_fn)(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks);
 
 static bool sb_pbd_undamped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks) {
-    (void)blocks;
-    return sb_pbd_wide_bond_blocks(group, k, s, lanes, 1, false);
+    (void)blocks; /* one */
+    return sb_pbd_wide_bond_block(group, k, s, lanes[0], false);
 }
 
 static bool sb_pbd_damped_bonds(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks) {
-    (void)blocks;
-    return sb_pbd_wide_bond_blocks(group, k, s, lanes, 1, true);
+    (void)blocks; /* one */
+    return sb_pbd_wide_bond_block(group, k, s, lanes[0], true);
 }
 
 static bool sb_pbd_undamped_triangles(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[],
@@ -465,16 +454,15 @@ static bool sb_pbd_damped_triangles(const void* group, const sb_pbd_sweep* k, ui
                                    : sb_pbd_wide_triangle_blocks(group, k, s, lanes, 1, true);
 }
 
-/* All colors of a group in order, a barrier after each; called by every worker. */
+/* All colors of a group in order, a barrier after each; called by every
+ * worker. `together` blocks at a time (1 or SB_PBD_BLOCKS), one in the
+ * overflow color, whose blocks may share vertices. */
 static bool sb_pbd_colors(const sb_worker* w, const sb_pbd_slots* slots, const void* group, sb_pbd_block_fn project,
-                          const sb_pbd_sweep* k) {
+                          uint32_t together, const sb_pbd_sweep* k) {
     bool collapsed = false;
     for (int color = 0; color < SB_MAX_COLORS; color++) {
         if (!slots->count[color]) continue;
-        uint32_t begin, end,
-            step = color == SB_OVERFLOW_COLOR || (project == sb_pbd_undamped_bonds || project == sb_pbd_damped_bonds)
-                       ? 1
-                       : SB_PBD_BLOCKS;
+        uint32_t begin, end, step = color == SB_OVERFLOW_COLOR ? 1 : together;
         sb_pbd_color_share(w, slots, color, &begin, &end);
         for (uint32_t s = begin, blocks; s < end; s += blocks * SB_WIDTH) {
             blocks = s + step * SB_WIDTH <= end ? step : 1;
@@ -567,9 +555,9 @@ static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
                       true, job->xpbd};
     bool collapsed = false;
     for (int it = 0; it < job->iterations; it++, k.first = false) {
-        collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, &k);
-        collapsed |=
-            sb_pbd_colors(w, &t->slots, t, t->damped ? sb_pbd_damped_triangles : sb_pbd_undamped_triangles, &k);
+        collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, 1, &k);
+        collapsed |= sb_pbd_colors(w, &t->slots, t, t->damped ? sb_pbd_damped_triangles : sb_pbd_undamped_triangles,
+                                   SB_PBD_BLOCKS, &k);
     }
     if (collapsed) sb_worker_raise(&job->collapsed);
     sb_pbd_wide_finish(w, job);
