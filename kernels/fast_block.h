@@ -35,7 +35,7 @@ static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) {
 }
 
 /* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does
- * (the hinge kernel and vbd's fast sweep). */
+ * (the hinge kernel, vbd's fast sweep, the hinges' second derivatives). */
 static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
     const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
     sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);

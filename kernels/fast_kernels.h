@@ -10,6 +10,7 @@
 #define SB_FAST_KERNELS_H
 
 #include "kernels/fast_model.h"
+#include "kernels/team.h"
 
 /* What the kernels read and write: positions, velocities (for damping) and
  * forces, packed x y z w per vertex (see kernels/wide.h). */
@@ -21,6 +22,8 @@ typedef struct sb_fast_frame {
 
 enum { SB_KERNEL_COLLAPSED = 1, SB_KERNEL_NEAR_LIMIT = 2 };
 
+typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
+
 /* energy[0] bond stretch, energy[1] spring */
 int sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                   double energy[2]);
@@ -31,5 +34,14 @@ int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t
 /* energy[0] bend */
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                    double energy[1]);
+
+/* Inside a job of the team (kernels/solver_fast.c): kernels[0], [1], [2]
+ * over the bonds, triangles and hinges that the force passes run, in their
+ * blocked coloring, for kernels that keep no energies and raise no flags
+ * (kernels/fast_hessian.h). Returns with every worker past the last
+ * barrier. */
+struct sb_solver;
+void sb_fast_element_passes(const sb_worker* w, const struct sb_solver* s, const sb_fast_kernel kernels[3],
+                            const sb_fast_frame* frame);
 
 #endif

@@ -43,7 +43,7 @@
  * the forces the step sees are those of the placed handle. The new state then
  * goes through sb_solver_compute_forces, so its forces and energies come
  * from the chosen kernels. */
-#include "kernels/solver_internal.h"
+#include "kernels/implicit_fast.h"
 #include "kernels/block_matrix.h"
 #include "kernels/sparse_cholesky.h"
 #include "kernels/handle_internal.h"
@@ -54,8 +54,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SB_CG_RELATIVE_TOLERANCE 1e-5
-#define SB_LINE_SEARCH_HALVINGS 5
 /* A Newton iteration on a factored J that cut |R| at least this much leaves
  * J and its factors to the next (CG, whose cost is its iterations, always
  * assembles afresh). */
@@ -70,13 +68,14 @@ enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, 
 #define SB_ASSEMBLY_CHUNK 64
 
 struct sb_implicit {
-    double* work;                 /* W_COUNT × 3n */
-    double* term_forces;          /* SB_TERM_COUNT × 3n: the residual's forces, term by term */
-    double* element_matrices;     /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
-    double* inverse_blocks;       /* 9n: the preconditioner */
-    sb_block_matrix* matrix;      /* J */
-    sb_sparse_cholesky* cholesky; /* its factorization; NULL when CG solves */
-    uint32_t pattern_vertices;    /* sb_solver_vertex_count when its pattern was built */
+    double* work;                  /* W_COUNT × 3n */
+    double* term_forces;           /* SB_TERM_COUNT × 3n: the residual's forces, term by term */
+    double* element_matrices;      /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
+    double* inverse_blocks;        /* 9n: the preconditioner */
+    sb_block_matrix* matrix;       /* J */
+    sb_sparse_cholesky* cholesky;  /* its factorization; NULL when CG solves */
+    uint32_t pattern_vertices;     /* sb_solver_vertex_count when its pattern was built */
+    struct sb_implicit_fast* fast; /* kernels: fast, solved by CG: kernels/implicit_fast.c, nothing above */
 };
 
 typedef struct sb_newton {
@@ -426,6 +425,8 @@ bool sb_implicit_prepare(sb_solver* s) {
     struct sb_implicit* im = calloc(1, sizeof *im);
     s->implicit = im;
     if (!im) return false;
+    if (s->def.kernels == SB_KERNELS_FAST && !sb_implicit_factors(s))
+        return (im->fast = sb_implicit_fast_create(s)) != NULL;
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->term_forces = calloc(SB_TERM_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
@@ -444,6 +445,7 @@ void sb_implicit_destroy(sb_solver* s) {
     free(im->work), free(im->term_forces), free(im->inverse_blocks), free(im->element_matrices);
     sb_block_matrix_destroy(im->matrix);
     sb_sparse_cholesky_destroy(im->cholesky);
+    sb_implicit_fast_destroy(im->fast);
     free(im);
     s->implicit = NULL;
 }
@@ -476,8 +478,16 @@ static sb_newton sb_newton_init(sb_solver* s, double dt) {
     return w;
 }
 
+sb_newton_limits sb_newton_limits_of(const sb_solver* s) {
+    const sb_solver_def* d = &s->def;
+    return (sb_newton_limits){.tolerance = d->implicit_tolerance > 0 ? d->implicit_tolerance : 1e-8,
+                              .newton_cap = d->implicit_newton_iterations > 0 ? d->implicit_newton_iterations : 20,
+                              .cg_cap = d->implicit_cg_iterations > 0 ? d->implicit_cg_iterations : 200};
+}
+
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     struct sb_implicit* im = s->implicit;
+    if (im->fast) return sb_implicit_fast_step(s, im->fast, dt);
     if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
         if (!sb_block_matrix_rebuild(im->matrix, s->model))
             return sb_error_set(&s->error, SB_ERR_NOMEM,
@@ -487,24 +497,22 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
         im->pattern_vertices = sb_solver_vertex_count(s);
     }
     sb_newton w = sb_newton_init(s, dt);
-    const double tolerance = s->def.implicit_tolerance > 0 ? s->def.implicit_tolerance : 1e-8;
-    const int newton_cap = s->def.implicit_newton_iterations > 0 ? s->def.implicit_newton_iterations : 20;
-    const int cg_cap = s->def.implicit_cg_iterations > 0 ? s->def.implicit_cg_iterations : 200;
+    const sb_newton_limits limits = sb_newton_limits_of(s);
     sb_status status = sb_newton_point(&w);
     if (status != SB_OK) return status;
     double first = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3)), norm = first;
     bool converged = false, stale = true;
     for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
-        if (norm <= tolerance * first || norm <= sb_residual_floor(&w)) {
+        if (norm <= limits.tolerance * first || norm <= sb_residual_floor(&w)) {
             converged = true;
             break;
         }
-        if (it == newton_cap) break;
+        if (it == limits.newton_cap) break;
         if (stale) {
             status = sb_prepare_jacobian(&w);
             if (status != SB_OK) return status;
         }
-        sb_solve_newton_system(&w, cg_cap, &s->stats);
+        sb_solve_newton_system(&w, limits.cg_cap, &s->stats);
         double previous = norm;
         norm = sb_line_search(&w, norm, &status);
         if (status != SB_OK) return status;

@@ -55,8 +55,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
-
 /* What the force passes report: an edge collapsed; a bond near its break
  * limits (SB_KERNEL_NEAR_LIMIT). */
 typedef struct sb_pass_flags {
@@ -144,6 +142,15 @@ static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_e
     }
 }
 
+void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[3],
+                            const sb_fast_frame* frame) {
+    const sb_fast_model* f = s->fast;
+    sb_pass_flags flags = {0, 0}; /* such kernels raise none */
+    if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, kernels[0], 0, frame, s->partials, &flags);
+    if (f->has_corners || f->fused_bonds) sb_group_pass(w, f, &f->triangles, kernels[1], 0, frame, s->partials, &flags);
+    if (f->has_hinges) sb_group_pass(w, f, &f->hinges, kernels[2], 0, frame, s->partials, &flags);
+}
+
 static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, sb_pass_flags* flags) {
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
@@ -193,14 +200,20 @@ static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
     *end = 4 * last;
 }
 
-/* Packs the state's positions and velocities (after sb_solver_set_state)
- * and sets the packed forces to gravity and drag. */
-static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
-    const sb_state* st = &s->state;
+/* Sets the packed forces [begin, end) to gravity and drag at the packed
+ * velocities. */
+static void sb_initial_forces_range(const sb_solver* s, size_t begin, size_t end) {
     const sb_real* m4 = s->fast->mass4;
     const sb_real drag = (sb_real)s->def.drag;
     sb_real g4[4];
     sb_gravity4(s, g4);
+    for (size_t k = begin; k < end; k++) s->forces4[k] = m4[k] * (g4[k & 3] - drag * s->velocities4[k]);
+}
+
+/* Packs the state's positions and velocities (after sb_solver_set_state)
+ * and sets the packed forces to gravity and drag. */
+static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
+    const sb_state* st = &s->state;
     const sb_real* soa[2][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}};
     int first, last;
     sb_chunk_share(w, p, &first, &last);
@@ -212,8 +225,20 @@ static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
             int a = (int)(k & 3);
             s->positions4[k] = a < 3 ? soa[0][a][i] : 0;
             s->velocities4[k] = a < 3 ? soa[1][a][i] : 0;
-            s->forces4[k] = m4[k] * (g4[a] - drag * s->velocities4[k]);
         }
+        sb_initial_forces_range(s, begin, end);
+    }
+    sb_worker_barrier(w);
+}
+
+/* Sets the packed forces to gravity and drag at the packed velocities. */
+static void sb_initial_forces_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
+    int first, last;
+    sb_chunk_share(w, p, &first, &last);
+    for (int c = first; c < last; c++) {
+        size_t begin, end;
+        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+        sb_initial_forces_range(s, begin, end);
     }
     sb_worker_barrier(w);
 }
@@ -405,6 +430,19 @@ static void sb_forces_job(void* context, const sb_worker* w) {
     sb_force_passes(w, job->solver, &job->layout, &job->flags);
     sb_external_step(w, job->solver);
     sb_publish_pass(w, job->solver);
+}
+
+static void sb_packed_forces_job(void* context, const sb_worker* w) {
+    sb_fast_job* job = context;
+    sb_initial_forces_pass(w, job->solver, &job->layout);
+    sb_force_passes(w, job->solver, &job->layout, &job->flags);
+    sb_external_step(w, job->solver);
+}
+
+sb_status sb_fast_forces_packed(sb_solver* s) {
+    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
+    sb_team_run(s->team, sb_team_size(s->team), sb_packed_forces_job, &job);
+    return atomic_load(&job.flags.collapsed) ? sb_report_collapse(s) : SB_OK;
 }
 
 sb_status sb_fast_compute_forces(sb_solver* s) {

@@ -145,6 +145,10 @@ void sb_store_free_range(sb_solver* solver, const double* x, const double* v, ui
 /* The fast kernels' counterparts (kernels/solver_fast.c). */
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
 sb_status sb_fast_compute_forces(sb_solver* solver);
+/* The forces at the packed positions4 and velocities4 into forces4:
+ * gravity, drag, the element passes and the external forces; nothing
+ * published, no energies (implicit Euler's residual, kernels/implicit_fast.c). */
+sb_status sb_fast_forces_packed(sb_solver* solver);
 sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
 /* A packed force's starting value, gravity and drag: m (g_a − drag v_a). */
 sb_real sb_fast_initial_force(const sb_solver* solver, uint32_t vertex, int axis, double velocity);

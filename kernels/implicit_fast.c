@@ -1,0 +1,408 @@
+/* Implicit Euler on the fast kernels (kernels: fast, systems solved by CG).
+ *
+ * The same Newton as kernels/implicit_euler.c (its design note: the
+ * unknown Δv, the residual R(Δv) = M Δv − dt f(x + dt (v + Δv), v + Δv),
+ * J = M (1 + dt drag) + dt D + dt² K, the line search, the mask of held
+ * vertices), with every piece on the fast path and nothing assembled:
+ *   - the residual from the fast force passes (sb_fast_forces_packed) at
+ *     the packed trial state, in sb_real;
+ *   - J's products matrix-free from the dual kernels of
+ *     kernels/fast_hessian.h, and its diagonal 3 × 3 blocks from their
+ *     diagonal pass, inverted per vertex: block-Jacobi preconditioned CG;
+ *   - K exact: CG stops at its first non-positive curvature and keeps its
+ *     iterate (sb_step_stats.cg_indefinite), as the reference's CG does.
+ *     The positive semi-definite stand-ins (implicit_definite) are the
+ *     assembled path's; here the flag is not read.
+ * Vectors are packed x y z w per vertex like the positions (the kernels'
+ * loads); every vector operation runs on the team over the vertex chunks
+ * (SB_CHUNK vertices), each chunk keeping its partial sums in double,
+ * added in chunk order after the job: the same numbers for any thread
+ * count, as the products' blocked coloring gives.
+ *
+ * Stopping rule: |R| below implicit_tolerance × its first value, or below
+ * SB_FAST_ROUNDING × (|M v⁺| + dt (|f| + |M g|)), the level at which the
+ * residual's own rounding hides any progress: the reference's 1e-12 in
+ * double; in float, 1e-5, about a hundred float epsilons (the forces are
+ * sums of element forces that cancel, each rounded at 6e-8). */
+#include "kernels/implicit_fast.h"
+#include "kernels/fast_hessian.h"
+#include "kernels/handle_internal.h"
+#include "common/error.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if SB_DOUBLE
+#define SB_FAST_ROUNDING 1e-12
+#define SB_REAL_EPSILON DBL_EPSILON
+#else
+#define SB_FAST_ROUNDING 1e-5
+#define SB_REAL_EPSILON FLT_EPSILON
+#endif
+
+/* Packed work vectors, 4n sb_reals each. */
+enum { V_X0, V_V0, V_DV, V_DV_START, V_RHS, V_SOL, V_RES, V_Z, V_D, V_Q, V_MASK, V_COUNT };
+
+/* Partial sums kept per vertex chunk. */
+enum { SB_PARTIALS = 4 };
+
+struct sb_implicit_fast {
+    sb_real* vectors; /* V_COUNT × 4n */
+    sb_real* blocks;  /* 9n: J's diagonal blocks, then their inverses */
+    double* partials; /* SB_PARTIALS per vertex chunk */
+    size_t n4;
+};
+
+typedef struct sb_fast_newton {
+    sb_solver* s;
+    struct sb_implicit_fast* im;
+    sb_real* v[V_COUNT];
+    double dt;
+    uint32_t chunks;
+    /* the operation's scalars */
+    sb_real alpha, beta;
+    double position_noise; /* |R|'s rounding from that of the positions (at the last preconditioner) */
+} sb_fast_newton;
+
+struct sb_implicit_fast* sb_implicit_fast_create(const sb_solver* s) {
+    struct sb_implicit_fast* im = calloc(1, sizeof *im);
+    if (!im) return NULL;
+    size_t n = s->model->vertex_count, chunks = sb_chunk_count((uint32_t)n);
+    im->n4 = 4 * n;
+    im->vectors = calloc(V_COUNT * (im->n4 ? im->n4 : 1), sizeof(sb_real));
+    im->blocks = calloc(9 * (n ? n : 1), sizeof(sb_real));
+    im->partials = calloc(SB_PARTIALS * (chunks ? chunks : 1), sizeof(double));
+    if (im->vectors && im->blocks && im->partials) return im;
+    sb_implicit_fast_destroy(im);
+    return NULL;
+}
+
+void sb_implicit_fast_destroy(struct sb_implicit_fast* im) {
+    if (!im) return;
+    free(im->vectors), free(im->blocks), free(im->partials);
+    free(im);
+}
+
+/* ---- vector operations over the vertex chunks --------------------------- */
+
+/* One chunk's operation on packed reals [begin, end); partial: its sums. */
+typedef void (*sb_chunk_op)(sb_fast_newton* w, size_t begin, size_t end, double* partial);
+
+typedef struct sb_chunk_job {
+    sb_fast_newton* w;
+    sb_chunk_op op;
+} sb_chunk_job;
+
+static void sb_chunks_run(const sb_worker* worker, sb_fast_newton* w, sb_chunk_op op) {
+    int64_t first, last;
+    sb_worker_range(worker, w->chunks, &first, &last);
+    uint32_t n = w->s->model->vertex_count;
+    for (int64_t c = first; c < last; c++) {
+        size_t begin = (size_t)c * SB_CHUNK, end = begin + SB_CHUNK < n ? begin + SB_CHUNK : n;
+        double* partial = w->im->partials + SB_PARTIALS * (size_t)c;
+        memset(partial, 0, SB_PARTIALS * sizeof *partial);
+        op(w, 4 * begin, 4 * end, partial);
+    }
+}
+
+static void sb_chunk_worker(void* context, const sb_worker* worker) {
+    sb_chunk_job* job = context;
+    sb_chunks_run(worker, job->w, job->op);
+}
+
+/* Runs op over every chunk on the team (sb_total adds up the sums). */
+static void sb_chunks(sb_fast_newton* w, sb_chunk_op op) {
+    sb_chunk_job job = {w, op};
+    sb_team_run(w->s->team, sb_team_size(w->s->team), sb_chunk_worker, &job);
+}
+
+static double sb_total(const sb_fast_newton* w, int k) {
+    double sum = 0.0;
+    for (uint32_t c = 0; c < w->chunks; c++) sum += w->im->partials[SB_PARTIALS * (size_t)c + k];
+    return sum;
+}
+
+/* The trial state at Δv: v⁺ = v + Δv, x⁺ = x + dt v⁺. */
+static void sb_op_trial(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    (void)partial;
+    sb_real *x = w->s->positions4, *v = w->s->velocities4, **a = w->v;
+    const sb_real dt = (sb_real)w->dt;
+    for (size_t k = begin; k < end; k++) {
+        v[k] = a[V_V0][k] + a[V_DV][k];
+        x[k] = a[V_X0][k] + dt * v[k];
+    }
+}
+
+/* Δv = Δv_start + α sol, then the trial state. */
+static void sb_op_line_point(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    for (size_t k = begin; k < end; k++) a[V_DV][k] = a[V_DV_START][k] + w->alpha * a[V_SOL][k];
+    sb_op_trial(w, begin, end, partial);
+}
+
+/* rhs = −R = mask (dt f − M Δv); partials |R|², |M v⁺|², |f|², |M g|². */
+static void sb_op_residual(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    const sb_real *m4 = w->s->fast->mass4, *f = w->s->forces4, *v = w->s->velocities4;
+    const double* g = w->s->def.gravity;
+    sb_real** a = w->v;
+    const sb_real dt = (sb_real)w->dt;
+    for (size_t k = begin; k < end; k++) {
+        a[V_RHS][k] = a[V_MASK][k] * (dt * f[k] - m4[k] * a[V_DV][k]);
+        double momentum = (double)m4[k] * v[k], weight = (k & 3) < 3 ? (double)m4[k] * g[k & 3] : 0.0;
+        partial[0] += (double)a[V_RHS][k] * a[V_RHS][k];
+        partial[1] += momentum * momentum;
+        partial[2] += (double)f[k] * f[k];
+        partial[3] += weight * weight;
+    }
+}
+
+/* CG's start: sol = 0, res = rhs, z = P res, d = 0; partials res·z, |res|². */
+static void sb_op_precondition(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    const sb_real* blocks = w->im->blocks;
+    for (size_t k = begin; k < end; k += 4) {
+        const sb_real *b = blocks + 9 * (k / 4), *r = a[V_RES] + k;
+        for (int u = 0; u < 3; u++)
+            a[V_Z][k + u] = a[V_MASK][k + u] * (b[3 * u] * r[0] + b[3 * u + 1] * r[1] + b[3 * u + 2] * r[2]);
+        for (int u = 0; u < 3; u++) {
+            partial[0] += (double)r[u] * a[V_Z][k + u];
+            partial[1] += (double)r[u] * r[u];
+        }
+    }
+}
+
+static void sb_op_cg_start(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    for (size_t k = begin; k < end; k++) {
+        a[V_SOL][k] = 0;
+        a[V_RES][k] = a[V_RHS][k];
+        a[V_D][k] = 0;
+    }
+    sb_op_precondition(w, begin, end, partial);
+}
+
+/* sol += α d, res −= α q, z = P res; partials res·z, |res|². */
+static void sb_op_cg_update(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    for (size_t k = begin; k < end; k++) {
+        a[V_SOL][k] += w->alpha * a[V_D][k];
+        a[V_RES][k] -= w->alpha * a[V_Q][k];
+    }
+    sb_op_precondition(w, begin, end, partial);
+}
+
+/* d = z + β d, q = M (1 + dt drag) d: the product's start. */
+static void sb_op_direction(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    (void)partial;
+    sb_real** a = w->v;
+    const sb_real* m4 = w->s->fast->mass4;
+    const sb_real drag = (sb_real)(1.0 + w->dt * w->s->def.drag);
+    for (size_t k = begin; k < end; k++) {
+        a[V_D][k] = a[V_Z][k] + w->beta * a[V_D][k];
+        a[V_Q][k] = drag * m4[k] * a[V_D][k];
+    }
+}
+
+/* q masked; partial d·q. */
+static void sb_op_curvature(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    for (size_t k = begin; k < end; k++) {
+        a[V_Q][k] *= a[V_MASK][k];
+        partial[0] += (double)a[V_D][k] * a[V_Q][k];
+    }
+}
+
+/* ---- J's product and its diagonal blocks --------------------------------- */
+
+static const sb_fast_kernel sb_hessian_kernels[3] = {sb_fast_bonds_hessian, sb_fast_corners_hessian,
+                                                     sb_fast_hinges_hessian};
+
+static sb_hessian_frame sb_jacobian_frame(const sb_fast_newton* w, const sb_real* p, sb_real* out) {
+    return (sb_hessian_frame){.base = {w->s->positions4, p, out},
+                              .scale = (sb_real)(w->dt * w->dt),
+                              .damping = (sb_real)(1.0 / w->dt),
+                              .blocks = w->im->blocks};
+}
+
+/* d = z + β d, q = J d masked; partial d·q. One job. */
+static void sb_product_worker(void* context, const sb_worker* worker) {
+    sb_fast_newton* w = context;
+    sb_chunks_run(worker, w, sb_op_direction);
+    sb_worker_barrier(worker);
+    sb_hessian_frame frame = sb_jacobian_frame(w, w->v[V_D], w->v[V_Q]);
+    sb_fast_element_passes(worker, w->s, sb_hessian_kernels, &frame.base);
+    sb_chunks_run(worker, w, sb_op_curvature);
+}
+
+/* Inverts a 3 × 3 block (in double) by its adjugate; false when singular. */
+static bool sb_invert3(const double* a, double* out) {
+    double c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
+    double det = a[0] * c0 + a[1] * c1 + a[2] * c2;
+    if (!(fabs(det) > 0.0) || !isfinite(det)) return false;
+    double inv = 1.0 / det;
+    double adjugate[9] = {c0, a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                          c1, a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                          c2, a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
+    for (int k = 0; k < 9; k++) out[k] = adjugate[k] * inv;
+    return true;
+}
+
+static void sb_op_zero_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    (void)partial;
+    memset(w->im->blocks + 9 * (begin / 4), 0, 9 * ((end - begin) / 4) * sizeof(sb_real));
+}
+
+/* Each block J_ii = M_i (1 + dt drag) + dt² K_ii + dt D_ii inverted (the
+ * inverse mass where it is singular: possible with an indefinite K);
+ * partial: Σ (|x_i| tr(dt² K_ii + dt D_ii))², for the residual's floor. */
+static void sb_op_invert_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    const sb_model* m = w->s->model;
+    const sb_real* x = w->s->positions4;
+    for (size_t i = begin / 4; i < end / 4; i++) {
+        sb_real* block = w->im->blocks + 9 * i;
+        double j[9], inverse[9] = {0};
+        for (int k = 0; k < 9; k++) j[k] = block[k];
+        double reach = fmax(fabs(x[4 * i]), fmax(fabs(x[4 * i + 1]), fabs(x[4 * i + 2])));
+        double stiffness = reach * fabs(j[0] + j[4] + j[8]) * w->v[V_MASK][4 * i];
+        partial[0] += stiffness * stiffness;
+        double diagonal = m->mass[i] * (1.0 + w->dt * w->s->def.drag);
+        j[0] += diagonal, j[4] += diagonal, j[8] += diagonal;
+        if (!sb_invert3(j, inverse) && m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
+        for (int k = 0; k < 9; k++) block[k] = (sb_real)inverse[k];
+    }
+}
+
+static void sb_preconditioner_worker(void* context, const sb_worker* worker) {
+    sb_fast_newton* w = context;
+    sb_chunks_run(worker, w, sb_op_zero_blocks);
+    sb_worker_barrier(worker);
+    sb_hessian_frame frame = sb_jacobian_frame(w, NULL, NULL);
+    sb_fast_element_passes(worker, w->s, sb_hessian_kernels, &frame.base);
+    sb_chunks_run(worker, w, sb_op_invert_blocks);
+}
+
+/* ---- Newton -------------------------------------------------------------- */
+
+/* The residual at the trial state; *norm = |R|, *floor its rounding level. */
+static sb_status sb_fast_residual(sb_fast_newton* w, double* norm, double* floor) {
+    sb_status status = sb_fast_forces_packed(w->s);
+    if (status != SB_OK) return status;
+    sb_chunks(w, sb_op_residual);
+    *norm = sqrt(sb_total(w, 0));
+    double magnitudes = sqrt(sb_total(w, 1)) + w->dt * (sqrt(sb_total(w, 2)) + sqrt(sb_total(w, 3)));
+    *floor = fmax(SB_FAST_ROUNDING * magnitudes, w->position_noise) + 1e-300;
+    return SB_OK;
+}
+
+/* Solves J sol = rhs by block-Jacobi preconditioned CG from sol = 0. */
+static void sb_fast_cg(sb_fast_newton* w, int cap, sb_step_stats* stats) {
+    sb_team* team = w->s->team;
+    int width = sb_team_size(team);
+    sb_chunks(w, sb_op_cg_start);
+    double rz = sb_total(w, 0), target = SB_CG_RELATIVE_TOLERANCE * sqrt(sb_total(w, 1));
+    w->beta = 0;
+    for (int it = 0; it < cap; it++) {
+        sb_team_run(team, width, sb_product_worker, w);
+        double curvature = sb_total(w, 0);
+        if (!(curvature > 0.0)) { /* not positive definite here: keep what we have */
+            stats->cg_indefinite++;
+            if (it == 0) memcpy(w->v[V_SOL], w->v[V_Z], w->im->n4 * sizeof(sb_real));
+            break;
+        }
+        w->alpha = (sb_real)(rz / curvature);
+        sb_chunks(w, sb_op_cg_update);
+        stats->cg_iterations++;
+        double rz_next = sb_total(w, 0);
+        if (sqrt(sb_total(w, 1)) <= target) break;
+        w->beta = (sb_real)(rz_next / rz);
+        rz = rz_next;
+    }
+}
+
+/* Δv += α sol, α = 1, ½, ¼, … until |R| falls below `norm` (the last trial
+ * stays); returns the new |R| and its floor. */
+static sb_status sb_fast_line_search(sb_fast_newton* w, double* norm, double* floor) {
+    memcpy(w->v[V_DV_START], w->v[V_DV], w->im->n4 * sizeof(sb_real));
+    double previous = *norm;
+    w->alpha = 1;
+    for (int halving = 0; halving <= SB_LINE_SEARCH_HALVINGS; halving++, w->alpha *= (sb_real)0.5) {
+        sb_chunks(w, sb_op_line_point);
+        sb_status status = sb_fast_residual(w, norm, floor);
+        if (status != SB_OK) return status;
+        if (*norm < previous) break;
+    }
+    return SB_OK;
+}
+
+/* The step's start: x, v packed, the mask, Δv = 0 except where a hard
+ * handle holds a vertex (the Δv that puts it at its target). */
+static void sb_fast_newton_init(sb_fast_newton* w) {
+    sb_solver* s = w->s;
+    const sb_state* st = &s->state;
+    const double* inv_mass = sb_inv_mass(s);
+    const sb_real* x[3] = {st->x, st->y, st->z};
+    const sb_real* v[3] = {st->vx, st->vy, st->vz};
+    for (size_t i = 0; i < st->vertex_count; i++)
+        for (int a = 0; a < 4; a++) {
+            size_t k = 4 * i + (size_t)a;
+            w->v[V_X0][k] = a < 3 ? x[a][i] : 0;
+            w->v[V_V0][k] = a < 3 ? v[a][i] : 0;
+            w->v[V_MASK][k] = a < 3 && inv_mass[i] > 0.0 ? 1 : 0;
+            w->v[V_DV][k] = 0;
+        }
+    if (!s->pinned_inv_mass) return;
+    double* target = s->scratch_x;
+    for (size_t i = 0; i < st->vertex_count; i++)
+        for (int a = 0; a < 3; a++) target[3 * i + a] = (double)x[a][i] + w->dt * v[a][i];
+    sb_handles_place_predicted(s, target);
+    for (size_t i = 0; i < st->vertex_count; i++)
+        for (int a = 0; a < 3; a++)
+            if (w->v[V_MASK][4 * i + a] == 0 && !s->model->fixed[i])
+                w->v[V_DV][4 * i + a] = (sb_real)((target[3 * i + a] - x[a][i]) / w->dt - v[a][i]);
+}
+
+/* The free vertices' new positions and velocities into the state. */
+static void sb_fast_newton_store(sb_solver* s) {
+    sb_state* st = &s->state;
+    sb_real* x[3] = {st->x, st->y, st->z};
+    sb_real* v[3] = {st->vx, st->vy, st->vz};
+    for (size_t i = 0; i < st->vertex_count; i++) {
+        if (s->model->fixed[i]) continue;
+        for (int a = 0; a < 3; a++) {
+            x[a][i] = s->positions4[4 * i + (size_t)a];
+            v[a][i] = s->velocities4[4 * i + (size_t)a];
+        }
+    }
+}
+
+sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, double dt) {
+    sb_fast_newton w = {.s = s, .im = im, .dt = dt, .chunks = sb_chunk_count(s->model->vertex_count)};
+    for (int k = 0; k < V_COUNT; k++) w.v[k] = im->vectors + (size_t)k * im->n4;
+    sb_newton_limits limits = sb_newton_limits_of(s);
+    sb_fast_newton_init(&w);
+    sb_chunks(&w, sb_op_trial);
+    double norm, floor;
+    sb_status status = sb_fast_residual(&w, &norm, &floor);
+    if (status != SB_OK) return status;
+    const double first = norm;
+    bool converged = false;
+    for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
+        if (norm <= limits.tolerance * first || norm <= floor) {
+            converged = true;
+            break;
+        }
+        if (it == limits.newton_cap) break;
+        sb_team_run(s->team, sb_team_size(s->team), sb_preconditioner_worker, &w);
+        w.position_noise = SB_REAL_EPSILON / dt * sqrt(sb_total(&w, 0));
+        sb_fast_cg(&w, limits.cg_cap, &s->stats);
+        status = sb_fast_line_search(&w, &norm, &floor);
+        if (status != SB_OK) return status;
+        s->stats.newton_iterations++;
+    }
+    if (!converged) s->stats.converged = false;
+    sb_fast_newton_store(s);
+    s->has_displacement = false;
+    return sb_solver_compute_forces(s);
+}

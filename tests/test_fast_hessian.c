@@ -1,0 +1,316 @@
+/* The fast kernels' second derivatives (kernels/fast_hessian.h) against the
+ * reference's exact ones (kernels/hessian.h): the product K p + w D p
+ * against sb_stiffness_product and the damping blocks, the diagonal blocks
+ * against the element matrices, the product's symmetry, each on 1, 2 and 3
+ * threads with bitwise equal results; and implicit Euler on the fast
+ * kernels (kernels/implicit_fast.c) against the reference's over large
+ * steps, bitwise the same on 1, 2 and 3 threads. */
+#include "test_util.h"
+
+#include "kernels/fast_hessian.h"
+#include "kernels/hessian.h"
+#include "kernels/solver_internal.h"
+
+/* The fast kernels' relative error against the double reference: rounding
+ * of sb_real. In float, the derivative parts come out of the same
+ * cancellations as the forces (a bond's 1 − r0/r, a corner's c − c0, at
+ * strains of a few percent), each float rounding 6e-8 amplified by up to
+ * the inverse strain: ~1e-5 of the largest entry, bounded at 1e-4. */
+#if SB_DOUBLE
+#define PRODUCT_TOLERANCE 1e-12
+#else
+#define PRODUCT_TOLERANCE 1e-5
+#endif
+
+#define DAMPING_WEIGHT 0.7
+
+/* A jittered 8 × 7 sheet folded so the hinges are not flat, every term on,
+ * plus damped bonds between vertices two apart along x (no triangle owns
+ * them: they run in the bond pass; the sheet's own edges are fused into
+ * the triangles'). Vertex 0 fixed. */
+static sb_model* make_model(void) {
+    sb_error err;
+    sb_mesh mesh;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = 8;
+    sheet.ny = 7;
+    sheet.jitter = 0.2;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
+    for (uint32_t i = 0; i < mesh.vertex_count; i++) {
+        double* p = mesh.positions + 3 * i;
+        p[2] = 0.3 * sin(3.0 * p[0]) + 0.1 * p[1] * p[1];
+    }
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 50.0;
+    material.spring_k = 20.0;
+    material.spring_damping = 0.05;
+    material.angle_k = 0.3;
+    material.stretch_bend_k = 2.0;
+    material.bend_k = 0.01;
+    sb_builder* b = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(b, &mesh, &material, &err), SB_OK);
+    for (uint32_t i = 0; i + 2 < mesh.vertex_count; i += 3) tu_bond(b, i, i + 2, -1.0, 30.0, 10.0, 0.03);
+    sb_builder_vertex(b, 0)->fixed = true;
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    sb_mesh_free(&mesh);
+    return m;
+}
+
+/* n3 doubles moved by up to `amplitude`, rounded to sb_real (what the fast
+ * kernels see), and their packed copy. */
+static void random_vector(tu_rng* rng, const double* base, double amplitude, double* out, sb_real* packed, size_t n) {
+    for (size_t i = 0; i < n; i++)
+        for (int a = 0; a < 4; a++) {
+            sb_real value =
+                a < 3 ? (sb_real)((base ? base[3 * i + a] : 0.0) + tu_uniform(rng, -amplitude, amplitude)) : 0;
+            packed[4 * i + a] = value;
+            if (a < 3) out[3 * i + a] = value;
+        }
+}
+
+static sb_real* packed_vector(size_t n) {
+    sb_real* v = aligned_alloc(64, ((4 * n * sizeof(sb_real)) / 64 + 1) * 64);
+    assert_non_null(v);
+    memset(v, 0, 4 * n * sizeof(sb_real));
+    return v;
+}
+
+static const sb_fast_kernel kernels[3] = {sb_fast_bonds_hessian, sb_fast_corners_hessian, sb_fast_hinges_hessian};
+
+typedef struct pass_job {
+    const sb_solver* s;
+    sb_hessian_frame frame;
+} pass_job;
+
+static void pass_worker(void* context, const sb_worker* w) {
+    pass_job* job = context;
+    sb_fast_element_passes(w, job->s, kernels, &job->frame.base);
+}
+
+/* The product (p given) or the diagonal pass (p NULL) on `threads` threads:
+ * out = K p + w D p, or blocks = the diagonal blocks of K + w D. */
+static void fast_pass(const sb_model* m, int threads, const sb_real* x4, const sb_real* p4, sb_real* out4,
+                      sb_real* blocks) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.runtime.threads = threads;
+    sb_solver* s = tu_solver(m, &def);
+    size_t n = sb_model_vertex_count(m);
+    if (out4) memset(out4, 0, 4 * n * sizeof *out4);
+    if (blocks) memset(blocks, 0, 9 * n * sizeof *blocks);
+    pass_job job = {s, {{x4, p4, out4}, 1, (sb_real)DAMPING_WEIGHT, blocks}};
+    sb_team_run(s->team, sb_team_size(s->team), pass_worker, &job);
+    sb_solver_destroy(s);
+}
+
+/* ref += w D p over the damped bonds (D_ii = D_jj = −D_ij). */
+static void add_damping_product(const sb_model* m, const double* x, const double* p, double* ref) {
+    double block[9];
+    for (uint32_t b = 0; b < m->bond_count; b++) {
+        if (!sb_bond_damping_block(m, b, x, block)) continue;
+        uint32_t i = m->bond_i[b], j = m->bond_j[b];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) {
+                double d = DAMPING_WEIGHT * block[3 * r + c] * (p[3 * j + c] - p[3 * i + c]);
+                ref[3 * i + r] -= d;
+                ref[3 * j + r] += d;
+            }
+    }
+}
+
+/* max |fast − ref| / max |ref| over n vectors of `stride` (fast packed by 4
+ * or blocks by 9, ref by 3 or 9). */
+static double relative_error(const sb_real* fast, int fast_stride, const double* ref, int stride, size_t n) {
+    double worst = 0.0, scale = 0.0;
+    for (size_t i = 0; i < n; i++)
+        for (int a = 0; a < stride; a++) {
+            worst = fmax(worst, fabs(fast[fast_stride * i + a] - ref[stride * i + a]));
+            scale = fmax(scale, fabs(ref[stride * i + a]));
+        }
+    return worst / scale;
+}
+
+static bool equal_reals(const sb_real* a, const sb_real* b, size_t count) {
+    return memcmp(a, b, count * sizeof *a) == 0;
+}
+
+/* K p + w D p against the reference on a strained, folded sheet, on 1, 2 and
+ * 3 threads: within PRODUCT_TOLERANCE, bitwise the same for each count. */
+static void test_product(void** state) {
+    (void)state;
+    sb_model* m = make_model();
+    size_t n = sb_model_vertex_count(m);
+    tu_rng rng = {7};
+    double *rest = tu_rest_positions(m), *x = malloc(3 * n * sizeof *x), *p = malloc(3 * n * sizeof *p);
+    double* ref = malloc(3 * n * sizeof *ref);
+    sb_real *x4 = packed_vector(n), *p4 = packed_vector(n),
+            *out4[3] = {packed_vector(n), packed_vector(n), packed_vector(n)};
+    random_vector(&rng, rest, 0.01, x, x4, n);
+    random_vector(&rng, NULL, 1.0, p, p4, n);
+    assert_true(sb_stiffness_product(m, x, p, ref));
+    add_damping_product(m, x, p, ref);
+    for (int t = 0; t < 3; t++) fast_pass(m, t + 1, x4, p4, out4[t], NULL);
+    double error = relative_error(out4[0], 4, ref, 3, n);
+    print_message("K p + w D p: relative error %.3g (bound %g)\n", error, PRODUCT_TOLERANCE);
+    assert_true(error <= PRODUCT_TOLERANCE);
+    assert_true(equal_reals(out4[0], out4[1], 4 * n) && equal_reals(out4[0], out4[2], 4 * n));
+    free(rest), free(x), free(p), free(ref), free(x4), free(p4);
+    for (int t = 0; t < 3; t++) free(out4[t]);
+    sb_model_destroy(m);
+}
+
+/* The diagonal blocks of K + w D against the element matrices' and the
+ * damping blocks. */
+static void test_diagonal_blocks(void** state) {
+    (void)state;
+    sb_model* m = make_model();
+    size_t n = sb_model_vertex_count(m);
+    tu_rng rng = {11};
+    double *rest = tu_rest_positions(m), *x = malloc(3 * n * sizeof *x), *ref = calloc(9 * n, sizeof *ref);
+    sb_real *x4 = packed_vector(n), *blocks[3];
+    random_vector(&rng, rest, 0.01, x, x4, n);
+    double k[144], damping[9];
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        int size = 3 * e.count;
+        assert_true(sb_element_stiffness(m, &e, x, k));
+        for (int a = 0; a < e.count; a++)
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++) ref[9 * e.vertex[a] + 3 * r + c] += k[(3 * a + r) * size + 3 * a + c];
+    }
+    for (uint32_t b = 0; b < m->bond_count; b++)
+        if (sb_bond_damping_block(m, b, x, damping))
+            for (int q = 0; q < 9; q++) {
+                ref[9 * m->bond_i[b] + q] += DAMPING_WEIGHT * damping[q];
+                ref[9 * m->bond_j[b] + q] += DAMPING_WEIGHT * damping[q];
+            }
+    for (int t = 0; t < 3; t++) {
+        blocks[t] = malloc(9 * n * sizeof(sb_real));
+        fast_pass(m, t + 1, x4, NULL, NULL, blocks[t]);
+    }
+    double error = relative_error(blocks[0], 9, ref, 9, n);
+    print_message("diagonal blocks: relative error %.3g (bound %g)\n", error, PRODUCT_TOLERANCE);
+    assert_true(error <= PRODUCT_TOLERANCE);
+    assert_true(equal_reals(blocks[0], blocks[1], 9 * n) && equal_reals(blocks[0], blocks[2], 9 * n));
+    free(rest), free(x), free(ref), free(x4);
+    for (int t = 0; t < 3; t++) free(blocks[t]);
+    sb_model_destroy(m);
+}
+
+static double packed_dot(const sb_real* a, const sb_real* b, size_t n) {
+    double sum = 0.0;
+    for (size_t k = 0; k < 4 * n; k++) sum += (double)a[k] * b[k];
+    return sum;
+}
+
+/* pᵀ (K + w D) q = qᵀ (K + w D) p, to the kernels' rounding. */
+static void test_symmetry(void** state) {
+    (void)state;
+    sb_model* m = make_model();
+    size_t n = sb_model_vertex_count(m);
+    tu_rng rng = {13};
+    double *rest = tu_rest_positions(m), *scratch = malloc(3 * n * sizeof *scratch);
+    sb_real *x4 = packed_vector(n), *p4 = packed_vector(n), *q4 = packed_vector(n);
+    sb_real *kp = packed_vector(n), *kq = packed_vector(n);
+    random_vector(&rng, rest, 0.01, scratch, x4, n);
+    random_vector(&rng, NULL, 1.0, scratch, p4, n);
+    random_vector(&rng, NULL, 1.0, scratch, q4, n);
+    fast_pass(m, 2, x4, p4, kp, NULL);
+    fast_pass(m, 2, x4, q4, kq, NULL);
+    double pkq = packed_dot(p4, kq, n), qkp = packed_dot(q4, kp, n);
+    double scale = sqrt(packed_dot(p4, p4, n) * packed_dot(kq, kq, n));
+    print_message("p.Kq %.9g, q.Kp %.9g: asymmetry %.3g of |p||Kq|\n", pkq, qkp, fabs(pkq - qkp) / scale);
+    assert_true(fabs(pkq - qkp) <= PRODUCT_TOLERANCE * scale);
+    free(rest), free(scratch), free(x4), free(p4), free(q4), free(kp), free(kq);
+    sb_model_destroy(m);
+}
+
+/* ---- implicit Euler on the fast kernels ---------------------------------- */
+
+#define IMPLICIT_STEPS 3
+#define IMPLICIT_DT 0.02
+
+/* IMPLICIT_STEPS steps of implicit Euler (CG) from a strained, moving sheet
+ * under gravity; positions and velocities out (3n each), stats returned. */
+static sb_step_stats implicit_run(const sb_model* m, sb_kernels kernels, int threads, double* x, double* v,
+                                  uint64_t* hash) {
+    sb_solver_def def = sb_default_solver_def();
+    def.integrator = SB_INTEGRATOR_IMPLICIT_EULER;
+    def.implicit_solver = SB_LINEAR_CG;
+    def.implicit_tolerance = 1e-10;
+    def.kernels = kernels;
+    def.runtime.threads = threads;
+    sb_solver* s = tu_solver(m, &def);
+    size_t n = sb_model_vertex_count(m);
+    tu_rng rng = {17};
+    double *rest = tu_rest_positions(m), *v0 = malloc(3 * n * sizeof *v0);
+    for (size_t k = 0; k < 3 * n; k++) {
+        rest[k] += k > 2 ? tu_uniform(&rng, -0.005, 0.005) : 0.0;
+        v0[k] = k > 2 ? tu_uniform(&rng, -0.1, 0.1) : 0.0;
+    }
+    assert_int_equal(sb_solver_set_state(s, rest, v0), SB_OK);
+    sb_step_stats total = {0};
+    total.converged = true;
+    for (int step = 0; step < IMPLICIT_STEPS; step++) {
+        tu_advance(s, IMPLICIT_DT, 1);
+        sb_step_stats stats = sb_solver_last_step(s);
+        total.newton_iterations += stats.newton_iterations;
+        total.cg_iterations += stats.cg_iterations;
+        total.cg_indefinite += stats.cg_indefinite;
+        total.converged &= stats.converged;
+    }
+    sb_solver_get_positions(s, x);
+    sb_solver_get_velocities(s, v);
+    if (hash) *hash = tu_state_hash(s);
+    free(rest), free(v0);
+    sb_solver_destroy(s);
+    return total;
+}
+
+/* The fast Newton reaches the reference's backward Euler steps: the same
+ * positions to the Newton tolerance in double (1e-10 of the residual), to
+ * float's stopping floor in float; bitwise the same on 1, 2 and 3 threads. */
+static void test_implicit_fast(void** state) {
+    (void)state;
+    sb_model* m = make_model();
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v);
+    double *ref_x = malloc(n3 * sizeof *x), *ref_v = malloc(n3 * sizeof *v);
+    sb_step_stats ref = implicit_run(m, SB_KERNELS_REFERENCE, 1, ref_x, ref_v, NULL);
+    uint64_t hash[3];
+    sb_step_stats fast[3];
+    for (int t = 0; t < 3; t++) fast[t] = implicit_run(m, SB_KERNELS_FAST, t + 1, x, v, hash + t);
+    double dx = 0.0, dv = 0.0, vmax = tu_max_abs(ref_v, n3);
+    for (size_t k = 0; k < n3; k++) {
+        dx = fmax(dx, fabs(x[k] - ref_x[k]));
+        dv = fmax(dv, fabs(v[k] - ref_v[k]));
+    }
+    print_message("reference: %d Newton, %d CG (%u indefinite); fast: %d Newton, %d CG (%u indefinite)\n",
+                  ref.newton_iterations, ref.cg_iterations, ref.cg_indefinite, fast[0].newton_iterations,
+                  fast[0].cg_iterations, fast[0].cg_indefinite);
+    print_message("fast against reference after %d steps of %g s: |dx| %.3g m, |dv| %.3g of |v| %.3g\n", IMPLICIT_STEPS,
+                  IMPLICIT_DT, dx, dv / vmax, vmax);
+    assert_true(ref.converged && fast[0].converged);
+    assert_true(fast[0].newton_iterations >= IMPLICIT_STEPS && fast[0].cg_iterations > fast[0].newton_iterations);
+#if SB_DOUBLE
+    assert_true(dv <= 1e-7 * vmax);
+#else
+    assert_true(dv <= 1e-3 * vmax);
+#endif
+    assert_true(dx <= IMPLICIT_STEPS * IMPLICIT_DT * dv * 1.000001);
+    assert_true(hash[0] == hash[1] && hash[0] == hash[2]);
+    for (int t = 1; t < 3; t++) assert_int_equal(fast[t].cg_iterations, fast[0].cg_iterations);
+    free(x), free(v), free(ref_x), free(ref_v);
+    sb_model_destroy(m);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_product),
+        cmocka_unit_test(test_diagonal_blocks),
+        cmocka_unit_test(test_symmetry),
+        cmocka_unit_test(test_implicit_fast),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
