@@ -129,9 +129,101 @@ verlet_largest_step() {
     echo "none"
 }
 
+# ---- implicit_euler on the fast kernels, 100k sheet (issue 16) ----------
+# The 100k sheet of bench/bench_cases.c: 316 x 316 vertices over 1 m
+# (spacing h = 1/315 m), jitter 0.1, bond k = 100 N/m, angle 0.5 k h² and
+# stretch-bend 0.1 k h, 0.1 kg/m², the default terms (no spring, no hinge),
+# hung from its top corners under gravity with the default scene's drag.
+SHEET_100K="--set mesh.nx=316 --set mesh.ny=316 --set mesh.jitter=0.1 --set bond.k=100 --set angle.k=5.0394e-4
+ --set stretch_bend.k=0.031746 --set spring.k=0 --set spring.damping=0 --set bend.k=0 --set density=0.1"
+
+# The fewest of 20, 25, 30, 40, 50, 60, 80 sub-steps per 1 ms at which Verlet
+# runs 0.1 s without running away (verlet_substeps' rule, a finer ladder).
+verlet_substeps_fine() {
+    for k in 20 25 30 40 50 60 80; do
+        dt=$(awk -v k="$k" 'BEGIN { printf "%.6g", 0.001 / k }')
+        if "$SB" run "$SCENE" --set output.frames=false --output "$TMP/out" --set duration=0.1 \
+            --set frame_interval=0.1 --set dt="$dt" "$@" >/dev/null 2>&1; then
+            echo "$k"
+            return
+        fi
+    done
+    echo ">80"
+}
+
+# The positions after `time` s of steps of dt, an OBJ's vertex lines, into
+# file $1, and those at the start into $TMP/start.
+positions_at() {
+    file=$1 time=$2 dt=$3
+    shift 3
+    rm -rf "$TMP/pos"
+    "$SB" run "$SCENE" --set 'output.formats=[obj]' --output "$TMP/pos" --set duration="$time" \
+        --set frame_interval="$time" --set dt="$dt" "$@" >/dev/null 2>&1 || {
+        echo "bench/implicit.sh: softbond run $*: failed" >&2
+        return 1
+    }
+    grep '^v ' "$TMP/pos/frame_000000.obj" >"$TMP/start"
+    grep '^v ' "$TMP/pos/frame_000001.obj" >"$file"
+}
+
+# Max and RMS distance of positions $1 from $2, over the largest distance
+# the reference $2 moved from the start $3 (OBJ vertex lines, the same
+# order): "max rms".
+implicit_position_error() {
+    paste -d' ' "$1" "$2" "$3" | awk '{
+        d = ($2 - $6)^2 + ($3 - $7)^2 + ($4 - $8)^2; m = ($6 - $10)^2 + ($7 - $11)^2 + ($8 - $12)^2
+        if (d > dmax) dmax = d; if (m > mmax) mmax = m; sum += d; n++ }
+        END { printf "%.2g %.2g\n", sqrt(dmax / mmax), sqrt(sum / n / mmax) }'
+}
+
+implicit_fast_section() {
+    steps=$1 accuracy_time=$2
+    # shellcheck disable=SC2086
+    k=$(verlet_substeps_fine $SHEET_100K --threads 2)
+    dt_verlet=$(awk -v k="$k" 'BEGIN { printf "%.6g", 0.001 / k }')
+    dt_implicit=$(awk -v d="$dt_verlet" 'BEGIN { printf "%.6g", 10 * d }')
+    dt_fine=$(awk -v d="$dt_verlet" 'BEGIN { printf "%.6g", d / 10 }')
+    # shellcheck disable=SC2086
+    verlet=$(per_step "$dt_verlet" $((10 * steps)) $SHEET_100K --threads 2)
+    echo "## implicit_euler on the fast kernels, 100k sheet, 2 threads"
+    echo
+    echo "The 100k sheet of bench/bench_cases.c (316 x 316, default terms), hung from its top corners."
+    echo "Verlet's largest stable step (the fewest of 20, 25, 30, 40, 50, 60, 80 sub-steps per 1 ms that"
+    echo "run 0.1 s): $dt_verlet s, $(echo "$verlet" | awk '{print $1}') ms a step (CPU $(echo "$verlet" | awk '{print $2}'))."
+    echo "implicit_euler (implicit.solver cg, kernels fast) at 10 x that step, dt = $dt_implicit s, $steps steps;"
+    echo "error: the positions after $accuracy_time s against Verlet at dt / 10 = $dt_fine s, the largest"
+    echo "vertex distance and the RMS one over the largest distance the reference moved."
+    echo
+    echo "| integrator | dt s | Newton tolerance | wall ms/step | CPU ms/step | x Verlet step | Newton | CG | unconverged | max error | RMS error |"
+    echo "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
+    # shellcheck disable=SC2086
+    positions_at "$TMP/fine" "$accuracy_time" "$dt_fine" $SHEET_100K --threads 2
+    # shellcheck disable=SC2086
+    positions_at "$TMP/verlet" "$accuracy_time" "$dt_verlet" $SHEET_100K --threads 2
+    e=$(implicit_position_error "$TMP/verlet" "$TMP/fine" "$TMP/start")
+    echo "| verlet | $dt_verlet | - | ${verlet% *} | ${verlet#* } | 1 | - | - | - | ${e% *} | ${e#* } |"
+    for tolerance in 1e-8 1e-3 1e-2; do
+        # shellcheck disable=SC2086
+        t=$(per_step "$dt_implicit" "$steps" $SHEET_100K --threads 2 --set integrator=implicit_euler \
+            --set implicit.solver=cg --set implicit.tolerance=$tolerance)
+        w=$(solver_work)
+        ratio=$(echo "$t $verlet" | awk '{ printf "%.1f", $1 / $3 }')
+        # shellcheck disable=SC2086
+        positions_at "$TMP/implicit" "$accuracy_time" "$dt_implicit" $SHEET_100K --threads 2 \
+            --set integrator=implicit_euler --set implicit.solver=cg --set implicit.tolerance=$tolerance
+        e=$(implicit_position_error "$TMP/implicit" "$TMP/fine" "$TMP/start")
+        echo "| implicit_euler | $dt_implicit | $tolerance | ${t% *} | ${t#* } | $ratio |" \
+            "$(echo "$w" | awk '{print $1 " | " $2 " | " $3}') | ${e% *} | ${e#* } |"
+    done
+    echo
+    echo "Newton, CG and unconverged: the whole run of 2 + $steps steps. Target: implicit_euler at most"
+    echo "10 x a Verlet step per step (x Verlet step <= 10)."
+}
+
 STEPS=20
 VBD_STEPS=20
-[ $QUICK -eq 1 ] && STEPS=4 && VBD_STEPS=4
+IMPLICIT_FAST_STEPS=10
+[ $QUICK -eq 1 ] && STEPS=4 && VBD_STEPS=4 && IMPLICIT_FAST_STEPS=2
 {
     echo "# Implicit integrators (issue 16): measured by bench/implicit.sh"
     echo
@@ -206,5 +298,7 @@ VBD_STEPS=20
         echo "dt = $dt_fine s (a quarter of its stable step), over the 100 489 vertices; the sheet moved"
         echo "$(echo "$e" | cut -d' ' -f3) m (RMS) in that time. Target: vbd at most 10 x a Verlet step."
     fi
+    echo
+    implicit_fast_section $IMPLICIT_FAST_STEPS 0.02
 } >"$OUT"
 cat "$OUT"

@@ -9,8 +9,8 @@
  *   product:  out += scale (K p + damping D p), p packed x y z w like the
  *             positions (one seed per element);
  *   diagonal: each vertex's 3 × 3 block of K + damping D (seeds: the three
- *             axes of each of the element's vertices in turn), the
- *             block-Jacobi preconditioner's blocks.
+ *             axes of each of the element's vertices but the last, whose
+ *             block the others give), the block-Jacobi preconditioner's.
  * Hand-derived closed forms would be a second copy of every term's
  * derivative to keep true; the duals cost about twice the force's
  * arithmetic, and the gathers and scatters, which bound the force passes,
@@ -153,17 +153,25 @@ static inline void sb_hessian_pass(const sb_fast_model* m, const sb_fast_frame* 
             for (int a = 0; a < vertices; a++) sb_wv_add4(base->forces4, v[a], sb_wv_scale(f[a].d, minus_scale), count);
             continue;
         }
-        for (int a = 0; a < vertices; a++) { /* K_aa's columns: seed each axis of vertex a */
-            sb_wvec3 col[3];
+        /* K_aa's columns, seeding each axis of vertex a, but the last
+         * vertex's: an element's forces depend on differences of positions
+         * only, so each block row of K sums to zero and
+         * K_LL = −Σ_{b<L} K_Lb, whose columns the other seeds give in f[L] */
+        const int last = vertices - 1;
+        sb_wvec3 col[3], last_col[3];
+        for (int axis = 0; axis < 3; axis++) last_col[axis] = (sb_wvec3){zero, zero, zero};
+        for (int a = 0; a < last; a++) {
             for (int axis = 0; axis < 3; axis++) {
                 sb_wide* seed = axis == 0 ? &x[a].d.x : axis == 1 ? &x[a].d.y : &x[a].d.z;
                 *seed = sb_w_set(1);
                 forces(m, s, damping, x, f);
                 *seed = zero;
                 col[axis] = f[a].d;
+                last_col[axis] = sb_wv_sub(last_col[axis], f[last].d);
             }
             sb_hessian_add_blocks(fr->blocks, v[a], col, -fr->scale, count);
         }
+        sb_hessian_add_blocks(fr->blocks, v[last], last_col, -fr->scale, count);
     }
 }
 

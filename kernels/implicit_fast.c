@@ -296,12 +296,15 @@ static sb_status sb_fast_residual(sb_fast_newton* w, double* norm, double* floor
     return SB_OK;
 }
 
-/* Solves J sol = rhs by block-Jacobi preconditioned CG from sol = 0. */
-static void sb_fast_cg(sb_fast_newton* w, int cap, sb_step_stats* stats) {
+/* Solves J sol = rhs by block-Jacobi preconditioned CG from sol = 0, to
+ * SB_CG_RELATIVE_TOLERANCE or to half the residual Newton stops at
+ * (`enough`), whichever is larger: the linear residual is what the full
+ * step leaves of R (to second order), so a smaller one cannot show. */
+static void sb_fast_cg(sb_fast_newton* w, int cap, double enough, sb_step_stats* stats) {
     sb_team* team = w->s->team;
     int width = sb_team_size(team);
     sb_chunks(w, sb_op_cg_start);
-    double rz = sb_total(w, 0), target = SB_CG_RELATIVE_TOLERANCE * sqrt(sb_total(w, 1));
+    double rz = sb_total(w, 0), target = fmax(SB_CG_RELATIVE_TOLERANCE * sqrt(sb_total(w, 1)), 0.5 * enough);
     w->beta = 0;
     for (int it = 0; it < cap; it++) {
         sb_team_run(team, width, sb_product_worker, w);
@@ -396,7 +399,7 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
         if (it == limits.newton_cap) break;
         sb_team_run(s->team, sb_team_size(s->team), sb_preconditioner_worker, &w);
         w.position_noise = SB_REAL_EPSILON / dt * sqrt(sb_total(&w, 0));
-        sb_fast_cg(&w, limits.cg_cap, &s->stats);
+        sb_fast_cg(&w, limits.cg_cap, fmax(limits.tolerance * first, floor), &s->stats);
         status = sb_fast_line_search(&w, &norm, &floor);
         if (status != SB_OK) return status;
         s->stats.newton_iterations++;
