@@ -46,6 +46,11 @@ int sb_fast_corners_hessian(const sb_fast_model* m, const sb_fast_frame* frame, 
 int sb_fast_hinges_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end,
                            bool serial, double* unused);
 
+/* The triangles' diagonal pass in closed form
+ * (kernels/fast_hessian_corner_blocks.c). */
+void sb_fast_corner_blocks(const sb_fast_model* m, const sb_hessian_frame* frame, uint32_t begin, uint32_t end,
+                           bool serial);
+
 /* ---- wide dual numbers ------------------------------------------------- */
 
 typedef struct sb_wdual {

@@ -1,7 +1,8 @@
 /* The triangles' second derivatives (kernels/fast_hessian.h): the three
  * corners' angle bend and stretch-bend of kernels/fast_corners.c (its
  * notation: corner c at vertex c, â = u_c, b̂ = −u_{c+2}, A = L_c,
- * B = L_{c+2}) and the bonds the triangle's edges own, on wide duals. */
+ * B = L_{c+2}) and the bonds the triangle's edges own, on wide duals; the
+ * diagonal pass in closed form (kernels/fast_hessian_corner_blocks.c). */
 #include "kernels/fast_hessian.h"
 
 typedef struct sb_wdtriangle {
@@ -63,6 +64,10 @@ static void sb_wdual_triangle(const sb_fast_model* m, uint32_t s, sb_wide dampin
 int sb_fast_corners_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end,
                             bool serial, double* unused) {
     (void)unused;
+    if (!frame->velocities4) { /* the diagonal pass, in closed form */
+        sb_fast_corner_blocks(m, (const sb_hessian_frame*)frame, begin, end, serial);
+        return 0;
+    }
     sb_hessian_pass(m, frame, begin, end, serial, 3, m->tri_v, sb_wdual_triangle);
     return 0;
 }

@@ -295,9 +295,9 @@ static void test_implicit_fast(void** state) {
     assert_true(ref.converged && fast[0].converged);
     assert_true(fast[0].newton_iterations >= IMPLICIT_STEPS && fast[0].cg_iterations > fast[0].newton_iterations);
 #if SB_DOUBLE
-    assert_true(dv <= 1e-7 * vmax);
+    assert_true(dv <= 1e-8 * vmax);
 #else
-    assert_true(dv <= 1e-3 * vmax);
+    assert_true(dv <= 5e-4 * vmax);
 #endif
     assert_true(dx <= IMPLICIT_STEPS * IMPLICIT_DT * dv * 1.000001);
     assert_true(hash[0] == hash[1] && hash[0] == hash[2]);
