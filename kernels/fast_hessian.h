@@ -12,11 +12,14 @@
  *             axes of each of the element's vertices but the last, whose
  *             block the others give), the block-Jacobi preconditioner's.
  * Hand-derived closed forms would be a second copy of every term's
- * derivative to keep true; the duals cost about twice the force's
- * arithmetic, and the gathers and scatters, which bound the force passes,
- * are the same. The passes run over the fast model's blocked coloring like
- * the force kernels (kernels/fast_model.h): deterministic for any thread
- * count, no atomics.
+ * derivative to keep true; a product on duals costs about 1.4 force passes
+ * (the gathers and scatters, which bound those, are the same). The one
+ * closed form is the triangles' diagonal blocks
+ * (kernels/fast_hessian_corner_blocks.c): six dual runs a triangle cost
+ * five times as much, and its tests hold it against the reference's
+ * element matrices as they do the duals. The passes run over the fast
+ * model's blocked coloring like the force kernels (kernels/fast_model.h):
+ * deterministic for any thread count, no atomics.
  *
  * K is the exact Hessian of the elastic energy, as kernels/hessian.h's
  * (indefinite where a bond is compressed, a corner loaded, a hinge bent);
