@@ -232,11 +232,51 @@ static void test_symmetry(void** state) {
 #define IMPLICIT_STEPS 3
 #define IMPLICIT_DT 0.02
 
+/* An external force on vertex 7, along z. */
+static void push(void* user, uint32_t vertex, double time, const double x[3], const double v[3], double f[3]) {
+    (void)user, (void)time, (void)x, (void)v;
+    if (vertex == 7) f[2] += 0.05;
+}
+
+/* A hard handle moving vertices 10 and 11 up and a soft one pulling vertex
+ * 30 (both along a path), and the push above, on def. */
+typedef struct loads {
+    sb_handle* handles[2];
+    uint32_t held[2], pulled;
+    sb_keyframe path[2];
+} loads;
+
+static void add_loads(loads* l, sb_solver_def* def) {
+    sb_error err;
+    *l = (loads){.held = {10, 11}, .pulled = 30, .path = {{0.0, {0, 0, 0}, {0, 0, 0}}, {1.0, {0, 0, 0.5}, {0, 0, 0}}}};
+    sb_handle_def hard = sb_default_handle_def(), soft = sb_default_handle_def();
+    hard.vertices = l->held;
+    hard.vertex_count = 2;
+    hard.path = l->path;
+    hard.path_count = 2;
+    soft.vertices = &l->pulled;
+    soft.vertex_count = 1;
+    soft.stiffness = 5.0;
+    soft.damping = 0.05;
+    soft.path = l->path;
+    soft.path_count = 2;
+    l->handles[0] = sb_handle_create(&hard, &err);
+    l->handles[1] = sb_handle_create(&soft, &err);
+    assert_non_null(l->handles[0]);
+    assert_non_null(l->handles[1]);
+    def->handles = l->handles;
+    def->handle_count = 2;
+    def->external_force = push;
+}
+
 /* IMPLICIT_STEPS steps of implicit Euler (CG) from a strained, moving sheet
- * under gravity; positions and velocities out (3n each), stats returned. */
-static sb_step_stats implicit_run(const sb_model* m, sb_kernels kernels, int threads, double* x, double* v,
+ * under gravity, with the loads above when `loaded`; positions and
+ * velocities out (3n each), stats returned. */
+static sb_step_stats implicit_run(const sb_model* m, sb_kernels kernels, int threads, bool loaded, double* x, double* v,
                                   uint64_t* hash) {
     sb_solver_def def = sb_default_solver_def();
+    loads l;
+    if (loaded) add_loads(&l, &def);
     def.integrator = SB_INTEGRATOR_IMPLICIT_EULER;
     def.implicit_solver = SB_LINEAR_CG;
     def.implicit_tolerance = 1e-10;
@@ -266,30 +306,31 @@ static sb_step_stats implicit_run(const sb_model* m, sb_kernels kernels, int thr
     if (hash) *hash = tu_state_hash(s);
     free(rest), free(v0);
     sb_solver_destroy(s);
+    if (loaded) sb_handle_destroy(l.handles[0]), sb_handle_destroy(l.handles[1]);
     return total;
 }
 
 /* The fast Newton reaches the reference's backward Euler steps: the same
  * positions to the Newton tolerance in double (1e-10 of the residual), to
- * float's stopping floor in float; bitwise the same on 1, 2 and 3 threads. */
-static void test_implicit_fast(void** state) {
-    (void)state;
+ * float's stopping floor in float; bitwise the same on 1, 2 and 3 threads;
+ * free, and with hard and soft handles and an external force. */
+static void implicit_against_reference(bool loaded) {
     sb_model* m = make_model();
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v);
     double *ref_x = malloc(n3 * sizeof *x), *ref_v = malloc(n3 * sizeof *v);
-    sb_step_stats ref = implicit_run(m, SB_KERNELS_REFERENCE, 1, ref_x, ref_v, NULL);
+    sb_step_stats ref = implicit_run(m, SB_KERNELS_REFERENCE, 1, loaded, ref_x, ref_v, NULL);
     uint64_t hash[3];
     sb_step_stats fast[3];
-    for (int t = 0; t < 3; t++) fast[t] = implicit_run(m, SB_KERNELS_FAST, t + 1, x, v, hash + t);
+    for (int t = 0; t < 3; t++) fast[t] = implicit_run(m, SB_KERNELS_FAST, t + 1, loaded, x, v, hash + t);
     double dx = 0.0, dv = 0.0, vmax = tu_max_abs(ref_v, n3);
     for (size_t k = 0; k < n3; k++) {
         dx = fmax(dx, fabs(x[k] - ref_x[k]));
         dv = fmax(dv, fabs(v[k] - ref_v[k]));
     }
-    print_message("reference: %d Newton, %d CG (%u indefinite); fast: %d Newton, %d CG (%u indefinite)\n",
-                  ref.newton_iterations, ref.cg_iterations, ref.cg_indefinite, fast[0].newton_iterations,
-                  fast[0].cg_iterations, fast[0].cg_indefinite);
+    print_message("%s: reference: %d Newton, %d CG (%u indefinite); fast: %d Newton, %d CG (%u indefinite)\n",
+                  loaded ? "handles and a push" : "free", ref.newton_iterations, ref.cg_iterations, ref.cg_indefinite,
+                  fast[0].newton_iterations, fast[0].cg_iterations, fast[0].cg_indefinite);
     print_message("fast against reference after %d steps of %g s: |dx| %.3g m, |dv| %.3g of |v| %.3g\n", IMPLICIT_STEPS,
                   IMPLICIT_DT, dx, dv / vmax, vmax);
     assert_true(ref.converged && fast[0].converged);
@@ -306,12 +347,23 @@ static void test_implicit_fast(void** state) {
     sb_model_destroy(m);
 }
 
+static void test_implicit_fast(void** state) {
+    (void)state;
+    implicit_against_reference(false);
+}
+
+static void test_implicit_fast_loaded(void** state) {
+    (void)state;
+    implicit_against_reference(true);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_product),
         cmocka_unit_test(test_diagonal_blocks),
         cmocka_unit_test(test_symmetry),
         cmocka_unit_test(test_implicit_fast),
+        cmocka_unit_test(test_implicit_fast_loaded),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
