@@ -231,6 +231,15 @@ static void test_symmetry(void** state) {
 
 #define IMPLICIT_STEPS 3
 #define IMPLICIT_DT 0.02
+/* The fast step's velocities against the reference's, relative to the
+ * largest: the Newton tolerance (1e-10) times the system's conditioning in
+ * double (measured 1.1e-10), float's stopping floor in float (6e-5 and
+ * 1.2e-4 measured, the floor ~4e-5 of the first residual). */
+#if SB_DOUBLE
+#define IMPLICIT_AGREEMENT 1e-8
+#else
+#define IMPLICIT_AGREEMENT 5e-4
+#endif
 
 /* An external force on vertex 7, along z. */
 static void push(void* user, uint32_t vertex, double time, const double x[3], const double v[3], double f[3]) {
@@ -335,12 +344,10 @@ static void implicit_against_reference(bool loaded) {
                   IMPLICIT_DT, dx, dv / vmax, vmax);
     assert_true(ref.converged && fast[0].converged);
     assert_true(fast[0].newton_iterations >= IMPLICIT_STEPS && fast[0].cg_iterations > fast[0].newton_iterations);
-#if SB_DOUBLE
-    assert_true(dv <= 1e-8 * vmax);
-#else
-    assert_true(dv <= 5e-4 * vmax);
-#endif
-    assert_true(dx <= IMPLICIT_STEPS * IMPLICIT_DT * dv * 1.000001);
+    /* x moves by dt v each step: its difference stays within the steps'
+     * velocity differences */
+    assert_true(dv <= IMPLICIT_AGREEMENT * vmax);
+    assert_true(dx <= IMPLICIT_STEPS * IMPLICIT_DT * IMPLICIT_AGREEMENT * vmax);
     assert_true(hash[0] == hash[1] && hash[0] == hash[2]);
     for (int t = 1; t < 3; t++) assert_int_equal(fast[t].cg_iterations, fast[0].cg_iterations);
     free(x), free(v), free(ref_x), free(ref_v);
