@@ -123,7 +123,10 @@ typedef struct sb_solver_def {
      * (1e-8, 20, 200). Each Newton iteration solves with the exact Jacobian
      * (kernels/implicit_euler.c); implicit_definite replaces each element's
      * stiffness by a positive semi-definite stand-in, so that CG never meets
-     * a negative curvature (sb_step_stats.cg_indefinite counts those it met). */
+     * a negative curvature (sb_step_stats.cg_indefinite counts those it met);
+     * with SB_KERNELS_FAST and conjugate gradients the step runs on the fast
+     * kernels, matrix-free (kernels/implicit_fast.c), always with the exact
+     * stiffness. */
     double implicit_tolerance;
     /* implicit_euler's linear solver: SB_LINEAR_AUTO (the default) factors
      * the Jacobian (SB_LINEAR_CHOLESKY, a sparse Cholesky) for models of at
