@@ -7,6 +7,8 @@
 #include "kernels/wide.h"
 #include "common/geometry.h"
 
+#include <float.h>
+
 /* Lanes per block: SB_WIDTH, or 1 for the serial overflow color. */
 static inline uint32_t sb_block_step(bool serial) { return serial ? 1u : SB_WIDTH; }
 
@@ -26,21 +28,40 @@ static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
     return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
 }
 
-/* Bit `bit` of each lane's flag byte (flags padded like the slots), as 1 or
- * 0: the compiler turns the loop into a byte load and a widening. */
-static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) {
+/* The bits (flag >> shift) & mask of each lane's flag byte (flags padded
+ * like the slots), as a real: the compiler turns the loop into a byte load
+ * and a widening. */
+static inline sb_wide sb_w_field(const uint8_t* flags, int shift, unsigned mask) {
     sb_real lanes[SB_WIDTH];
-    for (int l = 0; l < SB_WIDTH; l++) lanes[l] = (sb_real)(flags[l] >> bit & 1u);
+    for (int l = 0; l < SB_WIDTH; l++) lanes[l] = (sb_real)(flags[l] >> shift & mask);
     return sb_w_load(lanes);
 }
 
+/* Bit `bit` of each lane's flag byte, as 1 or 0. */
+static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) { return sb_w_field(flags, bit, 1u); }
+
 /* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does
- * (the hinge kernel, vbd's fast sweep, the hinges' second derivatives). */
+ * (the hinge kernel, the fused hinges, vbd's fast sweep, the hinges' second
+ * derivatives). */
 static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
     const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
     sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);
     d = sb_w_pick_greater(d, pi, sb_w_sub(d, two_pi), d);
     return sb_w_pick_greater(d, sb_w_sub(sb_w_set(0), pi), d, sb_w_add(d, two_pi));
+}
+
+#if SB_DOUBLE
+#define SB_REAL_MIN DBL_MIN
+#else
+#define SB_REAL_MIN FLT_MIN
+#endif
+
+/* A hinge's wing has collapsed when its height is below 1e-12 of the edge
+ * (kernels/reference_hinges.c): |n|² below this, from the squared edge
+ * length; the smallest normal number keeps a zero-length edge caught. */
+static inline sb_wide sb_w_wing_limit(sb_wide edge_sq) {
+    const sb_wide ratio = sb_w_set((sb_real)(1e-12 * 1e-12));
+    return sb_w_add(sb_w_mul(ratio, sb_w_mul(edge_sq, edge_sq)), sb_w_set(SB_REAL_MIN));
 }
 
 #endif

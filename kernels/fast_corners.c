@@ -20,7 +20,22 @@
  * reference read, gathered for the triangle's three vertices only then).
  * Uniform constants are one value; non-uniform ones (or a breakable
  * model's) are carried per triangle slot and edge. The bond's rest length
- * is the triangle's own where they agree (no stream of its own). */
+ * is the triangle's own where they agree (no stream of its own).
+ *
+ * Fused hinges, for the same reason: a hinge on a triangle's edge needs
+ * the edge's two vertices and the triangle's opposite vertex, which the
+ * triangle has in registers, and its fourth vertex. Carried by one of its
+ * wings (kernels/fast_model.h), it costs one gather and one scatter-add
+ * instead of four of each (a third of the gathered bytes), and the wing's
+ * normal n0 = e_0 × e_1 is the same for the triangle's three edges. The
+ * hinge of slot j sits on a different edge per lane: its vertices, unit
+ * vector and length are picked lane by lane (two blends each), and its
+ * forces go back the same way. Each hinge slot runs only for blocks where
+ * some lane carries one; a color's triangles carrying most come first, so
+ * few blocks run a slot for a few lanes. Lanes without a hinge there (or
+ * with a dropped one) have k = 0; their divisions see at least the
+ * smallest normal number and their collapse checks +inf, so they add
+ * exact zeros (to one of the triangle's own vertices). */
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
 #include "kernels/reference_terms.h"
@@ -33,7 +48,7 @@ typedef struct sb_wtriangle {
 
 typedef struct sb_wtriangle_out {
     sb_wvec3 force[3]; /* on vertices 0, 1, 2 */
-    sb_wide energy[4]; /* angle, stretch-bend, bond, spring */
+    sb_wide energy[5]; /* angle, stretch-bend, bond, spring, bend */
 } sb_wtriangle_out;
 
 /* Adds corner c's forces and energies to out. */
@@ -86,43 +101,118 @@ static inline void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle
     out->energy[3] = sb_w_add(out->energy[3], sb_w_mul(ks, strain_energy));
 }
 
+/* What a triangle's hinges share: its vertices, its edges' lengths and
+ * its normal n0 with 1 / |n0|². */
+typedef struct sb_wwing {
+    sb_wvec3 p[3], normal;
+    sb_wide length[3], normal_sq, inverse_normal_sq;
+} sb_wwing;
+
+/* Per lane a[c] for the edge c whose field is c + 1 (any of them for 0). */
+static inline sb_wide sb_w_pick3(sb_wide field, sb_wide a0, sb_wide a1, sb_wide a2) {
+    return sb_w_pick_greater(field, sb_w_set((sb_real)2.5), a2,
+                             sb_w_pick_greater(field, sb_w_set((sb_real)1.5), a1, a0));
+}
+static inline sb_wvec3 sb_wv_pick3(sb_wide field, sb_wvec3 a0, sb_wvec3 a1, sb_wvec3 a2) {
+    return (sb_wvec3){sb_w_pick3(field, a0.x, a1.x, a2.x), sb_w_pick3(field, a0.y, a1.y, a2.y),
+                      sb_w_pick3(field, a0.z, a1.z, a2.z)};
+}
+
+/* Adds the hinges of hinge slot j (kernels/fast_hinges.c's term, with
+ * e0, e1, o0 the corners c, c + 1, c + 2 of the lane's edge c): scatters
+ * the force on o1, adds the others to out. Returns whether a wing of a
+ * live hinge collapsed. */
+static inline bool sb_fast_carried_hinge(const sb_fast_model* m, const sb_fast_frame* fr, const sb_wtriangle* t,
+                                         const sb_wwing* w, sb_wide field, int j, uint32_t s, int count,
+                                         sb_wtriangle_out* out) {
+    const sb_wide zero = sb_w_set(0), tiny = sb_w_set(SB_REAL_MIN);
+    sb_wvec3 e0 = sb_wv_pick3(field, w->p[0], w->p[1], w->p[2]), e1 = sb_wv_pick3(field, w->p[1], w->p[2], w->p[0]);
+    sb_wvec3 o0 = sb_wv_pick3(field, w->p[2], w->p[0], w->p[1]);
+    sb_wvec3 unit = sb_wv_pick3(field, t->unit[0], t->unit[1], t->unit[2]);
+    sb_wide length = sb_w_pick3(field, w->length[0], w->length[1], w->length[2]);
+    sb_windex other = sb_w_index(m->tri_hinge_other[j] + s);
+    sb_wvec3 o1 = sb_wv_load4(fr->positions4, other);
+    sb_wvec3 n1 = sb_wv_cross(sb_wv_sub(o1, e1), sb_wv_sub(o1, e0));
+    sb_wide n1_sq = sb_wv_dot(n1, n1);
+    sb_wide sine = sb_wv_dot(sb_wv_cross(w->normal, n1), unit);
+    sb_wide delta = sb_w_angle_delta(sine, sb_wv_dot(w->normal, n1), sb_w_load(m->tri_hinge_phi0[j] + s));
+    sb_wide k = sb_w_pick_greater(field, sb_w_set((sb_real)0.5), sb_w_constant(m->tri_hinge_k[j], s), zero);
+    sb_wide kd = sb_w_mul(k, delta);
+    sb_wide narrowest = sb_w_min(w->normal_sq, n1_sq);
+    narrowest = sb_w_pick_greater(sb_w_abs(k), zero, narrowest, sb_w_set((sb_real)INFINITY));
+    bool collapsed = sb_w_any(sb_w_less(narrowest, sb_w_wing_limit(sb_w_mul(length, length))), count);
+    sb_wvec3 w0 = sb_wv_scale(w->normal, sb_w_mul(kd, w->inverse_normal_sq));
+    sb_wvec3 w1 = sb_wv_scale(n1, sb_w_div(kd, sb_w_max(n1_sq, tiny)));
+    sb_wvec3 f_o0 = sb_wv_scale(w0, length), f_o1 = sb_wv_scale(w1, length);
+    sb_wvec3 f_e0 = sb_wv_add(sb_wv_scale(w0, sb_wv_dot(sb_wv_sub(o0, e1), unit)),
+                              sb_wv_scale(w1, sb_wv_dot(sb_wv_sub(o1, e1), unit)));
+    sb_wvec3 f_e1 = sb_wv_neg(sb_wv_add(f_o0, sb_wv_add(f_o1, f_e0)));
+    sb_wv_add4(fr->forces4, other, f_o1, count);
+    out->force[0] = sb_wv_add(out->force[0], sb_wv_pick3(field, f_e0, f_o0, f_e1));
+    out->force[1] = sb_wv_add(out->force[1], sb_wv_pick3(field, f_e1, f_e0, f_o0));
+    out->force[2] = sb_wv_add(out->force[2], sb_wv_pick3(field, f_o0, f_e1, f_e0));
+    out->energy[4] = sb_w_add(out->energy[4], sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), kd), delta));
+    return collapsed;
+}
+
+/* Adds the hinges the lanes' triangles carry; returns whether a wing
+ * collapsed. */
+static inline bool sb_fast_carried_hinges(const sb_fast_model* m, const sb_fast_frame* fr, const sb_wtriangle* t,
+                                          sb_wwing* w, const sb_wvec3 edge[3], uint32_t s, int count,
+                                          sb_wtriangle_out* out) {
+    bool collapsed = false;
+    for (int j = 0; j < 3; j++) {
+        sb_wide field = sb_w_field(m->tri_hinge_edges + s, 2 * j, 3u);
+        if (!sb_w_any(sb_w_less(sb_w_set((sb_real)0.5), field), count)) break; /* nor in the next slots */
+        if (j == 0) {
+            w->normal = sb_wv_cross(edge[0], edge[1]);
+            w->normal_sq = sb_wv_dot(w->normal, w->normal);
+            w->inverse_normal_sq = sb_w_div(sb_w_set(1), sb_w_max(w->normal_sq, sb_w_set(SB_REAL_MIN)));
+        }
+        collapsed |= sb_fast_carried_hinge(m, fr, t, w, field, j, s, count, out);
+    }
+    return collapsed;
+}
+
 int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
-                    double energy[4]) {
+                    double energy[5]) {
     uint32_t step = sb_block_step(serial);
     const sb_wide ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO), zero = sb_w_set(0);
-    sb_wide sums[4] = {zero, zero, zero, zero};
+    sb_wide sums[5] = {zero, zero, zero, zero, zero};
     bool collapsed = false, near = false, limits = m->fused_bonds && m->tri_edge_near_max2[0];
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
         sb_windex v[3];
-        sb_wvec3 p[3];
+        sb_wwing wing;
         for (int c = 0; c < 3; c++) {
             v[c] = sb_w_index(m->tri_v[c] + s);
-            p[c] = sb_wv_load4(fr->positions4, v[c]);
+            wing.p[c] = sb_wv_load4(fr->positions4, v[c]);
         }
         sb_wtriangle t;
         sb_wfused fused;
-        sb_wide length[3];
+        sb_wvec3 edge[3];
         for (int c = 0; c < 3; c++) {
-            sb_wvec3 e = sb_wv_sub(p[(c + 1) % 3], p[c]);
-            sb_wide rest = sb_w_load(m->tri_len0[c] + s), squared = sb_wv_dot(e, e);
+            edge[c] = sb_wv_sub(wing.p[(c + 1) % 3], wing.p[c]);
+            sb_wide rest = sb_w_load(m->tri_len0[c] + s), squared = sb_wv_dot(edge[c], edge[c]);
             t.inverse[c] = sb_w_rsqrt(squared);
-            length[c] = sb_w_mul(squared, t.inverse[c]);
-            t.unit[c] = sb_wv_scale(e, t.inverse[c]);
-            t.strain[c] = sb_w_sub(length[c], rest);
+            wing.length[c] = sb_w_mul(squared, t.inverse[c]);
+            t.unit[c] = sb_wv_scale(edge[c], t.inverse[c]);
+            t.strain[c] = sb_w_sub(wing.length[c], rest);
             fused.rest[c] = rest;
-            collapsed |= sb_w_any(sb_w_less(length[c], sb_w_mul(ratio, rest)), count);
+            collapsed |= sb_w_any(sb_w_less(wing.length[c], sb_w_mul(ratio, rest)), count);
             if (limits) near |= sb_near_limit(m->tri_edge_near_max2[c], m->tri_edge_near_min2[c], s, squared, count);
         }
         sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
-        sb_wtriangle_out out = {{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}}, {zero, zero, zero, zero}};
+        sb_wtriangle_out out = {{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}},
+                                {zero, zero, zero, zero, zero}};
         for (int c = 0; c < 3; c++) sb_fast_corner(&t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, &out);
         for (int c = 0; c < 3 && m->fused_damping; c++) fused.velocity[c] = sb_wv_load4(fr->velocities4, v[c]);
         if (m->fused_bonds)
-            for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, &fused, c, length[c], s, &out);
+            for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, &fused, c, wing.length[c], s, &out);
+        if (m->fused_hinges) collapsed |= sb_fast_carried_hinges(m, fr, &t, &wing, edge, s, count, &out);
         for (int c = 0; c < 3; c++) sb_wv_add4(fr->forces4, v[c], out.force[c], count);
-        for (int e = 0; e < 4; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
+        for (int e = 0; e < 5; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     }
-    for (int e = 0; e < 4; e++) energy[e] += sb_w_sum(sums[e], SB_WIDTH);
+    for (int e = 0; e < 5; e++) energy[e] += sb_w_sum(sums[e], SB_WIDTH);
     return (collapsed ? SB_KERNEL_COLLAPSED : 0) | (near ? SB_KERNEL_NEAR_LIMIT : 0);
 }

@@ -11,22 +11,10 @@
  * read for the same accuracy. */
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
-#include "common/geometry.h"
-
-#include <float.h>
-
-#if SB_DOUBLE
-#define SB_REAL_MIN DBL_MIN
-#else
-#define SB_REAL_MIN FLT_MIN
-#endif
-
-#define SB_MIN_WING_RATIO 1e-12
 
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
                    double energy[1]) {
     uint32_t step = sb_block_step(serial);
-    const sb_wide limit_ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
     sb_wide sum = sb_w_set(0);
     bool collapsed = false;
     for (uint32_t s = begin; s < end; s += step) {
@@ -41,8 +29,7 @@ int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
         sb_wvec3 n0 = sb_wv_cross(sb_wv_sub(p[2], p[0]), sb_wv_sub(p[2], p[1]));
         sb_wvec3 n1 = sb_wv_cross(sb_wv_sub(p[3], p[1]), sb_wv_sub(p[3], p[0]));
         sb_wide edge_sq = sb_wv_dot(edge, edge), n0_sq = sb_wv_dot(n0, n0), n1_sq = sb_wv_dot(n1, n1);
-        /* the smallest normal number keeps a zero-length edge (limit 0) caught */
-        sb_wide limit = sb_w_add(sb_w_mul(limit_ratio, sb_w_mul(edge_sq, edge_sq)), sb_w_set(SB_REAL_MIN));
+        sb_wide limit = sb_w_wing_limit(edge_sq);
         collapsed |= sb_w_any(sb_w_less(n0_sq, limit), count) || sb_w_any(sb_w_less(n1_sq, limit), count);
         sb_wide length = sb_w_sqrt(edge_sq), inv_length = sb_w_div(sb_w_set(1), length);
         sb_wide sine = sb_w_mul(sb_wv_dot(sb_wv_cross(n0, n1), edge), inv_length);

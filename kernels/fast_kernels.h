@@ -28,9 +28,9 @@ typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32
 int sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                   double energy[2]);
 /* energy[0] angle bend, [1] stretch-bend, [2] bond stretch and [3] spring
- * of the fused bonds */
+ * of the fused bonds, [4] bend of the fused hinges */
 int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                    double energy[4]);
+                    double energy[5]);
 /* energy[0] bend */
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                    double energy[1]);

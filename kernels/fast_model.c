@@ -12,6 +12,11 @@
 
 static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) / step * step; }
 
+/* The highest rank an element may have within its color (hinges carried). */
+#define SB_MAX_RANK 3
+
+#define SB_NONE UINT32_MAX
+
 /* Elements per block: about 64 blocks, 256 to 2048 elements each (a block's
  * vertices then fit in L1/L2). Depends on the element count only, never on
  * the thread count, so the summation order is the same for any. */
@@ -41,8 +46,10 @@ static bool sb_color_blocks(uint32_t vertex_count, uint32_t count, uint32_t bloc
 }
 
 /* Lays out block b's elements [first, end) by their local colors from
- * slot *slot on, padding each color to whole SIMD blocks. */
-static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, const uint8_t* color, uint32_t* slot) {
+ * slot *slot on, padding each color to whole SIMD blocks; within a color,
+ * by rank (NULL: all 0), highest first, else in model order. */
+static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, const uint8_t* color,
+                            const uint8_t* rank, uint32_t* slot) {
     uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
     for (uint32_t e = first; e < end; e++) sizes[color[e - first]]++;
     sb_block* block = &g->blocks[g->block_count++];
@@ -55,7 +62,9 @@ static void sb_layout_block(sb_element_group* g, uint32_t first, uint32_t end, c
         cursor[k] = *slot;
         *slot = sb_round_up(*slot + sizes[k], SB_WIDTH);
     }
-    for (uint32_t e = first; e < end; e++) g->source[cursor[color[e - first]]++] = e;
+    for (int r = SB_MAX_RANK; r >= 0; r--)
+        for (uint32_t e = first; e < end; e++)
+            if ((rank ? rank[e] : 0) == r) g->source[cursor[color[e - first]]++] = e;
     for (uint32_t r = block->first_range; r < g->range_count; r++) /* padding copies the color's first */
         for (uint32_t s = g->ranges[r].end; s < sb_round_up(g->ranges[r].end, SB_WIDTH); s++)
             g->source[s] = g->source[g->ranges[r].begin];
@@ -82,9 +91,10 @@ static uint32_t sb_color_within_blocks(sb_colorer* colorer, uint32_t count, uint
 }
 
 /* Colors and lays out `count` elements; subset (or NULL for the identity)
- * maps them to the model's element numbers, which source[] then holds. */
+ * maps them to the model's element numbers, which source[] then holds;
+ * rank (or NULL) orders them within a color (sb_layout_block). */
 static bool sb_group_build(sb_element_group* g, uint32_t vertex_count, uint32_t count, int arity,
-                           const uint32_t* const* vertices, const uint32_t* subset) {
+                           const uint32_t* const* vertices, const uint32_t* subset, const uint8_t* rank) {
     *g = (sb_element_group){0};
     if (count == 0) return true;
     uint32_t block_size = sb_block_size(count), block_count = (count + block_size - 1) / block_size;
@@ -107,7 +117,7 @@ static bool sb_group_build(sb_element_group* g, uint32_t vertex_count, uint32_t 
         for (uint32_t b = 0; b < block_count; b++) {
             if (block_color[b] != k) continue;
             uint32_t first = b * block_size, end = first + block_size < count ? first + block_size : count;
-            sb_layout_block(g, first, end, color + first, &slot);
+            sb_layout_block(g, first, end, color + first, rank, &slot);
         }
         if (g->block_count > g->color_first_block[k]) g->block_colors = (uint32_t)k + 1;
     }
@@ -174,7 +184,7 @@ static bool sb_fast_bonds(sb_fast_model* f, const sb_model* m, const int64_t* ow
             ends_j[count++] = m->bond_j[b];
         }
     const uint32_t* ends[2] = {ends_i, ends_j};
-    ok = ok && sb_group_build(&f->bonds, m->vertex_count, count, 2, ends, subset);
+    ok = ok && sb_group_build(&f->bonds, m->vertex_count, count, 2, ends, subset, NULL);
     free(subset);
     free(ends_i);
     free(ends_j);
@@ -284,10 +294,126 @@ static bool sb_fast_fused_edges(sb_fast_model* f, const sb_model* m, const int64
     return ok;
 }
 
-static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
-    const uint32_t* corners[3] = {m->tri_v[0], m->tri_v[1], m->tri_v[2]};
-    if (!sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, 3, corners, NULL)) return false;
-    bool ok = true;
+/* Which triangle edge carries each hinge (sb_fast_model.fused_hinges):
+ * carried[3 t + c] is the hinge on edge c of triangle t, whose opposite
+ * vertex is one of the hinge's wing tips, or SB_NONE. Of a hinge's two
+ * wings the one carrying fewer so far takes it. NULL when some hinge has
+ * no wing among the triangles (or shares its edge with another hinge):
+ * then the hinge pass computes them all. */
+static uint32_t* sb_hinge_carriers(const sb_model* m, bool* ok) {
+    if (!m->hinge_count || !m->triangle_count || !m->term_enabled[SB_TERM_BEND]) return NULL;
+    size_t nt = m->triangle_count, nh = m->hinge_count;
+    uint32_t *carried = malloc(3 * nt * sizeof *carried), (*wings)[2] = malloc(nh * sizeof *wings);
+    uint8_t* load = calloc(nt, 1);
+    sb_edge_map map = {0};
+    bool fusable = carried && wings && load && sb_edge_map_init(&map, nh), inserted;
+    *ok = fusable;
+    for (uint32_t h = 0; fusable && h < nh; h++) {
+        sb_edge_map_upsert(&map, m->hinge_e0[h], m->hinge_e1[h], h, &inserted);
+        fusable = inserted;
+        wings[h][0] = wings[h][1] = SB_NONE;
+    }
+    for (uint32_t e = 0; fusable && e < 3 * nt; e++) {
+        uint32_t t = e / 3, c = e % 3, opposite = m->tri_v[(c + 2) % 3][t];
+        uint32_t* h = sb_edge_map_find(&map, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t]);
+        carried[e] = SB_NONE;
+        if (h && (opposite == m->hinge_o0[*h] || opposite == m->hinge_o1[*h])) wings[*h][wings[*h][0] != SB_NONE] = e;
+    }
+    for (uint32_t h = 0; fusable && h < nh; h++) {
+        uint32_t e = wings[h][0];
+        if (wings[h][1] != SB_NONE && load[wings[h][1] / 3] < load[e / 3]) e = wings[h][1];
+        fusable = e != SB_NONE;
+        if (fusable) {
+            carried[e] = h;
+            load[e / 3]++;
+        }
+    }
+    sb_edge_map_free(&map);
+    free(wings);
+    free(load);
+    if (fusable) return carried;
+    free(carried);
+    return NULL;
+}
+
+/* Per triangle, what its hinge slots carry (sb_fast_model.tri_hinge_*),
+ * by triangle; the edges' field also ranks the triangles (hinges carried). */
+typedef struct sb_carried_values {
+    uint8_t *edges, *count;
+    uint32_t* other[3];
+    double *phi0[3], *k[3];
+} sb_carried_values;
+
+/* Hinge h on edge c of triangle t, in the triangle's order: o1 and the
+ * sign of φ (flipped once by reversing the edge, once by swapping wings). */
+static uint32_t sb_carried_other(const sb_model* m, uint32_t h, uint32_t t, int c, double* sign) {
+    bool own_o0 = m->tri_v[(c + 2) % 3][t] == m->hinge_o0[h];
+    *sign = (m->tri_v[c][t] == m->hinge_e0[h]) == own_o0 ? 1.0 : -1.0;
+    return own_o0 ? m->hinge_o1[h] : m->hinge_o0[h];
+}
+
+static bool sb_carried_fill(sb_carried_values* v, const sb_model* m, const uint32_t* carried) {
+    size_t nt = m->triangle_count;
+    bool ok = (v->edges = calloc(nt, 1)) != NULL && (v->count = calloc(nt, 1)) != NULL;
+    for (int j = 0; j < 3; j++) {
+        ok = (v->other[j] = malloc(nt * sizeof *v->other[j])) != NULL && ok;
+        ok = (v->phi0[j] = calloc(nt, sizeof(double))) != NULL && ok;
+        ok = (v->k[j] = calloc(nt, sizeof(double))) != NULL && ok;
+    }
+    for (uint32_t t = 0; ok && t < nt; t++) {
+        int j = 0;
+        for (int c = 0; c < 3; c++) {
+            uint32_t h = carried[3 * (size_t)t + c];
+            if (h == SB_NONE) continue;
+            double sign;
+            v->other[j][t] = sb_carried_other(m, h, t, c, &sign);
+            v->phi0[j][t] = sign * m->hinge_phi0[h];
+            v->k[j][t] = m->hinge_k[h];
+            v->edges[t] |= (uint8_t)((c + 1) << 2 * j++);
+        }
+        v->count[t] = (uint8_t)j;
+        for (; j < 3; j++) v->other[j][t] = m->tri_v[2][t]; /* any vertex of the slot's: its k is 0 */
+    }
+    return ok;
+}
+
+static void sb_carried_free(sb_carried_values* v) {
+    free(v->edges);
+    free(v->count);
+    for (int j = 0; j < 3; j++) {
+        free(v->other[j]);
+        free(v->phi0[j]);
+        free(v->k[j]);
+    }
+}
+
+/* The carried hinges' fields, other vertices, rest angles and constants
+ * per triangle slot. */
+static bool sb_fast_carried_hinges(sb_fast_model* f, const sb_model* m, const sb_carried_values* v) {
+    bool ok = (f->tri_hinge_edges = malloc(f->triangles.capacity + SB_WIDTH)) != NULL;
+    for (uint32_t s = 0; ok && s < f->triangles.capacity + SB_WIDTH; s++)
+        f->tri_hinge_edges[s] = s < f->triangles.capacity ? v->edges[f->triangles.source[s]] : 0;
+    for (int j = 0; ok && j < 3; j++) {
+        f->tri_hinge_other[j] = sb_gather_index(v->other[j], &f->triangles, &ok);
+        f->tri_hinge_phi0[j] = sb_gather_real(v->phi0[j], &f->triangles, &ok);
+        f->tri_hinge_k[j] = sb_constant_from(m->hinge_k, m->hinge_count, v->k[j], &f->triangles, !m->breakable, &ok);
+    }
+    f->fused_hinges = ok;
+    return ok;
+}
+
+/* The triangle group: colored by the corners, and with fused hinges by
+ * the hinges' other vertices too (so that a block's scatters stay apart
+ * from other blocks' of its color, and a color's lanes from each other). */
+static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m, const uint32_t* carried) {
+    sb_carried_values values = {0};
+    bool ok = !carried || sb_carried_fill(&values, m, carried);
+    const uint32_t* ids[6] = {m->tri_v[0], m->tri_v[1], m->tri_v[2], values.other[0], values.other[1], values.other[2]};
+    ok = ok &&
+         sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, carried ? 6 : 3, ids, NULL, values.count);
+    ok = ok && (!carried || sb_fast_carried_hinges(f, m, &values));
+    sb_carried_free(&values);
+    if (!ok) return false;
     for (int c = 0; c < 3; c++) {
         f->tri_v[c] = sb_gather_index(m->tri_v[c], &f->triangles, &ok);
         f->tri_cos0[c] = sb_gather_real(m->tri_cos0[c], &f->triangles, &ok);
@@ -301,7 +427,7 @@ static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m) {
 
 static bool sb_fast_hinges(sb_fast_model* f, const sb_model* m) {
     const uint32_t* ids[4] = {m->hinge_e0, m->hinge_e1, m->hinge_o0, m->hinge_o1};
-    if (!sb_group_build(&f->hinges, m->vertex_count, m->hinge_count, 4, ids, NULL)) return false;
+    if (!sb_group_build(&f->hinges, m->vertex_count, m->hinge_count, 4, ids, NULL, NULL)) return false;
     bool ok = true;
     for (int a = 0; a < 4; a++) f->hinge_v[a] = sb_gather_index(ids[a], &f->hinges, &ok);
     f->hinge_phi0 = sb_gather_real(m->hinge_phi0, &f->hinges, &ok);
@@ -319,12 +445,27 @@ static uint32_t* sb_slot_map(const sb_element_group* g, uint32_t model_count, bo
     return slot_of;
 }
 
+/* Where each fused hinge sits (sb_fast_model.hinge_fused_at). */
+static bool sb_fused_places(sb_fast_model* f, const sb_model* m, const uint32_t* carried) {
+    f->hinge_fused_at = malloc(m->hinge_count * sizeof *f->hinge_fused_at);
+    for (uint32_t t = 0; f->hinge_fused_at && t < m->triangle_count; t++)
+        for (int c = 0, j = 0; c < 3; c++) {
+            uint32_t h = carried[3 * (size_t)t + c];
+            if (h == SB_NONE) continue;
+            double sign;
+            uint32_t other = sb_carried_other(m, h, t, c, &sign);
+            f->hinge_fused_at[h] = 2 * (3 * f->triangle_slot[t] + j++) + (other == m->hinge_o1[h]);
+        }
+    return f->hinge_fused_at != NULL;
+}
+
 /* Where each model element sits, for breakage (kernels/breakage.c). */
-static bool sb_fast_places(sb_fast_model* f, const sb_model* m, const int64_t* owner) {
+static bool sb_fast_places(sb_fast_model* f, const sb_model* m, const int64_t* owner, const uint32_t* carried) {
     bool ok = true;
     uint32_t* bond_slot = sb_slot_map(&f->bonds, m->bond_count, &ok);
     f->triangle_slot = sb_slot_map(&f->triangles, m->triangle_count, &ok);
     f->hinge_slot = sb_slot_map(&f->hinges, m->hinge_count, &ok);
+    if (ok && carried) ok = sb_fused_places(f, m, carried);
     f->bond_place = malloc((m->bond_count ? m->bond_count : 1) * sizeof *f->bond_place);
     ok = ok && f->bond_place;
     for (uint32_t b = 0; ok && b < m->bond_count; b++) {
@@ -399,7 +540,12 @@ void sb_fast_drop_triangle(sb_fast_model* f, uint32_t triangle) {
     for (int c = 0; c < 3; c++) f->tri_len0[c][slot] = 0;
 }
 
-void sb_fast_drop_hinge(sb_fast_model* f, uint32_t hinge) { f->hinge_k.values[f->hinge_slot[hinge]] = 0; }
+void sb_fast_drop_hinge(sb_fast_model* f, uint32_t hinge) {
+    f->hinge_k.values[f->hinge_slot[hinge]] = 0;
+    if (!f->fused_hinges) return;
+    uint32_t at = f->hinge_fused_at[hinge] / 2;
+    f->tri_hinge_k[at % 3].values[at / 3] = 0;
+}
 
 void sb_fast_move_corner(sb_fast_model* f, uint32_t triangle, int corner, uint32_t vertex) {
     f->tri_v[corner][f->triangle_slot[triangle]] = vertex;
@@ -410,8 +556,13 @@ void sb_fast_move_bond_end(sb_fast_model* f, uint32_t bond, int end, uint32_t ve
     if (place >= 0) (end ? f->bond_j : f->bond_i)[place] = vertex;
 }
 
+/* A fused hinge's other vertex moves with it; its edge and own wing tip
+ * are its triangle's corners, which move with theirs. */
 void sb_fast_move_hinge_vertex(sb_fast_model* f, uint32_t hinge, int role, uint32_t vertex) {
     f->hinge_v[role][f->hinge_slot[hinge]] = vertex;
+    if (!f->fused_hinges) return;
+    uint32_t at = f->hinge_fused_at[hinge];
+    if (role == 2 + (int)(at % 2)) f->tri_hinge_other[at / 2 % 3][at / 6] = vertex;
 }
 
 static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
@@ -432,10 +583,12 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     sb_fast_model* f = calloc(1, sizeof *f);
     bool ok = f != NULL;
     int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
-    ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m) &&
+    uint32_t* carried = ok ? sb_hinge_carriers(m, &ok) : NULL;
+    ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m, carried) &&
          (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) &&
-         (!m->breakable || (sb_fast_places(f, m, owner) && sb_fast_limits(f, m)));
+         (!m->breakable || (sb_fast_places(f, m, owner, carried) && sb_fast_limits(f, m)));
     free(owner);
+    free(carried);
     if (!ok) {
         sb_fast_model_destroy(f);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing the fast kernels for %u vertices", m->vertex_count);
@@ -471,7 +624,9 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->hinge_slot,
                       f->bond_near_max2,
                       f->bond_near_min2,
-                      f->tri_owned};
+                      f->tri_owned,
+                      f->tri_hinge_edges,
+                      f->hinge_fused_at};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -483,6 +638,9 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_edge_damping[c].values);
         free(f->tri_edge_near_max2[c]);
         free(f->tri_edge_near_min2[c]);
+        free(f->tri_hinge_other[c]);
+        free(f->tri_hinge_phi0[c]);
+        free(f->tri_hinge_k[c].values);
     }
     for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
     free(f);

@@ -74,6 +74,25 @@ typedef struct sb_fast_model {
     sb_real* tri_edge_r0[3];
     sb_fast_constant tri_edge_bond_k[3], tri_edge_spring_k[3], tri_edge_damping[3];
 
+    /* Fused hinges (see kernels/fast_corners.c): when every hinge's edge
+     * is an edge of one of its wings, each hinge is carried by one such
+     * triangle and computed in its slot, and the hinge pass does not run
+     * (the hinges group below is still built for other kernels and kept
+     * up to date). A triangle slot carries up to 3, its hinge slots j in
+     * edge order: bits 2j, 2j + 1 of tri_hinge_edges hold 1 + the edge of
+     * hinge slot j (0: none). The triangle's vertices of that edge and its
+     * opposite vertex are e0, e1, o0 of the hinge as the triangle orders
+     * them (its normal is n0); tri_hinge_other[j] is o1, tri_hinge_phi0[j]
+     * the rest angle in that order (the model's φ0, negated where that
+     * order mirrors the model's). The triangles are then colored with
+     * those other vertices too, and ordered within each color by how many
+     * hinges they carry, most first. */
+    bool fused_hinges;
+    uint8_t* tri_hinge_edges;
+    uint32_t* tri_hinge_other[3];
+    sb_real* tri_hinge_phi0[3];
+    sb_fast_constant tri_hinge_k[3];
+
     sb_element_group hinges;
     uint32_t* hinge_v[4]; /* e0, e1, o0, o1 */
     sb_real* hinge_phi0;
@@ -86,6 +105,9 @@ typedef struct sb_fast_model {
      * −1 − (3 slot + c) for edge c of a triangle slot (a fused bond). */
     int64_t* bond_place;
     uint32_t *triangle_slot, *hinge_slot;
+    /* With fused hinges: 2 (3 slot + j) + r for hinge slot j of a triangle
+     * slot, r = 1 when tri_hinge_other is the model's o1, 0 when o0. */
+    uint32_t* hinge_fused_at;
     /* The break limits' margins (a model with limits only; NULL
      * otherwise): per bond slot and per fused edge, the squared max length
      * shrunk by SB_LIMIT_MARGIN (+inf for none) and, when some bond has a

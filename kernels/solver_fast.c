@@ -64,7 +64,7 @@ typedef struct sb_pass_flags {
 /* Where each pass keeps its per-block (per-chunk) sums in solver->partials. */
 typedef struct sb_partial_layout {
     double* bonds;     /* 2 per block: bond, spring */
-    double* triangles; /* 4 per block: angle, stretch-bend, fused bond, fused spring */
+    double* triangles; /* 5 per block: angle, stretch-bend, fused bond, fused spring, fused bend */
     double* hinges;    /* 1 per block */
     double* vertices;  /* 2 per vertex chunk: kinetic, gravity */
     uint32_t vertex_chunks;
@@ -77,7 +77,7 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     sb_partial_layout p;
     p.bonds = s->partials;
     p.triangles = p.bonds + 2 * (size_t)f->bonds.block_count;
-    p.hinges = p.triangles + 4 * (size_t)f->triangles.block_count;
+    p.hinges = p.triangles + 5 * (size_t)f->triangles.block_count;
     p.vertices = p.hinges + f->hinges.block_count;
     p.vertex_chunks = sb_vertex_chunks(f->vertex_count);
     return p;
@@ -87,7 +87,7 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
-    size_t count = 2 * (size_t)f->bonds.block_count + 4 * (size_t)f->triangles.block_count + f->hinges.block_count +
+    size_t count = 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
                    2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
@@ -155,9 +155,9 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, flags);
-    if (f->has_corners || f->fused_bonds)
-        sb_group_pass(w, f, &f->triangles, sb_fast_corners, 4, &frame, p->triangles, flags);
-    if (f->has_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
+    if (f->has_corners || f->fused_bonds || f->fused_hinges)
+        sb_group_pass(w, f, &f->triangles, sb_fast_corners, 5, &frame, p->triangles, flags);
+    if (f->has_hinges && !f->fused_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
 }
 
 /* Serial, on one thread: the callback need not be thread-safe; then the
@@ -366,12 +366,13 @@ static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool w
     sb_energies* e = &s->energies;
     uint32_t bond_chunks = f->bonds.block_count, triangle_chunks = f->triangles.block_count;
     e->term[SB_TERM_BOND] =
-        sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 4, 2);
+        sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 5, 2);
     e->term[SB_TERM_SPRING] =
-        sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 4, 3);
-    e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 4, 0);
-    e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 4, 1);
-    e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0);
+        sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 5, 3);
+    e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 5, 0);
+    e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 5, 1);
+    e->term[SB_TERM_BEND] =
+        sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0) + sb_sum_strided(p->triangles, triangle_chunks, 5, 4);
     if (with_vertices) {
         e->kinetic = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 0);
         e->gravity = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 1);

@@ -163,6 +163,23 @@ static void test_icosphere(void** state) {
         compare_with_reference(SHAPE_SPHERE, (bonds)variant);
 }
 
+/* The hinges carried by the triangle slots; fails unless each color lists
+ * its triangles by how many they carry, most first. */
+static uint32_t carried_hinges(const sb_fast_model* fast) {
+    uint32_t carried = 0;
+    for (uint32_t r = 0; r < fast->triangles.range_count; r++) {
+        uint32_t before = 3;
+        for (uint32_t s = fast->triangles.ranges[r].begin; s < fast->triangles.ranges[r].end; s++) {
+            uint32_t count = 0;
+            for (int j = 0; j < 3; j++) count += (fast->tri_hinge_edges[s] >> 2 * j & 3u) != 0;
+            assert_true(count <= before);
+            before = count;
+            carried += count;
+        }
+    }
+    return carried;
+}
+
 /* Lone hinges (4 vertices each, hinges only) folded near where the angle
  * is delicate: near flat (φ0 and φ within 0.05 rad of 0), through itself
  * (φ0 within 0.1 of ±π, φ up to 0.2 from it, so φ crosses ±π and wraps),
@@ -194,7 +211,23 @@ static void fold_angles(fold kind, tu_rng* rng, double* rest, double* now) {
     }
 }
 
-static void compare_hinges(fold kind) {
+/* The hinge's two wings as triangles (no corner constants), each in either
+ * orientation and in either order, so that the hinges are fused into
+ * whichever wing carries them in every one of the four relative orders. */
+static void add_wings(sb_builder* builder, uint32_t first, tu_rng* rng) {
+    uint32_t e0 = first, e1 = first + 1, wing[2][2] = {{first + 2, 0}, {first + 3, 0}};
+    for (int w = 0; w < 2; w++) wing[w][1] = random_sign(rng) < 0;
+    int order = random_sign(rng) < 0;
+    for (int k = 0; k < 2; k++) {
+        const uint32_t* tip = wing[k ^ order];
+        sb_triangle_def t = {tip[1] ? e1 : e0, tip[1] ? e0 : e1, tip[0], 0.0, 0.0};
+        assert_true(sb_builder_add_triangle(builder, &t) >= 0);
+    }
+}
+
+/* Lone hinges computed by the hinge kernel, or (wings) with their wing
+ * triangles, fused into the triangle kernel. */
+static void compare_hinges(fold kind, bool wings) {
     enum { hinges = 3 * 16 + 5 }; /* whole blocks and a part block at any width */
     uint32_t n = 4 * hinges;
     double *rest = malloc(3 * n * sizeof *rest), *x = malloc(3 * n * sizeof *x);
@@ -213,12 +246,18 @@ static void compare_hinges(fold kind) {
         memcpy(vertex.position, rest + 3 * i, sizeof vertex.position);
         assert_true(sb_builder_add_vertex(builder, &vertex) >= 0);
     }
-    for (uint32_t h = 0; h < hinges; h++)
+    for (uint32_t h = 0; h < hinges; h++) {
         assert_true(sb_builder_add_hinge(builder, &(sb_hinge_def){4 * h, 4 * h + 1, 4 * h + 2, 4 * h + 3, 0.2}) >= 0);
+        if (wings) add_wings(builder, 4 * h, &rng);
+    }
     sb_error err;
     sb_model* model = sb_builder_compile(builder, &err);
     sb_builder_destroy(builder);
     if (!model) fail_msg("%s", err.message);
+    sb_fast_model* fast = sb_fast_model_create(model, &err);
+    assert_non_null(fast);
+    assert_int_equal(fast->fused_hinges, wings);
+    sb_fast_model_destroy(fast);
     sb_energies reference;
     assert_int_equal(sb_reference_forces(model, x, NULL, f, &reference, &err), SB_OK);
     sb_solver* solver = make_fast_solver(model, 2);
@@ -226,7 +265,8 @@ static void compare_hinges(fold kind) {
     sb_solver_get_forces(solver, fast_f);
     double largest = tu_max_abs(f, 3 * n), worst = 0.0;
     for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-    print_message("fold %d: largest hinge force error %.3g of the largest force\n", (int)kind, worst / largest);
+    print_message("fold %d%s: largest hinge force error %.3g of the largest force\n", (int)kind,
+                  wings ? " (fused)" : "", worst / largest);
     TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
     TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
                    FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
@@ -240,15 +280,146 @@ static void compare_hinges(fold kind) {
 
 static void test_hinges_near_flat(void** state) {
     (void)state;
-    compare_hinges(FOLD_NEAR_FLAT);
+    compare_hinges(FOLD_NEAR_FLAT, false);
+    compare_hinges(FOLD_NEAR_FLAT, true);
 }
 static void test_hinges_through_themselves(void** state) {
     (void)state;
-    compare_hinges(FOLD_THROUGH_ITSELF);
+    compare_hinges(FOLD_THROUGH_ITSELF, false);
+    compare_hinges(FOLD_THROUGH_ITSELF, true);
 }
 static void test_hinges_nearly_closed(void** state) {
     (void)state;
-    compare_hinges(FOLD_NEARLY_CLOSED);
+    compare_hinges(FOLD_NEARLY_CLOSED, false);
+    compare_hinges(FOLD_NEARLY_CLOSED, true);
+}
+
+/* Lone triangles, each carrying the hinges on a random non-empty set of
+ * its edges (their other wings are no triangles of the model, so no other
+ * triangle can take them), each hinge with its edge either way round and
+ * the triangle's tip as o0 or o1: every hinge slot on every edge. */
+static void test_triangles_carrying_three_hinges(void** state) {
+    (void)state;
+    enum { triangles = 3 * 16 + 5 };
+    uint32_t n = 6 * triangles;
+    double *x = malloc(3 * n * sizeof *x), *f = malloc(3 * n * sizeof *f), *fast_f = malloc(3 * n * sizeof *fast_f);
+    tu_rng rng = {77};
+    sb_builder* builder = sb_builder_create();
+    for (uint32_t t = 0; t < triangles; t++) {
+        const double corner[3][2] = {{0, 0}, {1, 0}, {0.45, 0.85}};
+        for (int c = 0; c < 6; c++) {
+            sb_vertex_def vertex = sb_default_vertex_def();
+            if (c < 3) {
+                vertex.position[0] = 3.0 * t + corner[c][0];
+                vertex.position[1] = corner[c][1];
+            } else { /* the tip beyond edge c − 3, folded by up to a radian */
+                const double *a = corner[c - 3], *b = corner[(c - 2) % 3], *o = corner[(c - 1) % 3];
+                double mid[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])}, fold = tu_uniform(&rng, -1, 1);
+                double out[2] = {mid[0] - o[0], mid[1] - o[1]};
+                vertex.position[0] = 3.0 * t + mid[0] + cos(fold) * out[0];
+                vertex.position[1] = mid[1] + cos(fold) * out[1];
+                vertex.position[2] = sin(fold) * 0.9;
+            }
+            assert_true(sb_builder_add_vertex(builder, &vertex) >= 0);
+        }
+        uint32_t v = 6 * t;
+        assert_true(sb_builder_add_triangle(builder, &(sb_triangle_def){v, v + 1, v + 2, 1e-9, 0.0}) >= 0);
+        int edges = 1 + (int)(t % 7); /* every non-empty subset of the three */
+        for (int c = 0; c < 3; c++) {
+            if (!(edges >> c & 1)) continue;
+            uint32_t a = v + (uint32_t)c, b = v + (uint32_t)(c + 1) % 3, tip = v + (uint32_t)(c + 2) % 3,
+                     far = v + 3 + c;
+            bool swap_edge = random_sign(&rng) < 0, swap_wings = random_sign(&rng) < 0;
+            sb_hinge_def h = {swap_edge ? b : a, swap_edge ? a : b, swap_wings ? far : tip, swap_wings ? tip : far,
+                              0.2};
+            assert_true(sb_builder_add_hinge(builder, &h) >= 0);
+        }
+    }
+    sb_error err;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    if (!model) fail_msg("%s", err.message);
+    sb_fast_model* fast = sb_fast_model_create(model, &err);
+    assert_true(fast->fused_hinges);
+    assert_int_equal(carried_hinges(fast), sb_model_hinge_count(model));
+    sb_fast_model_destroy(fast);
+    for (uint32_t i = 0; i < n; i++) {
+        sb_model_rest_position(model, i, x + 3 * i);
+        for (int c = 0; c < 3; c++) x[3 * i + c] = (sb_real)(x[3 * i + c] + tu_uniform(&rng, -0.05, 0.05));
+    }
+    sb_energies reference;
+    assert_int_equal(sb_reference_forces(model, x, NULL, f, &reference, &err), SB_OK);
+    sb_solver* solver = make_fast_solver(model, 2);
+    assert_int_equal(sb_solver_set_state(solver, x, NULL), SB_OK);
+    sb_solver_get_forces(solver, fast_f);
+    double largest = tu_max_abs(f, 3 * n), worst = 0.0;
+    for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
+    print_message("triangles carrying 1 to 3 hinges: largest force error %.3g of the largest force\n", worst / largest);
+    TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
+    TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
+                   FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
+    sb_solver_destroy(solver);
+    sb_model_destroy(model);
+    free(x);
+    free(f);
+    free(fast_f);
+}
+
+/* The bending term alone on every mesh shape (hinges fused into the
+ * triangles): forces and energy against
+ * the reference. Its forces are far smaller than the stretching terms', in
+ * whose error the tests above would hide them. */
+static void test_fused_hinges_on_meshes(void** state) {
+    (void)state;
+    for (int kind = SHAPE_SHEET; kind <= SHAPE_SPHERE; kind++) {
+        sb_mesh mesh = {0};
+        make_mesh((shape)kind, &mesh);
+        sb_material_def material = sb_default_material_def();
+        material.bond_k = material.stretch_bend_k = material.spring_k = 0.0;
+        material.angle_k = 1e-9; /* a model has triangles only with some corner term */
+        material.bend_k = 0.01;
+        sb_builder* builder = sb_builder_create();
+        sb_error err;
+        assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
+        sb_model* model = sb_builder_compile(builder, &err);
+        sb_builder_destroy(builder);
+        assert_non_null(model);
+        sb_fast_model* fast = sb_fast_model_create(model, &err);
+        assert_true(fast->fused_hinges);
+        sb_fast_model_destroy(fast);
+        uint32_t n = mesh.vertex_count;
+        double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
+        double* fast_f = malloc(3 * n * sizeof *fast_f);
+        sb_solver* solver = make_fast_solver(model, 2);
+        perturb(&mesh, (shape)kind, 11, x, v);
+        sb_energies reference;
+        assert_int_equal(sb_reference_forces(model, x, v, f, &reference, &err), SB_OK);
+        assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
+        sb_solver_get_forces(solver, fast_f);
+        double largest = tu_max_abs(f, 3 * n), worst = 0.0;
+        for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
+        print_message("shape %d, bending alone: largest force error %.3g of the largest force\n", kind,
+                      worst / largest);
+        assert_true(largest > 0.0);
+        TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
+        TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
+                       FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
+        sb_solver_destroy(solver);
+        sb_model_destroy(model);
+        sb_mesh_free(&mesh);
+        free(x);
+        free(v);
+        free(f);
+        free(fast_f);
+    }
+}
+
+/* Whether vertex a of slot s repeats an earlier one of the same slot (a
+ * fused hinge slot that carries none names one of its triangle's). */
+static bool repeated(uint32_t* const* ids, int a, uint32_t s) {
+    for (int b = 0; b < a; b++)
+        if (ids[b][s] == ids[a][s]) return true;
+    return false;
 }
 
 /* Marks the vertices of range r's real slots with `mark`; fails on a vertex
@@ -257,6 +428,7 @@ static void mark_range(const sb_color_range* range, int arity, uint32_t* const* 
                        const char* what) {
     for (uint32_t s = range->begin; s < range->end; s++)
         for (int a = 0; a < arity; a++) {
+            if (repeated(ids, a, s)) continue;
             if (owner[ids[a][s]] == mark) fail_msg("%s %u: vertex %u taken twice (slot %u)", what, mark, ids[a][s], s);
             owner[ids[a][s]] = mark;
         }
@@ -324,6 +496,13 @@ static void test_coloring(void** state) {
     assert_int_equal(fast->hinges.count, sb_model_hinge_count(model));
     check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 3, fast->tri_v);
     check_group(&fast->hinges, sb_model_hinge_count(model), mesh.vertex_count, 4, fast->hinge_v);
+    /* the hinges fused into the triangles: their other vertices are colored
+     * with the triangle's, and a triangle carrying more comes first in its color */
+    assert_true(fast->fused_hinges);
+    check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 6,
+                (uint32_t* const[]){fast->tri_v[0], fast->tri_v[1], fast->tri_v[2], fast->tri_hinge_other[0],
+                                    fast->tri_hinge_other[1], fast->tri_hinge_other[2]});
+    assert_int_equal(carried_hinges(fast), sb_model_hinge_count(model));
     print_message("blocks (block colors): %u (%u) bond, %u (%u) triangle, %u (%u) hinge\n", fast->bonds.block_count,
                   fast->bonds.block_colors, fast->triangles.block_count, fast->triangles.block_colors,
                   fast->hinges.block_count, fast->hinges.block_colors);
@@ -515,6 +694,8 @@ int main(void) {
         cmocka_unit_test(test_hinges_near_flat),
         cmocka_unit_test(test_hinges_through_themselves),
         cmocka_unit_test(test_hinges_nearly_closed),
+        cmocka_unit_test(test_triangles_carrying_three_hinges),
+        cmocka_unit_test(test_fused_hinges_on_meshes),
         cmocka_unit_test(test_coloring),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_collapse_reported),
