@@ -148,10 +148,13 @@ static void test_colors_stay_valid_and_kernels_agree(void** state) {
     const sb_fast_model* f = r.solver->fast;
     uint32_t vertices = sb_solver_vertex_capacity(r.solver);
     const uint32_t* bonds[2] = {f->bond_i, f->bond_j};
-    const uint32_t* triangles[3] = {f->tri_v[0], f->tri_v[1], f->tri_v[2]};
+    /* with the other vertices of the hinges the triangles carry */
+    const uint32_t* triangles[6] = {f->tri_v[0],           f->tri_v[1],           f->tri_v[2],
+                                    f->tri_hinge_other[0], f->tri_hinge_other[1], f->tri_hinge_other[2]};
     const uint32_t* hinges[4] = {f->hinge_v[0], f->hinge_v[1], f->hinge_v[2], f->hinge_v[3]};
+    assert_true(f->fused_hinges);
     check_group_colors(&f->bonds, bonds, 2, vertices);
-    check_group_colors(&f->triangles, triangles, 3, vertices);
+    check_group_colors(&f->triangles, triangles, 6, vertices);
     check_group_colors(&f->hinges, hinges, 4, vertices);
     /* the slots and the working copy agree: the same energies */
     uint32_t n = sb_solver_vertex_capacity(r.solver);
