@@ -15,7 +15,9 @@
  *                triangle's edge, and an owned bond's rest length is the
  *                edge's, so its constants, uniform, cost nothing more)
  *   per bond     only the bonds no triangle owns: none on these meshes
- *   per hinge    4 indices (16 B) + φ0 (s)               (--all-terms only)
+ *   per hinge    (--all-terms only) fused into a triangle that is its
+ *                wing (kernels/fast_corners.c): its other vertex (4 B) +
+ *                φ0 (s), and a byte per triangle for the edges it carries
  *   damping      (--all-terms) the force pass reads the half-step
  *                velocities too: 4 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
@@ -60,7 +62,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
     double vertex_bytes = (72.0 + (all_terms ? 4.0 : 0.0)) * s;
-    double triangle_bytes = 12.0 + 6.0 * s + 1.0, hinge_bytes = 16.0 + s;
+    double triangle_bytes = 12.0 + 6.0 * s + (all_terms ? 2.0 : 1.0), hinge_bytes = 4.0 + s;
     c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
     c.flops_per_step = SB_FLOPS_VERTEX * c.vertices + bond_flops * c.bonds + SB_FLOPS_TRIANGLE * c.triangles +
@@ -71,7 +73,8 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 const char* sb_bench_byte_model_text(void) {
     return "bytes/step = 72s per vertex (18 packed x y z w streams over drift, forces, kick) + (13+6s) per"
            " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
-           " --all-terms: +4s per vertex (velocities for damping), (16+s) per hinge]; s = sizeof(sb_real);"
+           " --all-terms: +4s per vertex (velocities for damping), (4+s) per hinge fused into a triangle and a byte per"
+           " triangle for the edges it carries]; s = sizeof(sb_real);"
            " gathers assumed cached, writes counted once";
 }
 
