@@ -9,11 +9,13 @@
  *   2. forces: for each element group (bonds, triangles, hinges), for each
  *      block color, its blocks in parallel, and in each block the SIMD
  *      kernel over each element color (kernels/fast_model.h explains the
- *      blocked coloring). Neither lanes nor threads ever add to the same
- *      vertex at once, so no atomics are needed, and every vertex sums its
- *      contributions in the same order for any thread count: the state is
- *      bitwise the same for 1 or N threads. A barrier separates block
- *      colors (a handful), not element colors;
+ *      blocked coloring). The triangle kernel also computes the bonds and
+ *      hinges on its edges (kernels/fast_corners.c), so on a mesh the bond
+ *      and hinge passes have nothing to do. Neither lanes nor threads ever
+ *      add to the same vertex at once, so no atomics are needed, and every
+ *      vertex sums its contributions in the same order for any thread
+ *      count: the state is bitwise the same for 1 or N threads. A barrier
+ *      separates block colors (a handful), not element colors;
  *   3. external forces (one thread, only when a callback is set);
  *   4. kick (per vertex): the closing half kick of the velocity, fused with
  *      the kinetic and gravitational energy sums and the finiteness check.
