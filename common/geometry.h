@@ -1,9 +1,11 @@
-/* Private: small double-precision vector helpers and the dihedral angle,
- * shared by the builder (rest values) and the reference kernels. */
+/* Private: small double-precision vector helpers, the dihedral angle and a
+ * 3 × 3 inverse, shared by the builder (rest values), the reference kernels
+ * and the implicit solvers' preconditioners. */
 #ifndef SB_GEOMETRY_H
 #define SB_GEOMETRY_H
 
 #include <math.h>
+#include <stdbool.h>
 
 #define SB_PI 3.14159265358979323846
 
@@ -56,6 +58,20 @@ static inline double sb_angle_difference(double phi, double phi0) {
     if (d > SB_PI) d -= 2.0 * SB_PI;
     if (d <= -SB_PI) d += 2.0 * SB_PI;
     return d;
+}
+
+/* out = a⁻¹ for a 3 × 3 row-major matrix, by its adjugate; false (out
+ * untouched) when a is singular or not finite. */
+static inline bool sb_m3_invert(const double* a, double* out) {
+    double c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
+    double det = a[0] * c0 + a[1] * c1 + a[2] * c2;
+    if (!(fabs(det) > 0.0) || !isfinite(det)) return false;
+    double inv = 1.0 / det;
+    double adjugate[9] = {c0, a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
+                          c1, a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
+                          c2, a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
+    for (int k = 0; k < 9; k++) out[k] = adjugate[k] * inv;
+    return true;
 }
 
 #endif

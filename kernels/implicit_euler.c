@@ -50,6 +50,8 @@
 #include "common/error.h"
 #include "softbond/reference.h"
 
+#include "common/geometry.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -271,26 +273,13 @@ static void sb_product_worker(void* context, const sb_worker* worker) {
     sb_block_matrix_multiply_rows(job->j, job->d, job->q, (uint32_t)begin, (uint32_t)end);
 }
 
-/* Inverts a 3 × 3 block by its adjugate; false when it is singular. */
-static bool sb_invert3(const double* a, double* out) {
-    double c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
-    double det = a[0] * c0 + a[1] * c1 + a[2] * c2;
-    if (!(fabs(det) > 0.0) || !isfinite(det)) return false;
-    double inv = 1.0 / det;
-    double adjugate[9] = {c0, a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-                          c1, a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-                          c2, a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
-    for (int k = 0; k < 9; k++) out[k] = adjugate[k] * inv;
-    return true;
-}
-
 /* The block-Jacobi preconditioner: the inverse of each diagonal block (of
  * the mass alone where a block is singular: possible with an indefinite K). */
 static void sb_prepare_preconditioner(sb_newton* w) {
     const sb_model* m = w->s->model;
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double* inverse = w->inverse_blocks + 9 * (size_t)i;
-        if (sb_invert3(w->j->block + 9 * (size_t)w->j->diagonal[i], inverse)) continue;
+        if (sb_m3_invert(w->j->block + 9 * (size_t)w->j->diagonal[i], inverse)) continue;
         memset(inverse, 0, 9 * sizeof *inverse); /* held, fixed and dormant vertices are masked anyway */
         if (m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
     }

@@ -36,6 +36,8 @@
 #include "kernels/handle_internal.h"
 
 #include <float.h>
+#include "common/geometry.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -244,19 +246,6 @@ static void sb_product_worker(void* context, const sb_worker* worker) {
     sb_chunks_run(worker, w, sb_op_curvature);
 }
 
-/* Inverts a 3 × 3 block (in double) by its adjugate; false when singular. */
-static bool sb_invert3(const double* a, double* out) {
-    double c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
-    double det = a[0] * c0 + a[1] * c1 + a[2] * c2;
-    if (!(fabs(det) > 0.0) || !isfinite(det)) return false;
-    double inv = 1.0 / det;
-    double adjugate[9] = {c0, a[2] * a[7] - a[1] * a[8], a[1] * a[5] - a[2] * a[4],
-                          c1, a[0] * a[8] - a[2] * a[6], a[2] * a[3] - a[0] * a[5],
-                          c2, a[1] * a[6] - a[0] * a[7], a[0] * a[4] - a[1] * a[3]};
-    for (int k = 0; k < 9; k++) out[k] = adjugate[k] * inv;
-    return true;
-}
-
 static void sb_op_zero_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     (void)partial;
     memset(w->im->blocks + 9 * (begin / 4), 0, 9 * ((end - begin) / 4) * sizeof(sb_real));
@@ -277,7 +266,7 @@ static void sb_op_invert_blocks(sb_fast_newton* w, size_t begin, size_t end, dou
         partial[0] += stiffness * stiffness;
         double diagonal = m->mass[i] * (1.0 + w->dt * w->s->def.drag);
         j[0] += diagonal, j[4] += diagonal, j[8] += diagonal;
-        if (!sb_invert3(j, inverse) && m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
+        if (!sb_m3_invert(j, inverse) && m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
         for (int k = 0; k < 9; k++) block[k] = (sb_real)inverse[k];
     }
 }
