@@ -31,6 +31,7 @@ sb_haptics_def sb_default_haptics_def(void) {
                             .stall_time = 0.05,
                             .ramp_time = 0.05,
                             .sense_time = 0.002,
+                            .max_speed = 2,
                             .realtime = true,
                             .log_capacity = 65536};
 }
@@ -55,6 +56,8 @@ static sb_status check_def(const sb_haptics_def* d, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "haptics: stall_time and ramp_time must be > 0");
     if (!(d->sense_time >= 0 && isfinite(d->sense_time)))
         return sb_error_set(err, SB_ERR_INVALID, "haptics: sense_time must be >= 0 (got %g)", d->sense_time);
+    if (!(d->max_speed > 0))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: max_speed must be > 0 (got %g)", d->max_speed);
     if (d->log_capacity < 1) return sb_error_set(err, SB_ERR_INVALID, "haptics: log_capacity must be >= 1");
     return SB_OK;
 }
@@ -85,6 +88,7 @@ sb_haptics* sb_haptics_create(const sb_haptics_def* def, sb_haptic_device* devic
     h->log_capacity = def->log_capacity;
     sb_collider_state(tool, h->rest, NULL);
     memcpy(h->sim_proxy, h->rest, sizeof h->rest);
+    h->max_move = 0.5 * sb_collider_inner_radius(tool);
     sb_record_init(&h->pose);
     sb_record_init(&h->contact);
     h->sensed = (sb_contact_model){.normal = {0, 0, 1}};
@@ -128,6 +132,23 @@ static void device_for_step(const sb_haptics* h, double device[3]) {
         device[k] = h->rest[k] + to->position[k] + ahead * (to->position[k] - from->position[k]);
 }
 
+/* How far the tool may move in the step about to run: max_speed over the
+ * last step's length (simulated when known) and half its inner radius.
+ * After the simulation stalls (a hitch of the machine) the device may be
+ * centimetres on: a tool taken there in one step would fling the tissue it
+ * presses, or pass through it (its vertices pushed out of its far side). */
+static double max_move(const sb_haptics* h) {
+    double step = h->sim_step > 0 ? h->sim_step : h->sensed.time - h->sensed_before;
+    return step > 0 ? fmin(h->max_move, h->def.max_speed * step) : h->max_move;
+}
+
+static void move_at_most(double at[3], const double to[3], double max_move) {
+    double d[3] = {to[0] - at[0], to[1] - at[1], to[2] - at[2]};
+    double length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double share = length > max_move ? max_move / length : 1;
+    for (int k = 0; k < 3; k++) at[k] = share < 1 ? at[k] + share * d[k] : to[k];
+}
+
 void sb_haptics_drive(sb_haptics* h) {
     sb_haptic_pose pose;
     if (!sb_record_read(&h->pose, &pose, sizeof pose)) return;
@@ -138,7 +159,9 @@ void sb_haptics_drive(sb_haptics* h) {
     }
     double device[3], translate[3], rotate[3];
     device_for_step(h, device);
-    sb_coupling_proxy(&h->sensed, h->def.stiffness, device, h->sim_proxy);
+    double proxy[3];
+    sb_coupling_proxy(&h->sensed, h->def.stiffness, device, proxy);
+    move_at_most(h->sim_proxy, proxy, max_move(h));
     for (int k = 0; k < 3; k++) translate[k] = h->sim_proxy[k] - h->rest[k];
     sb_quaternion_to_degrees(pose.orientation, rotate);
     sb_collider_set_pose(h->tool, translate, rotate);
@@ -151,6 +174,8 @@ static double depth_along(const double normal[3], const double point[3]) {
 void sb_haptics_sense(sb_haptics* h, const sb_solver* solver, double time) {
     double f[3];
     sb_solver_contact_force(solver, h->tool_index, f);
+    h->sim_step = sb_solver_time(solver) - h->sim_time;
+    h->sim_time = sb_solver_time(solver);
     sb_haptics_sense_force(h, f, sb_solver_step_count(solver), time);
 }
 

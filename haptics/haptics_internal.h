@@ -36,6 +36,8 @@ struct sb_haptics {
     bool driven;
     double mean_force[3]; /* N: the tool's contact force averaged over sense_time */
     double sim_proxy[3];
+    double max_move;           /* m: the most the tool moves in a step (half its inner radius) */
+    double sim_time, sim_step; /* s: the simulated time at the last sb_haptics_sense, and its step */
 
     /* The servo's own (one tick at a time). */
     bool ticked;

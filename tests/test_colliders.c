@@ -772,9 +772,35 @@ static void test_custom(void** state) {
     sb_collider_destroy(c);
 }
 
+/* How far each shape may move in a step: its inner radius plus the thickness. */
+static void test_inner_radius(void** state) {
+    (void)state;
+    sb_collider_def d = sb_default_collider_def();
+    sb_collider* c = make(&d);
+    assert_true(isinf(sb_collider_inner_radius(c))); /* a plane */
+    sb_collider_destroy(c);
+    d.thickness = 0.001;
+    d.shape = SB_COLLIDER_SPHERE;
+    d.radius = 0.005;
+    c = make(&d);
+    TU_ASSERT_NEAR(sb_collider_inner_radius(c), 0.006, 1e-15);
+    sb_collider_destroy(c);
+    d.shape = SB_COLLIDER_CAPSULE;
+    d.b[0] = 0.1;
+    c = make(&d);
+    TU_ASSERT_NEAR(sb_collider_inner_radius(c), 0.006, 1e-15);
+    sb_collider_destroy(c);
+    d.shape = SB_COLLIDER_BOX;
+    d.half_extents[0] = 0.03, d.half_extents[1] = 0.002, d.half_extents[2] = 0.01;
+    c = make(&d);
+    TU_ASSERT_NEAR(sb_collider_inner_radius(c), 0.003, 1e-15);
+    sb_collider_destroy(c);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_names),
+        cmocka_unit_test(test_inner_radius),
         cmocka_unit_test(test_plane),
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_capsule),

@@ -202,6 +202,49 @@ static void test_scripted_device_matches_the_kinematic_path(void** state) {
     free(moved);
 }
 
+/* The probe pressed 14 mm in over a second (as in the first test), then
+ * the simulation stalls for 0.15 s (a hitch of the machine: the servo
+ * ticks on, no step comes) while the hand goes 21 mm further in; then the
+ * steps resume. The tool catches up at max_speed, the sheet's middle under
+ * it. Taken there in one step, it flung the sheet's middle, which came
+ * back over the top of the tool: it had passed through. */
+static void test_tool_after_a_stall_does_not_pass_through(void** state) {
+    (void)state;
+    const char* script = tu_write_file(
+        "plunge.csv", "time,x,y,z\n0,0,0,0\n1,0,0,-0.014\n1.1,0,0,-0.014\n1.2,0,0,-0.035\n2,0,0,-0.035\n");
+    sb_haptic_device_def dd = sb_default_haptic_device_def();
+    dd.kind = "scripted";
+    dd.file = script;
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
+    assert_non_null(device);
+    tissue t = {0};
+    tissue_open(&t, NULL, 0);
+    sb_haptics* h = couple(&t, device);
+    const long stall_from = 1100, stall_to = 1250, ticks = 1500;
+    sb_haptic_tick tick;
+    for (long i = 0; i < ticks; i++) {
+        if (i >= stall_from && i < stall_to)
+            sb_haptics_tick(h, (double)i * T);
+        else
+            loop_tick(&t, h, i);
+        while (sb_haptics_drain(h, &tick, 1)) {
+        }
+    }
+    static double x[3 * SIDE * SIDE];
+    sb_solver_get_positions(t.solver, x);
+    const uint32_t middle = (SIDE / 2) * SIDE + SIDE / 2;
+    double proxy[3];
+    sb_haptics_proxy(h, proxy);
+    print_message("after the stall: the tool's centre at z %.2f mm, the sheet's middle at z %.2f mm\n", 1e3 * proxy[2],
+                  1e3 * x[3 * middle + 2]);
+    TU_ASSERT_LE(proxy[2], REST_Z - 0.030);    /* it caught up, short by the felt force over K */
+    TU_ASSERT_LE(x[3 * middle + 2], proxy[2]); /* under the tool, not over it */
+    sb_haptics_destroy(h);
+    sb_haptic_device_close(device);
+    tissue_close(&t);
+}
+
 /* ---- the simulated hand ------------------------------------------------ */
 
 typedef struct hand {
@@ -271,6 +314,7 @@ int main(void) {
         cmocka_unit_test(test_felt_force_is_the_static_reaction),
         cmocka_unit_test(test_scripted_device_matches_the_kinematic_path),
         cmocka_unit_test(test_tapping_hand_gains_no_energy),
+        cmocka_unit_test(test_tool_after_a_stall_does_not_pass_through),
     };
     if (tu_make_tmp_dir("haptics_tissue") != 0) return 1;
     int failed = cmocka_run_group_tests(tests, NULL, NULL);

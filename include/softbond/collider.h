@@ -187,6 +187,14 @@ SB_API void sb_collider_orientation(const sb_collider* collider, double rotation
  * reach into the box: a collider that knows where it is should say, from
  * its begin-step callback if it moves. The built-in shapes set their own. */
 SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], const double hi[3]);
+/* How far a built-in collider may move in one step without a vertex it
+ * meets passing its middle (m): the radius of a sphere or capsule, the
+ * smallest half extent of a box, half the smallest extent of a mesh's box
+ * (an estimate: a ring is thinner than its box), each plus the thickness;
+ * a plane and a program's own collider: infinity. A contact pushes a vertex
+ * out of the nearest face, so a tool moved further than this in one step
+ * can push what it passes through out of its far side. */
+SB_API double sb_collider_inner_radius(const sb_collider* collider);
 SB_API const char* sb_collider_name(const sb_collider* collider);
 
 /* "plane", "sphere", "capsule", "box", "mesh". */

@@ -114,6 +114,12 @@ typedef struct sb_haptics_def {
      * exponential average, default 0.002): a step's contact impulses come
      * and go, their mean is the tissue's push. 0 = each step's own. */
     double sense_time;
+    /* m/s: the fastest the simulation's tool follows the device, on the
+     * simulated clock (default 2, a quick hand). When the simulation
+     * stalls (a hitch of the machine) the device moves on meanwhile; the
+     * tool then catches up at this speed instead of jumping, which would
+     * fling the tissue it holds or pass through it. */
+    double max_speed;
     bool realtime;         /* ask for SCHED_FIFO on the servo thread (default true) */
     uint32_t log_capacity; /* ticks the log holds until drained (default 65536) */
 } sb_haptics_def;
@@ -163,7 +169,12 @@ SB_API void sb_haptics_tick(sb_haptics* haptics, double time);
 /* Simulation thread, before a step: the tool goes to the proxy for the
  * device at the step's end (sb_collider_set_pose): the latest pose, moved
  * on along the device's last move when steps are shorter than the servo's
- * period (the step's length taken from the last two sb_haptics_sense). */
+ * period (the step's length taken from the last two sb_haptics_sense).
+ * It moves at most max_speed times the step's length (simulated, from
+ * sb_haptics_sense; from the sensed times after sb_haptics_sense_force)
+ * and at most half its sb_collider_inner_radius in one step, so a device
+ * that jumped on while the simulation stalled does not take it through
+ * the tissue: it catches up over the next steps. */
 SB_API void sb_haptics_drive(sb_haptics* haptics);
 /* Simulation thread, after a step: the tool's contact force becomes the
  * contact model the servo reads; `time` on the servo's clock. */

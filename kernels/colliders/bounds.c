@@ -4,7 +4,8 @@
  * every vertex, whose move lies outside it, so a collider costs nothing
  * where nothing is near it. A plane bounds a half-space: only one whose
  * normal lies along an axis is bounded (on that axis); a tilted plane is
- * infinite, and every vertex is asked about. */
+ * infinite, and every vertex is asked about. The inner radius, last, is
+ * how far a shape may move in a step (softbond/collider.h). */
 #include "kernels/colliders/collider_internal.h"
 
 #include <math.h>
@@ -102,4 +103,23 @@ void sb_collider_step_bounds(sb_collider* c) {
     sb_grow_by_pose(c->pose1, a, b, lo, hi);
     for (int k = 0; k < 3; k++) lo[k] -= c->def.thickness, hi[k] += c->def.thickness;
     sb_collider_set_bounds(c, lo, hi);
+}
+
+double sb_collider_inner_radius(const sb_collider* c) {
+    const sb_collider_def* d = &c->def;
+    double inner = INFINITY;
+    switch (d->shape) {
+    case SB_COLLIDER_SPHERE:
+    case SB_COLLIDER_CAPSULE: inner = d->radius; break;
+    case SB_COLLIDER_BOX: inner = fmin(d->half_extents[0], fmin(d->half_extents[1], d->half_extents[2])); break;
+    case SB_COLLIDER_MESH: {
+        double box[6];
+        sb_mesh_shape_box(c->mesh, box);
+        inner = 0.5 * fmin(box[3] - box[0], fmin(box[4] - box[1], box[5] - box[2]));
+        break;
+    }
+    case SB_COLLIDER_PLANE: /* also a program's own collider, whose def is the default plane */
+    case SB_COLLIDER_SHAPE_COUNT: return INFINITY;
+    }
+    return inner + d->thickness;
 }
