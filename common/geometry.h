@@ -52,6 +52,29 @@ static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3
     return h;
 }
 
+/* A hinge's wing has collapsed when its height is below this fraction of
+ * its edge. */
+#define SB_MIN_WING_RATIO 1e-12
+
+/* The hinge's angle φ and u = −∇φ on e0, e1, o0, o1 (the gradient derived
+ * in kernels/reference_hinges.c); false when a wing collapsed. */
+static inline bool sb_hinge_gradient(const sb_vec3 x[4], double* phi, sb_vec3 u[4]) {
+    sb_hinge_geometry g = sb_hinge_measure(x[0], x[1], x[2], x[3]);
+    double n0_sq = sb_v3_dot(g.n0, g.n0), n1_sq = sb_v3_dot(g.n1, g.n1);
+    double limit = SB_MIN_WING_RATIO * g.edge_length * g.edge_length;
+    if (!(g.edge_length > 0.0) || !(n0_sq > limit * limit) || !(n1_sq > limit * limit)) return false;
+    sb_vec3 w0 = sb_v3_scale(g.n0, 1.0 / n0_sq), w1 = sb_v3_scale(g.n1, 1.0 / n1_sq);
+    sb_vec3 unit_edge = sb_v3_scale(g.edge, 1.0 / g.edge_length);
+    u[0] = sb_v3_add(sb_v3_scale(w0, sb_v3_dot(sb_v3_sub(x[2], x[1]), unit_edge)),
+                     sb_v3_scale(w1, sb_v3_dot(sb_v3_sub(x[3], x[1]), unit_edge)));
+    u[1] = sb_v3_add(sb_v3_scale(w0, -sb_v3_dot(sb_v3_sub(x[2], x[0]), unit_edge)),
+                     sb_v3_scale(w1, -sb_v3_dot(sb_v3_sub(x[3], x[0]), unit_edge)));
+    u[2] = sb_v3_scale(w0, g.edge_length);
+    u[3] = sb_v3_scale(w1, g.edge_length);
+    *phi = g.phi;
+    return true;
+}
+
 /* φ − φ0 wrapped into (−π, π]. */
 static inline double sb_angle_difference(double phi, double phi0) {
     double d = phi - phi0;

@@ -56,11 +56,11 @@ static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi
 #define SB_REAL_MIN FLT_MIN
 #endif
 
-/* A hinge's wing has collapsed when its height is below 1e-12 of the edge
- * (kernels/reference_hinges.c): |n|² below this, from the squared edge
+/* A hinge's wing has collapsed when its height is below SB_MIN_WING_RATIO
+ * of the edge (common/geometry.h): |n|² below this, from the squared edge
  * length; the smallest normal number keeps a zero-length edge caught. */
 static inline sb_wide sb_w_wing_limit(sb_wide edge_sq) {
-    const sb_wide ratio = sb_w_set((sb_real)(1e-12 * 1e-12));
+    const sb_wide ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
     return sb_w_add(sb_w_mul(ratio, sb_w_mul(edge_sq, edge_sq)), sb_w_set(SB_REAL_MIN));
 }
 

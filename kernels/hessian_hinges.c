@@ -14,8 +14,6 @@
 #include "kernels/hessian.h"
 #include "common/geometry.h"
 
-#define SB_MIN_WING_RATIO 1e-12 /* as kernels/reference_hinges.c */
-
 /* φ and u = −∇φ on each local vertex (e0, e1, o0, o1), on dual numbers;
  * false when a wing collapsed. */
 static bool sb_hinge_angle_dual(const sb_dvec3* x, sb_dual* phi, sb_dvec3* u) {
@@ -57,25 +55,6 @@ void sb_hinge_forces_dual(const sb_model* m, uint32_t h, const sb_dvec3* x, sb_d
     double delta = sb_angle_difference(phi.v, m->hinge_phi0[h]);
     sb_dual magnitude = sb_d(k * delta, k * phi.d);
     for (int a = 0; a < 4; a++) f[a] = sb_dv3_scale(u[a], magnitude);
-}
-
-/* φ and u = −∇φ on each local vertex in double (sb_hinge_angle_dual's
- * values); false when a wing collapsed. */
-static bool sb_hinge_gradient(const sb_vec3* x, double* phi, sb_vec3* u) {
-    sb_hinge_geometry g = sb_hinge_measure(x[0], x[1], x[2], x[3]);
-    double n0_sq = sb_v3_dot(g.n0, g.n0), n1_sq = sb_v3_dot(g.n1, g.n1);
-    double limit = SB_MIN_WING_RATIO * g.edge_length * g.edge_length;
-    if (!(g.edge_length > 0.0) || !(n0_sq > limit * limit) || !(n1_sq > limit * limit)) return false;
-    sb_vec3 w0 = sb_v3_scale(g.n0, 1.0 / n0_sq), w1 = sb_v3_scale(g.n1, 1.0 / n1_sq);
-    sb_vec3 unit_edge = sb_v3_scale(g.edge, 1.0 / g.edge_length);
-    u[0] = sb_v3_add(sb_v3_scale(w0, sb_v3_dot(sb_v3_sub(x[2], x[1]), unit_edge)),
-                     sb_v3_scale(w1, sb_v3_dot(sb_v3_sub(x[3], x[1]), unit_edge)));
-    u[1] = sb_v3_add(sb_v3_scale(w0, -sb_v3_dot(sb_v3_sub(x[2], x[0]), unit_edge)),
-                     sb_v3_scale(w1, -sb_v3_dot(sb_v3_sub(x[3], x[0]), unit_edge)));
-    u[2] = sb_v3_scale(w0, g.edge_length);
-    u[3] = sb_v3_scale(w1, g.edge_length);
-    *phi = g.phi;
-    return true;
 }
 
 void sb_hinge_definite(const sb_model* m, uint32_t h, const sb_vec3* x, double* k) {
