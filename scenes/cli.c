@@ -21,6 +21,7 @@ static const option_spec option_specs[] = {
     {"--forces", offsetof(sb_cli_args, forces), false},
     {"--fast", offsetof(sb_cli_args, fast), true},
     {"--budget-ms", offsetof(sb_cli_args, budget_ms), false},
+    {"--max-error", offsetof(sb_cli_args, max_error), false},
     {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
     {"--checkpoint-every", offsetof(sb_cli_args, checkpoint_every), false},
     {"--resume", offsetof(sb_cli_args, resume), false},

@@ -26,6 +26,7 @@ typedef struct sb_cli_args {
     const char* forces;           /* eval --forces OUT.csv */
     bool fast;                    /* eval --fast */
     const char* budget_ms;        /* run --budget-ms X */
+    const char* max_error;        /* run --max-error M (with --budget-ms) */
     bool no_realtime;             /* run --no-realtime */
     const char* checkpoint_every; /* run --checkpoint-every T */
     const char* resume;           /* run --resume DIR */

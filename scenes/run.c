@@ -31,7 +31,7 @@ enum { INDEX_EVERY_FRAME = 1024 };
 
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
-                    "                    [--budget-ms X] [--no-realtime] [--checkpoint-every T]\n"
+                    "                    [--budget-ms X [--max-error M]] [--no-realtime] [--checkpoint-every T]\n"
                     "       softbond run SCENE.yaml [--set key=value]... --resume DIR [--threads N]\n"
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
@@ -51,6 +51,10 @@ void sb_cli_run_usage(FILE* stream) {
                     "--budget-ms X times the fast step on the scene's surface mesh simplified to\n"
                     "1/2, 1/4, ... of its vertices and runs the largest that takes <= X ms a step\n"
                     "(the smallest if none does); it prints what it measured and picked.\n"
+                    "--max-error M (m) also runs each level for the scene's first 0.5 s beside\n"
+                    "the full mesh and keeps only the levels whose vertices end within M (RMS)\n"
+                    "of the full model's: the largest of those within X, else the smallest of\n"
+                    "them (the budget missed, and said).\n"
                     "--no-realtime: with haptics.tool set, the simulation runs as fast as it can\n"
                     "instead of paced to the wall clock (haptics.realtime: false).\n"
                     "--checkpoint-every T writes DIR/checkpoint.sbck (the whole state, atomically)\n"
@@ -355,8 +359,8 @@ static int execute(run_job* job, sb_error* err) {
 }
 
 int sb_cli_run(int argc, char** argv) {
-    static const char* const accepted[] = {"--output",           "--threads", "--budget-ms", "--no-realtime",
-                                           "--checkpoint-every", "--resume",  NULL};
+    static const char* const accepted[] = {"--output",      "--threads",          "--budget-ms", "--max-error",
+                                           "--no-realtime", "--checkpoint-every", "--resume",    NULL};
     run_job job = {0};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

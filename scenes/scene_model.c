@@ -47,8 +47,8 @@ bool sb_scene_lod(const sb_scene* scene) {
 /* mesh.target_vertices / mesh.target_error (target_vertices when not 0
  * wins over the scene's): the fixed vertices are locked and keep their
  * indices, so `fixed` still names them. */
-sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, sb_simplify_report* report,
-                            sb_error* err) {
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, uint32_t* origin,
+                            sb_simplify_report* report, sb_error* err) {
     if (sb_scene_volumetric(scene))
         return sb_scene_fail(scene, SB_KEY_MESH_TARGET_VERTICES, err,
                              "level of detail applies to surface meshes, not tetrahedral files");
@@ -62,7 +62,7 @@ sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t targe
             return sb_scene_fail(scene, SB_KEY_FIXED, err, "'fixed': vertex %u out of range (the mesh has %u vertices)",
                                  def.locked[i], mesh->vertex_count);
     def.keep_locked_indices = true;
-    return sb_mesh_simplify(mesh, &def, NULL, report, err);
+    return sb_mesh_simplify(mesh, &def, origin, report, err);
 }
 
 sb_mesh_transform_def sb_scene_placement(const sb_scene* scene) {
@@ -87,7 +87,7 @@ static sb_status make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
 
 sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     sb_status status = make_mesh(scene, out, err);
-    if (status == SB_OK && sb_scene_lod(scene)) status = sb_scene_simplify(scene, out, 0, NULL, err);
+    if (status == SB_OK && sb_scene_lod(scene)) status = sb_scene_simplify(scene, out, 0, NULL, NULL, err);
     sb_mesh_transform_def placement = sb_scene_placement(scene);
     if (status == SB_OK) status = sb_mesh_transform(out, &placement, err);
     if (status == SB_OK && sb_scene_bool(scene, SB_KEY_MESH_REORDER)) status = sb_mesh_reorder(out, NULL, err);

@@ -16,9 +16,10 @@ sb_status sb_scene_make_mesh(const sb_scene* scene, sb_mesh* out, sb_error* err)
 bool sb_scene_lod(const sb_scene* scene);
 /* Simplifies a surface mesh as the scene asks (target_vertices, when not 0,
  * overrides mesh.target_vertices): fixed vertices locked at their indices,
- * the boundary kept. An error for a tetrahedral file. */
-sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, sb_simplify_report* report,
-                            sb_error* err);
+ * the boundary kept. origin (may be NULL) receives each new vertex's index
+ * before (as sb_mesh_simplify's). An error for a tetrahedral file. */
+sb_status sb_scene_simplify(const sb_scene* scene, sb_mesh* mesh, uint32_t target_vertices, uint32_t* origin,
+                            sb_simplify_report* report, sb_error* err);
 /* mesh.scale, mesh.rotate and mesh.translate as a transform. */
 sb_mesh_transform_def sb_scene_placement(const sb_scene* scene);
 

@@ -19,11 +19,26 @@ static sb_status budget(const char* text, double* ms, sb_error* err) {
     return SB_OK;
 }
 
+/* --max-error: a finite number of metres >= 0, with --budget-ms. */
+static sb_status max_error(const sb_cli_args* args, double* m, sb_error* err) {
+    *m = INFINITY;
+    if (!args->max_error) return SB_OK;
+    if (!args->budget_ms) return sb_error_set(err, SB_ERR_INVALID, "--max-error: needs --budget-ms");
+    char* end;
+    *m = strtod(args->max_error, &end);
+    if (end == args->max_error || *end != '\0' || !(*m >= 0.0) || !isfinite(*m))
+        return sb_error_set(err, SB_ERR_INVALID, "--max-error: expected a distance in metres >= 0, got '%s'",
+                            args->max_error);
+    return SB_OK;
+}
+
 static sb_status make_mesh(sb_simulation* sim, const sb_cli_args* args, const sb_solver_def* def, sb_error* err) {
+    double ms, tolerance;
+    sb_status status = max_error(args, &tolerance, err);
+    if (status != SB_OK) return status;
     if (!args->budget_ms) return sb_scene_make_mesh(&sim->scene, &sim->mesh, err);
-    double ms;
-    sb_status status = budget(args->budget_ms, &ms, err);
-    if (status == SB_OK) status = sb_budget_mesh(&sim->scene, def, ms, &sim->mesh, stdout, err);
+    status = budget(args->budget_ms, &ms, err);
+    if (status == SB_OK) status = sb_budget_mesh(&sim->scene, def, ms, tolerance, &sim->mesh, stdout, err);
     fflush(stdout);
     return status;
 }

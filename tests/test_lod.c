@@ -95,27 +95,45 @@ static void test_error_target(void** state) {
  * 0.3 ms per step: a budget picks the largest that fits. */
 static void test_budget_choice(void** state) {
     (void)state;
-    const sb_budget_level levels[] = {{5000, 4.0}, {2000, 1.6}, {800, 0.7}, {300, 0.3}};
+    const sb_budget_level levels[] = {{5000, 4.0, 0}, {2000, 1.6, 0}, {800, 0.7, 0}, {300, 0.3, 0}};
     bool fits;
-    assert_int_equal(sb_budget_choose(levels, 4, 10.0, &fits), 0);
+    assert_int_equal(sb_budget_choose(levels, 4, 10.0, INFINITY, &fits), 0);
     assert_true(fits);
-    assert_int_equal(sb_budget_choose(levels, 4, 2.0, &fits), 1);
-    assert_int_equal(sb_budget_choose(levels, 4, 1.0, &fits), 2);
-    assert_int_equal(sb_budget_choose(levels, 4, 0.3, &fits), 3);
+    assert_int_equal(sb_budget_choose(levels, 4, 2.0, INFINITY, &fits), 1);
+    assert_int_equal(sb_budget_choose(levels, 4, 1.0, INFINITY, &fits), 2);
+    assert_int_equal(sb_budget_choose(levels, 4, 0.3, INFINITY, &fits), 3);
     assert_true(fits);
     /* nothing fits: the smallest, and it says so */
-    assert_int_equal(sb_budget_choose(levels, 4, 0.1, &fits), 3);
+    assert_int_equal(sb_budget_choose(levels, 4, 0.1, INFINITY, &fits), 3);
     assert_false(fits);
     /* a smaller budget never picks a larger model */
     int previous = 0;
     for (double budget = 10.0; budget > 0.05; budget *= 0.9) {
-        int pick = sb_budget_choose(levels, 4, budget, NULL);
+        int pick = sb_budget_choose(levels, 4, budget, INFINITY, NULL);
         assert_true(levels[pick].vertices <= levels[previous].vertices);
         previous = pick;
     }
     /* order of the table does not matter; a non-monotone timing is fine */
-    const sb_budget_level mixed[] = {{300, 0.3}, {5000, 4.0}, {800, 0.9}, {2000, 0.8}};
-    assert_int_equal(sb_budget_choose(mixed, 4, 1.0, NULL), 3);
+    const sb_budget_level mixed[] = {{300, 0.3, 0}, {5000, 4.0, 0}, {800, 0.9, 0}, {2000, 0.8, 0}};
+    assert_int_equal(sb_budget_choose(mixed, 4, 1.0, INFINITY, NULL), 3);
+}
+
+/* With errors measured (5000 vertices: the full model, 0; then 2, 6 and
+ * 20 mm): a tolerance leaves out the levels beyond it, then the budget
+ * picks among the rest; when none of those fits, the smallest of them. */
+static void test_budget_choice_within_an_error(void** state) {
+    (void)state;
+    const sb_budget_level levels[] = {{5000, 4.0, 0}, {2000, 1.6, 0.002}, {800, 0.7, 0.006}, {300, 0.3, 0.020}};
+    bool fits;
+    assert_int_equal(sb_budget_choose(levels, 4, 1.0, 0.01, &fits), 2);
+    assert_true(fits);
+    assert_int_equal(sb_budget_choose(levels, 4, 1.0, 0.005, &fits), 1); /* 800 is too coarse; 2000 misses 1 ms */
+    assert_false(fits);
+    assert_int_equal(sb_budget_choose(levels, 4, 0.5, 0.001, &fits), 0); /* only the full model is within 1 mm */
+    assert_false(fits);
+    assert_int_equal(sb_budget_choose(levels, 4, 0.5, 0.0, &fits), 0);
+    assert_int_equal(sb_budget_choose(levels, 4, 0.5, INFINITY, &fits), 3);
+    assert_true(fits);
 }
 
 /* The scene keys: a 30 x 30 sheet to about 300 vertices, vertex 155 fixed
@@ -160,6 +178,31 @@ static void test_run_budget(void** state) {
     assert_int_equal(r.code, 0);
     assert_non_null(strstr(r.out, "nothing fits 1e-09 ms: the smallest"));
     tu_result_free(&r);
+    /* --max-error: nothing fits 1e-9 ms; within 1 m every level is (the
+     * smallest picked), within 0 m only the full model, whose error is 0 */
+    const char* within[] = {"run", "s.yaml", "--budget-ms", "1e-9", "--max-error", "1", "--output", "out", NULL};
+    r = tu_run(within);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "each level's RMS distance from the full model after 0.0002 s"));
+    assert_non_null(strstr(r.out, "nothing within the error fits 1e-09 ms: the smallest within the error;"));
+    assert_null(strstr(r.out, "picked 576 vertices"));
+    tu_result_free(&r);
+    within[5] = "0";
+    r = tu_run(within);
+    assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "softbond: picked 576 vertices ("));
+    assert_non_null(strstr(r.out, "; 0 m RMS from the full model, 0 % of its motion)"));
+    tu_result_free(&r);
+    within[5] = "-1";
+    r = tu_run(within);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "--max-error: expected a distance in metres >= 0, got '-1'"));
+    tu_result_free(&r);
+    const char* alone[] = {"run", "s.yaml", "--max-error", "0.01", "--output", "out", NULL};
+    r = tu_run(alone);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "--max-error: needs --budget-ms"));
+    tu_result_free(&r);
     args[3] = "-3";
     r = tu_run(args);
     assert_int_equal(r.code, 2);
@@ -170,9 +213,13 @@ static void test_run_budget(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_vertex_target), cmocka_unit_test(test_boundary_and_locked_kept),
-        cmocka_unit_test(test_error_target),  cmocka_unit_test(test_budget_choice),
-        cmocka_unit_test(test_scene_keys),    cmocka_unit_test(test_run_budget),
+        cmocka_unit_test(test_vertex_target),
+        cmocka_unit_test(test_boundary_and_locked_kept),
+        cmocka_unit_test(test_error_target),
+        cmocka_unit_test(test_budget_choice),
+        cmocka_unit_test(test_budget_choice_within_an_error),
+        cmocka_unit_test(test_scene_keys),
+        cmocka_unit_test(test_run_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
