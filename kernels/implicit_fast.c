@@ -363,6 +363,17 @@ static void sb_fast_newton_init(sb_fast_newton* w) {
                 w->v[V_DV][4 * i + a] = (sb_real)((target[3 * i + a] - x[a][i]) / w->dt - v[a][i]);
 }
 
+/* Whether what follows the step reads its forces at once: the contact,
+ * handle and self-contact passes after it, breakage's limits, adaptive
+ * stepping's estimate, the external and soft handles' callbacks. Otherwise
+ * sb_solver_settle evaluates them when asked (as pbd and vbd do): the line
+ * search's last residual already had them, but the energies and the
+ * state's arrays were not kept: a step saves a force pass. */
+static bool sb_fast_newton_needs_forces(const sb_solver* s) {
+    return s->def.adaptive || s->def.external_force || s->soft_handles || s->breakage || s->self ||
+           s->def.collider_count > 0 || s->def.handle_count > 0;
+}
+
 /* The free vertices' new positions and velocities into the state. */
 static void sb_fast_newton_store(sb_solver* s) {
     sb_state* st = &s->state;
@@ -404,5 +415,6 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
     if (!converged) s->stats.converged = false;
     sb_fast_newton_store(s);
     s->has_displacement = false;
-    return sb_solver_compute_forces(s);
+    s->forces_stale = !sb_fast_newton_needs_forces(s);
+    return s->forces_stale ? sb_check_state(s) : sb_solver_compute_forces(s);
 }
