@@ -58,7 +58,8 @@ enum { SB_PARTIALS = 4 };
 
 struct sb_implicit_fast {
     sb_real* vectors; /* V_COUNT × 4n */
-    sb_real* blocks;  /* 9n: J's diagonal blocks, then their inverses */
+    sb_real* blocks;  /* 9n: J's diagonal blocks */
+    sb_real* inverse; /* 6n: their inverses' upper triangles, 0 on held vertices */
     double* partials; /* SB_PARTIALS per vertex chunk */
     size_t n4;
 };
@@ -83,15 +84,16 @@ struct sb_implicit_fast* sb_implicit_fast_create(const sb_solver* s) {
     im->vectors = aligned_alloc(64, bytes); /* the kernels' packed loads */
     if (im->vectors) memset(im->vectors, 0, bytes);
     im->blocks = calloc(9 * (n ? n : 1), sizeof(sb_real));
+    im->inverse = calloc(6 * (n ? n : 1), sizeof(sb_real));
     im->partials = calloc(SB_PARTIALS * (chunks ? chunks : 1), sizeof(double));
-    if (im->vectors && im->blocks && im->partials) return im;
+    if (im->vectors && im->blocks && im->inverse && im->partials) return im;
     sb_implicit_fast_destroy(im);
     return NULL;
 }
 
 void sb_implicit_fast_destroy(struct sb_implicit_fast* im) {
     if (!im) return;
-    free(im->vectors), free(im->blocks), free(im->partials);
+    free(im->vectors), free(im->blocks), free(im->inverse), free(im->partials);
     free(im);
 }
 
@@ -171,11 +173,11 @@ static void sb_op_residual(sb_fast_newton* w, size_t begin, size_t end, double* 
 /* CG's start: sol = 0, res = rhs, z = P res, d = 0; partials res·z, |res|². */
 static void sb_op_precondition(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     sb_real** a = w->v;
-    const sb_real* blocks = w->im->blocks;
     for (size_t k = begin; k < end; k += 4) {
-        const sb_real *b = blocks + 9 * (k / 4), *r = a[V_RES] + k;
-        for (int u = 0; u < 3; u++)
-            a[V_Z][k + u] = a[V_MASK][k + u] * (b[3 * u] * r[0] + b[3 * u + 1] * r[1] + b[3 * u + 2] * r[2]);
+        const sb_real *b = w->im->inverse + 6 * (k / 4), *r = a[V_RES] + k;
+        a[V_Z][k] = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
+        a[V_Z][k + 1] = b[1] * r[0] + b[3] * r[1] + b[4] * r[2];
+        a[V_Z][k + 2] = b[2] * r[0] + b[4] * r[1] + b[5] * r[2];
         for (int u = 0; u < 3; u++) {
             partial[0] += (double)r[u] * a[V_Z][k + u];
             partial[1] += (double)r[u] * r[u];
@@ -252,13 +254,15 @@ static void sb_op_zero_blocks(sb_fast_newton* w, size_t begin, size_t end, doubl
 }
 
 /* Each block J_ii = M_i (1 + dt drag) + dt² K_ii + dt D_ii inverted (the
- * inverse mass where it is singular: possible with an indefinite K);
+ * inverse mass where it is singular: possible with an indefinite K), its
+ * upper triangle kept (J_ii is symmetric) times the mask: the
+ * preconditioner reads 6 numbers a vertex, not 9 and the mask's 4;
  * partial: Σ (|x_i| tr(dt² K_ii + dt D_ii))², for the residual's floor. */
 static void sb_op_invert_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     const sb_model* m = w->s->model;
     const sb_real* x = w->s->positions4;
     for (size_t i = begin / 4; i < end / 4; i++) {
-        sb_real* block = w->im->blocks + 9 * i;
+        const sb_real* block = w->im->blocks + 9 * i;
         double j[9], inverse[9] = {0};
         for (int k = 0; k < 9; k++) j[k] = block[k];
         double reach = fmax(fabs(x[4 * i]), fmax(fabs(x[4 * i + 1]), fabs(x[4 * i + 2])));
@@ -267,7 +271,8 @@ static void sb_op_invert_blocks(sb_fast_newton* w, size_t begin, size_t end, dou
         double diagonal = m->mass[i] * (1.0 + w->dt * w->s->def.drag);
         j[0] += diagonal, j[4] += diagonal, j[8] += diagonal;
         if (!sb_m3_invert(j, inverse) && m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
-        for (int k = 0; k < 9; k++) block[k] = (sb_real)inverse[k];
+        static const int upper[6] = {0, 1, 2, 4, 5, 8};
+        for (int k = 0; k < 6; k++) w->im->inverse[6 * i + k] = (sb_real)(w->v[V_MASK][4 * i] * inverse[upper[k]]);
     }
 }
 

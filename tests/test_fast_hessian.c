@@ -4,7 +4,8 @@
  * against the element matrices, the product's symmetry, each on 1, 2 and 3
  * threads with bitwise equal results; and implicit Euler on the fast
  * kernels (kernels/implicit_fast.c) against the reference's over large
- * steps, bitwise the same on 1, 2 and 3 threads. */
+ * steps, bitwise the same on 1, 2 and 3 threads, its forces and energies
+ * when asked as a fresh evaluation's. */
 #include "test_util.h"
 
 #include "kernels/fast_hessian.h"
@@ -364,6 +365,37 @@ static void test_implicit_fast_loaded(void** state) {
     implicit_against_reference(true);
 }
 
+/* Free of loads, the fast step leaves the new state's forces and energies
+ * for when they are asked for: what the getters return then is bitwise
+ * what a solver set to the same state evaluates. */
+static void test_implicit_fast_energies_when_asked(void** state) {
+    (void)state;
+    sb_model* m = make_model();
+    size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
+    sb_solver_def def = sb_default_solver_def();
+    def.integrator = SB_INTEGRATOR_IMPLICIT_EULER;
+    def.implicit_solver = SB_LINEAR_CG;
+    def.kernels = SB_KERNELS_FAST;
+    sb_solver *s = tu_solver(m, &def), *fresh = tu_solver(m, &def);
+    tu_advance(s, IMPLICIT_DT, 3);
+    assert_true(s->forces_stale);
+    double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v),
+           *f[2] = {malloc(n3 * sizeof *x), malloc(n3 * sizeof *x)};
+    sb_solver_get_positions(s, x);
+    sb_solver_get_velocities(s, v);
+    assert_int_equal(sb_solver_set_state(fresh, x, v), SB_OK);
+    sb_energies asked = sb_solver_energies(s), evaluated = sb_solver_energies(fresh);
+    sb_solver_get_forces(s, f[0]);
+    sb_solver_get_forces(fresh, f[1]);
+    assert_memory_equal(&asked, &evaluated, sizeof asked);
+    assert_memory_equal(f[0], f[1], n3 * sizeof *f[0]);
+    assert_true(asked.term[SB_TERM_BOND] > 0.0);
+    free(x), free(v), free(f[0]), free(f[1]);
+    sb_solver_destroy(s);
+    sb_solver_destroy(fresh);
+    sb_model_destroy(m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_product),
@@ -371,6 +403,7 @@ int main(void) {
         cmocka_unit_test(test_symmetry),
         cmocka_unit_test(test_implicit_fast),
         cmocka_unit_test(test_implicit_fast_loaded),
+        cmocka_unit_test(test_implicit_fast_energies_when_asked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
