@@ -30,7 +30,9 @@
  *     there (measured at about an eighth of it on tests/test_fast_hessian.c's
  *     sheet), far above the first term.
  * CG stops at its relative 1e-5 or at half of that Newton target, whichever
- * is larger. */
+ * is larger. The step's last residual had the new state's forces: they and
+ * the energies wait for sb_solver_settle unless what follows the step reads
+ * them (sb_fast_newton_needs_forces). */
 #include "kernels/implicit_fast.h"
 #include "kernels/fast_hessian.h"
 #include "kernels/handle_internal.h"
