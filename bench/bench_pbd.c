@@ -11,10 +11,12 @@
  * Each case and thread count is timed --repeats times, the cases and counts
  * interleaved (so that a busy moment of a shared machine hits all alike);
  * the best time counts. One line per case and thread count on stdout:
- *   softbond,CASE,THREADS,STEPS,MS_PER_STEP,BOND_PROJECTIONS,CORNER_PROJECTIONS
- * (projections per step: constraints × sweeps). bench/jolt/run.sh runs it
+ *   softbond,CASE,THREADS,STEPS,MS_PER_STEP,BOND_PROJECTIONS,CORNER_PROJECTIONS,BARRIERS
+ * (projections per step: constraints × sweeps; the team's barriers a step
+ * on more than one thread, kernels/fast_pbd.c). bench/jolt/run.sh runs it
  * beside the Jolt peer. */
 #include "bench/bench_cases.h"
+#include "kernels/pbd_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -136,9 +138,9 @@ int main(int argc, char** argv) {
                 best[c][t] = fmin(best[c][t], sb_time_steps(solvers[c][t], o.steps));
     for (int c = 0; c < CASES; c++) {
         for (int t = 0; t < o.thread_count; t++) {
-            printf("softbond,%s,%d,%llu,%.6f,%llu,%llu\n", names[c], o.threads[t], (unsigned long long)o.steps,
+            printf("softbond,%s,%d,%llu,%.6f,%llu,%llu,%u\n", names[c], o.threads[t], (unsigned long long)o.steps,
                    1e3 * best[c][t] / (double)o.steps, (unsigned long long)bonds[c] * (unsigned)o.iterations,
-                   3ull * triangles[c] * (unsigned)o.iterations);
+                   3ull * triangles[c] * (unsigned)o.iterations, sb_pbd_wide_barriers(solvers[c][t]));
             sb_solver_destroy(solvers[c][t]);
         }
         sb_model_destroy(models[c]);

@@ -32,4 +32,28 @@ int sb_colorer_pick(sb_colorer* colorer, uint64_t taken);
 uint32_t sb_colorer_run(sb_colorer* colorer, uint32_t begin, uint32_t end, int arity, const uint32_t* const* vertices,
                         uint8_t* color);
 
+/* A blocked coloring (the scheme kernels/fast_model.h describes, for
+ * position-based sweeps): the items, in their given order, are cut into
+ * blocks of block_size consecutive items; blocks are colored so that blocks
+ * of one block color share no vertex (the overflow block color's may), and
+ * within a block, items so that items of one color share no vertex. A run
+ * is one color of one block. Sweeping block color by block color, a
+ * block's runs in order, synchronises threads once per block color. */
+typedef struct sb_blocked {
+    uint32_t count, run_count, block_count;
+    uint32_t* order;           /* count: the items (0 … count − 1) run by run, in given order within a run */
+    uint32_t* run_first;       /* run_count + 1: run r is order[run_first[r], run_first[r + 1]) */
+    bool* run_serial;          /* run_count: the overflow color, whose items may share vertices */
+    uint32_t* block_first_run; /* block_count + 1: block b's runs */
+    uint32_t color_first_block[SB_MAX_COLORS + 1]; /* block color k: blocks [k], [k + 1]) */
+} sb_blocked;
+
+/* Colors `count` items of `arity` vertices each (vertices[a][e]); false
+ * when out of memory. */
+bool sb_blocked_build(sb_blocked* blocked, uint32_t vertex_count, uint32_t count, uint32_t block_size, int arity,
+                      const uint32_t* const* vertices);
+void sb_blocked_free(sb_blocked* blocked);
+/* The block colors that have blocks. */
+uint32_t sb_blocked_colors(const sb_blocked* blocked);
+
 #endif

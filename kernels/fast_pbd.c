@@ -64,12 +64,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* A group's slots, color by color. */
+/* A group's slots, run by run. */
 typedef struct sb_pbd_slots {
-    uint32_t first[SB_MAX_COLORS + 1]; /* first slot of each color, a multiple of SB_WIDTH */
-    uint32_t count[SB_MAX_COLORS];     /* constraints of each color */
-    uint32_t total;                    /* slots */
-    uint32_t* item;                    /* the model index each slot copies */
+    const sb_blocked* runs; /* the group's */
+    uint32_t* first;        /* run_count + 1: each run's first slot, a multiple of SB_WIDTH */
+    uint32_t total;         /* slots */
+    uint32_t* item;         /* the model index each slot copies */
 } sb_pbd_slots;
 
 /* The copies of distance constraints' constants (a bond's), and λ, per slot. */
@@ -105,23 +105,29 @@ bool sb_pbd_wide_applies(const sb_solver* s) { return s->fast && !s->def.collide
 
 static void* sb_pbd_alloc(uint32_t count, size_t size) { return aligned_alloc(64, ((count * size) / 64 + 1) * 64); }
 
-/* Slots of the colors of g: SB_WIDTH constraints a block, one in the overflow color's. */
-static bool sb_pbd_slots_build(sb_pbd_slots* slots, const sb_pbd_group* g) {
+/* Constraints of run r, and of each SIMD block of its slots (one in a serial run). */
+static uint32_t sb_pbd_run_count(const sb_blocked* g, uint32_t r) { return g->run_first[r + 1] - g->run_first[r]; }
+static uint32_t sb_pbd_per_block(const sb_blocked* g, uint32_t r) { return g->run_serial[r] ? 1 : SB_WIDTH; }
+
+/* Slots of the runs of g: SB_WIDTH constraints a block, one in a serial run's. */
+static bool sb_pbd_slots_build(sb_pbd_slots* slots, const sb_blocked* g) {
+    slots->runs = g;
+    slots->first = malloc((g->run_count + 1) * sizeof *slots->first);
+    if (!slots->first) return false;
     slots->first[0] = 0;
-    for (int k = 0; k < SB_MAX_COLORS; k++) {
-        uint32_t count = g->first[k + 1] - g->first[k], per_block = k == SB_OVERFLOW_COLOR ? 1 : SB_WIDTH;
-        slots->count[k] = count;
-        slots->first[k + 1] = slots->first[k] + (count + per_block - 1) / per_block * SB_WIDTH;
+    for (uint32_t r = 0; r < g->run_count; r++) {
+        uint32_t count = sb_pbd_run_count(g, r), per_block = sb_pbd_per_block(g, r);
+        slots->first[r + 1] = slots->first[r] + (count + per_block - 1) / per_block * SB_WIDTH;
     }
-    slots->total = slots->first[SB_MAX_COLORS];
+    slots->total = slots->first[g->run_count];
     slots->item = sb_pbd_alloc(slots->total, sizeof *slots->item);
     if (!slots->item) return false;
-    for (int k = 0; k < SB_MAX_COLORS; k++) {
-        uint32_t per_block = k == SB_OVERFLOW_COLOR ? 1 : SB_WIDTH;
-        for (uint32_t s = slots->first[k]; s < slots->first[k + 1]; s++) {
-            uint32_t block = (s - slots->first[k]) / SB_WIDTH, lane = (s - slots->first[k]) % SB_WIDTH;
+    for (uint32_t r = 0; r < g->run_count; r++) {
+        uint32_t count = sb_pbd_run_count(g, r), per_block = sb_pbd_per_block(g, r);
+        for (uint32_t s = slots->first[r]; s < slots->first[r + 1]; s++) {
+            uint32_t block = (s - slots->first[r]) / SB_WIDTH, lane = (s - slots->first[r]) % SB_WIDTH;
             uint32_t e = block * per_block + (lane < per_block ? lane : 0);
-            slots->item[s] = g->items[g->first[k] + (e < slots->count[k] ? e : block * per_block)];
+            slots->item[s] = g->order[g->run_first[r] + (e < count ? e : block * per_block)];
         }
     }
     return true;
@@ -179,7 +185,7 @@ void sb_pbd_wide_destroy(sb_pbd_wide* w) {
     if (!w) return;
     sb_pbd_wide_bonds* b = &w->bonds;
     sb_pbd_wide_triangles* t = &w->triangles;
-    void* arrays[] = {b->slots.item, b->i,         b->j,          b->d.r0,  b->d.alpha, b->d.beta,
+    void* arrays[] = {b->slots.first, t->slots.first, b->slots.item, b->i,         b->j,          b->d.r0,  b->d.alpha, b->d.beta,
                       b->d.alive,    b->d.lambda,  t->slots.item, t->v[0],  t->v[1],    t->v[2],
                       t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive,   t->lambda[0],
                       t->lambda[1],  t->lambda[2], w->x4,         w->x04};
@@ -197,7 +203,7 @@ sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
     if (!w) return NULL;
     sb_pbd_wide_bonds* b = &w->bonds;
     sb_pbd_wide_triangles* t = &w->triangles;
-    bool ok = sb_pbd_slots_build(&b->slots, &p->bonds) && sb_pbd_slots_build(&t->slots, &p->triangles);
+    bool ok = sb_pbd_slots_build(&b->slots, &p->bonds.runs) && sb_pbd_slots_build(&t->slots, &p->triangles.runs);
     uint32_t nb = b->slots.total, nt = t->slots.total;
     uint32_t** indices[5] = {&b->i, &b->j, &t->v[0], &t->v[1], &t->v[2]};
     uint32_t index_counts[5] = {nb, nb, nt, nt, nt};
@@ -409,21 +415,10 @@ SB_PBD_INLINE bool sb_pbd_wide_triangle_blocks(const sb_pbd_wide_triangles* t, c
     return any;
 }
 
-/* This worker's blocks of color k of `slots`, [begin, end) in slots. */
-static void sb_pbd_color_share(const sb_worker* w, const sb_pbd_slots* slots, int k, uint32_t* begin, uint32_t* end) {
-    int64_t first = 0, last = (slots->first[k + 1] - slots->first[k]) / SB_WIDTH;
-    if (k != SB_OVERFLOW_COLOR)
-        sb_worker_range(w, last, &first, &last);
-    else if (w->index != 0)
-        first = last; /* worker 0 alone */
-    *begin = slots->first[k] + (uint32_t)first * SB_WIDTH;
-    *end = slots->first[k] + (uint32_t)last * SB_WIDTH;
-}
-
-/* Real lanes of the block at slot s of color k. */
-static int sb_pbd_block_lanes(const sb_pbd_slots* slots, int k, uint32_t s) {
-    if (k == SB_OVERFLOW_COLOR) return 1;
-    uint32_t left = slots->count[k] - (s - slots->first[k]);
+/* Real lanes of the block at slot s of run r. */
+static int sb_pbd_block_lanes(const sb_pbd_slots* slots, uint32_t r, uint32_t s) {
+    if (slots->runs->run_serial[r]) return 1;
+    uint32_t left = sb_pbd_run_count(slots->runs, r) - (s - slots->first[r]);
     return left < SB_WIDTH ? (int)left : SB_WIDTH;
 }
 
@@ -454,22 +449,33 @@ static bool sb_pbd_damped_triangles(const void* group, const sb_pbd_sweep* k, ui
                                    : sb_pbd_wide_triangle_blocks(group, k, s, lanes, 1, true);
 }
 
-/* All colors of a group in order, a barrier after each; called by every
- * worker. `together` blocks at a time (1 or SB_PBD_BLOCKS), one in the
- * overflow color, whose blocks may share vertices. */
+/* Run r's slots, `together` SIMD blocks at a time (1 or SB_PBD_BLOCKS),
+ * one in a serial run, whose blocks may share vertices. */
+static bool sb_pbd_run(const sb_pbd_slots* slots, uint32_t r, const void* group, sb_pbd_block_fn project,
+                       uint32_t together, const sb_pbd_sweep* k) {
+    bool collapsed = false;
+    uint32_t end = slots->first[r + 1], step = slots->runs->run_serial[r] ? 1 : together;
+    for (uint32_t s = slots->first[r], blocks; s < end; s += blocks * SB_WIDTH) {
+        blocks = s + step * SB_WIDTH <= end ? step : 1;
+        int lanes[SB_PBD_BLOCKS] = {sb_pbd_block_lanes(slots, r, s)};
+        for (uint32_t h = 1; h < blocks; h++) lanes[h] = sb_pbd_block_lanes(slots, r, s + h * SB_WIDTH);
+        collapsed |= project(group, k, s, lanes, (int)blocks);
+    }
+    return collapsed;
+}
+
+/* All block colors of a group in order, a barrier after each, this
+ * worker's blocks' runs in order; called by every worker. */
 static bool sb_pbd_colors(const sb_worker* w, const sb_pbd_slots* slots, const void* group, sb_pbd_block_fn project,
                           uint32_t together, const sb_pbd_sweep* k) {
+    const sb_blocked* g = slots->runs;
     bool collapsed = false;
     for (int color = 0; color < SB_MAX_COLORS; color++) {
-        if (!slots->count[color]) continue;
-        uint32_t begin, end, step = color == SB_OVERFLOW_COLOR ? 1 : together;
-        sb_pbd_color_share(w, slots, color, &begin, &end);
-        for (uint32_t s = begin, blocks; s < end; s += blocks * SB_WIDTH) {
-            blocks = s + step * SB_WIDTH <= end ? step : 1;
-            int lanes[SB_PBD_BLOCKS] = {sb_pbd_block_lanes(slots, color, s)};
-            for (uint32_t h = 1; h < blocks; h++) lanes[h] = sb_pbd_block_lanes(slots, color, s + h * SB_WIDTH);
-            collapsed |= project(group, k, s, lanes, (int)blocks);
-        }
+        if (g->color_first_block[color] == g->color_first_block[color + 1]) continue;
+        uint32_t begin, end;
+        sb_pbd_block_share(w, g, color, &begin, &end);
+        for (uint32_t r = g->block_first_run[begin]; r < g->block_first_run[end]; r++)
+            collapsed |= sb_pbd_run(slots, r, group, project, together, k);
         sb_worker_barrier(w);
     }
     return collapsed;
@@ -561,6 +567,12 @@ static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
     }
     if (collapsed) sb_worker_raise(&job->collapsed);
     sb_pbd_wide_finish(w, job);
+}
+
+uint32_t sb_pbd_wide_barriers(const sb_solver* s) {
+    const sb_pbd* p = s->pbd;
+    uint32_t per_sweep = sb_blocked_colors(&p->bonds.runs) + sb_blocked_colors(&p->triangles.runs);
+    return 2 + (uint32_t)sb_pbd_iterations(&s->def) * per_sweep;
 }
 
 /* Whether anything of the next step reads this step's forces or energies. */

@@ -66,7 +66,7 @@
 #include <string.h>
 
 static void sb_pbd_group_free(sb_pbd_group* g) {
-    free(g->items);
+    sb_blocked_free(&g->runs);
     free(g->lambda);
 }
 
@@ -82,28 +82,26 @@ void sb_pbd_destroy(sb_pbd* p) {
     free(p);
 }
 
+/* Items per block of the blocked coloring: blocks of a sheet's rows or
+ * more, so that a sweep synchronises threads at few block colors (the 100
+ * × 100 sheet: 2 or 3, against 7 to 9 colors of its elements), and about
+ * 24 blocks, so that each thread has several of a block color. Depends on
+ * the item count only, never on the thread count: the order of the
+ * projections is the same for any. */
+static uint32_t sb_pbd_block_size(uint32_t count) {
+    uint32_t size = count / 24;
+    return size < 512 ? 512 : size > 4096 ? 4096 : size;
+}
+
 /* Colors the `count` items whose vertices are ends[a][e] (items[e] their
- * model indices) and sorts them by color into g. */
+ * model indices) into g's blocked order. */
 static bool sb_pbd_group_build(sb_pbd_group* g, uint32_t vertex_count, uint32_t count, int arity,
                                const uint32_t* const* ends, const uint32_t* items, int lambdas) {
-    g->count = count;
-    g->items = malloc((count ? count : 1) * sizeof *g->items);
     g->lambda = calloc((size_t)(count ? count : 1) * (size_t)lambdas, sizeof *g->lambda);
-    uint8_t* color = malloc(count ? count : 1);
-    sb_colorer colorer;
-    bool ok = g->items && g->lambda && color && sb_colorer_init(&colorer, vertex_count);
-    if (ok) {
-        sb_colorer_run(&colorer, 0, count, arity, ends, color);
-        sb_colorer_free(&colorer);
-        uint32_t sizes[SB_MAX_COLORS] = {0}, cursor[SB_MAX_COLORS];
-        for (uint32_t e = 0; e < count; e++) sizes[color[e]]++;
-        g->first[0] = 0;
-        for (int k = 0; k < SB_MAX_COLORS; k++) g->first[k + 1] = g->first[k] + sizes[k];
-        memcpy(cursor, g->first, sizeof cursor);
-        for (uint32_t e = 0; e < count; e++) g->items[cursor[color[e]]++] = items[e];
-    }
-    free(color);
-    return ok;
+    if (!g->lambda || !sb_blocked_build(&g->runs, vertex_count, count, sb_pbd_block_size(count), arity, ends))
+        return false;
+    for (uint32_t e = 0; e < count; e++) g->runs.order[e] = items[g->runs.order[e]];
+    return true;
 }
 
 /* Which bonds the triangles carry: a bond of `bonds` (model indices,
@@ -140,24 +138,24 @@ static unsigned sb_pbd_carried(const sb_pbd* p, uint32_t t) {
     return mask;
 }
 
-/* Sorts the triangles of each color by the edges that carry a bond (a
+/* Sorts the triangles of each run by the edges that carry a bond (a
  * stable counting sort), so that the SIMD sweeps' blocks mostly hold
  * triangles that carry bonds on the same edges and project only those.
- * The triangles of a color share no vertex: their order does not change
- * the result. */
+ * The triangles of a run (unless serial) share no vertex: their order does
+ * not change the result. */
 static bool sb_pbd_sort_by_carried(sb_pbd* p) {
-    sb_pbd_group* g = &p->triangles;
+    sb_blocked* g = &p->triangles.runs;
     uint32_t* sorted = malloc((g->count ? g->count : 1) * sizeof *sorted);
     if (!sorted) return false;
-    for (int k = 0; k < SB_MAX_COLORS; k++) {
-        uint32_t cursor[9] = {0};
-        for (uint32_t e = g->first[k]; e < g->first[k + 1]; e++) cursor[sb_pbd_carried(p, g->items[e]) + 1]++;
-        cursor[0] = g->first[k];
+    for (uint32_t r = 0; r < g->run_count; r++) {
+        uint32_t cursor[9] = {0}, first = g->run_first[r], end = g->run_first[r + 1];
+        if (g->run_serial[r]) continue;
+        for (uint32_t e = first; e < end; e++) cursor[sb_pbd_carried(p, g->order[e]) + 1]++;
+        cursor[0] = first;
         for (int mask = 1; mask <= 8; mask++) cursor[mask] += cursor[mask - 1];
-        for (uint32_t e = g->first[k]; e < g->first[k + 1]; e++)
-            sorted[cursor[sb_pbd_carried(p, g->items[e])]++] = g->items[e];
+        for (uint32_t e = first; e < end; e++) sorted[cursor[sb_pbd_carried(p, g->order[e])]++] = g->order[e];
+        memcpy(g->order + first, sorted + first, (end - first) * sizeof *sorted);
     }
-    memcpy(g->items, sorted, g->count * sizeof *sorted);
     free(sorted);
     return true;
 }
@@ -195,17 +193,17 @@ static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
     return ok;
 }
 
-/* A sweep has a barrier per color: with fewer than this many constraints a
- * color per thread the barriers cost more than the work (measured on the
- * 900-vertex default scene, ~400 constraints a color: a step took 2.2 times
- * longer on 2 threads than on 1). The team never changes the result. */
+/* A sweep has a barrier per block color: with fewer than this many
+ * constraints a block color per thread the barriers cost more than the
+ * work (measured with a barrier per element color on the 900-vertex
+ * default scene, ~400 constraints a color: a step took 2.2 times longer on
+ * 2 threads than on 1). The team never changes the result. */
 #define SB_PBD_ITEMS_PER_THREAD 1024
 
 static int sb_pbd_team(const sb_pbd* p, int requested) {
-    uint32_t colors = 0;
-    for (int k = 0; k < SB_MAX_COLORS; k++)
-        colors += (p->bonds.first[k + 1] > p->bonds.first[k]) + (p->triangles.first[k + 1] > p->triangles.first[k]);
-    uint32_t per_color = colors ? (p->bonds.count + p->triangles.count) / colors : 0;
+    const sb_blocked *b = &p->bonds.runs, *t = &p->triangles.runs;
+    uint32_t colors = sb_blocked_colors(b) + sb_blocked_colors(t);
+    uint32_t per_color = colors ? (b->count + t->count) / colors : 0;
     int team = (int)(per_color / SB_PBD_ITEMS_PER_THREAD);
     return team < 1 ? 1 : team > requested ? requested : team;
 }
@@ -322,21 +320,29 @@ static void sb_pbd_triangle(const sb_pbd_step* k, uint32_t t, double* lambda) {
 
 typedef void (*sb_pbd_project_fn)(const sb_pbd_step*, uint32_t, double*);
 
-/* All colors of a group in order; called by every worker of the job. The
- * overflow color, whose constraints may share vertices, runs on worker 0. */
+/* This worker's blocks [begin, end) of block color k of g: its share, all
+ * of the overflow color's (whose blocks may share vertices) on worker 0. */
+void sb_pbd_block_share(const sb_worker* w, const sb_blocked* g, int k, uint32_t* begin, uint32_t* end) {
+    int64_t first = 0, last = g->color_first_block[k + 1] - g->color_first_block[k];
+    if (k != SB_OVERFLOW_COLOR)
+        sb_worker_range(w, last, &first, &last);
+    else if (w->index != 0)
+        first = last;
+    *begin = g->color_first_block[k] + (uint32_t)first;
+    *end = g->color_first_block[k] + (uint32_t)last;
+}
+
+/* All block colors of a group in order, a barrier after each, a block's
+ * items in run order; called by every worker of the job. */
 static void sb_pbd_group_pass(const sb_worker* w, const sb_pbd_step* k, sb_pbd_group* g, sb_pbd_project_fn project,
                               int lambdas) {
+    const sb_blocked* b = &g->runs;
     for (int color = 0; color < SB_MAX_COLORS; color++) {
-        int64_t first = g->first[color], last = g->first[color + 1], begin = first, end = last;
-        if (first == last) continue;
-        if (color != SB_OVERFLOW_COLOR) {
-            sb_worker_range(w, last - first, &begin, &end);
-            begin += first;
-            end += first;
-        } else if (w->index != 0) {
-            begin = end;
-        }
-        for (int64_t e = begin; e < end; e++) project(k, g->items[e], g->lambda + (size_t)lambdas * e);
+        if (b->color_first_block[color] == b->color_first_block[color + 1]) continue;
+        uint32_t begin, end;
+        sb_pbd_block_share(w, b, color, &begin, &end);
+        for (uint32_t e = b->run_first[b->block_first_run[begin]]; e < b->run_first[b->block_first_run[end]]; e++)
+            project(k, b->order[e], g->lambda + (size_t)lambdas * e);
         sb_worker_barrier(w);
     }
 }
@@ -405,8 +411,9 @@ sb_status sb_integrate_pbd(sb_solver* s, double dt) {
     if (s->pinned_inv_mass) sb_handles_place_predicted(s, p->x);
     sb_pbd_step k = {s->model, sb_inv_mass(s),  p->edge_bond, p->x,
                      p->x0,    1.0 / (dt * dt), dt,           s->def.integrator == SB_INTEGRATOR_XPBD};
-    memset(p->bonds.lambda, 0, (p->bonds.count ? p->bonds.count : 1) * sizeof(double));
-    memset(p->triangles.lambda, 0, 6 * (size_t)(p->triangles.count ? p->triangles.count : 1) * sizeof(double));
+    uint32_t bonds = p->bonds.runs.count, triangles = p->triangles.runs.count;
+    memset(p->bonds.lambda, 0, (bonds ? bonds : 1) * sizeof(double));
+    memset(p->triangles.lambda, 0, 6 * (size_t)(triangles ? triangles : 1) * sizeof(double));
     sb_pbd_job job = {s, &k, p, sb_pbd_iterations(&s->def)};
     sb_team_run(s->team, p->threads, sb_pbd_sweeps, &job);
     sb_pbd_finish(s, dt);

@@ -7,12 +7,11 @@
 #include "kernels/coloring.h"
 #include "kernels/contact_pbd.h"
 
-/* One kind of constraint item (bonds or triangles), sorted by color. */
+/* One kind of constraint item (bonds or triangles) in a blocked coloring:
+ * runs.order holds the items' model indices (model order within a run). */
 typedef struct sb_pbd_group {
-    uint32_t count;
-    uint32_t* items; /* model indices, color by color, model order within a color */
-    uint32_t first[SB_MAX_COLORS + 1];
-    double* lambda; /* xpbd: 1 per bond, 6 per triangle (its corners, then its edges' bonds) */
+    sb_blocked runs;
+    double* lambda; /* xpbd, in run order: 1 per bond, 6 per triangle (its corners, then its edges' bonds) */
 } sb_pbd_group;
 
 /* A triangle edge that carries no bond of its own (sb_pbd.edge_bond). */
@@ -41,6 +40,10 @@ static inline double sb_pbd_predicted_velocity(const sb_solver* s, uint32_t i, i
     return v + dt * (s->def.gravity[c] + external - s->def.drag * v);
 }
 
+/* This worker's blocks [begin, end) of block color k of g (all of the
+ * overflow color's on worker 0). */
+void sb_pbd_block_share(const sb_worker* worker, const sb_blocked* g, int k, uint32_t* begin, uint32_t* end);
+
 /* Whether the solver's pbd steps take the SIMD sweeps: the fast kernels,
  * no colliders and no handles (their passes work on the scalar sweeps'
  * double positions). */
@@ -54,5 +57,8 @@ void sb_pbd_wide_destroy(sb_pbd_wide* wide);
  * forces and energies of the new state are left to sb_solver_settle
  * (kernels/solver.c) unless the next step needs them. */
 sb_status sb_pbd_wide_step(sb_solver* solver, double dt);
+/* The barriers of a step of the SIMD sweeps on more than one thread: two
+ * before the sweeps, then one per block color of each group per sweep. */
+uint32_t sb_pbd_wide_barriers(const sb_solver* solver);
 
 #endif
