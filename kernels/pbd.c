@@ -82,14 +82,18 @@ void sb_pbd_destroy(sb_pbd* p) {
     free(p);
 }
 
-/* Items per block of the blocked coloring: blocks of a sheet's rows or
- * more, so that a sweep synchronises threads at few block colors (the 100
- * × 100 sheet: 2 or 3, against 7 to 9 colors of its elements), and about
- * 24 blocks, so that each thread has several of a block color. Depends on
- * the item count only, never on the thread count: the order of the
- * projections is the same for any. */
+/* Items per block of the blocked coloring: at least 8 blocks of a group,
+ * so that each thread of 2 has some of each block color, and more of at
+ * most 4096 items in a large group; blocks of a sheet's rows or more, so
+ * that a sweep synchronises threads at few block colors (the 100 × 100
+ * sheet: 2, against 7 to 9 colors of its elements). A run's last SIMD
+ * block is padded (kernels/fast_pbd.c): with smaller blocks, 24 on that
+ * sheet, the padding was 10 % of the triangles' slots (2 % with 8).
+ * Depends on the item count only, never on the thread count: the order of
+ * the projections is the same for any. */
+#define SB_PBD_MIN_BLOCKS 8
 static uint32_t sb_pbd_block_size(uint32_t count) {
-    uint32_t size = count / 24;
+    uint32_t size = (count + SB_PBD_MIN_BLOCKS - 1) / SB_PBD_MIN_BLOCKS;
     return size < 512 ? 512 : size > 4096 ? 4096 : size;
 }
 
@@ -204,7 +208,9 @@ static int sb_pbd_team(const sb_pbd* p, int requested) {
     const sb_blocked *b = &p->bonds.runs, *t = &p->triangles.runs;
     uint32_t colors = sb_blocked_colors(b) + sb_blocked_colors(t);
     uint32_t per_color = colors ? (b->count + t->count) / colors : 0;
+    uint32_t blocks_per_color = colors ? (b->block_count + t->block_count) / colors : 0;
     int team = (int)(per_color / SB_PBD_ITEMS_PER_THREAD);
+    if (team > (int)blocks_per_color) team = (int)blocks_per_color; /* a block is one thread's */
     return team < 1 ? 1 : team > requested ? requested : team;
 }
 
