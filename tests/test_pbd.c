@@ -1,11 +1,12 @@
 /* The position-based integrators pbd and xpbd (kernels/pbd.c): names and
  * scene keys, fixed vertices, convergence of the projection with the
  * iteration count, xpbd's static stretch of a hanging chain (k Δx = m g),
- * the same state for 1 and 2 threads, and the blow-up rule on bond lengths
+ * the same state for 1, 2 and 3 threads, few barriers a step, and the blow-up rule on bond lengths
  * (softbond/solver.h) under pbd too. Measured numbers are printed. */
 #include "tests/test_util.h"
 #include "scenes/scene.h"
 #include "scenes/scene_model.h"
+#include "kernels/pbd_internal.h"
 
 #include <stdio.h>
 
@@ -202,15 +203,15 @@ static void test_xpbd_static_stretch(void** state) {
 }
 
 /* A 100 × 100 sheet (29701 bonds, 19602 triangles: thousands of
- * constraints per color, so that the solver gives both threads work; it
- * keeps small models on one), 20 steps: the state's hash is the same for 1
- * and 2 threads, with either kernel choice. */
+ * constraints per block color, so that the solver gives every thread work;
+ * it keeps small models on one), 20 steps: the state's hash is the same for
+ * 1, 2 and 3 threads, with either kernel choice. */
 static void test_threads_deterministic(void** state) {
     (void)state;
     sb_model* m = sheet(100, 0.01, 500, 0.05, 0);
     for (int k = 0; k < 4; ++k) {
-        uint64_t hashes[2];
-        for (int t = 0; t < 2; ++t) {
+        uint64_t hashes[3];
+        for (int t = 0; t < 3; ++t) {
             sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
             def.runtime.threads = t + 1;
             sb_solver* s = tu_solver(m, &def);
@@ -218,11 +219,31 @@ static void test_threads_deterministic(void** state) {
             hashes[t] = tu_state_hash(s);
             sb_solver_destroy(s);
         }
-        print_message("threads, %-4s (%s kernels): state hash %016llx (1 thread), %016llx (2 threads)\n",
+        print_message("threads, %-4s (%s kernels): state hash %016llx (1 thread), %016llx (2), %016llx (3)\n",
                       sb_integrator_name(position_based[k % 2]), k < 2 ? "reference" : "fast",
-                      (unsigned long long)hashes[0], (unsigned long long)hashes[1]);
+                      (unsigned long long)hashes[0], (unsigned long long)hashes[1], (unsigned long long)hashes[2]);
         assert_true(hashes[0] == hashes[1]);
+        assert_true(hashes[0] == hashes[2]);
     }
+    sb_model_destroy(m);
+}
+
+/* The blocked coloring (kernels/coloring.c) on the 100 × 100 sheet, bonds
+ * on the triangles and bonds on none (a group each): the sweeps synchronise
+ * threads at 2 block colors of each group, so a step of 5 sweeps waits at
+ * 2 + 5 × 4 barriers (with a barrier per element color, as before, the
+ * triangles' 7 colors alone made 2 + 5 × 7). */
+static void test_few_barriers(void** state) {
+    (void)state;
+    sb_model* m = sheet_with(100, 0.01, 500, 0.05, 0, true);
+    sb_solver_def def = pbd_def(SB_INTEGRATOR_XPBD, SB_KERNELS_FAST);
+    def.pbd_iterations = 5;
+    def.runtime.threads = 2;
+    sb_solver* s = tu_solver(m, &def);
+    uint32_t barriers = sb_pbd_wide_barriers(s);
+    print_message("xpbd, 100 x 100 sheet with bonds on no triangle too, 5 sweeps: %u barriers a step\n", barriers);
+    assert_int_equal(barriers, 2 + 5 * 4);
+    sb_solver_destroy(s);
     sb_model_destroy(m);
 }
 
@@ -389,7 +410,7 @@ int main(void) {
         cmocka_unit_test(test_convergence),           cmocka_unit_test(test_xpbd_static_stretch),
         cmocka_unit_test(test_threads_deterministic), cmocka_unit_test(test_blow_up_rule),
         cmocka_unit_test(test_fast_matches_scalar),   cmocka_unit_test(test_energies_when_asked),
-        cmocka_unit_test(test_collapse_reported),
+        cmocka_unit_test(test_collapse_reported),     cmocka_unit_test(test_few_barriers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
