@@ -1,13 +1,14 @@
 /* The SIMD sweeps of pbd and xpbd: kernels/pbd.c's step and projections
  * (the formulas are in its design note, which stays the reference) with
- * SB_WIDTH constraints of one color per SIMD block, in sb_real.
+ * SB_WIDTH constraints of one color of a block per SIMD block, in sb_real.
  *
- * Layout. Every color of kernels/pbd.c's bond and triangle groups becomes
- * a run of slots, a multiple of SB_WIDTH, holding the color's constraints
- * in the same order; a block's unused lanes copy a real constraint and
- * are masked where positions are written (kernels/wide.h's convention).
- * The overflow color, whose constraints may share vertices, has one
- * constraint a block. Each slot keeps copies of what its projection reads
+ * Layout. Every run of kernels/pbd.c's bond and triangle groups (one
+ * color of one block of their blocked colorings) becomes slots, a multiple
+ * of SB_WIDTH, holding the run's constraints in the same order; a SIMD
+ * block's unused lanes copy a real constraint and are masked where
+ * positions are written (kernels/wide.h's convention). A serial run (the
+ * overflow color), whose constraints may share vertices, has one
+ * constraint a SIMD block. Each slot keeps copies of what its projection reads
  * (vertex indices, rest length or rest cosines, compliance α = 1/k, the
  * damping as β = d/k, whether it is alive; a triangle slot also those of
  * the bond each edge carries, not alive where it carries none) and its λ;
@@ -22,9 +23,9 @@
  * loads and stores are gone where triangles carry the bonds (the 100 ×
  * 100 sheet: all of them). Each projection is a chain of dependent
  * operations (two inverse square roots and a division for a corner), so
- * SB_PBD_BLOCKS blocks of a color are projected together, step by step,
+ * SB_PBD_BLOCKS SIMD blocks of a run are projected together, step by step,
  * giving the processor independent chains to overlap (bonds, short
- * chains, gained nothing from it). Triangles of a color are sorted by the
+ * chains, gained nothing from it). Triangles of a run are sorted by the
  * edges that carry bonds (kernels/pbd.c), and an edge is projected only in
  * the blocks where some lane carries a live bond there. A corner's
  * W = Σ w |∇C|² is taken in closed form (sb_pbd_wide_corner).
@@ -41,13 +42,16 @@
  * x = x_prev + Δ is rounded once a step, as in the scalar sweeps.
  *
  * A step is one job of the solver's team: the prediction (per vertex), the
- * sweeps (a barrier after each color; the same colors and order as the
- * scalar sweeps: bond colors, then triangle colors, a triangle's bonds and
- * corners one after another on its positions kept in registers), then
- * v = (x − x_prev)/dt into the state's arrays and the packed copies, fused
- * with the finiteness and runaway check. Lanes of a block and blocks of a
- * color write disjoint vertices and a block's arithmetic does not depend on
- * which worker runs it: the state is bitwise the same for any thread count.
+ * sweeps (a barrier after each block color; the same order as the scalar
+ * sweeps: the bonds' block colors, then the triangles', a block's runs in
+ * order on one worker, a triangle's bonds and corners one after another on
+ * its positions kept in registers), then v = (x − x_prev)/dt into the
+ * state's arrays and the packed copies, fused with the finiteness and
+ * runaway check. Lanes of a SIMD block, and blocks of a block color, write
+ * disjoint vertices and a block's arithmetic does not depend on which
+ * worker runs it: the state is bitwise the same for any thread count. On
+ * the 100 × 100 sheet a step waits at 12 barriers (2 + 5 sweeps × 2 block
+ * colors), where a barrier after each color of the elements made about 45.
  *
  * Forces and energies. A position-based step needs no force: unless
  * something in the next step reads them (an external-force callback, the
@@ -185,10 +189,10 @@ void sb_pbd_wide_destroy(sb_pbd_wide* w) {
     if (!w) return;
     sb_pbd_wide_bonds* b = &w->bonds;
     sb_pbd_wide_triangles* t = &w->triangles;
-    void* arrays[] = {b->slots.first, t->slots.first, b->slots.item, b->i,         b->j,          b->d.r0,  b->d.alpha, b->d.beta,
-                      b->d.alive,    b->d.lambda,  t->slots.item, t->v[0],  t->v[1],    t->v[2],
-                      t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha, t->alive,   t->lambda[0],
-                      t->lambda[1],  t->lambda[2], w->x4,         w->x04};
+    void* arrays[] = {b->slots.first, t->slots.first, b->slots.item, b->i,         b->j,          b->d.r0,
+                      b->d.alpha,     b->d.beta,      b->d.alive,    b->d.lambda,  t->slots.item, t->v[0],
+                      t->v[1],        t->v[2],        t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha,
+                      t->alive,       t->lambda[0],   t->lambda[1],  t->lambda[2], w->x4,         w->x04};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         sb_pbd_wide_distances* e = &t->bonds[c];
@@ -336,7 +340,7 @@ static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], 
 
 /* Triangle blocks projected together. A triangle's six projections are a
  * chain of dependent operations, each tens of operations long; a few
- * independent blocks of a color, their steps interleaved, give the
+ * independent SIMD blocks of a run, their steps interleaved, give the
  * processor that many chains to overlap (1 thread, the 100 x 100 sheet's
  * corners step: 1.55 ms one block at a time, 1.13 two, 1.07 three, 1.03
  * four, load 6-7; bonds, whose chain is short, gained nothing). Inlined
@@ -422,7 +426,7 @@ static int sb_pbd_block_lanes(const sb_pbd_slots* slots, uint32_t r, uint32_t s)
     return left < SB_WIDTH ? (int)left : SB_WIDTH;
 }
 
-/* The projections of `blocks` blocks of a color: the group, the sweep, the
+/* The projections of `blocks` SIMD blocks of a run: the group, the sweep, the
  * first block's slot, each block's real lanes; returns whether an edge
  * collapsed. */
 typedef bool (*sb_pbd_block_fn)(const void* group, const sb_pbd_sweep* k, uint32_t s, const int lanes[], int blocks);

@@ -46,15 +46,22 @@
  * with longer steps (the dependence xpbd removes), and rigid (s → 1) when
  * k dt² W ≫ 1.
  *
- * Parallel and deterministic: bonds and triangles are colored
- * (kernels/coloring.h) so that those of one color share no vertex; each
- * iteration runs the bond colors then the triangle colors in order, the
- * constraints of one color in parallel (a triangle's bonds and corners one
- * after another in one work item), the overflow color on one thread. A vertex is
- * written by one work item per color and read by no other, so the result is
- * bitwise the same for any thread count. Small models (under ~1024
- * constraints a color per thread) run on fewer threads than asked. The projection works in double on
- * its own copy of the positions. */
+ * Parallel and deterministic: bonds and triangles each get a blocked
+ * coloring (kernels/coloring.h, sb_blocked): cut into blocks of
+ * consecutive constraints (model order, which follows the mesh and so
+ * space), blocks colored so that those of one block color share no
+ * vertex, and within a block the constraints colored so that those of one
+ * color share no vertex (the SIMD sweeps' lanes). Each iteration runs the
+ * bonds' block colors then the triangles' in order, the blocks of one
+ * block color in parallel (the overflow block color's on one thread), a
+ * block's constraints color by color on one thread (a triangle's bonds and
+ * corners one after another in one work item). A vertex is written by one
+ * block per block color and read by no other, so the result is bitwise the
+ * same for any thread count, and threads wait at one barrier per block
+ * color (2 a group on a sheet) instead of one per color of the elements
+ * (7 to 9). Small models (under ~1024 constraints a block color per
+ * thread) run on fewer threads than asked. The projection works in double
+ * on its own copy of the positions. */
 #include "kernels/pbd_internal.h"
 #include "kernels/handle_internal.h"
 #include "common/edge_map.h"
