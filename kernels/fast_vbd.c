@@ -359,8 +359,8 @@ static inline void sb_vbd_lose(sb_vbd_lanes* l, sb_wide alive, sb_wide weight) {
 }
 
 /* A bond's force k (r − r0) u plus the damping's d u (u · v_rel) and its
- * block (k r0/r + d/dt) u uᵀ + k (1 − r0/r) I (kernels/hessian_edges.c,
- * vbd.c's damping). */
+ * block (k (1 − σ) + d/dt) u uᵀ + k σ I, σ = max(0, 1 − r0/r)
+ * (kernels/hessian_edges.c's definite block, vbd.c's damping). */
 static inline void sb_vbd_bond_share(sb_vbd_lanes* l, size_t at) {
     const sb_vbd_bonds* e = &l->f->bonds;
     sb_windex other = sb_w_index(e->other + at);
@@ -375,10 +375,10 @@ static inline void sb_vbd_bond_share(sb_vbd_lanes* l, size_t at) {
     sb_wvec3 u = sb_wv_scale(delta, inv_r);
     sb_wvec3 relative = sb_wv_scale(sb_wv_sub(sb_wv_sub(xq, x0q), l->moved), l->inv_dt);
     sb_wide along = sb_w_madd(k, sb_w_sub(r, r0), sb_w_mul(d, sb_wv_dot(u, relative)));
-    sb_wide r0_r = sb_w_mul(r0, inv_r);
+    sb_wide sideways = sb_w_max(sb_w_sub(sb_w_set(1), sb_w_mul(r0, inv_r)), sb_w_set(0));
     l->force = sb_wv_madd(u, along, l->force);
-    sb_ws_outer(&l->h, u, sb_w_madd(k, r0_r, sb_w_mul(d, l->inv_dt)));
-    sb_ws_diagonal(&l->h, sb_w_mul(k, sb_w_sub(sb_w_set(1), r0_r)));
+    sb_ws_outer(&l->h, u, sb_w_madd(k, sb_w_sub(sb_w_set(1), sideways), sb_w_mul(d, l->inv_dt)));
+    sb_ws_diagonal(&l->h, sb_w_mul(k, sideways));
 }
 
 /* An edge of a triangle: unit vector, 1/length, length − rest. */
@@ -408,44 +408,41 @@ static inline sb_wcorner sb_vbd_corner(sb_wedge a, sb_wedge b, sb_wide cos0, sb_
     return (sb_wcorner){c, sb_w_madd(ka, dc, sb_w_mul(ksb, s)), sb_w_mul(ksb, dc)};
 }
 
+/* A triangle's constants and the Gauss-Newton form of its corners
+ * (kernels/hessian.h's definite stand-in): λ, the positive eigenvalue of
+ * [[kθ, ksb], [ksb, 0]], with its unit eigenvector (p, q). */
+typedef struct sb_wcorner_k {
+    sb_wide ka, ksb, lambda, p, q;
+} sb_wcorner_k;
+
+static inline sb_wcorner_k sb_vbd_corner_k(sb_wide ka, sb_wide ksb) {
+    sb_wide zero = sb_w_set(0), one = sb_w_set(1);
+    sb_wide lambda = sb_w_mul(sb_w_set((sb_real)0.5),
+                              sb_w_add(ka, sb_w_sqrt(sb_w_madd(ka, ka, sb_w_mul(sb_w_set(4), sb_w_mul(ksb, ksb))))));
+    sb_wide coupled = sb_w_pick_greater(sb_w_abs(ksb), zero, one, zero);
+    sb_wide p = sb_w_pick_greater(coupled, zero, ksb, one), q = sb_w_mul(coupled, sb_w_sub(lambda, ka));
+    sb_wide norm = sb_w_sqrt(sb_w_madd(p, p, sb_w_mul(q, q)));
+    return (sb_wcorner_k){ka, ksb, lambda, sb_w_div(p, norm), sb_w_div(q, norm)};
+}
+
 /* p at the far end of a corner's edge a (b its other edge): F_p = −(g ∇_a c
- * + h â) and the block H_aa = kθ ∇c ∇cᵀ + ksb (∇c âᵀ + â ∇cᵀ) − g/A² (â b̂ᵀ
- * + b̂ âᵀ + c I − 3 c â âᵀ) + h/A (I − â âᵀ), ∇c = (b̂ − c â)/A. */
-static inline void sb_vbd_corner_end(sb_vbd_lanes* l, sb_wedge a, sb_wedge b, sb_wide cos0, sb_wide ka, sb_wide ksb) {
-    sb_wcorner q = sb_vbd_corner(a, b, cos0, ka, ksb);
+ * + h â), ∇_a c = (b̂ − c â)/A, and the block λ w wᵀ, w = p ∇_a c + q â. */
+static inline void sb_vbd_corner_end(sb_vbd_lanes* l, sb_wedge a, sb_wedge b, sb_wide cos0, const sb_wcorner_k* k) {
+    sb_wcorner q = sb_vbd_corner(a, b, cos0, k->ka, k->ksb);
     sb_wvec3 grad = sb_wv_scale(sb_wv_sub(b.unit, sb_wv_scale(a.unit, q.c)), a.inverse);
     l->force = sb_wv_sub(l->force, sb_wv_add(sb_wv_scale(grad, q.g), sb_wv_scale(a.unit, q.h)));
-    sb_wide g_aa = sb_w_mul(q.g, sb_w_mul(a.inverse, a.inverse)), h_a = sb_w_mul(q.h, a.inverse);
-    sb_ws_outer(&l->h, grad, ka);
-    sb_ws_outer2(&l->h, grad, a.unit, ksb);
-    sb_ws_outer2(&l->h, a.unit, b.unit, sb_w_sub(sb_w_set(0), g_aa));
-    sb_ws_outer(&l->h, a.unit, sb_w_sub(sb_w_mul(sb_w_mul(sb_w_set(3), q.c), g_aa), h_a));
-    sb_ws_diagonal(&l->h, sb_w_sub(h_a, sb_w_mul(q.c, g_aa)));
+    sb_ws_outer(&l->h, sb_wv_add(sb_wv_scale(grad, k->p), sb_wv_scale(a.unit, k->q)), k->lambda);
 }
 
 /* p at the apex (edges a, b leave it): F_p = g w + h s with w = ∇_a c +
- * ∇_b c, s = â + b̂, and H_aa + H_bb + H_ab + H_ba = kθ w wᵀ + ksb (w sᵀ +
- * s wᵀ) + g ∇²c + h ∇²S, summed in closed form. */
-static inline void sb_vbd_corner_apex(sb_vbd_lanes* l, sb_wedge a, sb_wedge b, sb_wide cos0, sb_wide ka, sb_wide ksb) {
-    sb_wcorner q = sb_vbd_corner(a, b, cos0, ka, ksb);
+ * ∇_b c, s = â + b̂, and the block λ (p w + q s)(p w + q s)ᵀ. */
+static inline void sb_vbd_corner_apex(sb_vbd_lanes* l, sb_wedge a, sb_wedge b, sb_wide cos0, const sb_wcorner_k* k) {
+    sb_wcorner q = sb_vbd_corner(a, b, cos0, k->ka, k->ksb);
     sb_wvec3 w = sb_wv_add(sb_wv_scale(sb_wv_sub(b.unit, sb_wv_scale(a.unit, q.c)), a.inverse),
                            sb_wv_scale(sb_wv_sub(a.unit, sb_wv_scale(b.unit, q.c)), b.inverse));
     sb_wvec3 s = sb_wv_add(a.unit, b.unit);
     l->force = sb_wv_add(l->force, sb_wv_add(sb_wv_scale(w, q.g), sb_wv_scale(s, q.h)));
-    sb_wide aa = sb_w_mul(a.inverse, a.inverse), bb = sb_w_mul(b.inverse, b.inverse),
-            ab = sb_w_mul(a.inverse, b.inverse);
-    sb_wide two_ab = sb_w_add(ab, ab), three_c = sb_w_mul(sb_w_set(3), q.c);
-    sb_ws_outer(&l->h, w, ka);
-    sb_ws_outer2(&l->h, w, s, ksb);
-    /* g ∇²c: (c/(AB) − 1/A² − 1/B²)(â b̂ᵀ + b̂ âᵀ) + (3c/A² − 2/(AB)) â âᵀ + (3c/B² − 2/(AB)) b̂ b̂ᵀ
-     * + (2/(AB) − c/A² − c/B²) I;  h ∇²S: (I − â âᵀ)/A + (I − b̂ b̂ᵀ)/B */
-    sb_ws_outer2(&l->h, a.unit, b.unit, sb_w_mul(q.g, sb_w_sub(sb_w_mul(q.c, ab), sb_w_add(aa, bb))));
-    sb_ws_outer(&l->h, a.unit,
-                sb_w_sub(sb_w_mul(q.g, sb_w_sub(sb_w_mul(three_c, aa), two_ab)), sb_w_mul(q.h, a.inverse)));
-    sb_ws_outer(&l->h, b.unit,
-                sb_w_sub(sb_w_mul(q.g, sb_w_sub(sb_w_mul(three_c, bb), two_ab)), sb_w_mul(q.h, b.inverse)));
-    sb_ws_diagonal(&l->h, sb_w_add(sb_w_mul(q.g, sb_w_sub(two_ab, sb_w_mul(q.c, sb_w_add(aa, bb)))),
-                                   sb_w_mul(q.h, sb_w_add(a.inverse, b.inverse))));
+    sb_ws_outer(&l->h, sb_wv_add(sb_wv_scale(w, k->p), sb_wv_scale(s, k->q)), k->lambda);
 }
 
 /* A triangle (p, q, r): corner p with p at its apex, corner q (edges
@@ -460,10 +457,10 @@ static inline void sb_vbd_triangle_share(sb_vbd_lanes* l, size_t at) {
     sb_wedge rp = sb_vbd_edge(xr, l->x, sb_w_load(e->len0[2] + at), &alive);
     sb_wide ka = sb_w_load(e->k_angle + at), ksb = sb_w_load(e->k_sb + at);
     sb_vbd_lose(l, alive, sb_w_add(sb_w_abs(ka), sb_w_abs(ksb)));
-    ka = sb_w_mul(ka, alive), ksb = sb_w_mul(ksb, alive);
-    sb_vbd_corner_apex(l, pq, sb_wedge_reversed(rp), sb_w_load(e->cos0[0] + at), ka, ksb);
-    sb_vbd_corner_end(l, sb_wedge_reversed(pq), qr, sb_w_load(e->cos0[1] + at), ka, ksb);
-    sb_vbd_corner_end(l, rp, sb_wedge_reversed(qr), sb_w_load(e->cos0[2] + at), ka, ksb);
+    sb_wcorner_k k = sb_vbd_corner_k(sb_w_mul(ka, alive), sb_w_mul(ksb, alive));
+    sb_vbd_corner_apex(l, pq, sb_wedge_reversed(rp), sb_w_load(e->cos0[0] + at), &k);
+    sb_vbd_corner_end(l, sb_wedge_reversed(pq), qr, sb_w_load(e->cos0[1] + at), &k);
+    sb_vbd_corner_end(l, rp, sb_wedge_reversed(qr), sb_w_load(e->cos0[2] + at), &k);
 }
 
 /* A hinge with p at e0 (opposite 0) or o0 (1): F_p = k (φ − φ0) u_p and the

@@ -67,6 +67,15 @@ bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, in
 bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
                               double* block);
 bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, int place, double* f, double* block);
+/* The same force with the vertex's diagonal block of sb_element_stiffness_definite's
+ * stand-in (below): positive semi-definite, so that vbd's Newton step is a
+ * descent direction on the incremental potential. */
+bool sb_element_vertex_share_definite(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                                      double* block);
+bool sb_bond_vertex_share_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f,
+                                   double* block);
+bool sb_triangle_vertex_share_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
+                                       double* block);
 
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive

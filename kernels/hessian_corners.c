@@ -52,8 +52,9 @@ void sb_triangle_forces_dual(const sb_model* m, uint32_t t, const sb_dvec3* x, s
                        (c + 1) % 3, (c + 2) % 3, f, collapsed);
 }
 
-/* One corner's λ w wᵀ (kernels/hessian.h), added to the triangle's 9 × 9 k. */
-static void sb_corner_definite(double k_angle, double k_sb, const sb_vec3* x, int i, int j, int l, double* k) {
+/* One corner's λ w wᵀ (kernels/hessian.h): λ, and w on i, j, l in parts. */
+static double sb_corner_definite_parts(double k_angle, double k_sb, const sb_vec3* x, int i, int j, int l,
+                                       sb_vec3* parts) {
     sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
     double A = sb_v3_length(a), B = sb_v3_length(b);
     sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
@@ -62,15 +63,18 @@ static void sb_corner_definite(double k_angle, double k_sb, const sb_vec3* x, in
     double p = k_sb != 0.0 ? k_sb : 1.0, q = k_sb != 0.0 ? lambda - k_angle : 0.0, norm = sqrt(p * p + q * q);
     p /= norm, q /= norm;
     /* w on j and l: p ∇c + q ∇S; on i minus their sum */
-    sb_vec3 wj = sb_v3_add(sb_v3_scale(sb_v3_sub(ub, sb_v3_scale(ua, c)), p / A), sb_v3_scale(ua, q));
-    sb_vec3 wl = sb_v3_add(sb_v3_scale(sb_v3_sub(ua, sb_v3_scale(ub, c)), p / B), sb_v3_scale(ub, q));
-    sb_vec3 wi = sb_v3_scale(sb_v3_add(wj, wl), -1.0);
-    double w[9];
-    const sb_vec3* parts[3] = {&wi, &wj, &wl};
+    parts[1] = sb_v3_add(sb_v3_scale(sb_v3_sub(ub, sb_v3_scale(ua, c)), p / A), sb_v3_scale(ua, q));
+    parts[2] = sb_v3_add(sb_v3_scale(sb_v3_sub(ua, sb_v3_scale(ub, c)), p / B), sb_v3_scale(ub, q));
+    parts[0] = sb_v3_scale(sb_v3_add(parts[1], parts[2]), -1.0);
+    return lambda;
+}
+
+/* One corner's λ w wᵀ added to the triangle's 9 × 9 k. */
+static void sb_corner_definite(double k_angle, double k_sb, const sb_vec3* x, int i, int j, int l, double* k) {
+    sb_vec3 parts[3];
+    double lambda = sb_corner_definite_parts(k_angle, k_sb, x, i, j, l, parts), w[9];
     const int at[3] = {i, j, l};
-    for (int v = 0; v < 3; v++) {
-        w[3 * at[v]] = parts[v]->x, w[3 * at[v] + 1] = parts[v]->y, w[3 * at[v] + 2] = parts[v]->z;
-    }
+    for (int v = 0; v < 3; v++) w[3 * at[v]] = parts[v].x, w[3 * at[v] + 1] = parts[v].y, w[3 * at[v] + 2] = parts[v].z;
     sb_add_outer(k, 9, w, lambda);
 }
 
@@ -199,4 +203,30 @@ static void sb_add_corner_share(const sb_corner_hessian* h, int i, int j, int l,
 bool sb_triangle_vertex_share(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f, double* block) {
     sb_vertex_share share = {place, f, block};
     return sb_triangle_corners(m, t, x, sb_add_corner_share, &share);
+}
+
+/* The corner's force on the share's vertex only (the definite share's block
+ * comes from sb_corner_definite_parts). */
+static void sb_add_corner_force(const sb_corner_hessian* h, int i, int j, int l, void* context) {
+    sb_vertex_share* share = context;
+    sb_vec3 force = h->force[share->place == i ? 0 : share->place == j ? 1 : 2];
+    share->f[0] += force.x, share->f[1] += force.y, share->f[2] += force.z;
+    (void)l;
+}
+
+bool sb_triangle_vertex_share_definite(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f,
+                                       double* block) {
+    sb_vertex_share share = {place, f, block};
+    if (!sb_triangle_corners(m, t, x, sb_add_corner_force, &share)) return false;
+    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    for (int c = 0; c < 3; c++) {
+        sb_vec3 parts[3];
+        int j = (c + 1) % 3, l = (c + 2) % 3;
+        double lambda = sb_corner_definite_parts(k_angle, k_sb, x, c, j, l, parts);
+        sb_vec3 w = parts[place == c ? 0 : place == j ? 1 : 2];
+        sb_add_uv(block, w, w, lambda);
+    }
+    return true;
 }

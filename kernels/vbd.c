@@ -7,13 +7,18 @@
  * G with every other vertex held, a 3 × 3 solve
  *   H_i Δx_i = −g_i,  H_i = m_i/dt² I + Σ_e K_e,ii (+ damping),
  *   g_i = m_i/dt² (x_i − y_i) − Σ_e f_e,i(x),
- * with each incident element's force and diagonal block
- * (sb_element_vertex_share, kernels/hessian.h, all in closed form: the
- * exact blocks of bonds and triangles; for a hinge the Gauss-Newton block
- * k u_p u_pᵀ, which leaves out k (φ − φ0) ∇²φ: a descent direction is all a
- * vertex needs, and the paper approximates too). A vertex whose H_i is not
- * positive definite keeps its position for that sweep (as the paper does). vbd_iterations sweeps run
- * per step; v = (x − x⁰)/dt at the end. Converged, it is backward Euler.
+ * with each incident element's exact force and a positive semi-definite
+ * diagonal block (sb_element_vertex_share_definite, kernels/hessian.h, in
+ * closed form: the vertex's block of implicit Euler's definiteness fix, a
+ * compressed bond without its negative sideways stiffness, each triangle
+ * corner's Gauss-Newton λ w wᵀ, each hinge's k u_p u_pᵀ). H_i is then
+ * positive definite (the inertia m_i/dt² I) and the step a descent
+ * direction on G. The exact blocks are not: on the seed-sized sheets at
+ * dt = 1 ms the corners' g ∇²c made H_i indefinite or its step climb G
+ * once the sheet stretched, and 1 or 2 sweeps ran away within 0.6 s
+ * (bench/results/implicit.md). vbd_iterations sweeps run per step;
+ * v = (x − x⁰)/dt at the end. Converged, it is backward Euler (the blocks
+ * change the path, not the fixed point: g_i = 0).
  *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
  * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External
@@ -199,12 +204,12 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
         uint32_t id = sb_entry_element(v->elements->entry[k]);
         sb_element e = sb_element_at(m, id);
         /* a collapsed element adds nothing: the step's force check reports it */
-        sb_element_vertex_share(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
+        sb_element_vertex_share_definite(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
         if (e.kind == SB_ELEMENT_BOND)
             sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
     }
     double step[3];
-    if (!sb_solve3(h, f, step)) return; /* not positive definite here: this vertex waits */
+    if (!sb_solve3(h, f, step)) return; /* not finite (a collapsed element): this vertex waits */
     for (int c = 0; c < 3; c++) x[3 * i + c] += step[c];
 }
 
