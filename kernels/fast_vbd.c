@@ -24,10 +24,11 @@
  * through the model's element arrays; measured against the scalar double
  * reference sweep in bench/results/implicit.md.
  *
- * The shares are vbd.c's closed forms: the bond's exact block with the
- * damping's d/dt u uᵀ, the triangle corners' exact blocks
- * (kernels/hessian_corners.c's formulas, the apex's four blocks summed in
- * closed form), the hinge's exact force and Gauss-Newton block k u uᵀ. A
+ * The shares are vbd.c's closed forms, exact forces with positive
+ * semi-definite blocks: the bond's block with its sideways stiffness
+ * clamped at 0 and the damping's d/dt u uᵀ, each triangle corner's
+ * Gauss-Newton λ w wᵀ (kernels/hessian_corners.c's definite stand-in, w the
+ * vertex's part), the hinge's Gauss-Newton block k u uᵀ. A
  * collapsed element adds nothing (a collapsed triangle nothing at all,
  * where the reference keeps the corners it met before the collapse) and is
  * flagged: vbd.c then evaluates the forces, which report it.
