@@ -245,32 +245,60 @@ static void sb_initial_forces_pass(const sb_worker* w, sb_solver* s, const sb_pa
     sb_worker_barrier(w);
 }
 
+/* The runaway box measured from the origin: looser than the exact test of
+ * sb_check_state by the model's offset, a millionth of it. */
+static sb_real sb_runaway_limit(const sb_solver* s) {
+    return (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
+}
+
+/* Whether anything between the drift and the kick reads the half-step
+ * velocities: damping in the force kernels, the colliders' contact, the
+ * self-contact, the handles, the external-force callback. */
+static bool sb_half_step_velocity_read(const sb_solver* s) {
+    const sb_fast_model* f = s->fast;
+    return f->has_damping || f->fused_damping || s->def.collider_count || s->self || s->def.handle_count ||
+           s->soft_handles || s->def.external_force;
+}
+
 /* The Verlet constants of one step. */
 typedef struct sb_step_constants {
     sb_real scale, accel, step, inv_dt, drag, half;
     sb_real gravity[4]; /* per packed lane: no stream of m g per vertex */
+    sb_real limit;      /* the runaway box (sb_runaway_limit) */
     bool stormer;
+    /* Something reads the half-step velocities before the kick (damping,
+     * contact, handles, the callback): the drift stores them. Otherwise
+     * (Störmer form only) the kick recomputes them from the displacements
+     * it reads instead, and a step writes no velocity stream twice. */
+    bool store_velocity;
+    /* Nothing moves a vertex after its chunk's drift and contact (no
+     * self-contact, no hard handles): the drift pass sums the gravitational
+     * energy and checks the positions while the chunk is in cache, and the
+     * kick need not read the positions again. */
+    bool positions_final_in_drift;
 } sb_step_constants;
 
-/* Drift of packed reals [begin, end) for both Verlet forms (see
- * kernels/integrators.c for the formulas), fused with initialising the
- * forces to gravity and drag. The w lanes have zero mass and inverse mass
- * and stay zero. The arrays are restrict parameters, not locals, because
- * only then does GCC 12 vectorize the loops (its report says so). */
+/* Drift of the packed reals [0, n) of one chunk (arrays start at the chunk)
+ * for both Verlet forms (see kernels/integrators.c for the formulas), fused
+ * with initialising the forces to gravity and drag. The w lanes have zero
+ * mass and inverse mass and stay zero. v is the chunk's velocities or, when
+ * nothing reads them (!store_velocity, Störmer form), a scratch buffer in L1.
+ * The arrays are restrict parameters, not locals, because only then does
+ * GCC 12 vectorize the loops (its report says so). */
 static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
                            sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
-                           size_t begin, size_t end) {
+                           size_t n) {
     const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
     const sb_real* g = k->gravity;
     if (k->stormer)
-        for (size_t q = begin; q < end; q++) {
+        for (size_t q = 0; q < n; q++) {
             d[q] = scale * d[q] + accel * im4[q] * f[q];
             v[q] = d[q] * inv_dt;
             x[q] = x[q] + d[q];
             f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         }
     else
-        for (size_t q = begin; q < end; q++) {
+        for (size_t q = 0; q < n; q++) {
             v[q] = v[q] + accel * im4[q] * f[q];
             d[q] = step * v[q];
             x[q] = x[q] + d[q];
@@ -278,57 +306,84 @@ static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict i
         }
 }
 
+/* The gravitational energy of packed reals [begin, end) into *gravity;
+ * returns whether a position is not finite or outside the runaway box.
+ * Lane-wise sums in SIMD registers, reduced once (see sb_kick_range). */
+static int sb_positions_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
+                              const sb_step_constants* k, size_t begin, size_t end, double* gravity) {
+    sb_real g[4 + SB_WIDTH]; /* g[i] = gravity[i % 4]: lanes from q on load g + q % 4 */
+    for (int i = 0; i < 4 + SB_WIDTH; i++) g[i] = k->gravity[i & 3];
+    const sb_wide zero = sb_w_set(0), one = sb_w_set(1), bound = sb_w_set(k->limit);
+    sb_wide sum = zero;
+    sb_wmask outside = 0;
+    size_t q = begin;
+    for (; q + SB_WIDTH <= end; q += SB_WIDTH) {
+        sb_wide xq = sb_w_load(x + q), free = sb_w_pick_greater(sb_w_load(im4 + q), zero, one, zero);
+        sum = sb_w_sub(sum, sb_w_mul(sb_w_mul(free, sb_w_load(m4 + q)), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
+        outside |= sb_w_less(bound, sb_w_abs(xq)); /* NaN fails the comparison and counts as outside */
+    }
+    *gravity = sb_w_sum(sum, SB_WIDTH);
+    int bad = sb_w_any(outside, SB_WIDTH);
+    for (; q < end; q++) {
+        *gravity -= (im4[q] > 0 ? m4[q] : 0) * g[q & 3] * x[q];
+        bad |= !((x[q] <= k->limit) & (x[q] >= -k->limit));
+    }
+    return bad;
+}
+
 /* The drift of this worker's chunks, each followed by its contact pass
- * (kernels/contact.c) while the chunk is in cache. */
+ * (kernels/contact.c) and, when they are final, its positions' energy and
+ * check, while the chunk is in cache. */
 static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
-                          double dt) {
+                          double dt, atomic_int* bad) {
+    sb_real scratch[4 * SB_CHUNK]; /* the half-step velocities nothing reads */
+    const sb_fast_model* f = s->fast;
     int first, last;
     sb_chunk_share(w, p, &first, &last);
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_self_contact_save_packed(s, begin, end);
-        sb_drift_range(s->fast->mass4, s->fast->inv_mass4, s->positions4, s->displacements4, s->velocities4, s->forces4,
-                       k, begin, end);
+        sb_drift_range(f->mass4 + begin, f->inv_mass4 + begin, s->positions4 + begin, s->displacements4 + begin,
+                       k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin);
         if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
+        if (k->positions_final_in_drift &&
+            sb_positions_range(f->mass4, f->inv_mass4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
+            sb_worker_raise(bad);
     }
     sb_worker_barrier(w);
 }
 
-/* Closing half kick of packed reals [begin, end), fused with the energy
- * sums (out[0] kinetic, out[1] gravity); returns whether a value is not
- * finite or ran away. The sums are kept lane-wise in SIMD registers and
- * reduced once: one float sum of a loop the compiler vectorizes is added
- * in order, lane after lane, a chain of scalar additions that took most of
- * the pass (100k sheet, all terms, 1 thread: the pass ~7 % of the step's
- * samples, most on those additions). */
-static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
-                         sb_real* restrict v, const sb_real* restrict f, const sb_step_constants* k, sb_real limit,
-                         size_t begin, size_t end, double out[2]) {
-    sb_real g[4 + SB_WIDTH]; /* g[i] = gravity[i % 4]: lanes from q on load g + q % 4 */
-    for (int i = 0; i < 4 + SB_WIDTH; i++) g[i] = k->gravity[i & 3];
-    const sb_wide half = sb_w_set(k->half), zero = sb_w_set(0), one = sb_w_set(1), bound = sb_w_set(limit);
-    sb_wide kinetic = zero, gravity = zero;
+/* Closing half kick of packed reals [begin, end), fused with the kinetic
+ * energy sum into *kinetic; returns whether a velocity is not finite. The
+ * half-step velocity is a v + b u with u = v (a = 1, b = 0) when the drift
+ * stored it, else u = the displacement (a = 0, b = 1 / dt), as the drift
+ * computed it. The sums are kept lane-wise in SIMD registers and reduced
+ * once: one float sum of a loop the compiler vectorizes is added in order,
+ * lane after lane, a chain of scalar additions that took most of the pass
+ * (100k sheet, all terms, 1 thread: the pass ~7 % of the step's samples,
+ * most on those additions). */
+static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict u,
+                         sb_real* restrict v, const sb_real* restrict f, const sb_step_constants* k, size_t begin,
+                         size_t end, double* kinetic) {
+    const sb_real factor = k->store_velocity ? 1 : k->inv_dt;
+    const sb_wide half = sb_w_set(k->half), scale = sb_w_set(factor), zero = sb_w_set(0);
+    sb_wide sum = zero;
     sb_wmask outside = 0;
     size_t q = begin;
     for (; q + SB_WIDTH <= end; q += SB_WIDTH) {
-        sb_wide vq = sb_w_add(sb_w_load(v + q), sb_w_mul(sb_w_mul(half, sb_w_load(im4 + q)), sb_w_load(f + q)));
-        sb_wide m = sb_w_load(m4 + q), xq = sb_w_load(x + q),
-                free = sb_w_pick_greater(sb_w_load(im4 + q), zero, one, zero);
+        sb_wide vq =
+            sb_w_add(sb_w_mul(sb_w_load(u + q), scale), sb_w_mul(sb_w_mul(half, sb_w_load(im4 + q)), sb_w_load(f + q)));
         sb_w_store(v + q, vq);
-        kinetic = sb_w_add(kinetic, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), m), sb_w_mul(vq, vq)));
-        gravity = sb_w_sub(gravity, sb_w_mul(sb_w_mul(free, m), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
-        /* NaN fails the comparisons and counts as outside */
-        outside |= sb_w_less(bound, sb_w_abs(xq)) | sb_w_less(sb_w_set((sb_real)INFINITY), sb_w_abs(vq));
+        sum = sb_w_add(sum, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), sb_w_load(m4 + q)), sb_w_mul(vq, vq)));
+        outside |= sb_w_less(sb_w_set((sb_real)INFINITY), sb_w_abs(vq)); /* NaN counts as outside */
     }
-    out[0] = sb_w_sum(kinetic, SB_WIDTH);
-    out[1] = sb_w_sum(gravity, SB_WIDTH);
+    *kinetic = sb_w_sum(sum, SB_WIDTH);
     int bad = sb_w_any(outside, SB_WIDTH);
     for (; q < end; q++) {
-        v[q] = v[q] + k->half * im4[q] * f[q];
-        out[0] += (sb_real)0.5 * m4[q] * v[q] * v[q];
-        out[1] -= (im4[q] > 0 ? m4[q] : 0) * g[q & 3] * x[q];
-        bad |= !((x[q] <= limit) & (x[q] >= -limit) & (v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
+        v[q] = u[q] * factor + k->half * im4[q] * f[q];
+        *kinetic += (sb_real)0.5 * m4[q] * v[q] * v[q];
+        bad |= !((v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
     }
     return bad;
 }
@@ -336,17 +391,17 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
 /* The last pass of a step: no barrier after it but the join. */
 static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
                          atomic_int* bad) {
-    /* the runaway box measured from the origin: looser than the exact test
-     * of sb_check_state by the model's offset, a millionth of it */
-    const sb_real limit =
-        (sb_real)(s->runaway + fmax(fabs(s->center[0]), fmax(fabs(s->center[1]), fabs(s->center[2]))));
+    const sb_fast_model* f = s->fast;
+    const sb_real* u = k->store_velocity ? s->velocities4 : s->displacements4;
     int first, last;
     sb_chunk_share(w, p, &first, &last);
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        if (sb_kick_range(s->fast->mass4, s->fast->inv_mass4, s->positions4, s->velocities4, s->forces4, k, limit,
-                          begin, end, p->vertices + 2 * c))
+        if (sb_kick_range(f->mass4, f->inv_mass4, u, s->velocities4, s->forces4, k, begin, end, p->vertices + 2 * c))
+            sb_worker_raise(bad);
+        if (!k->positions_final_in_drift &&
+            sb_positions_range(f->mass4, f->inv_mass4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
         if (s->publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
             sb_unpack_xyz(s->positions4, s->publish_positions, begin / 4, end / 4);
@@ -467,7 +522,7 @@ static void sb_handle_step(const sb_worker* w, sb_solver* s, double dt) {
 
 static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
-    sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt);
+    sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt, &job->bad);
     sb_self_contact_packed(w, job->solver, job->dt);
     sb_handle_step(w, job->solver, job->dt);
     sb_force_passes(w, job->solver, &job->layout, &job->flags);
@@ -485,7 +540,10 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         .inv_dt = (sb_real)(1.0 / dt),
         .drag = (sb_real)s->def.drag,
         .half = (sb_real)(0.5 * dt),
+        .limit = sb_runaway_limit(s),
         .stormer = stormer,
+        .store_velocity = !stormer || sb_half_step_velocity_read(s),
+        .positions_final_in_drift = !s->self && !s->def.handle_count,
     };
     sb_gravity4(s, job.constants.gravity);
     sb_team_run(s->team, sb_team_size(s->team), sb_verlet_job, &job);
