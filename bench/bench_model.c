@@ -4,11 +4,14 @@
  * a vertex's neighbours hit cache (the blocked coloring keeps a block's
  * vertices there), so each array crosses the memory bus once per pass that
  * streams it. The working state is packed x y z w, 4 s per vertex and array:
- *   per vertex   drift: reads mass, inverse mass, x, Δ, f and writes Δ, v,
- *                x, f (9 arrays); forces: x read, f read and written (3);
- *                kick: reads mass, inverse mass, x, f, v and writes v (6):
- *                18 arrays of 4 s = 72 s (gravity m g is the mass times a
- *                constant, no stream of its own)
+ *   per vertex   drift: reads mass, inverse mass, x, Δ, f and writes Δ,
+ *                x, f (8 arrays; the half-step velocity stays in cache when
+ *                nothing reads it before the kick, and the gravitational
+ *                energy and the position check use the chunk in cache);
+ *                forces: x read, f read and written (3); kick: reads mass,
+ *                inverse mass, f, Δ (the half-step velocity is Δ / dt) and
+ *                writes v (5): 16 arrays of 4 s = 64 s (gravity m g is the
+ *                mass times a constant, no stream of its own)
  *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
  *                + 1 byte of flags: which of its edges' bonds it owns
  *                (kernels/fast_model.h; every bond of these meshes is on a
@@ -18,11 +21,13 @@
  *   per hinge    (--all-terms only) fused into a triangle that is its
  *                wing (kernels/fast_corners.c): its other vertex (4 B) +
  *                φ0 (s), and a byte per triangle for the edges it carries
- *   damping      (--all-terms) the force pass reads the half-step
- *                velocities too: 4 s per vertex
+ *   damping      (--all-terms) the drift writes the half-step velocities
+ *                and the force pass reads them (the kick reads them instead
+ *                of Δ): 8 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
- * Float, default terms: 288 B per vertex, 37 B per triangle; a 1M-vertex
- * sheet (2M triangles) moves about 362 MB per step.
+ * Float, default terms: 256 B per vertex, 37 B per triangle; a 1M-vertex
+ * sheet (2M triangles) moves about 330 MB per step (362 MB when the kick
+ * read the positions and the drift wrote the velocities every step).
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -61,7 +66,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = (72.0 + (all_terms ? 4.0 : 0.0)) * s;
+    double vertex_bytes = (64.0 + (all_terms ? 8.0 : 0.0)) * s;
     double triangle_bytes = 12.0 + 6.0 * s + (all_terms ? 2.0 : 1.0), hinge_bytes = 4.0 + s;
     c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
@@ -71,9 +76,10 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 }
 
 const char* sb_bench_byte_model_text(void) {
-    return "bytes/step = 72s per vertex (18 packed x y z w streams over drift, forces, kick) + (13+6s) per"
+    return "bytes/step = 64s per vertex (16 packed x y z w streams over drift, forces, kick) + (13+6s) per"
            " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
-           " --all-terms: +4s per vertex (velocities for damping), (4+s) per hinge fused into a triangle and a byte per"
+           " --all-terms: +8s per vertex (half-step velocities written and read for damping), (4+s) per hinge fused "
+           "into a triangle and a byte per"
            " triangle for the edges it carries]; s = sizeof(sb_real);"
            " gathers assumed cached, writes counted once";
 }
