@@ -5,7 +5,10 @@
  * kernel (the team and its wait policy: kernels/team.c):
  *   1. drift (per vertex): the Verlet position update, fused with setting
  *      each force to m g, so forces need no separate clearing pass, and
- *      followed per chunk by the contact pass (kernels/contact.c);
+ *      followed per chunk by the contact pass (kernels/contact.c) and, while
+ *      the chunk is in cache, the gravitational energy sum and the position
+ *      check (in the kick instead when self-contact or hard handles move
+ *      vertices after the drift);
  *   2. forces: for each element group (bonds, triangles, hinges), for each
  *      block color, its blocks in parallel, and in each block the SIMD
  *      kernel over each element color (kernels/fast_model.h explains the
@@ -18,7 +21,10 @@
  *      separates block colors (a handful), not element colors;
  *   3. external forces (one thread, only when a callback is set);
  *   4. kick (per vertex): the closing half kick of the velocity, fused with
- *      the kinetic and gravitational energy sums and the finiteness check.
+ *      the kinetic energy sum and the velocities' finiteness check. When
+ *      nothing reads the half-step velocities (sb_half_step_velocity_read)
+ *      the Störmer drift does not store them and the kick recomputes them
+ *      from the displacements it reads instead.
  * Energies are summed per block (and per fixed-size chunk of vertices),
  * never per thread, and those sums are added in order after the job.
  *
@@ -43,7 +49,8 @@
  * byte model in bench/bench_model.c moved ~440 MB a step: 13 ms at the
  * ~34 GB/s the STREAM triad reaches here; 362 MB since the bonds' flags
  * took a byte per triangle and gravity became the mass times a constant
- * instead of a packed stream of m g). */
+ * instead of a packed stream of m g; 330 MB since the kick reads no
+ * positions and the drift writes no velocities that nothing reads). */
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"
