@@ -363,16 +363,16 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
 
 /* Closing half kick of packed reals [begin, end), fused with the kinetic
  * energy sum into *kinetic; returns whether a velocity is not finite. The
- * half-step velocity is a v + b u with u = v (a = 1, b = 0) when the drift
- * stored it, else u = the displacement (a = 0, b = 1 / dt), as the drift
- * computed it. The sums are kept lane-wise in SIMD registers and reduced
- * once: one float sum of a loop the compiler vectorizes is added in order,
- * lane after lane, a chain of scalar additions that took most of the pass
- * (100k sheet, all terms, 1 thread: the pass ~7 % of the step's samples,
- * most on those additions). */
-static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict u,
-                         sb_real* restrict v, const sb_real* restrict f, const sb_step_constants* k, size_t begin,
-                         size_t end, double* kinetic) {
+ * half-step velocity is u times a factor: u the velocities the drift stored
+ * (factor 1) or its displacements (factor 1 / dt, as the drift computed
+ * it); u and v may then be one array, so neither is restrict. The sums are
+ * kept lane-wise in SIMD registers and reduced once: one float sum of a
+ * loop the compiler vectorizes is added in order, lane after lane, a chain
+ * of scalar additions that took most of the pass (100k sheet, all terms,
+ * 1 thread: the pass ~7 % of the step's samples, most on those additions). */
+static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* u, sb_real* v,
+                         const sb_real* restrict f, const sb_step_constants* k, size_t begin, size_t end,
+                         double* kinetic) {
     const sb_real factor = k->store_velocity ? 1 : k->inv_dt;
     const sb_wide half = sb_w_set(k->half), scale = sb_w_set(factor), zero = sb_w_set(0);
     sb_wide sum = zero;
