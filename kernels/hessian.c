@@ -75,18 +75,6 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
     return sb_hinge_vertex_share(m, e->index, local, place, f, block);
 }
 
-bool sb_element_vertex_share_definite(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
-                                      double* block) {
-    sb_vec3 local[SB_ELEMENT_MAX];
-    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
-    switch (e->kind) {
-    case SB_ELEMENT_BOND: return sb_bond_vertex_share_definite(m, e->index, local, place, f, block);
-    case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share_definite(m, e->index, local, place, f, block);
-    case SB_ELEMENT_HINGE: break;
-    }
-    return sb_hinge_vertex_share(m, e->index, local, place, f, block);
-}
-
 bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out) {
     memset(out, 0, 3 * (size_t)m->vertex_count * sizeof *out);
     uint64_t count = sb_element_count(m);

@@ -55,27 +55,20 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
 bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
 bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 
-/* Vertex `place` of the element (at x, 3n interleaved): adds its force to f
- * and its diagonal block to block (3 × 3); false when the element
- * collapsed (nothing added). What vbd needs, all in closed form: for bonds
- * and triangles the exact K_e,pp; for hinges the Gauss-Newton block
- * k u_p u_pᵀ (u_p = −∇_p φ), the diagonal block of sb_hinge_definite's
- * stand-in (kernels/hessian_hinges.c says why). */
+/* Vertex `place` of the element (at x, 3n interleaved): adds its exact
+ * force to f and its diagonal block of sb_element_stiffness_definite's
+ * stand-in (below) to block (3 × 3); false when the element collapsed
+ * (nothing added). What vbd needs, in closed form: the block is positive
+ * semi-definite, so that a vertex's Newton step is a descent direction on
+ * the incremental potential (a compressed bond without its negative
+ * sideways stiffness, each triangle corner's λ w wᵀ, a hinge's k u_p u_pᵀ
+ * with u_p = −∇_p φ; kernels/vbd.c says why). */
 bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
                              double* block);
 bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block);
 bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
                               double* block);
 bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, int place, double* f, double* block);
-/* The same force with the vertex's diagonal block of sb_element_stiffness_definite's
- * stand-in (below): positive semi-definite, so that vbd's Newton step is a
- * descent direction on the incremental potential. */
-bool sb_element_vertex_share_definite(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
-                                      double* block);
-bool sb_bond_vertex_share_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f,
-                                   double* block);
-bool sb_triangle_vertex_share_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
-                                       double* block);
 
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive

@@ -186,25 +186,6 @@ typedef struct sb_vertex_share {
     double* block;
 } sb_vertex_share;
 
-static void sb_add_corner_share(const sb_corner_hessian* h, int i, int j, int l, void* context) {
-    sb_vertex_share* share = context;
-    int at = share->place == i ? 0 : share->place == j ? 1 : 2;
-    sb_vec3 force = h->force[at];
-    share->f[0] += force.x, share->f[1] += force.y, share->f[2] += force.z;
-    if (at == 1) sb_add_block(share->block, 3, 0, 0, h->aa, false, 1.0);
-    if (at == 2) sb_add_block(share->block, 3, 0, 0, h->bb, false, 1.0);
-    if (at == 0) {
-        sb_add_block(share->block, 3, 0, 0, h->aa, false, 1.0), sb_add_block(share->block, 3, 0, 0, h->bb, false, 1.0);
-        sb_add_block(share->block, 3, 0, 0, h->ab, false, 1.0), sb_add_block(share->block, 3, 0, 0, h->ab, true, 1.0);
-    }
-    (void)l;
-}
-
-bool sb_triangle_vertex_share(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f, double* block) {
-    sb_vertex_share share = {place, f, block};
-    return sb_triangle_corners(m, t, x, sb_add_corner_share, &share);
-}
-
 /* The corner's force on the share's vertex only (the definite share's block
  * comes from sb_corner_definite_parts). */
 static void sb_add_corner_force(const sb_corner_hessian* h, int i, int j, int l, void* context) {
@@ -214,8 +195,7 @@ static void sb_add_corner_force(const sb_corner_hessian* h, int i, int j, int l,
     (void)l;
 }
 
-bool sb_triangle_vertex_share_definite(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f,
-                                       double* block) {
+bool sb_triangle_vertex_share(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f, double* block) {
     sb_vertex_share share = {place, f, block};
     if (!sb_triangle_corners(m, t, x, sb_add_corner_force, &share)) return false;
     double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;

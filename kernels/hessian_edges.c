@@ -73,24 +73,14 @@ bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x
     return sb_bond_matrix(m, bond, x, false, k);
 }
 
-static bool sb_bond_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, bool definite, double* f,
-                          double* block) {
+bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block) {
     double h[9];
     sb_vec3 force;
-    if (!sb_bond_block(m, bond, x, definite, h, &force)) return false;
+    if (!sb_bond_block(m, bond, x, true, h, &force)) return false;
     double sign = place == 0 ? 1.0 : -1.0; /* a stretched bond pulls i towards j */
     f[0] += sign * force.x, f[1] += sign * force.y, f[2] += sign * force.z;
     for (int k = 0; k < 9; k++) block[k] += h[k]; /* both diagonal blocks are H */
     return true;
-}
-
-bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block) {
-    return sb_bond_share(m, bond, x, place, false, f, block);
-}
-
-bool sb_bond_vertex_share_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f,
-                                   double* block) {
-    return sb_bond_share(m, bond, x, place, true, f, block);
 }
 
 void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k) {

@@ -8,7 +8,7 @@
  *   H_i Δx_i = −g_i,  H_i = m_i/dt² I + Σ_e K_e,ii (+ damping),
  *   g_i = m_i/dt² (x_i − y_i) − Σ_e f_e,i(x),
  * with each incident element's exact force and a positive semi-definite
- * diagonal block (sb_element_vertex_share_definite, kernels/hessian.h, in
+ * diagonal block (sb_element_vertex_share, kernels/hessian.h, in
  * closed form: the vertex's block of implicit Euler's definiteness fix, a
  * compressed bond without its negative sideways stiffness, each triangle
  * corner's Gauss-Newton λ w wᵀ, each hinge's k u_p u_pᵀ). H_i is then
@@ -204,7 +204,7 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
         uint32_t id = sb_entry_element(v->elements->entry[k]);
         sb_element e = sb_element_at(m, id);
         /* a collapsed element adds nothing: the step's force check reports it */
-        sb_element_vertex_share_definite(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
+        sb_element_vertex_share(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
         if (e.kind == SB_ELEMENT_BOND)
             sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
     }

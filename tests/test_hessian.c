@@ -128,8 +128,8 @@ static void test_elements_symmetric_and_product_consistent(void** state) {
 }
 
 /* vbd's per-vertex share of every element: the force is the dual run's
- * (the reference formulas), the block the element matrix's diagonal block
- * (for a hinge, that of its Gauss-Newton stand-in). */
+ * (the reference formulas), the block the diagonal block of the element's
+ * positive semi-definite stand-in (sb_element_stiffness_definite). */
 static void test_vertex_share(void** state) {
     (void)state;
     sb_mesh mesh = {0};
@@ -142,10 +142,7 @@ static void test_vertex_share(void** state) {
         double k[144];
         sb_dvec3 xs[SB_ELEMENT_MAX], forces[SB_ELEMENT_MAX];
         for (int a = 0; a < e.count; a++) xs[a] = sb_dv3(x + 3 * (size_t)e.vertex[a], (const double[3]){0, 0, 0});
-        if (e.kind == SB_ELEMENT_HINGE)
-            assert_true(sb_element_stiffness_definite(m, &e, x, k));
-        else
-            assert_true(sb_element_stiffness(m, &e, x, k));
+        assert_true(sb_element_stiffness_definite(m, &e, x, k));
         assert_true(sb_element_forces_dual(m, &e, xs, forces));
         for (int place = 0; place < e.count; place++) {
             double f[3] = {0, 0, 0}, block[9] = {0};
