@@ -116,16 +116,21 @@ static double mean_force_z(sb_haptics* h, long ticks, long total) {
     return sum / (double)ticks;
 }
 
-static void test_felt_force_is_the_static_reaction(void** state) {
-    (void)state;
-    /* Down 14 mm over 2 s (the sphere's bottom 7.5 mm into the sheet), held 1 s. */
-    const char* script = tu_write_file("press.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
+/* The scripted device that replays `csv` (written to the test's folder as `name`). */
+static sb_haptic_device* open_script(const char* name, const char* csv) {
     sb_haptic_device_def dd = sb_default_haptic_device_def();
     dd.kind = "scripted";
-    dd.file = script;
+    dd.file = tu_write_file(name, csv);
     sb_error err;
     sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
     assert_non_null(device);
+    return device;
+}
+
+static void test_felt_force_is_the_static_reaction(void** state) {
+    (void)state;
+    /* Down 14 mm over 2 s (the sphere's bottom 7.5 mm into the sheet), held 1 s. */
+    sb_haptic_device* device = open_script("press.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
     tissue t = {0};
     tissue_open(&t, NULL, 0);
     sb_haptics* h = couple(&t, device);
@@ -165,13 +170,7 @@ static void test_felt_force_is_the_static_reaction(void** state) {
  * makes this comparison with a needle: tests/test_haptics_syringe.c. */
 static void test_scripted_device_matches_the_kinematic_path(void** state) {
     (void)state;
-    const char* script = tu_write_file("press2.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
-    sb_haptic_device_def dd = sb_default_haptic_device_def();
-    dd.kind = "scripted";
-    dd.file = script;
-    sb_error err;
-    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
-    assert_non_null(device);
+    sb_haptic_device* device = open_script("press2.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.014\n3,0,0,-0.014\n");
     tissue* felt = calloc(1, sizeof *felt);
     tissue_open(felt, NULL, 0);
     sb_haptics* h = couple(felt, device);
@@ -210,14 +209,8 @@ static void test_scripted_device_matches_the_kinematic_path(void** state) {
  * back over the top of the tool: it had passed through. */
 static void test_tool_after_a_stall_does_not_pass_through(void** state) {
     (void)state;
-    const char* script = tu_write_file(
-        "plunge.csv", "time,x,y,z\n0,0,0,0\n1,0,0,-0.014\n1.1,0,0,-0.014\n1.2,0,0,-0.035\n2,0,0,-0.035\n");
-    sb_haptic_device_def dd = sb_default_haptic_device_def();
-    dd.kind = "scripted";
-    dd.file = script;
-    sb_error err;
-    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
-    assert_non_null(device);
+    sb_haptic_device* device =
+        open_script("plunge.csv", "time,x,y,z\n0,0,0,0\n1,0,0,-0.014\n1.1,0,0,-0.014\n1.2,0,0,-0.035\n2,0,0,-0.035\n");
     tissue t = {0};
     tissue_open(&t, NULL, 0);
     sb_haptics* h = couple(&t, device);

@@ -161,53 +161,42 @@ static void test_scene_keys(void** state) {
     sb_scene_free(&scene);
 }
 
+/* Runs softbond with args: it exits with code and says `said` on stdout
+ * (code 0) or stderr; `not_said` (if not NULL) is not on stdout. */
+static void run_says(const char* const* args, int code, const char* said, const char* not_said) {
+    tu_result r = tu_run(args);
+    assert_int_equal(r.code, code);
+    if (!strstr(code == 0 ? r.out : r.err, said)) fail_msg("'%s' not said:\n%s%s", said, r.out, r.err);
+    if (not_said) assert_null(strstr(r.out, not_said));
+    tu_result_free(&r);
+}
+
 /* softbond run --budget-ms: a budget nothing misses picks the full mesh, one
  * nothing meets picks the smallest and says so; a bad value is refused.
- * (The choice depends on the timings only through these extremes.) */
+ * (The choice depends on the timings only through these extremes.) With
+ * --max-error: nothing fits 1e-9 ms; within 1 m every level is (the
+ * smallest picked), within 0 m only the full model, whose error is 0. */
 static void test_run_budget(void** state) {
     (void)state;
     assert_int_equal(tu_make_tmp_dir("sb_test_lod"), 0);
     tu_write_file("s.yaml", "mesh: {nx: 24, ny: 24}\nduration: 0.0002\noutput: {frames: false}\n");
     const char* args[] = {"run", "s.yaml", "--budget-ms", "1e9", "--output", "out", NULL};
-    tu_result r = tu_run(args);
-    assert_int_equal(r.code, 0);
-    assert_non_null(strstr(r.out, "softbond: picked 576 vertices ("));
-    tu_result_free(&r);
+    run_says(args, 0, "softbond: picked 576 vertices (", NULL);
     args[3] = "1e-9";
-    r = tu_run(args);
-    assert_int_equal(r.code, 0);
-    assert_non_null(strstr(r.out, "nothing fits 1e-09 ms: the smallest"));
-    tu_result_free(&r);
-    /* --max-error: nothing fits 1e-9 ms; within 1 m every level is (the
-     * smallest picked), within 0 m only the full model, whose error is 0 */
-    const char* within[] = {"run", "s.yaml", "--budget-ms", "1e-9", "--max-error", "1", "--output", "out", NULL};
-    r = tu_run(within);
-    assert_int_equal(r.code, 0);
-    assert_non_null(strstr(r.out, "each level's RMS distance from the full model after 0.0002 s"));
-    assert_non_null(strstr(r.out, "nothing within the error fits 1e-09 ms: the smallest within the error;"));
-    assert_null(strstr(r.out, "picked 576 vertices"));
-    tu_result_free(&r);
-    within[5] = "0";
-    r = tu_run(within);
-    assert_int_equal(r.code, 0);
-    assert_non_null(strstr(r.out, "softbond: picked 576 vertices ("));
-    assert_non_null(strstr(r.out, "; 0 m RMS from the full model, 0 % of its motion)"));
-    tu_result_free(&r);
-    within[5] = "-1";
-    r = tu_run(within);
-    assert_int_equal(r.code, 2);
-    assert_non_null(strstr(r.err, "--max-error: expected a distance in metres >= 0, got '-1'"));
-    tu_result_free(&r);
-    const char* alone[] = {"run", "s.yaml", "--max-error", "0.01", "--output", "out", NULL};
-    r = tu_run(alone);
-    assert_int_equal(r.code, 2);
-    assert_non_null(strstr(r.err, "--max-error: needs --budget-ms"));
-    tu_result_free(&r);
+    run_says(args, 0, "nothing fits 1e-09 ms: the smallest", NULL);
     args[3] = "-3";
-    r = tu_run(args);
-    assert_int_equal(r.code, 2);
-    assert_non_null(strstr(r.err, "--budget-ms: expected a number of milliseconds > 0, got '-3'"));
-    tu_result_free(&r);
+    run_says(args, 2, "--budget-ms: expected a number of milliseconds > 0, got '-3'", NULL);
+    const char* within[] = {"run", "s.yaml", "--budget-ms", "1e-9", "--max-error", "1", "--output", "out", NULL};
+    run_says(within, 0, "each level's RMS distance from the full model after 0.0002 s", NULL);
+    run_says(within, 0, "nothing within the error fits 1e-09 ms: the smallest within the error;",
+             "picked 576 vertices");
+    within[5] = "0";
+    run_says(within, 0, "softbond: picked 576 vertices (", NULL);
+    run_says(within, 0, "; 0 m RMS from the full model, 0 % of its motion)", NULL);
+    within[5] = "-1";
+    run_says(within, 2, "--max-error: expected a distance in metres >= 0, got '-1'", NULL);
+    const char* alone[] = {"run", "s.yaml", "--max-error", "0.01", "--output", "out", NULL};
+    run_says(alone, 2, "--max-error: needs --budget-ms", NULL);
     assert_int_equal(tu_remove_tmp_dir(), 0);
 }
 
