@@ -44,16 +44,7 @@
 #include "kernels/fast_block.h"
 #include "kernels/reference_terms.h"
 
-#include <float.h>
 #include <stdlib.h>
-
-#define SB_MIN_WING_RATIO 1e-12 /* as kernels/reference_hinges.c */
-
-#if SB_DOUBLE
-#define SB_REAL_MIN DBL_MIN
-#else
-#define SB_REAL_MIN FLT_MIN
-#endif
 
 typedef struct sb_vbd_block {
     uint32_t lanes;                        /* real vertices */
