@@ -569,23 +569,29 @@ static void assert_same_for_threads(const sb_model* model, sb_integrator integra
     assert_true(one == three);
 }
 
+/* The mesh with this material, its vertex 0 fixed (and its last when both_ends). */
+static sb_model* pinned_model(const sb_mesh* mesh, const sb_material_def* material, bool both_ends) {
+    sb_builder* builder = sb_builder_create();
+    sb_error err;
+    assert_int_equal(sb_builder_add_mesh(builder, mesh, material, &err), SB_OK);
+    sb_builder_vertex(builder, 0)->fixed = true;
+    if (both_ends) sb_builder_vertex(builder, mesh->vertex_count - 1)->fixed = true;
+    sb_model* model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(model);
+    return model;
+}
+
 static void test_determinism(void** state) {
     (void)state;
     sb_mesh mesh = {0};
     make_mesh(SHAPE_JITTERED, &mesh);
-    sb_builder* builder = sb_builder_create();
     sb_material_def material = sb_default_material_def();
     material.stretch_bend_k = 1.0;
     material.spring_k = 10.0;
     material.spring_damping = 0.02;
     material.bend_k = 0.001;
-    sb_error err;
-    assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
-    sb_builder_vertex(builder, 0)->fixed = true;
-    sb_builder_vertex(builder, mesh.vertex_count - 1)->fixed = true;
-    sb_model* model = sb_builder_compile(builder, &err);
-    sb_builder_destroy(builder);
-    assert_non_null(model);
+    sb_model* model = pinned_model(&mesh, &material, true);
     for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++)
         assert_same_for_threads(model, (sb_integrator)integrator);
     sb_model_destroy(model);
@@ -653,18 +659,12 @@ static void test_fast_step_follows_reference(void** state) {
     make_mesh(SHAPE_JITTERED, &mesh);
     uint32_t n = mesh.vertex_count;
     for (int damped = 0; damped < 2; damped++) {
-        sb_builder* builder = sb_builder_create();
         sb_material_def material = sb_default_material_def();
         material.stretch_bend_k = 1.0;
         material.spring_k = damped ? 10.0 : 0.0;
         material.spring_damping = damped ? 0.02 : 0.0;
         material.bend_k = damped ? 0.001 : 0.0;
-        sb_error err;
-        assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
-        sb_builder_vertex(builder, 0)->fixed = true;
-        sb_model* model = sb_builder_compile(builder, &err);
-        sb_builder_destroy(builder);
-        assert_non_null(model);
+        sb_model* model = pinned_model(&mesh, &material, false);
         double *reference = malloc(3 * n * sizeof *reference), *fast = malloc(3 * n * sizeof *fast);
         for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++) {
             run_trajectory(model, SB_KERNELS_REFERENCE, (sb_integrator)integrator, true, reference);
@@ -703,16 +703,10 @@ static void test_fast_step_energies_follow_reference(void** state) {
     make_mesh(SHAPE_JITTERED, &mesh);
     const double tolerance = sizeof(sb_real) == sizeof(float) ? 1e-5 : 1e-9;
     for (int damped = 0; damped < 2; damped++) {
-        sb_builder* builder = sb_builder_create();
         sb_material_def material = sb_default_material_def();
         material.spring_k = damped ? 10.0 : 0.0;
         material.spring_damping = damped ? 0.02 : 0.0;
-        sb_error err;
-        assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
-        sb_builder_vertex(builder, 0)->fixed = true;
-        sb_model* model = sb_builder_compile(builder, &err);
-        sb_builder_destroy(builder);
-        assert_non_null(model);
+        sb_model* model = pinned_model(&mesh, &material, false);
         double* x = malloc(3 * mesh.vertex_count * sizeof *x);
         sb_energies reference = run_trajectory(model, SB_KERNELS_REFERENCE, SB_INTEGRATOR_VERLET, damped, x);
         sb_energies fast = run_trajectory(model, SB_KERNELS_FAST, SB_INTEGRATOR_VERLET, damped, x);
