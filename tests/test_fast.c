@@ -2,6 +2,8 @@
  * rely on, and determinism for any thread count. */
 #include "test_util.h"
 
+#include <stdio.h>
+
 #include "kernels/fast_model.h"
 
 /* Float carries ~7 digits; after a few dozen operations per element the
@@ -102,39 +104,53 @@ static sb_solver* make_fast_solver(const sb_model* model, int threads) {
     return solver;
 }
 
+/* The fast forces and term energies at (x, v) (v may be NULL) against the
+ * double reference's: the largest force error within FAST_TOLERANCE of the
+ * largest force, each term's energy within FAST_TOLERANCE of the largest
+ * term. Prints the force error after `what`; returns the fast bending
+ * energy over the reference's less one, for the tests of that small term. */
+static double assert_fast_matches_reference(const sb_model* model, const double* x, const double* v, const char* what) {
+    uint32_t n = sb_model_vertex_count(model);
+    double *f = malloc(3 * n * sizeof *f), *fast_f = malloc(3 * n * sizeof *fast_f);
+    sb_energies reference;
+    sb_error err;
+    assert_int_equal(sb_reference_forces(model, x, v, f, &reference, &err), SB_OK);
+    sb_solver* solver = make_fast_solver(model, 2);
+    assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
+    sb_solver_get_forces(solver, fast_f);
+    double largest = tu_max_abs(f, 3 * n), worst = 0.0;
+    for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
+    print_message("%s: largest force error %.3g of the largest force\n", what, worst / largest);
+    assert_true(largest > 0.0);
+    TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
+    sb_energies fast = sb_solver_energies(solver);
+    double scale = 0.0;
+    for (int t = 0; t < SB_TERM_COUNT; t++) scale = fmax(scale, fabs(reference.term[t]));
+    for (int t = 0; t < SB_TERM_COUNT; t++) TU_ASSERT_NEAR(fast.term[t], reference.term[t], FAST_TOLERANCE * scale);
+    sb_solver_destroy(solver);
+    free(f);
+    free(fast_f);
+    return fast.term[SB_TERM_BEND] / reference.term[SB_TERM_BEND] - 1.0;
+}
+
 static void compare_with_reference(shape kind, bonds variant) {
     static const char* names[] = {"undamped", "damped", "mixed"};
     sb_mesh mesh = {0};
     make_mesh(kind, &mesh);
     sb_model* model = make_model(&mesh, variant);
     uint32_t n = mesh.vertex_count;
-    double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
-    double* fast_f = malloc(3 * n * sizeof *fast_f);
-    sb_solver* solver = make_fast_solver(model, 2);
+    double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v);
     for (uint64_t seed = 1; seed <= 3; seed++) {
         perturb(&mesh, kind, seed, x, v);
-        sb_energies reference;
-        sb_error err;
-        assert_int_equal(sb_reference_forces(model, x, v, f, &reference, &err), SB_OK);
-        assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
-        sb_solver_get_forces(solver, fast_f);
-        double largest = tu_max_abs(f, 3 * n), worst = 0.0;
-        for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-        print_message("shape %d, %s bonds, seed %llu: largest force error %.3g of the largest force\n", (int)kind,
-                      names[variant], (unsigned long long)seed, worst / largest);
-        TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
-        sb_energies fast = sb_solver_energies(solver);
-        double scale = 0.0;
-        for (int t = 0; t < SB_TERM_COUNT; t++) scale = fmax(scale, fabs(reference.term[t]));
-        for (int t = 0; t < SB_TERM_COUNT; t++) TU_ASSERT_NEAR(fast.term[t], reference.term[t], FAST_TOLERANCE * scale);
+        char what[64];
+        snprintf(what, sizeof what, "shape %d, %s bonds, seed %llu", (int)kind, names[variant],
+                 (unsigned long long)seed);
+        assert_fast_matches_reference(model, x, v, what);
     }
-    sb_solver_destroy(solver);
     sb_model_destroy(model);
     sb_mesh_free(&mesh);
     free(x);
     free(v);
-    free(f);
-    free(fast_f);
 }
 
 static void test_regular_sheet(void** state) {
@@ -231,7 +247,6 @@ static void compare_hinges(fold kind, bool wings) {
     enum { hinges = 3 * 16 + 5 }; /* whole blocks and a part block at any width */
     uint32_t n = 4 * hinges;
     double *rest = malloc(3 * n * sizeof *rest), *x = malloc(3 * n * sizeof *x);
-    double *f = malloc(3 * n * sizeof *f), *fast_f = malloc(3 * n * sizeof *fast_f);
     tu_rng rng = {40 + (uint64_t)kind};
     for (uint32_t h = 0; h < hinges; h++) {
         double rest_angle, angle;
@@ -258,24 +273,12 @@ static void compare_hinges(fold kind, bool wings) {
     assert_non_null(fast);
     assert_int_equal(fast->fused_hinges, wings);
     sb_fast_model_destroy(fast);
-    sb_energies reference;
-    assert_int_equal(sb_reference_forces(model, x, NULL, f, &reference, &err), SB_OK);
-    sb_solver* solver = make_fast_solver(model, 2);
-    assert_int_equal(sb_solver_set_state(solver, x, NULL), SB_OK);
-    sb_solver_get_forces(solver, fast_f);
-    double largest = tu_max_abs(f, 3 * n), worst = 0.0;
-    for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-    print_message("fold %d%s: largest hinge force error %.3g of the largest force\n", (int)kind,
-                  wings ? " (fused)" : "", worst / largest);
-    TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
-    TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
-                   FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
-    sb_solver_destroy(solver);
+    char what[32];
+    snprintf(what, sizeof what, "fold %d%s", (int)kind, wings ? " (fused)" : "");
+    TU_ASSERT_LE(fabs(assert_fast_matches_reference(model, x, NULL, what)), FAST_TOLERANCE);
     sb_model_destroy(model);
     free(rest);
     free(x);
-    free(f);
-    free(fast_f);
 }
 
 static void test_hinges_near_flat(void** state) {
@@ -302,7 +305,7 @@ static void test_triangles_carrying_three_hinges(void** state) {
     (void)state;
     enum { triangles = 3 * 16 + 5 };
     uint32_t n = 6 * triangles;
-    double *x = malloc(3 * n * sizeof *x), *f = malloc(3 * n * sizeof *f), *fast_f = malloc(3 * n * sizeof *fast_f);
+    double* x = malloc(3 * n * sizeof *x);
     tu_rng rng = {77};
     sb_builder* builder = sb_builder_create();
     for (uint32_t t = 0; t < triangles; t++) {
@@ -347,22 +350,10 @@ static void test_triangles_carrying_three_hinges(void** state) {
         sb_model_rest_position(model, i, x + 3 * i);
         for (int c = 0; c < 3; c++) x[3 * i + c] = (sb_real)(x[3 * i + c] + tu_uniform(&rng, -0.05, 0.05));
     }
-    sb_energies reference;
-    assert_int_equal(sb_reference_forces(model, x, NULL, f, &reference, &err), SB_OK);
-    sb_solver* solver = make_fast_solver(model, 2);
-    assert_int_equal(sb_solver_set_state(solver, x, NULL), SB_OK);
-    sb_solver_get_forces(solver, fast_f);
-    double largest = tu_max_abs(f, 3 * n), worst = 0.0;
-    for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-    print_message("triangles carrying 1 to 3 hinges: largest force error %.3g of the largest force\n", worst / largest);
-    TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
-    TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
-                   FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
-    sb_solver_destroy(solver);
+    TU_ASSERT_LE(fabs(assert_fast_matches_reference(model, x, NULL, "triangles carrying 1 to 3 hinges")),
+                 FAST_TOLERANCE);
     sb_model_destroy(model);
     free(x);
-    free(f);
-    free(fast_f);
 }
 
 /* The bending term alone on every mesh shape (hinges fused into the
@@ -388,29 +379,15 @@ static void test_fused_hinges_on_meshes(void** state) {
         assert_true(fast->fused_hinges);
         sb_fast_model_destroy(fast);
         uint32_t n = mesh.vertex_count;
-        double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v), *f = malloc(3 * n * sizeof *f);
-        double* fast_f = malloc(3 * n * sizeof *fast_f);
-        sb_solver* solver = make_fast_solver(model, 2);
+        double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v);
         perturb(&mesh, (shape)kind, 11, x, v);
-        sb_energies reference;
-        assert_int_equal(sb_reference_forces(model, x, v, f, &reference, &err), SB_OK);
-        assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
-        sb_solver_get_forces(solver, fast_f);
-        double largest = tu_max_abs(f, 3 * n), worst = 0.0;
-        for (size_t k = 0; k < 3 * (size_t)n; k++) worst = fmax(worst, fabs(fast_f[k] - f[k]));
-        print_message("shape %d, bending alone: largest force error %.3g of the largest force\n", kind,
-                      worst / largest);
-        assert_true(largest > 0.0);
-        TU_ASSERT_LE(worst, FAST_TOLERANCE * largest);
-        TU_ASSERT_NEAR(sb_solver_energies(solver).term[SB_TERM_BEND], reference.term[SB_TERM_BEND],
-                       FAST_TOLERANCE * reference.term[SB_TERM_BEND]);
-        sb_solver_destroy(solver);
+        char what[32];
+        snprintf(what, sizeof what, "shape %d, bending alone", kind);
+        TU_ASSERT_LE(fabs(assert_fast_matches_reference(model, x, v, what)), FAST_TOLERANCE);
         sb_model_destroy(model);
         sb_mesh_free(&mesh);
         free(x);
         free(v);
-        free(f);
-        free(fast_f);
     }
 }
 
