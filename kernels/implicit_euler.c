@@ -15,12 +15,15 @@
  * Gauss-Newton part only, sb_jacobian_stiffness says why), D = −∂f/∂v
  * the springs' damping blocks and the drag, assembled into
  * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h),
- * on the solver's threads (sb_assemble_worker, sb_product_worker).
- * With a factorization (implicit_solver, kernels/sparse_cholesky.h) a J
- * that is not positive definite is assembled again from the positive
- * semi-definite stand-ins, which always factor, and a factored J serves the
- * next Newton iterations while each cuts |R| fourfold (modified Newton: an
- * assembly and a factorization cost about ten solves). With CG, J is
+ * on the solver's threads (sb_assemble_worker, sb_product_worker; one
+ * thread on a small model: sb_implicit_width).
+ * With a factorization (implicit_solver, kernels/sparse_cholesky.h) the
+ * step's first Newton system is solved roughly by CG, not factored
+ * (SB_FIRST_CG_TOLERANCE), a J that is not positive definite is assembled
+ * again from the positive semi-definite stand-ins, which always factor,
+ * and a factored J serves the next Newton iterations while each halves |R|
+ * (modified Newton: an assembly and a factorization cost about ten solves
+ * and residuals). With CG, J is
  * assembled at every iteration, and where K is indefinite (a compressed
  * bond, a loaded corner, a bent hinge) CG stops at its first non-positive
  * curvature and keeps its iterate,
@@ -59,9 +62,23 @@
 /* A Newton iteration on a factored J that cut |R| at least this much leaves
  * J and its factors to the next (CG, whose cost is its iterations, always
  * assembles afresh). */
-#define SB_REUSE_CONTRACTION 0.25
+#define SB_REUSE_CONTRACTION 0.5
+/* Where J is factored, the step's first Newton system is solved by CG to
+ * this fraction of its residual instead. From the inertial guess x + dt v
+ * the first iteration cuts |R| only 3 to 10 times however exactly it is
+ * solved, and the J there (the bonds' tensions far from the step's) serves
+ * later iterations badly: on the default scene at dt = 10 ms, kept, it let
+ * |R| fall by only 0.5 an iteration, where the J of the second iterate
+ * gave 0.02-0.2. A factorization there served one solve. */
+#define SB_FIRST_CG_TOLERANCE 0.03
 /* `auto` factors J when its stiffness outweighs the mass this many times. */
 #define SB_AUTO_FACTOR_RATIO 100.0
+
+/* A job of an implicit step has a barrier or two for every few microseconds
+ * of work on a small model: on the default scene (900 vertices) at dt =
+ * 10 ms the fast CG step took 37 ms on 2 threads, 14.5 on 1. A thread per
+ * this many vertices. */
+#define SB_IMPLICIT_VERTICES_PER_THREAD 4096
 
 /* The work vectors, 3n doubles each, allocated once per solver. */
 enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
@@ -88,7 +105,8 @@ typedef struct sb_newton {
     sb_block_matrix* j;
     double* inverse_blocks;
     sb_sparse_cholesky* cholesky;
-    bool factored; /* J's factorization is current: solve with it, not CG */
+    bool factored;       /* J's factorization is current: solve with it, not CG */
+    double cg_tolerance; /* CG's relative residual target for this system */
 } sb_newton;
 
 static double sb_dot(const double* a, const double* b, size_t n) {
@@ -142,7 +160,7 @@ static sb_status sb_residual_forces(sb_newton* w) {
                           .f = w->a[W_F],
                           .buffers = s->implicit->term_forces,
                           .n3 = w->n3};
-    sb_team_run(s->team, sb_team_size(s->team), sb_term_forces_worker, &job);
+    sb_team_run(s->team, sb_implicit_width(s), sb_term_forces_worker, &job);
     for (int t = 0; t < SB_TERM_COUNT; t++)
         if (job.status[t] != SB_OK) {
             s->error = job.error[t];
@@ -243,7 +261,7 @@ static sb_status sb_assemble(sb_newton* w, bool definite) {
     const sb_model* m = s->model;
     sb_block_matrix_zero(w->j);
     sb_assembly job = {w, s->implicit->element_matrices, sb_element_count(m), UINT64_MAX, definite};
-    sb_team_run(s->team, sb_team_size(s->team), sb_assemble_worker, &job);
+    sb_team_run(s->team, sb_implicit_width(s), sb_assemble_worker, &job);
     if (job.collapsed != UINT64_MAX) {
         sb_element e = sb_element_at(m, job.collapsed);
         return sb_error_set(&s->error, SB_ERR_DEGENERATE,
@@ -301,10 +319,10 @@ static void sb_conjugate_gradients(sb_newton* w, int cap, sb_step_stats* stats) 
     memcpy(res, a[W_RHS], n3 * sizeof *res);
     sb_precondition(w, res, z);
     memcpy(d, z, n3 * sizeof *d);
-    double rz = sb_dot(res, z, n3), target = SB_CG_RELATIVE_TOLERANCE * sqrt(sb_dot(res, res, n3));
+    double rz = sb_dot(res, z, n3), target = w->cg_tolerance * sqrt(sb_dot(res, res, n3));
     for (int it = 0; it < cap; it++) {
         sb_product product = {w->j, d, q};
-        sb_team_run(w->s->team, sb_team_size(w->s->team), sb_product_worker, &product);
+        sb_team_run(w->s->team, sb_implicit_width(w->s), sb_product_worker, &product);
         sb_apply_mask(w, q);
         double curvature = sb_dot(d, q, n3);
         if (!(curvature > 0.0)) { /* not positive definite here: keep what we have */
@@ -346,12 +364,16 @@ static bool sb_stiffness_dominates(const sb_newton* w) {
  * that does not factor (not positive definite: a compressed bond's sideways
  * stiffness outweighs its vertices' mass) is assembled again from the
  * positive semi-definite stand-ins, which always factors: Newton's direction
- * is then that of a modified Newton, the residual still the exact one. */
-static sb_status sb_prepare_jacobian(sb_newton* w) {
+ * is then that of a modified Newton, the residual still the exact one. The
+ * step's first system (`first`) is not factored but solved roughly by CG
+ * (SB_FIRST_CG_TOLERANCE): a factorization there would serve one solve. */
+static sb_status sb_prepare_jacobian(sb_newton* w, bool first) {
     bool definite = w->s->def.implicit_definite;
     sb_status status = sb_assemble(w, definite);
     if (status != SB_OK) return status;
     bool factor = w->cholesky && (w->s->def.implicit_solver == SB_LINEAR_CHOLESKY || sb_stiffness_dominates(w));
+    w->cg_tolerance = factor && first ? SB_FIRST_CG_TOLERANCE : SB_CG_RELATIVE_TOLERANCE;
+    factor = factor && !first;
     w->factored = factor && sb_sparse_cholesky_factor(w->cholesky, w->j, w->a[W_MASK]);
     if (factor && !w->factored && !definite) {
         status = sb_assemble(w, true);
@@ -467,6 +489,12 @@ static sb_newton sb_newton_init(sb_solver* s, double dt) {
     return w;
 }
 
+int sb_implicit_width(const sb_solver* s) {
+    uint32_t share = s->model->vertex_count / SB_IMPLICIT_VERTICES_PER_THREAD;
+    int team = sb_team_size(s->team);
+    return share < 1 ? 1 : share < (uint32_t)team ? (int)share : team;
+}
+
 sb_newton_limits sb_newton_limits_of(const sb_solver* s) {
     const sb_solver_def* d = &s->def;
     return (sb_newton_limits){.tolerance = d->implicit_tolerance > 0 ? d->implicit_tolerance : 1e-8,
@@ -498,7 +526,7 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
         }
         if (it == limits.newton_cap) break;
         if (stale) {
-            status = sb_prepare_jacobian(&w);
+            status = sb_prepare_jacobian(&w, it == 0);
             if (status != SB_OK) return status;
         }
         sb_solve_newton_system(&w, limits.cg_cap, &s->stats);

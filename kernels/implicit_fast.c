@@ -129,7 +129,7 @@ static void sb_chunk_worker(void* context, const sb_worker* worker) {
 /* Runs op over every chunk on the team (sb_total adds up the sums). */
 static void sb_chunks(sb_fast_newton* w, sb_chunk_op op) {
     sb_chunk_job job = {w, op};
-    sb_team_run(w->s->team, sb_team_size(w->s->team), sb_chunk_worker, &job);
+    sb_team_run(w->s->team, sb_implicit_width(w->s), sb_chunk_worker, &job);
 }
 
 static double sb_total(const sb_fast_newton* w, int k) {
@@ -306,7 +306,7 @@ static sb_status sb_fast_residual(sb_fast_newton* w, double* norm, double* floor
  * step leaves of R (to second order), so a smaller one cannot show. */
 static void sb_fast_cg(sb_fast_newton* w, int cap, double enough, sb_step_stats* stats) {
     sb_team* team = w->s->team;
-    int width = sb_team_size(team);
+    int width = sb_implicit_width(w->s);
     sb_chunks(w, sb_op_cg_start);
     double rz = sb_total(w, 0), target = fmax(SB_CG_RELATIVE_TOLERANCE * sqrt(sb_total(w, 1)), 0.5 * enough);
     w->beta = 0;
@@ -412,7 +412,7 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
             break;
         }
         if (it == limits.newton_cap) break;
-        sb_team_run(s->team, sb_team_size(s->team), sb_preconditioner_worker, &w);
+        sb_team_run(s->team, sb_implicit_width(s), sb_preconditioner_worker, &w);
         w.position_noise = SB_REAL_EPSILON / dt * sqrt(sb_total(&w, 0));
         sb_fast_cg(&w, limits.cg_cap, fmax(limits.tolerance * first, floor), &s->stats);
         status = sb_fast_line_search(&w, &norm, &floor);

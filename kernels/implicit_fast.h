@@ -18,6 +18,11 @@ typedef struct sb_newton_limits {
 
 sb_newton_limits sb_newton_limits_of(const sb_solver* solver);
 
+/* The threads an implicit step's jobs run on: the team's, but one per
+ * SB_IMPLICIT_VERTICES_PER_THREAD vertices at most (kernels/implicit_euler.c),
+ * at least one. The result is the same for any count. */
+int sb_implicit_width(const sb_solver* solver);
+
 /* Work vectors for a solver of the model's vertices, allocated once; NULL
  * when out of memory. */
 struct sb_implicit_fast* sb_implicit_fast_create(const sb_solver* solver);

@@ -549,7 +549,8 @@ static sb_step_stats implicit_step(sb_model* m, const double* x, sb_linear_solve
 }
 
 /* Newton with the sparse Cholesky factorization: the backward Euler step CG
- * reaches, without a CG iteration. A bond compressed at ω dt ≈ 10 makes the
+ * reaches, with CG only on the first Newton system (solved roughly, never
+ * factored) and a factorization from the second on. A bond compressed at ω dt ≈ 10 makes the
  * exact Jacobian indefinite (its sideways stiffness, dt² k (1 − r0/r),
  * outweighs the mass): CG, which only explores the stretch's directions,
  * does not notice, the factorization does and factors the positive
@@ -568,9 +569,9 @@ static void test_implicit_cholesky(void** state) {
         sb_step_stats with_cg = implicit_step(m, x, SB_LINEAR_CG, dt, cg);
         assert_int_equal(with_cg.factorizations, 0);
         sb_step_stats with_cholesky = implicit_step(m, x, SB_LINEAR_CHOLESKY, dt, factored);
-        assert_int_equal(with_cholesky.cg_iterations, 0);
+        assert_true(with_cholesky.cg_iterations >= 1 && with_cholesky.cg_iterations <= with_cg.cg_iterations);
         assert_true(with_cholesky.factorizations >= 1 &&
-                    with_cholesky.factorizations <= (uint32_t)with_cholesky.newton_iterations);
+                    with_cholesky.factorizations < (uint32_t)with_cholesky.newton_iterations);
         sb_step_stats with_auto = implicit_step(m, x, SB_LINEAR_AUTO, dt, automatic);
         assert_int_equal(with_auto.factorizations, large ? with_cholesky.factorizations : 0);
         for (int k = 0; k < 3 * NC; k++) {
@@ -588,10 +589,58 @@ static void test_implicit_cholesky(void** state) {
     print_message("large stretch, cholesky: %d Newton, %d CG iterations, %u factorizations\n", stats.newton_iterations,
                   stats.cg_iterations, stats.factorizations);
     assert_true(stats.converged);
-    assert_int_equal(stats.cg_iterations, 0);
-    assert_true(stats.factorizations >= 1);
+    assert_true(stats.cg_iterations >= 1);
+    assert_true(stats.factorizations >= 1 && stats.factorizations < (uint32_t)stats.newton_iterations);
     sb_solver_destroy(s);
     sb_model_destroy(m);
+}
+
+/* The default scene (30 x 30 sheet, all five terms, held at two corners) at
+ * dt = 10 ms, factored, on 3 threads: every step converges to the scene's
+ * tolerance with one factorization a step, give or take (measured: 10 in
+ * these 10 steps; 20 when every Newton system was factored and J kept only
+ * while an iteration cut |R| fourfold), and the step is bitwise the
+ * one a single thread takes (the small model's jobs run on one worker:
+ * sb_implicit_width). */
+static void test_implicit_default_scene(void** state) {
+    (void)state;
+    sb_scene scene;
+    sb_error err = {{0}};
+    assert_int_equal(sb_scene_init(&scene, &err), SB_OK);
+    assert_int_equal(sb_scene_load(&scene, SB_SOURCE_DIR "/scenes/default.yaml", &err), SB_OK);
+    const char* sets[] = {"integrator=implicit_euler", "implicit.solver=cholesky", NULL};
+    for (const char** set = sets; *set; set++) assert_int_equal(sb_scene_set(&scene, *set, &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    sb_mesh mesh;
+    if (sb_scene_make_mesh(&scene, &mesh, &err) != SB_OK) fail_msg("%s", err.message);
+    sb_model* m = sb_scene_build_model(&scene, &mesh, "default", &err);
+    if (!m) fail_msg("%s", err.message);
+    sb_solver_def def = sb_scene_solver_def(&scene);
+    uint64_t hash[2];
+    for (int run = 0; run < 2; run++) {
+        def.runtime.threads = run ? 3 : 1;
+        sb_solver* s = tu_solver(m, &def);
+        enum { STEPS = 10 };
+        uint32_t factorizations = 0;
+        int newton = 0;
+        for (int step = 0; step < STEPS; step++) {
+            tu_advance(s, 0.01, 1);
+            sb_step_stats stats = sb_solver_last_step(s);
+            if (!stats.converged) fail_msg("step %d did not converge (%d Newton)", step, stats.newton_iterations);
+            factorizations += stats.factorizations;
+            newton += stats.newton_iterations;
+        }
+        print_message(
+            "default scene at dt = 10 ms, %d thread(s): %u factorizations, %d Newton iterations in %d steps\n",
+            def.runtime.threads, factorizations, newton, STEPS);
+        assert_true(factorizations >= STEPS && factorizations <= 15);
+        hash[run] = tu_state_hash(s);
+        sb_solver_destroy(s);
+    }
+    assert_true(hash[0] == hash[1]);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+    sb_scene_free(&scene);
 }
 
 /* ---- energy-stable adaptive stepping ------------------------------------------------ */
@@ -853,6 +902,7 @@ int main(void) {
         cmocka_unit_test(test_fixed_gravity_external),
         cmocka_unit_test(test_implicit_iterations),
         cmocka_unit_test(test_implicit_cholesky),
+        cmocka_unit_test(test_implicit_default_scene),
         cmocka_unit_test(test_adaptive),
         cmocka_unit_test(test_adaptive_external_work),
         cmocka_unit_test(test_adaptive_min_dt),
