@@ -31,6 +31,13 @@
 #include "kernels/fast_kernels.h"
 #include "kernels/fast_block.h"
 
+/* A vertex's diagonal block is symmetric: its upper triangle is kept,
+ * SB_BLOCK_SIZE numbers xx xy xz yy yz zz, in SB_BLOCK_STRIDE reals as two
+ * packed vectors xx xy xz 0, yy yz zz 0 (the kernels' packed scatter adds
+ * them; the array is aligned like the positions). */
+enum { SB_BLOCK_SIZE = 6, SB_BLOCK_STRIDE = 8 };
+static const int sb_block_offset[SB_BLOCK_SIZE] = {0, 1, 2, 4, 5, 6};
+
 /* What the passes read and write. They have the force kernels' signature
  * (sb_fast_kernel, kernels/fast_kernels.h) and receive this frame's first
  * member: `base` holds the positions, the direction p (velocities4's place;
@@ -39,7 +46,7 @@ typedef struct sb_hessian_frame {
     sb_fast_frame base;
     sb_real scale;   /* out += scale (K p + damping D p), and the blocks alike */
     sb_real damping; /* D's weight against K's (1 / dt in J = M + dt D + dt² K) */
-    sb_real* blocks; /* diagonal pass: 9 per vertex, row-major, added to */
+    sb_real* blocks; /* diagonal pass: SB_BLOCK_STRIDE per vertex, added to */
 } sb_hessian_frame;
 
 int sb_fast_bonds_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
@@ -123,20 +130,25 @@ typedef void (*sb_wdual_forces)(const sb_fast_model* m, uint32_t s, sb_wide damp
 
 enum { SB_HESSIAN_MAX_VERTICES = 4 };
 
-/* Adds lane l's 3 × 3 block (columns col[0..3), row-major out) to the
- * blocks of its vertex, for the first count lanes (they never share one). */
-static inline void sb_hessian_add_blocks(sb_real* blocks, sb_windex index, const sb_wvec3* col, sb_real scale,
+/* Adds lane l's block (upper[0..SB_BLOCK_SIZE), scaled) to the block of
+ * its vertex, for the first count lanes (they never share one). */
+static inline void sb_hessian_add_blocks(sb_real* blocks, sb_windex index, const sb_wide* upper, sb_real scale,
                                          int count) {
     uint32_t id[SB_WIDTH];
-    sb_real lanes[9][SB_WIDTH];
     memcpy(id, &index, sizeof id);
-    for (int c = 0; c < 3; c++) {
-        memcpy(lanes[c], &col[c].x, sizeof lanes[c]);
-        memcpy(lanes[3 + c], &col[c].y, sizeof lanes[c]);
-        memcpy(lanes[6 + c], &col[c].z, sizeof lanes[c]);
-    }
-    for (int l = 0; l < count; l++)
-        for (int k = 0; k < 9; k++) blocks[9 * (size_t)id[l] + k] += scale * lanes[k][l];
+    for (int l = 0; l < SB_WIDTH; l++) id[l] *= SB_BLOCK_STRIDE / 4; /* in packed vectors */
+    sb_windex packed = sb_w_index(id);
+    const sb_wide w = sb_w_set(scale);
+    sb_wv_add4(blocks, packed, (sb_wvec3){sb_w_mul(w, upper[0]), sb_w_mul(w, upper[1]), sb_w_mul(w, upper[2])}, count);
+    sb_wv_add4(blocks + 4, packed, (sb_wvec3){sb_w_mul(w, upper[3]), sb_w_mul(w, upper[4]), sb_w_mul(w, upper[5])},
+               count);
+}
+
+/* The upper triangle of the block whose columns are col[0..3). */
+static inline void sb_hessian_add_columns(sb_real* blocks, sb_windex index, const sb_wvec3* col, sb_real scale,
+                                          int count) {
+    const sb_wide upper[SB_BLOCK_SIZE] = {col[0].x, col[1].x, col[2].x, col[1].y, col[2].y, col[2].z};
+    sb_hessian_add_blocks(blocks, index, upper, scale, count);
 }
 
 /* Runs `forces` over the color's slots [begin, end): the product pass when
@@ -177,9 +189,9 @@ static inline void sb_hessian_pass(const sb_fast_model* m, const sb_fast_frame* 
                 col[axis] = f[a].d;
                 last_col[axis] = sb_wv_sub(last_col[axis], f[last].d);
             }
-            sb_hessian_add_blocks(fr->blocks, v[a], col, -fr->scale, count);
+            sb_hessian_add_columns(fr->blocks, v[a], col, -fr->scale, count);
         }
-        sb_hessian_add_blocks(fr->blocks, v[last], last_col, -fr->scale, count);
+        sb_hessian_add_columns(fr->blocks, v[last], last_col, -fr->scale, count);
     }
 }
 

@@ -60,7 +60,7 @@ enum { SB_PARTIALS = 4 };
 
 struct sb_implicit_fast {
     sb_real* vectors; /* V_COUNT × 4n */
-    sb_real* blocks;  /* 9n: J's diagonal blocks */
+    sb_real* blocks;  /* SB_BLOCK_STRIDE n: J's diagonal blocks */
     sb_real* inverse; /* 6n: their inverses' upper triangles, 0 on held vertices */
     double* partials; /* SB_PARTIALS per vertex chunk */
     size_t n4;
@@ -85,7 +85,9 @@ struct sb_implicit_fast* sb_implicit_fast_create(const sb_solver* s) {
     size_t bytes = ((V_COUNT * im->n4 * sizeof(sb_real)) / 64 + 1) * 64;
     im->vectors = aligned_alloc(64, bytes); /* the kernels' packed loads */
     if (im->vectors) memset(im->vectors, 0, bytes);
-    im->blocks = calloc(9 * (n ? n : 1), sizeof(sb_real));
+    size_t block_bytes = ((SB_BLOCK_STRIDE * n * sizeof(sb_real)) / 64 + 1) * 64;
+    im->blocks = aligned_alloc(64, block_bytes); /* the packed scatter's stores */
+    if (im->blocks) memset(im->blocks, 0, block_bytes);
     im->inverse = calloc(6 * (n ? n : 1), sizeof(sb_real));
     im->partials = calloc(SB_PARTIALS * (chunks ? chunks : 1), sizeof(double));
     if (im->vectors && im->blocks && im->inverse && im->partials) return im;
@@ -252,7 +254,7 @@ static void sb_product_worker(void* context, const sb_worker* worker) {
 
 static void sb_op_zero_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     (void)partial;
-    memset(w->im->blocks + 9 * (begin / 4), 0, 9 * ((end - begin) / 4) * sizeof(sb_real));
+    memset(w->im->blocks + SB_BLOCK_STRIDE * (begin / 4), 0, SB_BLOCK_STRIDE * ((end - begin) / 4) * sizeof(sb_real));
 }
 
 /* Each block J_ii = M_i (1 + dt drag) + dt² K_ii + dt D_ii inverted (the
@@ -261,20 +263,22 @@ static void sb_op_zero_blocks(sb_fast_newton* w, size_t begin, size_t end, doubl
  * preconditioner reads 6 numbers a vertex, not 9 and the mask's 4;
  * partial: Σ (|x_i| tr(dt² K_ii + dt D_ii))², for the residual's floor. */
 static void sb_op_invert_blocks(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    static const int upper[SB_BLOCK_SIZE] = {0, 1, 2, 4, 5, 8}, lower[3][2] = {{3, 1}, {6, 2}, {7, 5}};
     const sb_model* m = w->s->model;
     const sb_real* x = w->s->positions4;
     for (size_t i = begin / 4; i < end / 4; i++) {
-        const sb_real* block = w->im->blocks + 9 * i;
+        const sb_real* block = w->im->blocks + SB_BLOCK_STRIDE * i;
         double j[9], inverse[9] = {0};
-        for (int k = 0; k < 9; k++) j[k] = block[k];
+        for (int k = 0; k < SB_BLOCK_SIZE; k++) j[upper[k]] = block[sb_block_offset[k]];
+        for (int k = 0; k < 3; k++) j[lower[k][0]] = j[lower[k][1]];
         double reach = fmax(fabs(x[4 * i]), fmax(fabs(x[4 * i + 1]), fabs(x[4 * i + 2])));
         double stiffness = reach * fabs(j[0] + j[4] + j[8]) * w->v[V_MASK][4 * i];
         partial[0] += stiffness * stiffness;
         double diagonal = m->mass[i] * (1.0 + w->dt * w->s->def.drag);
         j[0] += diagonal, j[4] += diagonal, j[8] += diagonal;
         if (!sb_m3_invert(j, inverse) && m->inv_mass[i] > 0) inverse[0] = inverse[4] = inverse[8] = m->inv_mass[i];
-        static const int upper[6] = {0, 1, 2, 4, 5, 8};
-        for (int k = 0; k < 6; k++) w->im->inverse[6 * i + k] = (sb_real)(w->v[V_MASK][4 * i] * inverse[upper[k]]);
+        for (int k = 0; k < SB_BLOCK_SIZE; k++)
+            w->im->inverse[6 * i + k] = (sb_real)(w->v[V_MASK][4 * i] * inverse[upper[k]]);
     }
 }
 
