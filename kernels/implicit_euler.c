@@ -23,7 +23,7 @@
  * again from the positive semi-definite stand-ins, which always factor,
  * and a factored J serves the next Newton iterations while each halves |R|
  * (modified Newton: an assembly and a factorization cost about ten solves
- * and residuals). With CG, J is
+ * and residuals), their steps Anderson-accelerated (sb_anderson_step). With CG, J is
  * assembled at every iteration, and where K is indefinite (a compressed
  * bond, a loaded corner, a bent hinge) CG stops at its first non-positive
  * curvature and keeps its iterate,
@@ -80,8 +80,34 @@
  * this many vertices. */
 #define SB_IMPLICIT_VERTICES_PER_THREAD 4096
 
-/* The work vectors, 3n doubles each, allocated once per solver. */
-enum { W_X0, W_V0, W_DV, W_DV_START, W_XT, W_VT, W_F, W_RHS, W_SOL, W_RES, W_Z, W_D, W_Q, W_MASK, W_COUNT };
+/* Steps of a kept factorization whose differences accelerate the next
+ * (sb_anderson_step; 1, 2 and 4 took 758, 744 and 737 Newton iterations
+ * on the default scene at dt = 10 ms for 102 steps, 827 without). */
+enum { SB_ANDERSON_DEPTH = 4 };
+
+/* The work vectors, 3n doubles each, allocated once per solver; W_DX and
+ * W_DF start SB_ANDERSON_DEPTH vectors each. */
+enum {
+    W_X0,
+    W_V0,
+    W_DV,
+    W_DV_START,
+    W_XT,
+    W_VT,
+    W_F,
+    W_RHS,
+    W_SOL,
+    W_RES,
+    W_Z,
+    W_D,
+    W_Q,
+    W_MASK,
+    W_DV_LAST,
+    W_SOL_LAST,
+    W_DX,
+    W_DF = W_DX + SB_ANDERSON_DEPTH,
+    W_COUNT = W_DF + SB_ANDERSON_DEPTH
+};
 
 /* Elements a worker computes between two scatters. */
 #define SB_ASSEMBLY_CHUNK 64
@@ -395,6 +421,77 @@ static void sb_solve_newton_system(sb_newton* w, int cg_cap, sb_step_stats* stat
     sb_conjugate_gradients(w, cg_cap, stats);
 }
 
+/* Anderson acceleration of the modified Newton iteration on a kept
+ * factorization (Walker and Ni, SIAM J. Numer. Anal. 2011). With J fixed,
+ * Δv ← Δv + J⁻¹(−R(Δv)) is a fixed-point iteration whose step g = sol
+ * shrinks only linearly; the last SB_ANDERSON_DEPTH differences of Δv and
+ * g (ΔX, ΔG) give the combination γ = argmin |g − ΔG γ|, and the step
+ * becomes g − (ΔX + ΔG) γ — on a linear residual GMRES's on the
+ * preconditioned system. The history belongs to one factorization: a new
+ * one (`fresh`) or CG starts it again. */
+typedef struct sb_anderson {
+    int count, next; /* differences kept; the ring's next slot */
+    bool has_last;   /* W_DV_LAST and W_SOL_LAST hold the last iterate's Δv and step */
+} sb_anderson;
+
+/* Solves the m × m symmetric g y = b by Cholesky (g overwritten); false
+ * when g is not safely positive definite (nearly dependent differences). */
+static bool sb_small_cholesky_solve(double* g, const double* b, double* y, int m) {
+    for (int j = 0; j < m; j++) {
+        double d = g[j * m + j];
+        for (int k = 0; k < j; k++) d -= g[j * m + k] * g[j * m + k];
+        if (!(d > 1e-12 * g[j * m + j])) return false;
+        g[j * m + j] = sqrt(d);
+        for (int i = j + 1; i < m; i++) {
+            double v = g[i * m + j];
+            for (int k = 0; k < j; k++) v -= g[i * m + k] * g[j * m + k];
+            g[i * m + j] = v / g[j * m + j];
+        }
+    }
+    for (int i = 0; i < m; i++) {
+        double v = b[i];
+        for (int k = 0; k < i; k++) v -= g[i * m + k] * y[k];
+        y[i] = v / g[i * m + i];
+    }
+    for (int i = m - 1; i >= 0; i--) {
+        double v = y[i];
+        for (int k = i + 1; k < m; k++) v -= g[k * m + i] * y[k];
+        y[i] = v / g[i * m + i];
+    }
+    return true;
+}
+
+/* Records the iterate (Δv, sol) and replaces sol by the accelerated step. */
+static void sb_anderson_step(sb_newton* w, sb_anderson* h, bool fresh) {
+    double** a = w->a;
+    size_t n3 = w->n3;
+    if (fresh) *h = (sb_anderson){0, 0, false};
+    if (h->has_last) {
+        double *dx = a[W_DX + h->next], *dg = a[W_DF + h->next];
+        for (size_t k = 0; k < n3; k++) {
+            dx[k] = a[W_DV][k] - a[W_DV_LAST][k];
+            dg[k] = a[W_SOL][k] - a[W_SOL_LAST][k];
+        }
+        h->next = (h->next + 1) % SB_ANDERSON_DEPTH;
+        if (h->count < SB_ANDERSON_DEPTH) h->count++;
+    }
+    memcpy(a[W_DV_LAST], a[W_DV], n3 * sizeof(double));
+    memcpy(a[W_SOL_LAST], a[W_SOL], n3 * sizeof(double));
+    h->has_last = true;
+    int m = h->count;
+    double g[SB_ANDERSON_DEPTH * SB_ANDERSON_DEPTH], b[SB_ANDERSON_DEPTH], gamma[SB_ANDERSON_DEPTH];
+    for (int i = 0; i < m; i++) {
+        b[i] = sb_dot(a[W_DF + i], a[W_SOL], n3);
+        for (int j = 0; j < m; j++) g[i * m + j] = sb_dot(a[W_DF + i], a[W_DF + j], n3);
+    }
+    if (!sb_small_cholesky_solve(g, b, gamma, m)) { /* keep the plain step; start the history again */
+        h->count = h->next = 0;
+        return;
+    }
+    for (int i = 0; i < m; i++)
+        for (size_t k = 0; k < n3; k++) a[W_SOL][k] -= gamma[i] * (a[W_DX + i][k] + a[W_DF + i][k]);
+}
+
 /* Δv += α sol with α = 1, ½, ¼, … until |R| falls below `norm` (at most
  * SB_LINE_SEARCH_HALVINGS halvings; the last trial stays). Leaves the new
  * point evaluated; returns its |R| (NaN on a failed evaluation: status). */
@@ -519,6 +616,7 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     if (status != SB_OK) return status;
     double first = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3)), norm = first;
     bool converged = false, stale = true;
+    sb_anderson history = {0, 0, false};
     for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
         if (norm <= limits.tolerance * first || norm <= sb_residual_floor(&w)) {
             converged = true;
@@ -530,6 +628,10 @@ sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
             if (status != SB_OK) return status;
         }
         sb_solve_newton_system(&w, limits.cg_cap, &s->stats);
+        if (w.factored)
+            sb_anderson_step(&w, &history, stale);
+        else
+            history.has_last = false;
         double previous = norm;
         norm = sb_line_search(&w, norm, &status);
         if (status != SB_OK) return status;
