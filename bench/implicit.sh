@@ -13,13 +13,22 @@
 # not counted; each run's time is the least of REPEATS runs (wall and CPU
 # apart). Writes bench/results/implicit.md.
 #
-#   bench/implicit.sh [--quick]
+#   bench/implicit.sh [--quick] [--implicit-fast]
+# --implicit-fast: only section 4 (implicit_euler on the fast kernels, the
+# 100k sheet), printed, bench/results/implicit.md left as it is.
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$ROOT/build
 OUT=$ROOT/bench/results/implicit.md
 QUICK=0
-[ "${1:-}" = "--quick" ] && QUICK=1
+IMPLICIT_FAST_ONLY=0
+for arg in "$@"; do
+    case $arg in
+    --quick) QUICK=1 ;;
+    --implicit-fast) IMPLICIT_FAST_ONLY=1 ;;
+    *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast)" >&2 && exit 2 ;;
+    esac
+done
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD" -j "$(nproc)" --target softbond_cli >/dev/null
 SB=$BUILD/softbond
@@ -230,6 +239,13 @@ DEFAULT_REPEATS=3
 VBD_STEPS=20
 IMPLICIT_FAST_STEPS=10
 [ $QUICK -eq 1 ] && STEPS=10 && DEFAULT_REPEATS=1 && VBD_STEPS=4 && IMPLICIT_FAST_STEPS=2
+if [ $IMPLICIT_FAST_ONLY -eq 1 ]; then
+    echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$ROOT" rev-parse --short HEAD)," \
+        "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start."
+    echo
+    implicit_fast_section $IMPLICIT_FAST_STEPS 0.02
+    exit 0
+fi
 {
     echo "# Implicit integrators (issue 16): measured by bench/implicit.sh"
     echo
