@@ -3,15 +3,17 @@
  * float, 8 in double) and 4-byte vertex indices. It assumes the gathers of
  * a vertex's neighbours hit cache (the blocked coloring keeps a block's
  * vertices there), so each array crosses the memory bus once per pass that
- * streams it. The working state is packed x y z w, 4 s per vertex and array:
- *   per vertex   drift: reads mass, inverse mass, x, Δ, f and writes Δ,
- *                x, f (8 arrays; the half-step velocity stays in cache when
- *                nothing reads it before the kick, and the gravitational
- *                energy and the position check use the chunk in cache);
- *                forces: x read, f read and written (3); kick: reads mass,
- *                inverse mass, f, Δ (the half-step velocity is Δ / dt) and
- *                writes v (5): 16 arrays of 4 s = 64 s (gravity m g is the
- *                mass times a constant, no stream of its own)
+ * streams it. The working state is packed x y z w, 4 s per vertex and array;
+ * mass and inverse mass are one real a vertex, s each:
+ *   per vertex   drift: reads mass, inverse mass (2 s), x, Δ, f and writes
+ *                Δ, x, f (6 packed arrays; the half-step velocity stays in
+ *                cache when nothing reads it before the kick, and the
+ *                gravitational energy and the position check use the chunk
+ *                in cache); forces: x read, f read and written (3); kick:
+ *                reads mass, inverse mass (2 s), f, Δ (the half-step
+ *                velocity is Δ / dt) and writes v (3): 12 packed arrays of
+ *                4 s and 4 scalars = 52 s (gravity m g is the mass times a
+ *                constant, no stream of its own)
  *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
  *                + 1 byte of flags: which of its edges' bonds it owns
  *                (kernels/fast_model.h; every bond of these meshes is on a
@@ -25,9 +27,10 @@
  *                and the force pass reads them (the kick reads them instead
  *                of Δ): 8 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
- * Float, default terms: 256 B per vertex, 37 B per triangle; a 1M-vertex
- * sheet (2M triangles) moves about 330 MB per step (362 MB when the kick
- * read the positions and the drift wrote the velocities every step).
+ * Float, default terms: 208 B per vertex, 37 B per triangle; a 1M-vertex
+ * sheet (2M triangles) moves about 282 MB per step (362 MB when the kick
+ * read the positions and the drift wrote the velocities every step, 330 MB
+ * when the masses were packed like the positions, 4 reals a vertex).
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -66,7 +69,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = (64.0 + (all_terms ? 8.0 : 0.0)) * s;
+    double vertex_bytes = (52.0 + (all_terms ? 8.0 : 0.0)) * s;
     double triangle_bytes = 12.0 + 6.0 * s + (all_terms ? 2.0 : 1.0), hinge_bytes = 4.0 + s;
     c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
@@ -76,7 +79,8 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 }
 
 const char* sb_bench_byte_model_text(void) {
-    return "bytes/step = 64s per vertex (16 packed x y z w streams over drift, forces, kick) + (13+6s) per"
+    return "bytes/step = 52s per vertex (12 packed x y z w streams and 4 of one real, mass and inverse mass,"
+           " over drift, forces, kick) + (13+6s) per"
            " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
            " --all-terms: +8s per vertex (half-step velocities written and read for damping), (4+s) per hinge fused "
            "into a triangle and a byte per"

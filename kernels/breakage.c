@@ -381,7 +381,7 @@ static void sb_rekick(sb_solver* s, const double* before) {
     sb_real* v[3] = {st->vx, st->vy, st->vz};
     const sb_real* f[3] = {st->fx, st->fy, st->fz};
     for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double h = 0.5 * s->contact_dt * (s->fast ? s->fast->inv_mass4[4 * (size_t)i] : sb_inv_mass(s)[i]);
+        double h = 0.5 * s->contact_dt * (s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i]);
         for (int a = 0; a < 3; a++) {
             v[a][i] = (sb_real)(v[a][i] + h * (f[a][i] - before[3 * (size_t)i + a]));
             if (s->fast) s->velocities4[4 * (size_t)i + a] = v[a][i];

@@ -567,15 +567,14 @@ void sb_fast_move_hinge_vertex(sb_fast_model* f, uint32_t hinge, int role, uint3
 
 static bool sb_fast_vertices(sb_fast_model* f, const sb_model* m) {
     f->vertex_count = m->vertex_count;
-    size_t n = 4 * (size_t)m->vertex_count + 4;
-    f->mass4 = calloc(n, sizeof *f->mass4);
-    f->inv_mass4 = calloc(n, sizeof *f->inv_mass4);
-    if (!f->mass4 || !f->inv_mass4) return false;
-    for (uint32_t i = 0; i < m->vertex_count; i++)
-        for (int a = 0; a < 3; a++) {
-            f->mass4[4 * i + a] = (sb_real)m->mass[i];
-            f->inv_mass4[4 * i + a] = (sb_real)m->inv_mass[i];
-        }
+    size_t n = (size_t)m->vertex_count + 1;
+    f->mass = calloc(n, sizeof *f->mass);
+    f->inv_mass = calloc(n, sizeof *f->inv_mass);
+    if (!f->mass || !f->inv_mass) return false;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        f->mass[i] = (sb_real)m->mass[i];
+        f->inv_mass[i] = (sb_real)m->inv_mass[i];
+    }
     return true;
 }
 
@@ -604,8 +603,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(groups[g]->ranges);
         free(groups[g]->blocks);
     }
-    void* arrays[] = {f->mass4,
-                      f->inv_mass4,
+    void* arrays[] = {f->mass,
+                      f->inv_mass,
                       f->bonds.source,
                       f->bond_i,
                       f->bond_j,

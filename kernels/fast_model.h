@@ -50,7 +50,9 @@ typedef struct sb_element_group {
 
 typedef struct sb_fast_model {
     uint32_t vertex_count;
-    sb_real *mass4, *inv_mass4; /* packed (m, m, m, 0) per vertex; 0 inverse mass when fixed */
+    /* One real a vertex (kernels/solver_fast.c spreads a chunk's over its
+     * packed lanes in L1); 0 inverse mass when fixed or held by a hard handle. */
+    sb_real *mass, *inv_mass;
 
     sb_element_group bonds; /* the bonds no triangle owns */
     uint32_t *bond_i, *bond_j;

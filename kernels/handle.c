@@ -145,7 +145,7 @@ static void sb_refresh_gravity(sb_solver* s) {
     const double* g = s->def.gravity;
     double gravity = 0.0;
     for (uint32_t i = 0; i < m->vertex_count; i++) {
-        if (s->fast->inv_mass4[4 * (size_t)i] == 0) continue;
+        if (s->fast->inv_mass[i] == 0) continue;
         double p[3];
         sb_vertex_position(s, i, p);
         gravity -= m->mass[i] * (g[0] * p[0] + g[1] * p[1] + g[2] * p[2]);
@@ -165,8 +165,7 @@ static void sb_handles_pin(sb_solver* s) {
                 uint32_t i = h->vertices[j];
                 double w = pass == 0 ? m->inv_mass[i] : 0.0;
                 if (s->pinned_inv_mass) s->pinned_inv_mass[i] = w;
-                if (s->fast)
-                    for (int c = 0; c < 3; c++) s->fast->inv_mass4[4 * (size_t)i + c] = (sb_real)w;
+                if (s->fast) s->fast->inv_mass[i] = (sb_real)w;
             }
         }
     sb_refresh_gravity(s);

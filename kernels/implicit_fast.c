@@ -36,6 +36,7 @@
 #include "kernels/implicit_fast.h"
 #include "kernels/fast_hessian.h"
 #include "kernels/handle_internal.h"
+#include "kernels/wide.h"
 
 #include <float.h>
 #include "common/geometry.h"
@@ -160,13 +161,14 @@ static void sb_op_line_point(sb_fast_newton* w, size_t begin, size_t end, double
 
 /* rhs = −R = mask (dt f − M Δv); partials |R|², |M v⁺|², |f|², |M g|². */
 static void sb_op_residual(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
-    const sb_real *m4 = w->s->fast->mass4, *f = w->s->forces4, *v = w->s->velocities4;
+    const sb_real *m = w->s->fast->mass, *f = w->s->forces4, *v = w->s->velocities4;
     const double* g = w->s->def.gravity;
     sb_real** a = w->v;
     const sb_real dt = (sb_real)w->dt;
     for (size_t k = begin; k < end; k++) {
-        a[V_RHS][k] = a[V_MASK][k] * (dt * f[k] - m4[k] * a[V_DV][k]);
-        double momentum = (double)m4[k] * v[k], weight = (k & 3) < 3 ? (double)m4[k] * g[k & 3] : 0.0;
+        a[V_RHS][k] = a[V_MASK][k] * (dt * f[k] - sb_packed_lane(m, k) * a[V_DV][k]);
+        double momentum = (double)sb_packed_lane(m, k) * v[k],
+               weight = (k & 3) < 3 ? (double)sb_packed_lane(m, k) * g[k & 3] : 0.0;
         partial[0] += (double)a[V_RHS][k] * a[V_RHS][k];
         partial[1] += momentum * momentum;
         partial[2] += (double)f[k] * f[k];
@@ -213,11 +215,11 @@ static void sb_op_cg_update(sb_fast_newton* w, size_t begin, size_t end, double*
 static void sb_op_direction(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     (void)partial;
     sb_real** a = w->v;
-    const sb_real* m4 = w->s->fast->mass4;
+    const sb_real* m = w->s->fast->mass;
     const sb_real drag = (sb_real)(1.0 + w->dt * w->s->def.drag);
     for (size_t k = begin; k < end; k++) {
         a[V_D][k] = a[V_Z][k] + w->beta * a[V_D][k];
-        a[V_Q][k] = drag * m4[k] * a[V_D][k];
+        a[V_Q][k] = drag * sb_packed_lane(m, k) * a[V_D][k];
     }
 }
 

@@ -50,7 +50,9 @@
  * ~34 GB/s the STREAM triad reaches here; 362 MB since the bonds' flags
  * took a byte per triangle and gravity became the mass times a constant
  * instead of a packed stream of m g; 330 MB since the kick reads no
- * positions and the drift writes no velocities that nothing reads). */
+ * positions and the drift writes no velocities that nothing reads; 282 MB
+ * since mass and inverse mass stream one real a vertex, spread over the
+ * packed lanes in L1 per chunk (sb_spread_masses), not four). */
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"
@@ -212,11 +214,11 @@ static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
 /* Sets the packed forces [begin, end) to gravity and drag at the packed
  * velocities. */
 static void sb_initial_forces_range(const sb_solver* s, size_t begin, size_t end) {
-    const sb_real* m4 = s->fast->mass4;
+    const sb_real* m = s->fast->mass;
     const sb_real drag = (sb_real)s->def.drag;
     sb_real g4[4];
     sb_gravity4(s, g4);
-    for (size_t k = begin; k < end; k++) s->forces4[k] = m4[k] * (g4[k & 3] - drag * s->velocities4[k]);
+    for (size_t k = begin; k < end; k++) s->forces4[k] = sb_packed_lane(m, k) * (g4[k & 3] - drag * s->velocities4[k]);
 }
 
 /* Packs the state's positions and velocities (after sb_solver_set_state)
@@ -285,6 +287,28 @@ typedef struct sb_step_constants {
     bool positions_final_in_drift;
 } sb_step_constants;
 
+/* One chunk's masses and inverse masses spread over its packed lanes (w
+ * lanes 0) in L1: the model keeps one real a vertex of each, so the vertex
+ * passes stream a quarter of what packed copies would cost, and their
+ * loops read them packed like the state. */
+typedef struct sb_chunk_masses {
+    sb_real m4[4 * SB_CHUNK], im4[4 * SB_CHUNK];
+} sb_chunk_masses;
+
+/* The masses of the packed reals [begin, end), one chunk. */
+static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, sb_chunk_masses* out) {
+    const sb_real *m = f->mass + begin / 4, *im = f->inv_mass + begin / 4;
+    size_t n = end - begin, q = 0;
+    for (; q + SB_WIDTH <= n; q += SB_WIDTH) {
+        sb_w_store(out->m4 + q, sb_w_spread4(m, q));
+        sb_w_store(out->im4 + q, sb_w_spread4(im, q));
+    }
+    for (; q < n; q++) {
+        out->m4[q] = sb_packed_lane(m, q);
+        out->im4[q] = sb_packed_lane(im, q);
+    }
+}
+
 /* Drift of the packed reals [0, n) of one chunk (arrays start at the chunk)
  * for both Verlet forms (see kernels/integrators.c for the formulas), fused
  * with initialising the forces to gravity and drag. The w lanes have zero
@@ -314,7 +338,8 @@ static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict i
 }
 
 /* The gravitational energy of packed reals [begin, end) into *gravity;
- * returns whether a position is not finite or outside the runaway box.
+ * returns whether a position is not finite or outside the runaway box. m4
+ * and im4 start at begin.
  * Lane-wise sums in SIMD registers, reduced once (see sb_kick_range). */
 static int sb_positions_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
                               const sb_step_constants* k, size_t begin, size_t end, double* gravity) {
@@ -325,14 +350,15 @@ static int sb_positions_range(const sb_real* restrict m4, const sb_real* restric
     sb_wmask outside = 0;
     size_t q = begin;
     for (; q + SB_WIDTH <= end; q += SB_WIDTH) {
-        sb_wide xq = sb_w_load(x + q), free = sb_w_pick_greater(sb_w_load(im4 + q), zero, one, zero);
-        sum = sb_w_sub(sum, sb_w_mul(sb_w_mul(free, sb_w_load(m4 + q)), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
+        sb_wide xq = sb_w_load(x + q), free = sb_w_pick_greater(sb_w_load(im4 + (q - begin)), zero, one, zero);
+        sum =
+            sb_w_sub(sum, sb_w_mul(sb_w_mul(free, sb_w_load(m4 + (q - begin))), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
         outside |= sb_w_less(bound, sb_w_abs(xq)); /* NaN fails the comparison and counts as outside */
     }
     *gravity = sb_w_sum(sum, SB_WIDTH);
     int bad = sb_w_any(outside, SB_WIDTH);
     for (; q < end; q++) {
-        *gravity -= (im4[q] > 0 ? m4[q] : 0) * g[q & 3] * x[q];
+        *gravity -= (im4[q - begin] > 0 ? m4[q - begin] : 0) * g[q & 3] * x[q];
         bad |= !((x[q] <= k->limit) & (x[q] >= -k->limit));
     }
     return bad;
@@ -344,25 +370,27 @@ static int sb_positions_range(const sb_real* restrict m4, const sb_real* restric
 static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
                           double dt, atomic_int* bad) {
     sb_real scratch[4 * SB_CHUNK]; /* the half-step velocities nothing reads */
-    const sb_fast_model* f = s->fast;
+    sb_chunk_masses masses;
     int first, last;
     sb_chunk_share(w, p, &first, &last);
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_self_contact_save_packed(s, begin, end);
-        sb_drift_range(f->mass4 + begin, f->inv_mass4 + begin, s->positions4 + begin, s->displacements4 + begin,
+        sb_spread_masses(s->fast, begin, end, &masses);
+        sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->displacements4 + begin,
                        k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin);
         if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
         if (k->positions_final_in_drift &&
-            sb_positions_range(f->mass4, f->inv_mass4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
     }
     sb_worker_barrier(w);
 }
 
 /* Closing half kick of packed reals [begin, end), fused with the kinetic
- * energy sum into *kinetic; returns whether a velocity is not finite. The
+ * energy sum into *kinetic; returns whether a velocity is not finite. m4
+ * and im4 start at begin. The
  * half-step velocity is u times a factor: u the velocities the drift stored
  * (factor 1) or its displacements (factor 1 / dt, as the drift computed
  * it); u and v may then be one array, so neither is restrict. The sums are
@@ -379,17 +407,17 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
     sb_wmask outside = 0;
     size_t q = begin;
     for (; q + SB_WIDTH <= end; q += SB_WIDTH) {
-        sb_wide vq =
-            sb_w_add(sb_w_mul(sb_w_load(u + q), scale), sb_w_mul(sb_w_mul(half, sb_w_load(im4 + q)), sb_w_load(f + q)));
+        sb_wide vq = sb_w_add(sb_w_mul(sb_w_load(u + q), scale),
+                              sb_w_mul(sb_w_mul(half, sb_w_load(im4 + (q - begin))), sb_w_load(f + q)));
         sb_w_store(v + q, vq);
-        sum = sb_w_add(sum, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), sb_w_load(m4 + q)), sb_w_mul(vq, vq)));
+        sum = sb_w_add(sum, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), sb_w_load(m4 + (q - begin))), sb_w_mul(vq, vq)));
         outside |= sb_w_less(sb_w_set((sb_real)INFINITY), sb_w_abs(vq)); /* NaN counts as outside */
     }
     *kinetic = sb_w_sum(sum, SB_WIDTH);
     int bad = sb_w_any(outside, SB_WIDTH);
     for (; q < end; q++) {
-        v[q] = u[q] * factor + k->half * im4[q] * f[q];
-        *kinetic += (sb_real)0.5 * m4[q] * v[q] * v[q];
+        v[q] = u[q] * factor + k->half * im4[q - begin] * f[q];
+        *kinetic += (sb_real)0.5 * m4[q - begin] * v[q] * v[q];
         bad |= !((v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
     }
     return bad;
@@ -398,17 +426,18 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
 /* The last pass of a step: no barrier after it but the join. */
 static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
                          atomic_int* bad) {
-    const sb_fast_model* f = s->fast;
     const sb_real* u = k->store_velocity ? s->velocities4 : s->displacements4;
+    sb_chunk_masses masses;
     int first, last;
     sb_chunk_share(w, p, &first, &last);
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        if (sb_kick_range(f->mass4, f->inv_mass4, u, s->velocities4, s->forces4, k, begin, end, p->vertices + 2 * c))
+        sb_spread_masses(s->fast, begin, end, &masses);
+        if (sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, p->vertices + 2 * c))
             sb_worker_raise(bad);
         if (!k->positions_final_in_drift &&
-            sb_positions_range(f->mass4, f->inv_mass4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
         if (s->publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
             sb_unpack_xyz(s->positions4, s->publish_positions, begin / 4, end / 4);

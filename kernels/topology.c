@@ -352,10 +352,8 @@ static void sb_set_mass(sb_solver* s, sb_model* m, uint32_t i, double mass, bool
     double moving = held ? 0.0 : m->inv_mass[i];
     if (s->pinned_inv_mass) s->pinned_inv_mass[i] = moving;
     if (!s->fast) return;
-    for (int c = 0; c < 3; c++) {
-        s->fast->mass4[4 * (size_t)i + c] = (sb_real)mass;
-        s->fast->inv_mass4[4 * (size_t)i + c] = (sb_real)moving;
-    }
+    s->fast->mass[i] = (sb_real)mass;
+    s->fast->inv_mass[i] = (sb_real)moving;
 }
 
 /* Splits v, one vertex per fan; false when it has to wait for the next

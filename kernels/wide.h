@@ -208,6 +208,37 @@ static inline sb_wide sb_w_pick_greater(sb_wide a, sb_wide b, sb_wide x, sb_wide
 static inline sb_wide sb_w_pick_negative(sb_wide s, sb_wide x, sb_wide y) { return signbit(s) ? x : y; }
 #endif
 
+/* One real per vertex spread over that vertex's packed x y z lanes, its w
+ * lane 0: lane l of the packed reals [q, q + SB_WIDTH) gets per_vertex[(q +
+ * l) / 4], or 0 where q + l is a w lane; q a multiple of SB_WIDTH. So a
+ * per-vertex constant (a mass) streams 1 real a vertex, not 4. */
+static inline sb_real sb_packed_lane(const sb_real* per_vertex, size_t q) {
+    return (q & 3) < 3 ? per_vertex[q >> 2] : 0;
+}
+#if defined(__AVX512F__) && !SB_DOUBLE
+static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) {
+    const __m512i lane = _mm512_set_epi32(3, 3, 3, 3, 2, 2, 2, 2, 1, 1, 1, 1, 0, 0, 0, 0);
+    return _mm512_maskz_permutexvar_ps(0x7777, lane, _mm512_castps128_ps512(_mm_loadu_ps(per_vertex + q / 4)));
+}
+#elif defined(__AVX512F__) && SB_DOUBLE
+static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) {
+    const __m512i lane = _mm512_set_epi64(1, 1, 1, 1, 0, 0, 0, 0);
+    return _mm512_maskz_permutexvar_pd(0x77, lane, _mm512_castpd128_pd512(_mm_loadu_pd(per_vertex + q / 4)));
+}
+#elif defined(__AVX2__) && SB_DOUBLE
+static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) {
+    return _mm256_blend_pd(_mm256_broadcast_sd(per_vertex + q / 4), _mm256_setzero_pd(), 0x8);
+}
+#elif defined(__AVX2__)
+static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) {
+    __m256 two = _mm256_castps128_ps256(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i*)(per_vertex + q / 4))));
+    __m256 spread = _mm256_permutevar8x32_ps(two, _mm256_set_epi32(1, 1, 1, 1, 0, 0, 0, 0));
+    return _mm256_blend_ps(spread, _mm256_setzero_ps(), 0x88);
+}
+#else
+static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) { return sb_packed_lane(per_vertex, q); }
+#endif
+
 /* A 3-vector of wide reals: one lane per element. */
 typedef struct sb_wvec3 {
     sb_wide x, y, z;

@@ -1,5 +1,6 @@
 /* kernels/wide.h's vector atan2 against libm's atan2 (in double, of the same
- * sb_real arguments) over the whole circle, in every lane. */
+ * sb_real arguments) over the whole circle, in every lane; its spread of one
+ * real a vertex over the packed x y z w lanes. */
 #include "test_util.h"
 
 #include "kernels/wide.h"
@@ -92,11 +93,32 @@ static void test_axes_and_zeros(void** state) {
     TU_ASSERT_LE(worst_error(y, x, pad(y, x, n * n)), ATAN2_BOUND);
 }
 
+/* sb_w_spread4 and sb_packed_lane: packed real q + l gets vertex (q + l) / 4's
+ * value in its x, y and z lanes and 0 in its w lane, at every block start. */
+static void test_spread_over_packed_lanes(void** state) {
+    (void)state;
+    enum { vertices = 12 };
+    const sb_real per_vertex[vertices] = {1.5f,  -2.25f, 3.0f, 4e-30f, 5.5f,  6.0f,
+                                          -7.0f, 8.125f, 9.0f, 1e30f,  11.0f, 12.5f};
+    for (size_t q = 0; q + SB_WIDTH <= 4 * vertices; q += SB_WIDTH) {
+        sb_real out[SB_WIDTH];
+        sb_w_store(out, sb_w_spread4(per_vertex, q));
+        for (int l = 0; l < SB_WIDTH; l++) {
+            size_t k = q + (size_t)l;
+            sb_real expected = k % 4 == 3 ? 0 : per_vertex[k / 4];
+            if (out[l] != expected || sb_packed_lane(per_vertex, k) != expected)
+                fail_msg("packed real %zu: spread %g, lane %g, expected %g", k, (double)out[l],
+                         (double)sb_packed_lane(per_vertex, k), (double)expected);
+        }
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_whole_circle),
         cmocka_unit_test(test_branch_edges),
         cmocka_unit_test(test_axes_and_zeros),
+        cmocka_unit_test(test_spread_over_packed_lanes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
