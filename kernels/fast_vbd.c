@@ -39,7 +39,9 @@
  * check reads when the forces wait for sb_solver_settle); each worker packs
  * and unpacks its own range. Every update reads and writes the
  * same values whatever the split over the team: the state is bitwise the
- * same for any thread count. */
+ * same for any thread count. With Chebyshev acceleration the packed
+ * positions of the last two sweeps are kept and each worker accelerates
+ * its own range after a sweep (vbd.c). */
 #include "kernels/fast_vbd.h"
 #include "kernels/fast_block.h"
 #include "kernels/reference_terms.h"
@@ -77,7 +79,8 @@ struct sb_fast_vbd {
     sb_vbd_bonds bonds;
     sb_vbd_triangles triangles;
     sb_vbd_hinges hinges;
-    sb_real *x4, *x04, *y4; /* packed; x04's w: 1 when the vertex moves; y4's w: its mass */
+    sb_real *x4, *x04, *y4;   /* packed; x04's w: 1 when the vertex moves; y4's w: its mass */
+    sb_real *last4, *before4; /* packed, with Chebyshev: the iterates one and two sweeps back; else NULL */
 };
 
 /* ---- the layout --------------------------------------------------------- */
@@ -258,12 +261,12 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     for (int c = 0; c < 3; c++) free(f->triangles.cos0[c]), free(f->triangles.len0[c]);
     for (int a = 0; a < 3; a++) free(f->hinges.v[a]);
     free(f->hinges.phi0), free(f->hinges.k), free(f->hinges.opposite);
-    free(f->x4), free(f->x04), free(f->y4);
+    free(f->x4), free(f->x04), free(f->y4), free(f->last4), free(f->before4);
     free(f);
 }
 
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order) {
+                                uint32_t color_count, const uint32_t* order, bool chebyshev) {
     sb_fast_vbd* f = calloc(1, sizeof *f);
     if (!f) return NULL;
     f->vertex_count = m->vertex_count;
@@ -277,8 +280,10 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
     f->x4 = sb_vbd_alloc(packed, sizeof(sb_real));
     f->x04 = sb_vbd_alloc(packed, sizeof(sb_real));
     f->y4 = sb_vbd_alloc(packed, sizeof(sb_real));
+    if (chebyshev) f->last4 = sb_vbd_alloc(packed, sizeof(sb_real)), f->before4 = sb_vbd_alloc(packed, sizeof(sb_real));
     sb_vbd_counts total;
-    bool ok = f->color_block && f->blocks && f->lane && f->x4 && f->x04 && f->y4;
+    bool ok =
+        f->color_block && f->blocks && f->lane && f->x4 && f->x04 && f->y4 && (!chebyshev || (f->last4 && f->before4));
     if (ok) sb_vbd_plan(f, m, at, color_start, order, &total);
     if (!ok || !sb_vbd_alloc_entries(f, total)) {
         sb_fast_vbd_destroy(f);
@@ -542,6 +547,19 @@ static void sb_vbd_pack(sb_real* p4, const double* x, int64_t begin, int64_t end
         for (int c = 0; c < 3; c++) p4[4 * i + c] = (sb_real)x[3 * i + c];
 }
 
+/* Chebyshev's step after sweep `sweep` on vertices [begin, end) (vbd.c's
+ * sb_vbd_accelerate in sb_real); returns the weight for the next. */
+static double sb_vbd_accelerate4(sb_fast_vbd* f, double rho, int sweep, double weight, int64_t begin, int64_t end) {
+    weight = sb_vbd_chebyshev_weight(rho, sweep, weight);
+    const sb_real omega = (sb_real)weight;
+    for (size_t q = 4 * (size_t)begin; q < 4 * (size_t)end; q++) {
+        if (sweep >= SB_VBD_CHEBYSHEV_FIRST) f->x4[q] = omega * (f->x4[q] - f->before4[q]) + f->before4[q];
+        f->before4[q] = f->last4[q];
+        f->last4[q] = f->x4[q];
+    }
+    return weight;
+}
+
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker* w) {
     int64_t begin, end;
     sb_worker_range(w, f->vertex_count, &begin, &end);
@@ -549,17 +567,26 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     sb_vbd_pack(f->x04, st->x0, begin, end);
     sb_vbd_pack(f->y4, st->y, begin, end);
     for (int64_t i = begin; i < end; i++) f->x04[4 * i + 3] = st->inv_mass[i] > 0.0 ? 1 : 0;
+    if (st->chebyshev_rho > 0.0)
+        for (size_t q = 4 * (size_t)begin; q < 4 * (size_t)end; q++) f->last4[q] = f->x4[q];
+    const int64_t first = begin, past = end;
     sb_worker_barrier(w);
     const sb_vbd_rates rates = {sb_w_set((sb_real)(1.0 / st->dt)), sb_w_set((sb_real)(1.0 / (st->dt * st->dt))),
                                 sb_w_set((sb_real)(st->drag / st->dt))};
     bool collapsed = false;
-    for (int it = 0; it < st->sweeps; it++)
+    double weight = 1.0;
+    for (int it = 0; it < st->sweeps; it++) {
         for (uint32_t c = 0; c < f->color_count; c++) {
             sb_worker_range(w, f->color_block[c + 1] - f->color_block[c], &begin, &end);
             for (int64_t b = begin; b < end; b++)
                 collapsed |= sb_vbd_block_update(f, f->color_block[c] + (uint32_t)b, &rates);
             sb_worker_barrier(w);
         }
+        if (st->chebyshev_rho > 0.0) {
+            weight = sb_vbd_accelerate4(f, st->chebyshev_rho, it + 1, weight, first, past);
+            sb_worker_barrier(w);
+        }
+    }
     if (collapsed) sb_worker_raise(st->collapsed);
     sb_worker_range(w, f->vertex_count, &begin, &end);
     for (int64_t i = begin; i < end; i++)

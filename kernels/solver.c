@@ -135,6 +135,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "pbd_iterations must be >= 0 (got %d)", def->pbd_iterations);
     if (def->vbd_iterations < 0)
         return sb_error_set(err, SB_ERR_INVALID, "vbd_iterations must be >= 0 (got %d)", def->vbd_iterations);
+    if (!(def->vbd_chebyshev_rho >= 0.0 && def->vbd_chebyshev_rho < 1.0))
+        return sb_error_set(err, SB_ERR_INVALID, "vbd_chebyshev_rho must be in [0, 1) (got %g)",
+                            def->vbd_chebyshev_rho);
     if (def->adaptive && !(def->min_dt > 0.0 && isfinite(def->min_dt)))
         return sb_error_set(err, SB_ERR_INVALID, "min_dt must be positive and finite (got %g)", def->min_dt);
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)

@@ -20,6 +20,14 @@
  * v = (x − x⁰)/dt at the end. Converged, it is backward Euler (the blocks
  * change the path, not the fixed point: g_i = 0).
  *
+ * Chebyshev acceleration (vbd_chebyshev_rho > 0, the paper's): after sweep
+ * n ≥ 3 every position moves to ω_n (x − x⁽ⁿ⁻²⁾) + x⁽ⁿ⁻²⁾ (fast_vbd.h's
+ * weights), each worker on its own vertices, then a barrier. Too few plain
+ * sweeps do not just leave the step unconverged: a sweep carries a
+ * correction about one neighbour while a stress wave crosses dt √(k/m)
+ * edges a step, and the sheet stretches as if softer, storing energy it
+ * never had (README, Integrators); acceleration carries it further.
+ *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
  * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External
  * forces and soft handles are taken at the start of the step (in y);
@@ -58,6 +66,7 @@ struct sb_vbd {
     uint32_t color_count;
     uint32_t built_vertices; /* sb_solver_vertex_count when the lists were built */
     double *x, *x0, *y;      /* 3n each */
+    double *last, *before;   /* 3n each, with Chebyshev: the iterates one and two sweeps back */
     double* previous_v;      /* 3n: the velocities at the start of the last step */
     bool has_previous;
     sb_fast_vbd* fast; /* the fast sweep (kernels/fast_vbd.c); NULL: the reference's */
@@ -68,6 +77,7 @@ typedef struct sb_vbd_job {
     struct sb_vbd* vbd;
     double dt;
     int iterations;
+    double rho;           /* Chebyshev's; 0: off */
     atomic_int collapsed; /* the fast sweep met a collapsed element */
 } sb_vbd_job;
 
@@ -109,6 +119,7 @@ void sb_vbd_destroy(struct sb_vbd* v) {
     sb_vertex_elements_destroy(v->elements);
     sb_fast_vbd_destroy(v->fast);
     free(v->color), free(v->color_start), free(v->order), free(v->x), free(v->x0), free(v->y), free(v->previous_v);
+    free(v->last), free(v->before);
     free(v);
 }
 
@@ -123,13 +134,16 @@ bool sb_vbd_prepare(sb_solver* s) {
     v->order = malloc((n + 1) * sizeof *v->order);
     v->x = malloc(n3 * sizeof *v->x), v->x0 = malloc(n3 * sizeof *v->x0), v->y = malloc(n3 * sizeof *v->y);
     v->previous_v = malloc(n3 * sizeof *v->previous_v);
+    bool chebyshev = s->def.vbd_chebyshev_rho > 0.0;
+    if (chebyshev) v->last = malloc(n3 * sizeof *v->last), v->before = malloc(n3 * sizeof *v->before);
     /* a vertex has fewer neighbours than 4 per element entry: so many colors at most */
     size_t widest = 1;
     for (size_t i = 0; v->elements && i < n; i++)
         if (4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1 > widest)
             widest = 4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1;
     uint32_t* used = calloc(widest + 1, sizeof *used);
-    bool ok = v->elements && v->color && v->order && v->x && v->x0 && v->y && v->previous_v && used;
+    bool ok = v->elements && v->color && v->order && v->x && v->x0 && v->y && v->previous_v && used &&
+              (!chebyshev || (v->last && v->before));
     if (ok) sb_vbd_color(v, m, used);
     free(used);
     ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
@@ -137,7 +151,8 @@ bool sb_vbd_prepare(sb_solver* s) {
     v->built_vertices = sb_solver_vertex_count(s);
     /* a model that may break or tear changes under the sweep: the reference's, which reads it live */
     if (ok && s->fast && !s->breakage)
-        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order)) != NULL;
+        ok =
+            (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev)) != NULL;
     return ok;
 }
 
@@ -213,12 +228,29 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
     for (int c = 0; c < 3; c++) x[3 * i + c] += step[c];
 }
 
+/* Chebyshev's step after sweep `sweep` on the worker's vertices [begin,
+ * end) (fast_vbd.h's weight); returns the weight for the next. */
+static double sb_vbd_accelerate(const sb_vbd_job* job, int sweep, double weight, int64_t begin, int64_t end) {
+    const struct sb_vbd* v = job->vbd;
+    weight = sb_vbd_chebyshev_weight(job->rho, sweep, weight);
+    for (size_t q = 3 * (size_t)begin; q < 3 * (size_t)end; q++) {
+        if (sweep >= SB_VBD_CHEBYSHEV_FIRST) v->x[q] = weight * (v->x[q] - v->before[q]) + v->before[q];
+        v->before[q] = v->last[q];
+        v->last[q] = v->x[q];
+    }
+    return weight;
+}
+
 static void sb_vbd_sweeps(sb_vbd_job* job, const sb_worker* w) {
     const struct sb_vbd* v = job->vbd;
     const double* inv_mass = sb_inv_mass(job->s);
-    for (int it = 0; it < job->iterations; it++)
+    int64_t first, past, begin, end;
+    sb_worker_range(w, job->s->state.vertex_count, &first, &past);
+    if (job->rho > 0.0) memcpy(v->last + 3 * first, v->x + 3 * first, 3 * (size_t)(past - first) * sizeof *v->x);
+    double weight = 1.0;
+    for (int it = 0; it < job->iterations; it++) {
         for (uint32_t c = 0; c < v->color_count; c++) {
-            int64_t begin, end, count = v->color_start[c + 1] - v->color_start[c];
+            int64_t count = v->color_start[c + 1] - v->color_start[c];
             sb_worker_range(w, count, &begin, &end);
             for (int64_t k = begin; k < end; k++) {
                 uint32_t i = v->order[v->color_start[c] + k];
@@ -226,6 +258,11 @@ static void sb_vbd_sweeps(sb_vbd_job* job, const sb_worker* w) {
             }
             sb_worker_barrier(w);
         }
+        if (job->rho > 0.0) {
+            weight = sb_vbd_accelerate(job, it + 1, weight, first, past);
+            sb_worker_barrier(w);
+        }
+    }
 }
 
 static void sb_vbd_fast_sweeps(sb_vbd_job* job, const sb_worker* w) {
@@ -237,6 +274,7 @@ static void sb_vbd_fast_sweeps(sb_vbd_job* job, const sb_worker* w) {
                              job->dt,
                              job->s->def.drag,
                              job->iterations,
+                             job->rho,
                              job->s->positions4,
                              &job->collapsed};
     sb_fast_vbd_run(v->fast, &step, w);
@@ -322,7 +360,7 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_fast_publish(s); /* the state's arrays current */
     struct sb_vbd* v = s->vbd;
     sb_vbd_follow_topology(s, v);
-    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), 0};
+    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), s->def.vbd_chebyshev_rho, 0};
     sb_team_run(s->team, sb_team_size(s->team), sb_vbd_step, &job);
     v->has_previous = true;
     s->has_displacement = false;

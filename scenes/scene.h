@@ -154,6 +154,8 @@ typedef enum sb_scene_type {
       "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                        \
     X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
     X(VBD_ITERATIONS, "vbd.iterations", INTEGER, "10", "vbd: Gauss-Seidel sweeps over the vertex colors per step")     \
+    X(VBD_CHEBYSHEV_RHO, "vbd.chebyshev_rho", NUMBER, "0",                                                             \
+      "vbd: Chebyshev acceleration across the sweeps, the spectral radius estimate in [0, 1); 0 = off")                \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
     X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \

@@ -65,6 +65,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_STOP_KINETIC_ENERGY, false},
     {SB_KEY_STOP_MIN_TIME, false},
     {SB_KEY_STOP_MAX_TIME, false},
+    {SB_KEY_VBD_CHEBYSHEV_RHO, false},
 };
 
 typedef struct integer_rule {
@@ -114,6 +115,10 @@ static sb_status check_ranges(const sb_scene* scene, sb_error* err) {
         sb_status status = check_integer(scene, &integer_rules[i], err);
         if (status != SB_OK) return status;
     }
+    double rho = sb_scene_number(scene, SB_KEY_VBD_CHEBYSHEV_RHO); /* >= 0 checked above */
+    if (rho >= 1.0)
+        return sb_scene_fail(scene, SB_KEY_VBD_CHEBYSHEV_RHO, err,
+                             "'vbd.chebyshev_rho' must be less than 1 (a spectral radius), got %g", rho);
     return SB_OK;
 }
 

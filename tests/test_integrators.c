@@ -881,6 +881,14 @@ static void test_scene_keys(void** state) {
     assert_int_equal(sb_scene_set(&scene, "implicit.solver=cg", &err), SB_OK);
     assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
     assert_int_equal(sb_scene_solver_def(&scene).implicit_solver, SB_LINEAR_CG);
+    assert_true(sb_scene_solver_def(&scene).vbd_chebyshev_rho == 0.0); /* off unless asked */
+    assert_int_equal(sb_scene_set(&scene, "vbd.chebyshev_rho=0.85", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_true(sb_scene_solver_def(&scene).vbd_chebyshev_rho == 0.85);
+    assert_int_equal(sb_scene_set(&scene, "vbd.chebyshev_rho=1", &err), SB_OK);
+    assert_int_not_equal(sb_scene_validate(&scene, &err), SB_OK);
+    TU_ASSERT_CONTAINS(err.message, "vbd.chebyshev_rho");
+    assert_int_equal(sb_scene_set(&scene, "vbd.chebyshev_rho=0", &err), SB_OK);
     for (int k = 0; k < NI; ++k) {
         char set[64];
         snprintf(set, sizeof set, "integrator=%s", sb_integrator_name((sb_integrator)k));

@@ -146,6 +146,9 @@ typedef struct sb_solver_def {
     /* vbd: Gauss-Seidel sweeps over the vertex colors per step (0 = default
      * 10); see kernels/vbd.c. */
     int vbd_iterations;
+    /* vbd: Chebyshev acceleration across a step's sweeps with this spectral
+     * radius estimate ρ in [0, 1); 0 = off (the default). */
+    double vbd_chebyshev_rho;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
      * external forces exceeds adaptive_tolerance × (the largest sum of the
