@@ -7,32 +7,6 @@
 #include "kernels/hessian.h"
 #include "common/geometry.h"
 
-/* A jittered side × side sheet with every term (stretch-bend included) and
- * damped springs, vertex 0 fixed. */
-static sb_model* make_sheet(uint32_t side) {
-    sb_mesh mesh = {0};
-    sb_error err;
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = side;
-    sheet.jitter = 0.15;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 50.0;
-    material.angle_k = 0.3;
-    material.stretch_bend_k = 1.0;
-    material.spring_k = 20.0;
-    material.spring_damping = 0.05;
-    material.bend_k = 0.01;
-    sb_builder* builder = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
-    sb_builder_vertex(builder, 0)->fixed = true;
-    sb_model* m = sb_builder_compile(builder, &err);
-    sb_builder_destroy(builder);
-    sb_mesh_free(&mesh);
-    assert_non_null(m);
-    return m;
-}
-
 /* Four sweeps a step, with Chebyshev's acceleration at rho (0: none). */
 static sb_solver_def vbd_def(sb_kernels kernels, int threads, double rho) {
     sb_solver_def def = sb_default_solver_def();
@@ -79,7 +53,7 @@ static void bent_run(const sb_model* m, const sb_solver_def* def, int steps, dou
  * The same with Chebyshev's acceleration (rho 0.9). */
 static void test_fast_matches_reference(void** state) {
     (void)state;
-    sb_model* m = make_sheet(12);
+    sb_model* m = tu_every_term_sheet(12, false);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double *start = malloc(n3 * sizeof *start), *fast = malloc(n3 * sizeof *fast), *ref = malloc(n3 * sizeof *ref);
     for (int accelerated = 0; accelerated < 2; accelerated++) {
@@ -106,7 +80,7 @@ static void test_fast_matches_reference(void** state) {
  * span many SIMD blocks, without and with Chebyshev's acceleration. */
 static void test_fast_deterministic(void** state) {
     (void)state;
-    sb_model* m = make_sheet(40);
+    sb_model* m = tu_every_term_sheet(40, false);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double *one = malloc(n3 * sizeof *one), *other = malloc(n3 * sizeof *other);
     for (int accelerated = 0; accelerated < 2; accelerated++) {
@@ -138,7 +112,7 @@ static double hinge_angle(const sb_model* m, uint32_t h, const double* x) {
  * k (φ − φ0) ∇²φ vanishes) is the dual run's exact diagonal block. */
 static void test_hinge_share(void** state) {
     (void)state;
-    sb_model* m = make_sheet(5);
+    sb_model* m = tu_every_term_sheet(5, false);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double* rest = tu_rest_positions(m);
     /* fold the rest shape so the hinges' rest angles are not all 0 */

@@ -187,6 +187,34 @@ static inline sb_model* tu_mesh_model(const sb_mesh* mesh, const sb_material_def
     return m;
 }
 
+/* A jittered side × side sheet with every term (stretch-bend included) and
+ * damped springs, vertex 0 fixed and, with `two_pins`, vertex side − 1 too
+ * (the two corners of its first row): vbd's tests' sheet. */
+static inline sb_model* tu_every_term_sheet(uint32_t side, bool two_pins) {
+    sb_mesh mesh = {0};
+    sb_error err;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = side;
+    sheet.jitter = 0.15;
+    if (sb_mesh_generate_sheet(&sheet, &mesh, &err) != SB_OK) fail_msg("sb_mesh_generate_sheet: %s", err.message);
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 50.0;
+    material.angle_k = 0.3;
+    material.stretch_bend_k = 1.0;
+    material.spring_k = 20.0;
+    material.spring_damping = 0.05;
+    material.bend_k = 0.01;
+    sb_builder* b = sb_builder_create();
+    if (sb_builder_add_mesh(b, &mesh, &material, &err) != SB_OK) fail_msg("sb_builder_add_mesh: %s", err.message);
+    sb_builder_vertex(b, 0)->fixed = true;
+    if (two_pins) sb_builder_vertex(b, side - 1)->fixed = true;
+    sb_model* m = sb_builder_compile(b, &err);
+    sb_builder_destroy(b);
+    sb_mesh_free(&mesh);
+    if (!m) fail_msg("sb_builder_compile: %s", err.message);
+    return m;
+}
+
 /* Rest positions of a model as 3n interleaved doubles (caller frees). */
 static inline double* tu_rest_positions(const sb_model* m) {
     uint32_t n = sb_model_vertex_count(m);

@@ -6,33 +6,6 @@
  * test_handle, test_contact, test_breakage and test_no_alloc. */
 #include "test_util.h"
 
-/* A jittered 6 × 6 sheet with every term and damped springs, two corners
- * fixed. */
-static sb_model* make_sheet(uint32_t side) {
-    sb_mesh mesh = {0};
-    sb_error err;
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = side;
-    sheet.jitter = 0.15;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 50.0;
-    material.angle_k = 0.3;
-    material.stretch_bend_k = 1.0;
-    material.spring_k = 20.0;
-    material.spring_damping = 0.05;
-    material.bend_k = 0.01;
-    sb_builder* builder = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(builder, &mesh, &material, &err), SB_OK);
-    sb_builder_vertex(builder, 0)->fixed = true;
-    sb_builder_vertex(builder, side - 1)->fixed = true;
-    sb_model* m = sb_builder_compile(builder, &err);
-    sb_builder_destroy(builder);
-    sb_mesh_free(&mesh);
-    assert_non_null(m);
-    return m;
-}
-
 /* Positions after one step of dt from a perturbed, moving state. */
 static void one_step(const sb_model* m, const sb_solver_def* def, double dt, double* out) {
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
@@ -64,7 +37,7 @@ static sb_solver_def solver_def(sb_integrator integrator) {
  * shrinks as the sweeps grow, to 1e-6 of the step's own motion. */
 static void test_converges_to_backward_euler(void** state) {
     (void)state;
-    sb_model* m = make_sheet(6);
+    sb_model* m = tu_every_term_sheet(6, true);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     const double dt = 5e-3;
     double *exact = malloc(n3 * sizeof *exact), *got = malloc(n3 * sizeof *got), *start = tu_rest_positions(m);
@@ -98,7 +71,7 @@ static void test_converges_to_backward_euler(void** state) {
  * dissipates; the sheet falls and swings). */
 static void test_stable_at_large_steps(void** state) {
     (void)state;
-    sb_model* m = make_sheet(12);
+    sb_model* m = tu_every_term_sheet(12, true);
     sb_solver_def def = solver_def(SB_INTEGRATOR_VBD);
     def.kernels = SB_KERNELS_FAST;
     sb_solver* s = tu_solver(m, &def);
