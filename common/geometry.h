@@ -41,12 +41,19 @@ typedef struct sb_hinge_geometry {
     double phi;
 } sb_hinge_geometry;
 
-static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3 o0, sb_vec3 o1) {
+/* The edge and the normals; phi left 0 (sb_hinge_measure gives it). */
+static inline sb_hinge_geometry sb_hinge_shape(sb_vec3 e0, sb_vec3 e1, sb_vec3 o0, sb_vec3 o1) {
     sb_hinge_geometry h;
     h.edge = sb_v3_sub(e1, e0);
     h.edge_length = sb_v3_length(h.edge);
     h.n0 = sb_v3_cross(sb_v3_sub(o0, e0), sb_v3_sub(o0, e1));
     h.n1 = sb_v3_cross(sb_v3_sub(o1, e1), sb_v3_sub(o1, e0));
+    h.phi = 0.0;
+    return h;
+}
+
+static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3 o0, sb_vec3 o1) {
+    sb_hinge_geometry h = sb_hinge_shape(e0, e1, o0, o1);
     double sine = sb_v3_dot(sb_v3_cross(h.n0, h.n1), h.edge) / h.edge_length;
     h.phi = atan2(sine, sb_v3_dot(h.n0, h.n1));
     return h;
@@ -57,9 +64,10 @@ static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3
 #define SB_MIN_WING_RATIO 1e-12
 
 /* The hinge's angle φ and u = −∇φ on e0, e1, o0, o1 (the gradient derived
- * in kernels/reference_hinges.c); false when a wing collapsed. */
+ * in kernels/reference_hinges.c); false when a wing collapsed. phi may be
+ * NULL: u alone, without the atan2. */
 static inline bool sb_hinge_gradient(const sb_vec3 x[4], double* phi, sb_vec3 u[4]) {
-    sb_hinge_geometry g = sb_hinge_measure(x[0], x[1], x[2], x[3]);
+    sb_hinge_geometry g = phi ? sb_hinge_measure(x[0], x[1], x[2], x[3]) : sb_hinge_shape(x[0], x[1], x[2], x[3]);
     double n0_sq = sb_v3_dot(g.n0, g.n0), n1_sq = sb_v3_dot(g.n1, g.n1);
     double limit = SB_MIN_WING_RATIO * g.edge_length * g.edge_length;
     if (!(g.edge_length > 0.0) || !(n0_sq > limit * limit) || !(n1_sq > limit * limit)) return false;
@@ -71,7 +79,7 @@ static inline bool sb_hinge_gradient(const sb_vec3 x[4], double* phi, sb_vec3 u[
                      sb_v3_scale(w1, -sb_v3_dot(sb_v3_sub(x[3], x[0]), unit_edge)));
     u[2] = sb_v3_scale(w0, g.edge_length);
     u[3] = sb_v3_scale(w1, g.edge_length);
-    *phi = g.phi;
+    if (phi) *phi = g.phi;
     return true;
 }
 

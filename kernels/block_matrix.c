@@ -149,6 +149,19 @@ void sb_block_matrix_add_element(sb_block_matrix* a, uint64_t id, const sb_eleme
     }
 }
 
+void sb_block_matrix_add_blocks(sb_block_matrix* a, uint64_t id, const sb_element* e, const double* blocks,
+                                uint32_t begin, uint32_t end) {
+    const uint32_t* at = a->element_block + a->element_first[id];
+    for (int r = 0; r < e->count; r++) {
+        if (e->vertex[r] < begin || e->vertex[r] >= end) continue;
+        for (int c = 0; c < e->count; c++) {
+            double* block = a->block + 9 * (size_t)at[e->count * r + c];
+            const double* add = blocks + 9 * (e->count * r + c);
+            for (int k = 0; k < 9; k++) block[k] += add[k];
+        }
+    }
+}
+
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,
                                    uint32_t end) {
     for (uint32_t i = begin; i < end; i++) {

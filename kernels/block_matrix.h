@@ -41,6 +41,10 @@ double* sb_block_matrix_at(sb_block_matrix* a, uint32_t i, uint32_t j);
  * element at once, and each block still sums its elements in their order. */
 void sb_block_matrix_add_element(sb_block_matrix* a, uint64_t id, const sb_element* e, const double* k, double scale,
                                  uint32_t begin, uint32_t end);
+/* The same for an element's blocks already block-major (block (r, c) of
+ * its vertices at blocks + 9 (count r + c)) and scaled. */
+void sb_block_matrix_add_blocks(sb_block_matrix* a, uint64_t id, const sb_element* e, const double* blocks,
+                                uint32_t begin, uint32_t end);
 /* out = A p (3 rows doubles each); the second form only rows [begin, end). */
 void sb_block_matrix_multiply(const sb_block_matrix* a, const double* p, double* out);
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,

@@ -104,6 +104,29 @@ bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const
     return true;
 }
 
+bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const double* x, bool definite, double dt,
+                                double* blocks) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    double scale = dt * dt, k[81] = {0};
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: return sb_bond_jacobian_blocks(m, e->index, local, definite, dt, blocks);
+    case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
+    case SB_ELEMENT_TRIANGLE: break;
+    }
+    if (!definite) return sb_triangle_stiffness_blocks(m, e->index, local, scale, blocks);
+    sb_triangle_definite(m, e->index, local, k);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++) {
+                    double v = scale * k[(3 * r + a) * 9 + 3 * c + b];
+                    if (!isfinite(v)) return false;
+                    blocks[9 * (3 * r + c) + 3 * a + b] = v;
+                }
+    return true;
+}
+
 void sb_add_outer(double* k, int size, const double* w, double scale) {
     for (int r = 0; r < size; r++)
         for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];

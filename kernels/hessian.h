@@ -89,6 +89,25 @@ void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double
 void sb_triangle_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, double* k);
 
+/* The element's share of implicit Euler's J = M + dt D + dt² K as its
+ * count × count 3 × 3 blocks, block-major (block (r, c) of the local
+ * vertices at blocks + 9 (count r + c), row-major): dt² K_e
+ * (sb_element_stiffness; the stand-in of sb_element_stiffness_definite
+ * when `definite`, and a hinge's always: its geometric term
+ * k (φ − φ0) ∇²φ is small beside k ∇φ ∇φᵀ wherever the fold is small, and
+ * its dual run cost a sixth of a factored step; on the default scene at
+ * dt = 10, 1 and 0.1 ms Newton and CG take the same iterations without
+ * it), and on a bond also dt times its spring's damping block. The
+ * triangle's in closed form in the plane of each corner's edges (each
+ * block of a corner is a multiple of I plus a 2 × 2 form in â, b̂), the
+ * hinge's without its angle (no atan2). False when the element collapsed. */
+bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const double* x, bool definite, double dt,
+                                double* blocks);
+bool sb_bond_jacobian_blocks(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double dt,
+                             double* blocks);
+bool sb_triangle_stiffness_blocks(const sb_model* m, uint32_t triangle, const sb_vec3* x, double scale, double* blocks);
+bool sb_hinge_definite_blocks(const sb_model* m, uint32_t hinge, const sb_vec3* x, double scale, double* blocks);
+
 /* The spring's damping block d u uᵀ (D_ii = D_jj = −D_ij), row-major 3 × 3;
  * false for a bond without damping or a collapsed one. */
 bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block);

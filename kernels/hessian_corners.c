@@ -179,6 +179,76 @@ bool sb_triangle_stiffness(const sb_model* m, uint32_t t, const sb_vec3* x, doub
     return sb_triangle_corners(m, t, x, sb_add_corner_matrix, k);
 }
 
+/* M = α I + U C Uᵀ with U = [â b̂] (3 × 2) and C = [[c11, c12], [c21, c22]]
+ * (row-major 3 × 3). */
+static void sb_expand_in_plane(double alpha, const double* cc, sb_vec3 ua, sb_vec3 ub, double* out) {
+    const double a[3] = {ua.x, ua.y, ua.z}, b[3] = {ub.x, ub.y, ub.z};
+    for (int r = 0; r < 3; r++) {
+        double left_a = cc[0] * a[r] + cc[2] * b[r], left_b = cc[1] * a[r] + cc[3] * b[r];
+        for (int c = 0; c < 3; c++) out[3 * r + c] = left_a * a[c] + left_b * b[c];
+        out[4 * r] += alpha;
+    }
+}
+
+/* The corner at local vertex i (neighbours j, l) added to the triangle's
+ * nine blocks (block-major, block (r, c) at 9 (3 r + c)), times scale:
+ * sb_corner_hessian_at's matrices, each a multiple of I plus a form in the
+ * plane of â and b̂ (∇c, ∇S and the second derivatives all lie there), so
+ * that each is a 2 × 2 matrix C in that basis, expanded once. */
+static bool sb_corner_blocks(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_vec3* x, int i,
+                             int j, int l, double scale, double* blocks) {
+    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
+    double A = sb_v3_length(a), B = sb_v3_length(b);
+    if (!(A >= SB_COLLAPSE_RATIO * a0) || !(B >= SB_COLLAPSE_RATIO * b0)) return false;
+    sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
+    double c = sb_v3_dot(ua, ub), dc = c - cos0, S = (A - a0) + (B - b0);
+    double g = k_angle * dc + k_sb * S, h = k_sb * dc;
+    /* ∇_a c = p1 â + p2 b̂, ∇_b c = q1 â + q2 b̂ */
+    double p1 = -c / A, p2 = 1.0 / A, q1 = 1.0 / B, q2 = -c / B;
+    double saa = -g / (A * A), sbb = -g / (B * B), sab = g / (A * B);
+    const double caa[4] = {k_angle * p1 * p1 + 2.0 * k_sb * p1 - 3.0 * c * saa - h / A,
+                           k_angle * p1 * p2 + k_sb * p2 + saa, k_angle * p2 * p1 + k_sb * p2 + saa, k_angle * p2 * p2};
+    const double cab[4] = {k_angle * p1 * q1 + k_sb * q1 - sab, k_angle * p1 * q2 + k_sb * (p1 + q2) + c * sab,
+                           k_angle * p2 * q1, k_angle * p2 * q2 + k_sb * p2 - sab};
+    const double cbb[4] = {k_angle * q1 * q1, k_angle * q1 * q2 + k_sb * q1 + sbb, k_angle * q2 * q1 + k_sb * q1 + sbb,
+                           k_angle * q2 * q2 + 2.0 * k_sb * q2 - 3.0 * c * sbb - h / B};
+    double aa[9], ab[9], bb[9];
+    double s_aa[4], s_ab[4], s_bb[4];
+    for (int k = 0; k < 4; k++) s_aa[k] = scale * caa[k], s_ab[k] = scale * cab[k], s_bb[k] = scale * cbb[k];
+    sb_expand_in_plane(scale * (saa * c + h / A), s_aa, ua, ub, aa);
+    sb_expand_in_plane(scale * sab, s_ab, ua, ub, ab);
+    sb_expand_in_plane(scale * (sbb * c + h / B), s_bb, ua, ub, bb);
+    double *jj = blocks + 9 * (3 * j + j), *ll = blocks + 9 * (3 * l + l), *ii = blocks + 9 * (3 * i + i);
+    double *jl = blocks + 9 * (3 * j + l), *lj = blocks + 9 * (3 * l + j);
+    double *ij = blocks + 9 * (3 * i + j), *ji = blocks + 9 * (3 * j + i);
+    double *il = blocks + 9 * (3 * i + l), *li = blocks + 9 * (3 * l + i);
+    /* K_jj = H_aa, K_ll = H_bb, K_jl = H_ab, K_lj = H_ba = H_abᵀ, K_ij = −(H_aa + H_ba),
+     * K_ji = −(H_aa + H_ab), K_il = −(H_ab + H_bb), K_li = −(H_ba + H_bb), K_ii the sum of all four */
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            int k = 3 * r + c;
+            double haa = aa[k], hbb = bb[k], hab = ab[k], hba = ab[3 * c + r];
+            jj[k] += haa, ll[k] += hbb, jl[k] += hab, lj[k] += hba;
+            ij[k] -= haa + hba, ji[k] -= haa + hab, il[k] -= hab + hbb, li[k] -= hba + hbb;
+            ii[k] += (haa + hab) + (hba + hbb);
+        }
+    return true;
+}
+
+bool sb_triangle_stiffness_blocks(const sb_model* m, uint32_t t, const sb_vec3* x, double scale, double* blocks) {
+    memset(blocks, 0, 81 * sizeof *blocks);
+    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    for (int c = 0; c < 3; c++) {
+        int j = (c + 1) % 3, l = (c + 2) % 3;
+        if (!sb_corner_blocks(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[l][t], x, c, j, l, scale,
+                              blocks))
+            return false;
+    }
+    return true;
+}
+
 /* One vertex's share: its force and diagonal block. */
 typedef struct sb_vertex_share {
     int place;

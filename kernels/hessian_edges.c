@@ -73,6 +73,24 @@ bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x
     return sb_bond_matrix(m, bond, x, false, k);
 }
 
+bool sb_bond_jacobian_blocks(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double dt,
+                             double* blocks) {
+    double stiffness = sb_bond_stiffness(m, bond), r0 = m->bond_r0[bond];
+    double damping = m->term_enabled[SB_TERM_SPRING] ? m->spring_damping[bond] : 0.0;
+    sb_vec3 delta = sb_v3_sub(x[1], x[0]);
+    double r = sb_v3_length(delta);
+    if (!(r >= SB_COLLAPSE_RATIO * r0)) return false;
+    double u[3] = {delta.x / r, delta.y / r, delta.z / r}, sideways = 1.0 - r0 / r;
+    if (definite) sideways = fmax(0.0, sideways);
+    /* dt² k (u uᵀ + σ (I − u uᵀ)) + dt d u uᵀ = s I + t u uᵀ */
+    double s = dt * dt * stiffness * sideways, t = dt * dt * stiffness * (1.0 - sideways) + dt * damping;
+    double* h = blocks; /* (0, 0); (1, 1) the same, (0, 1) and (1, 0) its negative */
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) h[3 * a + b] = t * u[a] * u[b] + (a == b ? s : 0.0);
+    for (int k = 0; k < 9; k++) blocks[27 + k] = h[k], blocks[9 + k] = blocks[18 + k] = -h[k];
+    return true;
+}
+
 bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block) {
     double h[9];
     sb_vec3 force;

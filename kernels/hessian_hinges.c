@@ -59,14 +59,31 @@ void sb_hinge_forces_dual(const sb_model* m, uint32_t h, const sb_dvec3* x, sb_d
 
 void sb_hinge_definite(const sb_model* m, uint32_t h, const sb_vec3* x, double* k) {
     sb_vec3 u[4];
-    double phi;
-    if (!sb_hinge_gradient(x, &phi, u)) {
+    if (!sb_hinge_gradient(x, NULL, u)) {
         k[0] = NAN;
         return;
     }
     double w[12];
     for (int a = 0; a < 4; a++) w[3 * a] = u[a].x, w[3 * a + 1] = u[a].y, w[3 * a + 2] = u[a].z;
     sb_add_outer(k, 12, w, sb_hinge_stiffness(m, h));
+}
+
+bool sb_hinge_definite_blocks(const sb_model* m, uint32_t h, const sb_vec3* x, double scale, double* blocks) {
+    sb_vec3 u[4];
+    if (!sb_hinge_gradient(x, NULL, u)) return false;
+    double k = scale * sb_hinge_stiffness(m, h), w[12], kw[12];
+    for (int a = 0; a < 4; a++) w[3 * a] = u[a].x, w[3 * a + 1] = u[a].y, w[3 * a + 2] = u[a].z;
+    for (int r = 0; r < 12; r++) {
+        if (!isfinite(w[r])) return false;
+        kw[r] = k * w[r];
+    }
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            double* block = blocks + 9 * (4 * r + c);
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++) block[3 * a + b] = kw[3 * r + a] * w[3 * c + b];
+        }
+    return true;
 }
 
 bool sb_hinge_vertex_share(const sb_model* m, uint32_t h, const sb_vec3* x, int place, double* f, double* block) {

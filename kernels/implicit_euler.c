@@ -12,7 +12,8 @@
  * to zero: each iteration solves J p = −R with
  *   J = M + dt D + dt² K,
  * K = −∂f/∂x the elements' exact stiffness (kernels/hessian.h; a hinge's
- * Gauss-Newton part only, sb_jacobian_stiffness says why), D = −∂f/∂v
+ * Gauss-Newton part only, kernels/hessian.h's sb_element_jacobian_blocks
+ * says why), D = −∂f/∂v
  * the springs' damping blocks and the drag, assembled into
  * a 3 × 3 block matrix with the elements' pattern (kernels/block_matrix.h),
  * on the solver's threads (sb_assemble_worker, sb_product_worker; one
@@ -210,22 +211,6 @@ static sb_status sb_newton_point(sb_newton* w) {
     return status;
 }
 
-/* The springs' damping blocks at x, dt D, into J. */
-static void sb_add_damping(sb_newton* w, const double* x) {
-    const sb_model* m = w->s->model;
-    double block[9];
-    for (uint32_t b = 0; b < m->bond_count; b++) {
-        if (!sb_bond_damping_block(m, b, x, block)) continue;
-        uint32_t i = m->bond_i[b], j = m->bond_j[b];
-        double *ii = sb_block_matrix_at(w->j, i, i), *jj = sb_block_matrix_at(w->j, j, j);
-        double *ij = sb_block_matrix_at(w->j, i, j), *ji = sb_block_matrix_at(w->j, j, i);
-        for (int k = 0; k < 9; k++) {
-            ii[k] += w->dt * block[k], jj[k] += w->dt * block[k];
-            ij[k] -= w->dt * block[k], ji[k] -= w->dt * block[k];
-        }
-    }
-}
-
 /* The stiffness pass, on the team: in rounds, each worker computes the
  * matrices of its chunk of SB_ASSEMBLY_CHUNK elements (chunk r·width + w),
  * then every worker adds the round's matrices in element order to the block
@@ -239,17 +224,6 @@ typedef struct sb_assembly {
     uint64_t count, collapsed;
     bool definite; /* the positive semi-definite stand-ins */
 } sb_assembly;
-
-/* The element's K in J: the exact stiffness, or its positive semi-definite
- * stand-in when `definite`; a hinge's always its stand-in k ∇φ ∇φᵀ. The
- * hinge's geometric term k (φ − φ0) ∇²φ is small beside it wherever the fold
- * is small, and its dual run cost a sixth of a factored step: on the
- * default scene at dt = 10 ms, 1 ms and 0.1 ms, Newton and CG take the same
- * iterations without it. */
-static bool sb_jacobian_stiffness(const sb_model* m, const sb_element* e, const double* x, bool definite, double* k) {
-    if (definite || e->kind == SB_ELEMENT_HINGE) return sb_element_stiffness_definite(m, e, x, k);
-    return sb_element_stiffness(m, e, x, k);
-}
 
 static void sb_assemble_worker(void* context, const sb_worker* worker) {
     sb_assembly* job = context;
@@ -265,7 +239,7 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
         for (uint64_t id = first; id < first + SB_ASSEMBLY_CHUNK && id < job->count; id++) {
             sb_element e = sb_element_at(m, id);
             double* k = mine + (id - first) * 144;
-            if (!sb_jacobian_stiffness(m, &e, x, job->definite, k)) k[0] = NAN; /* worker 0 names it */
+            if (!sb_element_jacobian_blocks(m, &e, x, job->definite, job->w->dt, k)) k[0] = NAN; /* worker 0 names it */
         }
         sb_worker_barrier(worker);
         for (uint64_t id = round; id < round + per_round && id < job->count; id++) {
@@ -275,7 +249,7 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
                 continue;
             }
             sb_element e = sb_element_at(m, id);
-            sb_block_matrix_add_element(job->w->j, id, &e, k, job->w->dt * job->w->dt, rows_begin, rows_end);
+            sb_block_matrix_add_blocks(job->w->j, id, &e, k, rows_begin, rows_end);
         }
         sb_worker_barrier(worker);
     }
@@ -294,7 +268,6 @@ static sb_status sb_assemble(sb_newton* w, bool definite) {
                             "implicit_euler: element %llu (vertices %u, %u, ...) collapsed",
                             (unsigned long long)job.collapsed, e.vertex[0], e.vertex[1]);
     }
-    sb_add_damping(w, w->a[W_XT]);
     for (uint32_t i = 0; i < m->vertex_count; i++) {
         double* block = w->j->block + 9 * (size_t)w->j->diagonal[i];
         double diagonal = m->mass[i] * (1.0 + w->dt * s->def.drag);

@@ -168,6 +168,50 @@ static void test_vertex_share(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* Implicit Euler's element blocks (sb_element_jacobian_blocks: the
+ * triangle's in the plane of each corner's edges, the bond's with its
+ * damping, the hinge's without its angle) are dt² times the element's
+ * matrix (the exact one, or the stand-in when definite; a hinge's always
+ * the stand-in), plus dt D on a bond, block by block. */
+static void test_jacobian_blocks(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* m = make_model(TERM_ALL, &mesh);
+    double* x = strained_positions(m, 13);
+    const double dt = 0.01;
+    for (int definite = 0; definite < 2; definite++) {
+        double worst[3] = {0, 0, 0}, largest[3] = {0, 0, 0};
+        for (uint64_t id = 0; id < sb_element_count(m); id++) {
+            sb_element e = sb_element_at(m, id);
+            int size = 3 * e.count;
+            double k[144], blocks[144], damping[9] = {0};
+            if (definite || e.kind == SB_ELEMENT_HINGE)
+                assert_true(sb_element_stiffness_definite(m, &e, x, k));
+            else
+                assert_true(sb_element_stiffness(m, &e, x, k));
+            if (e.kind == SB_ELEMENT_BOND) assert_true(sb_bond_damping_block(m, e.index, x, damping));
+            assert_true(sb_element_jacobian_blocks(m, &e, x, definite, dt, blocks));
+            for (int r = 0; r < size; r++)
+                for (int c = 0; c < size; c++) {
+                    double sign = r / 3 == c / 3 ? 1.0 : -1.0; /* a bond's damping: D on the diagonal, -D off it */
+                    double want = dt * dt * k[r * size + c] + sign * dt * damping[3 * (r % 3) + c % 3];
+                    double got = blocks[9 * (e.count * (r / 3) + c / 3) + 3 * (r % 3) + c % 3];
+                    worst[e.kind] = fmax(worst[e.kind], fabs(got - want));
+                    largest[e.kind] = fmax(largest[e.kind], fabs(want));
+                }
+        }
+        for (int kind = 0; kind < 3; kind++) {
+            print_message("definite %d, element kind %d: largest %.4g, worst %.3g relative\n", definite, kind,
+                          largest[kind], worst[kind] / largest[kind]);
+            assert_true(largest[kind] > 0.0);
+            TU_ASSERT_LE(worst[kind], 1e-12 * largest[kind]);
+        }
+    }
+    free(x);
+    sb_model_destroy(m);
+    sb_mesh_free(&mesh);
+}
+
 /* The assembled block matrix times p is the matrix-free product. */
 static void test_assembled_matrix_product(void** state) {
     (void)state;
@@ -293,6 +337,7 @@ int main(void) {
         cmocka_unit_test(test_each_term_against_differences),
         cmocka_unit_test(test_elements_symmetric_and_product_consistent),
         cmocka_unit_test(test_assembled_matrix_product),
+        cmocka_unit_test(test_jacobian_blocks),
         cmocka_unit_test(test_vertex_share),
         cmocka_unit_test(test_damping_block_against_differences),
         cmocka_unit_test(test_definite_stand_in),
