@@ -42,6 +42,9 @@
 #include "common/geometry.h"
 
 #include <math.h>
+#if defined(__AVX512F__) && !SB_DOUBLE
+#include <immintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -159,38 +162,118 @@ static void sb_op_line_point(sb_fast_newton* w, size_t begin, size_t end, double
     sb_op_trial(w, begin, end, partial);
 }
 
+/* The partial sums' accumulators: SB_LANES of them a sum, lane j adding
+ * the packed reals k with k mod SB_LANES = j (chunks start at multiples of
+ * SB_LANES), then added in lane order into the chunk's partial. Independent
+ * chains the compiler keeps in SIMD registers (one chain a sum was latency
+ * bound: half of the CG's vector passes), the same order for any thread
+ * count. */
+enum { SB_LANES = 16 };
+
+static void sb_lanes_add(const double lanes[SB_LANES], double* partial) {
+    double sum = 0.0;
+    for (int j = 0; j < SB_LANES; j++) sum += lanes[j];
+    *partial += sum;
+}
+
+/* lanes += a · b over [begin, end) */
+static void sb_lanes_dot(double lanes[SB_LANES], const sb_real* a, const sb_real* b, size_t begin, size_t end) {
+    size_t k = begin;
+#if defined(__AVX512F__) && !SB_DOUBLE
+    /* the same sums as below: each product in double, lane j's own chain */
+    __m512d low = _mm512_loadu_pd(lanes), high = _mm512_loadu_pd(lanes + 8);
+    for (; k + SB_LANES <= end; k += SB_LANES) {
+        __m512 x = _mm512_loadu_ps(a + k), y = _mm512_loadu_ps(b + k);
+        low = _mm512_add_pd(
+            low, _mm512_mul_pd(_mm512_cvtps_pd(_mm512_castps512_ps256(x)), _mm512_cvtps_pd(_mm512_castps512_ps256(y))));
+        high = _mm512_add_pd(
+            high, _mm512_mul_pd(_mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(x), 1))),
+                                _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(y), 1)))));
+    }
+    _mm512_storeu_pd(lanes, low);
+    _mm512_storeu_pd(lanes + 8, high);
+#endif
+    for (; k + SB_LANES <= end; k += SB_LANES)
+        for (int j = 0; j < SB_LANES; j++) lanes[j] += (double)a[k + j] * b[k + j];
+    for (; k < end; k++) lanes[k % SB_LANES] += (double)a[k] * b[k];
+}
+
 /* rhs = −R = mask (dt f − M Δv); partials |R|², |M v⁺|², |f|², |M g|². */
 static void sb_op_residual(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     const sb_real *m = w->s->fast->mass, *f = w->s->forces4, *v = w->s->velocities4;
     const double* g = w->s->def.gravity;
     sb_real** a = w->v;
     const sb_real dt = (sb_real)w->dt;
-    for (size_t k = begin; k < end; k++) {
-        a[V_RHS][k] = a[V_MASK][k] * (dt * f[k] - sb_packed_lane(m, k) * a[V_DV][k]);
-        double momentum = (double)sb_packed_lane(m, k) * v[k],
-               weight = (k & 3) < 3 ? (double)sb_packed_lane(m, k) * g[k & 3] : 0.0;
-        partial[0] += (double)a[V_RHS][k] * a[V_RHS][k];
-        partial[1] += momentum * momentum;
-        partial[2] += (double)f[k] * f[k];
-        partial[3] += weight * weight;
+    double weight = 0.0;
+    for (size_t i = begin / 4; i < end / 4; i++) {
+        const sb_real mi = m[i];
+        for (int u = 0; u < 4; u++) {
+            size_t k = 4 * i + (size_t)u;
+            a[V_RHS][k] = a[V_MASK][k] * (dt * f[k] - (u < 3 ? mi : 0) * a[V_DV][k]);
+        }
+        weight += (double)mi * mi;
     }
+    /* |M v⁺|² = Σ m_i² |v_i|², the w lanes 0 */
+    double rr[SB_LANES] = {0}, vv[SB_LANES] = {0}, ff[SB_LANES] = {0};
+    sb_lanes_dot(rr, a[V_RHS], a[V_RHS], begin, end);
+    sb_lanes_dot(ff, f, f, begin, end);
+    for (size_t i = begin / 4; i < end / 4; i++)
+        for (int u = 0; u < 4; u++) {
+            double momentum = (double)m[i] * (u < 3 ? v[4 * i + (size_t)u] : 0);
+            vv[(4 * i + (size_t)u) % SB_LANES] += momentum * momentum;
+        }
+    sb_lanes_add(rr, partial);
+    sb_lanes_add(vv, partial + 1);
+    sb_lanes_add(ff, partial + 2);
+    partial[3] += weight * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+}
+
+/* z = P res over [begin, end); partials res·z, |res|². */
+static void sb_op_precondition(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    const sb_real* inverse = w->im->inverse;
+    const sb_real* res = a[V_RES];
+    sb_real* z = a[V_Z];
+    size_t k = begin;
+#if defined(__AVX512F__) && !SB_DOUBLE
+    /* four vertices at a time, the scalar loop's sums in its order (no FMA):
+     * lane u of a vertex gets b[row u] · r with the row's three entries
+     * picked from the vertices' six, r's axes spread over the vertex */
+    const __m512i row_x = _mm512_set_epi32(0, 20, 19, 18, 0, 14, 13, 12, 0, 8, 7, 6, 0, 2, 1, 0),
+                  row_y = _mm512_set_epi32(0, 22, 21, 19, 0, 16, 15, 13, 0, 10, 9, 7, 0, 4, 3, 1),
+                  row_z = _mm512_set_epi32(0, 23, 22, 20, 0, 17, 16, 14, 0, 11, 10, 8, 0, 5, 4, 2),
+                  axis_x = _mm512_set_epi32(12, 12, 12, 12, 8, 8, 8, 8, 4, 4, 4, 4, 0, 0, 0, 0),
+                  axis_y = _mm512_set_epi32(13, 13, 13, 13, 9, 9, 9, 9, 5, 5, 5, 5, 1, 1, 1, 1),
+                  axis_z = _mm512_set_epi32(14, 14, 14, 14, 10, 10, 10, 10, 6, 6, 6, 6, 2, 2, 2, 2);
+    const __mmask16 xyz = 0x7777;
+    for (; k + 16 <= end; k += 16) {
+        const sb_real* b = inverse + 6 * (k / 4);
+        __m512 b0 = _mm512_loadu_ps(b), b1 = _mm512_castps256_ps512(_mm256_loadu_ps(b + 16));
+        __m512 r = _mm512_loadu_ps(res + k);
+        __m512 cx = _mm512_maskz_permutex2var_ps(xyz, b0, row_x, b1),
+               cy = _mm512_maskz_permutex2var_ps(xyz, b0, row_y, b1),
+               cz = _mm512_maskz_permutex2var_ps(xyz, b0, row_z, b1);
+        __m512 rx = _mm512_permutexvar_ps(axis_x, r), ry = _mm512_permutexvar_ps(axis_y, r),
+               rz = _mm512_permutexvar_ps(axis_z, r);
+        __m512 out = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(cx, rx), _mm512_mul_ps(cy, ry)), _mm512_mul_ps(cz, rz));
+        _mm512_storeu_ps(z + k, _mm512_maskz_mov_ps(xyz, out)); /* w lanes 0 */
+    }
+#endif
+    for (; k < end; k += 4) {
+        const sb_real *b = inverse + 6 * (k / 4), *r = res + k;
+        z[k] = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
+        z[k + 1] = b[1] * r[0] + b[3] * r[1] + b[4] * r[2];
+        z[k + 2] = b[2] * r[0] + b[4] * r[1] + b[5] * r[2];
+        z[k + 3] = 0;
+    }
+    double rz[SB_LANES] = {0}, rr[SB_LANES] = {0};
+    sb_lanes_dot(rz, res, z, begin, end);
+    sb_lanes_dot(rr, res, res, begin, end);
+    sb_lanes_add(rz, partial);
+    sb_lanes_add(rr, partial + 1);
 }
 
 /* CG's start: sol = 0, res = rhs, z = P res, d = 0; partials res·z, |res|². */
-static void sb_op_precondition(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
-    sb_real** a = w->v;
-    for (size_t k = begin; k < end; k += 4) {
-        const sb_real *b = w->im->inverse + 6 * (k / 4), *r = a[V_RES] + k;
-        a[V_Z][k] = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
-        a[V_Z][k + 1] = b[1] * r[0] + b[3] * r[1] + b[4] * r[2];
-        a[V_Z][k + 2] = b[2] * r[0] + b[4] * r[1] + b[5] * r[2];
-        for (int u = 0; u < 3; u++) {
-            partial[0] += (double)r[u] * a[V_Z][k + u];
-            partial[1] += (double)r[u] * r[u];
-        }
-    }
-}
-
 static void sb_op_cg_start(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     sb_real** a = w->v;
     for (size_t k = begin; k < end; k++) {
@@ -204,32 +287,42 @@ static void sb_op_cg_start(sb_fast_newton* w, size_t begin, size_t end, double* 
 /* sol += α d, res −= α q, z = P res; partials res·z, |res|². */
 static void sb_op_cg_update(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     sb_real** a = w->v;
+    const sb_real alpha = w->alpha;
+    sb_real *sol = a[V_SOL], *res = a[V_RES];
+    const sb_real *d = a[V_D], *q = a[V_Q];
     for (size_t k = begin; k < end; k++) {
-        a[V_SOL][k] += w->alpha * a[V_D][k];
-        a[V_RES][k] -= w->alpha * a[V_Q][k];
+        sol[k] += alpha * d[k];
+        res[k] -= alpha * q[k];
     }
     sb_op_precondition(w, begin, end, partial);
 }
 
-/* d = z + β d, q = M (1 + dt drag) d: the product's start. */
+/* d = z + β d, q = M (1 + dt drag) d: the product's start (the w lanes of
+ * z, and so of d, are 0). */
 static void sb_op_direction(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     (void)partial;
     sb_real** a = w->v;
     const sb_real* m = w->s->fast->mass;
-    const sb_real drag = (sb_real)(1.0 + w->dt * w->s->def.drag);
-    for (size_t k = begin; k < end; k++) {
-        a[V_D][k] = a[V_Z][k] + w->beta * a[V_D][k];
-        a[V_Q][k] = drag * sb_packed_lane(m, k) * a[V_D][k];
+    const sb_real drag = (sb_real)(1.0 + w->dt * w->s->def.drag), beta = w->beta;
+    sb_real* d = a[V_D];
+    const sb_real* z = a[V_Z];
+    sb_real* q = a[V_Q];
+    for (size_t k = begin; k < end; k++) d[k] = z[k] + beta * d[k];
+    for (size_t i = begin / 4; i < end / 4; i++) {
+        const sb_real mi = drag * m[i];
+        for (int u = 0; u < 4; u++) q[4 * i + (size_t)u] = (u < 3 ? mi : 0) * d[4 * i + (size_t)u];
     }
 }
 
 /* q masked; partial d·q. */
 static void sb_op_curvature(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
     sb_real** a = w->v;
-    for (size_t k = begin; k < end; k++) {
-        a[V_Q][k] *= a[V_MASK][k];
-        partial[0] += (double)a[V_D][k] * a[V_Q][k];
-    }
+    sb_real* q = a[V_Q];
+    const sb_real* mask = a[V_MASK];
+    for (size_t k = begin; k < end; k++) q[k] *= mask[k];
+    double dq[SB_LANES] = {0};
+    sb_lanes_dot(dq, a[V_D], q, begin, end);
+    sb_lanes_add(dq, partial);
 }
 
 /* ---- J's product and its diagonal blocks --------------------------------- */
