@@ -267,8 +267,9 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
         sb_step_stats stats = sb_solver_last_step(job->sim.solver);
         sb_step_work_add(&job->work, &stats);
         sb_progress_update(progress, sb_solver_step_count(job->sim.solver));
-        if (sb_stop_after_step(&job->stop, sb_solver_time(job->sim.solver),
-                               sb_solver_energies(job->sim.solver).kinetic))
+        double time = sb_solver_time(job->sim.solver);
+        if (sb_stop_watches(&job->stop, time) &&
+            sb_stop_after_step(&job->stop, time, sb_solver_energies(job->sim.solver).kinetic))
             break;
     }
     return SB_EXIT_OK;

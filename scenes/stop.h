@@ -28,6 +28,11 @@ typedef struct sb_stop {
 sb_stop sb_stop_from_scene(const sb_scene* scene);
 /* s: when the run ends at the latest, min(duration, max_time). */
 double sb_stop_end(const sb_stop* stop);
+/* Whether the kinetic energy stop is armed at `time` (stop.kinetic_energy
+ * set, min_time reached): the run asks the solver for its energies after a
+ * step only then, since that settles the forces a lazy step (pbd, xpbd,
+ * vbd, fast implicit Euler) left for later, a force pass a step. */
+bool sb_stop_watches(const sb_stop* stop, double time);
 /* After a step: true (and the reason kept) when the kinetic energy stop fires. */
 bool sb_stop_after_step(sb_stop* stop, double time, double kinetic);
 /* The run reached sb_stop_end: the watchdog or the duration. */

@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
+#include "scenes/stop.h"
 #include "tests/test_files.h"
 
 static int setup_dir(void** state) {
@@ -113,11 +114,29 @@ static void test_bad_stop_keys(void** state) {
     tu_result_free(&r);
 }
 
+/* The kinetic-energy stop is armed (the run reads the energies after a
+ * step) only with stop.kinetic_energy set and from min_time on; unarmed, a
+ * kinetic energy of 0 does not stop the run. */
+static void test_watches_only_when_armed(void** state) {
+    (void)state;
+    sb_stop none = {.kinetic_energy = 0, .min_time = 0, .duration = 1};
+    assert_false(sb_stop_watches(&none, 0.5));
+    assert_false(sb_stop_after_step(&none, 0.5, 0.0));
+    sb_stop later = {.kinetic_energy = 1e-3, .min_time = 0.2, .duration = 1};
+    assert_false(sb_stop_watches(&later, 0.1));
+    assert_false(sb_stop_after_step(&later, 0.1, 0.0));
+    assert_true(sb_stop_watches(&later, 0.2));
+    assert_false(sb_stop_after_step(&later, 0.2, 2e-3));
+    assert_true(sb_stop_after_step(&later, 0.3, 5e-4));
+    assert_int_equal(later.reason, SB_STOP_KINETIC_ENERGY);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bouncing_ball_stops_when_still),
         cmocka_unit_test(test_watchdog),
         cmocka_unit_test(test_bad_stop_keys),
+        cmocka_unit_test(test_watches_only_when_armed),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
