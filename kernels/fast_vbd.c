@@ -12,11 +12,21 @@
  *     triangle's own cyclic order, with the rest cosines at p, q, r and the
  *     rest lengths of pq, qr, rp: p is then the apex of corner p, the far
  *     end of corner q's second edge and of corner r's first, whatever its
- *     place in the triangle;
+ *     place in the triangle; and the corners' Gauss-Newton form (λ, p, q:
+ *     two square roots and two divisions, once at creation, not per vertex
+ *     and sweep);
  *   hinge: relabelled so that p is e0 or o0 (swapping e0 ↔ e1 with o0 ↔ o1
  *     leaves φ unchanged) with a flag for which; its other three vertices
  *     are gathered, p's position is the lane's own (a quarter fewer
- *     gathers, the sweep's main cost with the hinge's arithmetic).
+ *     gathers, the sweep's main cost with the hinge's arithmetic); its rest
+ *     angle as cos φ0, sin φ0, so that φ − φ0 is the atan2 of (cos φ, sin
+ *     φ) turned back by φ0, already in (−π, π] (no wrap).
+ * Lengths come from sb_w_rsqrt of their squares (1/r and r = r² · 1/r,
+ * no square root and division), the hinge's 1/|n|² from sb_w_recip, the
+ * 3 × 3 solve's pivots from sb_w_rsqrt: in float these are estimates with
+ * a Newton step, within 2 units of the last place (tests/test_wide.c). On
+ * the 100 × 100 sheet (1 thread) the hinges take about half of a sweep,
+ * the triangles a quarter, the bonds an eighth.
  * A lane with fewer elements than the block's slots is padded with inert
  * entries (every vertex the lane's own, so each counts as collapsed and
  * adds nothing). Elements whose constants are all zero are left out, as
@@ -64,11 +74,12 @@ typedef struct sb_vbd_triangles {
     sb_real* cos0[3]; /* at p, q, r */
     sb_real* len0[3]; /* of pq, qr, rp */
     sb_real *k_angle, *k_sb;
+    sb_real *lambda, *gn_p, *gn_q; /* the corners' Gauss-Newton form (sb_vbd_corner_k), a constant per triangle */
 } sb_vbd_triangles;
 
 typedef struct sb_vbd_hinges {
-    uint32_t* v[3];               /* the other three of e0, e1, o0, o1 in order, p being e0 or o0 */
-    sb_real *phi0, *k, *opposite; /* opposite: 1 where p is o0 */
+    uint32_t* v[3];                      /* the other three of e0, e1, o0, o1 in order, p being e0 or o0 */
+    sb_real *cos0, *sin0, *k, *opposite; /* cos φ0, sin φ0; opposite: 1 where p is o0 */
 } sb_vbd_hinges;
 
 struct sb_fast_vbd {
@@ -164,11 +175,13 @@ static void sb_vbd_inert_bond(sb_vbd_bonds* e, size_t q, uint32_t i) {
 static void sb_vbd_inert_triangle(sb_vbd_triangles* e, size_t q, uint32_t i) {
     e->q[q] = e->r[q] = i;
     for (int c = 0; c < 3; c++) e->cos0[c][q] = 0, e->len0[c][q] = 1;
-    e->k_angle[q] = e->k_sb[q] = 0;
+    e->k_angle[q] = e->k_sb[q] = e->lambda[q] = e->gn_q[q] = 0;
+    e->gn_p[q] = 1;
 }
 static void sb_vbd_inert_hinge(sb_vbd_hinges* e, size_t q, uint32_t i) {
     for (int a = 0; a < 3; a++) e->v[a][q] = i;
-    e->phi0[q] = e->k[q] = e->opposite[q] = 0;
+    e->sin0[q] = e->k[q] = e->opposite[q] = 0;
+    e->cos0[q] = 1;
 }
 
 /* Entry q: bond b seen from the vertex at `place`. */
@@ -177,6 +190,16 @@ static void sb_vbd_put_bond(sb_vbd_bonds* e, size_t q, const sb_model* m, uint32
     e->r0[q] = (sb_real)m->bond_r0[b];
     e->k[q] = (sb_real)sb_vbd_bond_k(m, b);
     e->damping[q] = (sb_real)sb_vbd_bond_damping(m, b);
+}
+
+/* The Gauss-Newton form of a triangle's corners (kernels/hessian.h's
+ * definite stand-in): λ, the positive eigenvalue of [[kθ, ksb], [ksb, 0]],
+ * and its unit eigenvector (p, q); (1, 0) when ksb is 0. A constant of the
+ * triangle: computed once here (in double), not per vertex and sweep. */
+static void sb_vbd_corner_form(double ka, double ksb, double* lambda, double* p, double* q) {
+    *lambda = 0.5 * (ka + sqrt(ka * ka + 4.0 * ksb * ksb));
+    double a = ksb != 0.0 ? ksb : 1.0, b = ksb != 0.0 ? *lambda - ka : 0.0, norm = sqrt(a * a + b * b);
+    *p = a / norm, *q = b / norm;
 }
 
 /* Triangle t rotated to start at its corner `place`. */
@@ -189,6 +212,9 @@ static void sb_vbd_put_triangle(sb_vbd_triangles* e, size_t q, const sb_model* m
     }
     e->k_angle[q] = (sb_real)sb_vbd_angle_k(m, t);
     e->k_sb[q] = (sb_real)sb_vbd_stretch_bend_k(m, t);
+    double lambda, p, pq;
+    sb_vbd_corner_form(sb_vbd_angle_k(m, t), sb_vbd_stretch_bend_k(m, t), &lambda, &p, &pq);
+    e->lambda[q] = (sb_real)lambda, e->gn_p[q] = (sb_real)p, e->gn_q[q] = (sb_real)pq;
 }
 
 /* Hinge h relabelled so that the vertex at `place` is e0 or o0. */
@@ -197,7 +223,7 @@ static void sb_vbd_put_hinge(sb_vbd_hinges* e, size_t q, const sb_model* m, uint
     bool swap = place == 1 || place == 3;
     for (int a = 0, at = 0; a < 4; a++)
         if (a != (place >= 2 ? 2 : 0)) e->v[at++][q] = v[swap ? a ^ 1 : a];
-    e->phi0[q] = (sb_real)m->hinge_phi0[h];
+    e->cos0[q] = (sb_real)cos(m->hinge_phi0[h]), e->sin0[q] = (sb_real)sin(m->hinge_phi0[h]);
     e->k[q] = (sb_real)sb_vbd_hinge_k(m, h);
     e->opposite[q] = place >= 2 ? 1 : 0;
 }
@@ -246,8 +272,12 @@ static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
     }
     ok &= (f->triangles.k_angle = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
     ok &= (f->triangles.k_sb = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
+    ok &= (f->triangles.lambda = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
+    ok &= (f->triangles.gn_p = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
+    ok &= (f->triangles.gn_q = sb_vbd_alloc(nt, sizeof(sb_real))) != NULL;
     for (int a = 0; a < 3; a++) ok &= (f->hinges.v[a] = sb_vbd_alloc(nh, sizeof(uint32_t))) != NULL;
-    ok &= (f->hinges.phi0 = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
+    ok &= (f->hinges.cos0 = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
+    ok &= (f->hinges.sin0 = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
     ok &= (f->hinges.k = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
     ok &= (f->hinges.opposite = sb_vbd_alloc(nh, sizeof(sb_real))) != NULL;
     return ok;
@@ -258,9 +288,10 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     free(f->color_block), free(f->blocks), free(f->lane);
     free(f->bonds.other), free(f->bonds.r0), free(f->bonds.k), free(f->bonds.damping);
     free(f->triangles.q), free(f->triangles.r), free(f->triangles.k_angle), free(f->triangles.k_sb);
+    free(f->triangles.lambda), free(f->triangles.gn_p), free(f->triangles.gn_q);
     for (int c = 0; c < 3; c++) free(f->triangles.cos0[c]), free(f->triangles.len0[c]);
     for (int a = 0; a < 3; a++) free(f->hinges.v[a]);
-    free(f->hinges.phi0), free(f->hinges.k), free(f->hinges.opposite);
+    free(f->hinges.cos0), free(f->hinges.sin0), free(f->hinges.k), free(f->hinges.opposite);
     free(f->x4), free(f->x04), free(f->y4), free(f->last4), free(f->before4);
     free(f);
 }
@@ -363,9 +394,10 @@ static inline void sb_vbd_bond_share(sb_vbd_lanes* l, size_t at) {
     sb_windex other = sb_w_index(e->other + at);
     sb_wvec3 xq = sb_wv_load4(l->f->x4, other), x0q = sb_wv_load4(l->f->x04, other);
     sb_wvec3 delta = sb_wv_sub(xq, l->x);
-    sb_wide r = sb_w_sqrt(sb_wv_dot(delta, delta)), r0 = sb_w_load(e->r0 + at);
-    sb_wide alive = sb_w_at_least(r, sb_w_mul(sb_w_set((sb_real)SB_COLLAPSE_RATIO), r0));
-    sb_wide inv_r = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(sb_w_set(1), r), sb_w_set(0));
+    sb_wide r2 = sb_wv_dot(delta, delta), r0 = sb_w_load(e->r0 + at);
+    sb_wide shortest = sb_w_mul(sb_w_set((sb_real)SB_COLLAPSE_RATIO), r0);
+    sb_wide alive = sb_w_at_least(r2, sb_w_mul(shortest, shortest));
+    sb_wide inv_r = sb_w_pick_greater(alive, sb_w_set(0), sb_w_rsqrt(r2), sb_w_set(0)), r = sb_w_mul(r2, inv_r);
     sb_wide k = sb_w_load(e->k + at), d = sb_w_load(e->damping + at);
     sb_vbd_lose(l, alive, sb_w_add(k, d));
     k = sb_w_mul(k, alive), d = sb_w_mul(d, alive);
@@ -386,11 +418,11 @@ typedef struct sb_wedge {
 
 static inline sb_wedge sb_vbd_edge(sb_wvec3 from, sb_wvec3 to, sb_wide rest, sb_wide* alive) {
     sb_wvec3 d = sb_wv_sub(to, from);
-    sb_wide length = sb_w_sqrt(sb_wv_dot(d, d));
-    sb_wide ok = sb_w_at_least(length, sb_w_mul(sb_w_set((sb_real)SB_COLLAPSE_RATIO), rest));
+    sb_wide squared = sb_wv_dot(d, d), shortest = sb_w_mul(sb_w_set((sb_real)SB_COLLAPSE_RATIO), rest);
+    sb_wide ok = sb_w_at_least(squared, sb_w_mul(shortest, shortest));
     *alive = sb_w_mul(*alive, ok);
-    sb_wide inverse = sb_w_pick_greater(ok, sb_w_set(0), sb_w_div(sb_w_set(1), length), sb_w_set(0));
-    return (sb_wedge){sb_wv_scale(d, inverse), inverse, sb_w_sub(length, rest)};
+    sb_wide inverse = sb_w_pick_greater(ok, sb_w_set(0), sb_w_rsqrt(squared), sb_w_set(0));
+    return (sb_wedge){sb_wv_scale(d, inverse), inverse, sb_w_sub(sb_w_mul(squared, inverse), rest)};
 }
 
 static inline sb_wedge sb_wedge_reversed(sb_wedge e) { return (sb_wedge){sb_wv_neg(e.unit), e.inverse, e.strain}; }
@@ -406,21 +438,11 @@ static inline sb_wcorner sb_vbd_corner(sb_wedge a, sb_wedge b, sb_wide cos0, sb_
 }
 
 /* A triangle's constants and the Gauss-Newton form of its corners
- * (kernels/hessian.h's definite stand-in): λ, the positive eigenvalue of
- * [[kθ, ksb], [ksb, 0]], with its unit eigenvector (p, q). */
+ * (sb_vbd_corner_form): λ, the positive eigenvalue of [[kθ, ksb], [ksb, 0]],
+ * with its unit eigenvector (p, q). */
 typedef struct sb_wcorner_k {
     sb_wide ka, ksb, lambda, p, q;
 } sb_wcorner_k;
-
-static inline sb_wcorner_k sb_vbd_corner_k(sb_wide ka, sb_wide ksb) {
-    sb_wide zero = sb_w_set(0), one = sb_w_set(1);
-    sb_wide lambda = sb_w_mul(sb_w_set((sb_real)0.5),
-                              sb_w_add(ka, sb_w_sqrt(sb_w_madd(ka, ka, sb_w_mul(sb_w_set(4), sb_w_mul(ksb, ksb))))));
-    sb_wide coupled = sb_w_pick_greater(sb_w_abs(ksb), zero, one, zero);
-    sb_wide p = sb_w_pick_greater(coupled, zero, ksb, one), q = sb_w_mul(coupled, sb_w_sub(lambda, ka));
-    sb_wide norm = sb_w_sqrt(sb_w_madd(p, p, sb_w_mul(q, q)));
-    return (sb_wcorner_k){ka, ksb, lambda, sb_w_div(p, norm), sb_w_div(q, norm)};
-}
 
 /* p at the far end of a corner's edge a (b its other edge): F_p = −(g ∇_a c
  * + h â), ∇_a c = (b̂ − c â)/A, and the block λ w wᵀ, w = p ∇_a c + q â. */
@@ -454,7 +476,8 @@ static inline void sb_vbd_triangle_share(sb_vbd_lanes* l, size_t at) {
     sb_wedge rp = sb_vbd_edge(xr, l->x, sb_w_load(e->len0[2] + at), &alive);
     sb_wide ka = sb_w_load(e->k_angle + at), ksb = sb_w_load(e->k_sb + at);
     sb_vbd_lose(l, alive, sb_w_add(sb_w_abs(ka), sb_w_abs(ksb)));
-    sb_wcorner_k k = sb_vbd_corner_k(sb_w_mul(ka, alive), sb_w_mul(ksb, alive));
+    sb_wcorner_k k = {sb_w_mul(ka, alive), sb_w_mul(ksb, alive), sb_w_mul(sb_w_load(e->lambda + at), alive),
+                      sb_w_load(e->gn_p + at), sb_w_load(e->gn_q + at)};
     sb_vbd_corner_apex(l, pq, sb_wedge_reversed(rp), sb_w_load(e->cos0[0] + at), &k);
     sb_vbd_corner_end(l, sb_wedge_reversed(pq), qr, sb_w_load(e->cos0[1] + at), &k);
     sb_vbd_corner_end(l, rp, sb_wedge_reversed(qr), sb_w_load(e->cos0[2] + at), &k);
@@ -481,15 +504,18 @@ static inline void sb_vbd_hinge_share(sb_vbd_lanes* l, size_t at) {
                               sb_w_set(SB_REAL_MIN));
     sb_wide alive = sb_w_mul(sb_w_pick_greater(n0_sq, limit, sb_w_set(1), sb_w_set(0)),
                              sb_w_pick_greater(n1_sq, limit, sb_w_set(1), sb_w_set(0)));
-    sb_wide length = sb_w_sqrt(edge_sq);
-    sb_wide inv_length = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(sb_w_set(1), length), sb_w_set(0));
+    sb_wide inv_length = sb_w_pick_greater(alive, sb_w_set(0), sb_w_rsqrt(edge_sq), sb_w_set(0));
+    sb_wide length = sb_w_mul(edge_sq, inv_length);
     sb_wide sine = sb_w_mul(sb_wv_dot(sb_wv_cross(n0, n1), edge), inv_length);
-    sb_wide delta = sb_w_angle_delta(sine, sb_wv_dot(n0, n1), sb_w_load(e->phi0 + at));
+    /* φ − φ0 as the angle of (cos φ, sin φ) turned back by φ0: atan2 gives it in (−π, π] */
+    sb_wide cosine = sb_wv_dot(n0, n1), c0 = sb_w_load(e->cos0 + at), s0 = sb_w_load(e->sin0 + at);
+    sb_wide delta =
+        sb_w_atan2(sb_w_sub(sb_w_mul(sine, c0), sb_w_mul(cosine, s0)), sb_w_madd(cosine, c0, sb_w_mul(sine, s0)));
     sb_wvec3 unit = sb_wv_scale(edge, inv_length);
     sb_wide alpha = sb_w_madd(opposite, length, sb_w_mul(edge_end, sb_wv_dot(sb_wv_sub(p[2], p[1]), unit)));
     sb_wide beta = sb_w_mul(edge_end, sb_wv_dot(sb_wv_sub(p[3], p[1]), unit));
-    sb_wide w0 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(alpha, n0_sq), sb_w_set(0));
-    sb_wide w1 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_div(beta, n1_sq), sb_w_set(0));
+    sb_wide w0 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_mul(alpha, sb_w_recip(n0_sq)), sb_w_set(0));
+    sb_wide w1 = sb_w_pick_greater(alive, sb_w_set(0), sb_w_mul(beta, sb_w_recip(n1_sq)), sb_w_set(0));
     sb_wvec3 u = sb_wv_add(sb_wv_scale(n0, w0), sb_wv_scale(n1, w1));
     sb_wide k = sb_w_load(e->k + at);
     sb_vbd_lose(l, alive, k);
@@ -500,15 +526,16 @@ static inline void sb_vbd_hinge_share(sb_vbd_lanes* l, size_t at) {
 /* Solves h d = r by Cholesky per lane; d = 0 where h is not positive definite. */
 static inline sb_wvec3 sb_ws_solve(const sb_wsym3* h, sb_wvec3 r) {
     sb_wide zero = sb_w_set(0), one = sb_w_set(1);
-    sb_wide l00 = sb_w_sqrt(h->xx);
-    sb_wide l10 = sb_w_div(h->xy, l00), l20 = sb_w_div(h->xz, l00);
-    sb_wide t11 = sb_w_sub(h->yy, sb_w_mul(l10, l10)), l11 = sb_w_sqrt(t11);
-    sb_wide l21 = sb_w_div(sb_w_sub(h->yz, sb_w_mul(l20, l10)), l11);
-    sb_wide t22 = sb_w_sub(sb_w_sub(h->zz, sb_w_mul(l20, l20)), sb_w_mul(l21, l21)), l22 = sb_w_sqrt(t22);
-    sb_wide z0 = sb_w_div(r.x, l00), z1 = sb_w_div(sb_w_sub(r.y, sb_w_mul(l10, z0)), l11);
-    sb_wide z2 = sb_w_div(sb_w_sub(sb_w_sub(r.z, sb_w_mul(l20, z0)), sb_w_mul(l21, z1)), l22);
-    sb_wide d2 = sb_w_div(z2, l22), d1 = sb_w_div(sb_w_sub(z1, sb_w_mul(l21, d2)), l11);
-    sb_wide d0 = sb_w_div(sb_w_sub(sb_w_sub(z0, sb_w_mul(l10, d1)), sb_w_mul(l20, d2)), l00);
+    /* the pivots' inverse square roots (i = 1/l): multiplications, not divisions */
+    sb_wide i00 = sb_w_rsqrt(h->xx);
+    sb_wide l10 = sb_w_mul(h->xy, i00), l20 = sb_w_mul(h->xz, i00);
+    sb_wide t11 = sb_w_sub(h->yy, sb_w_mul(l10, l10)), i11 = sb_w_rsqrt(t11);
+    sb_wide l21 = sb_w_mul(sb_w_sub(h->yz, sb_w_mul(l20, l10)), i11);
+    sb_wide t22 = sb_w_sub(sb_w_sub(h->zz, sb_w_mul(l20, l20)), sb_w_mul(l21, l21)), i22 = sb_w_rsqrt(t22);
+    sb_wide z0 = sb_w_mul(r.x, i00), z1 = sb_w_mul(sb_w_sub(r.y, sb_w_mul(l10, z0)), i11);
+    sb_wide z2 = sb_w_mul(sb_w_sub(sb_w_sub(r.z, sb_w_mul(l20, z0)), sb_w_mul(l21, z1)), i22);
+    sb_wide d2 = sb_w_mul(z2, i22), d1 = sb_w_mul(sb_w_sub(z1, sb_w_mul(l21, d2)), i11);
+    sb_wide d0 = sb_w_mul(sb_w_sub(sb_w_sub(z0, sb_w_mul(l10, d1)), sb_w_mul(l20, d2)), i00);
     /* comparisons with NaN are false: a lane that took a root of a negative is not definite */
     sb_wide definite = sb_w_pick_greater(
         h->xx, zero, sb_w_pick_greater(t11, zero, sb_w_pick_greater(t22, zero, one, zero), zero), zero);

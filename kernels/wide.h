@@ -51,6 +51,11 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
     __m512 t = _mm512_mul_ps(_mm512_mul_ps(a, y), y);
     return _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(0.5f), y), _mm512_sub_ps(_mm512_set1_ps(3.0f), t));
 }
+/* 1/a: 14-bit estimate, one Newton step (~1 ulp), without a division */
+static inline sb_wide sb_w_recip(sb_wide a) {
+    __m512 y = _mm512_rcp14_ps(a);
+    return _mm512_fmadd_ps(y, _mm512_fnmadd_ps(a, y, _mm512_set1_ps(1.0f)), y);
+}
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_ps_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_ps(sb_w_lanes(count), v); }
@@ -92,6 +97,12 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
     }
     return y;
 }
+/* 1/a: 14-bit estimate, two Newton steps */
+static inline sb_wide sb_w_recip(sb_wide a) {
+    __m512d y = _mm512_rcp14_pd(a);
+    for (int step = 0; step < 2; step++) y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(a, y, _mm512_set1_pd(1.0)), y);
+    return y;
+}
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return _mm512_cmp_pd_mask(a, b, _CMP_NGE_UQ); }
 static inline bool sb_w_any(sb_wmask m, int count) { return (m & sb_w_lanes(count)) != 0; }
 static inline double sb_w_sum(sb_wide v, int count) { return _mm512_mask_reduce_add_pd(sb_w_lanes(count), v); }
@@ -123,6 +134,7 @@ static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return _mm256_mul_pd(a, b
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return _mm256_div_pd(a, b); }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return _mm256_sqrt_pd(a); }
 static inline sb_wide sb_w_rsqrt(sb_wide a) { return _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(a)); }
+static inline sb_wide sb_w_recip(sb_wide a) { return _mm256_div_pd(_mm256_set1_pd(1.0), a); }
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_NGE_UQ)); }
 static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm256_min_pd(a, b); }
 static inline sb_wide sb_w_max(sb_wide a, sb_wide b) { return _mm256_max_pd(a, b); }
@@ -150,6 +162,11 @@ static inline sb_wide sb_w_rsqrt(sb_wide a) {
     __m256 y = _mm256_rsqrt_ps(a);
     __m256 t = _mm256_mul_ps(_mm256_mul_ps(a, y), y);
     return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), y), _mm256_sub_ps(_mm256_set1_ps(3.0f), t));
+}
+/* 1/a: 12-bit estimate, one Newton step: ~23 bits */
+static inline sb_wide sb_w_recip(sb_wide a) {
+    __m256 y = _mm256_rcp_ps(a);
+    return _mm256_add_ps(y, _mm256_mul_ps(y, _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(a, y))));
 }
 static inline int sb_w_less(sb_wide a, sb_wide b) { return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGE_UQ)); }
 static inline sb_wide sb_w_min(sb_wide a, sb_wide b) { return _mm256_min_ps(a, b); }
@@ -196,6 +213,7 @@ static inline sb_wide sb_w_mul(sb_wide a, sb_wide b) { return a * b; }
 static inline sb_wide sb_w_div(sb_wide a, sb_wide b) { return a / b; }
 static inline sb_wide sb_w_sqrt(sb_wide a) { return (sb_wide)sqrt(a); }
 static inline sb_wide sb_w_rsqrt(sb_wide a) { return (sb_wide)(1.0 / sqrt(a)); }
+static inline sb_wide sb_w_recip(sb_wide a) { return (sb_wide)1 / a; }
 static inline sb_wmask sb_w_less(sb_wide a, sb_wide b) { return !(a >= b); }
 static inline bool sb_w_any(sb_wmask m, int count) { return m && count; }
 static inline double sb_w_sum(sb_wide v, int count) { return count ? v : 0.0; }

@@ -1,6 +1,7 @@
 /* kernels/wide.h's vector atan2 against libm's atan2 (in double, of the same
- * sb_real arguments) over the whole circle, in every lane; its spread of one
- * real a vertex over the packed x y z w lanes. */
+ * sb_real arguments) over the whole circle, in every lane; its reciprocal
+ * and inverse square root (estimates refined by Newton steps) against
+ * double's; its spread of one real a vertex over the packed x y z w lanes. */
 #include "test_util.h"
 
 #include "kernels/wide.h"
@@ -113,12 +114,38 @@ static void test_spread_over_packed_lanes(void** state) {
     }
 }
 
+/* sb_w_recip and sb_w_rsqrt within 2 units of sb_real's epsilon of 1/a
+ * and 1/sqrt(a) (computed in double) for a over 1e-30 to 1e30, every lane
+ * (recip also of −a). */
+static void test_reciprocals(void** state) {
+    (void)state;
+    const double eps = sizeof(sb_real) == sizeof(float) ? FLT_EPSILON : DBL_EPSILON;
+    double worst_recip = 0.0, worst_rsqrt = 0.0;
+    enum { count = 4096 };
+    for (int i = 0; i < count; i += SB_WIDTH) {
+        sb_real a[SB_WIDTH], recip[SB_WIDTH], negative[SB_WIDTH], rsqrt[SB_WIDTH];
+        for (int l = 0; l < SB_WIDTH; l++) a[l] = (sb_real)pow(10.0, -30.0 + 60.0 * (i + l) / (count - 1.0));
+        sb_wide w = sb_w_load(a);
+        sb_w_store(recip, sb_w_recip(w));
+        sb_w_store(negative, sb_w_recip(sb_w_sub(sb_w_set(0), w)));
+        sb_w_store(rsqrt, sb_w_rsqrt(w));
+        for (int l = 0; l < SB_WIDTH; l++) {
+            double x = a[l];
+            worst_recip = fmax(worst_recip, fabs(recip[l] * x - 1.0));
+            worst_recip = fmax(worst_recip, fabs(negative[l] * x + 1.0));
+            worst_rsqrt = fmax(worst_rsqrt, fabs(rsqrt[l] * sqrt(x) - 1.0));
+        }
+    }
+    print_message("recip %.3g, rsqrt %.3g of epsilon\n", worst_recip / eps, worst_rsqrt / eps);
+    TU_ASSERT_LE(worst_recip, 2 * eps);
+    TU_ASSERT_LE(worst_rsqrt, 2 * eps);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_whole_circle),
-        cmocka_unit_test(test_branch_edges),
-        cmocka_unit_test(test_axes_and_zeros),
-        cmocka_unit_test(test_spread_over_packed_lanes),
+        cmocka_unit_test(test_whole_circle),   cmocka_unit_test(test_branch_edges),
+        cmocka_unit_test(test_axes_and_zeros), cmocka_unit_test(test_spread_over_packed_lanes),
+        cmocka_unit_test(test_reciprocals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
