@@ -5,7 +5,9 @@
 #      with implicit.solver cholesky and cg, on 1 and 2 threads;
 #   2. vbd at dt = 1 ms (the haptic rate) on sheets of 3 249 and 10 000
 #      vertices, beside the Verlet sub-step that the same sheet needs, with
-#      the reference sweeps (double, scalar) and the fast ones (kernels/fast_vbd.c);
+#      the reference sweeps (double, scalar) and the fast ones (kernels/fast_vbd.c),
+#      with the default material and with it softened to where Verlet needs
+#      10 sub-steps per 1 ms (issue 16's threshold);
 #   3. vbd (fast) on the 100k sheet at 10 x Verlet's largest stable step,
 #      against a Verlet step, and both runs' error against a fine Verlet run.
 # A step's time is the difference of two runs (2 and 2 + N steps) divided
@@ -13,20 +15,23 @@
 # not counted; each run's time is the least of REPEATS runs (wall and CPU
 # apart). Writes bench/results/implicit.md.
 #
-#   bench/implicit.sh [--quick] [--implicit-fast]
+#   bench/implicit.sh [--quick] [--implicit-fast] [--vbd]
 # --implicit-fast: only section 4 (implicit_euler on the fast kernels, the
 # 100k sheet), printed, bench/results/implicit.md left as it is.
+# --vbd: only section 2 (vbd at dt = 1 ms), printed, the file left as it is.
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$ROOT/build
 OUT=$ROOT/bench/results/implicit.md
 QUICK=0
 IMPLICIT_FAST_ONLY=0
+VBD_ONLY=0
 for arg in "$@"; do
     case $arg in
     --quick) QUICK=1 ;;
     --implicit-fast) IMPLICIT_FAST_ONLY=1 ;;
-    *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast)" >&2 && exit 2 ;;
+    --vbd) VBD_ONLY=1 ;;
+    *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast, --vbd)" >&2 && exit 2 ;;
     esac
 done
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -86,19 +91,21 @@ verlet_substeps_of() {
 verlet_substeps() { verlet_substeps_of "1 2 5 10 20 40 80" "$@"; }
 
 # One vbd row on an n x n sheet: kernels, sweeps, timed steps, Chebyshev's
-# rho (0: none). With N = 98 the long run of per_step is the 0.1 s
-# stability run itself.
+# rho (0: none), the material's stiffness scale (1: the default's; the
+# rest: --set options of that material). With N = 98 the long run of
+# per_step is the 0.1 s stability run itself.
 vbd_row() {
-    n=$1 kernels=$2 sweeps=$3 steps=$4 rho=${5:-0}
-    set -- --set integrator=vbd --set vbd.iterations="$sweeps" --set vbd.chebyshev_rho="$rho" \
+    n=$1 kernels=$2 sweeps=$3 steps=$4 rho=${5:-0} row_scale=${6:-1}
+    shift $(($# < 6 ? $# : 6))
+    set -- "$@" --set integrator=vbd --set vbd.iterations="$sweeps" --set vbd.chebyshev_rho="$rho" \
         --set kernels="$kernels" --set mesh.nx="$n" --set mesh.ny="$n" --threads 2
     if t=$(per_step 0.001 "$steps" "$@" 2>/dev/null); then
         finite=$(tail -1 "$TMP/out/log.csv" | awk -F, '{ print ($9 == $9 + 0) ? "yes" : "no" }')
         [ "$steps" -eq 98 ] && ran="0.1 s" || ran="$((steps + 2)) steps"
         [ "$kernels" = fast ] && long=$(vbd_survival "$@") || long="-"
-        echo "| $n x $n | $((n * n)) | $sub | $kernels | $sweeps | $rho | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
     else
-        echo "| $n x $n | $((n * n)) | $sub | $kernels | $sweeps | $rho | - | - | failed within 0.1 s | - |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | - | - | failed within 0.1 s | - |"
     fi
 }
 
@@ -149,6 +156,78 @@ verlet_largest_step() {
         fi
     done
     echo "none"
+}
+
+# The default scene's stiffnesses times $1 (bond, angle, spring, hinge; its
+# stretch-bend is 0), and its spring damping times sqrt($1): the same
+# damping ratio. (Unscaled, the damping alone holds Verlet on the 100 x 100
+# sheet to 20 sub-steps per 1 ms however soft the sheet: at 1/16 of the
+# stiffness it ran 0.1 s at dt = 0.1 ms with 0.0125 N s/m and not with 0.05.)
+softened() {
+    awk -v s="$1" 'BEGIN { printf "--set bond.k=%.6g --set angle.k=%.6g --set spring.k=%.6g --set bend.k=%.6g --set spring.damping=%.6g\n", 1000 * s, 0.5 * s, 100 * s, 0.0005 * s, 0.05 * sqrt(s) }'
+}
+
+# The stiffest scale of the default material (2^(-k/4), k = 0 .. 20) at
+# which Verlet runs an n x n sheet 0.1 s with 10 sub-steps per 1 ms.
+STIFFNESS_LADDER="1 0.841 0.707 0.595 0.5 0.42 0.354 0.297 0.25 0.21 0.177 0.149 0.125 0.105 0.088 0.0743 0.0625
+ 0.0526 0.0442 0.0372 0.03125"
+threshold_scale() {
+    for s in $STIFFNESS_LADDER; do
+        # shellcheck disable=SC2046
+        if "$SB" run "$SCENE" --set output.frames=false --output "$TMP/out" --set duration=0.1 --set frame_interval=0.1 \
+            --set dt=0.0001 --set mesh.nx="$1" --set mesh.ny="$1" $(softened "$s") >/dev/null 2>&1; then
+            echo "$s"
+            return
+        fi
+    done
+    echo none
+}
+
+# Section 2: vbd at dt = 1 ms on the 57 x 57 and 100 x 100 sheets, with the
+# default material and softened to Verlet's threshold of 10 sub-steps.
+vbd_section() {
+    echo "## vbd at dt = 1 ms, the default scene's material, 2 threads"
+    echo
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|---|---|"
+    for n in 57 100; do
+        sub=$(verlet_substeps --set mesh.nx=$n --set mesh.ny=$n)
+        for sweeps in 10 4; do vbd_row $n reference $sweeps $VBD_STEPS; done
+        for sweeps in 10 4 2 1; do vbd_row $n fast $sweeps 98; done
+        [ $n = 57 ] && accelerated="4 8" || accelerated="12 16"
+        for sweeps in $accelerated; do vbd_row $n fast $sweeps 98 0.9; done
+    done
+    echo
+    echo "Verlet sub-steps: the fewest of 1, 2, 5, 10, 20, 40, 80 per 1 ms that ran 0.1 s without a"
+    echo "vertex running away. Reference rows: 2 + $VBD_STEPS steps timed (the double sweeps of"
+    echo "kernels/vbd.c); fast rows (kernels/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
+    echo "after it finite. 2 s run: the same settings for 2 s, and the most the total energy rose above"
+    echo "its start (the sheet falls about 1 J: a rise is stretch the sweeps stored), or where a vertex"
+    echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off. Stiffness scale 1: the"
+    echo "default material. Target: vbd stable at 1 ms where Verlet needs >= 10, below 1 ms a step."
+    echo
+    echo "### At Verlet's threshold: the material softened until Verlet needs 10 sub-steps per 1 ms"
+    echo
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|---|---|"
+    for n in 57 100; do
+        scale=$(threshold_scale "$n")
+        [ "$scale" = none ] && echo "| $n x $n | $((n * n)) | none | - | fast | - | - | - | - | Verlet ran away at 10 sub-steps on the whole ladder | - |" &&
+            continue
+        # shellcheck disable=SC2046
+        sub=$(verlet_substeps_of "5 6 7 8 9 10 20" --set mesh.nx="$n" --set mesh.ny="$n" $(softened "$scale"))
+        [ "$n" = 57 ] && accelerated="3 4" || accelerated="4 5 6"
+        # shellcheck disable=SC2046
+        for sweeps in 4 2 1; do vbd_row "$n" fast "$sweeps" 98 0 "$scale" $(softened "$scale"); done
+        # shellcheck disable=SC2046
+        for sweeps in $accelerated; do vbd_row "$n" fast "$sweeps" 98 0.9 "$scale" $(softened "$scale"); done
+    done
+    echo
+    echo "Stiffness scale s: the stiffest of 2^(-k/4), k = 0 .. 20, at which Verlet ran the sheet 0.1 s"
+    echo "with 10 sub-steps per 1 ms; bond, angle, spring and hinge constants times s, the spring's"
+    echo "damping times sqrt(s) (the same damping ratio: unscaled, the damping alone holds the 100 x 100"
+    echo "sheet's Verlet to 20 sub-steps). Verlet sub-steps: the fewest of 5, 6, 7, 8, 9, 10, 20 that"
+    echo "ran 0.1 s. The rest as above."
 }
 
 # ---- implicit_euler on the fast kernels, 100k sheet (issue 16) ----------
@@ -240,6 +319,13 @@ DEFAULT_REPEATS=3
 VBD_STEPS=20
 IMPLICIT_FAST_STEPS=10
 [ $QUICK -eq 1 ] && STEPS=10 && DEFAULT_REPEATS=1 && VBD_STEPS=4 && IMPLICIT_FAST_STEPS=2
+if [ $VBD_ONLY -eq 1 ]; then
+    echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$ROOT" rev-parse --short HEAD)," \
+        "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start."
+    echo
+    vbd_section
+    exit 0
+fi
 if [ $IMPLICIT_FAST_ONLY -eq 1 ]; then
     echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$ROOT" rev-parse --short HEAD)," \
         "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start."
@@ -272,26 +358,7 @@ fi
     echo
     echo "Newton, CG and unconverged: the whole run of 2 + $STEPS steps. Target: <= 10 ms a step."
     echo
-    echo "## vbd at dt = 1 ms, the default scene's material, 2 threads"
-    echo
-    echo "| sheet | vertices | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | wall ms/step | CPU ms/step | run | 2 s run |"
-    echo "|---|--:|--:|---|--:|--:|--:|--:|---|---|"
-    for n in 57 100; do
-        sub=$(verlet_substeps --set mesh.nx=$n --set mesh.ny=$n)
-        for sweeps in 10 4; do vbd_row $n reference $sweeps $VBD_STEPS; done
-        for sweeps in 10 4 2 1; do vbd_row $n fast $sweeps 98; done
-        [ $n = 57 ] && accelerated="4 8" || accelerated="12 16"
-        for sweeps in $accelerated; do vbd_row $n fast $sweeps 98 0.9; done
-    done
-    echo
-    echo "Verlet sub-steps: the fewest of 1, 2, 5, 10, 20, 40, 80 per 1 ms that ran 0.1 s without a"
-    echo "vertex running away. Reference rows: 2 + $VBD_STEPS steps timed (the double sweeps of"
-    echo "kernels/vbd.c); fast rows (kernels/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
-    echo "after it finite. 2 s run: the same settings for 2 s, and the most the total energy rose above"
-    echo "its start (the sheet falls about 1 J: a rise is stretch the sweeps stored), or where a vertex"
-    echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off."
-    echo "Target: vbd stable at 1 ms where Verlet needs >= 10, below 1 ms a step."
-    echo
+    vbd_section
     T100K=0.02
     dt_v=$(verlet_largest_step)
     echo "## vbd at 10 x Verlet's largest stable step, 317 x 317 sheet (100 489 vertices), 2 threads"
