@@ -15,10 +15,14 @@
 # not counted; each run's time is the least of REPEATS runs (wall and CPU
 # apart). Writes bench/results/implicit.md.
 #
-#   bench/implicit.sh [--quick] [--implicit-fast] [--vbd]
+#   [SOFTBOND=program] bench/implicit.sh [--quick] [--implicit-fast] [--vbd] [--default-scene]
 # --implicit-fast: only section 4 (implicit_euler on the fast kernels, the
 # 100k sheet), printed, bench/results/implicit.md left as it is.
 # --vbd: only section 2 (vbd at dt = 1 ms), printed, the file left as it is.
+# --default-scene: only section 1 (implicit_euler on the default scene),
+# printed, the file left as it is.
+# SOFTBOND: time that program instead of building this tree's (an A/B of two
+# builds, alternating, in the same minutes).
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$ROOT/build
@@ -26,17 +30,23 @@ OUT=$ROOT/bench/results/implicit.md
 QUICK=0
 IMPLICIT_FAST_ONLY=0
 VBD_ONLY=0
+DEFAULT_ONLY=0
 for arg in "$@"; do
     case $arg in
     --quick) QUICK=1 ;;
     --implicit-fast) IMPLICIT_FAST_ONLY=1 ;;
     --vbd) VBD_ONLY=1 ;;
-    *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast, --vbd)" >&2 && exit 2 ;;
+    --default-scene) DEFAULT_ONLY=1 ;;
+    *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast, --vbd, --default-scene)" >&2 && exit 2 ;;
     esac
 done
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD" -j "$(nproc)" --target softbond_cli >/dev/null
-SB=$BUILD/softbond
+if [ -n "${SOFTBOND:-}" ]; then
+    SB=$SOFTBOND
+else
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$BUILD" -j "$(nproc)" --target softbond_cli >/dev/null
+    SB=$BUILD/softbond
+fi
 SCENE=$ROOT/scenes/default.yaml
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
@@ -311,6 +321,27 @@ implicit_fast_section() {
     echo "10 x a Verlet step per step (x Verlet step <= 10)."
 }
 
+# ---- implicit_euler on the default scene (issue 16) ----------------------
+default_scene_section() {
+    echo "## implicit_euler, default scene (30 x 30 = 900 vertices), dt = 10 ms, $STEPS steps"
+    echo
+    echo "Each of the two runs timed $DEFAULT_REPEATS times, the least wall and the least CPU time kept."
+    echo
+    echo "| solver | threads | wall ms/step | CPU ms/step | Newton | CG | unconverged |"
+    echo "|---|--:|--:|--:|--:|--:|--:|"
+    for solver in cholesky cg; do
+        for threads in 1 2; do
+            t=$(REPEATS=$DEFAULT_REPEATS per_step 0.01 $STEPS --set integrator=implicit_euler --set implicit.solver=$solver --threads $threads)
+            w=$(solver_work)
+            echo "| $solver | $threads | ${t% *} | ${t#* } | $(echo "$w" | awk '{print $1}') |" \
+                "$(echo "$w" | awk '{print $2}') | $(echo "$w" | awk '{print $3}') |"
+        done
+    done
+    echo
+    echo "Newton, CG and unconverged: the whole run of 2 + $STEPS steps. Target: <= 10 ms a step."
+    echo
+}
+
 # The default scene's rows: 100 steps, the least of 3 runs each (20 steps
 # of one run read 27.5 ms a step where whole runs said 16: /usr/bin/time's
 # 10 ms resolution and the shared machine's noise over a 0.4 s difference).
@@ -319,6 +350,13 @@ DEFAULT_REPEATS=3
 VBD_STEPS=20
 IMPLICIT_FAST_STEPS=10
 [ $QUICK -eq 1 ] && STEPS=10 && DEFAULT_REPEATS=1 && VBD_STEPS=4 && IMPLICIT_FAST_STEPS=2
+if [ $DEFAULT_ONLY -eq 1 ]; then
+    echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$ROOT" rev-parse --short HEAD)," \
+        "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start."
+    echo
+    default_scene_section
+    exit 0
+fi
 if [ $VBD_ONLY -eq 1 ]; then
     echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$ROOT" rev-parse --short HEAD)," \
         "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start."
@@ -341,23 +379,7 @@ fi
     echo "A step's time: two runs of 2 and 2 + N steps, the difference over N (set-up not counted);"
     echo "wall clock and CPU (user + system, all threads)."
     echo
-    echo "## implicit_euler, default scene (30 x 30 = 900 vertices), dt = 10 ms, $STEPS steps"
-    echo
-    echo "Each of the two runs timed $DEFAULT_REPEATS times, the least wall and the least CPU time kept."
-    echo
-    echo "| solver | threads | wall ms/step | CPU ms/step | Newton | CG | unconverged |"
-    echo "|---|--:|--:|--:|--:|--:|--:|"
-    for solver in cholesky cg; do
-        for threads in 1 2; do
-            t=$(REPEATS=$DEFAULT_REPEATS per_step 0.01 $STEPS --set integrator=implicit_euler --set implicit.solver=$solver --threads $threads)
-            w=$(solver_work)
-            echo "| $solver | $threads | ${t% *} | ${t#* } | $(echo "$w" | awk '{print $1}') |" \
-                "$(echo "$w" | awk '{print $2}') | $(echo "$w" | awk '{print $3}') |"
-        done
-    done
-    echo
-    echo "Newton, CG and unconverged: the whole run of 2 + $STEPS steps. Target: <= 10 ms a step."
-    echo
+    default_scene_section
     vbd_section
     T100K=0.02
     dt_v=$(verlet_largest_step)

@@ -1,4 +1,6 @@
-/* CHOLMOD's supernodal Cholesky on the block matrix (kernels/sparse_cholesky.h).
+/* A supernodal Cholesky factorization of the block matrix
+ * (kernels/sparse_cholesky.h): CHOLMOD's ordering, analysis and solve, the
+ * numeric factorization here on CHOLMOD's supernodal pattern.
  *
  * The matrix's lower triangle in compressed columns (scalar column 3 i + c
  * holds, for each block (i, j) of block row i with j ≥ i, the rows 3 j + r,
@@ -6,10 +8,23 @@
  * block(i, j)[3 c + r] by symmetry) gives AMD's ordering P. CHOLMOD then
  * gets P A Pᵀ itself, as its upper triangle, analysed in its own order:
  * given A with P it permutes A at every factorization (two passes of
- * cholmod_transpose_sym: 3.2 % of the default scene's run at dt = 10 ms,
- * 1.0 % for the one pass left). Each entry keeps the index of its value in
- * the block matrix and its row and column in A; a solve permutes the
- * right-hand side and the solution. */
+ * cholmod_transpose_sym: 3.2 % of the default scene's run at dt = 10 ms;
+ * cholmod_factorize still transposed the upper triangle once, 1.0 %, which
+ * the factorization here does not: each entry goes straight to its place in
+ * the factor). Each entry keeps the index of its value in
+ * the block matrix, its row and column in A and its place in the factor's
+ * values; a solve permutes the right-hand side and the solution.
+ *
+ * The numeric factorization (sb_factor_supernodes) is cholmod_super_numeric's
+ * left-looking supernodal algorithm on the same pattern and BLAS calls,
+ * without its OpenMP regions: Debian's CHOLMOD opens a few for every
+ * supernode and every update between two (clearing maps, assembling), each
+ * ending in a futex system call even on one thread (1 140 a step on the
+ * default scene at dt = 10 ms), and allocates its workspace per call. On the
+ * default scene at dt = 10 ms a factorization took 3.4 ms of CPU with
+ * cholmod_factorize and more amalgamated supernodes (to open fewer
+ * regions), 1.8-1.9 ms here with CHOLMOD's default amalgamation, the same
+ * Newton iterations; it allocates nothing. */
 #include "kernels/sparse_cholesky.h"
 
 #include <omp.h>
@@ -19,10 +34,11 @@
 
 /* Debian's CHOLMOD runs a few short loops (clearing its maps, zeroing a
  * supernode) on four OpenMP threads of its own. Beside the solver's team on
- * a small machine they cost a fifth more CPU than they save, and they would
- * make the result's threads the runtime's, not the solver's: a call runs
- * with OpenMP's active levels at 0, so its parallel loops run on the calling
- * thread (the setting is libgomp's global; it is restored after the call). */
+ * a small machine they cost more CPU than they save, and they would make
+ * the result's threads the runtime's, not the solver's: a call to CHOLMOD
+ * (the analysis, a solve) runs with OpenMP's active levels at 0, so its
+ * parallel loops run on the calling thread (the setting is libgomp's
+ * global; it is restored after the call). */
 typedef struct sb_serial_openmp {
     int saved;
 } sb_serial_openmp;
@@ -35,28 +51,19 @@ static sb_serial_openmp sb_openmp_serial_begin(void) {
 
 static void sb_openmp_serial_end(sb_serial_openmp state) { omp_set_max_active_levels(state.saved); }
 
-/* Fewer, larger supernodes than CHOLMOD's default relaxation (nrelax 4, 16,
- * 48; zrelax 0.8, 0.1, 0.05) allows: each supernode costs a few OpenMP
- * regions, and Debian's libgomp ends even a serial one with a futex system
- * call (4 200 a step on the default scene at dt = 10 ms, a fifth of the
- * step's time on this virtual machine), besides BLAS calls on small blocks.
- * Amalgamating more, at the price of some explicit zeros, took a factored
- * step 15-20 % less CPU on the 30 x 30 sheet and 7 % on the 100 x 100. */
-static void sb_relax_supernodes(cholmod_common* common) {
-    const size_t columns[3] = {16, 48, 128};
-    const double zeros[3] = {0.8, 0.2, 0.1};
-    for (int q = 0; q < 3; q++) common->nrelax[q] = columns[q], common->zrelax[q] = zeros[q];
-}
-
 struct sb_sparse_cholesky {
     cholmod_common common;
     cholmod_sparse* a; /* P A Pᵀ, upper triangle */
     cholmod_factor* factor;
     size_t* source;           /* per entry of a: its value's index in the block matrix's values */
     int *row, *column;        /* per entry of a: its row and column in A */
+    size_t* target;           /* per entry of a: its place in the factor's values (the lower triangle's) */
     int* order;               /* P: row k of a is row order[k] of A */
     double* b;                /* P rhs */
     cholmod_dense *x, *y, *e; /* cholmod_solve2's solution and workspaces, kept */
+    /* the numeric factorization's workspace (sb_factor_supernodes), sized by the analysis */
+    int *map, *relative, *super_of, *head, *next, *position;
+    double* update;
 };
 
 /* The lower triangle's entries column by column: counts them, and where p
@@ -79,8 +86,11 @@ static size_t sb_lower_pattern(const sb_block_matrix* a, int* p, int* row, size_
 static void sb_cholesky_free_matrices(sb_sparse_cholesky* f) {
     cholmod_free_sparse(&f->a, &f->common);
     cholmod_free_factor(&f->factor, &f->common);
-    free(f->source), free(f->row), free(f->column), free(f->order), free(f->b);
-    f->source = NULL, f->row = f->column = f->order = NULL, f->b = NULL;
+    free(f->source), free(f->row), free(f->column), free(f->target), free(f->order), free(f->b);
+    f->source = NULL, f->row = f->column = f->order = NULL, f->b = NULL, f->target = NULL;
+    free(f->map), free(f->relative), free(f->super_of), free(f->head), free(f->next), free(f->position);
+    free(f->update);
+    f->map = f->relative = f->super_of = f->head = f->next = f->position = NULL, f->update = NULL;
 }
 
 /* A placeholder of the identity's values on the pattern. */
@@ -135,6 +145,58 @@ static void sb_permute_upper(sb_sparse_cholesky* f, const cholmod_sparse* lower,
         }
 }
 
+/* The numeric factorization's plan on CHOLMOD's supernodal pattern: each
+ * column's supernode, the workspace, and where each entry of a goes in the
+ * factor's values (entry (r, c), r ≤ c, of P A Pᵀ's upper triangle is
+ * (c, r) of the lower one: in r's supernode, column r, at c's row there).
+ * False when out of memory or the pattern is not the sorted one assumed. */
+static bool sb_map_supernodes(sb_sparse_cholesky* f) {
+    const cholmod_factor* L = f->factor;
+    const int *super = L->super, *pi = L->pi, *px = L->px, *ls = L->s;
+    size_t n = L->n, nsuper = L->nsuper, count = (size_t)((const int*)f->a->p)[f->a->ncol];
+    f->map = malloc((n ? n : 1) * sizeof *f->map);
+    f->relative = malloc((n ? n : 1) * sizeof *f->relative);
+    f->super_of = malloc((n ? n : 1) * sizeof *f->super_of);
+    f->head = malloc((nsuper ? nsuper : 1) * sizeof *f->head);
+    f->next = malloc((nsuper ? nsuper : 1) * sizeof *f->next);
+    f->position = malloc((nsuper ? nsuper : 1) * sizeof *f->position);
+    f->update = malloc((L->maxcsize ? L->maxcsize : 1) * sizeof *f->update);
+    f->target = malloc((count ? count : 1) * sizeof *f->target);
+    if (!f->map || !f->relative || !f->super_of || !f->head || !f->next || !f->position || !f->update || !f->target)
+        return false;
+    for (size_t s = 0; s < nsuper; s++) {
+        int columns = super[s + 1] - super[s];
+        if (pi[s + 1] - pi[s] < columns) return false;
+        for (int k = pi[s]; k < pi[s + 1]; k++) /* the supernode's own columns first, then rows ascending */
+            if ((k < pi[s] + columns && ls[k] != super[s] + (k - pi[s])) || (k > pi[s] && ls[k] <= ls[k - 1]))
+                return false;
+        for (int col = super[s]; col < super[s + 1]; col++) f->super_of[col] = (int)s;
+    }
+    const int *ap = f->a->p, *ai = f->a->i;
+    for (size_t c = 0; c < n; c++)
+        for (int k = ap[c]; k < ap[c + 1]; k++) {
+            int r = ai[k], s = f->super_of[r], rows = pi[s + 1] - pi[s], lo = pi[s], hi = pi[s + 1];
+            while (lo < hi) { /* c among the rows of r's supernode */
+                int mid = lo + (hi - lo) / 2;
+                if (ls[mid] < (int)c)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            if (lo == pi[s + 1] || ls[lo] != (int)c) return false;
+            f->target[k] = (size_t)px[s] + (size_t)(r - super[s]) * (size_t)rows + (size_t)(lo - pi[s]);
+        }
+    return true;
+}
+
+/* f->x = (P A Pᵀ)⁻¹ f->b by the factor (the first call allocates f->x, y, e). */
+static bool sb_solve_permuted(sb_sparse_cholesky* f) {
+    size_t n = f->a->nrow;
+    cholmod_dense b = {
+        .nrow = n, .ncol = 1, .nzmax = n, .d = n, .x = f->b, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
+    return cholmod_solve2(CHOLMOD_A, f->factor, &b, NULL, &f->x, NULL, &f->y, &f->e, &f->common);
+}
+
 static bool sb_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
     sb_cholesky_free_matrices(f);
     size_t n = 3 * (size_t)a->rows, count = sb_lower_pattern(a, NULL, NULL, NULL);
@@ -162,7 +224,10 @@ static bool sb_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
     if (!f->factor) return false;
     /* the first numeric factorization allocates the factor's values: do it now */
     sb_fill_identity(f->a);
-    return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
+    if (!cholmod_factorize(f->a, f->factor, &f->common) || f->common.status != CHOLMOD_OK) return false;
+    if (!f->factor->is_super || !sb_map_supernodes(f)) return false;
+    memset(f->b, 0, n * sizeof *f->b); /* and the first solve its kept workspaces */
+    return sb_solve_permuted(f);
 }
 
 bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a) {
@@ -180,7 +245,6 @@ sb_sparse_cholesky* sb_sparse_cholesky_create(const sb_block_matrix* a) {
     f->common.error_handler = NULL;
     f->common.supernodal = CHOLMOD_SUPERNODAL;
     f->common.nmethods = 1;
-    sb_relax_supernodes(&f->common);
     if (!sb_sparse_cholesky_analyze(f, a)) {
         sb_sparse_cholesky_destroy(f);
         return NULL;
@@ -198,32 +262,101 @@ void sb_sparse_cholesky_destroy(sb_sparse_cholesky* f) {
     free(f);
 }
 
+/* BLAS and LAPACK (Fortran calling convention, string lengths last). */
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+            const int* lda, const double* beta, double* c, const int* ldc, size_t uplo_length, size_t trans_length);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
+            const int* ldc, size_t transa_length, size_t transb_length);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
+            const double* alpha, const double* a, const int* lda, double* b, const int* ldb, size_t side_length,
+            size_t uplo_length, size_t transa_length, size_t diag_length);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, size_t uplo_length);
+
+/* Supernode s's place in the list of the first supernode that its rows
+ * below position `from` reach (CHOLMOD's left-looking linked lists). */
+static void sb_link_supernode(sb_sparse_cholesky* f, int s, int from) {
+    const int *pi = f->factor->pi, *ls = f->factor->s;
+    f->position[s] = from;
+    if (pi[s] + from >= pi[s + 1]) return;
+    int ancestor = f->super_of[ls[pi[s] + from]];
+    f->next[s] = f->head[ancestor], f->head[ancestor] = s;
+}
+
+/* The left-looking supernodal Cholesky factorization of the values already
+ * in the factor (LLᵀ, lower, each supernode a dense column-major block of
+ * its rows × its columns, CHOLMOD's layout): supernode by supernode, the
+ * updates of every earlier supernode with rows in its columns (dsyrk and
+ * dgemm into the update matrix, subtracted through the row map), then
+ * dpotrf on its diagonal block and dtrsm below it. The same arithmetic as
+ * cholmod_super_numeric without its OpenMP regions, one thread; false when
+ * a diagonal block is not positive definite. */
+static bool sb_factor_supernodes(sb_sparse_cholesky* f) {
+    const cholmod_factor* L = f->factor;
+    const int *super = L->super, *pi = L->pi, *px = L->px, *ls = L->s;
+    double *lx = L->x, *c = f->update;
+    int nsuper = (int)L->nsuper;
+    const double one = 1.0, zero = 0.0;
+    for (int s = 0; s < nsuper; s++) f->head[s] = -1;
+    for (int s = 0; s < nsuper; s++) {
+        int k1 = super[s], k2 = super[s + 1], columns = k2 - k1, rows = pi[s + 1] - pi[s];
+        double* ls_x = lx + px[s];
+        for (int k = 0; k < rows; k++) f->map[ls[pi[s] + k]] = k;
+        for (int d = f->head[s], d_next; d != -1; d = d_next) {
+            d_next = f->next[d];
+            int d_columns = super[d + 1] - super[d], d_rows = pi[d + 1] - pi[d], first = pi[d] + f->position[d];
+            int end = first;
+            while (end < pi[d + 1] && ls[end] < k2) end++;
+            int rows1 = end - first, rows2 = pi[d + 1] - first, rows3 = rows2 - rows1;
+            const double* d_x = lx + px[d] + f->position[d];
+            /* c = L_d(rows, :) L_d(rows in s's columns, :)ᵀ, rows2 × rows1 */
+            dsyrk_("L", "N", &rows1, &d_columns, &one, d_x, &d_rows, &zero, c, &rows2, 1, 1);
+            if (rows3 > 0)
+                dgemm_("N", "T", &rows3, &rows1, &d_columns, &one, d_x + rows1, &d_rows, d_x, &d_rows, &zero, c + rows1,
+                       &rows2, 1, 1);
+            for (int i = 0; i < rows2; i++) f->relative[i] = f->map[ls[first + i]];
+            for (int j = 0; j < rows1; j++) {
+                double* column = ls_x + (size_t)f->relative[j] * (size_t)rows;
+                const double* cj = c + (size_t)j * (size_t)rows2;
+                for (int i = j; i < rows2; i++) column[f->relative[i]] -= cj[i];
+            }
+            sb_link_supernode(f, d, f->position[d] + rows1);
+        }
+        int info = 0;
+        dpotrf_("L", &columns, ls_x, &rows, &info, 1);
+        if (info != 0) return false;
+        int below = rows - columns;
+        if (below > 0)
+            dtrsm_("R", "L", "T", "N", &below, &columns, &one, ls_x, &rows, ls_x + columns, &rows, 1, 1, 1, 1);
+        sb_link_supernode(f, s, columns);
+    }
+    return true;
+}
+
 static bool sb_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
     const int *row = f->row, *column = f->column;
-    double* x = f->a->x;
+    double* lx = f->factor->x;
     size_t count = (size_t)((const int*)f->a->p)[f->a->ncol];
+    memset(lx, 0, f->factor->xsize * sizeof *lx);
     for (size_t k = 0; k < count; k++)
-        x[k] = mask[row[k]] != 0.0 && mask[column[k]] != 0.0 ? a->block[f->source[k]] : row[k] == column[k] ? 1.0 : 0.0;
-    return cholmod_factorize(f->a, f->factor, &f->common) && f->common.status == CHOLMOD_OK;
+        lx[f->target[k]] = mask[row[k]] != 0.0 && mask[column[k]] != 0.0 ? a->block[f->source[k]]
+                           : row[k] == column[k]                         ? 1.0
+                                                                         : 0.0;
+    return sb_factor_supernodes(f);
 }
 
 static bool sb_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
     size_t n = f->a->nrow;
 
     for (size_t k = 0; k < n; k++) f->b[k] = rhs[f->order[k]];
-    cholmod_dense b = {
-        .nrow = n, .ncol = 1, .nzmax = n, .d = n, .x = f->b, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
-    if (!cholmod_solve2(CHOLMOD_A, f->factor, &b, NULL, &f->x, NULL, &f->y, &f->e, &f->common)) return false;
+    if (!sb_solve_permuted(f)) return false;
     const double* solution = f->x->x;
     for (size_t k = 0; k < n; k++) out[f->order[k]] = solution[k];
     return true;
 }
 
 bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
-    sb_serial_openmp openmp = sb_openmp_serial_begin();
-    bool ok = sb_factor(f, a, mask);
-    sb_openmp_serial_end(openmp);
-    return ok;
+    return sb_factor(f, a, mask);
 }
 
 bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {

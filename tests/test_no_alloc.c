@@ -87,7 +87,7 @@ static long allocations_in_steps(const sb_model* model, sb_integrator integrator
     def.external_force = push;
     def.runtime.threads = 2;
     def.implicit_cg_iterations = 20;
-    def.implicit_solver = SB_LINEAR_CG; /* CHOLMOD allocates its workspace in every factorization */
+    def.implicit_solver = SB_LINEAR_CG; /* the factored path: test_factored_steps_do_not_allocate */
     sb_error err;
     sb_collider_def floor_def = sb_default_collider_def();
     floor_def.point[2] = 1.0 - 0.001; /* the sheet rests on it, the thickness away */
@@ -184,6 +184,42 @@ static void test_breaking_steps_do_not_allocate(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* implicit_euler with its systems factored (kernels/sparse_cholesky.c,
+ * whose numeric factorization and solves reuse what the analysis
+ * allocated), on both kernels and 1 and 2 threads: steps of 10 ms, long
+ * enough that Newton factors. */
+static void test_factored_steps_do_not_allocate(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    sb_model* model = make_model(&mesh, 0.0);
+    for (int k = 0; k < 2; k++)
+        for (int threads = 1; threads <= 2; threads++) {
+            sb_solver_def def = sb_default_solver_def();
+            def.integrator = SB_INTEGRATOR_IMPLICIT_EULER;
+            def.kernels = k ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+            def.implicit_solver = SB_LINEAR_CHOLESKY;
+            def.runtime.threads = threads;
+            sb_solver* solver = tu_solver(model, &def);
+            uint32_t factorizations = 0;
+            atomic_store(&allocations, 0);
+            atomic_store(&counting, 1);
+            for (int s = 0; s < 3; s++) {
+                sb_status status = sb_solver_advance(solver, 0.01);
+                if (status != SB_OK) fail_msg("%s", sb_solver_error(solver));
+                factorizations += sb_solver_last_step(solver).factorizations;
+            }
+            atomic_store(&counting, 0);
+            long n = atomic_load(&allocations);
+            if (n != 0 || factorizations == 0)
+                fail_msg("implicit_euler factored, %s kernels, %d thread(s): %ld allocations in 3 steps, %u "
+                         "factorizations",
+                         k ? "fast" : "reference", threads, n, factorizations);
+            sb_solver_destroy(solver);
+        }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
 /* The counter works: a solver's creation allocates. */
 static void test_the_counter_counts(void** state) {
     (void)state;
@@ -205,6 +241,7 @@ int main(void) {
         cmocka_unit_test(test_the_counter_counts),
         cmocka_unit_test(test_steps_do_not_allocate),
         cmocka_unit_test(test_breaking_steps_do_not_allocate),
+        cmocka_unit_test(test_factored_steps_do_not_allocate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
