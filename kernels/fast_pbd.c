@@ -45,16 +45,38 @@
  * x = x_prev + Δ is rounded once a step, as in the scalar sweeps.
  *
  * A step is one job of the solver's team: the prediction (per vertex), the
- * sweeps (a barrier after each block color; the same order as the scalar
- * sweeps: the bonds' block colors, then the triangles', a block's runs in
- * order on one worker, a triangle's bonds and corners one after another on
- * its positions kept in registers), then v = (x − x_prev)/dt into the
- * state's arrays and the packed copies, fused with the finiteness and
- * runaway check. Lanes of a SIMD block, and blocks of a block color, write
+ * start edges, the sweeps (the same order as the scalar sweeps: the bonds'
+ * block colors, then the triangles', a block's runs in order on one
+ * worker, a triangle's bonds and corners one after another on its
+ * positions kept in registers), then v = (x − x_prev)/dt into the state's
+ * arrays and the packed copies, fused with the finiteness and runaway
+ * check. Lanes of a SIMD block, and blocks of a block color, write
  * disjoint vertices and a block's arithmetic does not depend on which
- * worker runs it: the state is bitwise the same for any thread count. On
- * the 100 × 100 sheet a step waits at 12 barriers (2 + 5 sweeps × 2 block
- * colors), where a barrier after each color of the elements made about 45.
+ * worker runs it: the state is bitwise the same for any thread count.
+ *
+ * Schedule. The sweeps have no barrier: a unit (one block of a group)
+ * waits only for the units it shares vertices with, each to have finished
+ * the sweep it must follow: a unit of an earlier phase (block color, in
+ * sweep order) this sweep, of a later phase the sweep before. Every pair
+ * of units that share a vertex is then ordered as in the scalar sweeps,
+ * and units that share none run in any order, so each vertex sees the same
+ * projections in the same order for any thread count. A unit's finished
+ * sweeps are a counter on its own cache line (sb_worker_post, and
+ * sb_worker_wait_at_least, which waits as the team's policy says). Each
+ * worker runs its share of each phase's blocks (as a barrier per phase
+ * split them), in each phase first the units that another worker's units
+ * wait for: the workers meet only where their blocks touch (on the 100 ×
+ * 100 sheet, two threads: one block of each, a few waits a sweep), and a
+ * worker may run up to a block or so ahead of the other instead of both
+ * waiting at every phase. Tearing re-points elements to a split vertex
+ * only where they had its origin, so the waits found at creation still
+ * cover every pair that shares one. A step has 3 barriers (after the prediction,
+ * after the start edges, before the velocities), where a barrier after
+ * each block color made 12 on that sheet (2 + 5 sweeps × 2), and one after
+ * each color of the elements about 45; on two threads the median step
+ * waited 2 µs at them, against 5 µs at the 12 (tracing each barrier's
+ * arrival and departure, load 11 on the 2-core VM, where the waits at
+ * the units were nil in the median step).
  *
  * Forces and energies. A position-based step needs no force: unless
  * something in the next step reads them (an external-force callback, the
@@ -101,11 +123,28 @@ typedef struct sb_pbd_wide_triangles {
     bool damped;                    /* a carried bond with damping */
 } sb_pbd_wide_triangles;
 
+/* How many sweeps a unit has finished in the step, alone on its cache line. */
+typedef struct sb_pbd_done {
+    _Alignas(64) atomic_uint sweeps;
+} sb_pbd_done;
+
+/* The sweeps' schedule ("Schedule" above). A unit is one block of a
+ * group: the bonds' blocks are units 0 … nb − 1, the triangles' follow. */
+typedef struct sb_pbd_schedule {
+    uint32_t units, bond_units;
+    uint32_t* phase;             /* units: its block color's place in a sweep */
+    uint32_t *need_first, *need; /* unit u waits for units need[need_first[u] … need_first[u + 1]) */
+    int width;                   /* the workers the plan is for */
+    uint32_t *plan, *plan_first; /* worker i runs units plan[plan_first[i] … plan_first[i + 1]) in turn */
+    sb_pbd_done* done;           /* units */
+} sb_pbd_schedule;
+
 struct sb_pbd_wide {
     sb_pbd_wide_bonds bonds;
     sb_pbd_wide_triangles triangles;
     sb_real *x4, *x04;         /* packed: displacements Δ in the step (w: inverse mass), positions at the start */
     uint32_t broken, vertices; /* the model's state the copies were made from */
+    sb_pbd_schedule schedule;
 };
 
 bool sb_pbd_wide_applies(const sb_solver* s) { return s->fast && !s->def.collider_count && !s->def.handle_count; }
@@ -197,12 +236,169 @@ void sb_pbd_wide_destroy(sb_pbd_wide* w) {
                       t->v[1],        t->v[2],        t->cos0[0],    t->cos0[1],   t->cos0[2],    t->alpha,
                       t->alive,       t->lambda[0],   t->lambda[1],  t->lambda[2], w->x4,         w->x04};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    sb_pbd_schedule* q = &w->schedule;
+    void* schedule_arrays[] = {q->phase, q->need_first, q->need, q->plan, q->plan_first, q->done};
+    for (size_t a = 0; a < sizeof schedule_arrays / sizeof *schedule_arrays; a++) free(schedule_arrays[a]);
     for (int c = 0; c < 3; c++) {
         sb_pbd_wide_distances* e = &t->bonds[c];
         void* edge_arrays[] = {b->edge[c], t->edge[0][c], t->edge[1][c], e->r0, e->alpha, e->beta, e->alive, e->lambda};
         for (size_t a = 0; a < sizeof edge_arrays / sizeof *edge_arrays; a++) free(edge_arrays[a]);
     }
     free(w);
+}
+
+/* ---- the schedule ------------------------------------------------------------ */
+
+/* The group and block of unit u. */
+static const sb_pbd_slots* sb_pbd_unit_slots(const sb_pbd_wide* w, uint32_t u, uint32_t* block) {
+    bool bond = u < w->schedule.bond_units;
+    *block = bond ? u : u - w->schedule.bond_units;
+    return bond ? &w->bonds.slots : &w->triangles.slots;
+}
+
+/* Calls visit(v, context) for each vertex of unit u's slots (a vertex as
+ * often as slots have it). */
+static void sb_pbd_unit_vertices(const sb_pbd_wide* w, uint32_t u, void (*visit)(uint32_t, void*), void* context) {
+    uint32_t block;
+    const sb_pbd_slots* slots = sb_pbd_unit_slots(w, u, &block);
+    const sb_blocked* g = slots->runs;
+    bool bond = u < w->schedule.bond_units;
+    const uint32_t* ends[3] = {w->bonds.i, w->bonds.j, NULL};
+    if (!bond) ends[0] = w->triangles.v[0], ends[1] = w->triangles.v[1], ends[2] = w->triangles.v[2];
+    for (uint32_t s = slots->first[g->block_first_run[block]]; s < slots->first[g->block_first_run[block + 1]]; s++)
+        for (int a = 0; a < (bond ? 2 : 3); a++) visit(ends[a][s], context);
+}
+
+/* The neighbours' pass over a unit's vertices: each vertex's units
+ * (vertex_first/vertex_units), counted or listed once per unit. */
+typedef struct sb_pbd_neighbours {
+    const sb_pbd_schedule* q;
+    uint32_t unit, *stamp; /* stamp[v]: 1 + the last unit that counted vertex v */
+    uint32_t *vertex_first, *vertex_units;
+    uint32_t *mark, count, *out; /* mark[y]: 1 + the last unit that took unit y; out: NULL to count */
+} sb_pbd_neighbours;
+
+static void sb_pbd_count_vertex(uint32_t v, void* context) {
+    sb_pbd_neighbours* n = context;
+    if (n->stamp[v] == n->unit + 1) return;
+    n->stamp[v] = n->unit + 1;
+    if (n->out)
+        n->vertex_units[n->vertex_first[v]++] = n->unit; /* filling: vertex_first ends one list on */
+    else
+        n->vertex_first[v + 1]++;
+}
+
+static void sb_pbd_take_neighbours(uint32_t v, void* context) {
+    sb_pbd_neighbours* n = context;
+    if (n->stamp[v] == n->unit + 1) return;
+    n->stamp[v] = n->unit + 1;
+    for (uint32_t e = v ? n->vertex_first[v - 1] : 0; e < n->vertex_first[v]; e++) {
+        uint32_t y = n->vertex_units[e];
+        /* units of one phase share no vertex, except the overflow color's, run in order on one worker */
+        if (n->q->phase[y] == n->q->phase[n->unit] || n->mark[y] == n->unit + 1) continue;
+        n->mark[y] = n->unit + 1;
+        if (n->out) n->out[n->count] = y;
+        n->count++;
+    }
+}
+
+/* Unit u's worker in a team of `width` (the block color's blocks split as
+ * sb_worker_range splits, the overflow color's all on worker 0). */
+static int sb_pbd_unit_color(const sb_pbd_wide* w, uint32_t u) {
+    uint32_t block;
+    const sb_blocked* g = sb_pbd_unit_slots(w, u, &block)->runs;
+    int color = 0;
+    while (g->color_first_block[color + 1] <= block) color++;
+    return color;
+}
+
+static int sb_pbd_owner(const sb_pbd_wide* w, uint32_t u, int width) {
+    uint32_t block;
+    const sb_blocked* g = sb_pbd_unit_slots(w, u, &block)->runs;
+    int color = sb_pbd_unit_color(w, u);
+    if (color == SB_OVERFLOW_COLOR) return 0;
+    uint32_t count = g->color_first_block[color + 1] - g->color_first_block[color],
+             at = block - g->color_first_block[color];
+    uint32_t share = count / (uint32_t)width, extra = count % (uint32_t)width;
+    /* worker i has [i share + min(i, extra), … + share + (i < extra)) */
+    int i = 0;
+    while (i + 1 < width && (uint32_t)(i + 1) * share + ((uint32_t)(i + 1) < extra ? (uint32_t)(i + 1) : extra) <= at)
+        i++;
+    return i;
+}
+
+/* The schedule of w's units for a team of `width` workers. */
+static bool sb_pbd_schedule_build(sb_pbd_wide* w, uint32_t vertex_count, int width) {
+    sb_pbd_schedule* q = &w->schedule;
+    const sb_blocked* groups[2] = {w->bonds.slots.runs, w->triangles.slots.runs};
+    q->bond_units = groups[0]->block_count;
+    q->units = q->bond_units + groups[1]->block_count;
+    q->width = width;
+    uint32_t units = q->units ? q->units : 1;
+    q->phase = malloc(units * sizeof *q->phase);
+    q->need_first = calloc(units + 1, sizeof *q->need_first);
+    q->plan = malloc(units * sizeof *q->plan);
+    q->plan_first = calloc((size_t)width + 1, sizeof *q->plan_first);
+    q->done = aligned_alloc(_Alignof(sb_pbd_done), units * sizeof *q->done);
+    sb_pbd_neighbours n = {.q = q,
+                           .stamp = calloc((size_t)vertex_count + 1, sizeof *n.stamp),
+                           .vertex_first = calloc((size_t)vertex_count + 2, sizeof *n.vertex_first),
+                           .mark = calloc(units, sizeof *n.mark)};
+    int* owner = malloc(units * sizeof *owner);
+    bool ok = q->phase && q->need_first && q->plan && q->plan_first && q->done && n.stamp && n.vertex_first && n.mark &&
+              owner;
+    /* phases: the bonds' block colors, then the triangles', in sweep order */
+    uint32_t phase = 0, u = 0;
+    for (int g = 0; ok && g < 2; g++)
+        for (int color = 0; color < SB_MAX_COLORS; color++) {
+            uint32_t first = groups[g]->color_first_block[color], end = groups[g]->color_first_block[color + 1];
+            for (uint32_t b = first; b < end; b++) q->phase[u++] = phase;
+            phase += end > first;
+        }
+    /* each vertex's units */
+    for (n.unit = 0; ok && n.unit < q->units; n.unit++) sb_pbd_unit_vertices(w, n.unit, sb_pbd_count_vertex, &n);
+    for (uint32_t v = 0; ok && v < vertex_count; v++) n.vertex_first[v + 1] += n.vertex_first[v];
+    ok = ok && (n.vertex_units = malloc((n.vertex_first[vertex_count] + 1) * sizeof *n.vertex_units));
+    if (ok) memset(n.stamp, 0, ((size_t)vertex_count + 1) * sizeof *n.stamp);
+    n.out = n.vertex_units; /* any non-NULL: fill */
+    for (n.unit = 0; ok && n.unit < q->units; n.unit++) sb_pbd_unit_vertices(w, n.unit, sb_pbd_count_vertex, &n);
+    /* vertex_first[v] now ends v's list: v's units are [vertex_first[v − 1], vertex_first[v]) */
+    /* each unit's neighbours in other phases: counted, then listed */
+    for (int pass = 0; ok && pass < 2; pass++) {
+        if (ok) memset(n.stamp, 0, ((size_t)vertex_count + 1) * sizeof *n.stamp);
+        if (ok) memset(n.mark, 0, units * sizeof *n.mark);
+        n.out = pass ? q->need : NULL;
+        n.count = 0;
+        for (n.unit = 0; n.unit < q->units; n.unit++) {
+            sb_pbd_unit_vertices(w, n.unit, sb_pbd_take_neighbours, &n);
+            q->need_first[n.unit + 1] = n.count;
+        }
+        if (!pass) ok = (q->need = malloc((n.count + 1) * sizeof *q->need)) != NULL;
+    }
+    /* the plan: each worker's units phase by phase, in each phase those
+     * that another worker's units wait for (or that wait for them) first,
+     * so that the other worker finds them done; the overflow color's, which
+     * may share vertices, in order */
+    for (uint32_t x = 0; ok && x < q->units; x++) owner[x] = sb_pbd_owner(w, x, width);
+    uint32_t at = 0;
+    for (int i = 0; ok && i < width; i++) {
+        q->plan_first[i] = at;
+        for (uint32_t first = 0, end; first < q->units; first = end) {
+            for (end = first; end < q->units && q->phase[end] == q->phase[first]; end++) {
+            }
+            bool serial = first < end && sb_pbd_unit_color(w, first) == SB_OVERFLOW_COLOR;
+            for (int shared = 1; shared >= 0; shared--)
+                for (uint32_t x = first; x < end; x++) {
+                    if (owner[x] != i) continue;
+                    bool across = false;
+                    for (uint32_t e = q->need_first[x]; e < q->need_first[x + 1]; e++) across |= owner[q->need[e]] != i;
+                    if (serial ? shared : across == shared) q->plan[at++] = x;
+                }
+        }
+    }
+    if (ok) q->plan_first[width] = at;
+    free(n.stamp), free(n.vertex_first), free(n.vertex_units), free(n.mark), free(owner);
+    return ok;
 }
 
 sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
@@ -235,6 +431,10 @@ sb_pbd_wide* sb_pbd_wide_create(const sb_pbd* p, const sb_model* m) {
     sb_pbd_bonds_copy(b, m);
     sb_pbd_triangles_copy(t, m, p->edge_bond);
     w->vertices = m->vertex_count;
+    if (!sb_pbd_schedule_build(w, m->vertex_count, p->threads)) {
+        sb_pbd_wide_destroy(w);
+        return NULL;
+    }
     return w;
 }
 
@@ -480,19 +680,36 @@ static bool sb_pbd_run(const sb_pbd_slots* slots, uint32_t r, const void* group,
     return collapsed;
 }
 
-/* All block colors of a group in order, a barrier after each, this
- * worker's blocks' runs in order; called by every worker. */
-static bool sb_pbd_colors(const sb_worker* w, const sb_pbd_slots* slots, const void* group, sb_pbd_block_fn project,
-                          uint32_t together, const sb_pbd_sweep* k) {
-    const sb_blocked* g = slots->runs;
+/* Unit u's runs in order (a block of bonds, one SIMD block at a time, or
+ * of triangles, SB_PBD_BLOCKS at a time). */
+static bool sb_pbd_unit(const sb_pbd_wide* wide, uint32_t u, const sb_pbd_sweep* k) {
+    uint32_t block;
+    const sb_pbd_slots* slots = sb_pbd_unit_slots(wide, u, &block);
+    bool bond = u < wide->schedule.bond_units;
+    const void* group = bond ? (const void*)&wide->bonds : (const void*)&wide->triangles;
+    sb_pbd_block_fn project = bond ? (wide->bonds.damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds)
+                                   : (wide->triangles.damped ? sb_pbd_damped_triangles : sb_pbd_undamped_triangles);
     bool collapsed = false;
-    for (int color = 0; color < SB_MAX_COLORS; color++) {
-        if (g->color_first_block[color] == g->color_first_block[color + 1]) continue;
-        uint32_t begin, end;
-        sb_pbd_block_share(w, g, color, &begin, &end);
-        for (uint32_t r = g->block_first_run[begin]; r < g->block_first_run[end]; r++)
-            collapsed |= sb_pbd_run(slots, r, group, project, together, k);
-        sb_worker_barrier(w);
+    for (uint32_t r = slots->runs->block_first_run[block]; r < slots->runs->block_first_run[block + 1]; r++)
+        collapsed |= sb_pbd_run(slots, r, group, project, bond ? 1 : SB_PBD_BLOCKS, k);
+    return collapsed;
+}
+
+/* Sweep `sweep` (0, 1, …) of this worker's units in its plan's order, each
+ * once the units it waits for have finished the sweeps it must follow:
+ * those of earlier phases this sweep, those of later phases the sweep
+ * before. */
+static bool sb_pbd_sweep_units(const sb_worker* w, sb_pbd_schedule* q, const sb_pbd_wide* wide, const sb_pbd_sweep* k,
+                               unsigned sweep) {
+    bool collapsed = false;
+    for (uint32_t e = q->plan_first[w->index]; e < q->plan_first[w->index + 1]; e++) {
+        uint32_t u = q->plan[e];
+        for (uint32_t n = q->need_first[u]; n < q->need_first[u + 1]; n++) {
+            uint32_t y = q->need[n];
+            sb_worker_wait_at_least(w, &q->done[y].sweeps, sweep + (q->phase[y] < q->phase[u]));
+        }
+        collapsed |= sb_pbd_unit(wide, u, k);
+        sb_worker_post(w, &q->done[u].sweeps, sweep + 1);
     }
     return collapsed;
 }
@@ -576,19 +793,69 @@ static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
     sb_pbd_sweep k = {wide->x4, sb_w_set((sb_real)(1.0 / (job->dt * job->dt))), sb_w_set((sb_real)(1.0 / job->dt)),
                       true, job->xpbd};
     bool collapsed = false;
-    for (int it = 0; it < job->iterations; it++, k.first = false) {
-        collapsed |= sb_pbd_colors(w, &b->slots, b, b->damped ? sb_pbd_damped_bonds : sb_pbd_undamped_bonds, 1, &k);
-        collapsed |= sb_pbd_colors(w, &t->slots, t, t->damped ? sb_pbd_damped_triangles : sb_pbd_undamped_triangles,
-                                   SB_PBD_BLOCKS, &k);
-    }
+    for (int it = 0; it < job->iterations; it++, k.first = false)
+        collapsed |= sb_pbd_sweep_units(w, &wide->schedule, wide, &k, (unsigned)it);
     if (collapsed) sb_worker_raise(&job->collapsed);
+    sb_worker_barrier(w);
     sb_pbd_wide_finish(w, job);
 }
 
 uint32_t sb_pbd_wide_barriers(const sb_solver* s) {
-    const sb_pbd* p = s->pbd;
-    uint32_t per_sweep = sb_blocked_colors(&p->bonds.runs) + sb_blocked_colors(&p->triangles.runs);
-    return 2 + (uint32_t)sb_pbd_iterations(&s->def) * per_sweep;
+    (void)s;
+    return 3;
+}
+
+/* Marks unit u's vertices in a byte array (sb_pbd_wide_schedule_faults). */
+static void sb_pbd_mark_vertex(uint32_t v, void* context) { ((uint8_t*)context)[v] = 1; }
+
+typedef struct sb_pbd_overlap {
+    const uint8_t* marked;
+    bool shared;
+} sb_pbd_overlap;
+
+static void sb_pbd_check_vertex(uint32_t v, void* context) {
+    sb_pbd_overlap* o = context;
+    o->shared |= o->marked[v] != 0;
+}
+
+uint32_t sb_pbd_wide_schedule_faults(const sb_solver* s, uint32_t* across) {
+    const sb_pbd_wide* w = s->pbd->wide;
+    const sb_pbd_schedule* q = &w->schedule;
+    uint32_t faults = 0, *planned = calloc(q->units + 1, sizeof *planned);
+    uint8_t* marked = malloc(s->model->vertex_count + 1);
+    if (!planned || !marked) {
+        free(planned), free(marked);
+        return UINT32_MAX;
+    }
+    *across = 0;
+    for (uint32_t u = 0; u < q->units; u++) {
+        memset(marked, 0, s->model->vertex_count + 1);
+        sb_pbd_unit_vertices(w, u, sb_pbd_mark_vertex, marked);
+        for (uint32_t y = 0; y < q->units; y++) {
+            if (y == u || q->phase[y] == q->phase[u]) continue;
+            sb_pbd_overlap o = {marked, false};
+            sb_pbd_unit_vertices(w, y, sb_pbd_check_vertex, &o);
+            bool listed = false;
+            for (uint32_t e = q->need_first[u]; e < q->need_first[u + 1]; e++) listed |= q->need[e] == y;
+            faults += o.shared != listed;
+        }
+    }
+    for (int i = 0; i < q->width; i++)
+        for (uint32_t e = q->plan_first[i]; e < q->plan_first[i + 1]; e++) {
+            uint32_t u = q->plan[e];
+            planned[u]++;
+            /* phases in sweep order, the overflow color's units in order */
+            faults += e > q->plan_first[i] && q->phase[q->plan[e - 1]] > q->phase[u];
+            faults += e > q->plan_first[i] && q->phase[q->plan[e - 1]] == q->phase[u] &&
+                      sb_pbd_unit_color(w, u) == SB_OVERFLOW_COLOR && q->plan[e - 1] > u;
+            for (int j = 0; j < q->width; j++)
+                for (uint32_t f = q->plan_first[j]; j != i && f < q->plan_first[j + 1]; f++)
+                    for (uint32_t n = q->need_first[u]; n < q->need_first[u + 1]; n++)
+                        *across += q->need[n] == q->plan[f];
+        }
+    for (uint32_t u = 0; u < q->units; u++) faults += planned[u] != 1;
+    free(planned), free(marked);
+    return faults;
 }
 
 /* Whether anything of the next step reads this step's forces or energies. */
@@ -604,7 +871,9 @@ sb_status sb_pbd_wide_step(sb_solver* s, double dt) {
                            .dt = dt,
                            .iterations = sb_pbd_iterations(&s->def),
                            .xpbd = s->def.integrator == SB_INTEGRATOR_XPBD};
-    sb_team_run(s->team, p->threads, sb_pbd_wide_sweeps, &job);
+    sb_pbd_schedule* q = &p->wide->schedule;
+    for (uint32_t u = 0; u < q->units; u++) atomic_store_explicit(&q->done[u].sweeps, 0, memory_order_relaxed);
+    sb_team_run(s->team, q->width, sb_pbd_wide_sweeps, &job); /* the job's start publishes the zeros */
     s->published = true; /* the state's arrays and the packed positions and velocities hold the new state */
     s->has_displacement = false;
     if (atomic_load(&job.bad)) return sb_check_state(s);

@@ -229,12 +229,12 @@ sb_status sb_pbd_prepare(sb_solver* s) {
         p->x0 = malloc(n3 * sizeof *p->x0);
     }
     bool built = p && p->x && p->x0 && sb_pbd_build(p, s->model) && sb_pbd_contacts_create(s, &p->contacts);
+    if (built) p->threads = sb_pbd_team(p, sb_team_size(s->team)); /* the SIMD sweeps' schedule is for it */
     if (built && sb_pbd_wide_applies(s)) built = (p->wide = sb_pbd_wide_create(p, s->model)) != NULL;
     if (!built) {
         sb_pbd_destroy(p);
         return sb_error_set(&s->error, SB_ERR_NOMEM, "out of memory preparing the position-based solver");
     }
-    p->threads = sb_pbd_team(p, sb_team_size(s->team));
     s->pbd = p;
     return SB_OK;
 }

@@ -58,7 +58,15 @@ void sb_pbd_wide_destroy(sb_pbd_wide* wide);
  * (kernels/solver.c) unless the next step needs them. */
 sb_status sb_pbd_wide_step(sb_solver* solver, double dt);
 /* The barriers of a step of the SIMD sweeps on more than one thread: two
- * before the sweeps, then one per block color of each group per sweep. */
+ * before the sweeps and one after them; none in them (kernels/fast_pbd.c's
+ * schedule). */
 uint32_t sb_pbd_wide_barriers(const sb_solver* solver);
+/* For the tests: the faults of the SIMD sweeps' schedule, checked by brute
+ * force (a pair of units in different phases that share a vertex without
+ * waiting for each other, or that wait without sharing one; a unit not
+ * planned on exactly one worker; a worker's plan out of phase order, or
+ * the overflow color's units out of order), 0
+ * when sound; *across: the waits for a unit of another worker. */
+uint32_t sb_pbd_wide_schedule_faults(const sb_solver* solver, uint32_t* across);
 
 #endif

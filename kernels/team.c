@@ -112,6 +112,20 @@ void sb_worker_barrier(const sb_worker* w) {
     }
 }
 
+void sb_worker_wait_at_least(const sb_worker* w, atomic_uint* word, unsigned target) {
+    for (unsigned seen; (seen = atomic_load_explicit(word, memory_order_acquire)) < target;)
+        sb_wait_while(w->team, word, seen);
+}
+
+void sb_worker_post(const sb_worker* w, atomic_uint* word, unsigned value) {
+    if (w->width == 1) {
+        atomic_store_explicit(word, value, memory_order_relaxed);
+        return;
+    }
+    atomic_store(word, value); /* sequentially consistent, before the sleepers are read (sb_bump) */
+    if (atomic_load(&w->team->sleepers) > 0) sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+}
+
 void sb_worker_range(const sb_worker* w, int64_t count, int64_t* begin, int64_t* end) {
     int64_t share = count / w->width, extra = count % w->width, i = w->index;
     *begin = i * share + (i < extra ? i : extra);

@@ -35,6 +35,15 @@ void sb_team_run(sb_team* team, int width, sb_team_job job, void* context);
  * spin, yield or sleep); all memory written before it is visible after it. */
 void sb_worker_barrier(const sb_worker* worker);
 
+/* Point-to-point waits, for jobs whose workers need only some of the
+ * others' work (kernels/fast_pbd.c's sweeps): sb_worker_wait_at_least
+ * returns once *word >= target (waiting as the policy says, as at a
+ * barrier); sb_worker_post stores value into *word and wakes whoever
+ * sleeps on it. Memory written before a post is visible after a wait that
+ * saw its value. */
+void sb_worker_wait_at_least(const sb_worker* worker, atomic_uint* word, unsigned target);
+void sb_worker_post(const sb_worker* worker, atomic_uint* word, unsigned value);
+
 /* This worker's share [begin, end) of count items split into contiguous
  * equal parts, the first ones one longer (OpenMP's schedule(static)). */
 void sb_worker_range(const sb_worker* worker, int64_t count, int64_t* begin, int64_t* end);

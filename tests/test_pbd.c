@@ -206,45 +206,61 @@ static void test_xpbd_static_stretch(void** state) {
 /* A 100 × 100 sheet (29701 bonds, 19602 triangles: thousands of
  * constraints per block color, so that the solver gives every thread work;
  * it keeps small models on one), 20 steps: the state's hash is the same for
- * 1, 2 and 3 threads, with either kernel choice. */
+ * 1, 2 and 3 threads, with either kernel choice; and with the fast kernels
+ * on the sheet with bonds on no triangle too (two groups, so that the SIMD
+ * sweeps' units of the triangles wait for those of the bonds and the other
+ * way round, kernels/fast_pbd.c's schedule), damped. */
 static void test_threads_deterministic(void** state) {
     (void)state;
-    sb_model* m = sheet(100, 0.01, 500, 0.05, 0);
-    for (int k = 0; k < 4; ++k) {
+    sb_model* models[2] = {sheet(100, 0.01, 500, 0.05, 0), sheet_with(100, 0.01, 0.01, 500, 0.05, 0.02, true)};
+    for (int k = 0; k < 6; ++k) {
         uint64_t hashes[3];
+        bool fast = k >= 2, both = k >= 4;
         for (int t = 0; t < 3; ++t) {
-            sb_solver_def def = pbd_def(position_based[k % 2], k < 2 ? SB_KERNELS_REFERENCE : SB_KERNELS_FAST);
+            sb_solver_def def = pbd_def(position_based[k % 2], fast ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE);
             def.runtime.threads = t + 1;
-            sb_solver* s = tu_solver(m, &def);
+            sb_solver* s = tu_solver(models[both], &def);
             tu_advance(s, 2e-3, 20);
             hashes[t] = tu_state_hash(s);
             sb_solver_destroy(s);
         }
-        print_message("threads, %-4s (%s kernels): state hash %016llx (1 thread), %016llx (2), %016llx (3)\n",
-                      sb_integrator_name(position_based[k % 2]), k < 2 ? "reference" : "fast",
-                      (unsigned long long)hashes[0], (unsigned long long)hashes[1], (unsigned long long)hashes[2]);
+        print_message("threads, %-4s (%s kernels%s): state hash %016llx (1 thread), %016llx (2), %016llx (3)\n",
+                      sb_integrator_name(position_based[k % 2]), fast ? "fast" : "reference",
+                      both ? ", bonds on no triangle too" : "", (unsigned long long)hashes[0],
+                      (unsigned long long)hashes[1], (unsigned long long)hashes[2]);
         assert_true(hashes[0] == hashes[1]);
         assert_true(hashes[0] == hashes[2]);
     }
-    sb_model_destroy(m);
+    sb_model_destroy(models[0]);
+    sb_model_destroy(models[1]);
 }
 
-/* The blocked coloring (kernels/coloring.c) on the 100 × 100 sheet, bonds
- * on the triangles and bonds on none (a group each): the sweeps synchronise
- * threads at 2 block colors of each group, so a step of 5 sweeps waits at
- * 2 + 5 × 4 barriers (with a barrier per element color, as before, the
- * triangles' 7 colors alone made 2 + 5 × 7). */
+/* The 100 × 100 sheet, bonds on the triangles and bonds on none (a group
+ * each, 2 block colors each): a step of 5 sweeps waits at 3 barriers, none
+ * in the sweeps, whose units wait only for the units they share vertices
+ * with (kernels/fast_pbd.c's schedule; a barrier after each block color
+ * made 2 + 5 × 4, and one after each element color, before the blocked
+ * coloring, 2 + 5 × 9 or more). */
 static void test_few_barriers(void** state) {
     (void)state;
     sb_model* m = sheet_with(100, 0.01, 0.01, 500, 0.05, 0, true);
-    sb_solver_def def = pbd_def(SB_INTEGRATOR_XPBD, SB_KERNELS_FAST);
-    def.pbd_iterations = 5;
-    def.runtime.threads = 2;
-    sb_solver* s = tu_solver(m, &def);
-    uint32_t barriers = sb_pbd_wide_barriers(s);
-    print_message("xpbd, 100 x 100 sheet with bonds on no triangle too, 5 sweeps: %u barriers a step\n", barriers);
-    assert_int_equal(barriers, 2 + 5 * 4);
-    sb_solver_destroy(s);
+    for (int threads = 1; threads <= 3; threads++) {
+        sb_solver_def def = pbd_def(SB_INTEGRATOR_XPBD, SB_KERNELS_FAST);
+        def.pbd_iterations = 5;
+        def.runtime.threads = threads;
+        sb_solver* s = tu_solver(m, &def);
+        uint32_t across, faults = sb_pbd_wide_schedule_faults(s, &across), barriers = sb_pbd_wide_barriers(s);
+        print_message("xpbd, 100 x 100 sheet with bonds on no triangle too, 5 sweeps, %d threads: %u barriers a step, "
+                      "%u waits a sweep for another thread's units, %u faults in the schedule\n",
+                      threads, barriers, across, faults);
+        assert_int_equal(barriers, 3);
+        assert_int_equal(faults, 0);
+        if (threads == 1)
+            assert_int_equal(across, 0);
+        else
+            assert_true(across > 0); /* the threads' blocks meet */
+        sb_solver_destroy(s);
+    }
     sb_model_destroy(m);
 }
 
