@@ -70,13 +70,15 @@
  * worker may run up to a block or so ahead of the other instead of both
  * waiting at every phase. Tearing re-points elements to a split vertex
  * only where they had its origin, so the waits found at creation still
- * cover every pair that shares one. A step has 3 barriers (after the prediction,
- * after the start edges, before the velocities), where a barrier after
- * each block color made 12 on that sheet (2 + 5 sweeps × 2), and one after
- * each color of the elements about 45; on two threads the median step
- * waited 2 µs at them, against 5 µs at the 12 (tracing each barrier's
- * arrival and departure, load 11 on the 2-core VM, where the waits at
- * the units were nil in the median step).
+ * cover every pair that shares one. A unit's start edges are taken by its
+ * worker before its first sweep (they are then in that worker's cache, and
+ * no barrier separates them from the sweeps). A step has 2 barriers (after
+ * the prediction, before the velocities), where a barrier after each block
+ * color made 12 on that sheet (2 + 5 sweeps × 2), and one after each color
+ * of the elements about 45; on two threads the median step waited 2 µs
+ * at 3 (the start edges had one of their own then), against 5 µs at the
+ * 12 (tracing each barrier's arrival and departure, load 11 on the 2-core
+ * VM, where the waits at the units were nil in the median step).
  *
  * Forces and energies. A position-based step needs no force: unless
  * something in the next step reads them (an external-force callback, the
@@ -766,13 +768,11 @@ static void sb_pbd_wide_finish(const sb_worker* w, sb_pbd_wide_job* job) {
     if (bad) sb_worker_raise(&job->bad);
 }
 
-/* out[c][s] = x_prev of b[s] − x_prev of a[s] for this worker's share of
- * the blocks of a group's slots. */
-static void sb_pbd_start_edges(const sb_worker* w, const sb_real* x04, const uint32_t* a, const uint32_t* b,
-                               sb_real* const out[3], uint32_t slots) {
-    int64_t begin, end;
-    sb_worker_range(w, slots / SB_WIDTH, &begin, &end);
-    for (uint32_t s = (uint32_t)begin * SB_WIDTH; s < (uint32_t)end * SB_WIDTH; s += SB_WIDTH) {
+/* out[c][s] = x_prev of b[s] − x_prev of a[s] for the slots [begin, end)
+ * (multiples of SB_WIDTH). */
+static void sb_pbd_start_edges(const sb_real* x04, const uint32_t* a, const uint32_t* b, sb_real* const out[3],
+                               uint32_t begin, uint32_t end) {
+    for (uint32_t s = begin; s < end; s += SB_WIDTH) {
         sb_wvec3 e = sb_wv_sub(sb_wv_load4(x04, sb_w_index(b + s)), sb_wv_load4(x04, sb_w_index(a + s)));
         sb_w_store(out[0] + s, e.x);
         sb_w_store(out[1] + s, e.y);
@@ -780,16 +780,31 @@ static void sb_pbd_start_edges(const sb_worker* w, const sb_real* x04, const uin
     }
 }
 
+/* The start edges of this worker's units' slots: each unit's by the worker
+ * that projects it, so that they are in its cache, and no barrier is
+ * needed between them and the sweeps. */
+static void sb_pbd_unit_edges(const sb_worker* w, sb_pbd_wide* wide) {
+    const sb_pbd_schedule* q = &wide->schedule;
+    sb_pbd_wide_bonds* b = &wide->bonds;
+    sb_pbd_wide_triangles* t = &wide->triangles;
+    for (uint32_t e = q->plan_first[w->index]; e < q->plan_first[w->index + 1]; e++) {
+        uint32_t u = q->plan[e], block;
+        const sb_pbd_slots* slots = sb_pbd_unit_slots(wide, u, &block);
+        uint32_t begin = slots->first[slots->runs->block_first_run[block]];
+        uint32_t end = slots->first[slots->runs->block_first_run[block + 1]];
+        if (u < q->bond_units)
+            sb_pbd_start_edges(wide->x04, b->j, b->i, b->edge, begin, end);
+        else
+            for (int c = 1; c < 3; c++) sb_pbd_start_edges(wide->x04, t->v[0], t->v[c], t->edge[c - 1], begin, end);
+    }
+}
+
 static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
     sb_pbd_wide_job* job = context;
     sb_pbd_wide* wide = job->wide;
-    sb_pbd_wide_bonds* b = &wide->bonds;
-    sb_pbd_wide_triangles* t = &wide->triangles;
     sb_pbd_wide_predict(w, job);
     sb_worker_barrier(w);
-    sb_pbd_start_edges(w, wide->x04, b->j, b->i, b->edge, b->slots.total);
-    for (int c = 1; c < 3; c++) sb_pbd_start_edges(w, wide->x04, t->v[0], t->v[c], t->edge[c - 1], t->slots.total);
-    sb_worker_barrier(w);
+    sb_pbd_unit_edges(w, wide);
     sb_pbd_sweep k = {wide->x4, sb_w_set((sb_real)(1.0 / (job->dt * job->dt))), sb_w_set((sb_real)(1.0 / job->dt)),
                       true, job->xpbd};
     bool collapsed = false;
@@ -802,7 +817,7 @@ static void sb_pbd_wide_sweeps(void* context, const sb_worker* w) {
 
 uint32_t sb_pbd_wide_barriers(const sb_solver* s) {
     (void)s;
-    return 3;
+    return 2;
 }
 
 /* Marks unit u's vertices in a byte array (sb_pbd_wide_schedule_faults). */

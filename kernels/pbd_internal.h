@@ -57,7 +57,7 @@ void sb_pbd_wide_destroy(sb_pbd_wide* wide);
  * forces and energies of the new state are left to sb_solver_settle
  * (kernels/solver.c) unless the next step needs them. */
 sb_status sb_pbd_wide_step(sb_solver* solver, double dt);
-/* The barriers of a step of the SIMD sweeps on more than one thread: two
+/* The barriers of a step of the SIMD sweeps on more than one thread: one
  * before the sweeps and one after them; none in them (kernels/fast_pbd.c's
  * schedule). */
 uint32_t sb_pbd_wide_barriers(const sb_solver* solver);
