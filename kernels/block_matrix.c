@@ -164,14 +164,25 @@ void sb_block_matrix_add_blocks(sb_block_matrix* a, uint64_t id, const sb_elemen
 
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,
                                    uint32_t end) {
+    /* Two sums a row, even and odd blocks, added at its end: one chain of
+     * dependent additions a block was the loop's bound (the CG of the default
+     * scene at dt = 10 ms, 76 products a step). */
     for (uint32_t i = begin; i < end; i++) {
-        double sum[3] = {0, 0, 0};
-        for (uint32_t b = a->row_start[i]; b < a->row_start[i + 1]; b++) {
-            const double *block = a->block + 9 * (size_t)b, *q = p + 3 * (size_t)a->column[b];
-            for (int u = 0; u < 3; u++)
-                sum[u] += block[3 * u] * q[0] + block[3 * u + 1] * q[1] + block[3 * u + 2] * q[2];
+        double even[3] = {0, 0, 0}, odd[3] = {0, 0, 0};
+        uint32_t b = a->row_start[i], stop = a->row_start[i + 1];
+        for (; b + 1 < stop; b += 2) {
+            const double *m0 = a->block + 9 * (size_t)b, *q0 = p + 3 * (size_t)a->column[b];
+            const double *m1 = m0 + 9, *q1 = p + 3 * (size_t)a->column[b + 1];
+            for (int u = 0; u < 3; u++) {
+                even[u] += m0[3 * u] * q0[0] + m0[3 * u + 1] * q0[1] + m0[3 * u + 2] * q0[2];
+                odd[u] += m1[3 * u] * q1[0] + m1[3 * u + 1] * q1[1] + m1[3 * u + 2] * q1[2];
+            }
         }
-        memcpy(out + 3 * (size_t)i, sum, sizeof sum);
+        if (b < stop) {
+            const double *m0 = a->block + 9 * (size_t)b, *q0 = p + 3 * (size_t)a->column[b];
+            for (int u = 0; u < 3; u++) even[u] += m0[3 * u] * q0[0] + m0[3 * u + 1] * q0[1] + m0[3 * u + 2] * q0[2];
+        }
+        for (int u = 0; u < 3; u++) out[3 * (size_t)i + u] = even[u] + odd[u];
     }
 }
 
