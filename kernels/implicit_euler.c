@@ -23,7 +23,7 @@
  * (SB_FIRST_CG_TOLERANCE), a J that is not positive definite is assembled
  * again from the positive semi-definite stand-ins, which always factor,
  * and a factored J serves the next Newton iterations while each halves |R|
- * (modified Newton: an assembly and a factorization cost about ten solves
+ * (modified Newton: an assembly and a factorization cost about seven solves
  * and residuals), their steps Anderson-accelerated (sb_anderson_step). With CG, J is
  * assembled at every iteration, and where K is indefinite (a compressed
  * bond, a loaded corner, a bent hinge) CG stops at its first non-positive
