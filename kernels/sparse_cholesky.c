@@ -27,6 +27,7 @@
  * Newton iterations; it allocates nothing. */
 #include "kernels/sparse_cholesky.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -283,6 +284,17 @@ static void sb_link_supernode(sb_sparse_cholesky* f, int s, int from) {
     f->next[s] = f->head[ancestor], f->head[ancestor] = s;
 }
 
+/* Whether the diagonal of a factored supernode (columns × columns, leading
+ * dimension rows) is finite. dpotrf stops at a non-positive pivot but not
+ * at a NaN; a NaN or an infinity anywhere in the matrix's lower triangle
+ * reaches the diagonal of its column or a later one (L_ii = √(a_ii − Σ
+ * L_ik²)), so checking the diagonal catches every one. */
+static bool sb_diagonal_finite(const double* x, int columns, int rows) {
+    for (int k = 0; k < columns; k++)
+        if (!isfinite(x[(size_t)k * (size_t)rows + (size_t)k])) return false;
+    return true;
+}
+
 /* The left-looking supernodal Cholesky factorization of the values already
  * in the factor (LLᵀ, lower, each supernode a dense column-major block of
  * its rows × its columns, CHOLMOD's layout): supernode by supernode, the
@@ -290,7 +302,7 @@ static void sb_link_supernode(sb_sparse_cholesky* f, int s, int from) {
  * dgemm into the update matrix, subtracted through the row map), then
  * dpotrf on its diagonal block and dtrsm below it. The same arithmetic as
  * cholmod_super_numeric without its OpenMP regions, one thread; false when
- * a diagonal block is not positive definite. */
+ * a diagonal block is not positive definite or not finite. */
 static bool sb_factor_supernodes(sb_sparse_cholesky* f) {
     const cholmod_factor* L = f->factor;
     const int *super = L->super, *pi = L->pi, *px = L->px, *ls = L->s;
@@ -324,7 +336,7 @@ static bool sb_factor_supernodes(sb_sparse_cholesky* f) {
         }
         int info = 0;
         dpotrf_("L", &columns, ls_x, &rows, &info, 1);
-        if (info != 0) return false;
+        if (info != 0 || !sb_diagonal_finite(ls_x, columns, rows)) return false;
         int below = rows - columns;
         if (below > 0)
             dtrsm_("R", "L", "T", "N", &below, &columns, &one, ls_x, &rows, ls_x + columns, &rows, 1, 1, 1, 1);

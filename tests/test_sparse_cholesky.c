@@ -1,0 +1,175 @@
+/* The sparse direct solve of implicit Euler's Newton systems
+ * (kernels/sparse_cholesky.h): its numeric factorization is softbond's own
+ * supernodal code on CHOLMOD's analysis, so it is checked here directly,
+ * not only through Newton's convergence, on random symmetric positive
+ * definite matrices with the pattern of a 30 × 30 sheet's elements (every
+ * term, hinges included: 900 block rows, many supernodes with updates). */
+#include "test_util.h"
+
+#include "kernels/block_matrix.h"
+#include "kernels/sparse_cholesky.h"
+
+typedef struct system {
+    sb_model* model;
+    sb_block_matrix* a;
+    size_t n3;
+} system_t;
+
+static system_t make_system(void) {
+    system_t s;
+    s.model = tu_every_term_sheet(30, false);
+    s.a = sb_block_matrix_create(s.model, 0);
+    assert_non_null(s.a);
+    s.n3 = 3 * (size_t)s.a->rows;
+    return s;
+}
+
+static void free_system(system_t* s) {
+    sb_block_matrix_destroy(s->a);
+    sb_model_destroy(s->model);
+}
+
+/* Random symmetric values in every block of the pattern, the diagonal raised
+ * above the sum of its row's magnitudes times `dominance` (> 1: strictly
+ * diagonally dominant, so positive definite) with the diagonal's scale
+ * varying by `spread` across rows (a condition number of about spread²). */
+static void fill_spd(sb_block_matrix* a, uint64_t seed, double dominance, double spread) {
+    tu_rng rng = {seed};
+    sb_block_matrix_zero(a);
+    for (uint32_t i = 0; i < a->rows; i++)
+        for (uint32_t k = a->row_start[i]; k < a->row_start[i + 1]; k++) {
+            uint32_t j = a->column[k];
+            if (j < i) continue;
+            double* upper = a->block + 9 * (size_t)k;
+            double* lower = sb_block_matrix_at(a, j, i);
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++) {
+                    if (i == j && c < r) continue;
+                    double value = tu_uniform(&rng, -1.0, 1.0);
+                    upper[3 * r + c] = value;
+                    lower[3 * c + r] = value;
+                }
+        }
+    for (uint32_t i = 0; i < a->rows; i++) {
+        double scale = pow(spread, (double)i / a->rows);
+        for (int r = 0; r < 3; r++) {
+            double off = 0.0;
+            for (uint32_t k = a->row_start[i]; k < a->row_start[i + 1]; k++)
+                for (int c = 0; c < 3; c++)
+                    if (a->column[k] != i || c != r) off += fabs(a->block[9 * (size_t)k + 3 * r + c]);
+            a->block[9 * (size_t)a->diagonal[i] + 4 * r] = dominance * off * scale + 1e-3;
+        }
+    }
+}
+
+static double* random_vector(size_t n, uint64_t seed) {
+    tu_rng rng = {seed};
+    double* v = malloc(n * sizeof *v);
+    for (size_t k = 0; k < n; k++) v[k] = tu_uniform(&rng, -1.0, 1.0);
+    return v;
+}
+
+static double* ones(size_t n) {
+    double* v = malloc(n * sizeof *v);
+    for (size_t k = 0; k < n; k++) v[k] = 1.0;
+    return v;
+}
+
+/* |A x − b|∞ over |b|∞ after a factorization and a solve. */
+static double relative_residual(const sb_block_matrix* a, const double* x, const double* b, size_t n3) {
+    double* ax = malloc(n3 * sizeof *ax);
+    sb_block_matrix_multiply(a, x, ax);
+    double worst = 0.0;
+    for (size_t k = 0; k < n3; k++) worst = fmax(worst, fabs(ax[k] - b[k]));
+    free(ax);
+    return worst / tu_max_abs(b, n3);
+}
+
+/* The solve inverts the matrix, and a second factorization on the same
+ * analysis with other values (what each Newton iteration does) inverts the
+ * new values, not a mix of the old and new. */
+static void test_solves_spd_systems(void** state) {
+    (void)state;
+    system_t s = make_system();
+    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
+    assert_non_null(f);
+    double *mask = ones(s.n3), *b = random_vector(s.n3, 5), *x = malloc(s.n3 * sizeof *x);
+    const double dominance[3] = {1.05, 1.5, 1.01}, spread[3] = {1.0, 1e3, 10.0};
+    for (int round = 0; round < 3; round++) {
+        fill_spd(s.a, 11 + round, dominance[round], spread[round]);
+        assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
+        assert_true(sb_sparse_cholesky_solve(f, b, x));
+        double residual = relative_residual(s.a, x, b, s.n3);
+        print_message("round %d: |Ax - b| / |b| = %.3g\n", round, residual);
+        TU_ASSERT_LE(residual, 1e-11);
+    }
+    free(mask), free(b), free(x);
+    sb_sparse_cholesky_destroy(f);
+    free_system(&s);
+}
+
+/* Rows and columns of held vertices (mask 0) act as the identity's: the
+ * solution there is the right-hand side, and the other rows solve their own
+ * system with those columns left out. */
+static void test_masked_rows_are_the_identity(void** state) {
+    (void)state;
+    system_t s = make_system();
+    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
+    assert_non_null(f);
+    fill_spd(s.a, 23, 1.2, 100.0);
+    double *mask = ones(s.n3), *b = random_vector(s.n3, 29), *x = malloc(s.n3 * sizeof *x);
+    const uint32_t held[] = {0, 29, 450, 899};
+    for (size_t h = 0; h < sizeof held / sizeof *held; h++)
+        for (int c = 0; c < 3; c++) mask[3 * held[h] + c] = 0.0;
+    assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
+    assert_true(sb_sparse_cholesky_solve(f, b, x));
+    /* The free rows: Σ over free columns of A x = b, checked with x zeroed on the held ones. */
+    double* free_x = malloc(s.n3 * sizeof *free_x);
+    for (size_t k = 0; k < s.n3; k++) {
+        free_x[k] = mask[k] != 0.0 ? x[k] : 0.0;
+        if (mask[k] == 0.0) TU_ASSERT_NEAR(x[k], b[k], 1e-14);
+    }
+    double* ax = malloc(s.n3 * sizeof *ax);
+    sb_block_matrix_multiply(s.a, free_x, ax);
+    for (size_t k = 0; k < s.n3; k++)
+        if (mask[k] != 0.0) TU_ASSERT_NEAR(ax[k], b[k], 1e-11 * tu_max_abs(b, s.n3));
+    free(ax), free(free_x), free(mask), free(b), free(x);
+    sb_sparse_cholesky_destroy(f);
+    free_system(&s);
+}
+
+/* A matrix that is not positive definite, or holds a NaN, does not factor
+ * (the caller then solves by CG), and the factorization after it, of a good
+ * matrix, is right again. */
+static void test_rejects_indefinite_and_nan(void** state) {
+    (void)state;
+    system_t s = make_system();
+    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
+    assert_non_null(f);
+    double *mask = ones(s.n3), *b = random_vector(s.n3, 31), *x = malloc(s.n3 * sizeof *x);
+    const uint32_t rows[] = {0, 437, 899};
+    for (size_t r = 0; r < sizeof rows / sizeof *rows; r++) {
+        fill_spd(s.a, 37 + r, 1.1, 1.0);
+        s.a->block[9 * (size_t)s.a->diagonal[rows[r]] + 4] = -1.0;
+        assert_false(sb_sparse_cholesky_factor(f, s.a, mask));
+        fill_spd(s.a, 41 + r, 1.1, 1.0);
+        s.a->block[9 * (size_t)s.a->diagonal[rows[r]] + 8] = NAN;
+        assert_false(sb_sparse_cholesky_factor(f, s.a, mask));
+    }
+    fill_spd(s.a, 43, 1.1, 1.0);
+    assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
+    assert_true(sb_sparse_cholesky_solve(f, b, x));
+    TU_ASSERT_LE(relative_residual(s.a, x, b, s.n3), 1e-11);
+    free(mask), free(b), free(x);
+    sb_sparse_cholesky_destroy(f);
+    free_system(&s);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_solves_spd_systems),
+        cmocka_unit_test(test_masked_rows_are_the_identity),
+        cmocka_unit_test(test_rejects_indefinite_and_nan),
+    };
+    return TU_RUN_TESTS(tests);
+}
