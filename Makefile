@@ -18,7 +18,8 @@ demo: build
 
 # Four configurations: float (the default), double, float under the
 # address and undefined-behaviour sanitizers, and the threads' tests (label
-# thread: the solver's team, the state and pose buffers) under the thread sanitizer.
+# thread: the solver's team, the state and pose buffers, the contact pass, the
+# xpbd sweeps' waits between blocks) under the thread sanitizer.
 # The fuzz corpus's replay (label fuzz, tests/fuzz/) runs under the address
 # and undefined-behaviour sanitizers only, where a memory error shows.
 # The viewer's tests (label viewer, also no_sanitizer: tests/test_viewer.c
@@ -35,7 +36,7 @@ test: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE no_sanitizer
 	cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSB_SANITIZE_THREAD=ON $(CMAKE_FLAGS)
-	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact test_self_contact test_haptics_buffer
+	cmake --build build-tsan -j $(JOBS) --target test_runtime test_contact test_self_contact test_haptics_buffer test_pbd
 	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 ctest --output-on-failure -L thread
 
 clean:
