@@ -52,7 +52,9 @@
  * instead of a packed stream of m g; 330 MB since the kick reads no
  * positions and the drift writes no velocities that nothing reads; 282 MB
  * since mass and inverse mass stream one real a vertex, spread over the
- * packed lanes in L1 per chunk (sb_spread_masses), not four). */
+ * packed lanes in L1 per chunk (sb_spread_masses), not four). At 1M the
+ * triangle kernel then waited on its own per-triangle streams, which it now
+ * prefetches (kernels/fast_corners.c). */
 #include "kernels/solver_internal.h"
 #include "softbond/runtime.h"
 #include "kernels/fast_kernels.h"

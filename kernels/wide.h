@@ -307,20 +307,33 @@ static inline void sb_add_packed(sb_real* p4, uint32_t id, __m128 v) {
 
 /* The inverse transpose; then each of the first `count` lanes adds its
  * packed vector to its vertex (lanes of a block never share one). */
-static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
-    uint32_t id[16];
-    _mm512_storeu_si512((void*)id, i);
+static inline void sb_wv_add4_at(sb_real* p4, const uint32_t* id, sb_wvec3 v, int count) {
     __m512 zero = _mm512_setzero_ps();
     __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(v.x, v.y)), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(v.x, v.y));
     __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(v.z, zero)), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(v.z, zero));
     __m512 r[4] = {_mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2)), _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2)),
                    _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3)), _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3))};
+    if (count == 16) { /* a full block: no lane tests */
+        for (int j = 0; j < 4; j++) {
+            sb_add_packed(p4, id[j], _mm512_castps512_ps128(r[j]));
+            sb_add_packed(p4, id[4 + j], _mm512_extractf32x4_ps(r[j], 1));
+            sb_add_packed(p4, id[8 + j], _mm512_extractf32x4_ps(r[j], 2));
+            sb_add_packed(p4, id[12 + j], _mm512_extractf32x4_ps(r[j], 3));
+        }
+        return;
+    }
     for (int j = 0; j < 4; j++) {
         if (j < count) sb_add_packed(p4, id[j], _mm512_castps512_ps128(r[j]));
         if (4 + j < count) sb_add_packed(p4, id[4 + j], _mm512_extractf32x4_ps(r[j], 1));
         if (8 + j < count) sb_add_packed(p4, id[8 + j], _mm512_extractf32x4_ps(r[j], 2));
         if (12 + j < count) sb_add_packed(p4, id[12 + j], _mm512_extractf32x4_ps(r[j], 3));
     }
+}
+
+static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
+    uint32_t id[16];
+    _mm512_storeu_si512((void*)id, i);
+    sb_wv_add4_at(p4, id, v, count);
 }
 
 /* The inverse of sb_wv_load4w: the first `count` lanes store x y z w to
@@ -368,10 +381,8 @@ static inline sb_wvec3 sb_wv_load4w(const sb_real* p4, sb_windex i, sb_wide* w) 
     return sb_wv_load4w_at(p4, id, w);
 }
 
-static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
-    uint32_t id[SB_WIDTH];
+static inline void sb_wv_add4_at(sb_real* p4, const uint32_t* id, sb_wvec3 v, int count) {
     sb_real x[SB_WIDTH], y[SB_WIDTH], z[SB_WIDTH];
-    memcpy(id, &i, sizeof id);
     memcpy(x, &v.x, sizeof x);
     memcpy(y, &v.y, sizeof y);
     memcpy(z, &v.z, sizeof z);
@@ -381,6 +392,12 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
         p[1] += y[l];
         p[2] += z[l];
     }
+}
+
+static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
+    uint32_t id[SB_WIDTH];
+    memcpy(id, &i, sizeof id);
+    sb_wv_add4_at(p4, id, v, count);
 }
 
 static inline void sb_wv_store4w_at(sb_real* p4, const uint32_t* id, sb_wvec3 v, sb_wide w, int count) {
@@ -410,6 +427,10 @@ static inline void sb_wv_store4w(sb_real* p4, sb_windex i, sb_wvec3 v, sb_wide w
 static inline sb_wvec3 sb_wv_load4(const sb_real* p4, sb_windex i) {
     sb_wide unused;
     return sb_wv_load4w(p4, i, &unused);
+}
+static inline sb_wvec3 sb_wv_load4_at(const sb_real* p4, const uint32_t* id) {
+    sb_wide unused;
+    return sb_wv_load4w_at(p4, id, &unused);
 }
 
 static inline sb_wvec3 sb_wv_sub(sb_wvec3 a, sb_wvec3 b) {

@@ -1,7 +1,9 @@
 /* kernels/wide.h's vector atan2 against libm's atan2 (in double, of the same
  * sb_real arguments) over the whole circle, in every lane; its reciprocal
  * and inverse square root (estimates refined by Newton steps) against
- * double's; its spread of one real a vertex over the packed x y z w lanes. */
+ * double's; its spread of one real a vertex over the packed x y z w lanes;
+ * its packed loads and scatter-adds with the lanes' vertices read from
+ * memory. */
 #include "test_util.h"
 
 #include "kernels/wide.h"
@@ -141,11 +143,53 @@ static void test_reciprocals(void** state) {
     TU_ASSERT_LE(worst_rsqrt, 2 * eps);
 }
 
+/* sb_wv_load4_at gives each lane its vertex's x y z; sb_wv_add4_at adds
+ * each of the first `count` lanes' vectors to its vertex and nothing else
+ * anywhere (the full block, count = SB_WIDTH, takes its own path). */
+static void test_packed_load_and_add_at(void** state) {
+    (void)state;
+    enum { vertices = 3 * SB_WIDTH };
+    sb_real p4[4 * vertices] __attribute__((aligned(64))), before[4 * vertices];
+    for (int i = 0; i < 4 * vertices; i++) p4[i] = (sb_real)(i % 4 == 3 ? -1 : 0.5 * i + 1);
+    uint32_t id[SB_WIDTH];
+    for (int l = 0; l < SB_WIDTH; l++) id[l] = (uint32_t)((7 * l + 5) % vertices); /* distinct, scattered */
+    for (int count = 1; count <= SB_WIDTH; count++) {
+        memcpy(before, p4, sizeof p4);
+        sb_wvec3 v = sb_wv_load4_at(p4, id);
+        sb_real x[SB_WIDTH], y[SB_WIDTH], z[SB_WIDTH];
+        memcpy(x, &v.x, sizeof x);
+        memcpy(y, &v.y, sizeof y);
+        memcpy(z, &v.z, sizeof z);
+        for (int l = 0; l < SB_WIDTH; l++)
+            if (x[l] != p4[4 * id[l]] || y[l] != p4[4 * id[l] + 1] || z[l] != p4[4 * id[l] + 2])
+                fail_msg("lane %d loaded (%g, %g, %g), vertex %u", l, (double)x[l], (double)y[l], (double)z[l], id[l]);
+        sb_real add[SB_WIDTH];
+        for (int l = 0; l < SB_WIDTH; l++) add[l] = (sb_real)(l + 1);
+        sb_wide a = sb_w_load(add);
+        sb_wv_add4_at(p4, id, (sb_wvec3){a, sb_w_mul(a, sb_w_set(2)), sb_w_mul(a, sb_w_set(-4))}, count);
+        for (int i = 0; i < vertices; i++) {
+            int lane = -1;
+            for (int l = 0; l < count; l++)
+                if (id[l] == (uint32_t)i) lane = l;
+            sb_real d[4] = {0, 0, 0, 0};
+            if (lane >= 0) {
+                d[0] = add[lane];
+                d[1] = 2 * add[lane];
+                d[2] = -4 * add[lane];
+            }
+            for (int k = 0; k < 4; k++)
+                if (p4[4 * i + k] != before[4 * i + k] + d[k])
+                    fail_msg("count %d, vertex %d, component %d: %g, expected %g", count, i, k, (double)p4[4 * i + k],
+                             (double)(before[4 * i + k] + d[k]));
+        }
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_whole_circle),   cmocka_unit_test(test_branch_edges),
         cmocka_unit_test(test_axes_and_zeros), cmocka_unit_test(test_spread_over_packed_lanes),
-        cmocka_unit_test(test_reciprocals),
+        cmocka_unit_test(test_reciprocals),    cmocka_unit_test(test_packed_load_and_add_at),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
