@@ -17,6 +17,14 @@
 
 #include <string.h>
 
+/* The triangle's angle and stretch-bend stiffnesses, 0 for a term turned
+ * off; false when both are 0 (the corners add nothing). */
+static bool sb_corner_stiffness(const sb_model* m, uint32_t t, double* k_angle, double* k_sb) {
+    *k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
+    *k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    return *k_angle != 0.0 || *k_sb != 0.0;
+}
+
 /* Adds one corner's forces to f (local vertices i, j, k). */
 static void sb_corner_dual(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_dvec3* x, int i,
                            int j, int k, sb_dvec3* f, bool* collapsed) {
@@ -42,23 +50,36 @@ static void sb_corner_dual(double k_angle, double k_sb, double cos0, double a0, 
 }
 
 void sb_triangle_forces_dual(const sb_model* m, uint32_t t, const sb_dvec3* x, sb_dvec3* f, bool* collapsed) {
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
+    double k_angle, k_sb;
     *collapsed = false;
     for (int c = 0; c < 3; c++) f[c] = (sb_dvec3){{0, 0, 0}, {0, 0, 0}};
-    if (k_angle == 0.0 && k_sb == 0.0) return;
+    if (!sb_corner_stiffness(m, t, &k_angle, &k_sb)) return;
     for (int c = 0; c < 3; c++)
         sb_corner_dual(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[(c + 2) % 3][t], x, c,
                        (c + 1) % 3, (c + 2) % 3, f, collapsed);
 }
 
+/* A corner at local vertex i (neighbours j, l): a = x_j − x_i, b = x_l − x_i,
+ * their lengths and unit vectors, and c = â·b̂. */
+typedef struct sb_corner_frame {
+    sb_vec3 ua, ub;
+    double A, B, c;
+} sb_corner_frame;
+
+static sb_corner_frame sb_corner_frame_at(const sb_vec3* x, int i, int j, int l) {
+    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
+    sb_corner_frame f = {.A = sb_v3_length(a), .B = sb_v3_length(b)};
+    f.ua = sb_v3_scale(a, 1.0 / f.A), f.ub = sb_v3_scale(b, 1.0 / f.B);
+    f.c = sb_v3_dot(f.ua, f.ub);
+    return f;
+}
+
 /* One corner's λ w wᵀ (kernels/hessian.h): λ, and w on i, j, l in parts. */
 static double sb_corner_definite_parts(double k_angle, double k_sb, const sb_vec3* x, int i, int j, int l,
                                        sb_vec3* parts) {
-    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
-    double A = sb_v3_length(a), B = sb_v3_length(b);
-    sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
-    double c = sb_v3_dot(ua, ub);
+    sb_corner_frame f = sb_corner_frame_at(x, i, j, l);
+    sb_vec3 ua = f.ua, ub = f.ub;
+    double A = f.A, B = f.B, c = f.c;
     double lambda = 0.5 * (k_angle + sqrt(k_angle * k_angle + 4.0 * k_sb * k_sb));
     double p = k_sb != 0.0 ? k_sb : 1.0, q = k_sb != 0.0 ? lambda - k_angle : 0.0, norm = sqrt(p * p + q * q);
     p /= norm, q /= norm;
@@ -79,9 +100,8 @@ static void sb_corner_definite(double k_angle, double k_sb, const sb_vec3* x, in
 }
 
 void sb_triangle_definite(const sb_model* m, uint32_t t, const sb_vec3* x, double* k) {
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
-    if (k_angle == 0.0 && k_sb == 0.0) return;
+    double k_angle, k_sb;
+    if (!sb_corner_stiffness(m, t, &k_angle, &k_sb)) return;
     for (int c = 0; c < 3; c++) sb_corner_definite(k_angle, k_sb, x, c, (c + 1) % 3, (c + 2) % 3, k);
 }
 
@@ -108,15 +128,29 @@ typedef struct sb_corner_hessian {
     sb_vec3 force[3]; /* on i, j, l */
 } sb_corner_hessian;
 
-/* The corner at local vertex i (neighbours j, l); false when an edge collapsed. */
-static bool sb_corner_hessian_at(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_vec3* x,
-                                 int i, int j, int l, sb_corner_hessian* out) {
-    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
-    double A = sb_v3_length(a), B = sb_v3_length(b);
-    if (!(A >= SB_COLLAPSE_RATIO * a0) || !(B >= SB_COLLAPSE_RATIO * b0)) return false;
-    sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
-    double c = sb_v3_dot(ua, ub), dc = c - cos0, S = (A - a0) + (B - b0);
-    double g = k_angle * dc + k_sb * S, h = k_sb * dc;
+/* A corner of triangle t at local vertex i (neighbours j, l): its frame and
+ * stiffnesses, and g = ∂E/∂c, h = ∂E/∂S (reference_corners.c). */
+typedef struct sb_corner {
+    sb_corner_frame f;
+    double k_angle, k_sb, g, h;
+} sb_corner;
+
+/* False when an edge collapsed. */
+static bool sb_corner_at(const sb_model* m, uint32_t t, double k_angle, double k_sb, const sb_vec3* x, int i, int j,
+                         int l, sb_corner* out) {
+    double a0 = m->tri_len0[i][t], b0 = m->tri_len0[l][t];
+    out->f = sb_corner_frame_at(x, i, j, l);
+    if (!(out->f.A >= SB_COLLAPSE_RATIO * a0) || !(out->f.B >= SB_COLLAPSE_RATIO * b0)) return false;
+    double dc = out->f.c - m->tri_cos0[i][t], S = (out->f.A - a0) + (out->f.B - b0);
+    out->k_angle = k_angle, out->k_sb = k_sb;
+    out->g = k_angle * dc + k_sb * S, out->h = k_sb * dc;
+    return true;
+}
+
+static void sb_corner_hessian_at(const sb_corner* corner, sb_corner_hessian* out) {
+    sb_vec3 ua = corner->f.ua, ub = corner->f.ub;
+    double A = corner->f.A, B = corner->f.B, c = corner->f.c, g = corner->g, h = corner->h;
+    double k_angle = corner->k_angle, k_sb = corner->k_sb;
     sb_vec3 ca = sb_v3_scale(sb_v3_sub(ub, sb_v3_scale(ua, c)), 1.0 / A);
     sb_vec3 cb = sb_v3_scale(sb_v3_sub(ua, sb_v3_scale(ub, c)), 1.0 / B);
     double *aa = out->aa, *ab = out->ab, *bb = out->bb;
@@ -139,22 +173,20 @@ static bool sb_corner_hessian_at(double k_angle, double k_sb, double cos0, doubl
     out->force[1] = sb_v3_scale(sb_v3_add(sb_v3_scale(ca, g), sb_v3_scale(ua, h)), -1.0);
     out->force[2] = sb_v3_scale(sb_v3_add(sb_v3_scale(cb, g), sb_v3_scale(ub, h)), -1.0);
     out->force[0] = sb_v3_scale(sb_v3_add(out->force[1], out->force[2]), -1.0);
-    return true;
 }
 
 /* The triangle's corners one by one; false when an edge collapsed. */
 typedef void (*sb_corner_visit)(const sb_corner_hessian* h, int i, int j, int l, void* context);
 
 static bool sb_triangle_corners(const sb_model* m, uint32_t t, const sb_vec3* x, sb_corner_visit visit, void* context) {
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
-    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    double k_angle, k_sb;
+    if (!sb_corner_stiffness(m, t, &k_angle, &k_sb)) return true;
     for (int c = 0; c < 3; c++) {
+        sb_corner corner;
         sb_corner_hessian h;
         int j = (c + 1) % 3, l = (c + 2) % 3;
-        if (!sb_corner_hessian_at(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[l][t], x, c, j, l,
-                                  &h))
-            return false;
+        if (!sb_corner_at(m, t, k_angle, k_sb, x, c, j, l, &corner)) return false;
+        sb_corner_hessian_at(&corner, &h);
         visit(&h, c, j, l, context);
     }
     return true;
@@ -195,14 +227,10 @@ static void sb_expand_in_plane(double alpha, const double* cc, sb_vec3 ua, sb_ve
  * sb_corner_hessian_at's matrices, each a multiple of I plus a form in the
  * plane of â and b̂ (∇c, ∇S and the second derivatives all lie there), so
  * that each is a 2 × 2 matrix C in that basis, expanded once. */
-static bool sb_corner_blocks(double k_angle, double k_sb, double cos0, double a0, double b0, const sb_vec3* x, int i,
-                             int j, int l, double scale, double* blocks) {
-    sb_vec3 a = sb_v3_sub(x[j], x[i]), b = sb_v3_sub(x[l], x[i]);
-    double A = sb_v3_length(a), B = sb_v3_length(b);
-    if (!(A >= SB_COLLAPSE_RATIO * a0) || !(B >= SB_COLLAPSE_RATIO * b0)) return false;
-    sb_vec3 ua = sb_v3_scale(a, 1.0 / A), ub = sb_v3_scale(b, 1.0 / B);
-    double c = sb_v3_dot(ua, ub), dc = c - cos0, S = (A - a0) + (B - b0);
-    double g = k_angle * dc + k_sb * S, h = k_sb * dc;
+static void sb_corner_blocks(const sb_corner* corner, int i, int j, int l, double scale, double* blocks) {
+    sb_vec3 ua = corner->f.ua, ub = corner->f.ub;
+    double A = corner->f.A, B = corner->f.B, c = corner->f.c, g = corner->g, h = corner->h;
+    double k_angle = corner->k_angle, k_sb = corner->k_sb;
     /* ∇_a c = p1 â + p2 b̂, ∇_b c = q1 â + q2 b̂ */
     double p1 = -c / A, p2 = 1.0 / A, q1 = 1.0 / B, q2 = -c / B;
     double saa = -g / (A * A), sbb = -g / (B * B), sab = g / (A * B);
@@ -232,19 +260,17 @@ static bool sb_corner_blocks(double k_angle, double k_sb, double cos0, double a0
             ij[k] -= haa + hba, ji[k] -= haa + hab, il[k] -= hab + hbb, li[k] -= hba + hbb;
             ii[k] += (haa + hab) + (hba + hbb);
         }
-    return true;
 }
 
 bool sb_triangle_stiffness_blocks(const sb_model* m, uint32_t t, const sb_vec3* x, double scale, double* blocks) {
     memset(blocks, 0, 81 * sizeof *blocks);
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
-    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    double k_angle, k_sb;
+    if (!sb_corner_stiffness(m, t, &k_angle, &k_sb)) return true;
     for (int c = 0; c < 3; c++) {
+        sb_corner corner;
         int j = (c + 1) % 3, l = (c + 2) % 3;
-        if (!sb_corner_blocks(k_angle, k_sb, m->tri_cos0[c][t], m->tri_len0[c][t], m->tri_len0[l][t], x, c, j, l, scale,
-                              blocks))
-            return false;
+        if (!sb_corner_at(m, t, k_angle, k_sb, x, c, j, l, &corner)) return false;
+        sb_corner_blocks(&corner, c, j, l, scale, blocks);
     }
     return true;
 }
@@ -268,9 +294,8 @@ static void sb_add_corner_force(const sb_corner_hessian* h, int i, int j, int l,
 bool sb_triangle_vertex_share(const sb_model* m, uint32_t t, const sb_vec3* x, int place, double* f, double* block) {
     sb_vertex_share share = {place, f, block};
     if (!sb_triangle_corners(m, t, x, sb_add_corner_force, &share)) return false;
-    double k_angle = m->term_enabled[SB_TERM_ANGLE] ? m->angle_k[t] : 0.0;
-    double k_sb = m->term_enabled[SB_TERM_STRETCH_BEND] ? m->stretch_bend_k[t] : 0.0;
-    if (k_angle == 0.0 && k_sb == 0.0) return true;
+    double k_angle, k_sb;
+    if (!sb_corner_stiffness(m, t, &k_angle, &k_sb)) return true;
     for (int c = 0; c < 3; c++) {
         sb_vec3 parts[3];
         int j = (c + 1) % 3, l = (c + 2) % 3;
