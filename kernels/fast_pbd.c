@@ -878,11 +878,6 @@ uint32_t sb_pbd_wide_schedule_faults(const sb_solver* s, uint32_t* across) {
     return faults;
 }
 
-/* Whether anything of the next step reads this step's forces or energies. */
-static bool sb_pbd_needs_forces(const sb_solver* s) {
-    return s->def.adaptive || s->def.external_force || s->soft_handles || s->breakage || s->self;
-}
-
 sb_status sb_pbd_wide_step(sb_solver* s, double dt) {
     sb_pbd* p = s->pbd;
     sb_pbd_wide_sync(p->wide, s);
@@ -897,7 +892,7 @@ sb_status sb_pbd_wide_step(sb_solver* s, double dt) {
     s->published = true; /* the state's arrays and the packed positions and velocities hold the new state */
     s->has_displacement = false;
     if (atomic_load(&job.bad)) return sb_check_state(s);
-    if (!atomic_load(&job.collapsed) && !sb_pbd_needs_forces(s)) {
+    if (!atomic_load(&job.collapsed) && !sb_step_needs_forces(s)) {
         s->forces_stale = true;
         return SB_OK;
     }

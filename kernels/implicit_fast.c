@@ -32,7 +32,7 @@
  * CG stops at its relative 1e-5 or at half of that Newton target, whichever
  * is larger. The step's last residual had the new state's forces: they and
  * the energies wait for sb_solver_settle unless what follows the step reads
- * them (sb_fast_newton_needs_forces). */
+ * them (sb_step_needs_forces). */
 #include "kernels/implicit_fast.h"
 #include "kernels/fast_hessian.h"
 #include "kernels/handle_internal.h"
@@ -469,17 +469,6 @@ static void sb_fast_newton_init(sb_fast_newton* w) {
                 w->v[V_DV][4 * i + a] = (sb_real)((target[3 * i + a] - x[a][i]) / w->dt - v[a][i]);
 }
 
-/* Whether what follows the step reads its forces at once: the contact,
- * handle and self-contact passes after it, breakage's limits, adaptive
- * stepping's estimate, the external and soft handles' callbacks. Otherwise
- * sb_solver_settle evaluates them when asked (as pbd and vbd do): the line
- * search's last residual already had them, but the energies and the
- * state's arrays were not kept: a step saves a force pass. */
-static bool sb_fast_newton_needs_forces(const sb_solver* s) {
-    return s->def.adaptive || s->def.external_force || s->soft_handles || s->breakage || s->self ||
-           s->def.collider_count > 0 || s->def.handle_count > 0;
-}
-
 /* The free vertices' new positions and velocities into the state. */
 static void sb_fast_newton_store(sb_solver* s) {
     sb_state* st = &s->state;
@@ -521,6 +510,8 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
     if (!converged) s->stats.converged = false;
     sb_fast_newton_store(s);
     s->has_displacement = false;
-    s->forces_stale = !sb_fast_newton_needs_forces(s);
+    /* the line search's last residual had the forces, but not the energies
+     * and the state's arrays: a force pass saved where nothing reads them */
+    s->forces_stale = !sb_step_needs_forces(s);
     return s->forces_stale ? sb_check_state(s) : sb_solver_compute_forces(s);
 }

@@ -391,9 +391,18 @@ static sb_status sb_self_contact_after_step(sb_solver* s, double dt) {
     return contacts > 0 ? sb_solver_compute_forces(s) : SB_OK;
 }
 
+/* Whether a step is followed by the collider pass: pbd and xpbd project
+ * the colliders inside their sweeps (kernels/contact_pbd.c). */
+static bool sb_contact_after(const sb_solver* s) { return s->def.collider_count > 0 && !s->pbd; }
+
+bool sb_step_needs_forces(const sb_solver* s) {
+    return s->def.adaptive || s->def.external_force || s->soft_handles || s->self || s->def.handle_count > 0 ||
+           sb_contact_after(s);
+}
+
 sb_status sb_solver_step(sb_solver* s, double dt) {
     bool contact = s->def.collider_count > 0;
-    bool after = contact && !s->pbd; /* pbd, xpbd: contact inside their sweeps (kernels/contact_pbd.c) */
+    bool after = sb_contact_after(s);
     if (contact) sb_contact_begin_step(s, s->time, s->time + dt);
     sb_handles_begin_step(s, s->time, dt);
     if (after && !sb_fused(s)) sb_contact_save_from(s);
@@ -408,7 +417,7 @@ sb_status sb_solver_step(sb_solver* s, double dt) {
         if (status == SB_ERR_DEGENERATE) sb_prefix_step(s);
         return status == SB_OK ? sb_check_stretch(s) : status;
     }
-    if (s->forces_stale) /* pbd's SIMD step (kernels/fast_pbd.c) checked the state; the energies wait */
+    if (s->forces_stale) /* the step checked the state; nothing below runs (sb_step_needs_forces); the energies wait */
         return status == SB_OK ? sb_check_stretch(s) : status;
     if (status == SB_OK && after) status = sb_contact_after_step(s, dt);
     if (status == SB_OK && s->self) status = sb_self_contact_after_step(s, dt);

@@ -27,7 +27,7 @@ struct sb_solver {
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     bool published;
-    bool forces_stale;            /* pbd, xpbd: the step left the new state's forces and energies to sb_solver_settle */
+    bool forces_stale;            /* the step left the new state's forces and energies to sb_solver_settle */
     bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
     double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
@@ -159,6 +159,17 @@ void sb_fast_publish(sb_solver* solver);
  * last step left them for later (forces_stale); the getters that return
  * them call it first. */
 sb_status sb_solver_settle(sb_solver* solver);
+/* Whether anything between a step and the next reads the new state's
+ * forces or energies, so that the step must evaluate them: the passes after
+ * it (collider, self-contact, hard handles: sb_solver_step), the external
+ * and soft handles' forces (evaluated with the forces, read by the next
+ * step), adaptive stepping's energies. Otherwise a step that can leaves
+ * them to sb_solver_settle: pbd's and xpbd's SIMD sweeps (which run only
+ * without colliders and handles), the fast vbd sweep (only without
+ * breakage), the fast implicit Euler. Breakage does not need them: it reads
+ * positions, and the forces only for Verlet's re-kick, whose step never
+ * leaves them (tests/test_tearing.c). */
+bool sb_step_needs_forces(const sb_solver* solver);
 
 /* Fills the solver's error naming the first vertex that is not finite or ran
  * away; SB_OK if there is none. */

@@ -280,14 +280,6 @@ static void sb_vbd_fast_sweeps(sb_vbd_job* job, const sb_worker* w) {
     sb_fast_vbd_run(v->fast, &step, w);
 }
 
-/* Whether anything right after the step reads its forces or energies: the
- * contact, self-contact and handle passes, the adaptive stepper, the
- * external forces (evaluated with the forces, read by the next step's y). */
-static bool sb_vbd_needs_forces(const sb_solver* s) {
-    return s->def.adaptive || s->def.external_force || s->soft_handles || s->self || s->def.collider_count > 0 ||
-           s->def.handle_count > 0;
-}
-
 /* The first guess (the paper's adaptive initialisation): x⁰ + dt v⁰ +
  * dt² ã ĝ, where ã is the vertex's last acceleration along gravity, clamped
  * to [0, |g|]. Guessing y itself moves a hanging sheet's every vertex down
@@ -367,7 +359,7 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     /* The fast sweep leaves the forces and energies to sb_solver_settle when
      * nothing needs them now (as pbd does): a force pass costs half a sweep.
      * A collapse it met is reported by evaluating them. */
-    s->forces_stale = v->fast && !atomic_load(&job.collapsed) && !sb_vbd_needs_forces(s);
+    s->forces_stale = v->fast && !atomic_load(&job.collapsed) && !sb_step_needs_forces(s);
     return s->forces_stale ? sb_check_state(s) : sb_solver_compute_forces(s);
 }
 
