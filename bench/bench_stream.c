@@ -7,6 +7,8 @@
 #include "bench/bench_stream.h"
 
 #include <omp.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -18,11 +20,38 @@ static double sb_now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* Line `name` of cache index `index`'s sysfs directory into out; false when absent. */
+static bool sb_cache_field(int index, const char* name, char* out, int size) {
+    char path[128];
+    snprintf(path, sizeof path, "/sys/devices/system/cpu/cpu0/cache/index%d/%s", index, name);
+    FILE* f = fopen(path, "r");
+    if (!f) return false;
+    bool ok = fgets(out, size, f) != NULL;
+    fclose(f);
+    return ok;
+}
+
 size_t sb_bench_llc_bytes(void) {
+    size_t bytes = 0;
+    int top = 0;
+    char text[64];
+    for (int index = 0; index < 16 && sb_cache_field(index, "level", text, sizeof text); index++) {
+        int level = atoi(text);
+        if (!sb_cache_field(index, "type", text, sizeof text) || strncmp(text, "Instruction", 11) == 0) continue;
+        if (level < top || !sb_cache_field(index, "size", text, sizeof text)) continue;
+        char* unit;
+        unsigned long long size = strtoull(text, &unit, 10);
+        size <<= *unit == 'K' ? 10 : *unit == 'M' ? 20 : *unit == 'G' ? 30 : 0;
+        top = level;
+        bytes = (size_t)size;
+    }
+    return bytes;
+}
+
+size_t sb_bench_cpuid_l3_bytes(void) {
     long size = 0;
 #ifdef _SC_LEVEL3_CACHE_SIZE
     size = sysconf(_SC_LEVEL3_CACHE_SIZE);
-    if (size <= 0) size = sysconf(_SC_LEVEL2_CACHE_SIZE);
 #endif
     return size > 0 ? (size_t)size : 0;
 }

@@ -11,8 +11,16 @@ typedef struct sb_triad_result {
     double gb_per_s; /* best of the repetitions, 24 bytes per element (STREAM's count) */
 } sb_triad_result;
 
-/* Last-level cache size in bytes (0 when unknown). */
+/* The last-level cache of the first core in bytes, as the OS reports it
+ * (the largest level of /sys/devices/system/cpu/cpu0/cache); 0 when it
+ * reports none, as the virtual machine the benchmarks ran in does. */
 size_t sb_bench_llc_bytes(void);
+/* The L3 size the processor's cpuid gives (sysconf's _SC_LEVEL3_CACHE_SIZE,
+ * the legacy leaf 0x80000006 on AMD where the cache-topology leaf is
+ * missing); 0 when unknown. Not what a core shares: in that virtual machine
+ * (a Turin-like EPYC, 32 MiB of L3 a die) it reads 508 MiB, about a whole
+ * package's. */
+size_t sb_bench_cpuid_l3_bytes(void);
 
 /* Runs the triad with `threads` OpenMP threads on three double arrays of
  * array_bytes each, `repeats` times, and keeps the best. Returns a negative

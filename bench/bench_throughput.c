@@ -224,7 +224,12 @@ static void sb_print_machine(FILE* out, const char* prefix, const sb_triad_resul
     strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S %Z", localtime(&now));
     fprintf(out, "%sdate: %s\n%scommit: %s\n", prefix, date, prefix, commit);
     fprintf(out, "%scpu: %s\n%slogical cores online: %ld\n", prefix, cpu, prefix, sysconf(_SC_NPROCESSORS_ONLN));
-    fprintf(out, "%slast-level cache: %.1f MiB\n", prefix, sb_bench_llc_bytes() / 1048576.0);
+    size_t llc = sb_bench_llc_bytes();
+    if (llc)
+        fprintf(out, "%slast-level cache: %.1f MiB\n", prefix, llc / 1048576.0);
+    else
+        fprintf(out, "%slast-level cache: not reported by the OS (cpuid's L3: %.1f MiB, may be a whole package's)\n",
+                prefix, sb_bench_cpuid_l3_bytes() / 1048576.0);
     double load[3];
     if (getloadavg(load, 3) == 3)
         fprintf(out, "%sload average (1, 5, 15 min; above 0.5 means others shared the cores): %.2f %.2f %.2f\n", prefix,
@@ -425,7 +430,9 @@ static int sb_write_outputs(const sb_options* o, const sb_row* rows, int count, 
 /* ---- main ---------------------------------------------------------------- */
 
 static int sb_triads(const sb_options* o, sb_triad_result* out) {
-    size_t llc = sb_bench_llc_bytes(), bytes = 4 * (llc ? llc : (size_t)32 << 20);
+    /* 4x the larger of the OS's and cpuid's figures: past every cache either may mean */
+    size_t llc = sb_bench_llc_bytes(), l3 = sb_bench_cpuid_l3_bytes();
+    size_t bytes = 4 * (llc > l3 ? llc : l3 ? l3 : (size_t)32 << 20);
     size_t floor_bytes = (size_t)256 << 20;
     if (o->quick && bytes > floor_bytes) bytes = floor_bytes;
     if (bytes < floor_bytes / 4) bytes = floor_bytes / 4;
