@@ -9,25 +9,16 @@
 #include "kernels/block_matrix.h"
 #include "kernels/sparse_cholesky.h"
 
+/* Each case's fixture: the sheet's matrix (values unset), its analysis, a
+ * mask of ones (nothing held), a random right-hand side b from the case's
+ * seed (the prestate) and the solution's x. */
 typedef struct system {
     sb_model* model;
     sb_block_matrix* a;
+    sb_sparse_cholesky* f;
     size_t n3;
+    double *mask, *b, *x;
 } system_t;
-
-static system_t make_system(void) {
-    system_t s;
-    s.model = tu_every_term_sheet(30, false);
-    s.a = sb_block_matrix_create(s.model, 0);
-    assert_non_null(s.a);
-    s.n3 = 3 * (size_t)s.a->rows;
-    return s;
-}
-
-static void free_system(system_t* s) {
-    sb_block_matrix_destroy(s->a);
-    sb_model_destroy(s->model);
-}
 
 /* Random symmetric values in every block of the pattern, the diagonal raised
  * above the sum of its row's magnitudes times `dominance` (> 1: strictly
@@ -75,6 +66,32 @@ static double* ones(size_t n) {
     return v;
 }
 
+static int setup_system(void** state) {
+    uint64_t seed = *(const uint64_t*)*state;
+    system_t* s = calloc(1, sizeof *s);
+    if (!s) return -1;
+    s->model = tu_every_term_sheet(30, false);
+    s->a = sb_block_matrix_create(s->model, 0);
+    if (!s->a) return -1;
+    s->f = sb_sparse_cholesky_create(s->a);
+    s->n3 = 3 * (size_t)s->a->rows;
+    s->mask = ones(s->n3);
+    s->b = random_vector(s->n3, seed);
+    s->x = malloc(s->n3 * sizeof *s->x);
+    *state = s;
+    return s->f && s->mask && s->b && s->x ? 0 : -1;
+}
+
+static int teardown_system(void** state) {
+    system_t* s = *state;
+    free(s->mask), free(s->b), free(s->x);
+    sb_sparse_cholesky_destroy(s->f);
+    sb_block_matrix_destroy(s->a);
+    sb_model_destroy(s->model);
+    free(s);
+    return 0;
+}
+
 /* |A x − b|∞ over |b|∞ after a factorization and a solve. */
 static double relative_residual(const sb_block_matrix* a, const double* x, const double* b, size_t n3) {
     double* ax = malloc(n3 * sizeof *ax);
@@ -89,87 +106,73 @@ static double relative_residual(const sb_block_matrix* a, const double* x, const
  * analysis with other values (what each Newton iteration does) inverts the
  * new values, not a mix of the old and new. */
 static void test_solves_spd_systems(void** state) {
-    (void)state;
-    system_t s = make_system();
-    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
-    assert_non_null(f);
-    double *mask = ones(s.n3), *b = random_vector(s.n3, 5), *x = malloc(s.n3 * sizeof *x);
+    system_t* s = *state;
     const double dominance[3] = {1.05, 1.5, 1.01}, spread[3] = {1.0, 1e3, 10.0};
     for (int round = 0; round < 3; round++) {
-        fill_spd(s.a, 11 + round, dominance[round], spread[round]);
-        assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
-        assert_true(sb_sparse_cholesky_solve(f, b, x));
-        double residual = relative_residual(s.a, x, b, s.n3);
+        fill_spd(s->a, 11 + round, dominance[round], spread[round]);
+        assert_true(sb_sparse_cholesky_factor(s->f, s->a, s->mask));
+        assert_true(sb_sparse_cholesky_solve(s->f, s->b, s->x));
+        double residual = relative_residual(s->a, s->x, s->b, s->n3);
         print_message("round %d: |Ax - b| / |b| = %.3g\n", round, residual);
         TU_ASSERT_LE(residual, 1e-11);
     }
-    free(mask), free(b), free(x);
-    sb_sparse_cholesky_destroy(f);
-    free_system(&s);
 }
 
 /* Rows and columns of held vertices (mask 0) act as the identity's: the
  * solution there is the right-hand side, and the other rows solve their own
  * system with those columns left out. */
 static void test_masked_rows_are_the_identity(void** state) {
-    (void)state;
-    system_t s = make_system();
-    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
-    assert_non_null(f);
-    fill_spd(s.a, 23, 1.2, 100.0);
-    double *mask = ones(s.n3), *b = random_vector(s.n3, 29), *x = malloc(s.n3 * sizeof *x);
+    system_t* s = *state;
+    double *mask = s->mask, *b = s->b, *x = s->x;
+    fill_spd(s->a, 23, 1.2, 100.0);
     const uint32_t held[] = {0, 29, 450, 899};
     for (size_t h = 0; h < sizeof held / sizeof *held; h++)
         for (int c = 0; c < 3; c++) mask[3 * held[h] + c] = 0.0;
-    assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
-    assert_true(sb_sparse_cholesky_solve(f, b, x));
+    assert_true(sb_sparse_cholesky_factor(s->f, s->a, mask));
+    assert_true(sb_sparse_cholesky_solve(s->f, b, x));
     /* The free rows: Σ over free columns of A x = b, checked with x zeroed on the held ones. */
-    double* free_x = malloc(s.n3 * sizeof *free_x);
-    for (size_t k = 0; k < s.n3; k++) {
+    double* free_x = malloc(s->n3 * sizeof *free_x);
+    for (size_t k = 0; k < s->n3; k++) {
         free_x[k] = mask[k] != 0.0 ? x[k] : 0.0;
         if (mask[k] == 0.0) TU_ASSERT_NEAR(x[k], b[k], 1e-14);
     }
-    double* ax = malloc(s.n3 * sizeof *ax);
-    sb_block_matrix_multiply(s.a, free_x, ax);
-    for (size_t k = 0; k < s.n3; k++)
-        if (mask[k] != 0.0) TU_ASSERT_NEAR(ax[k], b[k], 1e-11 * tu_max_abs(b, s.n3));
-    free(ax), free(free_x), free(mask), free(b), free(x);
-    sb_sparse_cholesky_destroy(f);
-    free_system(&s);
+    double* ax = malloc(s->n3 * sizeof *ax);
+    sb_block_matrix_multiply(s->a, free_x, ax);
+    for (size_t k = 0; k < s->n3; k++)
+        if (mask[k] != 0.0) TU_ASSERT_NEAR(ax[k], b[k], 1e-11 * tu_max_abs(b, s->n3));
+    free(ax), free(free_x);
 }
 
 /* A matrix that is not positive definite, or holds a NaN, does not factor
  * (the caller then solves by CG), and the factorization after it, of a good
  * matrix, is right again. */
 static void test_rejects_indefinite_and_nan(void** state) {
-    (void)state;
-    system_t s = make_system();
-    sb_sparse_cholesky* f = sb_sparse_cholesky_create(s.a);
-    assert_non_null(f);
-    double *mask = ones(s.n3), *b = random_vector(s.n3, 31), *x = malloc(s.n3 * sizeof *x);
+    system_t* s = *state;
+    sb_block_matrix* a = s->a;
     const uint32_t rows[] = {0, 437, 899};
     for (size_t r = 0; r < sizeof rows / sizeof *rows; r++) {
-        fill_spd(s.a, 37 + r, 1.1, 1.0);
-        s.a->block[9 * (size_t)s.a->diagonal[rows[r]] + 4] = -1.0;
-        assert_false(sb_sparse_cholesky_factor(f, s.a, mask));
-        fill_spd(s.a, 41 + r, 1.1, 1.0);
-        s.a->block[9 * (size_t)s.a->diagonal[rows[r]] + 8] = NAN;
-        assert_false(sb_sparse_cholesky_factor(f, s.a, mask));
+        fill_spd(a, 37 + r, 1.1, 1.0);
+        a->block[9 * (size_t)a->diagonal[rows[r]] + 4] = -1.0;
+        assert_false(sb_sparse_cholesky_factor(s->f, a, s->mask));
+        fill_spd(a, 41 + r, 1.1, 1.0);
+        a->block[9 * (size_t)a->diagonal[rows[r]] + 8] = NAN;
+        assert_false(sb_sparse_cholesky_factor(s->f, a, s->mask));
     }
-    fill_spd(s.a, 43, 1.1, 1.0);
-    assert_true(sb_sparse_cholesky_factor(f, s.a, mask));
-    assert_true(sb_sparse_cholesky_solve(f, b, x));
-    TU_ASSERT_LE(relative_residual(s.a, x, b, s.n3), 1e-11);
-    free(mask), free(b), free(x);
-    sb_sparse_cholesky_destroy(f);
-    free_system(&s);
+    fill_spd(a, 43, 1.1, 1.0);
+    assert_true(sb_sparse_cholesky_factor(s->f, a, s->mask));
+    assert_true(sb_sparse_cholesky_solve(s->f, s->b, s->x));
+    TU_ASSERT_LE(relative_residual(a, s->x, s->b, s->n3), 1e-11);
 }
 
 int main(void) {
+    static const uint64_t seeds[] = {5, 29, 31}; /* each case's right-hand side */
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_solves_spd_systems),
-        cmocka_unit_test(test_masked_rows_are_the_identity),
-        cmocka_unit_test(test_rejects_indefinite_and_nan),
+        cmocka_unit_test_prestate_setup_teardown(test_solves_spd_systems, setup_system, teardown_system,
+                                                 (void*)&seeds[0]),
+        cmocka_unit_test_prestate_setup_teardown(test_masked_rows_are_the_identity, setup_system, teardown_system,
+                                                 (void*)&seeds[1]),
+        cmocka_unit_test_prestate_setup_teardown(test_rejects_indefinite_and_nan, setup_system, teardown_system,
+                                                 (void*)&seeds[2]),
     };
     return TU_RUN_TESTS(tests);
 }
