@@ -101,21 +101,23 @@ verlet_substeps_of() {
 verlet_substeps() { verlet_substeps_of "1 2 5 10 20 40 80" "$@"; }
 
 # One vbd row on an n x n sheet: kernels, sweeps, timed steps, Chebyshev's
-# rho (0: none), the material's stiffness scale (1: the default's; the
-# rest: --set options of that material). With N = 98 the long run of
-# per_step is the 0.1 s stability run itself.
+# rho (0: none), the vertex steps' relaxation (1: plain), the material's
+# stiffness scale (1: the default's; the rest: --set options of that
+# material). With N = 98 the long run of per_step is the 0.1 s stability
+# run itself.
 vbd_row() {
-    n=$1 kernels=$2 sweeps=$3 steps=$4 rho=${5:-0} row_scale=${6:-1}
-    shift $(($# < 6 ? $# : 6))
+    n=$1 kernels=$2 sweeps=$3 steps=$4 rho=${5:-0} relax=${6:-1} row_scale=${7:-1}
+    shift $(($# < 7 ? $# : 7))
     set -- "$@" --set integrator=vbd --set vbd.iterations="$sweeps" --set vbd.chebyshev_rho="$rho" \
+        --set vbd.relaxation="$relax" \
         --set kernels="$kernels" --set mesh.nx="$n" --set mesh.ny="$n" --threads 2
     if t=$(per_step 0.001 "$steps" "$@" 2>/dev/null); then
         finite=$(tail -1 "$TMP/out/log.csv" | awk -F, '{ print ($9 == $9 + 0) ? "yes" : "no" }')
         [ "$steps" -eq 98 ] && ran="0.1 s" || ran="$((steps + 2)) steps"
         [ "$kernels" = fast ] && long=$(vbd_survival "$@") || long="-"
-        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
     else
-        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | - | - | failed within 0.1 s | - |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | - | - | failed within 0.1 s | - |"
     fi
 }
 
@@ -198,14 +200,15 @@ threshold_scale() {
 vbd_section() {
     echo "## vbd at dt = 1 ms, the default scene's material, 2 threads"
     echo
-    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | wall ms/step | CPU ms/step | run | 2 s run |"
-    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|---|---|"
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|--:|---|---|"
     for n in 57 100; do
         sub=$(verlet_substeps --set mesh.nx=$n --set mesh.ny=$n)
         for sweeps in 10 4; do vbd_row $n reference $sweeps $VBD_STEPS; done
         for sweeps in 10 4 2 1; do vbd_row $n fast $sweeps 98; done
         [ $n = 57 ] && accelerated="4 8" || accelerated="12 16"
         for sweeps in $accelerated; do vbd_row $n fast $sweeps 98 0.9; done
+        vbd_row $n fast 4 98 0.9 1.3
     done
     echo
     echo "Verlet sub-steps: the fewest of 1, 2, 5, 10, 20, 40, 80 per 1 ms that ran 0.1 s without a"
@@ -213,24 +216,29 @@ vbd_section() {
     echo "kernels/vbd.c); fast rows (kernels/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
     echo "after it finite. 2 s run: the same settings for 2 s, and the most the total energy rose above"
     echo "its start (the sheet falls about 1 J: a rise is stretch the sweeps stored), or where a vertex"
-    echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off. Stiffness scale 1: the"
+    echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off. Relaxation: vbd.relaxation"
+    echo "(each vertex's Newton step times it; 1 = plain). Stiffness scale 1: the"
     echo "default material. Target: vbd stable at 1 ms where Verlet needs >= 10, below 1 ms a step."
     echo
     echo "### At Verlet's threshold: the material softened until Verlet needs 10 sub-steps per 1 ms"
     echo
-    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | wall ms/step | CPU ms/step | run | 2 s run |"
-    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|---|---|"
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|--:|---|---|"
     for n in 57 100; do
         scale=$(threshold_scale "$n")
-        [ "$scale" = none ] && echo "| $n x $n | $((n * n)) | none | - | fast | - | - | - | - | Verlet ran away at 10 sub-steps on the whole ladder | - |" &&
+        [ "$scale" = none ] && echo "| $n x $n | $((n * n)) | none | - | fast | - | - | - | - | - | Verlet ran away at 10 sub-steps on the whole ladder | - |" &&
             continue
         # shellcheck disable=SC2046
         sub=$(verlet_substeps_of "5 6 7 8 9 10 20" --set mesh.nx="$n" --set mesh.ny="$n" $(softened "$scale"))
         [ "$n" = 57 ] && accelerated="3 4" || accelerated="4 5 6"
         # shellcheck disable=SC2046
-        for sweeps in 4 2 1; do vbd_row "$n" fast "$sweeps" 98 0 "$scale" $(softened "$scale"); done
+        for sweeps in 4 2 1; do vbd_row "$n" fast "$sweeps" 98 0 1 "$scale" $(softened "$scale"); done
         # shellcheck disable=SC2046
-        for sweeps in $accelerated; do vbd_row "$n" fast "$sweeps" 98 0.9 "$scale" $(softened "$scale"); done
+        for sweeps in $accelerated; do vbd_row "$n" fast "$sweeps" 98 0.9 1 "$scale" $(softened "$scale"); done
+        # each vertex's step over-relaxed (vbd.relaxation) besides Chebyshev's acceleration
+        [ "$n" = 57 ] && relaxed="3" || relaxed="3 4"
+        # shellcheck disable=SC2046
+        for sweeps in $relaxed; do vbd_row "$n" fast "$sweeps" 98 0.9 1.3 "$scale" $(softened "$scale"); done
     done
     echo
     echo "Stiffness scale s: the stiffest of 2^(-k/4), k = 0 .. 20, at which Verlet ran the sheet 0.1 s"

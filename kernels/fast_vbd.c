@@ -51,7 +51,8 @@
  * same values whatever the split over the team: the state is bitwise the
  * same for any thread count. With Chebyshev acceleration the packed
  * positions of the last two sweeps are kept and each worker accelerates
- * its own range after a sweep (vbd.c). */
+ * its own range after a sweep (vbd.c). With over-relaxation each lane adds
+ * ω times its Newton step (vbd.c). */
 #include "kernels/fast_vbd.h"
 #include "kernels/fast_block.h"
 #include "kernels/reference_terms.h"
@@ -544,7 +545,7 @@ static inline sb_wvec3 sb_ws_solve(const sb_wsym3* h, sb_wvec3 r) {
 }
 
 typedef struct sb_vbd_rates {
-    sb_wide inv_dt, inv_dt2, drag_per_dt;
+    sb_wide inv_dt, inv_dt2, drag_per_dt, relaxation;
 } sb_vbd_rates;
 
 /* One Newton step on each lane's vertex (vbd.c's sb_vbd_vertex); whether
@@ -563,7 +564,8 @@ static bool sb_vbd_block_update(const sb_fast_vbd* f, uint32_t b, const sb_vbd_r
     for (uint32_t s = 0; s < block->triangles; s++)
         sb_vbd_triangle_share(&l, block->triangle_at + (size_t)s * SB_WIDTH);
     for (uint32_t s = 0; s < block->hinges; s++) sb_vbd_hinge_share(&l, block->hinge_at + (size_t)s * SB_WIDTH);
-    sb_wvec3 step = sb_wv_scale(sb_ws_solve(&l.h, l.force), moves); /* held vertices (moves 0) wait */
+    /* ω times the Newton step; held vertices (moves 0) wait */
+    sb_wvec3 step = sb_wv_scale(sb_ws_solve(&l.h, l.force), sb_w_mul(moves, rates->relaxation));
     sb_wv_add4(f->x4, id, step, (int)block->lanes);
     return sb_w_any(sb_w_less(sb_w_set(0), l.lost), (int)block->lanes);
 }
@@ -599,7 +601,7 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     const int64_t first = begin, past = end;
     sb_worker_barrier(w);
     const sb_vbd_rates rates = {sb_w_set((sb_real)(1.0 / st->dt)), sb_w_set((sb_real)(1.0 / (st->dt * st->dt))),
-                                sb_w_set((sb_real)(st->drag / st->dt))};
+                                sb_w_set((sb_real)(st->drag / st->dt)), sb_w_set((sb_real)st->relaxation)};
     bool collapsed = false;
     double weight = 1.0;
     for (int it = 0; it < st->sweeps; it++) {

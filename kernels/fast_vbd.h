@@ -39,6 +39,7 @@ typedef struct sb_fast_vbd_step {
     double dt, drag;
     int sweeps;
     double chebyshev_rho; /* 0: no acceleration; otherwise the layout was created with chebyshev */
+    double relaxation;    /* ω: each vertex moves ω times its Newton step (1: plain) */
     sb_real* positions4;
     atomic_int* collapsed;
 } sb_fast_vbd_step;

@@ -138,6 +138,9 @@ static sb_status sb_check_def(const sb_solver_def* def, sb_error* err) {
     if (!(def->vbd_chebyshev_rho >= 0.0 && def->vbd_chebyshev_rho < 1.0))
         return sb_error_set(err, SB_ERR_INVALID, "vbd_chebyshev_rho must be in [0, 1) (got %g)",
                             def->vbd_chebyshev_rho);
+    if (!(def->vbd_relaxation >= 0.0 && def->vbd_relaxation < 2.0))
+        return sb_error_set(err, SB_ERR_INVALID, "vbd_relaxation must be in [0, 2) (got %g; 0 = 1)",
+                            def->vbd_relaxation);
     if (def->adaptive && !(def->min_dt > 0.0 && isfinite(def->min_dt)))
         return sb_error_set(err, SB_ERR_INVALID, "min_dt must be positive and finite (got %g)", def->min_dt);
     if (!isfinite(def->adaptive_tolerance) || def->adaptive_tolerance < 0.0)

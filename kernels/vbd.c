@@ -28,6 +28,12 @@
  * edges a step, and the sheet stretches as if softer, storing energy it
  * never had (README, Integrators); acceleration carries it further.
  *
+ * Over-relaxation (vbd_relaxation = ω, 1 plain): each vertex moves ω
+ * times its Newton step, successive over-relaxation; the fixed point is the
+ * same. Beside Chebyshev's acceleration a mild ω (1.3) carries a sweep's
+ * correction further: the threshold sheets need 4 sweeps on 100 × 100 and
+ * 3 on 57 × 57 instead of 6 and 4 (README, Integrators).
+ *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
  * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External
  * forces and soft handles are taken at the start of the step (in y);
@@ -78,6 +84,7 @@ typedef struct sb_vbd_job {
     double dt;
     int iterations;
     double rho;           /* Chebyshev's; 0: off */
+    double relaxation;    /* ω of each vertex's step; 1: plain */
     atomic_int collapsed; /* the fast sweep met a collapsed element */
 } sb_vbd_job;
 
@@ -225,7 +232,7 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
     }
     double step[3];
     if (!sb_solve3(h, f, step)) return; /* not finite (a collapsed element): this vertex waits */
-    for (int c = 0; c < 3; c++) x[3 * i + c] += step[c];
+    for (int c = 0; c < 3; c++) x[3 * i + c] += job->relaxation * step[c];
 }
 
 /* Chebyshev's step after sweep `sweep` on the worker's vertices [begin,
@@ -275,6 +282,7 @@ static void sb_vbd_fast_sweeps(sb_vbd_job* job, const sb_worker* w) {
                              job->s->def.drag,
                              job->iterations,
                              job->rho,
+                             job->relaxation,
                              job->s->positions4,
                              &job->collapsed};
     sb_fast_vbd_run(v->fast, &step, w);
@@ -352,7 +360,8 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_fast_publish(s); /* the state's arrays current */
     struct sb_vbd* v = s->vbd;
     sb_vbd_follow_topology(s, v);
-    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), s->def.vbd_chebyshev_rho, 0};
+    double relaxation = s->def.vbd_relaxation > 0.0 ? s->def.vbd_relaxation : 1.0;
+    sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), s->def.vbd_chebyshev_rho, relaxation, 0};
     sb_team_run(s->team, sb_team_size(s->team), sb_vbd_step, &job);
     v->has_previous = true;
     s->has_displacement = false;

@@ -121,7 +121,8 @@ typedef enum sb_scene_type {
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "             \
       "contact.thickness > 0)")                                                                                        \
     X(HAPTICS_DEVICE, "haptics.device", STRING, "none",                                                                \
-      "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view); README, \"Haptics\"")                   \
+      "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view); README, "        \
+      "\"Haptics\"")                                                                                                   \
     X(HAPTICS_FILE, "haptics.file", STRING, "''",                                                                      \
       "scripted: the CSV trajectory (time,x,y,z[,qw,qx,qy,qz][,button]), relative to the scene")                       \
     X(HAPTICS_PORT, "haptics.port", INTEGER, "47000", "udp: the port on 127.0.0.1 poses arrive at")                    \
@@ -148,7 +149,7 @@ typedef enum sb_scene_type {
     X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
     X(IMPLICIT_SOLVER, "implicit.solver", STRING, "auto",                                                              \
-      "implicit_euler's linear solves: cholesky (a sparse factorization), cg, or auto (cholesky up to 20000 "           \
+      "implicit_euler's linear solves: cholesky (a sparse factorization), cg, or auto (cholesky up to 20000 "          \
       "vertices where the stiffness outweighs the mass a hundredfold)")                                                \
     X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false",                                                           \
       "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                        \
@@ -156,6 +157,8 @@ typedef enum sb_scene_type {
     X(VBD_ITERATIONS, "vbd.iterations", INTEGER, "10", "vbd: Gauss-Seidel sweeps over the vertex colors per step")     \
     X(VBD_CHEBYSHEV_RHO, "vbd.chebyshev_rho", NUMBER, "0",                                                             \
       "vbd: Chebyshev acceleration across the sweeps, the spectral radius estimate in [0, 1); 0 = off")                \
+    X(VBD_RELAXATION, "vbd.relaxation", NUMBER, "1",                                                                   \
+      "vbd: over-relaxation of each vertex's Newton step, in (0, 2); 1 = plain steps")                                 \
     X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
     X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
     X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \

@@ -66,6 +66,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_STOP_MIN_TIME, false},
     {SB_KEY_STOP_MAX_TIME, false},
     {SB_KEY_VBD_CHEBYSHEV_RHO, false},
+    {SB_KEY_VBD_RELAXATION, true},
 };
 
 typedef struct integer_rule {
@@ -119,6 +120,10 @@ static sb_status check_ranges(const sb_scene* scene, sb_error* err) {
     if (rho >= 1.0)
         return sb_scene_fail(scene, SB_KEY_VBD_CHEBYSHEV_RHO, err,
                              "'vbd.chebyshev_rho' must be less than 1 (a spectral radius), got %g", rho);
+    double relaxation = sb_scene_number(scene, SB_KEY_VBD_RELAXATION); /* > 0 checked above */
+    if (relaxation >= 2.0)
+        return sb_scene_fail(scene, SB_KEY_VBD_RELAXATION, err,
+                             "'vbd.relaxation' must be less than 2 (successive over-relaxation), got %g", relaxation);
     return SB_OK;
 }
 

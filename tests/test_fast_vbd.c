@@ -7,13 +7,15 @@
 #include "kernels/hessian.h"
 #include "common/geometry.h"
 
-/* Four sweeps a step, with Chebyshev's acceleration at rho (0: none). */
-static sb_solver_def vbd_def(sb_kernels kernels, int threads, double rho) {
+/* Four sweeps a step, with Chebyshev's acceleration at rho (0: none) and
+ * each vertex's step over-relaxed by relaxation (1: plain). */
+static sb_solver_def vbd_def(sb_kernels kernels, int threads, double rho, double relaxation) {
     sb_solver_def def = sb_default_solver_def();
     def.integrator = SB_INTEGRATOR_VBD;
     def.kernels = kernels;
     def.vbd_iterations = 4;
     def.vbd_chebyshev_rho = rho;
+    def.vbd_relaxation = relaxation;
     def.drag = 0.5;
     def.runtime.threads = threads;
     return def;
@@ -50,25 +52,27 @@ static void bent_run(const sb_model* m, const sb_solver_def* def, int steps, dou
  * Newton steps on them see forces with that relative noise: measured
  * 6e-5 of the motion (which is ~5 mm), bound 2e-4, far below what leaving
  * out a term does (the springs' damping force: 6e-2, the hinges: 0.3).
- * The same with Chebyshev's acceleration (rho 0.9). */
+ * The same with Chebyshev's acceleration (rho 0.9), and with it and each
+ * vertex's step over-relaxed (vbd.relaxation 1.3). */
 static void test_fast_matches_reference(void** state) {
     (void)state;
     sb_model* m = tu_every_term_sheet(12, false);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double *start = malloc(n3 * sizeof *start), *fast = malloc(n3 * sizeof *fast), *ref = malloc(n3 * sizeof *ref);
-    for (int accelerated = 0; accelerated < 2; accelerated++) {
-        double rho = accelerated ? 0.9 : 0.0;
-        sb_solver_def def = vbd_def(SB_KERNELS_REFERENCE, 1, rho);
+    for (int accelerated = 0; accelerated < 3; accelerated++) {
+        double rho = accelerated ? 0.9 : 0.0, relaxation = accelerated == 2 ? 1.3 : 1.0;
+        sb_solver_def def = vbd_def(SB_KERNELS_REFERENCE, 1, rho, relaxation);
         bent_run(m, &def, 5, ref, start);
-        def = vbd_def(SB_KERNELS_FAST, 1, rho);
+        def = vbd_def(SB_KERNELS_FAST, 1, rho, relaxation);
         bent_run(m, &def, 5, fast, NULL);
         double motion = 0.0, distance = 0.0;
         for (size_t k = 0; k < n3; k++) {
             motion = fmax(motion, fabs(ref[k] - start[k]));
             distance = fmax(distance, fabs(fast[k] - ref[k]));
         }
-        print_message("fast vbd (rho %g) %.3g m from the reference after 5 steps that move %.3g m (%.3g)\n", rho,
-                      distance, motion, distance / motion);
+        print_message("fast vbd (rho %g, relaxation %g) %.3g m from the reference after 5 steps that move %.3g m "
+                      "(%.3g)\n",
+                      rho, relaxation, distance, motion, distance / motion);
         assert_true(motion > 1e-3);
         TU_ASSERT_LE(distance, (sizeof(sb_real) == sizeof(double) ? 1e-10 : 2e-4) * motion);
     }
@@ -77,18 +81,19 @@ static void test_fast_matches_reference(void** state) {
 }
 
 /* 1, 2 and 3 threads: the same state, bit for bit, on a sheet whose colors
- * span many SIMD blocks, without and with Chebyshev's acceleration. */
+ * span many SIMD blocks, without and with Chebyshev's acceleration, and
+ * with it and over-relaxed steps. */
 static void test_fast_deterministic(void** state) {
     (void)state;
     sb_model* m = tu_every_term_sheet(40, false);
     size_t n3 = 3 * (size_t)sb_model_vertex_count(m);
     double *one = malloc(n3 * sizeof *one), *other = malloc(n3 * sizeof *other);
-    for (int accelerated = 0; accelerated < 2; accelerated++) {
-        double rho = accelerated ? 0.9 : 0.0;
-        sb_solver_def def = vbd_def(SB_KERNELS_FAST, 1, rho);
+    for (int accelerated = 0; accelerated < 3; accelerated++) {
+        double rho = accelerated ? 0.9 : 0.0, relaxation = accelerated == 2 ? 1.3 : 1.0;
+        sb_solver_def def = vbd_def(SB_KERNELS_FAST, 1, rho, relaxation);
         bent_run(m, &def, 3, one, NULL);
         for (int threads = 2; threads <= 3; threads++) {
-            def = vbd_def(SB_KERNELS_FAST, threads, rho);
+            def = vbd_def(SB_KERNELS_FAST, threads, rho, relaxation);
             bent_run(m, &def, 3, other, NULL);
             assert_memory_equal(one, other, n3 * sizeof *one);
         }

@@ -889,6 +889,17 @@ static void test_scene_keys(void** state) {
     assert_int_not_equal(sb_scene_validate(&scene, &err), SB_OK);
     TU_ASSERT_CONTAINS(err.message, "vbd.chebyshev_rho");
     assert_int_equal(sb_scene_set(&scene, "vbd.chebyshev_rho=0", &err), SB_OK);
+    assert_true(sb_scene_solver_def(&scene).vbd_relaxation == 1.0); /* plain steps unless asked */
+    assert_int_equal(sb_scene_set(&scene, "vbd.relaxation=1.3", &err), SB_OK);
+    assert_int_equal(sb_scene_validate(&scene, &err), SB_OK);
+    assert_true(sb_scene_solver_def(&scene).vbd_relaxation == 1.3);
+    const char* refused[] = {"vbd.relaxation=2", "vbd.relaxation=0"};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(sb_scene_set(&scene, refused[k], &err), SB_OK);
+        assert_int_not_equal(sb_scene_validate(&scene, &err), SB_OK);
+        TU_ASSERT_CONTAINS(err.message, "vbd.relaxation");
+    }
+    assert_int_equal(sb_scene_set(&scene, "vbd.relaxation=1", &err), SB_OK);
     for (int k = 0; k < NI; ++k) {
         char set[64];
         snprintf(set, sizeof set, "integrator=%s", sb_integrator_name((sb_integrator)k));

@@ -149,6 +149,10 @@ typedef struct sb_solver_def {
     /* vbd: Chebyshev acceleration across a step's sweeps with this spectral
      * radius estimate ρ in [0, 1); 0 = off (the default). */
     double vbd_chebyshev_rho;
+    /* vbd: over-relaxation of each vertex's Newton step, x_i += ω Δx_i with
+     * ω in (0, 2) (successive over-relaxation; 0 = 1, plain steps, the
+     * default); see kernels/vbd.c. */
+    double vbd_relaxation;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
      * external forces exceeds adaptive_tolerance × (the largest sum of the
