@@ -17,12 +17,25 @@ static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) /
 
 #define SB_NONE UINT32_MAX
 
-/* Elements per block: about 64 blocks, 256 to 2048 elements each (a block's
- * vertices then fit in L1/L2). Depends on the element count only, never on
+/* Elements per block: about 64 blocks (every block color then has some for
+ * each thread), at least 256 elements, and at most as many as keep a
+ * block's vertex state within SB_BLOCK_CACHE_BYTES, so that it stays in
+ * the core's L2 while the block's element colors run over it. A vertex
+ * brings its packed positions and forces (2 × 4 reals) and a mesh has about
+ * two triangles a vertex (three bonds or hinges: fewer bytes an element),
+ * so an element brings 4 reals: at most 32 768 elements in float, 16 384
+ * in double. The cap was 2 048 before: a block was then about one row of
+ * the 1M sheet's quads, each vertex row fell in two blocks of different
+ * block colors, and the triangle pass loaded the positions and forces
+ * twice (DESIGN.md, "A step of the fast path": its L2 misses). A fixed
+ * budget, not the machine's cache size, so that a build's trajectory is
+ * the same on every machine. Depends on the element count only, never on
  * the thread count, so the summation order is the same for any. */
+#define SB_BLOCK_CACHE_BYTES (512u * 1024u) /* half of a 1 MiB L2 (the 2-core EPYC VM's) */
 static uint32_t sb_block_size(uint32_t count) {
+    const uint32_t most = SB_BLOCK_CACHE_BYTES / (4u * (uint32_t)sizeof(sb_real));
     uint32_t size = count / 64;
-    size = size < 256 ? 256 : size > 2048 ? 2048 : size;
+    size = size < 256 ? 256 : size > most ? most : size;
     return sb_round_up(size, SB_WIDTH);
 }
 

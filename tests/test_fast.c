@@ -507,6 +507,64 @@ static void test_coloring(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* A sheet large enough for blocks above 2 048 elements, the cap before the
+ * blocks were sized by the cache (kernels/fast_model.c): a 300 × 300
+ * jittered sheet, every term (damped springs fused, hinges carried), 178 802
+ * triangles in 64 blocks of 2 800. The layout is valid (check_group), the
+ * forces follow the reference's, and 100 Verlet steps give the same state
+ * on 1, 2 and 3 threads. */
+static void test_large_blocks(void** state) {
+    (void)state;
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = 300;
+    sheet.jitter = 0.15;
+    sb_mesh mesh = {0};
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &mesh, &err), SB_OK);
+    sb_model* model = make_model(&mesh, BONDS_DAMPED);
+    sb_fast_model* fast = sb_fast_model_create(model, &err);
+    assert_non_null(fast);
+    assert_true(fast->fused_hinges);
+    check_group(&fast->triangles, sb_model_triangle_count(model), mesh.vertex_count, 6,
+                (uint32_t* const[]){fast->tri_v[0], fast->tri_v[1], fast->tri_v[2], fast->tri_hinge_other[0],
+                                    fast->tri_hinge_other[1], fast->tri_hinge_other[2]});
+    uint32_t largest = 0;
+    for (uint32_t b = 0; b < fast->triangles.block_count; b++) {
+        const sb_block* block = &fast->triangles.blocks[b];
+        uint32_t elements = 0;
+        for (uint32_t r = block->first_range; r < block->first_range + block->range_count; r++)
+            elements += fast->triangles.ranges[r].end - fast->triangles.ranges[r].begin;
+        largest = elements > largest ? elements : largest;
+    }
+    print_message("%u triangles: %u blocks (%u block colors), the largest of %u\n", fast->triangles.count,
+                  fast->triangles.block_count, fast->triangles.block_colors, largest);
+    assert_true(largest > 2048);
+    sb_fast_model_destroy(fast);
+    uint32_t n = mesh.vertex_count;
+    double *x = malloc(3 * n * sizeof *x), *v = malloc(3 * n * sizeof *v);
+    tu_rng rng = {3}; /* moved by a tenth of the 3.3 mm spacing at most */
+    for (uint32_t i = 0; i < 3 * n; i++) {
+        x[i] = (sb_real)(mesh.positions[i] + tu_uniform(&rng, -3e-4, 3e-4));
+        v[i] = (sb_real)tu_uniform(&rng, -0.05, 0.05);
+    }
+    assert_fast_matches_reference(model, x, v, "300 x 300 sheet");
+    uint64_t hashes[3];
+    for (int threads = 1; threads <= 3; threads++) {
+        sb_solver* solver = make_fast_solver(model, threads);
+        assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
+        for (int s = 0; s < 100; s++) assert_int_equal(sb_solver_advance(solver, 2e-5), SB_OK);
+        hashes[threads - 1] = tu_state_hash(solver);
+        sb_solver_destroy(solver);
+    }
+    print_message("hash %016llx (1 thread) %016llx (2) %016llx (3)\n", (unsigned long long)hashes[0],
+                  (unsigned long long)hashes[1], (unsigned long long)hashes[2]);
+    assert_true(hashes[0] == hashes[1] && hashes[1] == hashes[2]);
+    free(x);
+    free(v);
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
 /* Steps for a run of `explicit_steps` of an explicit integrator: a tenth
  * of them for the iterative ones (implicit Euler's Newton-CG, pbd's and
  * xpbd's projections, vbd's sweeps), whose step makes tens of passes over
@@ -712,6 +770,7 @@ int main(void) {
         cmocka_unit_test(test_triangles_carrying_three_hinges),
         cmocka_unit_test(test_fused_hinges_on_meshes),
         cmocka_unit_test(test_coloring),
+        cmocka_unit_test(test_large_blocks),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_collapse_reported),
         cmocka_unit_test(test_fast_step_follows_reference),
