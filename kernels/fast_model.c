@@ -23,7 +23,7 @@ static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) /
  * the core's L2 while the block's element colors run over it. A vertex
  * brings its packed positions and forces (2 × 4 reals) and a mesh has about
  * two triangles a vertex (three bonds or hinges: fewer bytes an element),
- * so an element brings 4 reals: at most 32 768 elements in float, 16 384
+ * so an element brings 4 reals: at most 16 384 elements in float, 8 192
  * in double. The cap was 2 048 before: a block was then about one row of
  * the 1M sheet's quads, each vertex row fell in two blocks of different
  * block colors, and the triangle pass loaded the positions and forces
@@ -31,7 +31,7 @@ static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) /
  * budget, not the machine's cache size, so that a build's trajectory is
  * the same on every machine. Depends on the element count only, never on
  * the thread count, so the summation order is the same for any. */
-#define SB_BLOCK_CACHE_BYTES (512u * 1024u) /* half of a 1 MiB L2 (the 2-core EPYC VM's) */
+#define SB_BLOCK_CACHE_BYTES (256u * 1024u) /* a quarter of a 1 MiB L2 (the 2-core EPYC VM's) */
 static uint32_t sb_block_size(uint32_t count) {
     const uint32_t most = SB_BLOCK_CACHE_BYTES / (4u * (uint32_t)sizeof(sb_real));
     uint32_t size = count / 64;
