@@ -156,6 +156,7 @@ static void sb_refresh_gravity(sb_solver* s) {
 /* The inverse masses the fused kick and pbd's projection use: the model's,
  * 0 on every vertex a hard handle holds. */
 static void sb_handles_pin(sb_solver* s) {
+    if (sb_fused(s)) sb_solver_settle(s); /* the last step's sums first: sb_refresh_gravity's then stands */
     const sb_model* m = s->model;
     for (int pass = 0; pass < 2; pass++) /* restore every handle's vertices, then pin the held hard ones */
         for (uint32_t k = 0; k < s->def.handle_count; k++) {

@@ -234,6 +234,7 @@ void sb_update_energies(sb_solver* s) {
     }
     s->energies.kinetic = kinetic;
     s->energies.gravity = gravity;
+    if (sb_fused(s)) s->forces_stale = false; /* after the forces (breakage): no vertex sums wait */
 }
 
 sb_status sb_check_state(sb_solver* s) {
@@ -493,6 +494,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
 sb_status sb_solver_set_gravity(sb_solver* s, const double gravity[3]) {
     for (int c = 0; c < 3; c++)
         if (!isfinite(gravity[c])) return sb_error_set(&s->error, SB_ERR_INVALID, "gravity must be finite");
+    if (sb_fused(s)) sb_solver_settle(s); /* the last step's gravitational energy, in its gravity */
     const sb_model* m = s->model;
     double change[3];
     for (int c = 0; c < 3; c++) change[c] = gravity[c] - s->def.gravity[c];
@@ -544,6 +546,10 @@ void sb_solver_bond(const sb_solver* s, uint32_t bond, uint32_t ends[2]) {
 sb_status sb_solver_settle(sb_solver* s) {
     if (!s->forces_stale) return SB_OK;
     s->forces_stale = false;
+    if (sb_fused(s)) { /* the fused Verlet step's forces and term energies are current */
+        sb_fast_vertex_energies(s);
+        return SB_OK;
+    }
     sb_status status = sb_solver_compute_forces(s);
     if (status == SB_OK) sb_update_energies(s);
     return status;
@@ -553,6 +559,7 @@ sb_status sb_solver_settle(sb_solver* s) {
  * current state filled on demand, so the solver is written through a
  * const pointer (never a const object: sb_solver_create allocates it). */
 sb_energies sb_solver_energies(const sb_solver* s) {
+    ((sb_solver*)s)->energies_read = true; /* read after this step: likely after the next (sb_fast_verlet_step) */
     sb_solver_settle((sb_solver*)s);
     return s->energies;
 }

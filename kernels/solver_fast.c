@@ -5,10 +5,12 @@
  * kernel (the team and its wait policy: kernels/team.c):
  *   1. drift (per vertex): the Verlet position update, fused with setting
  *      each force to m g, so forces need no separate clearing pass, and
- *      followed per chunk by the contact pass (kernels/contact.c) and, while
- *      the chunk is in cache, the gravitational energy sum and the position
- *      check (in the kick instead when self-contact or hard handles move
- *      vertices after the drift);
+ *      with the position check in the same loop, followed per chunk by the
+ *      contact pass (kernels/contact.c) and, on a step whose energies are
+ *      summed (or after a contact pass), while the chunk is in cache, the
+ *      gravitational energy sum and the position check (in the kick
+ *      instead when self-contact or hard handles move vertices after the
+ *      drift);
  *   2. forces: for each element group (bonds, triangles, hinges), for each
  *      block color, its blocks in parallel, and in each block the SIMD
  *      kernel over each element color (kernels/fast_model.h explains the
@@ -21,12 +23,17 @@
  *      separates block colors (a handful), not element colors;
  *   3. external forces (one thread, only when a callback is set);
  *   4. kick (per vertex): the closing half kick of the velocity, fused with
- *      the kinetic energy sum and the velocities' finiteness check. When
+ *      the velocities' finiteness check and, on a step whose energies are
+ *      summed, the kinetic energy sum. When
  *      nothing reads the half-step velocities (sb_half_step_velocity_read)
  *      the Störmer drift does not store them and the kick recomputes them
  *      from the displacements it reads instead.
  * Energies are summed per block (and per fixed-size chunk of vertices),
- * never per thread, and those sums are added in order after the job.
+ * never per thread, and those sums are added in order after the job. The
+ * term energies come with the forces; the kinetic and gravitational sums
+ * only on steps whose energies are read (sb_step_sums), the others leave
+ * them to sb_solver_settle (sb_fast_vertex_energies, the same arithmetic
+ * on the packed state). The state check runs on every step.
  *
  * Measured alternatives (float, AVX-512, 2-core EPYC VM, jittered sheets,
  * all molecular-mechanics terms, ms per step on 1 / 2 threads; measured
@@ -287,6 +294,14 @@ typedef struct sb_step_constants {
      * energy and checks the positions while the chunk is in cache, and the
      * kick need not read the positions again. */
     bool positions_final_in_drift;
+    /* This step's kinetic and gravitational energies are summed in its
+     * passes (something reads them: sb_step_sums); otherwise they wait for
+     * sb_solver_settle (sb_fast_vertex_energies) and the step keeps only
+     * the state check, fused where the values are in registers. */
+    bool sums;
+    /* The drift loop checks the positions it writes: no sums, and nothing
+     * moves a vertex after it (positions_final_in_drift, no contact). */
+    bool check_in_drift;
 } sb_step_constants;
 
 /* One chunk's masses and inverse masses spread over its packed lanes (w
@@ -297,16 +312,17 @@ typedef struct sb_chunk_masses {
     sb_real m4[4 * SB_CHUNK], im4[4 * SB_CHUNK];
 } sb_chunk_masses;
 
-/* The masses of the packed reals [begin, end), one chunk. */
-static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, sb_chunk_masses* out) {
+/* The masses of the packed reals [begin, end), one chunk; the inverse
+ * masses alone without with_mass (a kick that sums no kinetic energy). */
+static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, bool with_mass, sb_chunk_masses* out) {
     const sb_real *m = f->mass + begin / 4, *im = f->inv_mass + begin / 4;
     size_t n = end - begin, q = 0;
     for (; q + SB_WIDTH <= n; q += SB_WIDTH) {
-        sb_w_store(out->m4 + q, sb_w_spread4(m, q));
+        if (with_mass) sb_w_store(out->m4 + q, sb_w_spread4(m, q));
         sb_w_store(out->im4 + q, sb_w_spread4(im, q));
     }
     for (; q < n; q++) {
-        out->m4[q] = sb_packed_lane(m, q);
+        if (with_mass) out->m4[q] = sb_packed_lane(m, q);
         out->im4[q] = sb_packed_lane(im, q);
     }
 }
@@ -316,19 +332,40 @@ static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, s
  * with initialising the forces to gravity and drag. The w lanes have zero
  * mass and inverse mass and stay zero. v is the chunk's velocities or, when
  * nothing reads them (!store_velocity, Störmer form), a scratch buffer in L1.
+ * With check_in_drift it returns whether a new position is not finite or
+ * outside the runaway box, tested while it is in a register (an OR of
+ * comparisons the compiler vectorizes with the loop); 0 otherwise.
  * The arrays are restrict parameters, not locals, because only then does
  * GCC 12 vectorize the loops (its report says so). */
-static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
-                           sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
-                           size_t n) {
+static int sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
+                          sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
+                          size_t n) {
     const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
+    const sb_real limit = k->limit;
     const sb_real* g = k->gravity;
-    if (k->stormer)
+    int outside = 0; /* NaN fails both comparisons and counts as outside */
+    if (k->stormer && k->check_in_drift)
         for (size_t q = 0; q < n; q++) {
             d[q] = scale * d[q] + accel * im4[q] * f[q];
             v[q] = d[q] * inv_dt;
             x[q] = x[q] + d[q];
             f[q] = m4[q] * (g[q & 3] - drag * v[q]);
+            outside |= !((x[q] <= limit) & (x[q] >= -limit));
+        }
+    else if (k->stormer)
+        for (size_t q = 0; q < n; q++) {
+            d[q] = scale * d[q] + accel * im4[q] * f[q];
+            v[q] = d[q] * inv_dt;
+            x[q] = x[q] + d[q];
+            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
+        }
+    else if (k->check_in_drift)
+        for (size_t q = 0; q < n; q++) {
+            v[q] = v[q] + accel * im4[q] * f[q];
+            d[q] = step * v[q];
+            x[q] = x[q] + d[q];
+            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
+            outside |= !((x[q] <= limit) & (x[q] >= -limit));
         }
     else
         for (size_t q = 0; q < n; q++) {
@@ -337,6 +374,7 @@ static void sb_drift_range(const sb_real* restrict m4, const sb_real* restrict i
             x[q] = x[q] + d[q];
             f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         }
+    return outside;
 }
 
 /* The gravitational energy of packed reals [begin, end) into *gravity;
@@ -368,7 +406,8 @@ static int sb_positions_range(const sb_real* restrict m4, const sb_real* restric
 
 /* The drift of this worker's chunks, each followed by its contact pass
  * (kernels/contact.c) and, when they are final, its positions' energy and
- * check, while the chunk is in cache. */
+ * check, while the chunk is in cache (the check alone inside the drift's
+ * loop when no energy is summed and no contact moves them). */
 static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p, const sb_step_constants* k,
                           double dt, atomic_int* bad) {
     sb_real scratch[4 * SB_CHUNK]; /* the half-step velocities nothing reads */
@@ -379,30 +418,42 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
         sb_self_contact_save_packed(s, begin, end);
-        sb_spread_masses(s->fast, begin, end, &masses);
-        sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->displacements4 + begin,
-                       k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin);
+        sb_spread_masses(s->fast, begin, end, true, &masses);
+        if (sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->displacements4 + begin,
+                           k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin))
+            sb_worker_raise(bad);
         if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
-        if (k->positions_final_in_drift &&
+        if (k->positions_final_in_drift && !k->check_in_drift &&
             sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
     }
     sb_worker_barrier(w);
 }
 
-/* Closing half kick of packed reals [begin, end), fused with the kinetic
- * energy sum into *kinetic; returns whether a velocity is not finite. m4
- * and im4 start at begin. The
+/* One SIMD vector's kinetic energy ½ m v² added to the lane-wise sums, and
+ * one packed real's: the kick and sb_fast_vertex_energies share them, so
+ * that the sums are bitwise the same whichever pass makes them. */
+static inline sb_wide sb_kinetic_add(sb_wide sum, sb_wide m, sb_wide v) {
+    return sb_w_add(sum, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), m), sb_w_mul(v, v)));
+}
+static inline double sb_kinetic_of(sb_real m, sb_real v) { return (sb_real)0.5 * m * v * v; }
+
+/* Closing half kick of packed reals [begin, end), with sum_kinetic fused
+ * with the kinetic energy sum into *kinetic; returns whether a
+ * velocity is not finite. m4 (read only for the sum) and im4 start at
+ * begin. The
  * half-step velocity is u times a factor: u the velocities the drift stored
  * (factor 1) or its displacements (factor 1 / dt, as the drift computed
  * it); u and v may then be one array, so neither is restrict. The sums are
  * kept lane-wise in SIMD registers and reduced once: one float sum of a
  * loop the compiler vectorizes is added in order, lane after lane, a chain
  * of scalar additions that took most of the pass (100k sheet, all terms,
- * 1 thread: the pass ~7 % of the step's samples, most on those additions). */
-static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* u, sb_real* v,
-                         const sb_real* restrict f, const sb_step_constants* k, size_t begin, size_t end,
-                         double* kinetic) {
+ * 1 thread: the pass ~7 % of the step's samples, most on those additions).
+ * Inlined into two copies, with and without the sum. */
+static inline __attribute__((always_inline)) int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4,
+                                                               const sb_real* u, sb_real* v, const sb_real* restrict f,
+                                                               const sb_step_constants* k, size_t begin, size_t end,
+                                                               bool sum_kinetic, double* kinetic) {
     const sb_real factor = k->store_velocity ? 1 : k->inv_dt;
     const sb_wide half = sb_w_set(k->half), scale = sb_w_set(factor), zero = sb_w_set(0);
     sb_wide sum = zero;
@@ -412,17 +463,29 @@ static int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4
         sb_wide vq = sb_w_add(sb_w_mul(sb_w_load(u + q), scale),
                               sb_w_mul(sb_w_mul(half, sb_w_load(im4 + (q - begin))), sb_w_load(f + q)));
         sb_w_store(v + q, vq);
-        sum = sb_w_add(sum, sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), sb_w_load(m4 + (q - begin))), sb_w_mul(vq, vq)));
+        if (sum_kinetic) sum = sb_kinetic_add(sum, sb_w_load(m4 + (q - begin)), vq);
         outside |= sb_w_less(sb_w_set((sb_real)INFINITY), sb_w_abs(vq)); /* NaN counts as outside */
     }
-    *kinetic = sb_w_sum(sum, SB_WIDTH);
+    if (sum_kinetic) *kinetic = sb_w_sum(sum, SB_WIDTH);
     int bad = sb_w_any(outside, SB_WIDTH);
     for (; q < end; q++) {
         v[q] = u[q] * factor + k->half * im4[q - begin] * f[q];
-        *kinetic += (sb_real)0.5 * m4[q - begin] * v[q] * v[q];
+        if (sum_kinetic) *kinetic += sb_kinetic_of(m4[q - begin], v[q]);
         bad |= !((v[q] <= (sb_real)INFINITY) & (v[q] >= -(sb_real)INFINITY));
     }
     return bad;
+}
+
+/* The kinetic energy of packed reals [begin, end) into *kinetic, as the
+ * kick sums it (sb_kinetic_add, sb_kinetic_of), from the velocities v. m4
+ * starts at begin. */
+static void sb_kinetic_range(const sb_real* restrict m4, const sb_real* restrict v, size_t begin, size_t end,
+                             double* kinetic) {
+    sb_wide sum = sb_w_set(0);
+    size_t q = begin;
+    for (; q + SB_WIDTH <= end; q += SB_WIDTH) sum = sb_kinetic_add(sum, sb_w_load(m4 + (q - begin)), sb_w_load(v + q));
+    *kinetic = sb_w_sum(sum, SB_WIDTH);
+    for (; q < end; q++) *kinetic += sb_kinetic_of(m4[q - begin], v[q]);
 }
 
 /* The last pass of a step: no barrier after it but the join. */
@@ -435,9 +498,13 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
     for (int c = first; c < last; c++) {
         size_t begin, end;
         sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        sb_spread_masses(s->fast, begin, end, &masses);
-        if (sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, p->vertices + 2 * c))
-            sb_worker_raise(bad);
+        sb_spread_masses(s->fast, begin, end, k->sums || !k->positions_final_in_drift, &masses);
+        double* kinetic = p->vertices + 2 * c;
+        int raised =
+            k->sums
+                ? sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, true, kinetic)
+                : sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, false, kinetic);
+        if (raised) sb_worker_raise(bad);
         if (!k->positions_final_in_drift &&
             sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
@@ -508,6 +575,33 @@ typedef struct sb_fast_job {
     atomic_int bad;
 } sb_fast_job;
 
+/* The kinetic and gravitational energies of this worker's chunks of the
+ * packed state, into their chunk sums, as the step's passes sum them. */
+static void sb_vertex_energies_job(void* context, const sb_worker* w) {
+    sb_fast_job* job = context;
+    const sb_solver* s = job->solver;
+    const sb_partial_layout* p = &job->layout;
+    sb_chunk_masses masses;
+    int first, last;
+    sb_chunk_share(w, p, &first, &last);
+    for (int c = first; c < last; c++) {
+        size_t begin, end;
+        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+        sb_spread_masses(s->fast, begin, end, true, &masses);
+        sb_kinetic_range(masses.m4, s->velocities4, begin, end, p->vertices + 2 * c);
+        sb_positions_range(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, p->vertices + 2 * c + 1);
+    }
+}
+
+void sb_fast_vertex_energies(sb_solver* s) {
+    sb_fast_job job = {.solver = s, .layout = sb_partials_of(s)};
+    sb_gravity4(s, job.constants.gravity);
+    job.constants.limit = sb_runaway_limit(s);
+    sb_team_run(s->team, sb_team_size(s->team), sb_vertex_energies_job, &job);
+    s->energies.kinetic = sb_sum_strided(job.layout.vertices, job.layout.vertex_chunks, 2, 0);
+    s->energies.gravity = sb_sum_strided(job.layout.vertices, job.layout.vertex_chunks, 2, 1);
+}
+
 static void sb_publish_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
     sb_publish_pass(w, job->solver);
@@ -568,8 +662,23 @@ static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);
 }
 
+/* Whether this step sums its kinetic and gravitational energies in its
+ * passes: the adaptive stepper reads them after every sub-step, and a
+ * caller that read them after the last step (sb_solver_energies: a run's
+ * armed kinetic-energy stop, a published snapshot) likely reads them after
+ * this one too. Otherwise they wait for sb_solver_settle. (The forces,
+ * sb_step_needs_forces's concern, this step always evaluates; of what
+ * follows a step only the adaptive stepper reads its energies.) */
+static bool sb_step_sums(sb_solver* s) {
+    bool sums = s->def.adaptive || s->energies_read;
+    s->energies_read = false;
+    return sums;
+}
+
 sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     bool stormer = s->def.integrator == SB_INTEGRATOR_VERLET && s->has_displacement;
+    bool sums = sb_step_sums(s);
+    bool positions_final_in_drift = !s->self && !s->def.handle_count;
     sb_fast_job job = {.solver = s, .layout = sb_partials_of(s), .dt = dt};
     job.constants = (sb_step_constants){
         .scale = stormer ? (sb_real)(dt / s->prev_dt) : 0,
@@ -581,7 +690,9 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         .limit = sb_runaway_limit(s),
         .stormer = stormer,
         .store_velocity = !stormer || sb_half_step_velocity_read(s),
-        .positions_final_in_drift = !s->self && !s->def.handle_count,
+        .positions_final_in_drift = positions_final_in_drift,
+        .sums = sums,
+        .check_in_drift = !sums && positions_final_in_drift && !s->def.collider_count,
     };
     sb_gravity4(s, job.constants.gravity);
     sb_team_run(s->team, sb_team_size(s->team), sb_verlet_job, &job);
@@ -589,7 +700,8 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     s->prev_dt = dt;
     s->published = false;
     s->publish_written = s->publish_positions != NULL;
-    sb_collect_energies(s, &job.layout, true);
+    sb_collect_energies(s, &job.layout, sums);
+    s->forces_stale = !sums; /* the forces and term energies are current; the vertex sums wait */
     s->near_limits = atomic_load(&job.flags.near_limit) != 0;
     bool bad = atomic_load(&job.bad), collapsed = atomic_load(&job.flags.collapsed);
     if (bad || collapsed) sb_fast_publish(s);

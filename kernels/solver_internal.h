@@ -27,9 +27,13 @@ struct sb_solver {
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
     bool published;
-    bool forces_stale;            /* the step left the new state's forces and energies to sb_solver_settle */
-    bool near_limits;             /* the fast kernels' last evaluation met a bond near its break limits */
-    double* external;             /* 3n: the external forces of the last evaluation (NULL without a callback) */
+    /* The step left the new state's forces and energies to sb_solver_settle
+     * (sb_step_needs_forces), or (the fused Verlet step) its kinetic and
+     * gravitational energies alone. */
+    bool forces_stale;
+    bool energies_read; /* sb_solver_energies was called since the last step: the fused step sums the next one's */
+    bool near_limits;   /* the fast kernels' last evaluation met a bond near its break limits */
+    double* external;   /* 3n: the external forces of the last evaluation (NULL without a callback) */
     struct sb_backup* backup;     /* adaptive stepping: the state before a sub-step */
     double trial_substep;         /* adaptive: the size the next sub-step tries (0: the whole dt) */
     double energy_peak;           /* adaptive: the largest energy scale since the state was set */
@@ -150,14 +154,20 @@ sb_status sb_fast_compute_forces(sb_solver* solver);
  * published, no energies (implicit Euler's residual, kernels/implicit_fast.c). */
 sb_status sb_fast_forces_packed(sb_solver* solver);
 sb_status sb_fast_verlet_step(sb_solver* solver, double dt);
+/* The kinetic and gravitational energies of the packed state into the
+ * solver's energies, bitwise as the fused step sums them in its passes
+ * (sb_solver_settle, after a step that left them for later). */
+void sb_fast_vertex_energies(sb_solver* solver);
 /* A packed force's starting value, gravity and drag: m (g_a − drag v_a). */
 sb_real sb_fast_initial_force(const sb_solver* solver, uint32_t vertex, int axis, double velocity);
 /* Fills the state's arrays from the packed working state, when stale. */
 void sb_fast_publish(sb_solver* solver);
 
 /* The forces and energies of the current state, evaluated now where the
- * last step left them for later (forces_stale); the getters that return
- * them call it first. */
+ * last step left them for later (forces_stale; the fused Verlet step: its
+ * kinetic and gravitational energies only); the getters that return them
+ * call it first, and so does what changes what they depend on (gravity,
+ * the handles' pins) between a step and a read. */
 sb_status sb_solver_settle(sb_solver* solver);
 /* Whether anything between a step and the next reads the new state's
  * forces or energies, so that the step must evaluate them: the passes after

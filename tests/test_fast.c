@@ -757,6 +757,196 @@ static void test_fast_step_energies_follow_reference(void** state) {
     sb_mesh_free(&mesh);
 }
 
+/* How a fused Verlet run is set up for the energy and check tests. */
+typedef enum { RUN_STORMER, RUN_PUSHED, RUN_VELOCITY_VERLET, RUN_SELF_CONTACT, RUN_CONTACT, RUN_KINDS } run_kind;
+static const char* const run_names[RUN_KINDS] = {"verlet", "verlet, damped and pushed", "velocity_verlet",
+                                                 "verlet, self-contact", "verlet, on a plane"};
+
+static sb_solver* make_run(const sb_model* model, run_kind kind, int threads, sb_collider** plane) {
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.integrator = kind == RUN_VELOCITY_VERLET ? SB_INTEGRATOR_VELOCITY_VERLET : SB_INTEGRATOR_VERLET;
+    def.runtime.threads = threads;
+    def.drag = kind == RUN_PUSHED ? 0.3 : 0.0;
+    def.external_force = kind == RUN_PUSHED ? push : NULL;
+    def.self_collision = kind == RUN_SELF_CONTACT; /* vertices move after the drift: the sums in the kick */
+    def.contact_thickness = kind == RUN_SELF_CONTACT ? 1e-3 : 0.0;
+    if (kind == RUN_CONTACT) { /* the plane moves vertices after their drift: the check after the contact */
+        sb_collider_def c = sb_default_collider_def();
+        c.shape = SB_COLLIDER_PLANE;
+        c.name = "floor";
+        c.normal[2] = 1.0;
+        c.point[2] = -0.005; /* reached after about 32 ms */
+        sb_error err;
+        *plane = sb_collider_create(&c, &err);
+        if (!*plane) fail_msg("%s", err.message);
+        def.colliders = plane;
+        def.collider_count = 1;
+    }
+    sb_error err;
+    sb_solver* solver = sb_solver_create(model, &def, &err);
+    if (!solver) fail_msg("%s", err.message);
+    return solver;
+}
+
+/* The energies at steps 7, 100 and 300 of a run, read after every step
+ * (the fused step then sums its kinetic and gravitational energies in its
+ * drift and kick, as it always did) or only at those steps (the steps
+ * leave them to sb_solver_settle, which sums them from the packed state);
+ * the state's hash at the end. */
+typedef struct read_run {
+    sb_energies at[3];
+    uint64_t hash;
+    uint64_t contacts, self_contacts;
+} read_run;
+
+static read_run run_reading(const sb_model* model, run_kind kind, int threads, bool every_step) {
+    sb_collider* plane = NULL;
+    sb_solver* solver = make_run(model, kind, threads, &plane);
+    read_run r = {0};
+    const int marks[3] = {7, 100, 300};
+    for (int step = 1, k = 0; step <= 300; step++) {
+        assert_int_equal(sb_solver_advance(solver, 2e-4), SB_OK);
+        sb_step_stats stats = sb_solver_last_step(solver);
+        r.contacts += stats.contacts;
+        r.self_contacts += stats.self_contacts;
+        bool mark = step == marks[k];
+        if (every_step || mark) {
+            sb_energies e = sb_solver_energies(solver);
+            if (mark) r.at[k++] = e;
+        }
+    }
+    r.hash = tu_state_hash(solver);
+    sb_solver_destroy(solver);
+    sb_collider_destroy(plane);
+    return r;
+}
+
+static bool same_energies(const sb_energies* a, const sb_energies* b) {
+    bool same = a->kinetic == b->kinetic && a->gravity == b->gravity;
+    for (int t = 0; t < SB_TERM_COUNT; t++) same &= a->term[t] == b->term[t];
+    return same;
+}
+
+/* The fused step sums its kinetic and gravitational energies only where
+ * they are read (kernels/solver_fast.c, sb_step_sums); read after a step
+ * that left them, sb_solver_settle sums them from the packed state with
+ * the kick's arithmetic. Either way the energies are bitwise the same, for
+ * 1, 2 and 3 threads, and reading them changes nothing of the trajectory:
+ * in the Störmer form whose kick recomputes the half-step velocities, with
+ * them stored (damped and pushed), in the velocity form, with self-contact
+ * (the sums in the kick) and with a plane (the check after the contact). */
+static void test_energies_the_same_when_read_lazily(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_JITTERED, &mesh);
+    sb_material_def material = sb_default_material_def();
+    material.stretch_bend_k = 1.0;
+    material.spring_k = 10.0;
+    material.spring_damping = 0.02;
+    material.bend_k = 0.001;
+    sb_model* model = pinned_model(&mesh, &material, false);
+    for (int kind = 0; kind < RUN_KINDS; kind++) {
+        read_run summed = run_reading(model, (run_kind)kind, 1, true);
+        print_message("%s: kinetic %.9g J, gravity %.9g J at step 300 (%llu contacts, %llu self-contacts)\n",
+                      run_names[kind], summed.at[2].kinetic, summed.at[2].gravity, (unsigned long long)summed.contacts,
+                      (unsigned long long)summed.self_contacts);
+        assert_true(summed.at[2].kinetic > 0.0 && summed.at[2].gravity < 0.0); /* it fell */
+        if (kind == RUN_CONTACT) assert_true(summed.contacts > 0);
+        for (int threads = 1; threads <= 3; threads++)
+            for (int every = 0; every < 2; every++) {
+                read_run r = run_reading(model, (run_kind)kind, threads, every);
+                for (int k = 0; k < 3; k++)
+                    if (!same_energies(&r.at[k], &summed.at[k]))
+                        fail_msg("%s, %d threads, read %s: the energies at mark %d differ (kinetic %.17g / %.17g, "
+                                 "gravity %.17g / %.17g)",
+                                 run_names[kind], threads, every ? "every step" : "at the marks", k, r.at[k].kinetic,
+                                 summed.at[k].kinetic, r.at[k].gravity, summed.at[k].gravity);
+                assert_true(r.hash == summed.hash);
+            }
+    }
+    sb_model_destroy(model);
+    sb_mesh_free(&mesh);
+}
+
+/* test_state_checked_on_every_step's vertex, and the step its trouble
+ * starts on. */
+#define LONER 700
+#define TROUBLE_STEP 20
+
+/* A NaN force on the loner from the trouble step on (the callback's clock
+ * is the step's end time). */
+static void poison(void* user, uint32_t vertex, double time, const double position[3], const double velocity[3],
+                   double force[3]) {
+    (void)position, (void)velocity;
+    double dt = *(const double*)user;
+    if (vertex == LONER && time > (TROUBLE_STEP - 0.5) * dt) force[0] = NAN;
+}
+
+/* The fused step checks the state on every step, whether or not anything
+ * reads its energies: the check that runs in the drift's loop when nothing
+ * does, and the kick's. 1 000 vertices on a 40 x 25 grid of 1 cm (the
+ * runaway box 10^6 of its diagonal, 4.6e5 m from its centre), bonds along
+ * the rows, and the loner, vertex 700 (in the third of four chunks: the
+ * third worker's with 3 threads), bonded to nothing and sent along x fast
+ * enough to leave the box half way through step 20: it is reported on that
+ * step, not later (2.6 % of the box past its edge; at step 19 2.6 % inside,
+ * the box measured from the centre or from the origin alike). With a NaN
+ * force on it from step 20 on, the step's velocity is not finite and is
+ * reported on step 20 too. Both Verlet forms, 1, 2 and 3 threads, the
+ * energies read after every step (the sums and the check in the drift's
+ * second, in-cache loop) or never (the check alone in its loop). */
+static void test_state_checked_on_every_step(void** state) {
+    (void)state;
+    sb_builder* b = sb_builder_create();
+    const int nx = 40, ny = 25;
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++) tu_vertex(b, 0.01 * i, 0.01 * j, 0.0, 1e-3, false);
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i + 1 < nx; i++) {
+            uint32_t a = (uint32_t)(j * nx + i);
+            if (a != LONER && a + 1 != LONER) tu_bond(b, a, a + 1, 0.01, 10.0, 0.0, 0.0);
+        }
+    sb_model* model = tu_compile(b);
+    sb_builder_destroy(b);
+    const double dt = 1e-4, diagonal = 0.01 * hypot(nx - 1, ny - 1), box = 1e6 * diagonal;
+    double* v = calloc(3 * (size_t)nx * ny, sizeof *v);
+    for (int integrator = 0; integrator < 2; integrator++)
+        for (int threads = 1; threads <= 3; threads++)
+            for (int every = 0; every < 2; every++)
+                for (int poisoned = 0; poisoned < 2; poisoned++) {
+                    sb_solver_def def = sb_default_solver_def();
+                    def.kernels = SB_KERNELS_FAST;
+                    def.integrator = integrator ? SB_INTEGRATOR_VELOCITY_VERLET : SB_INTEGRATOR_VERLET;
+                    def.runtime.threads = threads;
+                    def.gravity[2] = 0.0;
+                    def.external_force = poisoned ? poison : NULL;
+                    def.external_user = (void*)&dt;
+                    sb_error err;
+                    sb_solver* solver = sb_solver_create(model, &def, &err);
+                    if (!solver) fail_msg("%s", err.message);
+                    v[3 * LONER] = poisoned ? 0.0 : box / ((TROUBLE_STEP - 0.5) * dt);
+                    assert_int_equal(sb_solver_set_state(solver, NULL, v), SB_OK);
+                    sb_status status = SB_OK;
+                    int step = 0;
+                    while (status == SB_OK && step < 2 * TROUBLE_STEP) {
+                        status = sb_solver_advance(solver, dt);
+                        step++;
+                        if (every && status == SB_OK) sb_solver_energies(solver);
+                    }
+                    const char* message = sb_solver_error(solver);
+                    if (status != SB_ERR_UNSTABLE || step != TROUBLE_STEP || !strstr(message, "vertex 700") ||
+                        !strstr(message, poisoned ? "not finite" : "ran away"))
+                        fail_msg("%s, %d threads, energies read %s, %s: %s on step %d (%s), expected on step %d",
+                                 sb_integrator_name(def.integrator), threads, every ? "every step" : "never",
+                                 poisoned ? "a NaN force" : "a runaway", sb_status_name(status), step, message,
+                                 TROUBLE_STEP);
+                    sb_solver_destroy(solver);
+                }
+    free(v);
+    sb_model_destroy(model);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_regular_sheet),
@@ -775,6 +965,8 @@ int main(void) {
         cmocka_unit_test(test_collapse_reported),
         cmocka_unit_test(test_fast_step_follows_reference),
         cmocka_unit_test(test_fast_step_energies_follow_reference),
+        cmocka_unit_test(test_energies_the_same_when_read_lazily),
+        cmocka_unit_test(test_state_checked_on_every_step),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return TU_RUN_TESTS(tests);
 }

@@ -240,9 +240,12 @@ SB_API double sb_solver_time(const sb_solver* solver);
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
 SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 
-/* Energies of the current state: each term, kinetic, gravity. After a pbd
- * or xpbd step with the fast kernels they are evaluated here, when first
- * asked for (as are the forces of sb_solver_get_forces). */
+/* Energies of the current state: each term, kinetic, gravity. After a pbd,
+ * xpbd, vbd or implicit Euler step with the fast kernels they are evaluated
+ * here, when first asked for (as are the forces of sb_solver_get_forces);
+ * after a Verlet step with the fast kernels the kinetic and gravitational
+ * energies are, unless they were also read after the step before (then
+ * that step sums them in its own passes): the same numbers either way. */
 SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
 /* Copies positions, velocities or the total forces (internal, gravity, drag
