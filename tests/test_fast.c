@@ -617,15 +617,22 @@ static sb_model* pinned_model(const sb_mesh* mesh, const sb_material_def* materi
     return model;
 }
 
-static void test_determinism(void** state) {
-    (void)state;
-    sb_mesh mesh = {0};
-    make_mesh(SHAPE_JITTERED, &mesh);
+/* Every term on: stretch-bend, a damped spring and a hinge beside the
+ * default bond and angle. */
+static sb_material_def every_term_material(void) {
     sb_material_def material = sb_default_material_def();
     material.stretch_bend_k = 1.0;
     material.spring_k = 10.0;
     material.spring_damping = 0.02;
     material.bend_k = 0.001;
+    return material;
+}
+
+static void test_determinism(void** state) {
+    (void)state;
+    sb_mesh mesh = {0};
+    make_mesh(SHAPE_JITTERED, &mesh);
+    sb_material_def material = every_term_material();
     sb_model* model = pinned_model(&mesh, &material, true);
     for (int integrator = 0; integrator < SB_INTEGRATOR_COUNT; integrator++)
         assert_same_for_threads(model, (sb_integrator)integrator);
@@ -840,11 +847,7 @@ static void test_energies_the_same_when_read_lazily(void** state) {
     (void)state;
     sb_mesh mesh = {0};
     make_mesh(SHAPE_JITTERED, &mesh);
-    sb_material_def material = sb_default_material_def();
-    material.stretch_bend_k = 1.0;
-    material.spring_k = 10.0;
-    material.spring_damping = 0.02;
-    material.bend_k = 0.001;
+    sb_material_def material = every_term_material();
     sb_model* model = pinned_model(&mesh, &material, false);
     for (int kind = 0; kind < RUN_KINDS; kind++) {
         read_run summed = run_reading(model, (run_kind)kind, 1, true);
