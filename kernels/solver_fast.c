@@ -337,44 +337,39 @@ static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, b
  * comparisons the compiler vectorizes with the loop); 0 otherwise.
  * The arrays are restrict parameters, not locals, because only then does
  * GCC 12 vectorize the loops (its report says so). */
-static int sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
-                          sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
-                          size_t n) {
+static inline __attribute__((always_inline)) int sb_drift_loop(const sb_real* restrict m4, const sb_real* restrict im4,
+                                                               sb_real* restrict x, sb_real* restrict d,
+                                                               sb_real* restrict v, sb_real* restrict f,
+                                                               const sb_step_constants* k, size_t n, bool stormer,
+                                                               bool check) {
     const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
     const sb_real limit = k->limit;
     const sb_real* g = k->gravity;
     int outside = 0; /* NaN fails both comparisons and counts as outside */
-    if (k->stormer && k->check_in_drift)
-        for (size_t q = 0; q < n; q++) {
+    for (size_t q = 0; q < n; q++) {
+        if (stormer) {
             d[q] = scale * d[q] + accel * im4[q] * f[q];
             v[q] = d[q] * inv_dt;
-            x[q] = x[q] + d[q];
-            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
-            outside |= !((x[q] <= limit) & (x[q] >= -limit));
-        }
-    else if (k->stormer)
-        for (size_t q = 0; q < n; q++) {
-            d[q] = scale * d[q] + accel * im4[q] * f[q];
-            v[q] = d[q] * inv_dt;
-            x[q] = x[q] + d[q];
-            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
-        }
-    else if (k->check_in_drift)
-        for (size_t q = 0; q < n; q++) {
+        } else {
             v[q] = v[q] + accel * im4[q] * f[q];
             d[q] = step * v[q];
-            x[q] = x[q] + d[q];
-            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
-            outside |= !((x[q] <= limit) & (x[q] >= -limit));
         }
-    else
-        for (size_t q = 0; q < n; q++) {
-            v[q] = v[q] + accel * im4[q] * f[q];
-            d[q] = step * v[q];
-            x[q] = x[q] + d[q];
-            f[q] = m4[q] * (g[q & 3] - drag * v[q]);
-        }
+        x[q] = x[q] + d[q];
+        f[q] = m4[q] * (g[q & 3] - drag * v[q]);
+        if (check) outside |= !((x[q] <= limit) & (x[q] >= -limit));
+    }
     return outside;
+}
+
+/* sb_drift_loop inlined once for each form, with and without the check. */
+static int sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
+                          sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
+                          size_t n) {
+    if (k->stormer)
+        return k->check_in_drift ? sb_drift_loop(m4, im4, x, d, v, f, k, n, true, true)
+                                 : sb_drift_loop(m4, im4, x, d, v, f, k, n, true, false);
+    return k->check_in_drift ? sb_drift_loop(m4, im4, x, d, v, f, k, n, false, true)
+                             : sb_drift_loop(m4, im4, x, d, v, f, k, n, false, false);
 }
 
 /* The gravitational energy of packed reals [begin, end) into *gravity;
