@@ -386,12 +386,10 @@ static sb_status sb_prepare_jacobian(sb_newton* w, bool first) {
 
 /* sol = J⁻¹ rhs: by the factorization, or by CG where there is none. */
 static void sb_solve_newton_system(sb_newton* w, int cg_cap, sb_step_stats* stats) {
-    if (w->factored && sb_sparse_cholesky_solve(w->cholesky, w->a[W_RHS], w->a[W_SOL])) return;
-    if (w->factored) { /* the solve failed (out of memory): CG from here */
-        w->factored = false;
-        sb_prepare_preconditioner(w);
-    }
-    sb_conjugate_gradients(w, cg_cap, stats);
+    if (w->factored)
+        sb_sparse_cholesky_solve(w->cholesky, w->a[W_RHS], w->a[W_SOL]);
+    else
+        sb_conjugate_gradients(w, cg_cap, stats);
 }
 
 /* Anderson acceleration of the modified Newton iteration on a kept

@@ -411,7 +411,7 @@ static void sb_solve_supernodes(sb_sparse_cholesky* f, double* b) {
     }
 }
 
-static void sb_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
+void sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
     size_t n = f->a->nrow;
     for (size_t k = 0; k < n; k++) f->b[k] = rhs[f->order[k]];
     sb_solve_supernodes(f, f->b);
@@ -420,9 +420,4 @@ static void sb_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
 
 bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask) {
     return sb_factor(f, a, mask);
-}
-
-bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out) {
-    sb_solve(f, rhs, out);
-    return true;
 }

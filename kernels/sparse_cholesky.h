@@ -39,6 +39,6 @@ bool sb_sparse_cholesky_analyze(sb_sparse_cholesky* f, const sb_block_matrix* a)
  * when it is not positive definite (or not finite). */
 bool sb_sparse_cholesky_factor(sb_sparse_cholesky* f, const sb_block_matrix* a, const double* mask);
 /* out = a⁻¹ rhs with the last factorization (3 × rows doubles each). */
-bool sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out);
+void sb_sparse_cholesky_solve(sb_sparse_cholesky* f, const double* rhs, double* out);
 
 #endif
