@@ -529,6 +529,10 @@ void sb_implicit_destroy(sb_solver* s) {
     s->implicit = NULL;
 }
 
+struct sb_implicit_fast* sb_implicit_fast_of(const sb_solver* s) {
+    return s->implicit ? s->implicit->fast : NULL;
+}
+
 /* The step's start; a vertex a hard handle holds gets the Δv that puts it
  * at its target, and the mask keeps it there. */
 static sb_newton sb_newton_init(sb_solver* s, double dt) {

@@ -30,13 +30,27 @@
  *     there (measured at about an eighth of it on tests/test_fast_hessian.c's
  *     sheet), far above the first term.
  * CG stops at its relative 1e-5 or at half of that Newton target, whichever
- * is larger. The step's last residual had the new state's forces: they and
- * the energies wait for sb_solver_settle unless what follows the step reads
+ * is larger.
+ *
+ * First guess: the last step's Δv, where the tolerance ended that step's
+ * Newton (not the rounding level: there Δv carries the rounding, and on the
+ * 100k sheet in float its |R| was 1.7 times |R(0)| on every step), for the
+ * same dt. One more force pass gives |R(guess)|; the guess is kept only
+ * when that is below |R(0)|, otherwise Newton starts from Δv = 0 as
+ * before. |R(0)| is computed either way and stays the reference of the
+ * relative test, so a good guess means fewer Newton and CG iterations (none
+ * where |R(guess)| is already within the tolerance), never a stricter or
+ * looser test. The guess is state a step carries over: a checkpoint saves
+ * it (sb_implicit_fast_save).
+ *
+ * The step's last residual had the new state's forces: they and the
+ * energies wait for sb_solver_settle unless what follows the step reads
  * them (sb_step_needs_forces). */
 #include "kernels/implicit_fast.h"
 #include "kernels/fast_hessian.h"
 #include "kernels/handle_internal.h"
 #include "kernels/wide.h"
+#include "common/sections.h"
 
 #include <float.h>
 #include "common/geometry.h"
@@ -56,8 +70,8 @@
 #define SB_REAL_EPSILON FLT_EPSILON
 #endif
 
-/* Packed work vectors, 4n sb_reals each. */
-enum { V_X0, V_V0, V_DV, V_DV_START, V_RHS, V_SOL, V_RES, V_Z, V_D, V_Q, V_MASK, V_COUNT };
+/* Packed work vectors, 4n sb_reals each; V_GUESS: the last step's Δv. */
+enum { V_X0, V_V0, V_DV, V_DV_START, V_RHS, V_SOL, V_RES, V_Z, V_D, V_Q, V_MASK, V_GUESS, V_COUNT };
 
 /* Partial sums kept per vertex chunk. */
 enum { SB_PARTIALS = 4 };
@@ -68,6 +82,7 @@ struct sb_implicit_fast {
     sb_real* inverse; /* 6n: their inverses' upper triangles, 0 on held vertices */
     double* partials; /* SB_PARTIALS per vertex chunk */
     size_t n4;
+    double guess_dt; /* the dt of the step whose Δv V_GUESS holds; 0: no guess */
 };
 
 typedef struct sb_fast_newton {
@@ -153,6 +168,14 @@ static void sb_op_trial(sb_fast_newton* w, size_t begin, size_t end, double* par
         v[k] = a[V_V0][k] + a[V_DV][k];
         x[k] = a[V_X0][k] + dt * v[k];
     }
+}
+
+/* Δv = the guess on the free vertices, then the trial state. */
+static void sb_op_guess(sb_fast_newton* w, size_t begin, size_t end, double* partial) {
+    sb_real** a = w->v;
+    for (size_t k = begin; k < end; k++)
+        if (a[V_MASK][k] != 0) a[V_DV][k] = a[V_GUESS][k];
+    sb_op_trial(w, begin, end, partial);
 }
 
 /* Δv = Δv_start + α sol, then the trial state. */
@@ -442,6 +465,29 @@ static sb_status sb_fast_line_search(sb_fast_newton* w, double* norm, double* fl
     return SB_OK;
 }
 
+/* The last step's Δv as the first guess: kept, with its |R| and floor
+ * into `norm` and `floor`, when its |R| is below `norm` (|R(0)|);
+ * otherwise Δv, the trial state and R are those at the start again (R
+ * kept in V_SOL meanwhile: CG starts by overwriting it). */
+static sb_status sb_fast_try_guess(sb_fast_newton* w, double* norm, double* floor) {
+    sb_real** a = w->v;
+    size_t bytes = w->im->n4 * sizeof(sb_real);
+    memcpy(a[V_DV_START], a[V_DV], bytes);
+    memcpy(a[V_SOL], a[V_RHS], bytes);
+    sb_chunks(w, sb_op_guess);
+    double guess_norm, guess_floor;
+    sb_status status = sb_fast_residual(w, &guess_norm, &guess_floor);
+    if (status != SB_OK) return status;
+    if (guess_norm < *norm) {
+        *norm = guess_norm, *floor = guess_floor;
+        return SB_OK;
+    }
+    memcpy(a[V_DV], a[V_DV_START], bytes);
+    memcpy(a[V_RHS], a[V_SOL], bytes);
+    sb_chunks(w, sb_op_trial);
+    return SB_OK;
+}
+
 /* The step's start: x, v packed, the mask, Δv = 0 except where a hard
  * handle holds a vertex (the Δv that puts it at its target). */
 static void sb_fast_newton_init(sb_fast_newton* w) {
@@ -492,10 +538,15 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
     double norm, floor;
     sb_status status = sb_fast_residual(&w, &norm, &floor);
     if (status != SB_OK) return status;
-    const double first = norm;
-    bool converged = false;
+    const double first = norm; /* |R(0)|: the relative test's reference, guess or not */
+    if (im->guess_dt == dt && isfinite(norm)) {
+        status = sb_fast_try_guess(&w, &norm, &floor);
+        if (status != SB_OK) return status;
+    }
+    bool converged = false, by_tolerance = false;
     for (int it = 0; isfinite(norm); it++) { /* a non-finite residual: the state check names the vertex */
-        if (norm <= limits.tolerance * first || norm <= floor) {
+        by_tolerance = norm <= limits.tolerance * first;
+        if (by_tolerance || norm <= floor) {
             converged = true;
             break;
         }
@@ -508,10 +559,26 @@ sb_status sb_implicit_fast_step(sb_solver* s, struct sb_implicit_fast* im, doubl
         s->stats.newton_iterations++;
     }
     if (!converged) s->stats.converged = false;
+    /* the next step's guess: this Δv, where the tolerance ended Newton */
+    im->guess_dt = by_tolerance ? dt : 0.0;
+    if (by_tolerance) memcpy(w.v[V_GUESS], w.v[V_DV], im->n4 * sizeof(sb_real));
     sb_fast_newton_store(s);
     s->has_displacement = false;
     /* the line search's last residual had the forces, but not the energies
      * and the state's arrays: a force pass saved where nothing reads them */
     s->forces_stale = !sb_step_needs_forces(s);
     return s->forces_stale ? sb_check_state(s) : sb_solver_compute_forces(s);
+}
+
+/* The checkpoint's part (kernels/solver_state.c): the guess and its dt. */
+void sb_implicit_fast_save(const sb_solver* s, sb_sections_writer* w) {
+    const struct sb_implicit_fast* im = sb_implicit_fast_of(s);
+    sb_sections_put(w, &im->guess_dt, sizeof im->guess_dt);
+    sb_sections_put(w, im->vectors + (size_t)V_GUESS * im->n4, im->n4 * sizeof(sb_real));
+}
+
+void sb_implicit_fast_load(sb_solver* s, sb_cursor* r) {
+    struct sb_implicit_fast* im = sb_implicit_fast_of(s);
+    sb_cursor_take(r, &im->guess_dt, sizeof im->guess_dt);
+    sb_cursor_take(r, im->vectors + (size_t)V_GUESS * im->n4, im->n4 * sizeof(sb_real));
 }

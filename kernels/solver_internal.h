@@ -207,6 +207,12 @@ struct sb_sections_writer;
 struct sb_cursor;
 void sb_vbd_save(const sb_solver* solver, struct sb_sections_writer* w);
 void sb_vbd_load(sb_solver* solver, struct sb_cursor* r);
+/* The fast implicit Euler's work (kernels/implicit_fast.c), NULL unless
+ * implicit Euler runs on the fast kernels with CG; its part of a
+ * checkpoint: the first guess the next step starts from. */
+struct sb_implicit_fast* sb_implicit_fast_of(const sb_solver* solver);
+void sb_implicit_fast_save(const sb_solver* solver, struct sb_sections_writer* w);
+void sb_implicit_fast_load(sb_solver* solver, struct sb_cursor* r);
 
 /* pbd and xpbd (kernels/pbd.c). */
 sb_status sb_integrate_pbd(sb_solver* solver, double dt);

@@ -15,10 +15,12 @@
  * impulses, each collider's moving state (poses, a dynamic body's position,
  * velocity, orientation and angular momentum), each handle's (held or
  * not, poses, grab positions, release time) and the broken bonds, whose
- * zeroed constants follow from them, and vbd's velocities of the last
- * step (its first guess compares with them). Not saved, because no step carries
- * them over: pbd's and xpbd's λ (zeroed at the start of every step), the
- * self-contact search (refitted from the state), the scratch buffers. A
+ * zeroed constants follow from them, vbd's velocities of the last
+ * step (its first guess compares with them) and the fast implicit Euler's
+ * last Δv (its first guess, kernels/implicit_fast.c). Not saved, because
+ * no step carries them over: pbd's and xpbd's λ (zeroed at the start of
+ * every step), the self-contact search (refitted from the state), the
+ * scratch buffers. A
  * solver that tears (kernels/topology.c) adds its topology: the split
  * vertices, the elements re-pointed at them, the queue of vertices to look
  * at; the fast model's slots and the masses are set again from it.
@@ -170,6 +172,7 @@ static bool sb_has_handles(const sb_solver* s) { return s->def.handle_count > 0;
 static bool sb_has_breakage(const sb_solver* s) { return s->breakage != NULL; }
 static bool sb_has_topology(const sb_solver* s) { return sb_breakage_topology(s->breakage) != NULL; }
 static bool sb_has_vbd(const sb_solver* s) { return s->vbd != NULL; }
+static bool sb_has_implicit_fast(const sb_solver* s) { return sb_implicit_fast_of(s) != NULL; }
 
 /* One part of the state. A section is read back in table order, after all
  * were checked: the broken bonds first (they zero constants and queue
@@ -195,6 +198,7 @@ static const sb_state_part sb_parts[] = {
     {{'I', 'M', 'P', 'S'}, "contact impulses", sb_has_impulses, sb_impulses_save, NULL, sb_impulses_load},
     {{'E', 'X', 'T', 'F'}, "external forces", sb_has_external, sb_external_save, NULL, sb_external_load},
     {{'V', 'B', 'D', 'V'}, "vbd's last velocities", sb_has_vbd, sb_vbd_save, NULL, sb_vbd_load},
+    {{'I', 'M', 'P', 'G'}, "implicit guess", sb_has_implicit_fast, sb_implicit_fast_save, NULL, sb_implicit_fast_load},
     {{'A', 'R', 'R', 'S'}, "step arrays", sb_always, sb_arrays_save, NULL, sb_arrays_load},
     {{'C', 'L', 'C', 'K'}, "clock", sb_always, sb_clock_save, NULL, sb_clock_load},
     {{'S', 'T', 'A', 'T'}, "step statistics", sb_always, sb_stats_save, NULL, sb_stats_load},

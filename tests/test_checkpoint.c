@@ -5,7 +5,9 @@
  * energies, clock, statistics, contact forces, the colliders' and the
  * handles' state at every step after — for a Verlet sheet on a floor
  * under a spinning dynamic ball, an adaptive run that rejects sub-steps,
- * xpbd on a floor, hard and soft handles (one released before the save),
+ * xpbd on a floor, vbd and the fast implicit Euler on a floor (each
+ * carries its first guess over), hard and soft handles (one released
+ * before the save),
  * a sheet torn by its handles (bonds broken and vertices split before and
  * after the save) and
  * the reference kernels with a generic integrator. Bad input is refused
@@ -116,6 +118,18 @@ static void xpbd_floor(rig* r, int threads) {
     r->colliders[0] = floor_plane();
     r->collider_count = 1;
     sb_solver_def def = rig_def(r, SB_INTEGRATOR_XPBD, threads);
+    r->solver = tu_solver(r->model, &def);
+}
+
+/* implicit Euler on the fast kernels with CG, a sheet falling onto a floor:
+ * its first guess is the last step's Δv. */
+static void implicit_fast_floor(rig* r, int threads) {
+    r->model = sheet(0.0);
+    r->colliders[0] = floor_plane();
+    r->collider_count = 1;
+    sb_solver_def def = rig_def(r, SB_INTEGRATOR_IMPLICIT_EULER, threads);
+    def.implicit_solver = SB_LINEAR_CG;
+    def.implicit_tolerance = 1e-2;
     r->solver = tu_solver(r->model, &def);
 }
 
@@ -297,6 +311,12 @@ static void test_xpbd(void** state) {
 static void test_vbd(void** state) {
     (void)state;
     after_save seen = check_resume(vbd_floor, 1e-3, 20, 60);
+    assert_true(seen.contacts > 0);
+}
+
+static void test_implicit_fast(void** state) {
+    (void)state;
+    after_save seen = check_resume(implicit_fast_floor, 1e-3, 20, 60);
     assert_true(seen.contacts > 0);
 }
 
@@ -577,6 +597,7 @@ int main(void) {
         cmocka_unit_test(test_adaptive),
         cmocka_unit_test(test_xpbd),
         cmocka_unit_test(test_vbd),
+        cmocka_unit_test(test_implicit_fast),
         cmocka_unit_test(test_reference_kernels),
         cmocka_unit_test(test_handles),
         cmocka_unit_test(test_breaking),
