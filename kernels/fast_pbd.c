@@ -22,10 +22,10 @@
  * its vertices in registers, loaded and stored once: the bond pass's own
  * loads and stores are gone where triangles carry the bonds (the 100 ×
  * 100 sheet: all of them). Each projection is a chain of dependent
- * operations (an inverse square root and a division for a corner), so
- * SB_PBD_BLOCKS SIMD blocks of a run are projected together, step by step,
- * giving the processor independent chains to overlap (bonds, short
- * chains, gained nothing from it). Triangles of a run are sorted by the
+ * operations (an inverse square root and a division for a corner, beside
+ * which a reciprocal), so SB_PBD_BLOCKS SIMD blocks of a run are projected
+ * together, step by step, giving the processor independent chains to
+ * overlap (bonds, short chains, gained nothing from it). Triangles of a run are sorted by the
  * edges that carry bonds (kernels/pbd.c), and an edge is projected only in
  * the blocks where some lane carries a live bond there. A corner's
  * W = Σ w |∇C|² is taken in closed form, and its lengths from one inverse
@@ -526,30 +526,49 @@ static inline bool sb_pbd_wide_bond_block(const sb_pbd_wide_bonds* b, const sb_p
  * ∇_{q+2} C = a/(|a||b|) − c b/|b|², ∇_q C = −(the two), whose squares sum
  * to W = (1 − c²)(w_{q+1}/|a|² + w_{q+2}/|b|² + w_q (1/|a|² + 1/|b|² −
  * 2c/(|a||b|))) (c = cos θ; the same W as kernels/pbd.c's sum of the
- * three, in closed form). One inverse square root, of |a|²|b|², gives
- * 1/(|a||b|) and from it 1/|a|² = |b|²/(|a|²|b|²) and 1/|b|²: the
- * gradients come from a and b unnormalised. Returns the collapsed lanes
- * (an edge, or the product, under SB_PBD_COLLAPSED2). */
-static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], const sb_wide w[3], int q, sb_wide cos0,
-                                          sb_wide alpha, sb_wide alive, sb_real* lambda) {
+ * three, in closed form). One inverse square root of |a|²|b|² gives
+ * 1/(|a||b|), and its reciprocal (an estimate and a Newton step, ~1 ulp,
+ * beside the inverse square root rather than its square after it)
+ * 1/|a|² = |b|²/(|a|²|b|²) and 1/|b|²: the gradients come from a and b
+ * unnormalised.
+ *
+ * The projections of a triangle's corners follow one another, each on the
+ * positions the one before moved, so the step's time is that chain's length
+ * (the blocks projected together overlap only a few). What does not need
+ * the inverse square root is taken from the dot products beside it: W =
+ * sin² · M/(|a|²|b|²), with sin² = |a × b|²/(|a|²|b|²) = (|a|²|b|² −
+ * (a·b)²)/(|a|²|b|²) and M = (w_{q+1} + w_q)|b|² + (w_{q+2} + w_q)|a|² −
+ * 2 w_q a·b (the bracket above times |a|²|b|²); the numerator's cos θ0 − α̃ λ
+ * before it too; and the inverse masses arrive multiplied by the
+ * triangle's aliveness (`wl`, 0 for a dead corner, whose W is then 0 and
+ * Δλ finite). Returns the collapsed lanes (an edge, or the product, under
+ * SB_PBD_COLLAPSED2). */
+static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], const sb_wide wl[3], int q,
+                                          sb_wide cos0, sb_wide at, sb_real* lambda) {
     int q1 = (q + 1) % 3, q2 = (q + 2) % 3;
     sb_wvec3 a = sb_wv_sub(p[q1], p[q]), b = sb_wv_sub(p[q2], p[q]);
-    sb_wide A2 = sb_wv_dot(a, a), B2 = sb_wv_dot(b, b), AB2 = sb_w_mul(A2, B2);
-    sb_wide tiny = sb_w_set((sb_real)SB_PBD_COLLAPSED2);
+    sb_wide A2 = sb_wv_dot(a, a), B2 = sb_wv_dot(b, b), D = sb_wv_dot(a, b), AB2 = sb_w_mul(A2, B2);
+    sb_wide tiny = sb_w_set((sb_real)SB_PBD_COLLAPSED2), zero = sb_w_set(0);
     sb_wmask collapsed = sb_w_less(sb_w_min(A2, B2), tiny) | sb_w_less(AB2, tiny);
-    sb_wide iab = sb_w_rsqrt(sb_w_max(AB2, tiny)), iab2 = sb_w_mul(iab, iab); /* 1/(|a||b|) */
+    /* beside the inverse square root */
+    sb_wide cross2 = sb_w_sub(AB2, sb_w_mul(D, D)); /* |a × b|² */
+    sb_wide wq2 = sb_w_add(wl[q], wl[q]);
+    sb_wide M = sb_w_sub(sb_w_add(sb_w_mul(sb_w_add(wl[q1], wl[q]), B2), sb_w_mul(sb_w_add(wl[q2], wl[q]), A2)),
+                         sb_w_mul(wq2, D));
+    sb_wide l = k->first || !k->accumulate ? zero : sb_w_load(lambda);
+    sb_wide target = sb_w_sub(cos0, sb_w_mul(at, l)); /* Δλ = (cos θ0 − α̃ λ − c)/(W + α̃) */
+    sb_wide clamped = sb_w_max(AB2, tiny);
+    sb_wide iab = sb_w_rsqrt(clamped), iab2 = sb_w_recip(clamped); /* 1/(|a||b|), its square */
+    sb_wide cosine = sb_w_mul(D, iab);
+    sb_wide sin2 = sb_w_mul(cross2, iab2), S = sb_w_mul(M, iab2);
+    sb_wide d = sb_w_div(sb_w_sub(target, cosine), sb_w_add(sb_w_mul(sin2, S), at));
+    if (k->accumulate) sb_w_store(lambda, sb_w_add(l, d));
     sb_wide ia2 = sb_w_mul(iab2, B2), ib2 = sb_w_mul(iab2, A2);
-    sb_wide cosine = sb_w_mul(sb_wv_dot(a, b), iab);
-    sb_wide w0_ab = sb_w_mul(w[q], sb_w_sub(sb_w_add(ia2, ib2), sb_w_mul(sb_w_add(cosine, cosine), iab)));
-    sb_wide sin2 = sb_w_sub(sb_w_set(1), sb_w_mul(cosine, cosine));
-    sb_wide W = sb_w_mul(sin2, sb_w_add(sb_w_add(sb_w_mul(w[q1], ia2), sb_w_mul(w[q2], ib2)), w0_ab));
     sb_wvec3 g1 = sb_wv_sub(sb_wv_scale(b, iab), sb_wv_scale(a, sb_w_mul(cosine, ia2))); /* ∇C */
     sb_wvec3 g2 = sb_wv_sub(sb_wv_scale(a, iab), sb_wv_scale(b, sb_w_mul(cosine, ib2)));
-    sb_wide zero = sb_w_set(0);
-    sb_wide d = sb_w_mul(sb_pbd_wide_delta(k, sb_w_sub(cosine, cos0), alpha, W, zero, zero, lambda), alive);
-    p[q1] = sb_wv_add(p[q1], sb_wv_scale(g1, sb_w_mul(w[q1], d)));
-    p[q2] = sb_wv_add(p[q2], sb_wv_scale(g2, sb_w_mul(w[q2], d)));
-    p[q] = sb_wv_sub(p[q], sb_wv_scale(sb_wv_add(g1, g2), sb_w_mul(w[q], d)));
+    p[q1] = sb_wv_add(p[q1], sb_wv_scale(g1, sb_w_mul(wl[q1], d)));
+    p[q2] = sb_wv_add(p[q2], sb_wv_scale(g2, sb_w_mul(wl[q2], d)));
+    p[q] = sb_wv_sub(p[q], sb_wv_scale(sb_wv_add(g1, g2), sb_w_mul(wl[q], d)));
     return collapsed;
 }
 
@@ -620,12 +639,18 @@ SB_PBD_INLINE bool sb_pbd_wide_triangle_blocks(const sb_pbd_wide_triangles* t, c
         if (!sb_pbd_carries(&t->bonds[c], s, blocks)) continue;
         for (int h = 0; h < blocks; h++) sb_pbd_triangle_edge(t, k, s + (uint32_t)h * SB_WIDTH, &r[h], c, damped);
     }
+    sb_wide wl[SB_PBD_BLOCKS][3], at[SB_PBD_BLOCKS];
+    for (int h = 0; h < blocks; h++) {
+        sb_wide alive = sb_w_load(t->alive + s + (uint32_t)h * SB_WIDTH);
+        for (int c = 0; c < 3; c++) wl[h][c] = sb_w_mul(r[h].w[c], alive);
+        at[h] = sb_w_mul(sb_w_load(t->alpha + s + (uint32_t)h * SB_WIDTH), k->inv_dt2);
+    }
 #pragma GCC unroll 3
     for (int c = 0; c < 3; c++)
         for (int h = 0; h < blocks; h++) {
-            uint32_t at = s + (uint32_t)h * SB_WIDTH;
-            r[h].collapsed |= sb_pbd_wide_corner(k, r[h].p, r[h].w, c, sb_w_load(t->cos0[c] + at),
-                                                 sb_w_load(t->alpha + at), sb_w_load(t->alive + at), t->lambda[c] + at);
+            uint32_t slot = s + (uint32_t)h * SB_WIDTH;
+            r[h].collapsed |=
+                sb_pbd_wide_corner(k, r[h].p, wl[h], c, sb_w_load(t->cos0[c] + slot), at[h], t->lambda[c] + slot);
         }
     bool any = false;
     for (int h = 0; h < blocks; h++) {
