@@ -611,20 +611,17 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
                 collapsed |= sb_vbd_block_update(f, f->color_block[c] + (uint32_t)b, &rates);
             sb_worker_barrier(w);
         }
+        /* the last sweep's acceleration is of the worker's own range, which it unpacks: no barrier */
         if (st->chebyshev_rho > 0.0) {
             weight = sb_vbd_accelerate4(f, st->chebyshev_rho, it + 1, weight, first, past);
-            sb_worker_barrier(w);
+            if (it + 1 < st->sweeps) sb_worker_barrier(w);
         }
     }
     if (collapsed) sb_worker_raise(st->collapsed);
-    sb_worker_range(w, f->vertex_count, &begin, &end);
-    for (int64_t i = begin; i < end; i++)
+    /* the worker's own range, as packed: the vertices that move (inv_mass > 0, all in some lane) */
+    for (int64_t i = first; i < past; i++) {
         for (int c = 0; c < 3; c++) st->positions4[4 * i + c] = f->x4[4 * i + c];
-    sb_worker_range(w, f->block_count, &begin, &end);
-    for (int64_t b = begin; b < end; b++)
-        for (uint32_t l = 0; l < f->blocks[b].lanes; l++) {
-            size_t i = f->lane[(size_t)b * SB_WIDTH + l];
-            if (st->inv_mass[i] > 0.0)
-                for (int c = 0; c < 3; c++) st->x[3 * i + c] = f->x4[4 * i + c];
-        }
+        if (st->inv_mass[i] > 0.0)
+            for (int c = 0; c < 3; c++) st->x[3 * i + c] = f->x4[4 * i + c];
+    }
 }

@@ -32,7 +32,10 @@ static inline double sb_vbd_chebyshev_weight(double rho, int sweep, double previ
  * the result on the vertices that move (inv_mass > 0); every vertex's new
  * position also goes to positions4 (the fast path's packed x y z w).
  * *collapsed is raised when an element with a constant other than 0
- * collapsed during the sweeps. */
+ * collapsed during the sweeps. Each worker packs at the start and unpacks
+ * at the end its own range of vertices (sb_worker_range over the vertex
+ * count), without a barrier after the unpacking: the caller predicts and
+ * finishes the same ranges, and needs no barrier of its own between. */
 typedef struct sb_fast_vbd_step {
     double* x;
     const double *x0, *y, *inv_mass;
