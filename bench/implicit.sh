@@ -104,20 +104,23 @@ verlet_substeps() { verlet_substeps_of "1 2 5 10 20 40 80" "$@"; }
 # rho (0: none), the vertex steps' relaxation (1: plain), the material's
 # stiffness scale (1: the default's; the rest: --set options of that
 # material). With N = 98 the long run of per_step is the 0.1 s stability
-# run itself.
+# run itself. VBD_WAIT: the team's wait policy (the scene key wait), the
+# default's passive unless set: a step of 4 sweeps waits at 32 barriers,
+# each a futex sleep and wake-up when passive.
+VBD_WAIT=passive
 vbd_row() {
     n=$1 kernels=$2 sweeps=$3 steps=$4 rho=${5:-0} relax=${6:-1} row_scale=${7:-1}
     shift $(($# < 7 ? $# : 7))
     set -- "$@" --set integrator=vbd --set vbd.iterations="$sweeps" --set vbd.chebyshev_rho="$rho" \
-        --set vbd.relaxation="$relax" \
+        --set vbd.relaxation="$relax" --set wait="$VBD_WAIT" \
         --set kernels="$kernels" --set mesh.nx="$n" --set mesh.ny="$n" --threads 2
     if t=$(per_step 0.001 "$steps" "$@" 2>/dev/null); then
         finite=$(tail -1 "$TMP/out/log.csv" | awk -F, '{ print ($9 == $9 + 0) ? "yes" : "no" }')
         [ "$steps" -eq 98 ] && ran="0.1 s" || ran="$((steps + 2)) steps"
         [ "$kernels" = fast ] && long=$(vbd_survival "$@") || long="-"
-        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | $VBD_WAIT | ${t% *} | ${t#* } | $ran, finite: $finite | $long |"
     else
-        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | - | - | failed within 0.1 s | - |"
+        echo "| $n x $n | $((n * n)) | $row_scale | $sub | $kernels | $sweeps | $rho | $relax | $VBD_WAIT | - | - | failed within 0.1 s | - |"
     fi
 }
 
@@ -200,8 +203,8 @@ threshold_scale() {
 vbd_section() {
     echo "## vbd at dt = 1 ms, the default scene's material, 2 threads"
     echo
-    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wall ms/step | CPU ms/step | run | 2 s run |"
-    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|--:|---|---|"
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wait | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|---|--:|--:|---|---|"
     for n in 57 100; do
         sub=$(verlet_substeps --set mesh.nx=$n --set mesh.ny=$n)
         for sweeps in 10 4; do vbd_row $n reference $sweeps $VBD_STEPS; done
@@ -217,16 +220,18 @@ vbd_section() {
     echo "after it finite. 2 s run: the same settings for 2 s, and the most the total energy rose above"
     echo "its start (the sheet falls about 1 J: a rise is stretch the sweeps stored), or where a vertex"
     echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off. Relaxation: vbd.relaxation"
-    echo "(each vertex's Newton step times it; 1 = plain). Stiffness scale 1: the"
+    echo "(each vertex's Newton step times it; 1 = plain). Wait: the team's wait policy (scene key wait;"
+    echo "passive, the default, sleeps on a futex at each of a step's barriers, 32 at 4 sweeps and 7"
+    echo "colors; spin busy-waits). Stiffness scale 1: the"
     echo "default material. Target: vbd stable at 1 ms where Verlet needs >= 10, below 1 ms a step."
     echo
     echo "### At Verlet's threshold: the material softened until Verlet needs 10 sub-steps per 1 ms"
     echo
-    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wall ms/step | CPU ms/step | run | 2 s run |"
-    echo "|---|--:|--:|--:|---|--:|--:|--:|--:|--:|---|---|"
+    echo "| sheet | vertices | stiffness scale | Verlet sub-steps per 1 ms | kernels | vbd sweeps | Chebyshev rho | relaxation | wait | wall ms/step | CPU ms/step | run | 2 s run |"
+    echo "|---|--:|--:|--:|---|--:|--:|--:|---|--:|--:|---|---|"
     for n in 57 100; do
         scale=$(threshold_scale "$n")
-        [ "$scale" = none ] && echo "| $n x $n | $((n * n)) | none | - | fast | - | - | - | - | - | Verlet ran away at 10 sub-steps on the whole ladder | - |" &&
+        [ "$scale" = none ] && echo "| $n x $n | $((n * n)) | none | - | fast | - | - | - | - | - | - | Verlet ran away at 10 sub-steps on the whole ladder | - |" &&
             continue
         # shellcheck disable=SC2046
         sub=$(verlet_substeps_of "5 6 7 8 9 10 20" --set mesh.nx="$n" --set mesh.ny="$n" $(softened "$scale"))
@@ -239,6 +244,12 @@ vbd_section() {
         [ "$n" = 57 ] && relaxed="3" || relaxed="3 4"
         # shellcheck disable=SC2046
         for sweeps in $relaxed; do vbd_row "$n" fast "$sweeps" 98 0.9 1.3 "$scale" $(softened "$scale"); done
+        # the stable relaxed row again with spinning waits (a machine of its own, as a haptic loop has)
+        [ "$n" = 57 ] && stable=3 || stable=4
+        VBD_WAIT=spin
+        # shellcheck disable=SC2046
+        vbd_row "$n" fast "$stable" 98 0.9 1.3 "$scale" $(softened "$scale")
+        VBD_WAIT=passive
     done
     echo
     echo "Stiffness scale s: the stiffest of 2^(-k/4), k = 0 .. 20, at which Verlet ran the sheet 0.1 s"
