@@ -7,6 +7,8 @@
 #include "kernels/hessian.h"
 #include "common/geometry.h"
 
+#include <stdio.h>
+
 /* Four sweeps a step, with Chebyshev's acceleration at rho (0: none) and
  * each vertex's step over-relaxed by relaxation (1: plain). */
 static sb_solver_def vbd_def(sb_kernels kernels, int threads, double rho, double relaxation) {
@@ -102,6 +104,38 @@ static void test_fast_deterministic(void** state) {
     sb_model_destroy(m);
 }
 
+/* A vertex thrown out of the runaway box: the fast step checks the new
+ * state on the team (each worker its range) and, finding it bad, reports
+ * it as sb_check_state does, naming the vertex; the same on 1, 2 and 3
+ * threads, and the steps before it pass. */
+static void test_fast_reports_runaway(void** state) {
+    (void)state;
+    sb_model* m = tu_every_term_sheet(12, false);
+    uint32_t n = sb_model_vertex_count(m), thrown = n / 2;
+    assert_false(sb_model_is_fixed(m, thrown));
+    double *x = tu_rest_positions(m), *v = calloc(3 * (size_t)n, sizeof *v);
+    v[3 * (size_t)thrown + 2] = 1e11; /* 2e8 m in a 2 ms step, the box 1e6 sheet diameters */
+    char first[256] = "";
+    for (int threads = 1; threads <= 3; threads++) {
+        sb_solver_def def = vbd_def(SB_KERNELS_FAST, threads, 0.9, 1.3);
+        sb_solver* s = tu_solver(m, &def);
+        assert_int_equal(sb_solver_set_state(s, x, NULL), SB_OK);
+        tu_advance(s, 2e-3, 2); /* at rest: sound */
+        assert_int_equal(sb_solver_set_state(s, x, v), SB_OK);
+        sb_status st = sb_solver_advance(s, 2e-3);
+        print_message("%d threads: %s: %s\n", threads, sb_status_name(st), sb_solver_error(s));
+        assert_int_equal(st, SB_ERR_UNSTABLE);
+        TU_ASSERT_CONTAINS(sb_solver_error(s), "ran away");
+        if (threads == 1)
+            snprintf(first, sizeof first, "%s", sb_solver_error(s));
+        else
+            assert_string_equal(sb_solver_error(s), first);
+        sb_solver_destroy(s);
+    }
+    free(x), free(v);
+    sb_model_destroy(m);
+}
+
 /* φ of hinge h at x (3n interleaved). */
 static double hinge_angle(const sb_model* m, uint32_t h, const double* x) {
     sb_element e = sb_element_at(m, (uint64_t)m->bond_count + m->triangle_count + h);
@@ -178,6 +212,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_matches_reference),
         cmocka_unit_test(test_fast_deterministic),
+        cmocka_unit_test(test_fast_reports_runaway),
         cmocka_unit_test(test_hinge_share),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
