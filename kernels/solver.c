@@ -238,17 +238,12 @@ void sb_update_energies(sb_solver* s) {
 }
 
 sb_status sb_check_state(sb_solver* s) {
-    const sb_state* st = &s->state;
-    for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double values[6] = {st->x[i], st->y[i], st->z[i], st->vx[i], st->vy[i], st->vz[i]};
-        bool finite = true, inside = true;
-        for (int c = 0; c < 6; c++) finite &= isfinite(values[c]) != 0;
-        for (int c = 0; c < 3; c++) inside &= fabs(values[c] - s->center[c]) <= s->runaway;
-        if (!finite || !inside)
+    for (uint32_t i = 0; i < s->state.vertex_count; i++) {
+        const char* fault = sb_vertex_fault(s, i);
+        if (fault)
             return sb_error_set(&s->error, SB_ERR_UNSTABLE,
                                 "step %llu (t = %.9g s): vertex %u %s; the time step is too large for the stiffness",
-                                (unsigned long long)s->steps, s->time, i,
-                                finite ? "ran away from the model" : "is not finite");
+                                (unsigned long long)s->steps, s->time, i, fault);
     }
     return SB_OK;
 }

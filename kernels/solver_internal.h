@@ -9,6 +9,8 @@
 #include "kernels/state.h"
 #include "kernels/team.h"
 
+#include <math.h>
+
 struct sb_solver {
     const sb_model* model;        /* what the kernels read: the given model, or breakage's working copy */
     const sb_model* given_model;  /* sb_solver_model's */
@@ -75,6 +77,18 @@ static inline bool sb_fused(const sb_solver* s) {
  * 0 where a hard handle holds (kernels/handle.c). */
 static inline const double* sb_inv_mass(const sb_solver* s) {
     return s->pinned_inv_mass ? s->pinned_inv_mass : s->model->inv_mass;
+}
+
+/* What is wrong with vertex i's state, or NULL: sb_check_state's test (every
+ * coordinate and velocity finite, the position within runaway of center on
+ * every axis), shared with the steps that check their ranges on the team. */
+static inline const char* sb_vertex_fault(const sb_solver* s, uint32_t i) {
+    const sb_state* st = &s->state;
+    double values[6] = {st->x[i], st->y[i], st->z[i], st->vx[i], st->vy[i], st->vz[i]};
+    bool finite = true, inside = true;
+    for (int c = 0; c < 6; c++) finite &= isfinite(values[c]) != 0;
+    for (int c = 0; c < 3; c++) inside &= fabs(values[c] - s->center[c]) <= s->runaway;
+    return !finite ? "is not finite" : !inside ? "ran away from the model" : NULL;
 }
 
 /* Contact (kernels/contact.c). */

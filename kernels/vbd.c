@@ -345,18 +345,12 @@ static void sb_vbd_finish(sb_solver* s, struct sb_vbd* v, double dt, int64_t beg
 }
 
 /* Whether the state of vertices [begin, end) passes sb_check_state's test
- * (finite, within runaway of the center): the fast step checks each
- * worker's range on the team, and only a failure runs sb_check_state,
- * which names the vertex. */
+ * (sb_vertex_fault): the fast step checks each worker's range on the team,
+ * and only a failure runs sb_check_state, which names the vertex. */
 static bool sb_vbd_range_sound(const sb_solver* s, int64_t begin, int64_t end) {
-    const sb_state* st = &s->state;
-    bool sound = true;
-    for (int64_t i = begin; i < end; i++) {
-        double values[6] = {st->x[i], st->y[i], st->z[i], st->vx[i], st->vy[i], st->vz[i]};
-        for (int c = 0; c < 6; c++) sound &= isfinite(values[c]) != 0;
-        for (int c = 0; c < 3; c++) sound &= fabs(values[c] - s->center[c]) <= s->runaway;
-    }
-    return sound;
+    for (int64_t i = begin; i < end; i++)
+        if (sb_vertex_fault(s, (uint32_t)i)) return false;
+    return true;
 }
 
 /* A step on the team: the prediction (then the held vertices at their
