@@ -1,5 +1,5 @@
 /* Byte model: the memory traffic of one Verlet step of the fast path as
- * it is laid out (kernels/solver_fast.c), with s = sizeof(sb_real) (4 in
+ * it is laid out (kernels/state/solver_fast.c), with s = sizeof(sb_real) (4 in
  * float, 8 in double) and 4-byte vertex indices. It assumes the gathers of
  * a vertex's neighbours hit cache (the blocked coloring keeps a block's
  * vertices there), so each array crosses the memory bus once per pass that
@@ -16,12 +16,12 @@
  *                constant, no stream of its own)
  *   per triangle 3 indices (12 B) + 3 rest cosines + 3 rest lengths (6 s)
  *                + 1 byte of flags: which of its edges' bonds it owns
- *                (kernels/fast_model.h; every bond of these meshes is on a
+ *                (kernels/forces/fast_model.h; every bond of these meshes is on a
  *                triangle's edge, and an owned bond's rest length is the
  *                edge's, so its constants, uniform, cost nothing more)
  *   per bond     only the bonds no triangle owns: none on these meshes
  *   per hinge    (--all-terms only) fused into a triangle that is its
- *                wing (kernels/fast_corners.c): its other vertex (4 B) +
+ *                wing (kernels/forces/fast_corners.c): its other vertex (4 B) +
  *                φ0 (s), and a byte per triangle for the edges it carries
  *   damping      (--all-terms) the drift writes the half-step velocities
  *                and the force pass reads them (the kick reads them instead

@@ -13,10 +13,10 @@
  * the best time counts. One line per case and thread count on stdout:
  *   softbond,CASE,THREADS,STEPS,MS_PER_STEP,BOND_PROJECTIONS,CORNER_PROJECTIONS,BARRIERS
  * (projections per step: constraints × sweeps; the team's barriers a step
- * on more than one thread, kernels/fast_pbd.c). bench/jolt/run.sh runs it
+ * on more than one thread, kernels/integrators/fast_pbd.c). bench/jolt/run.sh runs it
  * beside the Jolt peer. */
 #include "bench/bench_cases.h"
-#include "kernels/pbd_internal.h"
+#include "kernels/integrators/pbd_internal.h"
 
 #include <math.h>
 #include <stdio.h>

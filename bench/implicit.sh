@@ -5,7 +5,7 @@
 #      with implicit.solver cholesky and cg, on 1 and 2 threads;
 #   2. vbd at dt = 1 ms (the haptic rate) on sheets of 3 249 and 10 000
 #      vertices, beside the Verlet sub-step that the same sheet needs, with
-#      the reference sweeps (double, scalar) and the fast ones (kernels/fast_vbd.c),
+#      the reference sweeps (double, scalar) and the fast ones (kernels/integrators/fast_vbd.c),
 #      with the default material and with it softened to where Verlet needs
 #      10 sub-steps per 1 ms (issue 16's threshold);
 #   3. vbd (fast) on the 100k sheet at 10 x Verlet's largest stable step,
@@ -216,7 +216,7 @@ vbd_section() {
     echo
     echo "Verlet sub-steps: the fewest of 1, 2, 5, 10, 20, 40, 80 per 1 ms that ran 0.1 s without a"
     echo "vertex running away. Reference rows: 2 + $VBD_STEPS steps timed (the double sweeps of"
-    echo "kernels/vbd.c); fast rows (kernels/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
+    echo "kernels/integrators/vbd.c); fast rows (kernels/integrators/fast_vbd.c): 2 + 98, the whole 0.1 s, and the energies"
     echo "after it finite. 2 s run: the same settings for 2 s, and the most the total energy rose above"
     echo "its start (the sheet falls about 1 J: a rise is stretch the sweeps stored), or where a vertex"
     echo "ran away (fast rows). Chebyshev rho: vbd.chebyshev_rho, 0 = off. Relaxation: vbd.relaxation"

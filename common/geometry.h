@@ -64,7 +64,7 @@ static inline sb_hinge_geometry sb_hinge_measure(sb_vec3 e0, sb_vec3 e1, sb_vec3
 #define SB_MIN_WING_RATIO 1e-12
 
 /* The hinge's angle φ and u = −∇φ on e0, e1, o0, o1 (the gradient derived
- * in kernels/reference_hinges.c); false when a wing collapsed. phi may be
+ * in kernels/forces/reference_hinges.c); false when a wing collapsed. phi may be
  * NULL: u alone, without the atan2. */
 static inline bool sb_hinge_gradient(const sb_vec3 x[4], double* phi, sb_vec3 u[4]) {
     sb_hinge_geometry g = phi ? sb_hinge_measure(x[0], x[1], x[2], x[3]) : sb_hinge_shape(x[0], x[1], x[2], x[3]);

@@ -1,5 +1,5 @@
 /* Private: a versioned binary file of tagged sections, the layout of the
- * solver's saved state (kernels/solver_state.c) and of the program's
+ * solver's saved state (kernels/solver/solver_state.c) and of the program's
  * checkpoint (scenes/checkpoint.c).
  *
  *   header   8  magic (what kind of file)

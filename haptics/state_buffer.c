@@ -30,7 +30,7 @@
  * during its few instructions between reading latest and taking the slot. */
 #include "softbond/state_buffer.h"
 #include "common/error.h"
-#include "kernels/solver_internal.h"
+#include "kernels/state/solver_internal.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>

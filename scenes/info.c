@@ -5,7 +5,7 @@
  * as the fast kernels color: no two elements of a color share a vertex). */
 #include "scenes/cli.h"
 #include "common/error.h"
-#include "kernels/coloring.h"
+#include "kernels/forces/coloring.h"
 #include "common/edge_map.h"
 
 #include <math.h>

@@ -1,4 +1,4 @@
-/* The surface a frame shows of a solver that tears (kernels/topology.c):
+/* The surface a frame shows of a solver that tears (kernels/interaction/topology.c):
  * the solver's vertices now (the model's, then the copies splits made) and
  * its live triangles with their current vertices, so that a torn sheet's
  * frames show the hole and the separate halves. */

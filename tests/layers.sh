@@ -18,7 +18,7 @@ check() { # check DIR-GLOB FORBIDDEN-REGEX
 check "common/*.c common/*.h" "mesh|kernels|haptics|scenes|bench"
 check "mesh/*.c mesh/*.h" "mesh/io|kernels|haptics|scenes|bench"
 check "mesh/io/*.c mesh/io/*.h" "kernels|haptics|scenes|bench"
-check "kernels/*.c kernels/*.h kernels/colliders/*.c kernels/colliders/*.h" "mesh/io|haptics|scenes|bench"
+check "kernels/*/*.c kernels/*/*.h kernels/contact/colliders/*.c kernels/contact/colliders/*.h" "mesh/io|haptics|scenes|bench"
 check "haptics/*.c haptics/*.h" "mesh/io|scenes|bench"
 check "include/softbond/*.h" "common|mesh|kernels|haptics|scenes|viewer|bench"
 check "scenes/*.c scenes/*.h" "viewer|bench"

@@ -1,4 +1,4 @@
-/* Breakage (kernels/breakage.c): a spring pulled past break_max (pushed
+/* Breakage (kernels/interaction/breakage.c): a spring pulled past break_max (pushed
  * below break_min) breaks at the step whose end length first crosses the
  * limit — the step found in a recorded run of the same model without
  * limits, and within a step of the analytic crossing of its harmonic
@@ -144,7 +144,7 @@ static void test_spring_breaks_below_min(void** state) {
 }
 
 /* Every integrator (but pbd, whose projection's stiffness is its own, far
- * stiffer here: kernels/pbd.c) and the adaptive stepper: the spring breaks
+ * stiffer here: kernels/integrators/pbd.c) and the adaptive stepper: the spring breaks
  * once, near the analytic time. */
 static void test_every_integrator_breaks_once(void** state) {
     (void)state;

@@ -1,4 +1,4 @@
-/* The built-in colliders (softbond/collider.h, kernels/colliders/): each
+/* The built-in colliders (softbond/collider.h, kernels/contact/colliders/): each
  * shape's sweep against hand-computed crossings, thickness, resting contact
  * (inside to inside), misses, tangent and zero-length moves, the capsule's
  * pieces and the rotated box; kinematic colliders (poses, interpolation,
@@ -6,7 +6,7 @@
  * message; a program's own collider called through the struct. */
 #include "tests/test_util.h"
 #include "softbond/collider.h"
-#include "kernels/colliders/collider_internal.h"
+#include "kernels/contact/colliders/collider_internal.h"
 
 #include <stdio.h>
 

@@ -1,4 +1,4 @@
-/* Cutting (kernels/cutting.c, softbond/blade.h): a blade, an edge across a
+/* Cutting (kernels/interaction/cutting.c, softbond/blade.h): a blade, an edge across a
  * sheet at rest (no gravity, no limits: nothing moves but the blade),
  * moved along y by its keyframes, severs exactly the bonds whose segment
  * crosses the rectangle its edge swept — counted here from the model's rest

@@ -1,4 +1,4 @@
-/* Dynamic colliders that turn (kernels/colliders/dynamic.c): the body's
+/* Dynamic colliders that turn (kernels/contact/colliders/dynamic.c): the body's
  * angular momentum about its center changes by exactly the torque of what
  * the vertices received at their contact points (worked out here from the
  * moves); friction spins a ball hit off its center the right way and a

@@ -4,7 +4,7 @@
 
 #include <stdio.h>
 
-#include "kernels/fast_model.h"
+#include "kernels/forces/fast_model.h"
 
 /* Float carries ~7 digits; after a few dozen operations per element the
  * error stays below 1e-5 of the largest force. Double: 1e-12. */
@@ -508,7 +508,7 @@ static void test_coloring(void** state) {
 }
 
 /* A sheet large enough for blocks above 2 048 elements, the cap before the
- * blocks were sized by the cache (kernels/fast_model.c): a 300 × 300
+ * blocks were sized by the cache (kernels/forces/fast_model.c): a 300 × 300
  * jittered sheet, every term (damped springs fused, hinges carried), 178 802
  * triangles in 64 blocks of 2 800. The layout is valid (check_group), the
  * forces follow the reference's, and 100 Verlet steps give the same state
@@ -668,7 +668,7 @@ static void push(void* user, uint32_t vertex, double time, const double position
 }
 
 /* pushed: drag and the push callback; without, nothing reads the Verlet
- * step's half-step velocities before its kick (kernels/solver_fast.c). */
+ * step's half-step velocities before its kick (kernels/state/solver_fast.c). */
 static sb_energies run_trajectory(const sb_model* model, sb_kernels kernels, sb_integrator integrator, bool pushed,
                                   double* out) {
     sb_solver_def def = sb_default_solver_def();
@@ -732,7 +732,7 @@ static void test_fast_step_follows_reference(void** state) {
 }
 
 /* The Verlet step's energies where the fast step sums them in other passes
- * (kernels/solver_fast.c): the gravitational one and the position check
+ * (kernels/state/solver_fast.c): the gravitational one and the position check
  * in the drift pass, the kinetic one in the kick from half-step velocities
  * that, without damping, drag or a callback, it recomputes from the
  * displacements. Both follow the reference's within 1e-5 (double 1e-9)
@@ -836,7 +836,7 @@ static bool same_energies(const sb_energies* a, const sb_energies* b) {
 }
 
 /* The fused step sums its kinetic and gravitational energies only where
- * they are read (kernels/solver_fast.c, sb_step_sums); read after a step
+ * they are read (kernels/state/solver_fast.c, sb_step_sums); read after a step
  * that left them, sb_solver_settle sums them from the packed state with
  * the kick's arithmetic. Either way the energies are bitwise the same, for
  * 1, 2 and 3 threads, and reading them changes nothing of the trajectory:

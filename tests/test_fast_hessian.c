@@ -1,17 +1,17 @@
-/* The fast kernels' second derivatives (kernels/fast_hessian.h) against the
- * reference's exact ones (kernels/hessian.h): the product K p + w D p
+/* The fast kernels' second derivatives (kernels/forces/fast_hessian.h) against the
+ * reference's exact ones (kernels/forces/hessian.h): the product K p + w D p
  * against sb_stiffness_product and the damping blocks, the diagonal blocks
  * against the element matrices, the product's symmetry, each on 1, 2 and 3
  * threads with bitwise equal results; and implicit Euler on the fast
- * kernels (kernels/implicit_fast.c) against the reference's over large
+ * kernels (kernels/integrators/implicit_fast.c) against the reference's over large
  * steps, bitwise the same on 1, 2 and 3 threads, its forces and energies
  * when asked as a fresh evaluation's, its first guess (the last step's Δv)
  * saving CG iterations. */
 #include "test_util.h"
 
-#include "kernels/fast_hessian.h"
-#include "kernels/hessian.h"
-#include "kernels/solver_internal.h"
+#include "kernels/forces/fast_hessian.h"
+#include "kernels/forces/hessian.h"
+#include "kernels/state/solver_internal.h"
 
 /* The fast kernels' relative error against the double reference: rounding
  * of sb_real. In float the derivative parts come out of the same
@@ -374,7 +374,7 @@ static void test_implicit_fast_loaded(void** state) {
 
 /* On a sheet large enough for 3 workers (one per 4 096 vertices,
  * sb_implicit_width) over many vertex chunks, whose vector operations'
- * sums (kernels/implicit_fast.c: SIMD lanes, 4 vertices a block) end in
+ * sums (kernels/integrators/implicit_fast.c: SIMD lanes, 4 vertices a block) end in
  * partial blocks: 111 x 111 = 12 321 vertices, the last chunk 33 vertices
  * (132 reals: 8 blocks of 16 and 4 left; 8 blocks of 4 vertices and 1).
  * Hung from two corners, falling from rest at 10 ms steps: converged on
@@ -410,7 +410,7 @@ static void test_implicit_fast_chunks(void** state) {
 
 /* A hanging sheet's run for the first-guess test: `steps` steps of dt
  * (every other step dt (1 + 1e-9) when `cold`: a step whose dt differs
- * from the last one's starts from Δv = 0, kernels/implicit_fast.c), the
+ * from the last one's starts from Δv = 0, kernels/integrators/implicit_fast.c), the
  * stats summed, the steps Newton left at their guess counted, the
  * positions into x (3n), the state's hash returned. */
 typedef struct guess_run {

@@ -1,10 +1,10 @@
-/* vbd's fast sweep (kernels/fast_vbd.c) against its scalar reference
- * (kernels/vbd.c) on a bent, jittered sheet with every term, bitwise the
+/* vbd's fast sweep (kernels/integrators/fast_vbd.c) against its scalar reference
+ * (kernels/integrators/vbd.c) on a bent, jittered sheet with every term, bitwise the
  * same for 1, 2 and 3 threads; and the hinge's closed-form vertex share
- * (kernels/hessian_hinges.c) against the dual run and central differences. */
+ * (kernels/forces/hessian_hinges.c) against the dual run and central differences. */
 #include "test_util.h"
 
-#include "kernels/hessian.h"
+#include "kernels/forces/hessian.h"
 #include "common/geometry.h"
 
 #include <stdio.h>

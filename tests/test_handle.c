@@ -1,4 +1,4 @@
-/* Handles (softbond/handle.h, kernels/handle.c): a hard handle's vertices
+/* Handles (softbond/handle.h, kernels/interaction/handle.c): a hard handle's vertices
  * are exactly at their targets after every step for every integrator and
  * both kernel choices; released vertices move freely and a re-grab holds
  * them where they are; a pose set by the program is reached to the bit; adaptive stepping counts a hard handle's work;

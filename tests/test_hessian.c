@@ -1,12 +1,12 @@
-/* The exact second derivatives of the internal forces (kernels/hessian.h):
+/* The exact second derivatives of the internal forces (kernels/forces/hessian.h):
  * each term's stiffness against central differences of the reference
  * forces, its symmetry, the matrix-free product against the element
  * matrices, the damping Jacobian against differences in the velocities, and
  * the positive semi-definite stand-ins of the definiteness fix. */
 #include "test_util.h"
 
-#include "kernels/block_matrix.h"
-#include "kernels/hessian.h"
+#include "kernels/linear/block_matrix.h"
+#include "kernels/forces/hessian.h"
 
 enum { TERM_ALL = SB_TERM_COUNT };
 

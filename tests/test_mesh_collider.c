@@ -1,4 +1,4 @@
-/* The triangle-mesh collider (SB_COLLIDER_MESH, kernels/colliders/mesh.c):
+/* The triangle-mesh collider (SB_COLLIDER_MESH, kernels/contact/colliders/mesh.c):
  * a cube mesh answers every move as the analytic box does, static and
  * kinematic; an icosphere's answers lie between the spheres through its
  * faces and its corners; an open sheet is a shell of its thickness, the
@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "tests/test_files.h"
-#include "kernels/colliders/collider_internal.h"
+#include "kernels/contact/colliders/collider_internal.h"
 
 /* ---- meshes made here ------------------------------------------------------ */
 

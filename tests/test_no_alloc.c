@@ -162,7 +162,7 @@ static void test_steps_do_not_allocate(void** state) {
     sb_mesh_free(&mesh);
 }
 
-/* Bonds breaking (kernels/breakage.c) inside the counted steps: a strain
+/* Bonds breaking (kernels/interaction/breakage.c) inside the counted steps: a strain
  * limit of 1e-9 is passed at once by the bonds of the held vertices as the
  * sheet around them falls (a strain of about 1e-8 in 1 ms). */
 static void test_breaking_steps_do_not_allocate(void** state) {
@@ -184,7 +184,7 @@ static void test_breaking_steps_do_not_allocate(void** state) {
     sb_mesh_free(&mesh);
 }
 
-/* implicit_euler with its systems factored (kernels/sparse_cholesky.c,
+/* implicit_euler with its systems factored (kernels/linear/sparse_cholesky.c,
  * whose numeric factorization and solves reuse what the analysis
  * allocated), on both kernels and 1 and 2 threads: steps of 10 ms, long
  * enough that Newton factors. */

@@ -1,4 +1,4 @@
-/* The position-based integrators pbd and xpbd (kernels/pbd.c): names and
+/* The position-based integrators pbd and xpbd (kernels/integrators/pbd.c): names and
  * scene keys, fixed vertices, convergence of the projection with the
  * iteration count, xpbd's static stretch of a hanging chain (k Δx = m g),
  * the same state for 1, 2 and 3 threads, few barriers a step, and the blow-up rule on bond lengths
@@ -6,7 +6,7 @@
 #include "tests/test_util.h"
 #include "scenes/scene.h"
 #include "scenes/scene_model.h"
-#include "kernels/pbd_internal.h"
+#include "kernels/integrators/pbd_internal.h"
 
 #include <stdio.h>
 
@@ -209,7 +209,7 @@ static void test_xpbd_static_stretch(void** state) {
  * 1, 2 and 3 threads, with either kernel choice; and with the fast kernels
  * on the sheet with bonds on no triangle too (two groups, so that the SIMD
  * sweeps' units of the triangles wait for those of the bonds and the other
- * way round, kernels/fast_pbd.c's schedule), damped. */
+ * way round, kernels/integrators/fast_pbd.c's schedule), damped. */
 static void test_threads_deterministic(void** state) {
     (void)state;
     sb_model* models[2] = {sheet(100, 0.01, 500, 0.05, 0), sheet_with(100, 0.01, 0.01, 500, 0.05, 0.02, true)};
@@ -238,7 +238,7 @@ static void test_threads_deterministic(void** state) {
 /* The 100 × 100 sheet, bonds on the triangles and bonds on none (a group
  * each, 2 block colors each): a step of 5 sweeps waits at 2 barriers, none
  * in the sweeps, whose units wait only for the units they share vertices
- * with (kernels/fast_pbd.c's schedule; a barrier after each block color
+ * with (kernels/integrators/fast_pbd.c's schedule; a barrier after each block color
  * made 2 + 5 × 4, and one after each element color, before the blocked
  * coloring, 2 + 5 × 9 or more). */
 static void test_few_barriers(void** state) {
@@ -271,8 +271,8 @@ static double max_difference(const double* a, const double* b, size_t n3) {
     return worst;
 }
 
-/* The SIMD sweeps (fast kernels, kernels/fast_pbd.c) against the scalar
- * ones (reference kernels, kernels/pbd.c) on a damped 24 × 24 sheet with
+/* The SIMD sweeps (fast kernels, kernels/integrators/fast_pbd.c) against the scalar
+ * ones (reference kernels, kernels/integrators/pbd.c) on a damped 24 × 24 sheet with
  * bonds and corners (every bond carried by a triangle), with bonds on no
  * triangle too, and of sliver cells (rows 20 times closer than columns:
  * corners of 2.9° and 87° between edges 20 times apart in length, where

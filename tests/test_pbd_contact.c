@@ -1,5 +1,5 @@
 /* Contact as constraints inside the pbd and xpbd sweeps
- * (kernels/contact_pbd.c): a cloth and a ball resting on a plane never sink
+ * (kernels/contact/contact_pbd.c): a cloth and a ball resting on a plane never sink
  * into it, restitution, Coulomb friction on an incline, the reaction force
  * at rest, momentum with a dynamic collider, fixed vertices inside a
  * collider, and the same state for 1 and 2 threads. Measured numbers are

@@ -5,7 +5,7 @@
 #include "test_util.h"
 
 #include <sched.h>
-#include "kernels/team.h"
+#include "kernels/runtime/team.h"
 
 #include <pthread.h>
 #include <stdio.h>

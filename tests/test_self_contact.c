@@ -1,11 +1,11 @@
-/* Self-contact: the narrow-phase geometry (kernels/proximity.c) against
- * brute force and known answers, and the pass (kernels/self_contact.c) on
+/* Self-contact: the narrow-phase geometry (kernels/contact/proximity.c) against
+ * brute force and known answers, and the pass (kernels/contact/self_contact.c) on
  * bodies that fold onto themselves or hit each other, checked with an
  * exact triangle-triangle test written here. */
 #include "test_util.h"
 
-#include "kernels/proximity.h"
-#include "kernels/triangle_bvh.h"
+#include "kernels/contact/proximity.h"
+#include "kernels/contact/triangle_bvh.h"
 
 /* ---- geometry --------------------------------------------------------------- */
 

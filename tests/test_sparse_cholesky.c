@@ -1,17 +1,17 @@
 /* The sparse direct solve of implicit Euler's Newton systems
- * (kernels/sparse_cholesky.h): its numeric factorization is softbond's own
+ * (kernels/linear/sparse_cholesky.h): its numeric factorization is softbond's own
  * supernodal code on CHOLMOD's analysis, so it is checked here directly,
  * not only through Newton's convergence, on random symmetric positive
  * definite matrices with the pattern of a 30 × 30 sheet's elements (every
  * term, hinges included: 900 block rows, many supernodes with updates).
- * The factor is kept in float (kernels/sparse_cholesky.c says why): one
+ * The factor is kept in float (kernels/linear/sparse_cholesky.c says why): one
  * solve is as accurate as float's rounding allows, and each sweep of
  * iterative refinement in double (x += solve(b − A x)) gains as much again,
  * which a factor wrong beyond its rounding would not. */
 #include "test_util.h"
 
-#include "kernels/block_matrix.h"
-#include "kernels/sparse_cholesky.h"
+#include "kernels/linear/block_matrix.h"
+#include "kernels/linear/sparse_cholesky.h"
 
 /* Each case's fixture: the sheet's matrix (values unset), its analysis, a
  * mask of ones (nothing held), a random right-hand side b from the case's

@@ -1,4 +1,4 @@
-/* Tearing (kernels/topology.c): a sheet pulled apart by two handles tears
+/* Tearing (kernels/interaction/topology.c): a sheet pulled apart by two handles tears
  * through — its live triangles, joined through their current vertices
  * (union-find here), fall into separate components, one holding the
  * bottom row and one the top, and the halves move apart — with the fast
@@ -12,7 +12,7 @@
  * splits is kept. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
-#include "kernels/solver_internal.h"
+#include "kernels/state/solver_internal.h"
 
 #define SIDE 12
 
@@ -196,7 +196,7 @@ static void test_threads_tear_the_same(void** state) {
     pulled_end(&two);
 }
 
-/* Every integrator tears the sheet (kernels/topology.c re-points what each
+/* Every integrator tears the sheet (kernels/interaction/topology.c re-points what each
  * of them reads: the working copy, the fast slots, pbd's colored
  * constraints, implicit Euler's matrix pattern and its factorization's
  * analysis), a valid mesh at every step, the same for 1 and 2 threads.

@@ -1,4 +1,4 @@
-/* Vertex Block Descent (kernels/vbd.c): its sweeps converge to the backward
+/* Vertex Block Descent (kernels/integrators/vbd.c): its sweeps converge to the backward
  * Euler step that implicit Euler's Newton solve finds (both minimise the same
  * incremental potential), and it stays stable far past the explicit limit.
  * Determinism for 1, 2 and 3 threads, handles, contact, breakage and no

@@ -4,9 +4,9 @@
  * midpoint). Each step it sweeps a surface, the edge at the step's start to
  * the edge at its end (two triangles); every bond whose segment, at the
  * step's end, crosses that surface is severed: it breaks as a bond past its
- * limits does (kernels/breakage.c: no stiffness or damping any more, the
+ * limits does (kernels/interaction/breakage.c: no stiffness or damping any more, the
  * triangles and hinges on its edge with it, the breakage callback, the
- * surface split where the cut runs: kernels/topology.c). A blade that does
+ * surface split where the cut runs: kernels/interaction/topology.c). A blade that does
  * not move cuts nothing. Bonds are looked at in bond order, blades in
  * their order: the same cuts for any thread count. */
 #ifndef SOFTBOND_BLADE_H

@@ -34,7 +34,7 @@ typedef struct sb_bond_def {
     /* Breakage (the Spring Systems library's l_min, l_max): a solver breaks
      * the bond at the first step whose end length is below break_min or
      * above break_max — its stiffness and damping become zero for the rest
-     * of the run (sb_solver_def.on_break, kernels/breakage.c). break_min 0
+     * of the run (sb_solver_def.on_break, kernels/interaction/breakage.c). break_min 0
      * and break_max +inf (or 0) never break; a finite limit must leave the
      * rest length strictly inside (break_min, break_max). */
     double break_min, break_max; /* m */

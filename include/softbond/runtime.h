@@ -11,7 +11,7 @@ extern "C" {
 #endif
 
 /* How the solver's threads wait for each other at the barriers of a step
- * and for the next step (kernels/team.c):
+ * and for the next step (kernels/runtime/team.c):
  *   spin     busy-wait: the lowest latency, for a machine the solver has to
  *            itself (the benchmark);
  *   yield    check, then give the core to any other runnable thread;

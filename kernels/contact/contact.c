@@ -1,0 +1,363 @@
+/* The contact pass: every free vertex's move of a step against the
+ * colliders (softbond/collider.h).
+ *
+ * Design. Contact is a correction of the step, the same for every
+ * integrator that moves by forces (pbd and xpbd: below): the vertex's move
+ * (from its position at the start of the step to where the integrator put
+ * it) is offered to each collider in order; the earliest contact (smallest
+ * fraction; the first collider on a tie) is answered:
+ *
+ *   position  along the normal: to the contact point from + fraction (to −
+ *             from), pushed out by depth, then the rest of the step at the
+ *             answered normal velocity; along the surface: from + dt v't,
+ *             the whole step at the answered tangential velocity, so that a
+ *             vertex that sticks does not creep and one that slides moves
+ *             as its velocity says;
+ *   velocity  relative to the collider's own velocity u: vr = v − u,
+ *             vn = vr·n. A vertex moving into the surface (vn < 0) keeps
+ *             −e·vn along n (restitution e) and takes the normal impulse
+ *             jn = −(1 + e) vn per unit mass; its tangential velocity vt
+ *             stops when |vt| <= μs jn (static friction) and otherwise
+ *             loses μ jn of its length (Coulomb); a vertex moving away is
+ *             left alone. v = u + vr'.
+ *
+ * The collider receives −m (v' − v) / dt, summed per fixed chunk of
+ * vertices and the chunks in order, so the reaction force and the state are
+ * the same for any thread count. Where the pass runs:
+ *   - the fused Verlet step (kernels/state/solver_fast.c) calls it per chunk right
+ *     after the drift, before the forces: the forces are evaluated at the
+ *     corrected positions and the closing kick and energy sums see them;
+ *   - every other integrator (and the reference kernels) moves the state
+ *     first; the pass then corrects the state's arrays and, when a vertex was
+ *     touched, the forces are evaluated again at the corrected positions
+ *     (kernels/solver/solver.c), so the next step starts from consistent forces.
+ * A Verlet-form displacement is set to v'·dt so that the next step carries
+ * the corrected velocity. A vertex is answered by one collider per step:
+ * in a corner of two colliders it can be pushed into the second, which
+ * answers it in the next step.
+ *
+ * pbd and xpbd do not take this pass: their step is itself a projection, so
+ * a contact is one more constraint inside their sweeps
+ * (kernels/contact/contact_pbd.c), found by sb_contact_find and answered by
+ * sb_contact_velocity, its impulse in the same partial sums. Implicit Euler
+ * takes the pass after its Newton solve, as the Verlet and Euler forms do:
+ * an integrator that moves by forces answers contact with this impulse
+ * after its move (Bridson et al. 2002 treat implicit cloth so), one that
+ * moves by projection projects contact with its other constraints. Inside
+ * the Newton solve an inequality contact would need an active-set or
+ * complementarity solve, or a stiff penalty force the solve would have to
+ * resolve: more than the post-step answer costs, for the same answer at
+ * the end of the step. */
+#include "kernels/state/solver_internal.h"
+#include "kernels/contact/colliders/collider_internal.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Doubles per chunk of the partial sums: 3 impulses per collider, the
+ * count, then 3 torques per collider. */
+static size_t sb_contact_stride(const sb_solver* s) { return 6 * (size_t)s->def.collider_count + 1; }
+
+sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
+    if (s->def.collider_count == 0) return SB_OK;
+    if (!s->def.colliders)
+        return sb_error_set(err, SB_ERR_INVALID, "colliders: %u given but the list is NULL", s->def.collider_count);
+    if (s->def.collider_count > SB_MAX_COLLIDERS)
+        return sb_error_set(err, SB_ERR_INVALID, "colliders: %u given, at most %d", s->def.collider_count,
+                            SB_MAX_COLLIDERS);
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if (!s->def.colliders[c]) return sb_error_set(err, SB_ERR_INVALID, "colliders: entry %u is NULL", c);
+    size_t n3 = 3 * (size_t)s->model->vertex_count + 1, chunks = sb_chunk_count(s->model->vertex_count) + 1;
+    s->contact_from = malloc(n3 * sizeof *s->contact_from);
+    s->contact_partials = calloc(chunks * sb_contact_stride(s), sizeof *s->contact_partials);
+    s->contact_impulse = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_impulse);
+    s->contact_step = calloc(6 * (size_t)s->def.collider_count, sizeof *s->contact_step);
+    if (!s->contact_from || !s->contact_partials || !s->contact_impulse || !s->contact_step)
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
+    return SB_OK;
+}
+
+void sb_contact_destroy(sb_solver* s) {
+    free(s->contact_from);
+    free(s->contact_partials);
+    free(s->contact_impulse);
+    free(s->contact_step);
+}
+
+void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        sb_collider* collider = s->def.colliders[c];
+        if (collider->begin_step) collider->begin_step(collider->user, t0, t1);
+    }
+}
+
+/* Whether the box [lo, hi] grown by the contact thickness reaches into
+ * collider c's bounds. */
+static bool sb_reaches(const sb_solver* s, uint32_t c, const double lo[3], const double hi[3]) {
+    const double* b = s->def.colliders[c]->bounds;
+    double t = s->def.contact_thickness;
+    return lo[0] - t <= b[3] && hi[0] + t >= b[0] && lo[1] - t <= b[4] && hi[1] + t >= b[1] && lo[2] - t <= b[5] &&
+           hi[2] + t >= b[2];
+}
+
+/* The colliders (a bit each) whose bounds the box [lo, hi] reaches. */
+static uint64_t sb_colliders_near(const sb_solver* s, const double lo[3], const double hi[3]) {
+    uint64_t near = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if (sb_reaches(s, c, lo, hi)) near |= (uint64_t)1 << c;
+    return near;
+}
+
+/* The colliders of `near` whose bounds the move from → to reaches. */
+static uint64_t sb_move_near(const sb_solver* s, uint64_t near, const double from[3], const double to[3]) {
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        bool down = to[k] < from[k];
+        lo[k] = down ? to[k] : from[k];
+        hi[k] = down ? from[k] : to[k];
+    }
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if ((near >> c & 1) && !sb_reaches(s, c, lo, hi)) near &= ~((uint64_t)1 << c);
+    return near;
+}
+
+/* The earliest contact of a move among the colliders of `near`; -1 for none. */
+static int sb_first_contact(const sb_solver* s, const sb_contact_query* q, uint64_t near, sb_contact* best) {
+    int hit = -1;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!(near >> c & 1)) continue;
+        const sb_collider* collider = s->def.colliders[c];
+        sb_contact contact;
+        if (collider->collide(collider->user, q, &contact) && (hit < 0 || contact.fraction < best->fraction)) {
+            *best = contact;
+            hit = (int)c;
+        }
+    }
+    return hit;
+}
+
+/* The velocity answer of one contact (see the design note). */
+void sb_contact_velocity(const sb_contact* c, double v[3]) {
+    double vr[3], vn = 0.0;
+    for (int k = 0; k < 3; k++) vr[k] = v[k] - c->velocity[k];
+    for (int k = 0; k < 3; k++) vn += vr[k] * c->normal[k];
+    if (vn >= 0.0) return;
+    double jn = -(1.0 + c->restitution) * vn, vt[3], vt_length = 0.0;
+    for (int k = 0; k < 3; k++) {
+        vt[k] = vr[k] - vn * c->normal[k];
+        vt_length += vt[k] * vt[k];
+    }
+    vt_length = sqrt(vt_length);
+    double keep = vt_length <= c->static_friction * jn ? 0.0 : 1.0 - c->friction * jn / vt_length;
+    if (keep < 0.0) keep = 0.0;
+    for (int k = 0; k < 3; k++) v[k] = c->velocity[k] - c->restitution * vn * c->normal[k] + keep * vt[k];
+}
+
+/* Where the answered vertex ends the step (see the design note): along
+ * the normal, at the contact point (pushed out by the depth) and then the
+ * rest of the step at the answered normal velocity; along the surface, the
+ * whole step at the answered tangential velocity, so that a vertex that
+ * sticks does not creep and one that slides moves as its velocity says. */
+static void sb_contact_position(const sb_contact* c, double dt, const double from[3], const double to[3],
+                                const double v[3], double x[3]) {
+    double normal_move = 0.0, vn = 0.0;
+    for (int k = 0; k < 3; k++) {
+        normal_move += c->fraction * (to[k] - from[k]) * c->normal[k];
+        vn += v[k] * c->normal[k];
+    }
+    normal_move += c->depth + (1.0 - c->fraction) * dt * vn;
+    for (int k = 0; k < 3; k++) x[k] = from[k] + dt * (v[k] - vn * c->normal[k]) + normal_move * c->normal[k];
+}
+
+/* Vertex i's move from → to in the step being taken. */
+static sb_contact_query sb_contact_query_of(const sb_solver* s, uint32_t i, const double from[3], const double to[3]) {
+    sb_contact_query q = {
+        .vertex = i, .t0 = s->time - s->contact_dt, .t1 = s->time, .thickness = s->def.contact_thickness};
+    memcpy(q.from, from, sizeof q.from);
+    memcpy(q.to, to, sizeof q.to);
+    return q;
+}
+
+int sb_contact_find(const sb_solver* s, uint32_t i, const double from[3], const double to[3], sb_contact* c) {
+    uint64_t near = sb_move_near(s, ~(uint64_t)0, from, to);
+    if (!near) return -1;
+    sb_contact_query q = sb_contact_query_of(s, i, from, to);
+    return sb_first_contact(s, &q, near, c);
+}
+
+int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const double from[3], double x[3], double v[3],
+                      double impulse[3], double point[3]) {
+    sb_contact_query q = sb_contact_query_of(s, i, from, x);
+    sb_contact c = {0};
+    int hit = sb_first_contact(s, &q, near, &c);
+    if (hit < 0) return -1;
+    double before[3] = {v[0], v[1], v[2]};
+    sb_contact_velocity(&c, v);
+    sb_contact_position(&c, s->contact_dt, from, q.to, v, x);
+    double m = s->model->mass[i];
+    for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
+    memcpy(point, c.point, sizeof c.point);
+    return hit;
+}
+
+void sb_contact_chunk_begin(const sb_solver* s, uint32_t chunk) {
+    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+}
+
+void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const double impulse[3]) {
+    double* partial = s->contact_partials + chunk * sb_contact_stride(s);
+    for (int k = 0; k < 3; k++) partial[3 * collider + k] -= impulse[k];
+    partial[3 * s->def.collider_count] += 1.0;
+}
+
+void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
+                              const double impulse[3]) {
+    if (!s->def.colliders[collider]->dynamic) return; /* its torque sum stays zero */
+    double* partial = s->contact_partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
+    double received[3] = {-impulse[0], -impulse[1], -impulse[2]}, torque[3];
+    sb_collider_torque(s->def.colliders[collider], point, received, torque);
+    for (int k = 0; k < 3; k++) partial[3 * collider + k] += torque[k];
+}
+
+/* The box around the moves of vertices [first, last) in the packed state
+ * (x and x − d), in 16 independent lanes (4 vertices of x y z w) that
+ * vectorize, folded to x y z at the end; plain comparisons, because fmin
+ * would be a call per value. */
+static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    sb_real lo[16], hi[16];
+    for (int k = 0; k < 16; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    const sb_real *x = s->positions4 + 4 * (size_t)first, *d = s->displacements4 + 4 * (size_t)first;
+    size_t count = 4 * (size_t)(last - first), whole = count / 16 * 16;
+    for (size_t q = 0; q < whole; q += 16)
+        for (int k = 0; k < 16; k++) {
+            sb_real a = x[q + k], b = a - d[q + k], small = a < b ? a : b, large = a < b ? b : a;
+            lo[k] = small < lo[k] ? small : lo[k];
+            hi[k] = large > hi[k] ? large : hi[k];
+        }
+    for (size_t q = whole; q < count; q++) { /* the last vertices of a short block */
+        sb_real a = x[q], b = a - d[q], small = a < b ? a : b, large = a < b ? b : a;
+        lo[q & 3] = small < lo[q & 3] ? small : lo[q & 3];
+        hi[q & 3] = large > hi[q & 3] ? large : hi[q & 3];
+    }
+    double dlo[3], dhi[3];
+    for (int c = 0; c < 3; c++) {
+        dlo[c] = lo[c], dhi[c] = hi[c];
+        for (int v = 1; v < 4; v++) {
+            dlo[c] = lo[4 * v + c] < dlo[c] ? lo[4 * v + c] : dlo[c];
+            dhi[c] = hi[4 * v + c] > dhi[c] ? hi[4 * v + c] : dhi[c];
+        }
+    }
+    return sb_colliders_near(s, dlo, dhi);
+}
+
+/* Vertices per block of the broad phase inside a chunk: a chunk of a mesh
+ * row spans most of its width; a block of 32 is a small patch. */
+#define SB_CONTACT_BLOCK 32
+
+void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
+    uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    sb_contact_chunk_begin(s, chunk);
+    uint64_t near = 0;
+    for (uint32_t i = first; i < last; i++) {
+        if ((i - first) % SB_CONTACT_BLOCK == 0) {
+            near = sb_block_near_packed(s, i, i + SB_CONTACT_BLOCK < last ? i + SB_CONTACT_BLOCK : last);
+            if (!near) { /* the whole block is out of reach */
+                i += SB_CONTACT_BLOCK - 1;
+                continue;
+            }
+        }
+        if (s->model->fixed[i]) continue;
+        sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
+        sb_real* d4 = s->displacements4 + 4 * (size_t)i;
+        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3], point[3];
+        double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
+        uint64_t reached = sb_move_near(s, near, from, x);
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
+        if (hit < 0) continue;
+        sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
+        for (int k = 0; k < 3; k++) {
+            x4[k] = (sb_real)x[k];
+            v4[k] = (sb_real)v[k];
+            d4[k] = (sb_real)(v[k] * dt);
+            f4[k] = sb_fast_initial_force(s, i, k, v[k]);
+        }
+        sb_contact_record(s, chunk, hit, impulse);
+        sb_contact_record_torque(s, chunk, hit, point, impulse);
+    }
+}
+
+/* The state's arrays, from the positions saved before the step. */
+static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
+    uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    sb_state* st = &s->state;
+    sb_contact_chunk_begin(s, chunk);
+    for (uint32_t i = first; i < last; i++) {
+        if (s->model->fixed[i]) continue;
+        sb_real* xs[3] = {&st->x[i], &st->y[i], &st->z[i]};
+        sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
+        sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
+        double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3], point[3];
+        const double* from = s->contact_from + 3 * (size_t)i;
+        uint64_t reached = sb_move_near(s, ~(uint64_t)0, from, x);
+        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
+        if (hit < 0) continue;
+        for (int k = 0; k < 3; k++) {
+            *xs[k] = (sb_real)x[k];
+            *vs[k] = (sb_real)v[k];
+            *ds[k] = (sb_real)(v[k] * dt);
+        }
+        sb_contact_record(s, chunk, hit, impulse);
+        sb_contact_record_torque(s, chunk, hit, point, impulse);
+    }
+}
+
+typedef struct sb_contact_job {
+    sb_solver* solver;
+    double dt;
+} sb_contact_job;
+
+static void sb_contact_state_worker(void* context, const sb_worker* w) {
+    const sb_contact_job* job = context;
+    int64_t begin, end;
+    sb_worker_range(w, sb_chunk_count(job->solver->model->vertex_count), &begin, &end);
+    for (int64_t c = begin; c < end; c++) sb_contact_chunk_state(job->solver, (uint32_t)c, job->dt);
+}
+
+void sb_contact_save_from(sb_solver* s) {
+    if (s->def.collider_count == 0) return;
+    sb_interleave(s->contact_from, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
+}
+
+uint32_t sb_contact_collect(sb_solver* s) {
+    uint32_t colliders = s->def.collider_count, chunks = sb_chunk_count(s->model->vertex_count), contacts = 0;
+    memset(s->contact_step, 0, 6 * (size_t)colliders * sizeof *s->contact_step);
+    for (uint32_t c = 0; c < chunks; c++) {
+        const double* partial = s->contact_partials + c * sb_contact_stride(s);
+        for (uint32_t k = 0; k < 3 * colliders; k++) {
+            s->contact_step[k] += partial[k];
+            s->contact_step[3 * colliders + k] += partial[3 * colliders + 1 + k];
+        }
+        contacts += (uint32_t)partial[3 * colliders];
+    }
+    return contacts;
+}
+
+uint32_t sb_contact_state_pass(sb_solver* s, double dt) {
+    if (s->def.collider_count == 0) return 0;
+    sb_contact_job job = {s, dt};
+    sb_team_run(s->team, sb_team_size(s->team), sb_contact_state_worker, &job);
+    return sb_contact_collect(s);
+}
+
+void sb_contact_accept(sb_solver* s) {
+    for (uint32_t k = 0; k < 3 * s->def.collider_count; k++) s->contact_impulse[k] += s->contact_step[k];
+}
+
+void sb_solver_contact_force(const sb_solver* s, uint32_t index, double force[3]) {
+    for (int k = 0; k < 3; k++)
+        force[k] = index < s->def.collider_count && s->advance_dt > 0.0
+                       ? s->contact_impulse[3 * (size_t)index + k] / s->advance_dt
+                       : 0.0;
+}

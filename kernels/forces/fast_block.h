@@ -1,0 +1,67 @@
+/* Private: iterating a color's elements in SIMD blocks, shared by the fast
+ * kernels. */
+#ifndef SB_FAST_BLOCK_H
+#define SB_FAST_BLOCK_H
+
+#include "kernels/forces/fast_model.h"
+#include "kernels/forces/wide.h"
+#include "common/geometry.h"
+
+#include <float.h>
+
+/* Lanes per block: SB_WIDTH, or 1 for the serial overflow color. */
+static inline uint32_t sb_block_step(bool serial) { return serial ? 1u : SB_WIDTH; }
+
+/* Real elements in the block starting at s. */
+static inline int sb_block_count(uint32_t s, uint32_t end, uint32_t step) {
+    return (int)(end - s < step ? end - s : step);
+}
+
+/* Whether a lane's squared length is at or past the margin of its break
+ * limits (min2 may be NULL: no bond has a min). */
+static inline bool sb_near_limit(const sb_real* max2, const sb_real* min2, uint32_t s, sb_wide squared, int count) {
+    return sb_w_any(sb_w_less(sb_w_load(max2 + s), squared), count) ||
+           (min2 && sb_w_any(sb_w_less(squared, sb_w_load(min2 + s)), count));
+}
+
+static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
+    return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
+}
+
+/* The bits (flag >> shift) & mask of each lane's flag byte (flags padded
+ * like the slots), as a real: the compiler turns the loop into a byte load
+ * and a widening. */
+static inline sb_wide sb_w_field(const uint8_t* flags, int shift, unsigned mask) {
+    sb_real lanes[SB_WIDTH];
+    for (int l = 0; l < SB_WIDTH; l++) lanes[l] = (sb_real)(flags[l] >> shift & mask);
+    return sb_w_load(lanes);
+}
+
+/* Bit `bit` of each lane's flag byte, as 1 or 0. */
+static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) { return sb_w_field(flags, bit, 1u); }
+
+/* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does
+ * (the hinge kernel, the fused hinges, vbd's fast sweep, the hinges' second
+ * derivatives). */
+static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi0) {
+    const sb_wide pi = sb_w_set((sb_real)SB_PI), two_pi = sb_w_set((sb_real)(2.0 * SB_PI));
+    sb_wide d = sb_w_sub(sb_w_atan2(sine, cosine), phi0);
+    d = sb_w_pick_greater(d, pi, sb_w_sub(d, two_pi), d);
+    return sb_w_pick_greater(d, sb_w_sub(sb_w_set(0), pi), d, sb_w_add(d, two_pi));
+}
+
+#if SB_DOUBLE
+#define SB_REAL_MIN DBL_MIN
+#else
+#define SB_REAL_MIN FLT_MIN
+#endif
+
+/* A hinge's wing has collapsed when its height is below SB_MIN_WING_RATIO
+ * of the edge (common/geometry.h): |n|² below this, from the squared edge
+ * length; the smallest normal number keeps a zero-length edge caught. */
+static inline sb_wide sb_w_wing_limit(sb_wide edge_sq) {
+    const sb_wide ratio = sb_w_set((sb_real)(SB_MIN_WING_RATIO * SB_MIN_WING_RATIO));
+    return sb_w_add(sb_w_mul(ratio, sb_w_mul(edge_sq, edge_sq)), sb_w_set(SB_REAL_MIN));
+}
+
+#endif

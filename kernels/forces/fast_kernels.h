@@ -1,0 +1,47 @@
+/* Private: the fast force kernels. Each processes the elements [begin, end)
+ * of one color of its group in blocks of SB_WIDTH lanes (one lane at a time
+ * when serial, for the overflow color), adds forces to frame->f and its
+ * energies to energy[], and returns its flags: SB_KERNEL_COLLAPSED when an
+ * edge collapsed, SB_KERNEL_NEAR_LIMIT when a bond's length is at or past
+ * the margin of its break limits (kernels/interaction/breakage.c then checks them
+ * exactly; without, it need not look). Forces are the same formulas as the
+ * scalar reference (kernels/reference_*.c), in sb_real. */
+#ifndef SB_FAST_KERNELS_H
+#define SB_FAST_KERNELS_H
+
+#include "kernels/forces/fast_model.h"
+#include "kernels/runtime/team.h"
+
+/* What the kernels read and write: positions, velocities (for damping) and
+ * forces, packed x y z w per vertex (see kernels/forces/wide.h). */
+typedef struct sb_fast_frame {
+    const sb_real* positions4;
+    const sb_real* velocities4;
+    sb_real* forces4;
+} sb_fast_frame;
+
+enum { SB_KERNEL_COLLAPSED = 1, SB_KERNEL_NEAR_LIMIT = 2 };
+
+typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
+
+/* energy[0] bond stretch, energy[1] spring */
+int sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                  double energy[2]);
+/* energy[0] angle bend, [1] stretch-bend, [2] bond stretch and [3] spring
+ * of the fused bonds, [4] bend of the fused hinges */
+int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                    double energy[5]);
+/* energy[0] bend */
+int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
+                   double energy[1]);
+
+/* Inside a job of the team (kernels/state/solver_fast.c): kernels[0], [1], [2]
+ * over the bonds, triangles and hinges that the force passes run, in their
+ * blocked coloring, for kernels that keep no energies and raise no flags
+ * (kernels/forces/fast_hessian.h). Returns with every worker past the last
+ * barrier. */
+struct sb_solver;
+void sb_fast_element_passes(const sb_worker* w, const struct sb_solver* s, const sb_fast_kernel kernels[3],
+                            const sb_fast_frame* frame);
+
+#endif

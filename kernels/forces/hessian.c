@@ -1,0 +1,133 @@
+/* Element stiffness matrices and products from the terms' dual forces, and
+ * their positive semi-definite stand-ins (kernels/forces/hessian.h). */
+#include "kernels/forces/hessian.h"
+
+#include <string.h>
+
+uint64_t sb_element_count(const sb_model* m) { return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count; }
+
+sb_element sb_element_at(const sb_model* m, uint64_t e) {
+    if (e < m->bond_count) return (sb_element){SB_ELEMENT_BOND, (uint32_t)e, 2, {m->bond_i[e], m->bond_j[e]}};
+    e -= m->bond_count;
+    if (e < m->triangle_count)
+        return (sb_element){SB_ELEMENT_TRIANGLE, (uint32_t)e, 3, {m->tri_v[0][e], m->tri_v[1][e], m->tri_v[2][e]}};
+    e -= m->triangle_count;
+    return (sb_element){
+        SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
+}
+
+bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f) {
+    bool collapsed = false;
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: sb_bond_forces_dual(m, e->index, x, f, &collapsed); break;
+    case SB_ELEMENT_TRIANGLE: sb_triangle_forces_dual(m, e->index, x, f, &collapsed); break;
+    case SB_ELEMENT_HINGE: sb_hinge_forces_dual(m, e->index, x, f, &collapsed); break;
+    }
+    return !collapsed;
+}
+
+/* The element's vertices at x, seeded with the element-local direction p
+ * (3 count doubles, or NULL for none). */
+static void sb_element_seed(const sb_element* e, const double* x, const double* p, sb_dvec3* out) {
+    static const double zero[3] = {0, 0, 0};
+    for (int a = 0; a < e->count; a++) out[a] = sb_dv3(x + 3 * (size_t)e->vertex[a], p ? p + 3 * a : zero);
+}
+
+/* The hinge's (or any element's) stiffness by one dual run per column. */
+static bool sb_element_stiffness_dual(const sb_model* m, const sb_element* e, const double* x, double* k) {
+    int size = 3 * e->count;
+    double seed[3 * SB_ELEMENT_MAX];
+    sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
+    for (int col = 0; col < size; col++) {
+        memset(seed, 0, sizeof seed);
+        seed[col] = 1.0;
+        sb_element_seed(e, x, seed, xs);
+        if (!sb_element_forces_dual(m, e, xs, f)) return false;
+        for (int a = 0; a < e->count; a++) {
+            k[(3 * a + 0) * size + col] = -f[a].d.x;
+            k[(3 * a + 1) * size + col] = -f[a].d.y;
+            k[(3 * a + 2) * size + col] = -f[a].d.z;
+        }
+    }
+    return true;
+}
+
+bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: return sb_bond_stiffness_matrix(m, e->index, local, k);
+    case SB_ELEMENT_TRIANGLE: return sb_triangle_stiffness(m, e->index, local, k);
+    case SB_ELEMENT_HINGE: break;
+    }
+    return sb_element_stiffness_dual(m, e, x, k);
+}
+
+bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                             double* block) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: return sb_bond_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_HINGE: break;
+    }
+    return sb_hinge_vertex_share(m, e->index, local, place, f, block);
+}
+
+bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out) {
+    memset(out, 0, 3 * (size_t)m->vertex_count * sizeof *out);
+    uint64_t count = sb_element_count(m);
+    for (uint64_t id = 0; id < count; id++) {
+        sb_element e = sb_element_at(m, id);
+        double local[3 * SB_ELEMENT_MAX];
+        for (int a = 0; a < e.count; a++) memcpy(local + 3 * a, p + 3 * (size_t)e.vertex[a], 3 * sizeof(double));
+        sb_dvec3 xs[SB_ELEMENT_MAX], f[SB_ELEMENT_MAX];
+        sb_element_seed(&e, x, local, xs);
+        if (!sb_element_forces_dual(m, &e, xs, f)) return false;
+        for (int a = 0; a < e.count; a++) sb_v3_add_to(out + 3 * (size_t)e.vertex[a], f[a].d, -1.0);
+    }
+    return true;
+}
+
+bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const double* x, double* k) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    memset(k, 0, 9 * (size_t)e->count * (size_t)e->count * sizeof *k);
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: sb_bond_definite(m, e->index, local, k); break;
+    case SB_ELEMENT_TRIANGLE: sb_triangle_definite(m, e->index, local, k); break;
+    case SB_ELEMENT_HINGE: sb_hinge_definite(m, e->index, local, k); break;
+    }
+    for (int r = 0; r < 9 * e->count * e->count; r++)
+        if (!isfinite(k[r])) return false;
+    return true;
+}
+
+bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const double* x, bool definite, double dt,
+                                double* blocks) {
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int a = 0; a < e->count; a++) local[a] = sb_v3(x + 3 * (size_t)e->vertex[a]);
+    double scale = dt * dt, k[81] = {0};
+    switch (e->kind) {
+    case SB_ELEMENT_BOND: return sb_bond_jacobian_blocks(m, e->index, local, definite, dt, blocks);
+    case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
+    case SB_ELEMENT_TRIANGLE: break;
+    }
+    if (!definite) return sb_triangle_stiffness_blocks(m, e->index, local, scale, blocks);
+    sb_triangle_definite(m, e->index, local, k);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++) {
+                    double v = scale * k[(3 * r + a) * 9 + 3 * c + b];
+                    if (!isfinite(v)) return false;
+                    blocks[9 * (3 * r + c) + 3 * a + b] = v;
+                }
+    return true;
+}
+
+void sb_add_outer(double* k, int size, const double* w, double scale) {
+    for (int r = 0; r < size; r++)
+        for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];
+}

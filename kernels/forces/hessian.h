@@ -1,0 +1,118 @@
+/* Private: exact second derivatives of the internal forces (issue 16).
+ *
+ * An element is what one term couples: a bond (2 vertices: bond stretch and
+ * the damped spring's elastic part), a triangle (3: its three corners' angle
+ * bend and stretch-bend) or a hinge (4). Each term's force formula is run on
+ * dual numbers (common/dual.h): seeded with positions x + ε p it returns the
+ * element's forces and their exact directional derivative ∂f/∂x · p. From
+ * that one function per term come the element stiffness matrix K_e = −∂f/∂x
+ * (3n seeds, kernels/forces/hessian.c) and its product with a vector (one seed);
+ * bonds' and triangles' matrices, and every element's vertex share, are
+ * also written in closed form.
+ *
+ * The stiffness is the Hessian of the elastic energy, symmetric. The damped
+ * spring's force also depends on x through its direction; that part of
+ * ∂f/∂x is not symmetric and is left out (as Baraff and Witkin do): the
+ * solvers that use K keep the exact residual, so it costs iterations, never
+ * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact. */
+#ifndef SB_HESSIAN_H
+#define SB_HESSIAN_H
+
+#include "common/dual.h"
+#include "mesh/model_internal.h"
+
+typedef enum sb_element_kind { SB_ELEMENT_BOND, SB_ELEMENT_TRIANGLE, SB_ELEMENT_HINGE } sb_element_kind;
+
+enum { SB_ELEMENT_MAX = 4 };
+
+typedef struct sb_element {
+    sb_element_kind kind;
+    uint32_t index; /* bond, triangle or hinge index in the model */
+    int count;      /* vertices */
+    uint32_t vertex[SB_ELEMENT_MAX];
+} sb_element;
+
+/* Elements are numbered bonds, then triangles, then hinges. */
+uint64_t sb_element_count(const sb_model* m);
+sb_element sb_element_at(const sb_model* m, uint64_t e);
+
+/* The element's elastic forces at the dual positions x[0..count): value and
+ * derivative parts in f. False when an edge or a wing collapsed (f is then
+ * not written). Terms the model disables contribute nothing. */
+bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f);
+
+/* One per term family (kernels/forces/hessian_edges.c, _corners.c, _hinges.c);
+ * *collapsed is set when an edge or a wing collapsed (f not written). */
+void sb_bond_forces_dual(const sb_model* m, uint32_t bond, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+void sb_triangle_forces_dual(const sb_model* m, uint32_t triangle, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+void sb_hinge_forces_dual(const sb_model* m, uint32_t hinge, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
+
+/* K_e = −∂f_e/∂x at x (3n interleaved), row-major 3 count × 3 count in k
+ * (at most 12 × 12). False when the element collapsed. Bonds and triangles
+ * in closed form (sb_bond_stiffness_matrix, sb_triangle_stiffness: several
+ * times faster than the 12-seed dual run), hinges by the dual run. */
+bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k);
+bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
+bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
+
+/* Vertex `place` of the element (at x, 3n interleaved): adds its exact
+ * force to f and its diagonal block of sb_element_stiffness_definite's
+ * stand-in (below) to block (3 × 3); false when the element collapsed
+ * (nothing added). What vbd needs, in closed form: the block is positive
+ * semi-definite, so that a vertex's Newton step is a descent direction on
+ * the incremental potential (a compressed bond without its negative
+ * sideways stiffness, each triangle corner's λ w wᵀ, a hinge's k u_p u_pᵀ
+ * with u_p = −∇_p φ; kernels/integrators/vbd.c says why). */
+bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
+                             double* block);
+bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block);
+bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
+                              double* block);
+bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, int place, double* f, double* block);
+
+/* A positive semi-definite stand-in for K_e (the definiteness fix of
+ * implicit Euler), equal to K_e at the rest shape wherever K_e is positive
+ * semi-definite there:
+ *   bond: k (u uᵀ + max(0, 1 − r0/r)(I − u uᵀ)) per block, K_e's own
+ *     projection (a compressed bond loses its negative sideways stiffness);
+ *   triangle: per corner, the quadratic form of its energy in (c − c0, S),
+ *     [[kθ, ksb], [ksb, 0]] — indefinite whenever ksb ≠ 0 — keeps its
+ *     positive eigenvalue λ with eigenvector (p, q): λ w wᵀ with
+ *     w = p ∇c + q ∇S (Gauss-Newton on the projected form);
+ *   hinge: k ∇φ ∇φᵀ, the geometric term k (φ − φ0) ∇²φ left out.
+ * Each costs about what its forces cost, where an eigendecomposition of a
+ * 12 × 12 matrix per hinge would cost a hundred times more. */
+bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const double* x, double* k);
+/* k += scale w wᵀ (w of `size` entries, k row-major size × size). */
+void sb_add_outer(double* k, int size, const double* w, double scale);
+void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
+void sb_triangle_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
+void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, double* k);
+
+/* The element's share of implicit Euler's J = M + dt D + dt² K as its
+ * count × count 3 × 3 blocks, block-major (block (r, c) of the local
+ * vertices at blocks + 9 (count r + c), row-major): dt² K_e
+ * (sb_element_stiffness; the stand-in of sb_element_stiffness_definite
+ * when `definite`, and a hinge's always: its geometric term
+ * k (φ − φ0) ∇²φ is small beside k ∇φ ∇φᵀ wherever the fold is small, and
+ * its dual run cost a sixth of a factored step; on the default scene at
+ * dt = 10, 1 and 0.1 ms Newton and CG take the same iterations without
+ * it), and on a bond also dt times its spring's damping block. The
+ * triangle's in closed form in the plane of each corner's edges (each
+ * block of a corner is a multiple of I plus a 2 × 2 form in â, b̂), the
+ * hinge's without its angle (no atan2). False when the element collapsed. */
+bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const double* x, bool definite, double dt,
+                                double* blocks);
+bool sb_bond_jacobian_blocks(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double dt,
+                             double* blocks);
+bool sb_triangle_stiffness_blocks(const sb_model* m, uint32_t triangle, const sb_vec3* x, double scale, double* blocks);
+bool sb_hinge_definite_blocks(const sb_model* m, uint32_t hinge, const sb_vec3* x, double scale, double* blocks);
+
+/* The spring's damping block d u uᵀ (D_ii = D_jj = −D_ij), row-major 3 × 3;
+ * false for a bond without damping or a collapsed one. */
+bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block);
+
+/* out = K p over every element (3n interleaved); false when one collapsed. */
+bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out);
+
+#endif

@@ -1,0 +1,461 @@
+/* Breakage: bonds that break past their limits, as in the Spring Systems
+ * library (GMSprAddSpringDetailed's l_min and l_max), and the first step of
+ * tearing.
+ *
+ * Design. The model stays immutable: what breaks is the solver's state. A
+ * solver of a breakable model (one with a finite limit on some bond) keeps
+ * a working copy of the model (`live`): the same vertex, index and rest
+ * arrays, but its own copies of the per-element constants (bond and spring
+ * stiffness, damping and rest length; the triangles' angle and
+ * stretch-bend constants and rest lengths; the hinges' constants). Every
+ * kernel of that solver reads the copy: the scalar reference, implicit
+ * Euler, pbd and xpbd through solver->model, the fast kernels through the
+ * fast model, which is per solver too and was built from the copy with its
+ * constants never folded to one value, so each element's can be zeroed in
+ * place. A bond fused into a triangle (kernels/forces/fast_corners.c) is carried
+ * by an ownership bit of its triangle's slot: breaking it clears that bit,
+ * so the fused kernel runs as before, with no branch per element. A model without
+ * limits gets none of this: the same fast model, the same step.
+ *
+ * After each accepted step (each accepted adaptive sub-step) one pass over
+ * the bonds with a finite limit compares their squared end lengths (in
+ * double, from the current positions) with the squared limits, branch-free
+ * (it vectorizes); only when one is past does a second, serial pass in bond
+ * order break them, each once. The fused Verlet step skips the first pass:
+ * its force kernels have every bond's squared length in hand already and
+ * compare it with the limits' margins (kernels/forces/fast_model.h,
+ * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
+ * after a step that met a bond near a limit (measured at 100k vertices: a
+ * quiet step of a breakable sheet went from 1.5x the unbreakable one's
+ * time to 1.1-1.3x, bench/results/tearing.md). A broken bond's limits become −1 and +inf,
+ * so it never matches again: a broken bond's limits become −1 and +inf,
+ * so it never matches again. For each it zeroes the bond's constants and
+ * rest length (no collapse or blow-up check for it any more) and, the
+ * first step of tearing, those of every triangle that has the bond's edge
+ * and every hinge whose edge or wings have it (a hinge across a dead
+ * triangle has no face to bend); then calls the callback on the advancing
+ * thread. The forces and energies are then evaluated again, so that the
+ * next step never feels a broken bond. Bond order and one thread: the same
+ * bonds break at the same step for any thread count.
+ *
+ * Tearing (kernels/interaction/topology.c) starts from here: a dying triangle's
+ * vertices and a broken bond's ends are queued, and after the breaks the
+ * queued vertices whose triangles came apart are split (at most
+ * max_splits_per_step new vertices a step). For that the working copy also
+ * has its own element indices and vertex arrays, the latter with the spare
+ * slots the splits fill (sb_solver_def.max_splits), so that every kernel
+ * and every per-vertex buffer of the solver, all sized from the copy, has
+ * room for them from the start. The forces and energies are evaluated
+ * again after a split as after a break. */
+#include "kernels/interaction/breakage.h"
+#include "kernels/state/solver_internal.h"
+#include "kernels/interaction/topology.h"
+#include "kernels/interaction/cutting.h"
+#include "common/error.h"
+#include "common/edge_map.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The elements (triangles or hinges) on each bond's edge, by bond: CSR. */
+typedef struct sb_incidence {
+    uint32_t *start, *element;
+} sb_incidence;
+
+struct sb_breakage {
+    sb_model live;     /* the model the solver's kernels read */
+    double* constants; /* one block: live's own constant arrays */
+    uint32_t limited_count;
+    uint32_t* limited;                   /* the bonds with a finite limit, in bond order */
+    double *min2, *max2;                 /* their squared limits; −1 and +inf once broken */
+    uint8_t* broken;                     /* per bond */
+    uint8_t *triangle_dead, *hinge_dead; /* on a broken bond's edge */
+    double* forces;                      /* 3n: the forces before a break */
+    uint32_t broken_count;
+    sb_incidence triangles, hinges;
+    /* tearing: NULL without it */
+    sb_topology* topology;
+    sb_cutting* cutting;   /* the blades; NULL without */
+    double* vertex_block;  /* live's vertex arrays, spare slots included */
+    uint8_t* fixed;        /* live's */
+    uint32_t* index_block; /* live's element indices */
+};
+
+/* The bonds on an element's edges: a triangle's three; a hinge's edge and
+ * its two wings' other four. Returns the count found. */
+static int sb_element_bonds(const sb_model* m, const sb_edge_map* map, bool hinge, uint32_t e, uint32_t out[5]) {
+    uint32_t ends[5][2];
+    int edges = hinge ? 5 : 3, count = 0;
+    if (hinge) {
+        uint32_t e0 = m->hinge_e0[e], e1 = m->hinge_e1[e], o0 = m->hinge_o0[e], o1 = m->hinge_o1[e];
+        uint32_t list[5][2] = {{e0, e1}, {e0, o0}, {e1, o0}, {e0, o1}, {e1, o1}};
+        memcpy(ends, list, sizeof ends);
+    } else
+        for (int c = 0; c < 3; c++) {
+            ends[c][0] = m->tri_v[c][e];
+            ends[c][1] = m->tri_v[(c + 1) % 3][e];
+        }
+    for (int k = 0; k < edges; k++) {
+        const uint32_t* bond = sb_edge_map_find(map, ends[k][0], ends[k][1]);
+        if (bond) out[count++] = *bond;
+    }
+    return count;
+}
+
+static bool sb_incidence_build(sb_incidence* in, const sb_model* m, const sb_edge_map* map, bool hinge) {
+    uint32_t count = hinge ? m->hinge_count : m->triangle_count, bonds[5];
+    in->start = calloc((size_t)m->bond_count + 1, sizeof *in->start);
+    uint32_t* cursor = malloc(((size_t)m->bond_count + 1) * sizeof *cursor);
+    bool ok = in->start && cursor;
+    for (uint32_t e = 0; ok && e < count; e++)
+        for (int k = sb_element_bonds(m, map, hinge, e, bonds) - 1; k >= 0; k--) in->start[bonds[k] + 1]++;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) in->start[b + 1] += in->start[b];
+    in->element = ok ? malloc(((size_t)in->start[m->bond_count] + 1) * sizeof *in->element) : NULL;
+    ok = ok && in->element;
+    if (ok) memcpy(cursor, in->start, ((size_t)m->bond_count + 1) * sizeof *cursor);
+    for (uint32_t e = 0; ok && e < count; e++)
+        for (int k = 0, n = sb_element_bonds(m, map, hinge, e, bonds); k < n; k++) in->element[cursor[bonds[k]]++] = e;
+    free(cursor);
+    return ok;
+}
+
+/* live's constant arrays: copies of the model's, in one block. */
+static bool sb_live_constants(sb_breakage* b, const sb_model* m) {
+    size_t nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
+    b->live = *m;
+    b->constants = malloc((4 * nb + 5 * nt + nh + 1) * sizeof(double));
+    if (!b->constants) return false;
+    double* next = b->constants;
+    struct {
+        double** field;
+        const double* from;
+        size_t count;
+    } arrays[] = {{&b->live.bond_r0, m->bond_r0, nb},         {&b->live.bond_k, m->bond_k, nb},
+                  {&b->live.spring_k, m->spring_k, nb},       {&b->live.spring_damping, m->spring_damping, nb},
+                  {&b->live.angle_k, m->angle_k, nt},         {&b->live.stretch_bend_k, m->stretch_bend_k, nt},
+                  {&b->live.tri_len0[0], m->tri_len0[0], nt}, {&b->live.tri_len0[1], m->tri_len0[1], nt},
+                  {&b->live.tri_len0[2], m->tri_len0[2], nt}, {&b->live.hinge_k, m->hinge_k, nh}};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) {
+        memcpy(next, arrays[a].from, arrays[a].count * sizeof(double));
+        *arrays[a].field = next;
+        next += arrays[a].count;
+    }
+    return true;
+}
+
+static bool sb_limits(sb_breakage* b, const sb_model* m) {
+    for (uint32_t e = 0; e < m->bond_count; e++)
+        b->limited_count += m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]);
+    size_t n = b->limited_count ? b->limited_count : 1;
+    b->limited = malloc(n * sizeof *b->limited);
+    b->min2 = malloc(n * sizeof *b->min2);
+    b->max2 = malloc(n * sizeof *b->max2);
+    b->broken = calloc(m->bond_count ? m->bond_count : 1, 1);
+    b->triangle_dead = calloc((size_t)m->triangle_count + 1, 1);
+    b->hinge_dead = calloc((size_t)m->hinge_count + 1, 1);
+    if (!b->limited || !b->min2 || !b->max2 || !b->broken || !b->triangle_dead || !b->hinge_dead) return false;
+    for (uint32_t e = 0, k = 0; e < m->bond_count; e++) {
+        if (!(m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]))) continue;
+        b->limited[k] = e;
+        b->min2[k] = m->bond_break_min[e] * m->bond_break_min[e];
+        b->max2[k++] = m->bond_break_max[e] * m->bond_break_max[e];
+    }
+    return true;
+}
+
+static bool sb_incidences(sb_breakage* b, const sb_model* m) {
+    sb_edge_map map;
+    if (!sb_edge_map_init(&map, m->bond_count)) return false;
+    bool inserted;
+    for (uint32_t e = 0; e < m->bond_count; e++) sb_edge_map_upsert(&map, m->bond_i[e], m->bond_j[e], e, &inserted);
+    bool ok = sb_incidence_build(&b->triangles, m, &map, false) && sb_incidence_build(&b->hinges, m, &map, true);
+    sb_edge_map_free(&map);
+    return ok;
+}
+
+/* The spare vertex slots: def's max_splits, or by default one for every
+ * 32 bonds that can break (limited, or every bond with blades; at least
+ * 256) but no more than the vertices on them; none when max_splits < 0 or
+ * the model has no triangles. */
+static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
+    uint32_t breakable = def->blade_count ? m->bond_count : b->limited_count;
+    if (def->max_splits < 0 || m->triangle_count == 0 || breakable == 0) return 0;
+    uint32_t room = UINT32_MAX / 8 - m->vertex_count;
+    if (def->max_splits > 0) return (uint32_t)def->max_splits < room ? (uint32_t)def->max_splits : room;
+    uint8_t* seen = calloc(m->vertex_count, 1);
+    uint32_t on = 0;
+    for (uint32_t k = 0; seen && k < breakable; k++) {
+        uint32_t bond = def->blade_count ? k : b->limited[k], ends[2] = {m->bond_i[bond], m->bond_j[bond]};
+        for (int e = 0; e < 2; e++) {
+            on += !seen[ends[e]];
+            seen[ends[e]] = 1;
+        }
+    }
+    free(seen);
+    uint32_t spare = breakable / 32 < 256 ? 256 : breakable / 32;
+    spare = spare < on ? spare : on;
+    return spare < room ? spare : room;
+}
+
+/* live's own vertex arrays (the spare slots dormant: fixed, no mass, at
+ * vertex 0's rest, in no element) and element indices. */
+static bool sb_live_topology(sb_breakage* b, const sb_model* m, uint32_t spare) {
+    size_t n = m->vertex_count, cap = n + spare, nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
+    b->vertex_block = malloc(8 * cap * sizeof *b->vertex_block);
+    b->fixed = malloc(cap);
+    b->index_block = malloc((2 * nb + 3 * nt + 4 * nh + 1) * sizeof *b->index_block);
+    if (!b->vertex_block || !b->fixed || !b->index_block) return false;
+    sb_model* live = &b->live;
+    double** vertex[8] = {&live->rest_x, &live->rest_y, &live->rest_z, &live->vel_x,
+                          &live->vel_y,  &live->vel_z,  &live->mass,   &live->inv_mass};
+    const double* from[8] = {m->rest_x, m->rest_y, m->rest_z, m->vel_x, m->vel_y, m->vel_z, m->mass, m->inv_mass};
+    for (int a = 0; a < 8; a++) {
+        *vertex[a] = b->vertex_block + a * cap;
+        memcpy(*vertex[a], from[a], n * sizeof(double));
+        for (size_t i = n; i < cap; i++) (*vertex[a])[i] = a < 3 ? from[a][0] : 0.0;
+    }
+    memcpy(b->fixed, m->fixed, n);
+    memset(b->fixed + n, 1, spare);
+    live->fixed = b->fixed;
+    live->vertex_count = (uint32_t)cap;
+    uint32_t** index[9] = {&live->bond_i,   &live->bond_j,   &live->tri_v[0], &live->tri_v[1], &live->tri_v[2],
+                           &live->hinge_e0, &live->hinge_e1, &live->hinge_o0, &live->hinge_o1};
+    const size_t counts[9] = {nb, nb, nt, nt, nt, nh, nh, nh, nh};
+    uint32_t* next = b->index_block;
+    for (int a = 0; a < 9; a++) {
+        memcpy(next, *index[a], counts[a] * sizeof *next);
+        *index[a] = next;
+        next += counts[a];
+    }
+    return true;
+}
+
+/* Tearing, when the model can tear and def allows it. */
+static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
+    uint32_t spare = sb_spare_vertices(b, m, def);
+    if (spare == 0) return true;
+    if (!sb_live_topology(b, m, spare)) return false;
+    free(b->forces); /* room for the spare vertices too */
+    b->forces = malloc(3 * (size_t)b->live.vertex_count * sizeof *b->forces);
+    bool ok = b->forces != NULL;
+    uint32_t per_step = def->max_splits_per_step > 0 ? (uint32_t)def->max_splits_per_step : SB_DEFAULT_SPLITS_PER_STEP;
+    if (ok)
+        b->topology =
+            sb_topology_create(&b->live, m->vertex_count, per_step, b->broken, b->triangle_dead, b->hinge_dead, &ok);
+    return ok;
+}
+
+sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
+    *out = NULL;
+    if (!m->breakable && def->blade_count == 0) return SB_OK;
+    sb_breakage* b = calloc(1, sizeof *b);
+    sb_status status =
+        b && def->blade_count ? sb_cutting_create(def->blades, def->blade_count, &b->cutting, err) : SB_OK;
+    if (status != SB_OK) {
+        free(b);
+        return status;
+    }
+    if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
+    if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
+        !sb_tearing_prepare(b, m, def)) {
+        sb_breakage_destroy(b);
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
+    }
+    b->live.breakable = true; /* with blades too: per-slot constants in the fast model, zeroed as bonds go */
+    *out = b;
+    return SB_OK;
+}
+
+void sb_breakage_destroy(sb_breakage* b) {
+    if (!b) return;
+    sb_topology_destroy(b->topology);
+    sb_cutting_destroy(b->cutting);
+    void* arrays[] = {b->forces,        b->constants,       b->limited,           b->min2,         b->max2,
+                      b->broken,        b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element,
+                      b->triangle_dead, b->hinge_dead,      b->vertex_block,      b->fixed,        b->index_block};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
+    free(b);
+}
+
+const sb_model* sb_breakage_model(const sb_breakage* b) { return &b->live; }
+uint32_t sb_breakage_count(const sb_breakage* b) { return b ? b->broken_count : 0; }
+bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) {
+    return b && bond < b->live.bond_count && b->broken[bond];
+}
+const sb_topology* sb_breakage_topology(const sb_breakage* b) { return b ? b->topology : NULL; }
+sb_topology* sb_breakage_topology_to_load(sb_breakage* b) { return b ? b->topology : NULL; }
+bool sb_breakage_triangle_dead(const sb_breakage* b, uint32_t triangle) {
+    return b && triangle < b->live.triangle_count && b->triangle_dead[triangle];
+}
+
+/* Limited bond k's squared length at the packed positions p, in double. */
+static inline double sb_length2(const sb_breakage* b, const sb_real* p, uint32_t k) {
+    const sb_real *pi = p + 4 * (size_t)b->live.bond_i[b->limited[k]],
+                  *pj = p + 4 * (size_t)b->live.bond_j[b->limited[k]];
+    double dx = (double)pj[0] - pi[0], dy = (double)pj[1] - pi[1], dz = (double)pj[2] - pi[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+static inline bool sb_past(const sb_breakage* b, const sb_real* p, uint32_t k) {
+    double l2 = sb_length2(b, p, k);
+    return (l2 < b->min2[k]) | (l2 > b->max2[k]);
+}
+
+/* The branch-free pass: whether any limited bond is past a limit. */
+static bool sb_any_past(const sb_breakage* b, const sb_real* p) {
+    int any = 0;
+    for (uint32_t k = 0; k < b->limited_count; k++) any |= sb_past(b, p, k);
+    return any != 0;
+}
+
+/* The triangles and hinges on the bond's edge lose their constants; with
+ * tearing, their vertices and the bond's ends are queued for splitting. */
+static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
+    sb_model* m = &b->live;
+    if (b->topology) {
+        sb_topology_queue(b->topology, m->bond_i[bond]);
+        sb_topology_queue(b->topology, m->bond_j[bond]);
+    }
+    for (uint32_t q = b->triangles.start[bond]; q < b->triangles.start[bond + 1]; q++) {
+        uint32_t t = b->triangles.element[q];
+        m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
+        for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
+        if (s->fast) sb_fast_drop_triangle(s->fast, t);
+        b->triangle_dead[t] = 1;
+        for (int c = 0; b->topology && c < 3; c++) sb_topology_queue(b->topology, m->tri_v[c][t]);
+    }
+    for (uint32_t q = b->hinges.start[bond]; q < b->hinges.start[bond + 1]; q++) {
+        m->hinge_k[b->hinges.element[q]] = 0.0;
+        if (s->fast) sb_fast_drop_hinge(s->fast, b->hinges.element[q]);
+        b->hinge_dead[b->hinges.element[q]] = 1;
+    }
+}
+
+/* Breaks bond `bond`; the callback too when `notify`. */
+static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify) {
+    sb_model* m = &b->live;
+    b->broken[bond] = 1;
+    b->broken_count++;
+    m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
+    if (s->fast) sb_fast_break_bond(s->fast, bond);
+    sb_drop_elements(s, b, bond);
+    if (notify && s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
+}
+
+/* Limited bond k past a limit: its limits never match again. */
+static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k, bool notify) {
+    b->min2[k] = -1.0;
+    b->max2[k] = INFINITY;
+    if (!b->broken[b->limited[k]]) sb_break_bond(s, b, b->limited[k], notify); /* a blade may have severed it */
+}
+
+static void sb_sever(void* solver, uint32_t bond) {
+    sb_solver* s = solver;
+    sb_break_bond(s, s->breakage, bond, true);
+}
+
+/* The serial pass: breaks the limited bonds past a limit, in bond order;
+ * whether any. */
+static bool sb_break_past(sb_solver* s, sb_breakage* b, const sb_real* p) {
+    bool any = false;
+    for (uint32_t k = 0; k < b->limited_count; k++)
+        if (sb_past(b, p, k)) {
+            sb_break(s, b, k, true);
+            any = true;
+        }
+    return any;
+}
+
+/* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
+ * forces at its end, which belongs to the interval after it: after a break
+ * it is the broken state's (otherwise the kinetic energy would keep the
+ * broken bonds' last pull, and the adaptive stepper would count it as a
+ * gain at every later sub-step). The other integrators' velocities use no
+ * force of the step's end. Hard-held vertices (inverse mass 0: the packed
+ * one, sb_inv_mass) keep their handle's velocity. */
+static void sb_rekick(sb_solver* s, const double* before) {
+    if (s->def.integrator != SB_INTEGRATOR_VERLET && s->def.integrator != SB_INTEGRATOR_VELOCITY_VERLET) return;
+    sb_state* st = &s->state;
+    sb_real* v[3] = {st->vx, st->vy, st->vz};
+    const sb_real* f[3] = {st->fx, st->fy, st->fz};
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        double h = 0.5 * s->contact_dt * (s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i]);
+        for (int a = 0; a < 3; a++) {
+            v[a][i] = (sb_real)(v[a][i] + h * (f[a][i] - before[3 * (size_t)i + a]));
+            if (s->fast) s->velocities4[4 * (size_t)i + a] = v[a][i];
+        }
+    }
+}
+
+sb_status sb_breakage_after_step(sb_solver* s) {
+    sb_breakage* b = s->breakage;
+    if (!b) return SB_OK;
+    const sb_real* p = sb_packed_positions(s);
+    /* the fused step's kernels measured every bond at these positions and flag one near a limit */
+    bool measured = sb_fused(s) && s->fast->limits_measured;
+    bool broke = (measured ? s->near_limits : sb_any_past(b, p)) && sb_break_past(s, b, p);
+    if (b->cutting)
+        broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->contact_dt, s->time, sb_sever, s) > 0;
+    if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
+    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
+    if (!broke && made == 0) return SB_OK;
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
+    return SB_OK;
+}
+
+/* ---- the saved state (kernels/solver/solver_state.c) ---------------------------- */
+
+void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
+    sb_sections_put(w, &b->broken_count, sizeof b->broken_count);
+    for (uint32_t e = 0; e < b->live.bond_count; e++)
+        if (b->broken[e]) sb_sections_put(w, &e, sizeof e);
+}
+
+/* The position of bond in the limited list (in bond order), or UINT32_MAX. */
+static uint32_t sb_limited_index(const sb_breakage* b, uint32_t bond) {
+    uint32_t lo = 0, hi = b->limited_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (b->limited[mid] < bond)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < b->limited_count && b->limited[lo] == bond ? lo : UINT32_MAX;
+}
+
+sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
+    uint32_t count, bond, last = 0;
+    if (b->broken_count > 0)
+        return sb_error_set(err, SB_ERR_INVALID, "the solver has broken bonds already: load into a new solver");
+    if (!sb_cursor_take(&r, &count, sizeof count) || r.left != 4 * (size_t)count)
+        return sb_error_set(err, SB_ERR_PARSE, "the broken bonds' section has the wrong length");
+    for (uint32_t q = 0; q < count; q++) {
+        sb_cursor_take(&r, &bond, sizeof bond);
+        bool breakable = bond < b->live.bond_count && (b->cutting || sb_limited_index(b, bond) != UINT32_MAX);
+        if (!breakable || (q > 0 && bond <= last))
+            return sb_error_set(err, SB_ERR_PARSE, "broken bond %u is not a breakable bond of the model in order",
+                                bond);
+        last = bond;
+    }
+    return SB_OK;
+}
+
+void sb_breakage_load(sb_solver* s, sb_cursor* r) {
+    uint32_t count = 0, bond;
+    sb_cursor_take(r, &count, sizeof count);
+    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++) {
+        uint32_t k = sb_limited_index(s->breakage, bond);
+        if (k != UINT32_MAX)
+            sb_break(s, s->breakage, k, false);
+        else
+            sb_break_bond(s, s->breakage, bond, false); /* a blade severed it */
+    }
+}

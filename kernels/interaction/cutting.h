@@ -1,0 +1,21 @@
+/* Private: blades that sever bonds (kernels/interaction/cutting.c). */
+#ifndef SB_CUTTING_H
+#define SB_CUTTING_H
+
+#include "softbond/blade.h"
+#include "mesh/model_internal.h"
+
+typedef struct sb_cutting sb_cutting;
+
+/* The blades checked and copied (paths included) into *out; an error
+ * naming the blade when one is bad. */
+sb_status sb_cutting_create(const sb_blade_def* blades, uint32_t count, sb_cutting** out, sb_error* err);
+void sb_cutting_destroy(sb_cutting* cutting);
+
+/* Calls sever(user, bond) for each bond not yet broken whose segment at
+ * the packed positions p crosses a surface a blade swept from t0 to t1;
+ * blades in order, bonds in bond order. Returns the bonds severed. */
+uint32_t sb_cutting_pass(const sb_cutting* cutting, const sb_model* model, const sb_real* p, const uint8_t* broken,
+                         double t0, double t1, void (*sever)(void* user, uint32_t bond), void* user);
+
+#endif

@@ -1,0 +1,253 @@
+/* The solver's thread team.
+ *
+ * Design. A step of the fast solver is a few passes separated by barriers
+ * (kernels/state/solver_fast.c). Until now they ran in OpenMP parallel regions,
+ * but libgomp takes its wait policy (OMP_WAIT_POLICY, GOMP_SPINCOUNT) from
+ * the environment once, when the library is loaded: a library cannot give
+ * one solver a spinning team and another a sleeping one, and libgomp's
+ * default spins about 300 000 iterations at every barrier and after every
+ * region. On a machine whose two cores the solver shares with a 1 kHz servo
+ * thread and a render thread, that spinning is what starves them. So the
+ * team is softbond's own: size - 1 worker threads started at creation, a
+ * job handed over through an atomic generation counter, and one barrier;
+ * every wait goes through sb_wait_while, which the policy shapes:
+ *
+ *   spin     busy-wait with the CPU's pause hint (a dedicated machine: the
+ *            lowest latency; a waiting thread holds its core)
+ *   yield    sched_yield between checks (the core is offered to any other
+ *            runnable thread, the thread stays runnable)
+ *   passive  sleep on a futex at once (the core is free; a wake-up costs a
+ *            system call and the scheduler's latency)
+ *
+ * spin and yield fall back to the futex after SB_SPIN_CHECKS checks, so an
+ * idle solver never burns a core for long. passive sleeps at once even at
+ * a barrier inside a step, where the threads arrive within microseconds of
+ * each other and a futex sleep and wake-up costs about 35 µs on this
+ * project's virtual machine (on a 4-sweep vbd step of 10 000 vertices, 32
+ * barriers, half the step). A spin of about 4 µs before the sleep took the
+ * vbd step from 1.53 to 1.18 ms, but beside a competing 1 kHz thread
+ * (bench/runtime.sh, the 100k sheet, unpinned, 3 runs each, 2026-12-03)
+ * that thread woke more than 1 ms late 34–86 times in 2 000 ticks against
+ * 7–12, its p99 lateness 1.3–2.6 ms against 0.7–0.8: the short spins kept
+ * it off a core. So the spin is left to the spin and yield policies.
+ *
+ * A waker issues FUTEX_WAKE only when a waiter said it sleeps (the sleepers count; sequentially consistent
+ * on both sides, so a waiter either sees the new value or is woken).
+ * Barriers count arrivals and bump a generation; the last to arrive
+ * releases the others. A job ends when every worker has counted itself
+ * finished, those that had no share of it too, so that the job's fields
+ * are never rewritten under a worker still reading them. Memory written before a barrier is visible after it
+ * (release on the generation, acquire in the wait). A team of one thread
+ * starts no thread and calls the job directly. Nothing here allocates after
+ * creation. */
+#define _GNU_SOURCE
+#include "kernels/runtime/team.h"
+#include "common/error.h"
+
+#include <hwloc.h>
+#include <limits.h>
+#include <linux/futex.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+/* Checks before a spinning or yielding waiter goes to sleep: about a
+ * millisecond of pause instructions, a few hundred yields. */
+#define SB_SPIN_CHECKS 100000
+#define SB_YIELD_CHECKS 1000
+
+struct sb_team {
+    int size;
+    sb_wait_policy policy;
+    pthread_t* threads;
+    sb_worker* workers;
+    /* the job: written by worker 0 before the generation is bumped */
+    sb_team_job job;
+    void* context;
+    int width;
+    atomic_uint job_generation;
+    atomic_uint finished; /* workers done with the current job (whether they took part or not) */
+    atomic_int stop;
+    /* the barrier */
+    atomic_int arrived;
+    atomic_uint barrier_generation;
+    atomic_int sleepers;
+    hwloc_topology_t topology;     /* for pinning; NULL when not pinned */
+    hwloc_bitmap_t caller_binding; /* the calling thread's binding before pinning, given back at destroy */
+};
+
+static long sb_futex(atomic_uint* word, int op, unsigned value) {
+    return syscall(SYS_futex, (unsigned*)word, op, value, NULL, NULL, 0);
+}
+
+static inline void sb_cpu_relax(void) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+/* Returns once *word differs from old. */
+static void sb_wait_while(sb_team* t, atomic_uint* word, unsigned old) {
+    int checks = t->policy == SB_WAIT_SPIN ? SB_SPIN_CHECKS : t->policy == SB_WAIT_YIELD ? SB_YIELD_CHECKS : 0;
+    for (int i = 0; i < checks; i++) {
+        if (atomic_load_explicit(word, memory_order_acquire) != old) return;
+        if (t->policy == SB_WAIT_YIELD)
+            sched_yield();
+        else
+            sb_cpu_relax();
+    }
+    atomic_fetch_add(&t->sleepers, 1);
+    while (atomic_load(word) == old) sb_futex(word, FUTEX_WAIT_PRIVATE, old);
+    atomic_fetch_sub(&t->sleepers, 1);
+}
+
+/* Bumps *word and wakes whoever sleeps on it. */
+static void sb_bump(sb_team* t, atomic_uint* word) {
+    atomic_fetch_add(word, 1);
+    if (atomic_load(&t->sleepers) > 0) sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+}
+
+void sb_worker_barrier(const sb_worker* w) {
+    if (w->width == 1) return;
+    sb_team* t = w->team;
+    unsigned generation = atomic_load_explicit(&t->barrier_generation, memory_order_acquire);
+    if (atomic_fetch_add_explicit(&t->arrived, 1, memory_order_acq_rel) == w->width - 1) {
+        atomic_store_explicit(&t->arrived, 0, memory_order_relaxed);
+        sb_bump(t, &t->barrier_generation);
+    } else {
+        sb_wait_while(t, &t->barrier_generation, generation);
+    }
+}
+
+void sb_worker_wait_at_least(const sb_worker* w, atomic_uint* word, unsigned target) {
+    for (unsigned seen; (seen = atomic_load_explicit(word, memory_order_acquire)) < target;)
+        sb_wait_while(w->team, word, seen);
+}
+
+void sb_worker_post(const sb_worker* w, atomic_uint* word, unsigned value) {
+    if (w->width == 1) {
+        atomic_store_explicit(word, value, memory_order_relaxed);
+        return;
+    }
+    atomic_store(word, value); /* sequentially consistent, before the sleepers are read (sb_bump) */
+    if (atomic_load(&w->team->sleepers) > 0) sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+}
+
+void sb_worker_range(const sb_worker* w, int64_t count, int64_t* begin, int64_t* end) {
+    int64_t share = count / w->width, extra = count % w->width, i = w->index;
+    *begin = i * share + (i < extra ? i : extra);
+    *end = *begin + share + (i < extra);
+}
+
+static void sb_pin(sb_team* t, int index) {
+    if (!t->topology) return;
+    int cores = hwloc_get_nbobjs_by_type(t->topology, HWLOC_OBJ_CORE);
+    hwloc_obj_t core = hwloc_get_obj_by_type(t->topology, HWLOC_OBJ_CORE, cores > 0 ? index % cores : 0);
+    if (core) hwloc_set_cpubind(t->topology, core->cpuset, HWLOC_CPUBIND_THREAD);
+}
+
+static void* sb_worker_main(void* arg) {
+    sb_worker* w = arg;
+    sb_team* t = w->team;
+    sb_pin(t, w->index);
+    unsigned seen = 0;
+    for (;;) {
+        sb_wait_while(t, &t->job_generation, seen);
+        seen = atomic_load_explicit(&t->job_generation, memory_order_acquire);
+        if (atomic_load_explicit(&t->stop, memory_order_acquire)) return NULL;
+        if (w->index < t->width) {
+            sb_worker job_view = {t, w->index, t->width};
+            t->job(t->context, &job_view);
+        }
+        sb_bump(t, &t->finished); /* the join: worker 0 waits for every worker */
+    }
+}
+
+void sb_team_run(sb_team* t, int width, sb_team_job job, void* context) {
+    width = width < 1 ? 1 : width > t->size ? t->size : width;
+    sb_worker main_view = {t, 0, width};
+    if (width == 1) {
+        job(context, &main_view);
+        return;
+    }
+    t->job = job;
+    t->context = context;
+    t->width = width;
+    atomic_store_explicit(&t->finished, 0, memory_order_relaxed); /* no worker touches it before the bump */
+    sb_bump(t, &t->job_generation);
+    job(context, &main_view);
+    /* Every worker, not only the job's: one that skipped the job must have
+     * read the job's width before the next job rewrites it. */
+    for (unsigned done; (done = atomic_load_explicit(&t->finished, memory_order_acquire)) != (unsigned)t->size - 1;)
+        sb_wait_while(t, &t->finished, done);
+}
+
+int sb_team_size(const sb_team* t) { return t->size; }
+
+void sb_team_destroy(sb_team* t) {
+    if (!t) return;
+    atomic_store(&t->stop, 1);
+    sb_bump(t, &t->job_generation);
+    for (int i = 1; i < t->size; i++)
+        if (t->workers[i].team) pthread_join(t->threads[i], NULL);
+    if (t->caller_binding) { /* the host's thread gets its own binding back */
+        hwloc_set_cpubind(t->topology, t->caller_binding, HWLOC_CPUBIND_THREAD);
+        hwloc_bitmap_free(t->caller_binding);
+    }
+    if (t->topology) hwloc_topology_destroy(t->topology);
+    free(t->threads);
+    free(t->workers);
+    free(t);
+}
+
+static hwloc_topology_t sb_load_topology(void) {
+    hwloc_topology_t topology;
+    if (hwloc_topology_init(&topology) != 0) return NULL;
+    if (hwloc_topology_load(topology) != 0) {
+        hwloc_topology_destroy(topology);
+        return NULL;
+    }
+    return topology;
+}
+
+sb_team* sb_team_create(const sb_runtime_def* def, sb_error* err) {
+    if ((unsigned)def->wait >= SB_WAIT_COUNT) {
+        sb_error_set(err, SB_ERR_INVALID, "unknown wait policy %d", (int)def->wait);
+        return NULL;
+    }
+    int size = sb_runtime_threads(def->threads, err);
+    if (size < 1) return NULL;
+    sb_team* t = calloc(1, sizeof *t);
+    if (t) {
+        t->threads = calloc((size_t)size, sizeof *t->threads);
+        t->workers = calloc((size_t)size, sizeof *t->workers);
+    }
+    if (!t || !t->threads || !t->workers) {
+        sb_team_destroy(t);
+        sb_error_set(err, SB_ERR_NOMEM, "out of memory for a team of %d threads", size);
+        return NULL;
+    }
+    t->size = size;
+    t->policy = def->wait;
+    if (def->pin) t->topology = sb_load_topology(); /* unpinned when the topology cannot be read */
+    if (t->topology && (t->caller_binding = hwloc_bitmap_alloc()) &&
+        hwloc_get_cpubind(t->topology, t->caller_binding, HWLOC_CPUBIND_THREAD) != 0) {
+        hwloc_bitmap_free(t->caller_binding);
+        t->caller_binding = NULL;
+    }
+    sb_pin(t, 0);
+    for (int i = 1; i < size; i++) {
+        t->workers[i] = (sb_worker){t, i, size};
+        if (pthread_create(&t->threads[i], NULL, sb_worker_main, &t->workers[i]) != 0) {
+            t->workers[i].team = NULL;
+            t->size = i; /* the ones started are joined */
+            sb_team_destroy(t);
+            sb_error_set(err, SB_ERR_NOMEM, "could not start thread %d of a team of %d", i, size);
+            return NULL;
+        }
+    }
+    return t;
+}

@@ -1,0 +1,54 @@
+/* Private: the solver's thread team (kernels/runtime/team.c). */
+#ifndef SB_TEAM_H
+#define SB_TEAM_H
+
+#include "softbond/runtime.h"
+
+#include <stdatomic.h>
+#include <stdint.h>
+
+typedef struct sb_team sb_team;
+
+/* One thread's view of a job: its index (0 is the thread that called
+ * sb_team_run) and the number of threads sharing the job. */
+typedef struct sb_worker {
+    sb_team* team;
+    int index, width;
+} sb_worker;
+
+typedef void (*sb_team_job)(void* context, const sb_worker* worker);
+
+/* A team of def->threads threads (resolved by sb_runtime_threads): the
+ * caller and threads - 1 workers started here. NULL and err filled on
+ * failure. */
+sb_team* sb_team_create(const sb_runtime_def* def, sb_error* err);
+void sb_team_destroy(sb_team* team);
+int sb_team_size(const sb_team* team);
+
+/* Runs job(context, worker) on the first `width` threads of the team (1 to
+ * the team's size; the calling thread is worker 0) and returns when all
+ * have returned. A width of 1 calls the job directly: no other thread
+ * wakes. Never allocates. */
+void sb_team_run(sb_team* team, int width, sb_team_job job, void* context);
+
+/* Waits until every worker of the job has arrived (the policy decides how:
+ * spin, yield or sleep); all memory written before it is visible after it. */
+void sb_worker_barrier(const sb_worker* worker);
+
+/* Point-to-point waits, for jobs whose workers need only some of the
+ * others' work (kernels/integrators/fast_pbd.c's sweeps): sb_worker_wait_at_least
+ * returns once *word >= target (waiting as the policy says, as at a
+ * barrier); sb_worker_post stores value into *word and wakes whoever
+ * sleeps on it. Memory written before a post is visible after a wait that
+ * saw its value. */
+void sb_worker_wait_at_least(const sb_worker* worker, atomic_uint* word, unsigned target);
+void sb_worker_post(const sb_worker* worker, atomic_uint* word, unsigned value);
+
+/* This worker's share [begin, end) of count items split into contiguous
+ * equal parts, the first ones one longer (OpenMP's schedule(static)). */
+void sb_worker_range(const sb_worker* worker, int64_t count, int64_t* begin, int64_t* end);
+
+/* Sets *flag to 1 (for a flag any worker may raise). */
+static inline void sb_worker_raise(atomic_int* flag) { atomic_store_explicit(flag, 1, memory_order_relaxed); }
+
+#endif
