@@ -30,7 +30,11 @@
  * during its few instructions between reading latest and taking the slot. */
 #include "softbond/state_buffer.h"
 #include "common/error.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/solver/advance.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>

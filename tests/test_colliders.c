@@ -7,6 +7,7 @@
 #include "tests/test_util.h"
 #include "softbond/collider.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/rotation.h"
 
 #include <stdio.h>
 

@@ -37,7 +37,7 @@ enum { STEPS = 200 };
  * RelWithDebInfo with SB_SANITIZE=ON (build-asan of `make test`).
  *
  * AVX2 in float also depends on the processor's maker: its sb_w_rsqrt
- * (kernels/forces/wide.h) starts from vrsqrtps, whose 12-bit approximation each
+ * (kernels/runtime/wide.h) starts from vrsqrtps, whose 12-bit approximation each
  * vendor tabulates its own way (AVX-512's vrsqrt14ps, and every square root
  * and division, are specified to the bit), and one Newton step carries the
  * difference into the result. So those entries name the cpuid vendor; the

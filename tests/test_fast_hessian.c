@@ -11,7 +11,10 @@
 
 #include "kernels/forces/fast_hessian.h"
 #include "kernels/forces/hessian.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 
 /* The fast kernels' relative error against the double reference: rounding
  * of sb_real. In float the derivative parts come out of the same

@@ -12,7 +12,10 @@
  * splits is kept. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 
 #define SIDE 12
 

@@ -1,4 +1,4 @@
-/* kernels/forces/wide.h's vector atan2 against libm's atan2 (in double, of the same
+/* kernels/runtime/wide.h's vector atan2 against libm's atan2 (in double, of the same
  * sb_real arguments) over the whole circle, in every lane; its reciprocal
  * and inverse square root (estimates refined by Newton steps) against
  * double's; its spread of one real a vertex over the packed x y z w lanes;
@@ -6,9 +6,9 @@
  * memory. */
 #include "test_util.h"
 
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 
-/* The bounds stated in kernels/forces/wide.h: 1.1 units in the last place of π. */
+/* The bounds stated in kernels/runtime/wide.h: 1.1 units in the last place of π. */
 #define ATAN2_BOUND (sizeof(sb_real) == sizeof(float) ? 2.6e-7 : 5e-16)
 
 /* Evaluates sb_w_atan2 on n (y, x) pairs, SB_WIDTH at a time (n a multiple

@@ -30,7 +30,8 @@
  *   - every other integrator (and the reference kernels) moves the state
  *     first; the pass then corrects the state's arrays and, when a vertex was
  *     touched, the forces are evaluated again at the corrected positions
- *     (kernels/solver/solver.c), so the next step starts from consistent forces.
+ *     (the correct stage, kernels/solver/step.c), so the next step starts
+ *     from consistent forces.
  * A Verlet-form displacement is set to v'·dt so that the next step carries
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which
@@ -48,13 +49,26 @@
  * complementarity solve, or a stiff penalty force the solve would have to
  * resolve: more than the post-step answer costs, for the same answer at
  * the end of the step. */
-#include "kernels/state/solver_internal.h"
+#include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/state/vertex_state.h"
 #include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The contact pass's state. */
+typedef struct sb_contact_pass {
+    double* from;     /* 3n: positions at the start of a step the fused path does not take */
+    double* partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
+    double* step;     /* 6 per collider: the last step's impulses on the colliders, then their torques */
+    double* impulse;  /* 3 per collider: summed over the accepted steps of this advance */
+    bool corrects;    /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
+} sb_contact_pass;
+
+static void sb_contact_subscribe(sb_solver* s);
 
 /* Doubles per chunk of the partial sums: 3 impulses per collider, the
  * count, then 3 torques per collider. */
@@ -70,23 +84,31 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (!s->def.colliders[c]) return sb_error_set(err, SB_ERR_INVALID, "colliders: entry %u is NULL", c);
     size_t n3 = 3 * (size_t)s->model->vertex_count + 1, chunks = sb_chunk_count(s->model->vertex_count) + 1;
-    s->contact_from = malloc(n3 * sizeof *s->contact_from);
-    s->contact_partials = calloc(chunks * sb_contact_stride(s), sizeof *s->contact_partials);
-    s->contact_impulse = calloc(3 * (size_t)s->def.collider_count, sizeof *s->contact_impulse);
-    s->contact_step = calloc(6 * (size_t)s->def.collider_count, sizeof *s->contact_step);
-    if (!s->contact_from || !s->contact_partials || !s->contact_impulse || !s->contact_step)
+    sb_contact_pass* c = s->contact = calloc(1, sizeof *s->contact);
+    if (!c) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
+    c->from = malloc(n3 * sizeof *c->from);
+    c->partials = calloc(chunks * sb_contact_stride(s), sizeof *c->partials);
+    c->impulse = calloc(3 * (size_t)s->def.collider_count, sizeof *c->impulse);
+    c->step = calloc(6 * (size_t)s->def.collider_count, sizeof *c->step);
+    if (!c->from || !c->partials || !c->impulse || !c->step)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
+    c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
+    sb_contact_subscribe(s);
     return SB_OK;
 }
 
 void sb_contact_destroy(sb_solver* s) {
-    free(s->contact_from);
-    free(s->contact_partials);
-    free(s->contact_impulse);
-    free(s->contact_step);
+    sb_contact_pass* c = s->contact;
+    if (!c) return;
+    free(c->from);
+    free(c->partials);
+    free(c->impulse);
+    free(c->step);
+    free(c);
 }
 
-void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
+/* The colliders' begin-step callbacks, in order, on the calling thread. */
+static void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
         sb_collider* collider = s->def.colliders[c];
         if (collider->begin_step) collider->begin_step(collider->user, t0, t1);
@@ -174,7 +196,7 @@ static void sb_contact_position(const sb_contact* c, double dt, const double fro
 /* Vertex i's move from → to in the step being taken. */
 static sb_contact_query sb_contact_query_of(const sb_solver* s, uint32_t i, const double from[3], const double to[3]) {
     sb_contact_query q = {
-        .vertex = i, .t0 = s->time - s->contact_dt, .t1 = s->time, .thickness = s->def.contact_thickness};
+        .vertex = i, .t0 = s->time - s->step.dt, .t1 = s->time, .thickness = s->def.contact_thickness};
     memcpy(q.from, from, sizeof q.from);
     memcpy(q.to, to, sizeof q.to);
     return q;
@@ -195,7 +217,7 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
     if (hit < 0) return -1;
     double before[3] = {v[0], v[1], v[2]};
     sb_contact_velocity(&c, v);
-    sb_contact_position(&c, s->contact_dt, from, q.to, v, x);
+    sb_contact_position(&c, s->step.dt, from, q.to, v, x);
     double m = s->model->mass[i];
     for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
     memcpy(point, c.point, sizeof c.point);
@@ -203,11 +225,11 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
 }
 
 void sb_contact_chunk_begin(const sb_solver* s, uint32_t chunk) {
-    memset(s->contact_partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
+    memset(s->contact->partials + chunk * sb_contact_stride(s), 0, sb_contact_stride(s) * sizeof(double));
 }
 
 void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const double impulse[3]) {
-    double* partial = s->contact_partials + chunk * sb_contact_stride(s);
+    double* partial = s->contact->partials + chunk * sb_contact_stride(s);
     for (int k = 0; k < 3; k++) partial[3 * collider + k] -= impulse[k];
     partial[3 * s->def.collider_count] += 1.0;
 }
@@ -215,7 +237,7 @@ void sb_contact_record(const sb_solver* s, uint32_t chunk, int collider, const d
 void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, const double point[3],
                               const double impulse[3]) {
     if (!s->def.colliders[collider]->dynamic) return; /* its torque sum stays zero */
-    double* partial = s->contact_partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
+    double* partial = s->contact->partials + chunk * sb_contact_stride(s) + 3 * (size_t)s->def.collider_count + 1;
     double received[3] = {-impulse[0], -impulse[1], -impulse[2]}, torque[3];
     sb_collider_torque(s->def.colliders[collider], point, received, torque);
     for (int k = 0; k < 3; k++) partial[3 * collider + k] += torque[k];
@@ -256,7 +278,9 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
  * row spans most of its width; a block of 32 is a small patch. */
 #define SB_CONTACT_BLOCK 32
 
-void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
+/* The fused path's pass over one chunk of the packed state, after its drift
+ * (from = x − displacement): the drift_chunk hook. */
+static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     sb_contact_chunk_begin(s, chunk);
     uint64_t near = 0;
@@ -299,7 +323,7 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
         sb_real* vs[3] = {&st->vx[i], &st->vy[i], &st->vz[i]};
         sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
         double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3], point[3];
-        const double* from = s->contact_from + 3 * (size_t)i;
+        const double* from = s->contact->from + 3 * (size_t)i;
         uint64_t reached = sb_move_near(s, ~(uint64_t)0, from, x);
         int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
         if (hit < 0) continue;
@@ -325,39 +349,91 @@ static void sb_contact_state_worker(void* context, const sb_worker* w) {
     for (int64_t c = begin; c < end; c++) sb_contact_chunk_state(job->solver, (uint32_t)c, job->dt);
 }
 
-void sb_contact_save_from(sb_solver* s) {
-    if (s->def.collider_count == 0) return;
-    sb_interleave(s->contact_from, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
+/* Keeps the state's positions as the start of the step's moves. */
+static void sb_contact_save_from(sb_solver* s) {
+    sb_interleave(s->contact->from, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
 }
 
 uint32_t sb_contact_collect(sb_solver* s) {
     uint32_t colliders = s->def.collider_count, chunks = sb_chunk_count(s->model->vertex_count), contacts = 0;
-    memset(s->contact_step, 0, 6 * (size_t)colliders * sizeof *s->contact_step);
+    double* step = s->contact->step;
+    memset(step, 0, 6 * (size_t)colliders * sizeof *step);
     for (uint32_t c = 0; c < chunks; c++) {
-        const double* partial = s->contact_partials + c * sb_contact_stride(s);
+        const double* partial = s->contact->partials + c * sb_contact_stride(s);
         for (uint32_t k = 0; k < 3 * colliders; k++) {
-            s->contact_step[k] += partial[k];
-            s->contact_step[3 * colliders + k] += partial[3 * colliders + 1 + k];
+            step[k] += partial[k];
+            step[3 * colliders + k] += partial[3 * colliders + 1 + k];
         }
         contacts += (uint32_t)partial[3 * colliders];
     }
     return contacts;
 }
 
-uint32_t sb_contact_state_pass(sb_solver* s, double dt) {
-    if (s->def.collider_count == 0) return 0;
+/* The correct stage: the pass over the state's arrays of a step the fused
+ * path did not take; whether a vertex moved. */
+static bool sb_contact_correct(sb_solver* s, double dt) {
     sb_contact_job job = {s, dt};
     sb_team_run(s->team, sb_team_size(s->team), sb_contact_state_worker, &job);
-    return sb_contact_collect(s);
+    uint32_t contacts = sb_contact_collect(s);
+    s->stats.contacts += contacts;
+    return contacts > 0;
 }
 
-void sb_contact_accept(sb_solver* s) {
-    for (uint32_t k = 0; k < 3 * s->def.collider_count; k++) s->contact_impulse[k] += s->contact_step[k];
+/* The begin stage: the colliders' callbacks, and the positions the moves
+ * start from where the correct stage will run. */
+static void sb_contact_begin(sb_solver* s, double t0, double dt) {
+    sb_contact_begin_step(s, t0, t0 + dt);
+    if (s->contact->corrects && !sb_fused(s)) sb_contact_save_from(s);
+}
+
+/* The collect stage: the fused step's chunk sums. */
+static void sb_contact_collect_fused(sb_solver* s) { s->stats.contacts += sb_contact_collect(s); }
+
+/* The start of an advance: its impulses start from zero. */
+static void sb_contact_start(sb_solver* s) {
+    memset(s->contact->impulse, 0, 3 * (size_t)s->def.collider_count * sizeof(double));
+}
+
+/* The accept stage: the step's impulses join the advance's, and a dynamic
+ * collider moves only with the steps kept. */
+static sb_status sb_contact_accept(sb_solver* s, double dt) {
+    sb_contact_pass* c = s->contact;
+    for (uint32_t k = 0; k < 3 * s->def.collider_count; k++) c->impulse[k] += c->step[k];
+    sb_colliders_after_step(s->def.colliders, s->def.collider_count, c->step, s->def.gravity, dt);
+    return SB_OK;
+}
+
+static void sb_contact_subscribe(sb_solver* s) {
+    sb_feature f = {.name = "contact",
+                    .start = sb_contact_start,
+                    .begin = sb_contact_begin,
+                    .collect = sb_contact_collect_fused,
+                    .accept = sb_contact_accept};
+    if (s->contact->corrects) f.correct = sb_contact_correct;
+    sb_add_feature(s, f);
+    s->hooks.drift_chunk = sb_contact_chunk_packed;
+}
+
+double sb_contact_step_work(const sb_solver* s, double dt) {
+    if (!s->contact) return 0.0;
+    return sb_colliders_step_work(s->def.colliders, s->def.collider_count, s->contact->step, s->def.gravity, dt);
+}
+
+void sb_contact_save(const sb_solver* s, sb_sections_writer* w) {
+    size_t colliders = s->def.collider_count;
+    sb_sections_put(w, s->contact->step, 6 * colliders * sizeof(double));
+    sb_sections_put(w, s->contact->impulse, 3 * colliders * sizeof(double));
+}
+
+void sb_contact_load(sb_solver* s, sb_cursor* r) {
+    size_t colliders = s->def.collider_count;
+    sb_cursor_take(r, s->contact->step, 6 * colliders * sizeof(double));
+    sb_cursor_take(r, s->contact->impulse, 3 * colliders * sizeof(double));
 }
 
 void sb_solver_contact_force(const sb_solver* s, uint32_t index, double force[3]) {
     for (int k = 0; k < 3; k++)
         force[k] = index < s->def.collider_count && s->advance_dt > 0.0
-                       ? s->contact_impulse[3 * (size_t)index + k] / s->advance_dt
+                       ? s->contact->impulse[3 * (size_t)index + k] / s->advance_dt
                        : 0.0;
 }

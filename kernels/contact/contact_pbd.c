@@ -59,6 +59,7 @@
  * go into kernels/contact/contact.c's partial sums per chunk, summed in order: the
  * state and the reaction forces are the same for any thread count. */
 #include "kernels/contact/contact_pbd.h"
+#include "kernels/contact/contact.h"
 
 #include <stdlib.h>
 #include <string.h>

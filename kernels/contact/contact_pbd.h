@@ -3,7 +3,10 @@
 #ifndef SB_CONTACT_PBD_H
 #define SB_CONTACT_PBD_H
 
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 
 typedef struct sb_pbd_contacts sb_pbd_contacts;
 

@@ -2,10 +2,10 @@
  * (kernels/contact/triangle_bvh.c), SB_WIDTH triangles at a time: each triangle's
  * box around its corners at the start and the end of the step, and its
  * unit normal at the end. The same code runs as AVX-512, AVX2 or one lane
- * (kernels/forces/wide.h); tests/test_self_contact.c checks the refitted boxes and
+ * (kernels/runtime/wide.h); tests/test_self_contact.c checks the refitted boxes and
  * normal boxes against every triangle computed in double. */
 #include "kernels/contact/fast_triangle_bounds.h"
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 
 /* Writes lanes [0, count) of v to out (count < SB_WIDTH: a block's tail,
  * whose other lanes belong to another worker's range). */

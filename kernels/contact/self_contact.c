@@ -46,7 +46,8 @@
  * SB_SELF_CANDIDATES_PER_TRIANGLE per triangle on one worker) drops the
  * rest and counts them in the step's stats. */
 #include "kernels/contact/self_contact.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/solver_fast.h"
 #include "kernels/contact/triangle_bvh.h"
 #include "kernels/contact/proximity.h"
 #include "common/edge_map.h"
@@ -130,6 +131,8 @@ static bool sb_self_features(sb_self_contact* sc, const sb_model* m) {
     return true;
 }
 
+static void sb_self_contact_subscribe(sb_solver* s);
+
 sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
     const sb_model* m = s->model;
     if (!(s->def.contact_thickness > 0.0))
@@ -167,7 +170,9 @@ sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
     ok = ok && sc->from4 && sc->touched && sc->touched_list && sc->tasks && sc->buffers && sc->used;
     for (int w = 0; ok && w < sc->workers; w++)
         ok = (sc->buffers[w] = malloc(sc->capacity * sizeof **sc->buffers)) != NULL;
-    return ok ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory for self-contact");
+    if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for self-contact");
+    sb_self_contact_subscribe(s);
+    return SB_OK;
 }
 
 void sb_self_contact_destroy(sb_self_contact* sc) {
@@ -181,8 +186,8 @@ void sb_self_contact_destroy(sb_self_contact* sc) {
     free(sc);
 }
 
-uint32_t sb_self_contact_count(const sb_self_contact* sc) { return sc ? sc->contacts : 0; }
-uint32_t sb_self_contact_dropped(const sb_self_contact* sc) {
+static uint32_t sb_self_contact_count(const sb_self_contact* sc) { return sc ? sc->contacts : 0; }
+static uint32_t sb_self_contact_dropped(const sb_self_contact* sc) {
     return sc ? atomic_load_explicit(&sc->dropped, memory_order_relaxed) : 0;
 }
 
@@ -556,11 +561,11 @@ static void sb_self_contact_run(const sb_worker* w, sb_solver* s, sb_real* x1, s
     }
 }
 
-void sb_self_contact_save_packed(sb_solver* s, size_t begin, size_t end) {
+static void sb_self_contact_save_packed(sb_solver* s, size_t begin, size_t end) {
     if (s->self) memcpy(s->self->from4 + begin, s->positions4 + begin, (end - begin) * sizeof(sb_real));
 }
 
-void sb_self_contact_packed(const sb_worker* w, sb_solver* s, double dt) {
+static void sb_self_contact_packed(const sb_worker* w, sb_solver* s, double dt) {
     sb_self_contact* sc = sb_self(s);
     if (!sc) return;
     sb_self_contact_run(w, s, s->positions4, s->velocities4);
@@ -582,7 +587,7 @@ static void sb_pack(sb_real* out, const sb_real* a, const sb_real* b, const sb_r
         out[4 * (size_t)i] = a[i], out[4 * (size_t)i + 1] = b[i], out[4 * (size_t)i + 2] = c[i];
 }
 
-void sb_self_contact_save_state(sb_solver* s) {
+static void sb_self_contact_save_state(sb_solver* s) {
     if (s->self) sb_pack(s->self->from4, s->state.x, s->state.y, s->state.z, s->state.vertex_count);
 }
 
@@ -591,7 +596,7 @@ static void sb_self_state_job(void* context, const sb_worker* w) {
     sb_self_contact_run(w, s, s->self->x4, s->self->v4);
 }
 
-uint32_t sb_self_contact_state_pass(sb_solver* s, double dt) {
+static uint32_t sb_self_contact_state_pass(sb_solver* s, double dt) {
     sb_self_contact* sc = sb_self(s);
     if (!sc) return 0;
     sb_state* st = &s->state;
@@ -611,4 +616,33 @@ uint32_t sb_self_contact_state_pass(sb_solver* s, double dt) {
         }
     }
     return sc->contacts;
+}
+
+/* The stats of the step just taken. */
+static void sb_self_contact_collect(sb_solver* s) {
+    s->stats.self_contacts += sb_self_contact_count(s->self);
+    s->stats.self_dropped += sb_self_contact_dropped(s->self);
+}
+
+/* The begin stage: the positions the moves start from, where the correct
+ * stage will run (the fused step keeps them in its drift: before_drift). */
+static void sb_self_contact_begin(sb_solver* s, double t0, double dt) {
+    (void)t0, (void)dt;
+    if (!sb_fused(s)) sb_self_contact_save_state(s);
+}
+
+/* The correct stage, after the colliders'; whether a vertex moved. */
+static bool sb_self_contact_correct(sb_solver* s, double dt) {
+    uint32_t contacts = sb_self_contact_state_pass(s, dt);
+    sb_self_contact_collect(s);
+    return contacts > 0;
+}
+
+static void sb_self_contact_subscribe(sb_solver* s) {
+    sb_add_feature(s, (sb_feature){.name = "self-contact",
+                                   .begin = sb_self_contact_begin,
+                                   .correct = sb_self_contact_correct,
+                                   .collect = sb_self_contact_collect});
+    s->hooks.before_drift = sb_self_contact_save_packed;
+    s->hooks.after_drift = sb_self_contact_packed;
 }

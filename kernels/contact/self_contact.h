@@ -13,25 +13,11 @@ typedef struct sb_self_contact sb_self_contact;
 sb_status sb_self_contact_prepare(sb_solver* solver, sb_error* err);
 void sb_self_contact_destroy(sb_self_contact* self);
 
-/* The fused step: keeps packed positions [begin, end) (reals, 4 a vertex)
- * as the start of the step's moves, before its drift moves them. */
-void sb_self_contact_save_packed(sb_solver* solver, size_t begin, size_t end);
-/* The fused step, after the drift and the collider pass, called by every
- * worker of the job: corrects the packed positions, velocities and
- * displacements (d = v dt) of the vertices it touches, and their forces
- * (gravity and drag at the new velocity), then returns with all workers
- * past a barrier. */
-void sb_self_contact_packed(const sb_worker* worker, sb_solver* solver, double dt);
-
-/* Every other step: keeps the state's positions before the step ... */
-void sb_self_contact_save_state(sb_solver* solver);
-/* ... and corrects the state's arrays after it (and after the collider
- * pass); returns the pairs corrected. */
-uint32_t sb_self_contact_state_pass(sb_solver* solver, double dt);
-
-/* Pairs corrected in the last step, and candidates dropped because the
- * buffers were full (for the stats). */
-uint32_t sb_self_contact_count(const sb_self_contact* self);
-uint32_t sb_self_contact_dropped(const sb_self_contact* self);
+/* The pass takes part in a step as the feature "self-contact" (begin,
+ * correct, collect) and through the fused step's before_drift hook (the
+ * packed positions before the drift) and after_drift hook (on every worker,
+ * after the drift and the colliders' contact: corrects the packed
+ * positions, velocities, displacements and forces of the vertices it
+ * touches, then returns with all workers past a barrier). */
 
 #endif

@@ -4,7 +4,7 @@
 #define SB_FAST_BLOCK_H
 
 #include "kernels/forces/fast_model.h"
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 #include "common/geometry.h"
 
 #include <float.h>

@@ -1,7 +1,7 @@
 /* Fast per-hinge kernel: the dihedral bending term of
  * kernels/forces/reference_hinges.c (which derives the gradient), in SIMD.
  *
- * The angle: φ = atan2((n0 × n1)·ê, n0·n1) by kernels/forces/wide.h's vector
+ * The angle: φ = atan2((n0 × n1)·ê, n0·n1) by kernels/runtime/wide.h's vector
  * atan2 (a polynomial, within one unit in the last place of π of libm), then
  * φ − φ0 wrapped into (−π, π] with the reference's own two comparisons, lane
  * by lane without a branch. A fold through itself therefore behaves as in

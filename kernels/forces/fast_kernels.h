@@ -13,7 +13,7 @@
 #include "kernels/runtime/team.h"
 
 /* What the kernels read and write: positions, velocities (for damping) and
- * forces, packed x y z w per vertex (see kernels/forces/wide.h). */
+ * forces, packed x y z w per vertex (see kernels/runtime/wide.h). */
 typedef struct sb_fast_frame {
     const sb_real* positions4;
     const sb_real* velocities4;
@@ -34,14 +34,5 @@ int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t
 /* energy[0] bend */
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                    double energy[1]);
-
-/* Inside a job of the team (kernels/state/solver_fast.c): kernels[0], [1], [2]
- * over the bonds, triangles and hinges that the force passes run, in their
- * blocked coloring, for kernels that keep no energies and raise no flags
- * (kernels/forces/fast_hessian.h). Returns with every worker past the last
- * barrier. */
-struct sb_solver;
-void sb_fast_element_passes(const sb_worker* w, const struct sb_solver* s, const sb_fast_kernel kernels[3],
-                            const sb_fast_frame* frame);
 
 #endif

@@ -4,7 +4,7 @@
  * convert the constants to sb_real, folding uniform ones to one value. */
 #include "kernels/forces/fast_model.h"
 #include "common/error.h"
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 #include "common/edge_map.h"
 
 #include <math.h>

@@ -126,8 +126,3 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
                 }
     return true;
 }
-
-void sb_add_outer(double* k, int size, const double* w, double scale) {
-    for (int r = 0; r < size; r++)
-        for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];
-}

@@ -84,7 +84,10 @@ bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, 
  * 12 × 12 matrix per hinge would cost a hundred times more. */
 bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const double* x, double* k);
 /* k += scale w wᵀ (w of `size` entries, k row-major size × size). */
-void sb_add_outer(double* k, int size, const double* w, double scale);
+static inline void sb_add_outer(double* k, int size, const double* w, double scale) {
+    for (int r = 0; r < size; r++)
+        for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];
+}
 void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
 void sb_triangle_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, double* k);

@@ -6,7 +6,7 @@
  * color of one block of their blocked colorings) becomes slots, a multiple
  * of SB_WIDTH, holding the run's constraints in the same order; a SIMD
  * block's unused lanes copy a real constraint and are masked where
- * positions are written (kernels/forces/wide.h's convention). A serial run (the
+ * positions are written (kernels/runtime/wide.h's convention). A serial run (the
  * overflow color), whose constraints may share vertices, has one
  * constraint a SIMD block. Each slot keeps copies of what its projection reads
  * (vertex indices, rest length or rest cosines, compliance α = 1/k, the
@@ -93,7 +93,9 @@
  * squared length under SB_PBD_COLLAPSED2) is flagged by the sweeps; the
  * forces are then evaluated at once, and their pass names the element. */
 #include "kernels/integrators/pbd_internal.h"
-#include "kernels/forces/wide.h"
+#include "kernels/integrators/pbd.h"
+#include "kernels/interaction/breakage.h"
+#include "kernels/runtime/wide.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -226,7 +228,7 @@ static void sb_pbd_triangles_copy(sb_pbd_wide_triangles* t, const sb_model* m, u
 
 /* The copies again when breakage or tearing changed the model since. */
 static void sb_pbd_wide_sync(sb_pbd_wide* w, const sb_solver* s) {
-    uint32_t broken = sb_solver_broken_count(s), vertices = sb_solver_vertex_count(s);
+    uint32_t broken = sb_breakage_count(s->breakage), vertices = s->live_vertices;
     if (broken == w->broken && vertices == w->vertices) return;
     sb_pbd_bonds_copy(&w->bonds, s->model);
     sb_pbd_triangles_copy(&w->triangles, s->model, s->pbd->edge_bond);

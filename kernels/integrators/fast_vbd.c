@@ -1,6 +1,6 @@
 /* vbd's fast sweep: the per-vertex Newton steps of kernels/integrators/vbd.c (its
  * scalar reference, whose design note holds the method) in sb_real, SIMD
- * with kernels/forces/wide.h, the lanes being vertices of one color.
+ * with kernels/runtime/wide.h, the lanes being vertices of one color.
  *
  * Layout, built once: the vertices of each color (vbd's order) are cut into
  * blocks of SB_WIDTH lanes. A block holds, per term family, slots of

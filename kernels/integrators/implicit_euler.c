@@ -48,6 +48,9 @@
  * goes through sb_solver_compute_forces, so its forces and energies come
  * from the chosen kernels. */
 #include "kernels/integrators/implicit_fast.h"
+#include "kernels/integrators/implicit_euler.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
 #include "kernels/linear/block_matrix.h"
 #include "kernels/linear/sparse_cholesky.h"
 #include "kernels/interaction/handle_internal.h"
@@ -120,7 +123,7 @@ struct sb_implicit {
     double* inverse_blocks;        /* 9n: the preconditioner */
     sb_block_matrix* matrix;       /* J */
     sb_sparse_cholesky* cholesky;  /* its factorization; NULL when CG solves */
-    uint32_t pattern_vertices;     /* sb_solver_vertex_count when its pattern was built */
+    uint32_t pattern_vertices;     /* live_vertices when its pattern was built */
     struct sb_implicit_fast* fast; /* kernels: fast, solved by CG: kernels/integrators/implicit_fast.c, nothing above */
 };
 
@@ -510,8 +513,8 @@ bool sb_implicit_prepare(sb_solver* s) {
     im->term_forces = calloc(SB_TERM_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
     im->element_matrices = malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * 144 * sizeof(double));
-    im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - sb_solver_vertex_count(s));
-    im->pattern_vertices = sb_solver_vertex_count(s);
+    im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - s->live_vertices);
+    im->pattern_vertices = s->live_vertices;
     if (!im->work || !im->term_forces || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;
     if (!sb_implicit_factors(s)) return true;
     im->cholesky = sb_sparse_cholesky_create(im->matrix);
@@ -577,13 +580,13 @@ sb_newton_limits sb_newton_limits_of(const sb_solver* s) {
 sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
     struct sb_implicit* im = s->implicit;
     if (im->fast) return sb_implicit_fast_step(s, im->fast, dt);
-    if (im->pattern_vertices != sb_solver_vertex_count(s)) { /* tearing split vertices */
+    if (im->pattern_vertices != s->live_vertices) { /* tearing split vertices */
         if (!sb_block_matrix_rebuild(im->matrix, s->model))
             return sb_error_set(&s->error, SB_ERR_NOMEM,
                                 "implicit_euler: the torn surface's matrix outgrew its reserve");
         if (im->cholesky && !sb_sparse_cholesky_analyze(im->cholesky, im->matrix))
             return sb_error_set(&s->error, SB_ERR_NOMEM, "implicit_euler: out of memory factoring the torn surface");
-        im->pattern_vertices = sb_solver_vertex_count(s);
+        im->pattern_vertices = s->live_vertices;
     }
     sb_newton w = sb_newton_init(s, dt);
     const sb_newton_limits limits = sb_newton_limits_of(s);

@@ -47,9 +47,13 @@
  * energies wait for sb_solver_settle unless what follows the step reads
  * them (sb_step_needs_forces). */
 #include "kernels/integrators/implicit_fast.h"
+#include "kernels/integrators/implicit_euler.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 #include "kernels/forces/fast_hessian.h"
 #include "kernels/interaction/handle_internal.h"
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 #include "common/sections.h"
 
 #include <float.h>

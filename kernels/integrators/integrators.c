@@ -36,7 +36,11 @@
  *
  * Velocity Verlet: v½ = v + a dt/2, x⁺ = x + v½ dt, v⁺ = v½ + a⁺ dt/2.
  * Fixed vertices have zero inverse mass and zero velocity and never move. */
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/integrators/integrators.h"
 
 /* v += a dt/2 for every vertex (a = f/m; 0 on fixed vertices). */
 static void sb_half_kick(sb_solver* s, double dt) {

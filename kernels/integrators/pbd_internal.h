@@ -3,7 +3,10 @@
 #ifndef SB_PBD_INTERNAL_H
 #define SB_PBD_INTERNAL_H
 
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 #include "kernels/forces/coloring.h"
 #include "kernels/contact/contact_pbd.h"
 

@@ -56,7 +56,12 @@
  * (its constants and elements change under the layout). The first guess,
  * y and the final velocities are this file's either way; the new state's
  * forces and energies come from the chosen kernels. */
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/integrators/vbd.h"
+#include "kernels/interaction/breakage.h"
 #include "kernels/interaction/handle_internal.h"
 #include "kernels/forces/vertex_elements.h"
 #include "kernels/integrators/fast_vbd.h"
@@ -70,7 +75,7 @@ struct sb_vbd {
     sb_vertex_elements* elements;
     uint32_t *color, *color_start, *order; /* per vertex; colors + 1; vertices by color */
     uint32_t color_count;
-    uint32_t built_vertices; /* sb_solver_vertex_count when the lists were built */
+    uint32_t built_vertices; /* live_vertices when the lists were built */
     double *x, *x0, *y;      /* 3n each */
     double *last, *before;   /* 3n each, with Chebyshev: the iterates one and two sweeps back */
     double* previous_v;      /* 3n: the velocities at the start of the last step */
@@ -156,7 +161,7 @@ bool sb_vbd_prepare(sb_solver* s) {
     free(used);
     ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
     if (ok) sb_vbd_order(v, m);
-    v->built_vertices = sb_solver_vertex_count(s);
+    v->built_vertices = s->live_vertices;
     /* a model that may break or tear changes under the sweep: the reference's, which reads it live */
     if (ok && s->fast && !s->breakage)
         ok =
@@ -166,9 +171,10 @@ bool sb_vbd_prepare(sb_solver* s) {
 
 /* After tearing split vertices: the new ones take their origin's color. */
 static void sb_vbd_follow_topology(sb_solver* s, struct sb_vbd* v) {
-    uint32_t count = sb_solver_vertex_count(s);
+    uint32_t count = s->live_vertices;
     if (count == v->built_vertices) return;
-    for (uint32_t i = v->built_vertices; i < count; i++) v->color[i] = v->color[sb_solver_vertex_origin(s, i)];
+    const sb_topology* topology = sb_breakage_topology(s->breakage);
+    for (uint32_t i = v->built_vertices; i < count; i++) v->color[i] = v->color[sb_topology_origin(topology, i)];
     sb_vertex_elements_rebuild(v->elements, s->model);
     sb_vbd_order(v, s->model);
     v->built_vertices = count;

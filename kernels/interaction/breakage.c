@@ -48,10 +48,12 @@
  * room for them from the start. The forces and energies are evaluated
  * again after a split as after a break. */
 #include "kernels/interaction/breakage.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
-#include "common/error.h"
 #include "common/edge_map.h"
 #include "common/error.h"
 
@@ -381,7 +383,7 @@ static void sb_rekick(sb_solver* s, const double* before) {
     sb_real* v[3] = {st->vx, st->vy, st->vz};
     const sb_real* f[3] = {st->fx, st->fy, st->fz};
     for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double h = 0.5 * s->contact_dt * (s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i]);
+        double h = 0.5 * s->step.dt * (s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i]);
         for (int a = 0; a < 3; a++) {
             v[a][i] = (sb_real)(v[a][i] + h * (f[a][i] - before[3 * (size_t)i + a]));
             if (s->fast) s->velocities4[4 * (size_t)i + a] = v[a][i];
@@ -389,7 +391,13 @@ static void sb_rekick(sb_solver* s, const double* before) {
     }
 }
 
-sb_status sb_breakage_after_step(sb_solver* s) {
+/* The accept stage: after a kept (sub-)step of dt, breaks the bonds whose
+ * length is past a limit (in bond order, the callback for each), then those
+ * a blade crossed (kernels/interaction/cutting.c), splits where the surface
+ * came apart, and when any of these happened evaluates the forces and
+ * energies again. */
+static sb_status sb_breakage_accept(sb_solver* s, double dt) {
+    (void)dt; /* the step's: s->step.dt */
     sb_breakage* b = s->breakage;
     if (!b) return SB_OK;
     const sb_real* p = sb_packed_positions(s);
@@ -397,17 +405,22 @@ sb_status sb_breakage_after_step(sb_solver* s) {
     bool measured = sb_fused(s) && s->fast->limits_measured;
     bool broke = (measured ? s->near_limits : sb_any_past(b, p)) && sb_break_past(s, b, p);
     if (b->cutting)
-        broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->contact_dt, s->time, sb_sever, s) > 0;
+        broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->step.dt, s->time, sb_sever, s) > 0;
     if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
+    if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
     if (!broke && made == 0) return SB_OK;
     sb_status status = sb_solver_compute_forces(s);
     if (status != SB_OK) return status;
     sb_rekick(s, b->forces);
     sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
     return SB_OK;
+}
+
+void sb_breakage_subscribe(sb_solver* s) {
+    if (s->breakage) sb_add_feature(s, (sb_feature){.name = "breakage", .accept = sb_breakage_accept});
 }
 
 /* ---- the saved state (kernels/solver/solver_state.c) ---------------------------- */

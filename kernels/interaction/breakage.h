@@ -21,11 +21,12 @@ void sb_breakage_destroy(sb_breakage* breakage);
 /* The model every kernel of the solver reads: the working copy. */
 const sb_model* sb_breakage_model(const sb_breakage* breakage);
 
-/* After an accepted (sub-)step: breaks the bonds whose length is past a
- * limit (in bond order, the callback for each), then those a blade crossed
- * (kernels/interaction/cutting.c), splits where the surface came apart, and when any
- * of these happened evaluates the forces and energies again. */
-sb_status sb_breakage_after_step(sb_solver* solver);
+/* Subscribes breakage to the step as the feature "breakage", whose accept
+ * stage, after each kept (sub-)step, breaks the bonds past a limit and
+ * those a blade crossed and splits where the surface came apart (nothing
+ * for a solver without breakage). The solver's live_vertices follow the
+ * splits. */
+void sb_breakage_subscribe(sb_solver* solver);
 
 /* The broken bonds, for the saved state (kernels/solver/solver_state.c): written;
  * checked (each a limited bond of the model, in increasing order, into a

@@ -31,7 +31,9 @@
  * force it reports. Every handle pass runs on one thread, handles and
  * vertices in order: the result does not depend on the thread count. */
 #include "kernels/interaction/handle_internal.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/state/solver_forces.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "common/error.h"
 
@@ -256,19 +258,23 @@ static sb_status sb_handle_attach(sb_solver* s, sb_handle* h, sb_error* err) {
     return SB_OK;
 }
 
+static void sb_handles_subscribe(sb_solver* s, bool soft);
+
 sb_status sb_handles_prepare(sb_solver* s, sb_error* err) {
     if (s->def.handle_count == 0) return SB_OK;
+    bool soft = false; /* a soft one among them: its forces join the external ones */
     if (!s->def.handles)
         return sb_error_set(err, SB_ERR_INVALID, "handle_count is %u but handles is NULL", s->def.handle_count);
     for (uint32_t k = 0; k < s->def.handle_count; k++) {
         sb_status st = sb_handle_attach(s, s->def.handles[k], err);
         if (st != SB_OK) return st;
-        s->soft_handles |= sb_handle_soft(s->def.handles[k]);
+        soft |= sb_handle_soft(s->def.handles[k]);
     }
     s->pinned_inv_mass = malloc(((size_t)s->model->vertex_count + 1) * sizeof *s->pinned_inv_mass);
     if (!s->pinned_inv_mass) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the handles");
     memcpy(s->pinned_inv_mass, s->model->inv_mass, s->model->vertex_count * sizeof *s->pinned_inv_mass);
     sb_handles_pin(s);
+    sb_handles_subscribe(s, soft);
     return SB_OK;
 }
 
@@ -278,7 +284,7 @@ void sb_handles_destroy(sb_solver* s) {
     free(s->pinned_inv_mass);
 }
 
-void sb_handles_begin_step(sb_solver* s, double t0, double dt) {
+static void sb_handles_begin_step(sb_solver* s, double t0, double dt) {
     for (uint32_t k = 0; k < s->def.handle_count; k++) {
         sb_handle* h = s->def.handles[k];
         if (h->driven) { /* from where the last step left it to where the program put it */
@@ -292,7 +298,7 @@ void sb_handles_begin_step(sb_solver* s, double t0, double dt) {
     }
 }
 
-void sb_handles_end_advance(sb_solver* s) {
+static void sb_handles_end_advance(sb_solver* s) {
     for (uint32_t k = 0; k < s->def.handle_count; k++) {
         sb_handle* h = s->def.handles[k];
         if (!(s->time >= h->release_time)) continue;
@@ -331,7 +337,7 @@ static void sb_place_packed(sb_solver* s, uint32_t i, const double target[3], co
     }
 }
 
-void sb_handles_place_packed(sb_solver* s, double dt) { sb_handles_each_held_hard(s, sb_place_packed, &dt); }
+static void sb_handles_place_packed(sb_solver* s, double dt) { sb_handles_each_held_hard(s, sb_place_packed, &dt); }
 
 static void sb_place_state(sb_solver* s, uint32_t i, const double target[3], const double velocity[3], void* extra) {
     double dt = *(const double*)extra;
@@ -346,7 +352,9 @@ static void sb_place_state(sb_solver* s, uint32_t i, const double target[3], con
     }
 }
 
-bool sb_handles_place_state(sb_solver* s, double dt) { return sb_handles_each_held_hard(s, sb_place_state, &dt); }
+static bool sb_handles_place_state(sb_solver* s, double dt) {
+    return sb_handles_each_held_hard(s, sb_place_state, &dt);
+}
 
 static void sb_place_predicted(sb_solver* s, uint32_t i, const double target[3], const double velocity[3],
                                void* extra) {
@@ -483,12 +491,30 @@ static void sb_soft_forces(sb_solver* s, const sb_force_view* view, double* exte
     }
 }
 
-void sb_handles_forces(sb_solver* s, const double* x, const double* v, double* f, double* external) {
+static void sb_handles_forces(sb_solver* s, const double* x, const double* v, double* f, double* external) {
     sb_force_view view = {x, v, f};
     sb_soft_forces(s, &view, external, external != NULL);
 }
 
-void sb_handles_forces_packed(sb_solver* s) {
+static void sb_handles_forces_packed(sb_solver* s) {
     sb_force_view view = {NULL, NULL, NULL};
     sb_soft_forces(s, &view, s->external, true);
+}
+
+/* The correct stage: the vertices the hard handles hold at their targets
+ * in the state's arrays (pbd, xpbd: current first); whether one moved. */
+static bool sb_handles_correct(sb_solver* s, double dt) {
+    sb_fast_publish(s);
+    return sb_handles_place_state(s, dt);
+}
+
+static void sb_handles_subscribe(sb_solver* s, bool soft) {
+    sb_add_feature(s, (sb_feature){.name = "handles",
+                                   .begin = sb_handles_begin_step,
+                                   .correct = sb_handles_correct,
+                                   .end = sb_handles_end_advance});
+    s->hooks.place_packed = sb_handles_place_packed;
+    if (!soft) return;
+    s->hooks.post_force = sb_handles_forces;
+    s->hooks.post_force_packed = sb_handles_forces_packed;
 }

@@ -11,23 +11,16 @@
  * ones (the fused path's packed inverse masses; pbd's pinned_inv_mass). */
 sb_status sb_handles_prepare(sb_solver* solver, sb_error* err);
 void sb_handles_destroy(sb_solver* solver);
-/* The handles' poses for the step [t0, t0 + dt]. */
-void sb_handles_begin_step(sb_solver* solver, double t0, double dt);
-/* After a successful advance: the handles whose release_time has come let go. */
-void sb_handles_end_advance(sb_solver* solver);
-/* Every vertex a hard handle holds at its target with the target's
- * velocity: in the packed working state (and its displacement, over dt),
- * in the state's arrays (returns whether any vertex was placed), in pbd's
- * predicted positions (3n doubles). One thread. */
-void sb_handles_place_packed(sb_solver* solver, double dt);
-bool sb_handles_place_state(sb_solver* solver, double dt);
+/* The handles take part in a step as the feature "handles" (begin: their
+ * poses for the step [t0, t0 + dt]; correct: the held vertices at their
+ * targets in the state's arrays; end: those whose release_time has come
+ * let go), through the fused step's place_packed hook (the same in the
+ * packed working state, over dt) and, with a soft one among them, the
+ * post_force hooks (their spring forces join the external ones). */
+
+/* Every vertex a hard handle holds at its target in pbd's predicted
+ * positions (3n doubles). One thread. */
 void sb_handles_place_predicted(sb_solver* solver, double* x);
-/* Adds the soft handles' forces at positions x and velocities v (3n
- * interleaved doubles) to f and, when not NULL, to the kept external
- * forces; only then are the handles' reported forces updated. */
-void sb_handles_forces(sb_solver* solver, const double* x, const double* v, double* f, double* external);
-/* The same on the packed working state (solver->external kept). */
-void sb_handles_forces_packed(sb_solver* solver);
 
 /* The handles' state that changes as they run (held, the poses of the
  * step, where the program drove them, the grab positions, the reported

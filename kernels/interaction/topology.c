@@ -49,7 +49,10 @@
  * element's vertices but are masked out of every scatter), which is all a
  * split writes in the fast model; its masses are per vertex. */
 #include "kernels/interaction/topology.h"
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/vertex_state.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,8 @@
 #define _GNU_SOURCE
 #include "softbond/runtime.h"
 #include "common/error.h"
-#include "kernels/forces/wide.h"
+#include "common/name_table.h"
+#include "kernels/runtime/wide.h"
 
 #include <errno.h>
 #include <hwloc.h>
@@ -15,17 +16,12 @@
 
 static const char* const sb_wait_names[SB_WAIT_COUNT] = {"spin", "yield", "passive"};
 
-const char* sb_wait_policy_name(sb_wait_policy policy) {
-    return (unsigned)policy < SB_WAIT_COUNT ? sb_wait_names[policy] : "unknown";
-}
+const char* sb_wait_policy_name(sb_wait_policy policy) { return sb_name_of(sb_wait_names, SB_WAIT_COUNT, (int)policy); }
 
 bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out) {
-    for (int i = 0; i < SB_WAIT_COUNT; i++)
-        if (strcmp(name, sb_wait_names[i]) == 0) {
-            *out = (sb_wait_policy)i;
-            return true;
-        }
-    return false;
+    int i = sb_name_index(sb_wait_names, SB_WAIT_COUNT, name);
+    if (i >= 0) *out = (sb_wait_policy)i;
+    return i >= 0;
 }
 
 sb_runtime_def sb_default_runtime_def(void) {

@@ -29,8 +29,10 @@
  * Restoring copies back everything a step changes: the state's arrays, the
  * Verlet displacement, the fast path's packed working state, the external
  * forces, the clock and the energies. */
-#include "kernels/state/solver_internal.h"
-#include "kernels/interaction/breakage.h"
+#include "kernels/solver/adaptive.h"
+#include "kernels/solver/step.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/interaction/handle_internal.h"
 #include "common/error.h"
@@ -39,6 +41,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The state before a sub-step, to restore when it is not kept. */
 typedef struct sb_backup {
     sb_real* reals;   /* every sb_real array of the step, one after another */
     double* external; /* 3n, NULL without a callback */
@@ -46,6 +49,12 @@ typedef struct sb_backup {
     double prev_dt, time;
     sb_energies energies;
 } sb_backup;
+
+struct sb_adaptive {
+    sb_backup backup;
+    double trial_substep; /* the size the next sub-step tries (0: the whole dt) */
+    double energy_peak;   /* the largest energy scale since the state was set */
+};
 
 int sb_solver_step_arrays(const sb_solver* s, sb_real** arrays, size_t* lengths) {
     size_t n = s->state.vertex_count;
@@ -67,31 +76,47 @@ int sb_solver_step_arrays(const sb_solver* s, sb_real** arrays, size_t* lengths)
     return count;
 }
 
-void sb_backup_destroy(sb_backup* backup) {
-    if (!backup) return;
-    free(backup->reals);
-    free(backup->external);
-    free(backup);
+void sb_adaptive_destroy(sb_adaptive* a) {
+    if (!a) return;
+    free(a->backup.reals);
+    free(a->backup.external);
+    free(a);
 }
 
-sb_backup* sb_backup_create(sb_solver* s) {
+sb_adaptive* sb_adaptive_create(sb_solver* s) {
     sb_real* arrays[SB_STEP_ARRAYS];
     size_t lengths[SB_STEP_ARRAYS], total = 1;
     int count = sb_solver_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) total += lengths[a];
-    sb_backup* snap = calloc(1, sizeof *snap);
-    if (!snap) return NULL;
+    sb_adaptive* a = calloc(1, sizeof *a);
+    if (!a) return NULL;
+    sb_backup* snap = &a->backup;
     snap->reals = malloc(total * sizeof(sb_real));
     if (s->external) snap->external = malloc((3 * (size_t)s->state.vertex_count + 1) * sizeof(double));
     if (!snap->reals || (s->external && !snap->external)) {
-        sb_backup_destroy(snap);
+        sb_adaptive_destroy(a);
         return NULL;
     }
-    return snap;
+    return a;
+}
+
+void sb_adaptive_reset(sb_adaptive* a) {
+    if (a) a->trial_substep = a->energy_peak = 0.0;
+}
+
+void sb_adaptive_memory(const sb_adaptive* a, double memory[2]) {
+    memory[0] = a ? a->trial_substep : 0.0;
+    memory[1] = a ? a->energy_peak : 0.0;
+}
+
+void sb_adaptive_restore(sb_adaptive* a, const double memory[2]) {
+    if (!a) return;
+    a->trial_substep = memory[0];
+    a->energy_peak = memory[1];
 }
 
 static void sb_backup_copy(sb_solver* s, bool save) {
-    sb_backup* snap = s->backup;
+    sb_backup* snap = &s->adaptive->backup;
     sb_real* arrays[SB_STEP_ARRAYS];
     size_t lengths[SB_STEP_ARRAYS], offset = 0;
     int count = sb_solver_step_arrays(s, arrays, lengths);
@@ -131,7 +156,7 @@ static double sb_energy_scale(const sb_energies* e) {
 static double sb_external_work(sb_solver* s) {
     if (!s->external) return 0.0;
     sb_fast_publish(s);
-    const sb_backup* snap = s->backup;
+    const sb_backup* snap = &s->adaptive->backup;
     size_t n = s->state.vertex_count;
     const sb_real* before[3] = {snap->reals, snap->reals + n, snap->reals + 2 * n}; /* x, y, z come first */
     const sb_real* after[3] = {s->state.x, s->state.y, s->state.z};
@@ -145,17 +170,6 @@ static double sb_external_work(sb_solver* s) {
 static double sb_adaptive_tolerance(const sb_solver* s) {
     if (s->def.adaptive_tolerance > 0.0) return s->def.adaptive_tolerance;
     return sizeof(sb_real) == sizeof(float) ? 1e-5 : 1e-10;
-}
-
-static void sb_accepted(sb_solver* s, double h) {
-    if (s->contact_impulse) { /* a dynamic collider moves only with the sub-steps kept */
-        sb_contact_accept(s);
-        sb_colliders_after_step(s->def.colliders, s->def.collider_count, s->contact_step, s->def.gravity, h);
-    }
-    sb_step_stats* st = &s->stats;
-    st->substeps++;
-    st->last_substep = h;
-    st->min_substep = st->substeps == 1 ? h : fmin(st->min_substep, h);
 }
 
 /* The sub-step cannot be halved any more: restore and report. */
@@ -172,8 +186,9 @@ static sb_status sb_give_up(sb_solver* s, sb_status status, double h, double gai
 }
 
 sb_status sb_adaptive_advance(sb_solver* s, double dt) {
+    sb_adaptive* a = s->adaptive;
     const double tolerance = sb_adaptive_tolerance(s);
-    double remaining = dt, trial = s->trial_substep > 0.0 ? s->trial_substep : dt;
+    double remaining = dt, trial = a->trial_substep > 0.0 ? a->trial_substep : dt;
     while (remaining > 0.0) {
         double h = fmin(trial, remaining);
         if (remaining - h <= 1e-9 * dt) h = remaining; /* no sliver of a last sub-step */
@@ -182,22 +197,19 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
         /* the dynamic colliders' energies belong to the system's scale (they do not change in a sub-step
          * until it is kept) */
         double bodies = sb_colliders_energy_scale(s->def.colliders, s->def.collider_count, s->def.gravity);
-        s->energy_peak = fmax(s->energy_peak, sb_energy_scale(&s->energies) + bodies);
+        a->energy_peak = fmax(a->energy_peak, sb_energy_scale(&s->energies) + bodies);
         double e0 = sb_energies_total(&s->energies);
         sb_status status = sb_solver_step(s, h);
         if (status != SB_OK && status != SB_ERR_UNSTABLE && status != SB_ERR_DEGENERATE) return status;
         double gain = status == SB_OK ? sb_energies_total(&s->energies) - e0 - sb_external_work(s) -
-                                            sb_colliders_step_work(s->def.colliders, s->def.collider_count,
-                                                                   s->contact_step, s->def.gravity, h) -
-                                            sb_handles_work(s, s->backup->reals)
+                                            sb_contact_step_work(s, h) - sb_handles_work(s, a->backup.reals)
                                       : INFINITY;
-        double scale = fmax(s->energy_peak, sb_energy_scale(&s->energies) + bodies); /* a blow-up's gain: ~ all */
+        double scale = fmax(a->energy_peak, sb_energy_scale(&s->energies) + bodies); /* a blow-up's gain: ~ all */
         if (status == SB_OK && gain <= tolerance * scale) {
-            s->energy_peak = scale;
+            a->energy_peak = scale;
             remaining -= h;
-            sb_accepted(s, h);
-            sb_status broke = sb_breakage_after_step(s);
-            if (broke != SB_OK) return broke;
+            sb_status accepted = sb_step_accept(s, h); /* a dynamic collider moves only with the sub-steps kept */
+            if (accepted != SB_OK) return accepted;
             if (h >= trial) trial = 2.0 * h; /* a sub-step cut short by what was left does not grow */
             continue;
         }
@@ -206,6 +218,6 @@ sb_status sb_adaptive_advance(sb_solver* s, double dt) {
         s->stats.rejected++;
         trial = 0.5 * h;
     }
-    s->trial_substep = trial;
+    a->trial_substep = trial;
     return SB_OK;
 }

@@ -33,10 +33,16 @@
  * section's length against what this solver would write before it changes
  * anything, so a refused file leaves the solver as it was. A new kind of
  * state (tearing's topology, say) is a new section in the table. */
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/state/solver_forces.h"
+#include "kernels/solver/adaptive.h"
 #include "kernels/interaction/breakage.h"
+#include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/interaction/handle_internal.h"
+#include "kernels/integrators/implicit_euler.h"
+#include "kernels/integrators/implicit_fast.h"
+#include "kernels/integrators/vbd.h"
 #include "common/error.h"
 #include "common/sections.h"
 
@@ -47,7 +53,9 @@
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
-    double values[6] = {s->time, s->prev_dt, s->trial_substep, s->energy_peak, s->advance_dt, s->contact_dt};
+    double adaptive[2];
+    sb_adaptive_memory(s->adaptive, adaptive);
+    double values[6] = {s->time, s->prev_dt, adaptive[0], adaptive[1], s->advance_dt, s->step.dt};
     uint8_t flags[2] = {s->has_displacement, s->published};
     sb_sections_put(w, values, sizeof values);
     sb_sections_put(w, &s->steps, sizeof s->steps);
@@ -60,8 +68,9 @@ static void sb_clock_load(sb_solver* s, sb_cursor* r) {
     sb_cursor_take(r, values, sizeof values);
     sb_cursor_take(r, &s->steps, sizeof s->steps);
     sb_cursor_take(r, flags, sizeof flags);
-    s->time = values[0], s->prev_dt = values[1], s->trial_substep = values[2], s->energy_peak = values[3];
-    s->advance_dt = values[4], s->contact_dt = values[5];
+    s->time = values[0], s->prev_dt = values[1];
+    sb_adaptive_restore(s->adaptive, values + 2);
+    s->advance_dt = values[4], s->step.dt = values[5];
     s->has_displacement = flags[0] != 0;
     s->published = flags[1] != 0;
 }
@@ -128,19 +137,6 @@ static void sb_external_save(const sb_solver* s, sb_sections_writer* w) {
 }
 static void sb_external_load(sb_solver* s, sb_cursor* r) { sb_cursor_take(r, s->external, sb_external_bytes(s)); }
 
-/* The last advance's impulses on the colliders (sb_solver_contact_force). */
-static void sb_impulses_save(const sb_solver* s, sb_sections_writer* w) {
-    size_t colliders = s->def.collider_count;
-    sb_sections_put(w, s->contact_step, 6 * colliders * sizeof(double));
-    sb_sections_put(w, s->contact_impulse, 3 * colliders * sizeof(double));
-}
-
-static void sb_impulses_load(sb_solver* s, sb_cursor* r) {
-    size_t colliders = s->def.collider_count;
-    sb_cursor_take(r, s->contact_step, 6 * colliders * sizeof(double));
-    sb_cursor_take(r, s->contact_impulse, 3 * colliders * sizeof(double));
-}
-
 static void sb_colliders_save(const sb_solver* s, sb_sections_writer* w) {
     for (uint32_t c = 0; c < s->def.collider_count; c++) sb_collider_save(s->def.colliders[c], w);
 }
@@ -158,7 +154,9 @@ static void sb_topology_part_save(const sb_solver* s, sb_sections_writer* w) {
     sb_topology_save(sb_breakage_topology(s->breakage), w);
 }
 static void sb_topology_part_load(sb_solver* s, sb_cursor* r) {
-    sb_topology_load(s, sb_breakage_topology_to_load(s->breakage), r);
+    sb_topology* topology = sb_breakage_topology_to_load(s->breakage);
+    sb_topology_load(s, topology, r);
+    s->live_vertices = sb_topology_vertex_count(topology);
 }
 
 static bool sb_always(const sb_solver* s) {
@@ -166,7 +164,7 @@ static bool sb_always(const sb_solver* s) {
     return true;
 }
 static bool sb_has_external(const sb_solver* s) { return s->external != NULL; }
-static bool sb_has_impulses(const sb_solver* s) { return s->contact_impulse != NULL; }
+static bool sb_has_impulses(const sb_solver* s) { return s->contact != NULL; }
 static bool sb_has_colliders(const sb_solver* s) { return s->def.collider_count > 0; }
 static bool sb_has_handles(const sb_solver* s) { return s->def.handle_count > 0; }
 static bool sb_has_breakage(const sb_solver* s) { return s->breakage != NULL; }
@@ -195,7 +193,7 @@ static const sb_state_part sb_parts[] = {
     {{'T', 'O', 'P', 'O'}, "tearing's topology", sb_has_topology, sb_topology_part_save, NULL, sb_topology_part_load},
     {{'H', 'N', 'D', 'L'}, "handles", sb_has_handles, sb_handles_save, NULL, sb_handles_load},
     {{'C', 'O', 'L', 'L'}, "colliders", sb_has_colliders, sb_colliders_save, NULL, sb_colliders_load},
-    {{'I', 'M', 'P', 'S'}, "contact impulses", sb_has_impulses, sb_impulses_save, NULL, sb_impulses_load},
+    {{'I', 'M', 'P', 'S'}, "contact impulses", sb_has_impulses, sb_contact_save, NULL, sb_contact_load},
     {{'E', 'X', 'T', 'F'}, "external forces", sb_has_external, sb_external_save, NULL, sb_external_load},
     {{'V', 'B', 'D', 'V'}, "vbd's last velocities", sb_has_vbd, sb_vbd_save, NULL, sb_vbd_load},
     {{'I', 'M', 'P', 'G'}, "implicit guess", sb_has_implicit_fast, sb_implicit_fast_save, NULL, sb_implicit_fast_load},

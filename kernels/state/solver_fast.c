@@ -62,14 +62,13 @@
  * packed lanes in L1 per chunk (sb_spread_masses), not four). At 1M the
  * triangle kernel then waited on its own per-triangle streams, which it now
  * prefetches (kernels/forces/fast_corners.c). */
-#include "kernels/state/solver_internal.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/state/vertex_state.h"
+#include "softbond/reference.h"
 #include "softbond/runtime.h"
-#include "kernels/forces/fast_kernels.h"
 #include "common/error.h"
-#include "kernels/forces/wide.h"
+#include "kernels/runtime/wide.h"
 #include "kernels/runtime/team.h"
-#include "kernels/contact/self_contact.h"
-#include "kernels/interaction/handle_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -181,7 +180,7 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
 }
 
 /* Serial, on one thread: the callback need not be thread-safe; then the
- * soft handles' forces (kernels/interaction/handle.c). */
+ * post_force hook (the soft handles' forces). */
 static void sb_external_pass(sb_solver* s) {
     for (uint32_t i = 0; i < s->state.vertex_count && s->def.external_force; i++) {
         if (s->model->fixed[i]) continue;
@@ -194,30 +193,38 @@ static void sb_external_pass(sb_solver* s) {
             f4[c] = (sb_real)f[c];
         }
     }
-    if (s->soft_handles) sb_handles_forces_packed(s);
+    if (s->hooks.post_force_packed) s->hooks.post_force_packed(s);
 }
 
 /* Worker 0 calls the external-force callback (it need not be thread-safe);
  * the others wait for it. */
 static void sb_external_step(const sb_worker* w, sb_solver* s) {
-    if (!s->def.external_force && !s->soft_handles) return;
+    if (!s->def.external_force && !s->hooks.post_force_packed) return;
     if (w->index == 0) sb_external_pass(s);
     sb_worker_barrier(w);
 }
 
-/* This worker's vertex chunks [first, last). */
-static void sb_chunk_share(const sb_worker* w, const sb_partial_layout* p, int* first, int* last) {
-    int64_t begin, end;
-    sb_worker_range(w, p->vertex_chunks, &begin, &end);
-    *first = (int)begin;
-    *last = (int)end;
+/* This worker's vertex chunks, one at a time, each with its packed range
+ * [begin, end) (4 reals a vertex):
+ *     for (sb_chunks it = sb_my_chunks(w, p, n); sb_next_chunk(&it);) ... */
+typedef struct sb_chunks {
+    int chunk, last;
+    uint32_t vertex_count;
+    size_t begin, end;
+} sb_chunks;
+
+static inline sb_chunks sb_my_chunks(const sb_worker* w, const sb_partial_layout* p, uint32_t vertex_count) {
+    int64_t first, last;
+    sb_worker_range(w, p->vertex_chunks, &first, &last);
+    return (sb_chunks){.chunk = (int)first - 1, .last = (int)last, .vertex_count = vertex_count};
 }
 
-/* The packed range [begin, end) of vertex chunk c (4 reals a vertex). */
-static void sb_packed_range(uint32_t n, int c, size_t* begin, size_t* end) {
-    size_t first = (size_t)c * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
-    *begin = 4 * first;
-    *end = 4 * last;
+static inline bool sb_next_chunk(sb_chunks* it) {
+    if (++it->chunk >= it->last) return false;
+    size_t first = (size_t)it->chunk * SB_CHUNK, n = it->vertex_count;
+    it->begin = 4 * first;
+    it->end = 4 * (first + SB_CHUNK < n ? first + SB_CHUNK : n);
+    return true;
 }
 
 /* Sets the packed forces [begin, end) to gravity and drag at the packed
@@ -235,11 +242,8 @@ static void sb_initial_forces_range(const sb_solver* s, size_t begin, size_t end
 static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
     const sb_state* st = &s->state;
     const sb_real* soa[2][3] = {{st->x, st->y, st->z}, {st->vx, st->vy, st->vz}};
-    int first, last;
-    sb_chunk_share(w, p, &first, &last);
-    for (int c = first; c < last; c++) {
-        size_t begin, end;
-        sb_packed_range(st->vertex_count, c, &begin, &end);
+    for (sb_chunks it = sb_my_chunks(w, p, st->vertex_count); sb_next_chunk(&it);) {
+        size_t begin = it.begin, end = it.end;
         for (size_t k = begin; k < end; k++) {
             size_t i = k / 4;
             int a = (int)(k & 3);
@@ -253,11 +257,8 @@ static void sb_pack_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
 
 /* Sets the packed forces to gravity and drag at the packed velocities. */
 static void sb_initial_forces_pass(const sb_worker* w, sb_solver* s, const sb_partial_layout* p) {
-    int first, last;
-    sb_chunk_share(w, p, &first, &last);
-    for (int c = first; c < last; c++) {
-        size_t begin, end;
-        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+    for (sb_chunks it = sb_my_chunks(w, p, s->state.vertex_count); sb_next_chunk(&it);) {
+        size_t begin = it.begin, end = it.end;
         sb_initial_forces_range(s, begin, end);
     }
     sb_worker_barrier(w);
@@ -275,7 +276,7 @@ static sb_real sb_runaway_limit(const sb_solver* s) {
 static bool sb_half_step_velocity_read(const sb_solver* s) {
     const sb_fast_model* f = s->fast;
     return f->has_damping || f->fused_damping || s->def.collider_count || s->self || s->def.handle_count ||
-           s->soft_handles || s->def.external_force;
+           s->hooks.post_force_packed || s->def.external_force;
 }
 
 /* The Verlet constants of one step. */
@@ -407,17 +408,15 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
                           double dt, atomic_int* bad) {
     sb_real scratch[4 * SB_CHUNK]; /* the half-step velocities nothing reads */
     sb_chunk_masses masses;
-    int first, last;
-    sb_chunk_share(w, p, &first, &last);
-    for (int c = first; c < last; c++) {
-        size_t begin, end;
-        sb_packed_range(s->state.vertex_count, c, &begin, &end);
-        sb_self_contact_save_packed(s, begin, end);
+    for (sb_chunks it = sb_my_chunks(w, p, s->state.vertex_count); sb_next_chunk(&it);) {
+        int c = it.chunk;
+        size_t begin = it.begin, end = it.end;
+        if (s->hooks.before_drift) s->hooks.before_drift(s, begin, end);
         sb_spread_masses(s->fast, begin, end, true, &masses);
         if (sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->displacements4 + begin,
                            k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin))
             sb_worker_raise(bad);
-        if (s->def.collider_count) sb_contact_chunk_packed(s, (uint32_t)c, dt);
+        if (s->hooks.drift_chunk) s->hooks.drift_chunk(s, (uint32_t)c, dt);
         if (k->positions_final_in_drift && !k->check_in_drift &&
             sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
@@ -488,11 +487,9 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
                          atomic_int* bad) {
     const sb_real* u = k->store_velocity ? s->velocities4 : s->displacements4;
     sb_chunk_masses masses;
-    int first, last;
-    sb_chunk_share(w, p, &first, &last);
-    for (int c = first; c < last; c++) {
-        size_t begin, end;
-        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+    for (sb_chunks it = sb_my_chunks(w, p, s->state.vertex_count); sb_next_chunk(&it);) {
+        int c = it.chunk;
+        size_t begin = it.begin, end = it.end;
         sb_spread_masses(s->fast, begin, end, k->sums || !k->positions_final_in_drift, &masses);
         double* kinetic = p->vertices + 2 * c;
         int raised =
@@ -503,9 +500,9 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
         if (!k->positions_final_in_drift &&
             sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
-        if (s->publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
-            sb_unpack_xyz(s->positions4, s->publish_positions, begin / 4, end / 4);
-            sb_unpack_xyz(s->velocities4, s->publish_velocities, begin / 4, end / 4);
+        if (s->step.publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
+            sb_unpack_xyz(s->positions4, s->step.publish_positions, begin / 4, end / 4);
+            sb_unpack_xyz(s->velocities4, s->step.publish_velocities, begin / 4, end / 4);
         }
     }
 }
@@ -577,11 +574,9 @@ static void sb_vertex_energies_job(void* context, const sb_worker* w) {
     const sb_solver* s = job->solver;
     const sb_partial_layout* p = &job->layout;
     sb_chunk_masses masses;
-    int first, last;
-    sb_chunk_share(w, p, &first, &last);
-    for (int c = first; c < last; c++) {
-        size_t begin, end;
-        sb_packed_range(s->state.vertex_count, c, &begin, &end);
+    for (sb_chunks it = sb_my_chunks(w, p, s->state.vertex_count); sb_next_chunk(&it);) {
+        int c = it.chunk;
+        size_t begin = it.begin, end = it.end;
         sb_spread_masses(s->fast, begin, end, true, &masses);
         sb_kinetic_range(masses.m4, s->velocities4, begin, end, p->vertices + 2 * c);
         sb_positions_range(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, p->vertices + 2 * c + 1);
@@ -639,19 +634,24 @@ sb_status sb_fast_compute_forces(sb_solver* s) {
     return atomic_load(&job.flags.collapsed) ? sb_report_collapse(s) : SB_OK;
 }
 
-/* Worker 0 puts the vertices the hard handles hold at their targets
- * (kernels/interaction/handle.c); the others wait for it. */
-static void sb_handle_step(const sb_worker* w, sb_solver* s, double dt) {
-    if (!s->def.handle_count) return;
-    if (w->index == 0) sb_handles_place_packed(s, dt);
+/* Worker 0 puts the vertices a feature holds at their targets (the
+ * place_packed hook: the hard handles); the others wait for it. */
+static void sb_place_step(const sb_worker* w, sb_solver* s, double dt) {
+    if (!s->hooks.place_packed) return;
+    if (w->index == 0) s->hooks.place_packed(s, dt);
     sb_worker_barrier(w);
+}
+
+/* The after_drift hook on every worker (self-contact). */
+static void sb_after_drift_step(const sb_worker* w, sb_solver* s, double dt) {
+    if (s->hooks.after_drift) s->hooks.after_drift(w, s, dt);
 }
 
 static void sb_verlet_job(void* context, const sb_worker* w) {
     sb_fast_job* job = context;
     sb_drift_pass(w, job->solver, &job->layout, &job->constants, job->dt, &job->bad);
-    sb_self_contact_packed(w, job->solver, job->dt);
-    sb_handle_step(w, job->solver, job->dt);
+    sb_after_drift_step(w, job->solver, job->dt);
+    sb_place_step(w, job->solver, job->dt);
     sb_force_passes(w, job->solver, &job->layout, &job->flags);
     sb_external_step(w, job->solver);
     sb_kick_pass(w, job->solver, &job->layout, &job->constants, &job->bad);
@@ -694,7 +694,7 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
     s->has_displacement = true;
     s->prev_dt = dt;
     s->published = false;
-    s->publish_written = s->publish_positions != NULL;
+    s->step.publish_written = s->step.publish_positions != NULL;
     sb_collect_energies(s, &job.layout, sums);
     s->forces_stale = !sums; /* the forces and term energies are current; the vertex sums wait */
     s->near_limits = atomic_load(&job.flags.near_limit) != 0;

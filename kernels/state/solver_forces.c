@@ -1,8 +1,11 @@
 /* The solver's force evaluation: internal terms, gravity, drag, external
- * forces. The external forces of the last evaluation are kept apart
- * (solver->external) so that adaptive stepping can count their work. */
-#include "kernels/state/solver_internal.h"
-#include "kernels/interaction/handle_internal.h"
+ * forces and the post_force hook's (the soft handles'). The external forces
+ * of the last evaluation are kept apart (solver->external) so that adaptive
+ * stepping can count their work. */
+#include "kernels/state/solver_forces.h"
+#include "kernels/state/solver_fast.h"
+#include "kernels/state/vertex_state.h"
+#include "softbond/reference.h"
 #include "common/error.h"
 
 /* Adds the callback's force to f and remembers it in ext (when not NULL). */
@@ -21,7 +24,7 @@ void sb_solver_add_body_forces(sb_solver* s, const double* x, const double* v, d
         if (s->def.external_force && !m->fixed[i])
             sb_add_external(s, i, x + 3 * i, v + 3 * i, fi, external ? external + 3 * i : NULL);
     }
-    if (s->soft_handles) sb_handles_forces(s, x, v, f, external);
+    if (s->hooks.post_force) s->hooks.post_force(s, x, v, f, external);
 }
 
 /* f = internal + m (g − drag v) + external, all 3n interleaved doubles. */
@@ -50,4 +53,16 @@ static sb_status sb_reference_step_forces(sb_solver* s) {
 
 sb_status sb_solver_compute_forces(sb_solver* s) {
     return s->fast ? sb_fast_compute_forces(s) : sb_reference_step_forces(s);
+}
+
+sb_status sb_solver_settle(sb_solver* s) {
+    if (!s->forces_stale) return SB_OK;
+    s->forces_stale = false;
+    if (sb_fused(s)) { /* the fused Verlet step's forces and term energies are current */
+        sb_fast_vertex_energies(s);
+        return SB_OK;
+    }
+    sb_status status = sb_solver_compute_forces(s);
+    if (status == SB_OK) sb_update_energies(s);
+    return status;
 }

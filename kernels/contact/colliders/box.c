@@ -15,6 +15,8 @@
  * none. Inside the box the direction of least penetration is the face
  * nearest the point (on a tie the lowest axis, then the + face). */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sweep.h"
+#include "kernels/contact/colliders/rotation.h"
 
 #include <math.h>
 

@@ -16,6 +16,7 @@
  * move along the axis (A = 0) is inside the infinite cylinder for every s
  * or for none. a == b is the ball about a. */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>
 

@@ -29,6 +29,7 @@
  * Before the first begin_step both poses are pose(0). A dynamic collider
  * (mass > 0) takes its poses from its state instead (dynamic.c). */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/rotation.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -274,41 +275,6 @@ void sb_collider_destroy(sb_collider* collider) {
 
 /* ---- poses --------------------------------------------------------------- */
 
-/* sin and cos of an angle in degrees, exact at multiples of 90. */
-static void sb_sincos_degrees(double degrees, double* s, double* c) {
-    double r = fmod(degrees, 360.0);
-    if (r < 0.0) r += 360.0;
-    if (r == 0.0 || r == 90.0 || r == 180.0 || r == 270.0) {
-        static const double sines[4] = {0.0, 1.0, 0.0, -1.0}, cosines[4] = {1.0, 0.0, -1.0, 0.0};
-        int q = (int)(r / 90.0);
-        *s = sines[q];
-        *c = cosines[q];
-        return;
-    }
-    double radians = r * (3.14159265358979323846 / 180.0);
-    *s = sin(radians);
-    *c = cos(radians);
-}
-
-static void sb_mat3_mul(const double a[9], const double b[9], double out[9]) {
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            out[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
-}
-
-void sb_collider_rotation(const double degrees[3], double r[9]) {
-    double sx, cx, sy, cy, sz, cz;
-    sb_sincos_degrees(degrees[0], &sx, &cx);
-    sb_sincos_degrees(degrees[1], &sy, &cy);
-    sb_sincos_degrees(degrees[2], &sz, &cz);
-    const double rx[9] = {1, 0, 0, 0, cx, -sx, 0, sx, cx};
-    const double ry[9] = {cy, 0, sy, 0, 1, 0, -sy, 0, cy};
-    const double rz[9] = {cz, -sz, 0, sz, cz, 0, 0, 0, 1};
-    double zy[9];
-    sb_mat3_mul(rz, ry, zy);
-    sb_mat3_mul(zy, rx, r);
-}
-
 /* The point the rotations of a path turn about. */
 static void sb_reference_point(const sb_collider_def* d, double c[3]) {
     for (int k = 0; k < 3; k++) {
@@ -456,44 +422,6 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
         depth = sb_point_depth(c, rest, thickness);
     }
     sb_surface(c, fraction, depth, contact);
-    return true;
-}
-
-/* ---- the sweep answer shared by the shapes (collider_internal.h) -------- */
-
-static void sb_copy3(double out[3], const double v[3]) { memcpy(out, v, 3 * sizeof *out); }
-
-bool sb_sweep_from_inside(const sb_sweep_end* from_end, const sb_sweep_end* to_end, const double from[3],
-                          const double to[3], double* fraction, double* depth, double normal[3]) {
-    const double* n = from_end->normal;
-    double flip = to_end->normal[0] * n[0] + to_end->normal[1] * n[1] + to_end->normal[2] * n[2];
-    if (to_end->inside && flip >= 0.0) { /* resting: keep the move, push `to` out */
-        *fraction = 1.0;
-        *depth = to_end->depth;
-        sb_copy3(normal, to_end->normal);
-        return true;
-    }
-    /* `to` outside, or inside but past the middle of the body (its way out
-     * faces the other way: pushing it out there would pass it through) */
-    double heading = (to[0] - from[0]) * n[0] + (to[1] - from[1]) * n[1] + (to[2] - from[2]) * n[2];
-    if (!to_end->inside && heading >= 0.0) return false; /* leaving */
-    *fraction = 0.0;
-    *depth = from_end->depth;
-    sb_copy3(normal, n);
-    return true;
-}
-
-bool sb_sweep_from_outside(bool entered, double lo, double hi, const double lo_normal[3], const sb_sweep_end* to_end,
-                           double* fraction, double* depth, double normal[3]) {
-    if (!to_end->inside && !(entered && lo <= 1.0 && hi >= 0.0 && lo < hi)) return false;
-    if (!entered) { /* `to` is inside but rounding lost the crossing: the end */
-        *fraction = 1.0;
-        sb_copy3(normal, to_end->normal);
-    } else {
-        *fraction = lo < 0.0 ? 0.0 : lo > 1.0 ? 1.0 : lo;
-        sb_copy3(normal, lo_normal);
-    }
-    *depth = 0.0;
     return true;
 }
 

@@ -48,6 +48,7 @@
  * A move from outside never reaches the volume without first coming
  * within t of the surface, so the entry is the solid's. */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sweep.h"
 #include "common/edge_map.h"
 #include "common/error.h"
 

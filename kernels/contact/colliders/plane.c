@@ -6,6 +6,7 @@
  * needs no division by the move's length; a move with both ends outside
  * never enters a half-space. */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>
 

@@ -10,6 +10,7 @@
  * needs no division by a, so a zero-length move is safe (it returns
  * before: b = 0). */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>
 
