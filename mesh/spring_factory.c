@@ -22,17 +22,12 @@
  * a scan of one short row. Stretch springs come row by row (ordered by
  * their lower vertex), then the bend springs, then the vicinity springs.
  *
- * Measured (Release, -march=native, the 2-core AMD EPYC build VM while
- * another build ran, load about 2.3; /tmp programs calling the public API):
- *   - a 1000 × 1000 sheet (1 000 000 vertices, 1 996 002 triangles),
- *     vicinity 1.5 × the spacing: 2 996 001 stretch and 1 996 001 bend
- *     springs; the vicinity search finds 3 994 002 pairs, every one already
- *     an edge or a bend pair, in 0.31 s; the whole factory takes 1.5 s and
- *     sb_builder_compile 1.6–1.8 s. Most of the factory's time is the
- *     first touch of the builder's 40-byte bond records (page faults are
- *     dear on this VM), not the pair search;
- *   - a 708 × 708 sheet (501 264 vertices, 999 698 triangles): factory
- *     0.40–0.46 s (it was 1.07 s with a hash set of pairs), compile 0.2–0.3 s. */
+ * Compressed rows rather than a hash set of pairs: the factory on a
+ * million-triangle sheet took less than half the time. Most of its time is
+ * the first touch of the builder's 40-byte bond records (page faults), not
+ * the pair search. Timings: bench/results/mesh_load.csv (bench/mesh.sh;
+ * bench/results/README.md, "Mesh import"); the runs first quoted here are
+ * in bench/results/notes/mesh.md. */
 #include "mesh/builder_internal.h"
 #include "common/error.h"
 #include "common/geometry.h"

@@ -15,12 +15,10 @@
  * of points plus the pairs tested (bounded when the radius is of the order
  * of the spacing); memory is a few arrays of n.
  *
- * Measured (Release, -march=native, one thread on the 2-core AMD EPYC
- * build VM while another build ran, load about 2.3; best of 5): 1 000 000
- * vertices of a 1000 × 1000 sheet with the radius 1.5 × the spacing
- * (3 994 002 pairs) in 0.31 s; 1 000 000 uniform random points in a unit
- * cube with the radius 0.01 (2 072 589 pairs) in 0.34 s. A first version
- * that hashed each point's 27 cells took 0.79 s and 1.78 s. */
+ * A first version that hashed each point's 27 cells took two to five
+ * times as long. Timings of 10⁶ points: bench/results/mesh_load.csv
+ * (bench/mesh.sh; bench/results/README.md, "Mesh import"); the runs
+ * first quoted here are in bench/results/notes/mesh.md. */
 #include "mesh/builder_internal.h"
 #include "common/error.h"
 

@@ -1,6 +1,6 @@
 /* `softbond tetra IN OUT`: fills a closed surface with tetrahedra by
  * running TetGen, Debian's `tetgen` program (the TetGen library is not
- * linked: the program is called, as issue 5 asks).
+ * linked: the program is called).
  *
  *   1. IN is read with sb_mesh_load (any surface format; objects merged)
  *      and must be closed: every edge on exactly two triangles

@@ -23,7 +23,8 @@ typedef struct sb_vertex_def {
 } sb_vertex_def;
 
 /* A bond between two vertices carries two edge terms: the molecular bond
- * stretch ½ k (r − r0)² (Eq. 3) and the classic damped spring (Eq. 2)
+ * stretch ½ k (r − r0)² (Sekercioglu & Duysak 2009, Eq. 3) and the classic
+ * damped spring (the same paper's Eq. 2)
  * ½ spring_k (r − r0)² with damping spring_damping along the bond. */
 typedef struct sb_bond_def {
     uint32_t i, j;
@@ -34,15 +35,16 @@ typedef struct sb_bond_def {
     /* Breakage (the Spring Systems library's l_min, l_max): a solver breaks
      * the bond at the first step whose end length is below break_min or
      * above break_max — its stiffness and damping become zero for the rest
-     * of the run (sb_solver_def.on_break, kernels/interaction/breakage.c). break_min 0
+     * of the run (sb_solver_def.on_break; DESIGN.md, section Breakage). break_min 0
      * and break_max +inf (or 0) never break; a finite limit must leave the
      * rest length strictly inside (break_min, break_max). */
     double break_min, break_max; /* m */
 } sb_bond_def;
 
 /* A triangle contributes one angle per corner: angle bend
- * ½ angle_k (cos θ − cos θ0)² (Eq. 4) and stretch-bend
- * stretch_bend_k (cos θ − cos θ0)[(rA − rA0) + (rB − rB0)] (Eq. 5). Rest
+ * ½ angle_k (cos θ − cos θ0)² (Sekercioglu & Duysak 2009, Eq. 4) and
+ * stretch-bend stretch_bend_k (cos θ − cos θ0)[(rA − rA0) + (rB − rB0)]
+ * (the same paper's Eq. 5, which leaves the constant out). Rest
  * values come from the vertices' positions. */
 typedef struct sb_triangle_def {
     uint32_t i, j, k;
@@ -86,11 +88,11 @@ SB_API sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err);
 
 /* Constants for the mesh factory: every term is per element, uniform here. */
 typedef struct sb_material_def {
-    double bond_k;         /* N/m, Eq. 3, 0 = off */
-    double angle_k;        /* J, Eq. 4, 0 = off */
-    double stretch_bend_k; /* J/m, Eq. 5, 0 = off */
-    double spring_k;       /* N/m, Eq. 2, 0 = off */
-    double spring_damping; /* N·s/m, Eq. 2 */
+    double bond_k;         /* N/m, Sekercioglu & Duysak 2009 Eq. 3, 0 = off */
+    double angle_k;        /* J, Sekercioglu & Duysak 2009 Eq. 4, 0 = off */
+    double stretch_bend_k; /* J/m, Sekercioglu & Duysak 2009 Eq. 5, 0 = off */
+    double spring_k;       /* N/m, Sekercioglu & Duysak 2009 Eq. 2, 0 = off */
+    double spring_damping; /* N·s/m, Sekercioglu & Duysak 2009 Eq. 2 */
     double bend_k;         /* J/rad², hinge term, 0 = off */
     double mass;           /* kg per vertex, used when density is 0 */
     double density;        /* kg/m², areal: each vertex gets a third of its triangles' mass */

@@ -6,10 +6,11 @@
  * answers with an sb_contact: how far along the move the vertex may go, the
  * surface normal there, and how much of the vertex's velocity survives
  * (restitution along the normal, Coulomb friction along the surface). The
- * solver then moves the vertex and changes its velocity (kernels/contact/contact.c)
+ * solver then moves the vertex and changes its velocity (DESIGN.md, section
+ * Contact)
  * and adds the impulse it took to the collider's reaction force. pbd and
  * xpbd ask about the predicted move before their sweeps and keep the answer
- * as a constraint inside them (kernels/contact/contact_pbd.c); the velocity answer
+ * as a constraint inside their projection sweeps; the velocity answer
  * is the same.
  *
  * The built-in shapes (plane, sphere, capsule, box, triangle mesh) are

@@ -13,7 +13,8 @@
  * never lags its target: at the end of every step its vertices are exactly
  * at their targets, with the target's velocity over the step
  * ((target(t1) − target(t0)) / dt), and while held they are fixed vertices
- * for the integration (kernels/interaction/handle.c says where each integrator does it).
+ * for the integration (DESIGN.md, section Handles, says where each
+ * integrator does it).
  * A soft handle (stiffness > 0) is a spring-damper between each vertex and
  * its target, f = stiffness (target − x) + damping (target velocity − v),
  * a force like the external callback's: every integrator sees it, the

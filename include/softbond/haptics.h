@@ -60,7 +60,7 @@ SB_API uint64_t sb_pose_buffer_writes(const sb_pose_buffer* buffer);
 
 /* ---- devices ------------------------------------------------------------ */
 
-/* A device is four calls; each built-in kind is one file (haptics/device_*.c):
+/* A device is four calls; the built-in kinds:
  *   "none":     the handle at rest at 0, no buttons; forces are dropped;
  *   "scripted": a CSV trajectory, `time,x,y,z` [`,qw,qx,qy,qz`] [`,button`]
  *               (s, m, unit quaternion, 0/1), times increasing, linear

@@ -15,10 +15,10 @@ typedef struct sb_model sb_model;
 
 /* Which force terms a model carries: a term with every constant 0 is off. */
 typedef enum sb_term {
-    SB_TERM_BOND = 0,     /* bond stretch, Eq. 3 */
-    SB_TERM_ANGLE,        /* angle bend, Eq. 4 */
-    SB_TERM_STRETCH_BEND, /* stretch-bend, Eq. 5 */
-    SB_TERM_SPRING,       /* damped spring, Eq. 2 */
+    SB_TERM_BOND = 0,     /* bond stretch, Sekercioglu & Duysak 2009 Eq. 3 */
+    SB_TERM_ANGLE,        /* angle bend, Sekercioglu & Duysak 2009 Eq. 4 */
+    SB_TERM_STRETCH_BEND, /* stretch-bend, Sekercioglu & Duysak 2009 Eq. 5 */
+    SB_TERM_SPRING,       /* damped spring, Sekercioglu & Duysak 2009 Eq. 2 */
     SB_TERM_BEND,         /* dihedral hinge */
     SB_TERM_COUNT
 } sb_term;

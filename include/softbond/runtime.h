@@ -11,7 +11,8 @@ extern "C" {
 #endif
 
 /* How the solver's threads wait for each other at the barriers of a step
- * and for the next step (kernels/runtime/team.c):
+ * and for the next step (the solver's own thread team; DESIGN.md, section
+ * Threads):
  *   spin     busy-wait: the lowest latency, for a machine the solver has to
  *            itself (the benchmark);
  *   yield    check, then give the core to any other runnable thread;

@@ -17,7 +17,7 @@ extern "C" {
 #endif
 
 typedef enum sb_integrator {
-    SB_INTEGRATOR_VERLET = 0,       /* Störmer-Verlet, position form (Eq. 12) */
+    SB_INTEGRATOR_VERLET = 0,       /* Störmer-Verlet, position form (Sekercioglu & Duysak 2009, Eq. 12) */
     SB_INTEGRATOR_VELOCITY_VERLET,  /* kick ½dt, drift dt, kick ½dt */
     SB_INTEGRATOR_EXPLICIT_EULER,   /* x⁺ = x + v dt, v⁺ = v + a(x, v) dt */
     SB_INTEGRATOR_SYMPLECTIC_EULER, /* kick then drift: v⁺ = v + a dt, x⁺ = x + v⁺ dt */
@@ -77,13 +77,13 @@ typedef struct sb_solver_def {
     double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
     sb_runtime_def runtime; /* the threads: count, pinning, wait policy (softbond/runtime.h) */
-    /* Contact (softbond/collider.h, kernels/contact/contact.c): after every step each
+    /* Contact (softbond/collider.h; DESIGN.md, section Contact): after every step each
      * free vertex's move is checked against the colliders in this order, and
      * the earliest contact is answered. The colliders must outlive the solver. */
     sb_collider* const* colliders;
     uint32_t collider_count;
     double contact_thickness; /* m, >= 0: added to every collider's own thickness */
-    /* Self-contact (kernels/contact/self_contact.c): after the collider pass of every
+    /* Self-contact (DESIGN.md, section Contact): after the collider pass of every
      * step, the model's triangles against each other — a body folding onto
      * itself and the bodies of a multi-object model. A vertex–triangle or
      * edge–edge pair that crossed in the step, or ends it closer than
@@ -97,10 +97,10 @@ typedef struct sb_solver_def {
     uint32_t handle_count;
     sb_external_force_fn external_force;
     void* external_user;
-    /* Breakage (kernels/interaction/breakage.c): the breakage callback, or NULL. */
+    /* Breakage (DESIGN.md, section Breakage): the breakage callback, or NULL. */
     sb_break_fn on_break;
     void* break_user;
-    /* Tearing (kernels/interaction/topology.c), for a model with break limits and
+    /* Tearing (DESIGN.md, section Breakage), for a model with break limits and
      * triangles: where broken bonds leave a vertex's triangles in separate
      * fans, the vertex is split, one copy per fan, and the surface opens.
      * max_splits: the most vertex copies over the run, reserved at
@@ -121,11 +121,11 @@ typedef struct sb_solver_def {
      * level), after at most implicit_newton_iterations; each linear solve is
      * conjugate gradients of at most implicit_cg_iterations. 0 = default
      * (1e-8, 20, 200). Each Newton iteration solves with the exact Jacobian
-     * (kernels/integrators/implicit_euler.c); implicit_definite replaces each element's
+     * (DESIGN.md, "Second derivatives"); implicit_definite replaces each element's
      * stiffness by a positive semi-definite stand-in, so that CG never meets
      * a negative curvature (sb_step_stats.cg_indefinite counts those it met);
      * with SB_KERNELS_FAST and conjugate gradients the step runs on the fast
-     * kernels, matrix-free (kernels/integrators/implicit_fast.c), always with the exact
+     * kernels, matrix-free, always with the exact
      * stiffness. */
     double implicit_tolerance;
     /* implicit_euler's linear solver: SB_LINEAR_AUTO (the default) factors
@@ -134,24 +134,24 @@ typedef struct sb_solver_def {
      * gradients (SB_LINEAR_CG) above. A Jacobian that is not positive
      * definite is factored from the positive semi-definite stand-ins
      * instead; a factored one is reused by the next Newton iteration while
-     * the last one cut the residual at least fourfold
-     * (kernels/integrators/implicit_euler.c). The factorization allocates. */
+     * the last one at least halved the residual (DESIGN.md, "Second
+     * derivatives"). The factorization allocates. */
     sb_linear_solver implicit_solver;
     int implicit_newton_iterations;
     int implicit_cg_iterations;
     bool implicit_definite;
     /* pbd, xpbd: constraint projection sweeps per step (0 = default 10);
-     * see kernels/integrators/pbd.c for the constraints and the stiffness mapping. */
+     * README.md, Integrators, has the constraints and the stiffness mapping. */
     int pbd_iterations;
     /* vbd: Gauss-Seidel sweeps over the vertex colors per step (0 = default
-     * 10); see kernels/integrators/vbd.c. */
+     * 10); Vertex Block Descent (Chen, Liu, Yang and Yuksel 2024). */
     int vbd_iterations;
     /* vbd: Chebyshev acceleration across a step's sweeps with this spectral
      * radius estimate ρ in [0, 1); 0 = off (the default). */
     double vbd_chebyshev_rho;
     /* vbd: over-relaxation of each vertex's Newton step, x_i += ω Δx_i with
      * ω in (0, 2) (successive over-relaxation; 0 = 1, plain steps, the
-     * default); see kernels/integrators/vbd.c. */
+     * default). */
     double vbd_relaxation;
     /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
@@ -271,8 +271,8 @@ SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions,
 SB_API sb_status sb_solver_set_gravity(sb_solver* solver, const double gravity[3]);
 
 /* Checkpoints: the solver's whole state as bytes, from which a run
- * continues bitwise as if it had not stopped (kernels/solver/solver_state.c says
- * what is in it: the state, the Verlet displacement, the clock and step
+ * continues bitwise as if it had not stopped (DESIGN.md, section Checkpoints,
+ * says what is in it: the state, the Verlet displacement, the clock and step
  * count, the adaptive step size and energy peak, the colliders' poses and
  * dynamic bodies, the handles, the broken bonds and tearing's topology,
  * the last step's statistics and contact forces). A versioned format with

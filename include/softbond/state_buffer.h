@@ -4,7 +4,7 @@
  * without locks. The writer never waits for a reader, a reader never sees
  * half of one step and half of another, and a reader waits for the writer
  * only by retrying an acquire that the writer overtook (twice at most in
- * practice; see haptics/state_buffer.c). */
+ * practice; DESIGN.md, section Threads, says why this design). */
 #ifndef SOFTBOND_STATE_BUFFER_H
 #define SOFTBOND_STATE_BUFFER_H
 

@@ -8,9 +8,8 @@
  * A = L_c, B = L_{c+2}. The forces on the three vertices are summed in
  * registers and scattered once.
  *
- * Fused bonds: gathers and scatter-adds are what a step costs (measured on
- * the reference machine: 0.57 ns per gathered and 0.73 ns per scatter-added
- * element, against a few ns of arithmetic per triangle), and a bond on a
+ * Fused bonds: gathers and scatter-adds are what a step costs (the
+ * measured costs per element: bench/results/notes/fast_step.md), and a bond on a
  * triangle's edge needs exactly the positions and the length the triangle
  * kernel already has. So each bond on a triangle's edge is owned by one
  * triangle (kernels/forces/fast_model.c: a bit per edge in one byte per triangle)

@@ -1,4 +1,4 @@
-/* Private: the fast kernels' second derivatives (issue 16), for implicit
+/* Private: the fast kernels' second derivatives, for implicit
  * Euler on the fast kernels (kernels/integrators/implicit_fast.c).
  *
  * Design. Each term family's force formula is run on wide dual numbers

@@ -27,7 +27,8 @@ static uint32_t sb_round_up(uint32_t n, uint32_t step) { return (n + step - 1) /
  * in double. The cap was 2 048 before: a block was then about one row of
  * the 1M sheet's quads, each vertex row fell in two blocks of different
  * block colors, and the triangle pass loaded the positions and forces
- * twice (DESIGN.md, "A step of the fast path": its L2 misses). A fixed
+ * twice (its L2 misses: bench/results/fused.md, "The blocks of the
+ * blocked coloring"). A fixed
  * budget, not the machine's cache size, so that a build's trajectory is
  * the same on every machine. Depends on the element count only, never on
  * the thread count, so the summation order is the same for any. */

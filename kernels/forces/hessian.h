@@ -1,4 +1,5 @@
-/* Private: exact second derivatives of the internal forces (issue 16).
+/* Private: exact second derivatives of the internal forces, for the
+ * implicit integrators.
  *
  * An element is what one term couples: a bond (2 vertices: bond stretch and
  * the damped spring's elastic part), a triangle (3: its three corners' angle
@@ -97,10 +98,9 @@ void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, doub
  * vertices at blocks + 9 (count r + c), row-major): dt² K_e
  * (sb_element_stiffness; the stand-in of sb_element_stiffness_definite
  * when `definite`, and a hinge's always: its geometric term
- * k (φ − φ0) ∇²φ is small beside k ∇φ ∇φᵀ wherever the fold is small, and
- * its dual run cost a sixth of a factored step; on the default scene at
- * dt = 10, 1 and 0.1 ms Newton and CG take the same iterations without
- * it), and on a bond also dt times its spring's damping block. The
+ * k (φ − φ0) ∇²φ is small beside k ∇φ ∇φᵀ wherever the fold is small,
+ * its dual run is dear, and Newton and CG took the same iterations without
+ * it: bench/results/notes/implicit_euler.md), and on a bond also dt times its spring's damping block. The
  * triangle's in closed form in the plane of each corner's edges (each
  * block of a corner is a multiple of I plus a 2 × 2 form in â, b̂), the
  * hinge's without its angle (no atan2). False when the element collapsed. */

@@ -10,7 +10,8 @@
  * indefinite and as large as the first term once the fold is a few degrees
  * from rest; vbd needs only a descent direction per vertex, the paper
  * itself approximates, and the share costs one evaluation of u where the
- * exact diagonal block took three dual runs (45 % of vbd's step). */
+ * exact diagonal block took three dual runs (nearly half of vbd's step:
+ * bench/results/notes/vbd.md). */
 #include "kernels/forces/hessian.h"
 #include "common/geometry.h"
 

@@ -75,15 +75,12 @@
  * no barrier separates them from the sweeps). A step has 2 barriers (after
  * the prediction, before the velocities), where a barrier after each block
  * color made 12 on that sheet (2 + 5 sweeps × 2), and one after each color
- * of the elements about 45. On two threads the median step waited 2 µs
- * at 3 (the start edges had one of their own then), against 5 µs at the
- * 12 (tracing each barrier's arrival and departure, load 11 on the 2-core
- * VM, where the waits at the units were nil in the median step): the 100
- * × 100 sheet's bonds-alone step (median of 1 000) took 224-231 µs on two
- * threads against 227-233 with the barriers; with the start edges taken
- * by the projecting thread (before, half of them were written on the
- * other core) 198-205 µs, 1.78-1.86 × faster than one thread (359-381 µs,
- * unchanged; load 3-4, README's xpbd section).
+ * of the elements about 45. Dropping the barriers alone changed little;
+ * what made two threads pay was taking each unit's start edges on the
+ * thread that projects it (before, half of them were written on the other
+ * core): the bonds-alone step on two threads is then close to twice as
+ * fast as on one (bench/results/pbd_peer.md; the barrier traces and the
+ * before/after runs are in bench/results/notes/xpbd.md).
  *
  * Forces and energies. A position-based step needs no force: unless
  * something in the next step reads them (an external-force callback, the
@@ -577,9 +574,9 @@ static inline sb_wmask sb_pbd_wide_corner(const sb_pbd_sweep* k, sb_wvec3 p[3], 
 /* Triangle blocks projected together. A triangle's six projections are a
  * chain of dependent operations, each tens of operations long; a few
  * independent SIMD blocks of a run, their steps interleaved, give the
- * processor that many chains to overlap (1 thread, the 100 x 100 sheet's
- * corners step: 1.55 ms one block at a time, 1.13 two, 1.07 three, 1.03
- * four, load 6-7; bonds, whose chain is short, gained nothing). Inlined
+ * processor that many chains to overlap (a third less time for the
+ * corners step at three blocks, little more at four; bonds, whose chain is
+ * short, gained nothing: bench/results/notes/xpbd.md). Inlined
  * with the count a constant, so that the loops over the blocks unroll. */
 #define SB_PBD_BLOCKS 3
 #define SB_PBD_INLINE static inline __attribute__((always_inline))
@@ -634,8 +631,7 @@ SB_PBD_INLINE bool sb_pbd_wide_triangle_blocks(const sb_pbd_wide_triangles* t, c
     sb_pbd_triangle_regs r[SB_PBD_BLOCKS];
     for (int h = 0; h < blocks; h++) sb_pbd_triangle_load(t, k, s + (uint32_t)h * SB_WIDTH, &r[h]);
         /* Unrolled, so that p[c] names registers: as a loop the positions went
-         * through the stack (1 thread, 100 x 100 corners step 0.786 ms against
-         * 0.758, CPU time, shared machine). */
+         * through the stack (a few % slower: bench/results/notes/xpbd.md). */
 #pragma GCC unroll 3
     for (int c = 0; c < 3; c++) {
         if (!sb_pbd_carries(&t->bonds[c], s, blocks)) continue;

@@ -71,22 +71,25 @@
  * this fraction of its residual instead. From the inertial guess x + dt v
  * the first iteration cuts |R| only 3 to 10 times however exactly it is
  * solved, and the J there (the bonds' tensions far from the step's) serves
- * later iterations badly: on the default scene at dt = 10 ms, kept, it let
- * |R| fall by only 0.5 an iteration, where the J of the second iterate
- * gave 0.02-0.2. A factorization there served one solve. */
+ * later iterations badly: kept, it let |R| fall by only about half an
+ * iteration, where the J of the second iterate cuts it five- to fiftyfold
+ * (bench/results/notes/implicit_euler.md). A factorization there served
+ * one solve. */
 #define SB_FIRST_CG_TOLERANCE 0.03
 /* `auto` factors J when its stiffness outweighs the mass this many times. */
 #define SB_AUTO_FACTOR_RATIO 100.0
 
 /* A job of an implicit step has a barrier or two for every few microseconds
- * of work on a small model: on the default scene (900 vertices) at dt =
- * 10 ms the fast CG step took 37 ms on 2 threads, 14.5 on 1. A thread per
- * this many vertices. */
+ * of work on a small model: on the default scene (900 vertices) the fast
+ * CG step took more than twice as long on 2 threads as on 1
+ * (bench/results/notes/implicit_euler.md). A thread per this many
+ * vertices. */
 #define SB_IMPLICIT_VERTICES_PER_THREAD 4096
 
 /* Steps of a kept factorization whose differences accelerate the next
- * (sb_anderson_step; 1, 2 and 4 took 758, 744 and 737 Newton iterations
- * on the default scene at dt = 10 ms for 102 steps, 827 without). */
+ * (sb_anderson_step: about a tenth fewer Newton iterations on the default
+ * scene, the depth 4 a little better than 1 or 2;
+ * bench/results/notes/implicit_euler.md). */
 enum { SB_ANDERSON_DEPTH = 4 };
 
 /* The work vectors, 3n doubles each, allocated once per solver; W_DX and

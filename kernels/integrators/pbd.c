@@ -207,9 +207,10 @@ static bool sb_pbd_build(sb_pbd* p, const sb_model* m) {
 
 /* A sweep has a barrier per block color: with fewer than this many
  * constraints a block color per thread the barriers cost more than the
- * work (measured with a barrier per element color on the 900-vertex
- * default scene, ~400 constraints a color: a step took 2.2 times longer on
- * 2 threads than on 1). The team never changes the result. */
+ * work (with a barrier per element color on the 900-vertex default scene,
+ * ~400 constraints a color, a step took about twice as long on 2 threads
+ * as on 1: bench/results/notes/xpbd.md). The team never changes the
+ * result. */
 #define SB_PBD_ITEMS_PER_THREAD 1024
 
 static int sb_pbd_team(const sb_pbd* p, int requested) {

@@ -311,8 +311,8 @@ static double sb_vbd_guess_acceleration(const struct sb_vbd* v, const double* al
 
 /* x⁰, the inertial target y and the first guess of vertices [begin, end);
  * v⁰ is kept for the next step's guess. The divisions by dt and |g| are
- * taken once, not per vertex (they were 5 % of a 4-sweep step on the
- * 100 × 100 sheet). */
+ * taken once, not per vertex (per vertex they were a few % of a step:
+ * bench/results/notes/vbd.md). */
 static void sb_vbd_predict(const sb_solver* s, struct sb_vbd* v, double dt, int64_t begin, int64_t end) {
     const sb_model* m = s->model;
     const sb_state* st = &s->state;

@@ -1,4 +1,4 @@
-/* Tearing: the surface splits where its bonds broke (issue 12), as
+/* Tearing: the surface splits where its bonds broke, as
  * production cloth tearing does, by vertex duplication.
  *
  * Design. The model stays immutable: the topology is solver state, held in

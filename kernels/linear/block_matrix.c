@@ -165,8 +165,8 @@ void sb_block_matrix_add_blocks(sb_block_matrix* a, uint64_t id, const sb_elemen
 void sb_block_matrix_multiply_rows(const sb_block_matrix* a, const double* p, double* out, uint32_t begin,
                                    uint32_t end) {
     /* Two sums a row, even and odd blocks, added at its end: one chain of
-     * dependent additions a block was the loop's bound (the CG of the default
-     * scene at dt = 10 ms, 76 products a step). */
+     * dependent additions a block was the loop's bound (the default scene's
+     * CG: bench/results/notes/implicit_euler.md). */
     for (uint32_t i = begin; i < end; i++) {
         double even[3] = {0, 0, 0}, odd[3] = {0, 0, 0};
         uint32_t b = a->row_start[i], stop = a->row_start[i + 1];

@@ -9,10 +9,10 @@
  * block(i, j)[3 c + r] by symmetry) gives AMD's ordering P. CHOLMOD then
  * gets P A Pᵀ itself, as its upper triangle, analysed in its own order:
  * given A with P it permutes A at every factorization (two passes of
- * cholmod_transpose_sym: 3.2 % of the default scene's run at dt = 10 ms;
- * cholmod_factorize still transposed the upper triangle once, 1.0 %, which
- * the factorization here does not: each entry goes straight to its place in
- * the factor). Each entry keeps the index of its value in
+ * cholmod_transpose_sym; cholmod_factorize still transposed the upper
+ * triangle once, which the factorization here does not: each entry goes
+ * straight to its place in the factor; their share of a run:
+ * bench/results/notes/implicit_euler.md). Each entry keeps the index of its value in
  * the block matrix, its row and column in A and its place in the factor's
  * values; a solve permutes the right-hand side and the solution.
  *
@@ -20,25 +20,23 @@
  * left-looking supernodal algorithm on the same pattern and BLAS calls,
  * without its OpenMP regions: Debian's CHOLMOD opens a few for every
  * supernode and every update between two (clearing maps, assembling), each
- * ending in a futex system call even on one thread (1 140 a step on the
- * default scene at dt = 10 ms), and allocates its workspace per call. On the
- * default scene at dt = 10 ms a factorization took 3.4 ms of CPU with
- * cholmod_factorize and more amalgamated supernodes (to open fewer
- * regions), 1.8-1.9 ms here with CHOLMOD's default amalgamation, the same
- * Newton iterations; it allocates nothing.
+ * ending in a futex system call even on one thread (about a thousand a step
+ * on the default scene), and allocates its workspace per call. Here a
+ * factorization takes about half the CPU that cholmod_factorize took, with
+ * the same Newton iterations (bench/results/notes/implicit_euler.md), and
+ * allocates nothing.
  *
  * The factor is kept in float (ssyrk, sgemm, spotrf, strsm) and solved in
  * double against it (sb_solve_supernodes): implicit Euler's Newton uses it
  * as a modified Newton's approximate inverse (a J kept over several
  * iterations, the residual always the exact one in double), which float's
  * rounding (a solve's relative residual about 3e-7 on the test matrices)
- * does not change: on the default scene at dt = 10 ms the same 739 Newton
- * iterations in 102 steps as in double, every step converged to 1e-8. It
- * halves the bytes a factorization and a solve move and doubles the SIMD
- * width: per call, thread CPU time on the shared machine (load 9-17,
- * alternating, best of 3), a factorization 1.54 ms against 2.01, a solve 0.150 against
- * 0.197 (cholmod_solve2 on the double factor before: a BLAS call or two per
- * supernode). A matrix that is positive definite in double but not by
+ * does not change: on the default scene the same Newton iterations as in
+ * double, every step converged to 1e-8. It halves the bytes a
+ * factorization and a solve move and doubles the SIMD width: each takes
+ * about a quarter less time than in double (cholmod_solve2 on the double
+ * factor before: a BLAS call or two per supernode;
+ * bench/results/notes/implicit_euler.md). A matrix that is positive definite in double but not by
  * float's pivots (a condition near 1e7) fails to factor, and the caller
  * solves by CG. */
 #include "kernels/linear/sparse_cholesky.h"

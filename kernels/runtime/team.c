@@ -22,14 +22,12 @@
  * spin and yield fall back to the futex after SB_SPIN_CHECKS checks, so an
  * idle solver never burns a core for long. passive sleeps at once even at
  * a barrier inside a step, where the threads arrive within microseconds of
- * each other and a futex sleep and wake-up costs about 35 µs on this
- * project's virtual machine (on a 4-sweep vbd step of 10 000 vertices, 32
- * barriers, half the step). A spin of about 4 µs before the sleep took the
- * vbd step from 1.53 to 1.18 ms, but beside a competing 1 kHz thread
- * (bench/runtime.sh, the 100k sheet, unpinned, 3 runs each, 2026-12-03)
- * that thread woke more than 1 ms late 34–86 times in 2 000 ticks against
- * 7–12, its p99 lateness 1.3–2.6 ms against 0.7–0.8: the short spins kept
- * it off a core. So the spin is left to the spin and yield policies.
+ * each other and a futex sleep and wake-up costs tens of microseconds (on
+ * a 4-sweep vbd step of 10 000 vertices, 32 barriers, about half the
+ * step). A short spin before the sleep makes such a step faster, but
+ * beside a competing 1 kHz thread it keeps that thread off a core and
+ * makes it late far more often (bench/results/notes/team.md has the
+ * measurement). So the spin is left to the spin and yield policies.
  *
  * A waker issues FUTEX_WAKE only when a waiter said it sleeps (the sleepers count; sequentially consistent
  * on both sides, so a waiter either sees the new value or is woken).

@@ -272,8 +272,8 @@ static inline sb_wvec3 sb_wv_gather(const sb_real* x, const sb_real* y, const sb
  * cost far more than 16 loads of one packed vertex each. The _at forms take
  * the lanes' vertex indices from memory (a kernel's slot array): the
  * sb_windex forms store theirs and call them, and a kernel that has its
- * indices in memory saves moving them out of a vector lane by lane (pbd's
- * triangle sweep: 0.78 ms a step against 0.80). */
+ * indices in memory saves moving them out of a vector lane by lane (a few
+ * % of pbd's triangle sweep: bench/results/notes/xpbd.md). */
 #if defined(__AVX512F__) && !SB_DOUBLE
 /* Lanes are loaded four per register in the order (0,4,8,12), (1,5,9,13),
  * (2,6,10,14), (3,7,11,15), so that a 4x4 transpose inside each 128-bit
