@@ -13,6 +13,9 @@ typedef struct sb_vec3 {
     double x, y, z;
 } sb_vec3;
 
+/* Whether all three components of v are finite. */
+static inline bool sb_finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+
 static inline sb_vec3 sb_v3(const double* p) { return (sb_vec3){p[0], p[1], p[2]}; }
 static inline sb_vec3 sb_v3_sub(sb_vec3 a, sb_vec3 b) { return (sb_vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
 static inline sb_vec3 sb_v3_add(sb_vec3 a, sb_vec3 b) { return (sb_vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }

@@ -11,8 +11,6 @@
 
 #include <math.h>
 
-bool sb_finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
-
 void sb_coupling_proxy(const sb_contact_model* model, double K, const double device[3], double proxy[3]) {
     const double* n = model->normal;
     double s0 = 0;

@@ -4,6 +4,8 @@
 #ifndef SB_HAPTICS_COUPLING_H
 #define SB_HAPTICS_COUPLING_H
 
+#include "common/geometry.h"
+
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -30,7 +32,5 @@ void sb_coupling_force(double K, double b, double T, const double device[3], con
 
 /* The rotation (degrees about x, then y, then z) of a unit quaternion w x y z. */
 void sb_quaternion_to_degrees(const double q[4], double degrees[3]);
-
-bool sb_finite3(const double v[3]);
 
 #endif

@@ -15,8 +15,6 @@
  * is degenerate: its corner angles are then meaningless. */
 #define SB_MIN_AREA_RATIO 1e-12
 
-static bool sb_finite3(const double* v) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
-
 static bool sb_constant_ok(double k) { return isfinite(k) && k >= 0.0; }
 
 static sb_status sb_check_vertices(const sb_builder* b, sb_error* err) {

@@ -35,33 +35,17 @@
  * them to sb_solver_settle (sb_fast_vertex_energies, the same arithmetic
  * on the packed state). The state check runs on every step.
  *
- * Measured alternatives (float, AVX-512, 2-core EPYC VM, jittered sheets,
- * all molecular-mechanics terms, ms per step on 1 / 2 threads; measured
- * when the passes ran in OpenMP parallel regions, before the team):
- *
- *   scheme                                        10k          100k        1M
- *   colors over the whole mesh, SoA gathers       -            3.3 / 1.58  41 / 23
- *   blocked colors (kept), SoA gathers            -            3.2 / 1.55  34 / 19
- *   + packed x y z w loads and adds (kept)        -            2.2 / 1.06  29 / 15
- *   + packed working state (kept)                 0.18 / 0.105 2.05 / 0.93 24 / 13
- *   per-thread force buffers + reduction instead
- *     of block colors (same kernels, packed)      0.21 / 0.158 2.4 / 1.27  31 / 16
- *
- * Per-thread buffers need no block coloring but pay for zeroing and adding
- * up one packed force array per thread every step, and their sums depend on
- * how blocks fall to threads: the results would differ between thread
- * counts. The blocked coloring is faster at every size and deterministic.
- * What bounds a step now: at 100k the gathers and scatters of the triangle
- * kernel (27 packed loads/adds per triangle); at 1M memory bandwidth (the
- * byte model in bench/bench_model.c moved ~440 MB a step: 13 ms at the
- * ~34 GB/s the STREAM triad reaches here; 362 MB since the bonds' flags
- * took a byte per triangle and gravity became the mass times a constant
- * instead of a packed stream of m g; 330 MB since the kick reads no
- * positions and the drift writes no velocities that nothing reads; 282 MB
- * since mass and inverse mass stream one real a vertex, spread over the
- * packed lanes in L1 per chunk (sb_spread_masses), not four). At 1M the
- * triangle kernel then waited on its own per-triangle streams, which it now
- * prefetches (kernels/forces/fast_corners.c). */
+ * Per-thread force buffers (no block coloring, a reduction instead) were
+ * measured slower at 10k, 100k and 1M vertices, and their sums depend on
+ * how blocks fall to threads, so results would differ between thread
+ * counts; the blocked coloring with packed x y z w loads and a packed
+ * working state is faster at every size and deterministic. At 100k a step
+ * is bound by the triangle kernel's gathers and scatters (27 packed
+ * loads/adds per triangle), at 1M by memory bandwidth (the byte model of
+ * bench/bench_model.c), which is why the passes stream one real of mass a
+ * vertex and the kick reads no positions nothing changed. The table of
+ * those schemes and the byte model's history are in
+ * bench/results/notes/fast_step.md. */
 #include "kernels/state/solver_fast.h"
 #include "kernels/state/vertex_state.h"
 #include "softbond/reference.h"
@@ -442,7 +426,7 @@ static inline double sb_kinetic_of(sb_real m, sb_real v) { return (sb_real)0.5 *
  * kept lane-wise in SIMD registers and reduced once: one float sum of a
  * loop the compiler vectorizes is added in order, lane after lane, a chain
  * of scalar additions that took most of the pass (100k sheet, all terms,
- * 1 thread: the pass ~7 % of the step's samples, most on those additions).
+ * 1 thread, bench/results/notes/fast_step.md).
  * Inlined into two copies, with and without the sum. */
 static inline __attribute__((always_inline)) int sb_kick_range(const sb_real* restrict m4, const sb_real* restrict im4,
                                                                const sb_real* u, sb_real* v, const sb_real* restrict f,

@@ -30,6 +30,7 @@
  * (mass > 0) takes its poses from its state instead (dynamic.c). */
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/rotation.h"
+#include "common/geometry.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -66,8 +67,6 @@ bool sb_collider_shape_from_name(const char* name, sb_collider_shape* out) {
 const char* sb_collider_name(const sb_collider* collider) { return collider ? collider->name : NULL; }
 
 /* ---- checking a def ----------------------------------------------------- */
-
-static bool sb_finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
 
 /* The vector must be finite (and, when `positive`, each component > 0). */
 static sb_status sb_check_vector(const char* label, const char* field, const double v[3], bool positive,
