@@ -29,7 +29,7 @@ static double now(void) {
 }
 
 /* Steps per second of the scene advanced alone for `seconds`. */
-static double alone(const sb_cli_args* args, double seconds, uint32_t* vertices) {
+static double alone(const sb_simulation_args* args, double seconds, uint32_t* vertices) {
     sb_simulation sim = {0};
     sb_error err;
     if (sb_simulation_prepare(&sim, args, &err) != SB_OK || sb_simulation_start(&sim, NULL, &err) != SB_OK) {
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     }
     double seconds = 10.0, share = sb_default_view_options(NULL).render_share;
     const char* sets[64];
-    sb_cli_args args = {.input = argv[1], .sets = sets};
+    sb_simulation_args args = {.input = argv[1], .sets = sets};
     for (int i = 2; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--seconds") == 0) seconds = atof(argv[i + 1]);
         if (strcmp(argv[i], "--threads") == 0) args.threads = argv[i + 1];

@@ -74,7 +74,7 @@ static void nap_until(double when) {
     }
 }
 
-sb_view_options sb_default_view_options(const sb_cli_args* args) {
+sb_view_options sb_default_view_options(const sb_simulation_args* args) {
     return (sb_view_options){
         .args = args, .width = 960, .height = 720, .fps = 60.0, .realtime = 1.0, .render_share = 0.15};
 }

@@ -9,17 +9,17 @@
  * handles.h).
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/checkpoint.h"
-#include "scenes/cli.h"
-#include "scenes/energy_log.h"
+#include "cli/checkpoint.h"
+#include "cli/cli.h"
+#include "cli/energy_log.h"
 #include "common/error.h"
-#include "scenes/frame_export.h"
-#include "scenes/output_dir.h"
-#include "scenes/progress.h"
+#include "cli/frame_export.h"
+#include "cli/output_dir.h"
+#include "cli/progress.h"
 #include "scenes/simulation.h"
-#include "scenes/stop.h"
-#include "scenes/torn_surface.h"
-#include "scenes/vtk.h"
+#include "cli/stop.h"
+#include "cli/torn_surface.h"
+#include "cli/vtk.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -173,7 +173,8 @@ static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
 static sb_status prepare(run_job* job, sb_error* err) {
     if (job->args.output && job->args.output[0] == '\0')
         return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
-    sb_status status = sb_simulation_prepare(&job->sim, &job->args, err);
+    sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
+    sb_status status = sb_simulation_prepare(&job->sim, &sim_args, err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status == SB_OK) status = make_force_columns(job, err);
     if (status != SB_OK) return status;

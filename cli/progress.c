@@ -1,6 +1,6 @@
 /* The progress bar (see progress.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/progress.h"
+#include "cli/progress.h"
 
 #include <stdio.h>
 #include <time.h>
