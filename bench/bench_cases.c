@@ -201,9 +201,3 @@ void sb_bench_setup_free(sb_bench_setup* s) {
     sb_mesh_free(&s->mesh);
     memset(s, 0, sizeof *s);
 }
-
-double sb_bench_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}

@@ -57,7 +57,4 @@ sb_status sb_bench_prepare(const sb_bench_case* c, const sb_bench_options* o, sb
 sb_status sb_bench_build(const sb_bench_case* c, const sb_bench_options* o, sb_bench_setup* s, sb_error* err);
 void sb_bench_setup_free(sb_bench_setup* s);
 
-/* Seconds on the monotonic clock. */
-double sb_bench_now(void);
-
 #endif

@@ -16,6 +16,7 @@
  *
  *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
 #include "bench/bench_cases.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -27,12 +28,6 @@ typedef struct contact_options {
     int steps, runs;
     const char *csv, *md;
 } contact_options;
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
 
 static sb_collider* make_collider(sb_collider_shape shape, double floor) {
     sb_collider_def def = sb_default_collider_def();
@@ -95,9 +90,9 @@ static double time_steps(const sb_bench_setup* setup, int threads, sb_collider**
     sb_solver_set_state(s, x, v);
     advance(s, setup->dt, 20, NULL, NULL); /* caches and the team warm */
     uint64_t contacts = 0, self_contacts = 0;
-    double t0 = now();
+    double t0 = sb_wall_seconds();
     advance(s, setup->dt, steps, &contacts, &self_contacts);
-    double seconds = (now() - t0) / steps;
+    double seconds = (sb_wall_seconds() - t0) / steps;
     per_step[0] = (double)contacts / steps;
     per_step[1] = (double)self_contacts / steps;
     sb_solver_destroy(s);

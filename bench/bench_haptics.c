@@ -15,18 +15,13 @@
  * builds it and writes bench/results/haptics.csv and haptics.md. */
 #define _GNU_SOURCE
 #include "softbond/softbond.h"
+#include "common/clock.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 typedef struct bench_case {
     sb_mesh mesh;
@@ -80,9 +75,9 @@ static void bench_close(bench_case* b) {
 /* Steps per second over `seconds`, with the servo coupled when h is not NULL. */
 static double steps_per_second(bench_case* b, sb_haptics* h, double seconds) {
     sb_haptic_tick ticks[256];
-    double start = now();
+    double start = sb_wall_seconds();
     uint64_t steps = 0;
-    while (now() - start < seconds) {
+    while (sb_wall_seconds() - start < seconds) {
         if (h) sb_haptics_drive(h);
         if (sb_solver_advance(b->solver, 1e-4) != SB_OK) {
             fprintf(stderr, "sb_bench_haptics: %s\n", sb_solver_error(b->solver));
@@ -95,7 +90,7 @@ static double steps_per_second(bench_case* b, sb_haptics* h, double seconds) {
         }
         steps++;
     }
-    return (double)steps / (now() - start);
+    return (double)steps / (sb_wall_seconds() - start);
 }
 
 int main(int argc, char** argv) {

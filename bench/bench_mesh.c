@@ -18,6 +18,7 @@
  * 1.5 spacings, and on 10^6 uniform random points in a unit cube with a
  * radius of 0.01; target < 1 s each. */
 #include "softbond/softbond.h"
+#include "common/clock.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,12 +32,6 @@
 typedef struct phase_times {
     double first, best;
 } phase_times;
-
-static double now_seconds(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static void fail(const char* what, const sb_error* err) {
     fprintf(stderr, "sb_bench_mesh: %s: %s\n", what, err ? err->message : "failed");
@@ -81,7 +76,7 @@ static int drop_page_cache(void) {
 /* Adds a mesh with one of the two factories and compiles it; seconds taken. */
 static double add_and_compile(const sb_mesh* mesh, int springs) {
     sb_error err;
-    double start = now_seconds();
+    double start = sb_wall_seconds();
     sb_builder* builder = sb_builder_create();
     sb_material_def material = sb_default_material_def();
     sb_spring_mesh_def spring = sb_default_spring_mesh_def();
@@ -90,7 +85,7 @@ static double add_and_compile(const sb_mesh* mesh, int springs) {
     if (status != SB_OK) fail("factory", &err);
     sb_model* model = sb_builder_compile(builder, &err);
     if (!model) fail("compile", &err);
-    double seconds = now_seconds() - start;
+    double seconds = sb_wall_seconds() - start;
     sb_builder_destroy(builder);
     sb_model_destroy(model);
     return seconds;
@@ -99,9 +94,9 @@ static double add_and_compile(const sb_mesh* mesh, int springs) {
 static double time_vicinity(const double* positions, uint32_t count, double radius, size_t* pairs_out) {
     uint32_t* pairs;
     sb_error err;
-    double start = now_seconds();
+    double start = sb_wall_seconds();
     if (sb_vicinity_pairs(positions, count, radius, &pairs, pairs_out, &err) != SB_OK) fail("vicinity", &err);
-    double seconds = now_seconds() - start;
+    double seconds = sb_wall_seconds() - start;
     free(pairs);
     return seconds;
 }
@@ -146,9 +141,9 @@ int main(int argc, char** argv) {
     for (int trial = 0; trial < trials; trial++) {
         sb_mesh mesh;
         sb_error err;
-        double start = now_seconds();
+        double start = sb_wall_seconds();
         if (sb_mesh_load(obj, &mesh, &err) != SB_OK) fail("load", &err);
-        double t_load = now_seconds() - start;
+        double t_load = sb_wall_seconds() - start;
         double t_mm = add_and_compile(&mesh, 0);
         double t_springs = add_and_compile(&mesh, 1);
         record(&load, trial, t_load);

@@ -35,6 +35,7 @@
  * thread's affinity after every solver and gives the competing thread the
  * process's original affinity explicitly (a thread inherits its creator's). */
 #include "bench/bench_cases.h"
+#include "common/clock.h"
 #include "bench/bench_model.h"
 
 #include <errno.h>
@@ -66,12 +67,6 @@ typedef struct sb_options {
 
 static cpu_set_t sb_all_cpus; /* the process's affinity at start */
 
-static double sb_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static int64_t sb_now_ns(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -85,7 +80,7 @@ typedef struct sb_cpu_sample {
 } sb_cpu_sample;
 
 static sb_cpu_sample sb_cpu_now(void) {
-    sb_cpu_sample c = {sb_now(), NAN, NAN};
+    sb_cpu_sample c = {sb_wall_seconds(), NAN, NAN};
     FILE* f = fopen("/proc/stat", "r");
     unsigned long long v[8] = {0};
     if (f && fscanf(f, "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6],
@@ -113,7 +108,7 @@ typedef struct sb_schedule {
     int retried;   /* measurements repeated */
 } sb_schedule;
 
-static double sb_spare(const sb_schedule* s) { return s->budget - (sb_now() - s->started) - s->remaining; }
+static double sb_spare(const sb_schedule* s) { return s->budget - (sb_wall_seconds() - s->started) - s->remaining; }
 
 /* Waits, while there is spare time, for a half second in which other
  * processes kept at most `quiet` cores busy. */
@@ -246,12 +241,12 @@ static void sb_run_config(const sb_bench_setup* setup, const sb_config* c, const
             return;
         }
         sb_cpu_sample cpu = sb_cpu_now();
-        double t0 = sb_now();
-        while (sb_now() - t0 < o->seconds) {
+        double t0 = sb_wall_seconds();
+        while (sb_wall_seconds() - t0 < o->seconds) {
             struct timespec pause = {0, 10000000};
             nanosleep(&pause, NULL);
         }
-        r->seconds = sb_now() - t0;
+        r->seconds = sb_wall_seconds() - t0;
         r->lateness = sb_competitor_stop(&comp);
         r->others = sb_others_since(cpu);
         r->ok = true;
@@ -267,7 +262,8 @@ static void sb_run_config(const sb_bench_setup* setup, const sb_config* c, const
         return;
     }
     r->ok = true;
-    for (double t0 = sb_now(); r->ok && sb_now() - t0 < o->warmup;) r->ok = sb_solver_advance(s, setup->dt) == SB_OK;
+    for (double t0 = sb_wall_seconds(); r->ok && sb_wall_seconds() - t0 < o->warmup;)
+        r->ok = sb_solver_advance(s, setup->dt) == SB_OK;
     bool competing = false;
     if (r->ok && c->competitor) {
         competing = sb_competitor_start(&comp, o->seconds);
@@ -278,14 +274,14 @@ static void sb_run_config(const sb_bench_setup* setup, const sb_config* c, const
     }
     sb_cpu_sample cpu = sb_cpu_now();
     if (r->ok) {
-        double t0 = sb_now(), t = t0;
+        double t0 = sb_wall_seconds(), t = t0;
         while (t - t0 < o->seconds) {
             if (sb_solver_advance(s, setup->dt) != SB_OK) {
                 r->ok = false;
                 break;
             }
             r->steps++;
-            t = sb_now();
+            t = sb_wall_seconds();
         }
         r->seconds = t - t0;
     }
@@ -327,9 +323,9 @@ static double sb_memcpy_gb_per_s(uint32_t n) {
         memset(src, 1, bytes);
         memset(dst, 2, 3 * bytes);
         for (int k = 0; k < 30; k++) {
-            double t0 = sb_now();
+            double t0 = sb_wall_seconds();
             memcpy(dst + (size_t)(k % 3) * bytes, src, bytes);
-            best = fmin(best, sb_now() - t0);
+            best = fmin(best, sb_wall_seconds() - t0);
         }
         volatile char sink = dst[bytes / 2];
         (void)sink;
@@ -360,25 +356,25 @@ static void sb_run_publish(const sb_bench_setup* setup, const sb_publish_config*
         return;
     }
     r->ok = true;
-    for (double t0 = sb_now(); r->ok && sb_now() - t0 < fmin(o->warmup, 0.3);)
+    for (double t0 = sb_wall_seconds(); r->ok && sb_wall_seconds() - t0 < fmin(o->warmup, 0.3);)
         r->ok = sb_solver_advance(s, setup->dt) == SB_OK && sb_solver_publish(s, buffer) == SB_OK;
-    double step = 0.0, publish = 0.0, fused = 0.0, start = sb_now();
+    double step = 0.0, publish = 0.0, fused = 0.0, start = sb_wall_seconds();
     int separate = 0, together = 0;
     sb_cpu_sample cpu = sb_cpu_now();
-    for (int k = 0; r->ok && k < o->publish_steps && (k < 100 || sb_now() - start < o->seconds); k++) {
+    for (int k = 0; r->ok && k < o->publish_steps && (k < 100 || sb_wall_seconds() - start < o->seconds); k++) {
         r->steps = k + 1;
         if (k % 2) { /* every other step: the step that publishes itself */
-            double t0 = sb_now();
+            double t0 = sb_wall_seconds();
             r->ok = sb_solver_advance_published(s, setup->dt, buffer) == SB_OK;
-            fused += sb_now() - t0;
+            fused += sb_wall_seconds() - t0;
             together++;
             continue;
         }
-        double t0 = sb_now();
+        double t0 = sb_wall_seconds();
         r->ok = sb_solver_advance(s, setup->dt) == SB_OK;
-        double t1 = sb_now();
+        double t1 = sb_wall_seconds();
         sb_status status = sb_solver_publish(s, buffer);
-        double t2 = sb_now();
+        double t2 = sb_wall_seconds();
         if (status != SB_OK) {
             snprintf(r->note, sizeof r->note, "publish failed (%d)", (int)status);
             r->ok = false;
@@ -566,7 +562,7 @@ static void sb_print_config(FILE* f, const sb_config* c) {
 }
 
 int main(int argc, char** argv) {
-    double started = sb_now();
+    double started = sb_wall_seconds();
     sb_options o = sb_parse(argc, argv);
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (sched_getaffinity(0, sizeof sb_all_cpus, &sb_all_cpus) != 0) {
@@ -865,7 +861,7 @@ int main(int argc, char** argv) {
     fclose(m);
     free(conclusions);
     printf("\n%.1f s waiting for quiet, %d measurements repeated, %.1f s in all\nwrote %s and %s\n", schedule.waited,
-           schedule.retried, sb_now() - started, o.csv, o.md);
+           schedule.retried, sb_wall_seconds() - started, o.csv, o.md);
     for (int i = 0; i < 2; i++) sb_bench_setup_free(&setups[i]);
     return 0;
 }

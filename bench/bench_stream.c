@@ -5,6 +5,7 @@
  * write-allocate read that a plain store also costs is not counted, as in
  * STREAM). The byte model of the kernels counts writes the same way. */
 #include "bench/bench_stream.h"
+#include "common/clock.h"
 
 #include <omp.h>
 #include <stdbool.h>
@@ -13,12 +14,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double sb_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* Line `name` of cache index `index`'s sysfs directory into out; false when absent. */
 static bool sb_cache_field(int index, const char* name, char* out, int size) {
@@ -79,9 +74,9 @@ sb_triad_result sb_bench_triad(size_t array_bytes, int threads, int repeats) {
         sb_triad_pass(a, b, c, n, 3.0, threads); /* warm-up */
         double best = 1e300;
         for (int k = 0; k < repeats; k++) {
-            double t0 = sb_now();
+            double t0 = sb_wall_seconds();
             sb_triad_pass(a, b, c, n, 3.0, threads);
-            double t = sb_now() - t0;
+            double t = sb_wall_seconds() - t0;
             if (t < best) best = t;
         }
         /* keep the result alive: the compiler must not drop the passes */

@@ -21,6 +21,7 @@
  *   sb_bench_tearing [--size N] [--steps N] [--chunk N] [--speed V] [--strain S]
  *                    [--threads N] [--csv FILE] [--md FILE] */
 #include "bench/bench_cases.h"
+#include "common/clock.h"
 #include "softbond/handle.h"
 
 #include <math.h>
@@ -47,12 +48,6 @@ typedef struct pulled {
     uint32_t* broke;    /* bonds broken by each step */
     uint32_t* vertices; /* vertices after each step */
 } pulled;
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
 
 static void fail(const char* what, const char* message) {
     fprintf(stderr, "sb_bench_tearing: %s: %s\n", what, message);
@@ -118,9 +113,9 @@ static void finish(pulled* p) {
 static void advance(pulled* p, double dt, int first, int count) {
     for (int k = first; k < first + count; k++) {
         uint32_t broken = sb_solver_broken_count(p->solver);
-        double t0 = now();
+        double t0 = sb_wall_seconds();
         sb_status status = sb_solver_advance(p->solver, dt);
-        p->seconds[k] = now() - t0;
+        p->seconds[k] = sb_wall_seconds() - t0;
         if (status != SB_OK) fail("advance", sb_solver_error(p->solver));
         p->broke[k] = sb_solver_broken_count(p->solver) - broken;
         p->vertices[k] = sb_solver_vertex_count(p->solver);

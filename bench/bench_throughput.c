@@ -15,6 +15,7 @@
  * Output: a table on stdout, a CSV (machine and models in '#' lines at the
  * top) and machine.txt beside it. */
 #include "bench/bench_cases.h"
+#include "common/clock.h"
 #include "bench/bench_model.h"
 #include "bench/bench_stream.h"
 
@@ -56,12 +57,6 @@ typedef struct sb_row {
     double triad;               /* GB/s with the same thread count */
     double speedup, efficiency; /* NAN where not applicable */
 } sb_row;
-
-static double sb_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* ---- options ------------------------------------------------------------- */
 
@@ -265,12 +260,12 @@ static bool sb_reset(sb_solver* s, sb_row* row) {
  * the seconds per step it saw (negative on failure). */
 static double sb_warm_up(sb_solver* s, double dt, double warmup, sb_row* row) {
     uint64_t chunk = 1, done = 0;
-    double t0 = sb_now(), elapsed = 0.0;
+    double t0 = sb_wall_seconds(), elapsed = 0.0;
     while (elapsed < warmup) {
         if (!sb_advance(s, dt, chunk, row)) return -1.0;
         done += chunk;
         chunk *= 2;
-        elapsed = sb_now() - t0;
+        elapsed = sb_wall_seconds() - t0;
     }
     return elapsed / (double)done;
 }
@@ -301,9 +296,9 @@ static void sb_measure(const sb_bench_setup* setup, const sb_options* o, sb_row*
         row->ok = true;
         for (int r = 0; r < o->repeats && row->ok; r++) {
             row->ok = sb_reset(s, row);
-            double t0 = sb_now();
+            double t0 = sb_wall_seconds();
             row->ok = row->ok && sb_advance(s, setup->dt, row->steps, row);
-            row->seconds = fmin(row->seconds, sb_now() - t0);
+            row->seconds = fmin(row->seconds, sb_wall_seconds() - t0);
         }
     }
     sb_solver_destroy(s);

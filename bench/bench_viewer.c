@@ -15,6 +15,7 @@
  * competes with the solver for the same cores. */
 #define _GNU_SOURCE
 #include "scenes/simulation.h"
+#include "common/clock.h"
 #include "viewer/view.h"
 
 #include <stdio.h>
@@ -22,14 +23,8 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Steps per second of the scene advanced alone for `seconds`. */
-static double alone(const sb_cli_args* args, double seconds, uint32_t* vertices) {
+static double alone(const sb_simulation_args* args, double seconds, uint32_t* vertices) {
     sb_simulation sim = {0};
     sb_error err;
     if (sb_simulation_prepare(&sim, args, &err) != SB_OK || sb_simulation_start(&sim, NULL, &err) != SB_OK) {
@@ -37,10 +32,10 @@ static double alone(const sb_cli_args* args, double seconds, uint32_t* vertices)
         exit(2);
     }
     *vertices = sb_solver_vertex_count(sim.solver);
-    double dt = sb_scene_number(&sim.scene, SB_KEY_DT), start = now(), end = start + seconds;
+    double dt = sb_scene_number(&sim.scene, SB_KEY_DT), start = sb_wall_seconds(), end = start + seconds;
     uint64_t steps = 0;
-    while (now() < end && sb_solver_advance(sim.solver, dt) == SB_OK) steps++;
-    double rate = steps / (now() - start);
+    while (sb_wall_seconds() < end && sb_solver_advance(sim.solver, dt) == SB_OK) steps++;
+    double rate = steps / (sb_wall_seconds() - start);
     sb_simulation_free(&sim);
     return rate;
 }
@@ -52,7 +47,7 @@ int main(int argc, char** argv) {
     }
     double seconds = 10.0, share = sb_default_view_options(NULL).render_share;
     const char* sets[64];
-    sb_cli_args args = {.input = argv[1], .sets = sets};
+    sb_simulation_args args = {.input = argv[1], .sets = sets};
     for (int i = 2; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--seconds") == 0) seconds = atof(argv[i + 1]);
         if (strcmp(argv[i], "--threads") == 0) args.threads = argv[i + 1];
@@ -68,12 +63,12 @@ int main(int argc, char** argv) {
     o.seconds = seconds;
     sb_view_result r;
     sb_error err;
-    double start = now();
+    double start = sb_wall_seconds();
     if (sb_view_run(&o, &r, &err) != SB_OK) {
         fprintf(stderr, "sb_bench_viewer: %s\n", err.message);
         return 2;
     }
-    double wall = now() - start, after = alone(&args, seconds, &vertices), without = 0.5 * (before + after);
+    double wall = sb_wall_seconds() - start, after = alone(&args, seconds, &vertices), without = 0.5 * (before + after);
     printf("vertices,threads,render_share,steps_per_s_alone,steps_per_s_viewer,ratio,frame_ms,fps\n");
     printf("%u,%s,%g,%.1f,%.1f,%.3f,%.2f,%.1f\n", vertices, args.threads ? args.threads : "default", share, without,
            r.steps_per_second, r.steps_per_second / without, 1e3 * r.frame_seconds, r.frames / wall);

@@ -1,6 +1,6 @@
 /* Private: a versioned binary file of tagged sections, the layout of the
  * solver's saved state (kernels/solver/solver_state.c) and of the program's
- * checkpoint (scenes/checkpoint.c).
+ * checkpoint (cli/checkpoint.c).
  *
  *   header   8  magic (what kind of file)
  *            4  version

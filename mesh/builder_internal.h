@@ -16,11 +16,6 @@ struct sb_builder {
     sb_array hinges;    /* sb_hinge_def */
 };
 
-/* The factories' strain rule: the length beyond which the bond between
- * mesh vertices a and b breaks, r0 (1 + strain), r0 their distance; +inf
- * when strain is 0. */
-double sb_strain_break_length(const sb_mesh* mesh, uint32_t a, uint32_t b, double strain);
-
 #define SB_ITEMS(array, type) ((const type*)(array).items)
 
 #endif

@@ -3,6 +3,7 @@
  * --max-error, the trial runs that measure what each level gives up. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/budget.h"
+#include "common/clock.h"
 
 int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms, double max_error, bool* fits) {
     int best = -1, smallest = -1;
@@ -26,12 +27,6 @@ int sb_budget_choose(const sb_budget_level* levels, int count, double budget_ms,
 #include "scenes/scene_model.h"
 
 enum { MAX_LEVELS = 6 };
-
-static double seconds_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static sb_status copy_mesh(const sb_mesh* in, sb_mesh* out, sb_error* err) {
     *out = (sb_mesh){in->vertex_count, malloc(3 * (size_t)in->vertex_count * sizeof(double) + 1), in->triangle_count,
@@ -87,11 +82,11 @@ static sb_status time_step(const sb_scene* scene, const sb_solver_def* def, cons
     *step_ms = INFINITY;
     for (int round = 0; round < 3; round++) {
         int steps = 0;
-        double start = seconds_now(), elapsed = 0.0;
+        double start = sb_wall_seconds(), elapsed = 0.0;
         while (steps < 100 && elapsed < 0.01) {
             sb_solver_advance(r.solver, dt); /* a blow-up costs the same: time it anyway */
             steps++;
-            elapsed = seconds_now() - start;
+            elapsed = sb_wall_seconds() - start;
         }
         *step_ms = fmin(*step_ms, 1e3 * elapsed / steps);
     }

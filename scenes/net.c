@@ -1,7 +1,6 @@
 /* The net factory (see net.h). */
 #include "scenes/net.h"
 #include "common/error.h"
-#include "mesh/builder_internal.h"
 #include "scenes/scene_model.h"
 
 static sb_status add_bond(sb_builder* builder, uint32_t first, const sb_mesh* mesh, uint32_t a, uint32_t b,

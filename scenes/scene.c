@@ -54,6 +54,20 @@ void sb_scene_free(sb_scene* scene) {
     memset(scene, 0, sizeof *scene);
 }
 
+static sb_status fill(sb_scene* scene, const char* path, const char* const* sets, size_t set_count, sb_error* err) {
+    sb_status status = path ? sb_scene_load(scene, path, err) : SB_OK;
+    for (size_t i = 0; i < set_count && status == SB_OK; i++) status = sb_scene_set(scene, sets[i], err);
+    return status == SB_OK ? sb_scene_validate(scene, err) : status;
+}
+
+sb_status sb_scene_read(sb_scene* scene, const char* path, const char* const* sets, size_t set_count, sb_error* err) {
+    sb_status status = sb_scene_init(scene, err);
+    if (status != SB_OK) return status;
+    status = fill(scene, path, sets, set_count, err);
+    if (status != SB_OK) sb_scene_free(scene);
+    return status;
+}
+
 double sb_scene_number(const sb_scene* scene, sb_scene_key key) { return scene->values[key].number; }
 
 int64_t sb_scene_integer(const sb_scene* scene, sb_scene_key key) { return scene->values[key].integer; }

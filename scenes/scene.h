@@ -228,6 +228,11 @@ sb_status sb_scene_set(sb_scene* scene, const char* assignment, sb_error* err);
  * known names, ... Errors name where the offending value was set. */
 sb_status sb_scene_validate(const sb_scene* scene, sb_error* err);
 
+/* Defaults, then the file (when path is not NULL), then every set
+ * ("key=value", in order), then the checks: a scene as a run uses it. On
+ * failure the scene is freed. */
+sb_status sb_scene_read(sb_scene* scene, const char* path, const char* const* sets, size_t set_count, sb_error* err);
+
 double sb_scene_number(const sb_scene* scene, sb_scene_key key);
 int64_t sb_scene_integer(const sb_scene* scene, sb_scene_key key);
 bool sb_scene_bool(const sb_scene* scene, sb_scene_key key);

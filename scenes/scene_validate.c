@@ -9,9 +9,8 @@
  * (2^24: a 4096 x 4096 sheet; 30000 x 30000 would take 20 GB).
  * Vertex indices are checked when the mesh is known (scene_model.c). */
 #include "scenes/scene.h"
-#include "scenes/cli.h"
 #include "scenes/colliders.h"
-#include "scenes/frame_export.h"
+#include "scenes/frame_formats.h"
 #include "scenes/handles.h"
 #include "scenes/blades.h"
 #include "scenes/haptics.h"

@@ -6,6 +6,7 @@
 #include "scenes/scene_model.h"
 #include "common/error.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +21,7 @@ static sb_status budget(const char* text, double* ms, sb_error* err) {
 }
 
 /* --max-error: a finite number of metres >= 0, with --budget-ms. */
-static sb_status max_error(const sb_cli_args* args, double* m, sb_error* err) {
+static sb_status max_error(const sb_simulation_args* args, double* m, sb_error* err) {
     *m = INFINITY;
     if (!args->max_error) return SB_OK;
     if (!args->budget_ms) return sb_error_set(err, SB_ERR_INVALID, "--max-error: needs --budget-ms");
@@ -32,7 +33,8 @@ static sb_status max_error(const sb_cli_args* args, double* m, sb_error* err) {
     return SB_OK;
 }
 
-static sb_status make_mesh(sb_simulation* sim, const sb_cli_args* args, const sb_solver_def* def, sb_error* err) {
+static sb_status make_mesh(sb_simulation* sim, const sb_simulation_args* args, const sb_solver_def* def,
+                           sb_error* err) {
     double ms, tolerance;
     sb_status status = max_error(args, &tolerance, err);
     if (status != SB_OK) return status;
@@ -43,7 +45,8 @@ static sb_status make_mesh(sb_simulation* sim, const sb_cli_args* args, const sb
     return status;
 }
 
-static sb_status make_model(sb_simulation* sim, const sb_cli_args* args, const sb_solver_def* def, sb_error* err) {
+static sb_status make_model(sb_simulation* sim, const sb_simulation_args* args, const sb_solver_def* def,
+                            sb_error* err) {
     sb_status status = make_mesh(sim, args, def, err);
     if (status != SB_OK) return status;
     bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
@@ -80,11 +83,11 @@ static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def*
     return SB_OK;
 }
 
-sb_status sb_simulation_prepare(sb_simulation* sim, const sb_cli_args* args, sb_error* err) {
-    sb_status status = sb_cli_scene(args->input, args, &sim->scene, err);
+sb_status sb_simulation_prepare(sb_simulation* sim, const sb_simulation_args* args, sb_error* err) {
+    sb_status status = sb_scene_read(&sim->scene, args->input, args->sets, (size_t)args->set_count, err);
     if (status != SB_OK) return status;
     sim->def = sb_scene_solver_def(&sim->scene);
-    status = sb_cli_threads(args, &sim->scene, &sim->def.runtime.threads, err);
+    status = sb_simulation_threads(args->threads, &sim->scene, &sim->def.runtime.threads, err);
     if (status == SB_OK) status = make_colliders(sim, &sim->def, err);
     if (status == SB_OK) status = make_model(sim, args, &sim->def, err);
     if (status == SB_OK) status = make_handles(sim, &sim->def, err);
@@ -93,6 +96,30 @@ sb_status sb_simulation_prepare(sb_simulation* sim, const sb_cli_args* args, sb_
     if (status == SB_OK) status = sb_point_load_prepare(&sim->scene, sim->model, &sim->load, err);
     if (status == SB_OK) sb_point_load_attach(&sim->load, &sim->def);
     return status;
+}
+
+/* A thread count: a whole number in [min, SB_MAX_THREADS]. */
+static bool parse_threads(const char* text, long min, int* out) {
+    char* end;
+    errno = 0;
+    long value = strtol(text, &end, 10);
+    if (end == text || *end != '\0' || errno != 0 || value < min || value > SB_MAX_THREADS) return false;
+    *out = (int)value;
+    return true;
+}
+
+/* --threads and the scene's threads take 0 (the default: SOFTBOND_THREADS,
+ * else one per processor); SOFTBOND_THREADS, the default itself, does not. */
+sb_status sb_simulation_threads(const char* requested, const sb_scene* scene, int* out, sb_error* err) {
+    const char* env = getenv("SOFTBOND_THREADS");
+    *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
+    if (requested && !parse_threads(requested, 0, out))
+        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, %d], got '%s'", SB_MAX_THREADS,
+                            requested);
+    if (requested || *out != 0 || !env || env[0] == '\0') return SB_OK;
+    if (parse_threads(env, 1, out)) return SB_OK;
+    return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [1, %d], got '%s'",
+                        SB_MAX_THREADS, env);
 }
 
 sb_status sb_simulation_start(sb_simulation* sim, sb_handle* extra, sb_error* err) {

@@ -15,9 +15,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "scenes/frame_export.h"
+#include "cli/frame_export.h"
 #include "scenes/scene.h"
-#include "scenes/vtk.h"
+#include "cli/vtk.h"
 #include "tests/test_files.h"
 
 static int setup_dir(void** state) {

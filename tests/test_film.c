@@ -1,4 +1,4 @@
-/* `softbond film` (viewer/film.c): the default scene for 0.3 s at 30 frames
+/* `softbond film` (cli/film.c): the default scene for 0.3 s at 30 frames
  * per second and 64 x 48 pixels makes an MP4 whose video stream ffprobe
  * counts 10 frames in, and no two consecutive decoded frames are the same
  * (ffmpeg's framemd5 of each). A missing povray, or an --eye that is not

@@ -61,10 +61,10 @@ typedef struct run {
 
 /* scenes/syringe.yaml with the --set lines given, on one thread. */
 static void run_open(run* r, const char* const* sets, int set_count) {
-    sb_cli_args args = {.input = SB_SOURCE_DIR "/scenes/syringe.yaml",
-                        .sets = (const char**)sets,
-                        .set_count = set_count,
-                        .threads = "1"};
+    sb_simulation_args args = {.input = SB_SOURCE_DIR "/scenes/syringe.yaml",
+                               .sets = (const char**)sets,
+                               .set_count = set_count,
+                               .threads = "1"};
     sb_error err;
     if (sb_simulation_prepare(&r->sim, &args, &err) != SB_OK || sb_simulation_start(&r->sim, NULL, &err) != SB_OK)
         fail_msg("%s", err.message);

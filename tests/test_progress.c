@@ -1,7 +1,7 @@
 /* The progress bar's line: the share done, the simulated time, the
  * real-time factor and the time left, from numbers worked out by hand. */
 #include "tests/test_util.h"
-#include "scenes/progress.h"
+#include "cli/progress.h"
 
 static void test_line_midway(void** state) {
     (void)state;

@@ -1,4 +1,4 @@
-/* The run's stop conditions (scenes/stop.c): the bouncing ball stops by
+/* The run's stop conditions (cli/stop.c): the bouncing ball stops by
  * its kinetic energy, below the threshold and before the watchdog, and the
  * log ends there; a run the watchdog ends says so and ends at
  * stop.max_time; without stop keys the duration ends the run; bad values
@@ -6,7 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
-#include "scenes/stop.h"
+#include "cli/stop.h"
 #include "tests/test_files.h"
 
 static int setup_dir(void** state) {

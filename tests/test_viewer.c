@@ -50,7 +50,7 @@ static void run_scene(const char* scene, const char* set, const char* name, cons
     snprintf(shot, sizeof shot, "test_viewer_%s.png", name);
     write_script(script, script_text);
     const char* sets[] = {"threads=1", set};
-    sb_cli_args args = {.input = scene, .sets = sets, .set_count = set ? 2 : 1};
+    sb_simulation_args args = {.input = scene, .sets = sets, .set_count = set ? 2 : 1};
     sb_view_options o = sb_default_view_options(&args);
     o.width = W, o.height = H, o.script = script, o.screenshot = shot, o.frames = frames;
     sb_error err;

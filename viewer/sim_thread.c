@@ -10,6 +10,7 @@
  * per batch and nothing else, whatever its frame rate. */
 #define _POSIX_C_SOURCE 200809L
 #include "viewer/sim_thread.h"
+#include "common/clock.h"
 #include "common/error.h"
 
 #include <errno.h>
@@ -20,12 +21,6 @@
 
 static const double BATCH_WALL = 1.0 / 120.0; /* s: the longest batch, so snapshots come at least this often */
 static const double RATE_WINDOW = 0.5;        /* s: steps per second and the real-time factor over this */
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static void nap(double seconds) {
     struct timespec t = {.tv_sec = 0, .tv_nsec = (long)(seconds * 1e9)};
@@ -111,7 +106,7 @@ static void fill_report(sb_sim_thread* t, sb_sim_report* r) {
 }
 
 static void measure(sb_sim_thread* t, sim_state* s, sb_sim_report* r) {
-    double wall = now(), elapsed = wall - s->window_wall;
+    double wall = sb_wall_seconds(), elapsed = wall - s->window_wall;
     uint64_t steps = sb_solver_step_count(t->sim->solver);
     if (elapsed < RATE_WINDOW) return;
     double simulated = sb_solver_time(t->sim->solver) - s->window_sim;
@@ -137,7 +132,7 @@ static bool exchange(sb_sim_thread* t, sim_state* s, bool first) {
     bool was_running = !s->applied.paused && !s->applied.stopped;
     if (apply(t, s, &c)) sb_solver_publish(t->sim->solver, t->buffer);
     if (!was_running) { /* the clock starts again from here */
-        s->wall_origin = now();
+        s->wall_origin = sb_wall_seconds();
         s->sim_origin = sb_solver_time(t->sim->solver);
     }
     return !c.quit;
@@ -183,14 +178,14 @@ static void follow_tearing(sb_sim_thread* t, sim_state* s) {
 /* Steps until the simulated time reaches the paced target or BATCH_WALL
  * has passed; the last step publishes. */
 static void batch(sb_sim_thread* t, sim_state* s) {
-    double dt = sb_scene_number(&t->sim->scene, SB_KEY_DT), start = now();
+    double dt = sb_scene_number(&t->sim->scene, SB_KEY_DT), start = sb_wall_seconds();
     double goal = t->realtime > 0 ? s->sim_origin + (start - s->wall_origin) * t->realtime : INFINITY;
     if (sb_solver_time(t->sim->solver) + dt > goal) {
         nap(fmin(1e-3, (sb_solver_time(t->sim->solver) + dt - goal) / t->realtime));
         return;
     }
     for (bool last = false; !last && !s->failed;) {
-        last = sb_solver_time(t->sim->solver) + 2 * dt > goal || now() - start >= BATCH_WALL;
+        last = sb_solver_time(t->sim->solver) + 2 * dt > goal || sb_wall_seconds() - start >= BATCH_WALL;
         s->failed = !step(t, s, dt, last);
     }
     follow_tearing(t, s);
@@ -199,13 +194,13 @@ static void batch(sb_sim_thread* t, sim_state* s) {
 static void* run(void* arg) {
     sb_sim_thread* t = arg;
     const sb_solver* solver = t->sim->solver;
-    sim_state s = {.window_wall = now(), .window_sim = sb_solver_time(solver), .handed = true};
+    sim_state s = {.window_wall = sb_wall_seconds(), .window_sim = sb_solver_time(solver), .handed = true};
     s.scratch = malloc(3 * ((size_t)sb_solver_vertex_capacity(solver) + 1) * sizeof *s.scratch);
     s.tears = sb_solver_vertex_capacity(solver) > sb_model_vertex_count(sb_solver_model(solver));
     if (s.tears && sb_view_topology_create(&s.topology, solver, &t->sim->mesh, NULL) != SB_OK) s.tears = false;
     s.topology.version = t->topology.version; /* each read after it counts on from the start's */
     s.applied.pick = -1;
-    s.wall_origin = now();
+    s.wall_origin = sb_wall_seconds();
     for (bool first = true; exchange(t, &s, first); first = false) {
         if (s.applied.paused || s.applied.stopped || s.failed || !s.scratch)
             nap(2e-3);

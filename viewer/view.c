@@ -11,6 +11,7 @@
  * sleep to the next frame time. */
 #define _POSIX_C_SOURCE 200809L
 #include "viewer/view.h"
+#include "common/clock.h"
 #include "common/error.h"
 #include "viewer/collider_draw.h"
 #include "viewer/input_script.h"
@@ -60,21 +61,15 @@ typedef struct view_app {
     uint64_t frames;
 } view_app;
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static void nap_until(double when) {
-    double wait = when - now();
+    double wait = when - sb_wall_seconds();
     if (wait <= 0) return;
     struct timespec t = {.tv_sec = (time_t)wait, .tv_nsec = (long)((wait - floor(wait)) * 1e9)};
     while (nanosleep(&t, &t) == -1 && errno == EINTR) {
     }
 }
 
-sb_view_options sb_default_view_options(const sb_cli_args* args) {
+sb_view_options sb_default_view_options(const sb_simulation_args* args) {
     return (sb_view_options){
         .args = args, .width = 960, .height = 720, .fps = 60.0, .realtime = 1.0, .render_share = 0.15};
 }
@@ -410,21 +405,21 @@ static double drawing_cpu(const view_app* a) {
 
 static sb_status frame_loop(view_app* a, sb_error* err) {
     const sb_view_options* o = a->options;
-    double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = now(), begin = next;
+    double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = sb_wall_seconds(), begin = next;
     for (a->running = true; a->running;) {
-        double start = now(), cpu_before = drawing_cpu(a);
+        double start = sb_wall_seconds(), cpu_before = drawing_cpu(a);
         events(a);
         take_snapshot(a);
         if (sb_sim_thread_exchange(&a->thread, &a->controls, &a->report, &a->topology))
             sb_mesh_draw_topology(&a->mesh, &a->topology);
         draw(a);
         a->frames++;
-        bool last =
-            !a->running || (o->frames && a->frames >= o->frames) || (o->seconds > 0 && now() - begin >= o->seconds);
+        bool last = !a->running || (o->frames && a->frames >= o->frames) ||
+                    (o->seconds > 0 && sb_wall_seconds() - begin >= o->seconds);
         if (last && o->screenshot && sb_screenshot_save(o->screenshot, a->width, a->height, err) != SB_OK)
             return SB_ERR_IO;
         sb_window_swap(a->window);
-        a->draw_seconds += now() - start;
+        a->draw_seconds += sb_wall_seconds() - start;
         if (last) break;
         /* the next frame one period on, and not before the renderer has
          * rested used (1/share − 1), used the processor time the frame took
@@ -432,7 +427,7 @@ static sb_status frame_loop(view_app* a, sb_error* err) {
         double share = o->render_share, used = drawing_cpu(a) - cpu_before;
         bool warm = a->frames > WARM_UP_FRAMES; /* the first frames compile shaders and fill buffers */
         double rest = warm && share > 0 && share < 1 ? used * (1.0 / share - 1.0) : 0.0;
-        next = fmax(next + period, now() + rest);
+        next = fmax(next + period, sb_wall_seconds() + rest);
         nap_until(next);
     }
     return SB_OK;
@@ -493,7 +488,7 @@ sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb
     if (status == SB_OK) status = start_simulation(&a, err);
     if (status == SB_OK) status = start_drawing(&a, err);
     if (status == SB_OK) status = sb_scene_haptics_start(&a.sim.haptics, "/dev/null", err);
-    double wall = now(), simulated = 0.0;
+    double wall = sb_wall_seconds(), simulated = 0.0;
     uint64_t steps = 0;
     if (status == SB_OK) {
         early_events(&a);
@@ -501,7 +496,7 @@ sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb
     }
     if (status == SB_OK) status = frame_loop(&a, err);
     sb_sim_thread_stop(&a.thread);
-    wall = now() - wall;
+    wall = sb_wall_seconds() - wall;
     if (a.sim.solver) {
         simulated = sb_solver_time(a.sim.solver);
         steps = sb_solver_step_count(a.sim.solver);

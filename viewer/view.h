@@ -5,18 +5,18 @@
 #ifndef SB_VIEWER_VIEW_H
 #define SB_VIEWER_VIEW_H
 
-#include "scenes/cli.h"
+#include "scenes/simulation.h"
 #include "viewer/camera.h"
 
 typedef struct sb_view_options {
-    const sb_cli_args* args; /* the scene, --set, --threads */
-    const char* screenshot;  /* PNG of the last frame, or NULL */
-    uint64_t frames;         /* stop after this many frames; 0 = until closed */
-    double seconds;          /* stop after this many wall-clock seconds; 0 = until closed */
-    const char* script;      /* scripted input (viewer/input_script.h), or NULL */
-    int width, height;       /* pixels */
-    double fps;              /* frames per second drawn at most */
-    double realtime;         /* simulated seconds per wall second; 0 = as fast as it can */
+    const sb_simulation_args* args; /* the scene, --set, --threads */
+    const char* screenshot;         /* PNG of the last frame, or NULL */
+    uint64_t frames;                /* stop after this many frames; 0 = until closed */
+    double seconds;                 /* stop after this many wall-clock seconds; 0 = until closed */
+    const char* script;             /* scripted input (viewer/input_script.h), or NULL */
+    int width, height;              /* pixels */
+    double fps;                     /* frames per second drawn at most */
+    double realtime;                /* simulated seconds per wall second; 0 = as fast as it can */
     /* The most of the wall clock the render thread takes: after a frame
      * that took d seconds to draw it waits at least d (1/share − 1), so a
      * slow renderer (Mesa's llvmpipe on the solver's cores) lowers its
@@ -24,7 +24,7 @@ typedef struct sb_view_options {
     double render_share;
 } sb_view_options;
 
-sb_view_options sb_default_view_options(const sb_cli_args* args);
+sb_view_options sb_default_view_options(const sb_simulation_args* args);
 
 /* What the viewer showed last, for tests and the benchmark. */
 typedef struct sb_view_result {

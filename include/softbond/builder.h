@@ -63,6 +63,11 @@ typedef struct sb_hinge_def {
 SB_API sb_vertex_def sb_default_vertex_def(void);
 SB_API sb_bond_def sb_default_bond_def(void);
 SB_API sb_triangle_def sb_default_triangle_def(void);
+/* The factories' strain rule, for a bond's break_max: the length beyond
+ * which the bond between mesh vertices a and b breaks, r0 (1 + strain), r0
+ * their distance, m; +inf when strain is 0. Public so that a factory built
+ * outside the library (the scene loader's net) breaks by the same rule. */
+SB_API double sb_strain_break_length(const sb_mesh* mesh, uint32_t a, uint32_t b, double strain);
 
 SB_API sb_builder* sb_builder_create(void);
 SB_API void sb_builder_destroy(sb_builder* builder);

@@ -24,6 +24,7 @@
  * safe across fork). An answer goes through a pipe at a few GB/s. */
 #define _GNU_SOURCE
 #include "mesh/io/isolate.h"
+#include "common/clock.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -104,12 +105,6 @@ static _Noreturn void child_main(int fd, sb_isolated_fn fn, void* arg, const sb_
 
 /* ---- the parent -------------------------------------------------------------- */
 
-static double seconds_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 typedef struct reading {
     int fd;
     double deadline;
@@ -140,7 +135,7 @@ static int read_some(reading* r) {
 /* 1: whole answer; 0: timed out; -1: the pipe ended early. */
 static int read_answer(reading* r) {
     for (;;) {
-        double left = r->deadline - seconds_now();
+        double left = r->deadline - sb_wall_seconds();
         if (left <= 0.0) return 0;
         struct pollfd p = {r->fd, POLLIN, 0};
         int ready = poll(&p, 1, (int)ceil(left * 1000.0));
@@ -184,7 +179,7 @@ sb_status sb_isolate_run(sb_isolated_fn fn, void* arg, const sb_isolate_limits* 
         close(fds[0]);
         return SB_ERR_IO;
     }
-    reading r = {.fd = fds[0], .deadline = seconds_now() + limits->seconds, .answer = answer};
+    reading r = {.fd = fds[0], .deadline = sb_wall_seconds() + limits->seconds, .answer = answer};
     int state = read_answer(&r);
     close(fds[0]);
     if (state != 1) kill(pid, SIGKILL);

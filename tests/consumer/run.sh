@@ -2,7 +2,7 @@
 # Usage: run.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR
 # Installs softbond into a scratch prefix; checks that the shared libraries
 # export exactly the public API (every SB_API function of the installed
-# headers, nothing else); builds two programs against the installation,
+# headers, nothing else); builds three programs against the installation,
 # through find_package(softbond) and through pkg-config, and runs them.
 set -eu
 build=$1 src=$2 work=$3
@@ -15,7 +15,7 @@ libdir=$(ls -d "$prefix"/lib*/ | head -n 1)
 # The public API: the names declared SB_API in the installed headers.
 grep -h '^SB_API ' "$prefix"/include/softbond/*.h |
     sed -E 's/^.*[ *](sb_[a-z0-9_]+)\(.*$/\1/' | sort -u >"$work/api.txt"
-nm -D --defined-only "$libdir/libsoftbond.so" "$libdir/libsoftbond_io.so" |
+nm -D --defined-only "$libdir/libsoftbond.so" "$libdir/libsoftbond_io.so" "$libdir/libsoftbond_scene.so" |
     awk '$2 == "T" {print $3}' | sort -u >"$work/exported.txt"
 if ! cmp -s "$work/api.txt" "$work/exported.txt"; then
     echo "exported symbols differ from the public API (< public only, > exported only):" >&2
@@ -28,12 +28,22 @@ if ldd "$libdir/libsoftbond.so" | grep -E 'assimp|meshoptimizer' >&2; then
     exit 1
 fi
 echo "exports: $(wc -l <"$work/api.txt") public functions, nothing else"
+# The scene library reaches the others through their public API only: an
+# internal function would be hidden there and fail to resolve at run time.
+nm -D --undefined-only "$libdir/libsoftbond_scene.so" | awk '$2 ~ /^sb_/ {print $2}' | sort -u >"$work/scene_uses.txt"
+if [ -n "$(comm -23 "$work/scene_uses.txt" "$work/exported.txt")" ]; then
+    echo "libsoftbond_scene.so uses functions the other libraries do not export:" >&2
+    comm -23 "$work/scene_uses.txt" "$work/exported.txt" >&2
+    exit 1
+fi
 
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n' >"$work/square.obj"
+printf 'mesh: {generator: sheet, nx: 5, ny: 4}\npin: top_corners\ndt: 0.001\nthreads: 1\n' >"$work/sheet.yaml"
 cmake -S "$src" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$work/cmake-build" >/dev/null
 LD_LIBRARY_PATH="$libdir" "$work/cmake-build/consumer"
 LD_LIBRARY_PATH="$libdir" "$work/cmake-build/consumer_io" "$work/square.obj"
+LD_LIBRARY_PATH="$libdir" "$work/cmake-build/consumer_scene" "$work/sheet.yaml"
 
 PKG_CONFIG_PATH=$(find "$prefix" -name softbond.pc -exec dirname {} \;)
 export PKG_CONFIG_PATH
@@ -41,3 +51,5 @@ cc -std=c11 -o "$work/consumer-pc" "$src/main.c" $(pkg-config --cflags --libs so
 LD_LIBRARY_PATH="$libdir" "$work/consumer-pc"
 cc -std=c11 -o "$work/consumer-io-pc" "$src/main_io.c" $(pkg-config --cflags --libs softbond_io)
 LD_LIBRARY_PATH="$libdir" "$work/consumer-io-pc" "$work/square.obj"
+cc -std=c11 -o "$work/consumer-scene-pc" "$src/main_scene.c" $(pkg-config --cflags --libs softbond_scene)
+LD_LIBRARY_PATH="$libdir" "$work/consumer-scene-pc" "$work/sheet.yaml"

@@ -32,8 +32,8 @@
 #include <unistd.h>
 
 #include "common/sections.h"
-#include "scenes/checkpoint.h"
-#include "scenes/positions_csv.h"
+#include "cli/checkpoint.h"
+#include "cli/positions_csv.h"
 #include "scenes/scene.h"
 #include "softbond/softbond.h"
 

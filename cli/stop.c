@@ -3,7 +3,7 @@
  * asks for it after each step only while the stop is armed (from min_time
  * on, stop.kinetic_energy set): reading the energies settles the forces that
  * pbd, xpbd, vbd and the fast implicit Euler leave for later, a force pass. */
-#include "scenes/stop.h"
+#include "cli/stop.h"
 
 sb_stop sb_stop_from_scene(const sb_scene* scene) {
     return (sb_stop){.kinetic_energy = sb_scene_number(scene, SB_KEY_STOP_KINETIC_ENERGY),

@@ -7,9 +7,9 @@
  * assembles the pictures into an H.264 MP4. One progress bar runs over
  * the three phases. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/cli.h"
+#include "cli/cli.h"
 #include "common/error.h"
-#include "scenes/output_dir.h"
+#include "cli/output_dir.h"
 #include "scenes/simulation.h"
 #include "viewer/camera.h"
 
@@ -235,7 +235,8 @@ static sb_status place_camera(film_job* job, sb_error* err) {
 
 static sb_status prepare(film_job* job, sb_error* err) {
     sb_status status = options(job, err);
-    if (status == SB_OK) status = sb_simulation_prepare(&job->sim, &job->args, err);
+    sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
+    if (status == SB_OK) status = sb_simulation_prepare(&job->sim, &sim_args, err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status != SB_OK) return status;
     double duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);

@@ -44,7 +44,7 @@ typedef struct sb_energy_log {
 bool sb_energy_log_add_collider(sb_energy_log* log, const char* name);
 /* Creates (or empties) the file at path and writes the header. */
 sb_status sb_energy_log_open(sb_energy_log* log, const char* path, sb_error* err);
-/* Goes on with the log at path as a checkpoint left it (scenes/checkpoint.h):
+/* Goes on with the log at path as a checkpoint left it (cli/checkpoint.h):
  * cut to `bytes` (the rows after the checkpoint are written again), the
  * frames' times taken over (count of them, malloc'd: the log frees them). */
 sb_status sb_energy_log_resume(sb_energy_log* log, const char* path, uint64_t bytes, double* times, uint32_t count,

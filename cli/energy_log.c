@@ -1,6 +1,6 @@
 /* The energy log (see energy_log.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/energy_log.h"
+#include "cli/energy_log.h"
 #include "common/error.h"
 
 #include <errno.h>

@@ -3,7 +3,7 @@
  * non-manifold edges, connected components, bounding box, whether the
  * surface is closed, and the element colors its model would get (greedy,
  * as the fast kernels color: no two elements of a color share a vertex). */
-#include "scenes/cli.h"
+#include "cli/cli.h"
 #include "common/error.h"
 #include "kernels/forces/coloring.h"
 #include "common/edge_map.h"

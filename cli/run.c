@@ -9,17 +9,18 @@
  * handles.h).
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/checkpoint.h"
-#include "scenes/cli.h"
-#include "scenes/energy_log.h"
+#include "cli/checkpoint.h"
+#include "common/clock.h"
+#include "cli/cli.h"
+#include "cli/energy_log.h"
 #include "common/error.h"
-#include "scenes/frame_export.h"
-#include "scenes/output_dir.h"
-#include "scenes/progress.h"
+#include "cli/frame_export.h"
+#include "cli/output_dir.h"
+#include "cli/progress.h"
 #include "scenes/simulation.h"
-#include "scenes/stop.h"
-#include "scenes/torn_surface.h"
-#include "scenes/vtk.h"
+#include "cli/stop.h"
+#include "cli/torn_surface.h"
+#include "cli/vtk.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -71,7 +72,7 @@ typedef struct run_job {
     sb_energy_log log;
     sb_step_work work;    /* the solver's work since the last frame */
     sb_stop stop;         /* the stop conditions, and which ended the run */
-    double index_written; /* when frames.pvd was last rewritten (now()) */
+    double index_written; /* when frames.pvd was last rewritten (sb_wall_seconds()) */
     sb_frame_export_def export;
     double* buffers;         /* positions, velocities, forces: 3n each, n the solver's vertex capacity */
     sb_torn_surface surface; /* what the frames show of a solver that tears */
@@ -173,7 +174,8 @@ static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
 static sb_status prepare(run_job* job, sb_error* err) {
     if (job->args.output && job->args.output[0] == '\0')
         return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
-    sb_status status = sb_simulation_prepare(&job->sim, &job->args, err);
+    sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
+    sb_status status = sb_simulation_prepare(&job->sim, &sim_args, err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status == SB_OK) status = make_force_columns(job, err);
     if (status != SB_OK) return status;
@@ -186,12 +188,6 @@ static sb_status prepare(run_job* job, sb_error* err) {
     return status == SB_OK ? prepare_checkpoints(job, err) : status;
 }
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static bool writes_vtu(const run_job* job) {
     return sb_scene_bool(&job->sim.scene, SB_KEY_OUTPUT_FRAMES) && (job->export.formats & SB_FRAME_VTU);
 }
@@ -199,8 +195,8 @@ static bool writes_vtu(const run_job* job) {
 /* frames.pvd: after each frame while short, then once a second; always at the end. */
 static sb_status write_index(run_job* job, bool last, sb_error* err) {
     if (!writes_vtu(job)) return SB_OK;
-    if (!last && job->log.count > INDEX_EVERY_FRAME && now() - job->index_written < 1.0) return SB_OK;
-    job->index_written = now();
+    if (!last && job->log.count > INDEX_EVERY_FRAME && sb_wall_seconds() - job->index_written < 1.0) return SB_OK;
+    job->index_written = sb_wall_seconds();
     return sb_vtk_write_collection(sb_output_dir_path(&job->out, "frames.pvd"), job->log.times, job->log.count, err);
 }
 
@@ -334,7 +330,7 @@ static sb_status open_output(run_job* job, sb_error* err) {
 /* Simulates, then writes the whole index and closes the log even after a
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
-    double start = now();
+    double start = sb_wall_seconds();
     job->log.broken_column = sb_scene_number(&job->sim.scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
                              sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0 ||
                              job->sim.blades.count > 0;
@@ -355,7 +351,7 @@ static int execute(run_job* job, sb_error* err) {
         return SB_EXIT_FAILURE;
     }
     sb_stop_print(&job->stop, stdout);
-    report(job, frames, now() - start);
+    report(job, frames, sb_wall_seconds() - start);
     return SB_EXIT_OK;
 }
 

@@ -3,10 +3,10 @@
  * JSON object on stdout. The mesh file's positions are the rest state; the
  * constants are the scene keys' defaults and --set. Double scalar reference
  * by default; --fast goes through a solver with the fast kernels. */
-#include "scenes/atomic_file.h"
-#include "scenes/cli.h"
+#include "cli/atomic_file.h"
+#include "cli/cli.h"
 #include "common/error.h"
-#include "scenes/positions_csv.h"
+#include "cli/positions_csv.h"
 #include "scenes/scene_model.h"
 
 #include <stdlib.h>
@@ -56,7 +56,7 @@ static sb_status evaluate_fast(eval_job* job, sb_error* err) {
     sb_solver_def def = sb_scene_solver_def(&job->scene);
     def.kernels = SB_KERNELS_FAST;
     memset(def.gravity, 0, sizeof def.gravity);
-    sb_status status = sb_cli_threads(&job->args, &job->scene, &def.runtime.threads, err);
+    sb_status status = sb_simulation_threads(job->args.threads, &job->scene, &def.runtime.threads, err);
     if (status != SB_OK) return status;
     sb_solver* solver = sb_solver_create(job->model, &def, err);
     if (!solver) return SB_ERR_INVALID;
@@ -92,7 +92,7 @@ static void print_json(const eval_job* job) {
 
 /* Everything up to the model at the positions to evaluate: bad input. */
 static sb_status prepare(eval_job* job, sb_error* err) {
-    sb_status status = sb_cli_scene(NULL, &job->args, &job->scene, err);
+    sb_status status = sb_scene_read(&job->scene, NULL, job->args.sets, (size_t)job->args.set_count, err);
     if (status != SB_OK) return status;
     status = sb_mesh_load(job->args.input, &job->mesh, err);
     if (status != SB_OK) return status;

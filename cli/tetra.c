@@ -28,8 +28,8 @@
  * 1 when TetGen is missing or fails (its last message is shown) or OUT
  * cannot be written. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/atomic_file.h"
-#include "scenes/cli.h"
+#include "cli/atomic_file.h"
+#include "cli/cli.h"
 #include "common/error.h"
 
 #include <dirent.h>

@@ -1,9 +1,8 @@
 /* What the commands share (see cli.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/cli.h"
+#include "cli/cli.h"
 #include "common/error.h"
 
-#include <errno.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -128,47 +127,18 @@ sb_status sb_cli_size(const char* text, int* width, int* height, sb_error* err) 
     return SB_OK;
 }
 
+sb_simulation_args sb_cli_simulation_args(const sb_cli_args* args) {
+    return (sb_simulation_args){.input = args->input,
+                                .sets = args->sets,
+                                .set_count = args->set_count,
+                                .threads = args->threads,
+                                .budget_ms = args->budget_ms,
+                                .max_error = args->max_error};
+}
+
 void sb_cli_args_free(sb_cli_args* args) {
     free(args->sets);
     args->sets = NULL;
-}
-
-static sb_status fill_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err) {
-    sb_status status = path ? sb_scene_load(scene, path, err) : SB_OK;
-    for (int i = 0; i < args->set_count && status == SB_OK; i++) status = sb_scene_set(scene, args->sets[i], err);
-    return status == SB_OK ? sb_scene_validate(scene, err) : status;
-}
-
-sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err) {
-    sb_status status = sb_scene_init(scene, err);
-    if (status != SB_OK) return status;
-    status = fill_scene(path, args, scene, err);
-    if (status != SB_OK) sb_scene_free(scene);
-    return status;
-}
-
-/* A thread count: a whole number in [min, SB_MAX_THREADS]. */
-static bool parse_threads(const char* text, long min, int* out) {
-    char* end;
-    errno = 0;
-    long value = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || errno != 0 || value < min || value > SB_MAX_THREADS) return false;
-    *out = (int)value;
-    return true;
-}
-
-/* --threads and the scene's threads take 0 (the default: SOFTBOND_THREADS,
- * else one per processor); SOFTBOND_THREADS, the default itself, does not. */
-sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err) {
-    const char* env = getenv("SOFTBOND_THREADS");
-    *out = (int)sb_scene_integer(scene, SB_KEY_THREADS);
-    if (args->threads && !parse_threads(args->threads, 0, out))
-        return sb_error_set(err, SB_ERR_INVALID, "--threads: expected an integer in [0, %d], got '%s'", SB_MAX_THREADS,
-                            args->threads);
-    if (args->threads || *out != 0 || !env || env[0] == '\0') return SB_OK;
-    if (parse_threads(env, 1, out)) return SB_OK;
-    return sb_error_set(err, SB_ERR_INVALID, "SOFTBOND_THREADS: expected an integer in [1, %d], got '%s'",
-                        SB_MAX_THREADS, env);
 }
 
 /* The length of the valid UTF-8 sequence at s (2 to 4 bytes), or 0. */

@@ -1,6 +1,7 @@
 /* The progress bar (see progress.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/progress.h"
+#include "cli/progress.h"
+#include "common/clock.h"
 
 #include <stdio.h>
 #include <time.h>
@@ -8,16 +9,10 @@
 
 enum { BAR_WIDTH = 40 };
 
-static double wall_clock(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 sb_progress sb_progress_start(uint64_t total, double dt) {
     return (sb_progress){.total = total ? total : 1,
                          .dt = dt,
-                         .start = wall_clock(),
+                         .start = sb_wall_seconds(),
                          .shown = -1.0,
                          .enabled = isatty(fileno(stderr)) != 0};
 }
@@ -38,7 +33,7 @@ void sb_progress_format(char* out, size_t size, uint64_t done, uint64_t total, d
 
 void sb_progress_update(sb_progress* progress, uint64_t done) {
     if (!progress->enabled) return;
-    double now = wall_clock();
+    double now = sb_wall_seconds();
     if (progress->shown >= 0.0 && now - progress->shown < 0.1 && done < progress->total) return;
     progress->shown = now;
     char line[200];

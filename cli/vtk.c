@@ -9,8 +9,8 @@
  * listed in the .pvd as parts 0 and 1 of each time step, open as a
  * multiblock dataset with clean arrays in each block. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/vtk.h"
-#include "scenes/atomic_file.h"
+#include "cli/vtk.h"
+#include "cli/atomic_file.h"
 #include "common/error.h"
 
 #include <math.h>

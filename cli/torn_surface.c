@@ -1,4 +1,4 @@
-#include "scenes/torn_surface.h"
+#include "cli/torn_surface.h"
 #include "common/error.h"
 
 #include <stdlib.h>

@@ -2,7 +2,7 @@
  * `eval` a mesh's energies and forces, `info` on a mesh, `tetra` a closed
  * surface. See README.md ("Running a scene", "Viewer", "softbond eval",
  * "softbond info", "softbond tetra"). */
-#include "scenes/cli.h"
+#include "cli/cli.h"
 
 #include <string.h>
 

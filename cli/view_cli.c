@@ -1,5 +1,5 @@
-/* `softbond view SCENE.yaml` (viewer/view.h): the arguments, then the viewer. */
-#include "scenes/cli.h"
+/* `softbond view SCENE.yaml`: the arguments, then the viewer (viewer/view.h). */
+#include "cli/cli.h"
 #include "common/error.h"
 #include "viewer/view.h"
 
@@ -22,8 +22,9 @@ void sb_cli_view_usage(FILE* stream) {
                     "Headless: xvfb-run -a softbond view ...\n");
 }
 
-static sb_status view_options(const sb_cli_args* args, sb_view_options* o, sb_error* err) {
-    *o = sb_default_view_options(args);
+static sb_status view_options(const sb_cli_args* args, const sb_simulation_args* sim_args, sb_view_options* o,
+                              sb_error* err) {
+    *o = sb_default_view_options(sim_args);
     if (args->frames) {
         char* end;
         long long frames = strtoll(args->frames, &end, 10);
@@ -50,7 +51,9 @@ int sb_cli_view(int argc, char** argv) {
     sb_error err;
     int code = SB_EXIT_OK;
     sb_view_options options;
-    if (sb_cli_parse(argc, argv, accepted, &args, &err) != SB_OK || view_options(&args, &options, &err) != SB_OK)
+    sb_status parsed = sb_cli_parse(argc, argv, accepted, &args, &err);
+    sb_simulation_args sim_args = sb_cli_simulation_args(&args); /* the options point at it */
+    if (parsed != SB_OK || view_options(&args, &sim_args, &options, &err) != SB_OK)
         code = sb_cli_fail(SB_EXIT_INPUT, &err);
     else if (args.help)
         sb_cli_view_usage(stdout);

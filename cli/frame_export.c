@@ -1,6 +1,6 @@
-/* Frame formats and atomic frames (see frame_export.h).
+/* Atomic frames in each format (see frame_export.h).
  *
- * One table maps a format's name to its extension and writer: vtu writes
+ * One table maps a format (scenes/frame_formats.h) to its extension and writer: vtu writes
  * the surface and the bonds (vtk.c), every other format goes through
  * sb_mesh_export (ply, obj, gltf, glb by assimp; irit and pov by softbond).
  *
@@ -14,7 +14,7 @@
  * half written or without its companions; a later run clears a stale
  * staging folder of the same name before it uses it. */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/frame_export.h"
+#include "cli/frame_export.h"
 #include "common/error.h"
 
 #include <dirent.h>
@@ -125,60 +125,27 @@ static sb_status write_mesh(const frame_job* job, sb_error* err) {
 typedef sb_status (*frame_writer)(const frame_job* job, sb_error* err);
 
 typedef struct frame_format {
-    const char* name;
     const char* extension; /* NULL: sb_mesh_export_extension's */
     frame_writer write;
 } frame_format;
 
-static const frame_format formats[] = {
-    {"vtu", ".vtu", write_vtu}, {"ply", NULL, write_mesh},  {"obj", NULL, write_mesh}, {"gltf", NULL, write_mesh},
-    {"glb", NULL, write_mesh},  {"irit", NULL, write_mesh}, {"pov", NULL, write_mesh},
+/* In the bit order of scenes/frame_formats.c's names. */
+static const frame_format formats[SB_FRAME_FORMAT_COUNT] = {
+    {".vtu", write_vtu}, {NULL, write_mesh}, {NULL, write_mesh}, {NULL, write_mesh},
+    {NULL, write_mesh},  {NULL, write_mesh}, {NULL, write_mesh},
 };
-enum { FORMAT_COUNT = sizeof formats / sizeof formats[0] };
 
-/* The table's names joined by ", ", made on the first call. */
-const char* sb_frame_formats_known(void) {
-    static char known[96];
-    if (known[0]) return known;
-    for (uint32_t i = 0; i < FORMAT_COUNT; i++)
-        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "", formats[i].name);
-    return known;
-}
-
-static bool find_format(const char* name, size_t length, uint32_t* index) {
-    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
-        if (strlen(formats[i].name) == length && strncmp(formats[i].name, name, length) == 0) {
-            *index = i;
-            return true;
-        }
-    }
-    return false;
-}
-
-bool sb_frame_formats_parse(const char* text, sb_frame_formats* out, char* bad, size_t bad_size) {
-    *out = 0;
-    for (const char* name = text;; name++) {
-        size_t length = strcspn(name, ",");
-        uint32_t index;
-        if (!find_format(name, length, &index)) {
-            snprintf(bad, bad_size, "%.*s", (int)length, name);
-            return false;
-        }
-        *out |= 1u << index;
-        name += length;
-        if (*name == '\0') return true;
-    }
-}
-
-static sb_status export_one(const frame_format* format, const sb_frame_export_def* def, const char* out, uint32_t index,
+static sb_status export_one(uint32_t i, const sb_frame_export_def* def, const char* out, uint32_t index,
                             const sb_vtk_frame* frame, sb_error* err) {
-    const char* extension = format->extension ? format->extension : sb_mesh_export_extension(format->name);
+    const frame_format* format = &formats[i];
+    const char* name = sb_frame_format_name(i);
+    const char* extension = format->extension ? format->extension : sb_mesh_export_extension(name);
     char main_name[64];
     sb_vtk_frame_name(index, extension, main_name, sizeof main_name);
     staging stage;
     sb_status status = stage_create(&stage, out, main_name, err);
     if (status != SB_OK) return status;
-    status = format->write(&(frame_job){format->name, &stage, index, frame, def->up}, err);
+    status = format->write(&(frame_job){name, &stage, index, frame, def->up}, err);
     if (status == SB_OK) return stage_publish(&stage, err);
     stage_remove(&stage);
     return status;
@@ -186,9 +153,9 @@ static sb_status export_one(const frame_format* format, const sb_frame_export_de
 
 sb_status sb_frame_export(const sb_frame_export_def* def, const sb_output_dir* out, uint32_t index,
                           const sb_vtk_frame* frame, sb_error* err) {
-    for (uint32_t i = 0; i < FORMAT_COUNT; i++) {
+    for (uint32_t i = 0; i < SB_FRAME_FORMAT_COUNT; i++) {
         if (!(def->formats & (1u << i))) continue;
-        sb_status status = export_one(&formats[i], def, out->dir, index, frame, err);
+        sb_status status = export_one(i, def, out->dir, index, frame, err);
         if (status != SB_OK) return status;
     }
     return SB_OK;

@@ -6,7 +6,7 @@
 
 #include <stdio.h>
 
-#include "scenes/scene.h"
+#include "scenes/simulation.h"
 
 enum {
     SB_EXIT_OK = 0,
@@ -49,13 +49,8 @@ typedef struct sb_cli_args {
 sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out, sb_error* err);
 void sb_cli_args_free(sb_cli_args* args);
 
-/* Defaults, then the file (when path is not NULL), then every --set, then
- * the checks. On failure the scene is freed. */
-sb_status sb_cli_scene(const char* path, const sb_cli_args* args, sb_scene* scene, sb_error* err);
-
-/* The solver's thread count: --threads, else the scene's threads when not
- * 0, else SOFTBOND_THREADS, else 0 (the runtime's default). */
-sb_status sb_cli_threads(const sb_cli_args* args, const sb_scene* scene, int* out, sb_error* err);
+/* The arguments a simulation is made from (scenes/simulation.h). */
+sb_simulation_args sb_cli_simulation_args(const sb_cli_args* args);
 
 /* --size "WxH", each 16 to 8192 pixels. */
 sb_status sb_cli_size(const char* text, int* width, int* height, sb_error* err);
@@ -67,7 +62,7 @@ int sb_cli_fail(int code, const sb_error* err);
 int sb_cli_run(int argc, char** argv);
 int sb_cli_eval(int argc, char** argv);
 int sb_cli_info(int argc, char** argv);
-/* `softbond view` and `softbond film` (viewer/): the real-time viewer and the film maker. */
+/* `softbond view` and `softbond film` (view_cli.c, film.c): the real-time viewer and the film maker. */
 int sb_cli_view(int argc, char** argv);
 int sb_cli_film(int argc, char** argv);
 void sb_cli_view_usage(FILE* stream);

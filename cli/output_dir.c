@@ -1,6 +1,6 @@
 /* The output folder (see output_dir.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/output_dir.h"
+#include "cli/output_dir.h"
 #include "common/error.h"
 
 #include <errno.h>

@@ -1,5 +1,5 @@
 /* `softbond run`'s checkpoints: --checkpoint-every T writes
- * DIR/checkpoint.sbck (atomically, scenes/atomic_file.c) after the first
+ * DIR/checkpoint.sbck (atomically, cli/atomic_file.c) after the first
  * frame at or past each multiple of T seconds of simulated time; --resume
  * DIR reads it back and the run goes on from that frame as if it had not
  * stopped. The file is common/sections.h's layout (magic "SBCHKPNT"): the
@@ -14,8 +14,8 @@
 #ifndef SB_CHECKPOINT_H
 #define SB_CHECKPOINT_H
 
-#include "scenes/cli.h"
-#include "scenes/stop.h"
+#include "cli/cli.h"
+#include "cli/stop.h"
 
 /* The run's side of a checkpoint. */
 typedef struct sb_run_state {

@@ -1,6 +1,6 @@
 /* The positions CSV reader (see positions_csv.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "scenes/positions_csv.h"
+#include "cli/positions_csv.h"
 #include "common/error.h"
 
 #include <ctype.h>
