@@ -15,14 +15,10 @@
 # The layers, lowest first. A directory belongs to the longest layer that
 # is a prefix of it (mesh/io is not mesh; haptics/tools is haptics).
 LAYERS="common mesh kernels haptics mesh/io scenes viewer cli bench tests"
-# The kernels' rooms, lowest first, as they are to be ordered:
-#   kernels/runtime kernels/forces kernels/linear kernels/state kernels/contact kernels/interaction kernels/integrators kernels/solver
+# The kernels' rooms, lowest first (DESIGN.md, "The map"): each is a layer
+# of its own, in place of kernels in LAYERS.
 KERNEL_ROOMS="kernels/runtime kernels/forces kernels/linear kernels/state kernels/contact kernels/interaction
               kernels/integrators kernels/solver"
-# 0 while the rooms do not yet follow that order (they are being
-# restructured): all of kernels/ is one layer. 1: each room is a layer of its
-# own, in KERNEL_ROOMS' order, in place of kernels in LAYERS.
-KERNEL_ROOMS_ORDERED=0
 
 set -eu
 if [ $# -ne 2 ]; then
@@ -31,11 +27,8 @@ if [ $# -ne 2 ]; then
 fi
 src=$1 build=$(cd "$2" && pwd)
 cd "$src"
-order=$(echo $LAYERS)
-if [ "$KERNEL_ROOMS_ORDERED" = 1 ]; then
-    order=$(echo " $order " | sed "s| kernels | $(echo $KERNEL_ROOMS) |")
-    order=$(echo $order)
-fi
+order=$(echo " $LAYERS " | sed "s| kernels | $(echo $KERNEL_ROOMS) |")
+order=$(echo $order)
 
 # One record a line: "INC file header", "DEF file symbol", "USE file symbol".
 records() {
