@@ -1,6 +1,6 @@
 /* Fast per-bond kernel: bond stretch (Eq. 3) and the damped spring (Eq. 2)
  * in one pass, sharing the bond vector and its length. */
-#include "kernels/forces/fast_kernels.h"
+#include "kernels/forces/fast_bonds.h"
 #include "kernels/forces/fast_block.h"
 #include "kernels/forces/reference_terms.h"
 

@@ -35,7 +35,7 @@
  * with a dropped one) have k = 0; their divisions see at least the
  * smallest normal number and their collapse checks +inf, so they add
  * exact zeros (to one of the triangle's own vertices). */
-#include "kernels/forces/fast_kernels.h"
+#include "kernels/forces/fast_corners.h"
 #include "kernels/forces/fast_block.h"
 #include "kernels/forces/reference_terms.h"
 

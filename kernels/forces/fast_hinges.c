@@ -9,7 +9,7 @@
  * formulation without inverse trigonometry (the rotation from the rest
  * normal pair) would need sin φ0 and cos φ0 per hinge: one more stream to
  * read for the same accuracy. */
-#include "kernels/forces/fast_kernels.h"
+#include "kernels/forces/fast_hinges.h"
 #include "kernels/forces/fast_block.h"
 
 int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,

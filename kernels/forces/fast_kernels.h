@@ -1,11 +1,13 @@
-/* Private: the fast force kernels. Each processes the elements [begin, end)
- * of one color of its group in blocks of SB_WIDTH lanes (one lane at a time
- * when serial, for the overflow color), adds forces to frame->f and its
- * energies to energy[], and returns its flags: SB_KERNEL_COLLAPSED when an
- * edge collapsed, SB_KERNEL_NEAR_LIMIT when a bond's length is at or past
- * the margin of its break limits (kernels/interaction/breakage.c then checks them
- * exactly; without, it need not look). Forces are the same formulas as the
- * scalar reference (kernels/reference_*.c), in sb_real. */
+/* Private: what the fast force kernels share; each kernel is declared in
+ * its own header (kernels/forces/fast_bonds.h, fast_corners.h, fast_hinges.h).
+ * Each processes the elements [begin, end) of one color of its group in
+ * blocks of SB_WIDTH lanes (one lane at a time when serial, for the
+ * overflow color), adds forces to frame->f and its energies to energy[],
+ * and returns its flags: SB_KERNEL_COLLAPSED when an edge collapsed,
+ * SB_KERNEL_NEAR_LIMIT when a bond's length is at or past the margin of its
+ * break limits (kernels/interaction/breakage.c then checks them exactly;
+ * without, it need not look). Forces are the same formulas as the scalar
+ * reference (kernels/reference_*.c), in sb_real. */
 #ifndef SB_FAST_KERNELS_H
 #define SB_FAST_KERNELS_H
 
@@ -23,16 +25,5 @@ typedef struct sb_fast_frame {
 enum { SB_KERNEL_COLLAPSED = 1, SB_KERNEL_NEAR_LIMIT = 2 };
 
 typedef int (*sb_fast_kernel)(const sb_fast_model*, const sb_fast_frame*, uint32_t, uint32_t, bool, double*);
-
-/* energy[0] bond stretch, energy[1] spring */
-int sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                  double energy[2]);
-/* energy[0] angle bend, [1] stretch-bend, [2] bond stretch and [3] spring
- * of the fused bonds, [4] bend of the fused hinges */
-int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                    double energy[5]);
-/* energy[0] bend */
-int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                   double energy[1]);
 
 #endif

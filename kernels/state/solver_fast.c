@@ -47,6 +47,9 @@
  * those schemes and the byte model's history are in
  * bench/results/notes/fast_step.md. */
 #include "kernels/state/solver_fast.h"
+#include "kernels/forces/fast_bonds.h"
+#include "kernels/forces/fast_corners.h"
+#include "kernels/forces/fast_hinges.h"
 #include "kernels/state/vertex_state.h"
 #include "softbond/reference.h"
 #include "softbond/runtime.h"
