@@ -1,6 +1,8 @@
 /* The scalar reference's entry points: one term, or all enabled terms. */
 #include "softbond/reference.h"
-#include "kernels/forces/reference_terms.h"
+#include "kernels/forces/reference_edges.h"
+#include "kernels/forces/reference_corners.h"
+#include "kernels/forces/reference_hinges.h"
 #include "common/error.h"
 
 #include <string.h>

@@ -9,6 +9,7 @@
  *   F_i = −F_j − F_k.
  * No 1/sin θ appears: the only singularity is A or B collapsing to zero,
  * which is reported instead of divided by. */
+#include "kernels/forces/reference_corners.h"
 #include "kernels/forces/reference_terms.h"
 #include "common/error.h"
 #include "common/geometry.h"

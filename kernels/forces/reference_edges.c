@@ -3,6 +3,7 @@
  * Bond stretch (Eq. 3): E = ½ k (r − r0)², F_i = k (r − r0) u, F_j = −F_i,
  * u = (x_j − x_i)/r. The damped spring (Eq. 2) adds d (v_j − v_i)·u along u;
  * its dissipation rate is −Σ d ((v_j − v_i)·u)². */
+#include "kernels/forces/reference_edges.h"
 #include "kernels/forces/reference_terms.h"
 #include "common/error.h"
 #include "common/geometry.h"

@@ -15,7 +15,7 @@
  * zero), so F = k (φ − φ0) u (common/geometry.h: sb_hinge_gradient). A wing
  * that collapses (|n| → 0: its height below SB_MIN_WING_RATIO of the edge)
  * is reported. */
-#include "kernels/forces/reference_terms.h"
+#include "kernels/forces/reference_hinges.h"
 #include "common/error.h"
 #include "common/geometry.h"
 
