@@ -10,6 +10,9 @@
 #include "test_util.h"
 
 #include "kernels/forces/fast_hessian.h"
+#include "kernels/forces/fast_hessian_bonds.h"
+#include "kernels/forces/fast_hessian_corners.h"
+#include "kernels/forces/fast_hessian_hinges.h"
 #include "kernels/forces/hessian.h"
 #include "kernels/state/solver_data.h"
 #include "kernels/state/vertex_state.h"

@@ -1,5 +1,8 @@
 /* Private: the fast kernels' second derivatives, for implicit
- * Euler on the fast kernels (kernels/integrators/implicit_fast.c).
+ * Euler on the fast kernels (kernels/integrators/implicit_fast.c): what the
+ * families share. Each family's passes are declared in its own header
+ * (kernels/forces/fast_hessian_bonds.h, _corners.h, _hinges.h, and
+ * _corner_blocks.h for the triangles' closed form).
  *
  * Design. Each term family's force formula is run on wide dual numbers
  * (common/dual.h's scalar duals, one SIMD lane per element): seeded with
@@ -48,18 +51,6 @@ typedef struct sb_hessian_frame {
     sb_real damping; /* D's weight against K's (1 / dt in J = M + dt D + dt² K) */
     sb_real* blocks; /* diagonal pass: SB_BLOCK_STRIDE per vertex, added to */
 } sb_hessian_frame;
-
-int sb_fast_bonds_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                          double* unused);
-int sb_fast_corners_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end,
-                            bool serial, double* unused);
-int sb_fast_hinges_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end,
-                           bool serial, double* unused);
-
-/* The triangles' diagonal pass in closed form
- * (kernels/forces/fast_hessian_corner_blocks.c). */
-void sb_fast_corner_blocks(const sb_fast_model* m, const sb_hessian_frame* frame, uint32_t begin, uint32_t end,
-                           bool serial);
 
 /* ---- wide dual numbers ------------------------------------------------- */
 

@@ -3,6 +3,7 @@
  * F_i = (k_bond + k_spring)(r − r0) u, F_j = −F_i, on wide duals; the
  * spring's damping c ((v_j − v_i)·u) u contributes its velocity derivative
  * c ((ẋ_j − ẋ_i)·u) u (D's product), weighted by `damping`. */
+#include "kernels/forces/fast_hessian_bonds.h"
 #include "kernels/forces/fast_hessian.h"
 
 static void sb_wdual_bond(const sb_fast_model* m, uint32_t s, sb_wide damping, const sb_wdvec3* x, sb_wdvec3* f) {

@@ -14,6 +14,7 @@
  * K_jj = H_aa, K_kk = H_bb, K_ii = H_aa + H_ab + H_abᵀ + H_bb. A bond that
  * edge c owns adds k (u uᵀ + (1 − r0/r)(I − u uᵀ)) + damping d u uᵀ to both
  * of its ends. */
+#include "kernels/forces/fast_hessian_corner_blocks.h"
 #include "kernels/forces/fast_hessian.h"
 
 /* A symmetric 3 × 3 block per lane: its upper triangle, xx xy xz yy yz zz

@@ -3,6 +3,8 @@
  * notation: corner c at vertex c, â = u_c, b̂ = −u_{c+2}, A = L_c,
  * B = L_{c+2}) and the bonds the triangle's edges own, on wide duals; the
  * diagonal pass in closed form (kernels/forces/fast_hessian_corner_blocks.c). */
+#include "kernels/forces/fast_hessian_corners.h"
+#include "kernels/forces/fast_hessian_corner_blocks.h"
 #include "kernels/forces/fast_hessian.h"
 
 typedef struct sb_wdtriangle {

@@ -3,6 +3,7 @@
  * on wide duals. As in kernels/forces/hessian_hinges.c, φ's derivative is
  * −Σ g_a · ẋ_a, so atan2 runs on values only, and the wrap of φ − φ0 moves
  * the value by 2π, not the slope. */
+#include "kernels/forces/fast_hessian_hinges.h"
 #include "kernels/forces/fast_hessian.h"
 
 static void sb_wdual_hinge(const sb_fast_model* m, uint32_t s, sb_wide damping, const sb_wdvec3* x, sb_wdvec3* f) {
