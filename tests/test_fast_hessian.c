@@ -14,6 +14,7 @@
 #include "kernels/forces/fast_hessian_corners.h"
 #include "kernels/forces/fast_hessian_hinges.h"
 #include "kernels/forces/hessian.h"
+#include "kernels/forces/hessian_edges.h"
 #include "kernels/state/solver_data.h"
 #include "kernels/state/vertex_state.h"
 #include "kernels/state/solver_forces.h"

@@ -7,6 +7,7 @@
 
 #include "kernels/linear/block_matrix.h"
 #include "kernels/forces/hessian.h"
+#include "kernels/forces/hessian_edges.h"
 
 enum { TERM_ALL = SB_TERM_COUNT };
 

@@ -1,6 +1,9 @@
 /* Element stiffness matrices and products from the terms' dual forces, and
  * their positive semi-definite stand-ins (kernels/forces/hessian.h). */
 #include "kernels/forces/hessian.h"
+#include "kernels/forces/hessian_edges.h"
+#include "kernels/forces/hessian_corners.h"
+#include "kernels/forces/hessian_hinges.h"
 
 #include <string.h>
 

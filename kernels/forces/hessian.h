@@ -15,7 +15,12 @@
  * spring's force also depends on x through its direction; that part of
  * ∂f/∂x is not symmetric and is left out (as Baraff and Witkin do): the
  * solvers that use K keep the exact residual, so it costs iterations, never
- * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact. */
+ * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact.
+ *
+ * This header: the elements and their functions (kernels/forces/hessian.c),
+ * which call each term family's, declared in its own header:
+ * kernels/forces/hessian_edges.h (the bond's), hessian_corners.h (the
+ * triangle's) and hessian_hinges.h (the hinge's). */
 #ifndef SB_HESSIAN_H
 #define SB_HESSIAN_H
 
@@ -42,19 +47,11 @@ sb_element sb_element_at(const sb_model* m, uint64_t e);
  * not written). Terms the model disables contribute nothing. */
 bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f);
 
-/* One per term family (kernels/forces/hessian_edges.c, _corners.c, _hinges.c);
- * *collapsed is set when an edge or a wing collapsed (f not written). */
-void sb_bond_forces_dual(const sb_model* m, uint32_t bond, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
-void sb_triangle_forces_dual(const sb_model* m, uint32_t triangle, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
-void sb_hinge_forces_dual(const sb_model* m, uint32_t hinge, const sb_dvec3* x, sb_dvec3* f, bool* collapsed);
-
 /* K_e = −∂f_e/∂x at x (3n interleaved), row-major 3 count × 3 count in k
  * (at most 12 × 12). False when the element collapsed. Bonds and triangles
  * in closed form (sb_bond_stiffness_matrix, sb_triangle_stiffness: several
  * times faster than the 12-seed dual run), hinges by the dual run. */
 bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k);
-bool sb_bond_stiffness_matrix(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
-bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
 
 /* Vertex `place` of the element (at x, 3n interleaved): adds its exact
  * force to f and its diagonal block of sb_element_stiffness_definite's
@@ -66,10 +63,6 @@ bool sb_triangle_stiffness(const sb_model* m, uint32_t triangle, const sb_vec3* 
  * with u_p = −∇_p φ; kernels/integrators/vbd.c says why). */
 bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
                              double* block);
-bool sb_bond_vertex_share(const sb_model* m, uint32_t bond, const sb_vec3* x, int place, double* f, double* block);
-bool sb_triangle_vertex_share(const sb_model* m, uint32_t triangle, const sb_vec3* x, int place, double* f,
-                              double* block);
-bool sb_hinge_vertex_share(const sb_model* m, uint32_t hinge, const sb_vec3* x, int place, double* f, double* block);
 
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive
@@ -89,9 +82,6 @@ static inline void sb_add_outer(double* k, int size, const double* w, double sca
     for (int r = 0; r < size; r++)
         for (int c = 0; c < size; c++) k[r * size + c] += scale * w[r] * w[c];
 }
-void sb_bond_definite(const sb_model* m, uint32_t bond, const sb_vec3* x, double* k);
-void sb_triangle_definite(const sb_model* m, uint32_t triangle, const sb_vec3* x, double* k);
-void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, double* k);
 
 /* The element's share of implicit Euler's J = M + dt D + dt² K as its
  * count × count 3 × 3 blocks, block-major (block (r, c) of the local
@@ -106,14 +96,6 @@ void sb_hinge_definite(const sb_model* m, uint32_t hinge, const sb_vec3* x, doub
  * hinge's without its angle (no atan2). False when the element collapsed. */
 bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const double* x, bool definite, double dt,
                                 double* blocks);
-bool sb_bond_jacobian_blocks(const sb_model* m, uint32_t bond, const sb_vec3* x, bool definite, double dt,
-                             double* blocks);
-bool sb_triangle_stiffness_blocks(const sb_model* m, uint32_t triangle, const sb_vec3* x, double scale, double* blocks);
-bool sb_hinge_definite_blocks(const sb_model* m, uint32_t hinge, const sb_vec3* x, double scale, double* blocks);
-
-/* The spring's damping block d u uᵀ (D_ii = D_jj = −D_ij), row-major 3 × 3;
- * false for a bond without damping or a collapsed one. */
-bool sb_bond_damping_block(const sb_model* m, uint32_t bond, const double* x, double* block);
 
 /* out = K p over every element (3n interleaved); false when one collapsed. */
 bool sb_stiffness_product(const sb_model* m, const double* x, const double* p, double* out);

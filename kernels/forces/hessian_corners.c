@@ -12,6 +12,7 @@
  * K_jj = H_aa, K_kk = H_bb, K_jk = H_ab, K_ij = −(H_aa + H_ba),
  * K_ik = −(H_ab + H_bb), K_ii = H_aa + H_ab + H_ba + H_bb. Tested against
  * differences of the reference forces and against the dual product. */
+#include "kernels/forces/hessian_corners.h"
 #include "kernels/forces/hessian.h"
 #include "kernels/forces/reference_terms.h"
 

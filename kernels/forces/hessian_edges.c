@@ -2,6 +2,7 @@
  * stretch and the damped spring's spring part, E = ½ (k_bond + k_spring)
  * (r − r0)², F_i = k (r − r0) u, F_j = −F_i; and the spring's damping
  * block. The same formulas as kernels/forces/reference_edges.c. */
+#include "kernels/forces/hessian_edges.h"
 #include "kernels/forces/hessian.h"
 #include "kernels/forces/reference_terms.h"
 

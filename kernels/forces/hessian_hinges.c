@@ -12,6 +12,7 @@
  * itself approximates, and the share costs one evaluation of u where the
  * exact diagonal block took three dual runs (nearly half of vbd's step:
  * bench/results/notes/vbd.md). */
+#include "kernels/forces/hessian_hinges.h"
 #include "kernels/forces/hessian.h"
 #include "common/geometry.h"
 

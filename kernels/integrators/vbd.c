@@ -64,6 +64,7 @@
 #include "kernels/interaction/breakage.h"
 #include "kernels/interaction/handle_internal.h"
 #include "kernels/forces/vertex_elements.h"
+#include "kernels/forces/hessian_edges.h"
 #include "kernels/integrators/fast_vbd.h"
 #include "common/sections.h"
 
