@@ -17,7 +17,7 @@
  * beside the Jolt peer. */
 #include "bench/bench_cases.h"
 #include "common/clock.h"
-#include "kernels/integrators/pbd_internal.h"
+#include "kernels/integrators/fast_pbd.h"
 
 #include <math.h>
 #include <stdio.h>

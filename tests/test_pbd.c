@@ -6,7 +6,7 @@
 #include "tests/test_util.h"
 #include "scenes/scene.h"
 #include "scenes/scene_model.h"
-#include "kernels/integrators/pbd_internal.h"
+#include "kernels/integrators/fast_pbd.h"
 
 #include <stdio.h>
 

@@ -89,6 +89,7 @@
  * (sb_solver_settle). A collapsed edge (a bond or a corner's edge of
  * squared length under SB_PBD_COLLAPSED2) is flagged by the sweeps; the
  * forces are then evaluated at once, and their pass names the element. */
+#include "kernels/integrators/fast_pbd.h"
 #include "kernels/integrators/pbd_internal.h"
 #include "kernels/integrators/pbd.h"
 #include "kernels/interaction/breakage.h"

@@ -63,6 +63,7 @@
  * thread) run on fewer threads than asked. The projection works in double
  * on its own copy of the positions. */
 #include "kernels/integrators/pbd_internal.h"
+#include "kernels/integrators/fast_pbd.h"
 #include "kernels/integrators/pbd.h"
 #include "kernels/interaction/handle_internal.h"
 #include "common/edge_map.h"
