@@ -7,6 +7,10 @@
 #include "tests/test_util.h"
 #include "softbond/collider.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/box.h"
+#include "kernels/contact/colliders/capsule.h"
+#include "kernels/contact/colliders/plane.h"
+#include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/rotation.h"
 
 #include <stdio.h>

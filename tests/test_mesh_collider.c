@@ -14,6 +14,7 @@
 
 #include "tests/test_files.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sphere.h"
 
 /* ---- meshes made here ------------------------------------------------------ */
 

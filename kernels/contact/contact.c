@@ -51,6 +51,7 @@
  * the end of the step. */
 #include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/dynamic.h"
 #include "kernels/state/solver_fast.h"
 #include "kernels/state/vertex_state.h"
 #include "common/error.h"

@@ -33,7 +33,7 @@
 #include "kernels/solver/step.h"
 #include "kernels/state/solver_fast.h"
 #include "kernels/contact/contact.h"
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/dynamic.h"
 #include "kernels/interaction/handle_internal.h"
 #include "common/error.h"
 

@@ -6,7 +6,9 @@
  * normal lies along an axis is bounded (on that axis); a tilted plane is
  * infinite, and every vertex is asked about. The inner radius, last, is
  * how far a shape may move in a step (softbond/collider.h). */
+#include "kernels/contact/colliders/bounds.h"
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/mesh_shape.h"
 
 #include <math.h>
 

@@ -14,7 +14,7 @@
  * move parallel to a slab (no division) is inside it for every s or for
  * none. Inside the box the direction of least penetration is the face
  * nearest the point (on a tie the lowest axis, then the + face). */
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/box.h"
 #include "kernels/contact/colliders/sweep.h"
 #include "kernels/contact/colliders/rotation.h"
 

@@ -15,7 +15,8 @@
  * B = m⊥·d⊥, C = m⊥·m⊥ − r²), clipped to 0 <= (m + s d)·u <= |b − a|. A
  * move along the axis (A = 0) is inside the infinite cylinder for every s
  * or for none. a == b is the ball about a. */
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/capsule.h"
+#include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>

@@ -29,6 +29,13 @@
  * Before the first begin_step both poses are pose(0). A dynamic collider
  * (mass > 0) takes its poses from its state instead (dynamic.c). */
 #include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/bounds.h"
+#include "kernels/contact/colliders/box.h"
+#include "kernels/contact/colliders/capsule.h"
+#include "kernels/contact/colliders/dynamic.h"
+#include "kernels/contact/colliders/mesh_shape.h"
+#include "kernels/contact/colliders/plane.h"
+#include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/rotation.h"
 #include "common/geometry.h"
 #include "common/error.h"

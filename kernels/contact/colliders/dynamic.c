@@ -27,6 +27,7 @@
  * then stands at pose1 and takes v += J / m + g dt, L += τ. Momentum and
  * angular momentum are exchanged exactly: what the vertices gain the body
  * loses, step by step. */
+#include "kernels/contact/colliders/dynamic.h"
 #include "kernels/contact/colliders/collider_internal.h"
 
 #include <math.h>

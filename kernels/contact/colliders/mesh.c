@@ -47,7 +47,8 @@
  *             outward normal.
  * A move from outside never reaches the volume without first coming
  * within t of the surface, so the entry is the solid's. */
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/mesh_shape.h"
+#include "kernels/contact/colliders/capsule.h"
 #include "kernels/contact/colliders/sweep.h"
 #include "common/edge_map.h"
 #include "common/error.h"

@@ -5,7 +5,7 @@
  * (f1 <= 0) enters at fraction f0 / (f0 − f1), which lies in (0, 1] and
  * needs no division by the move's length; a move with both ends outside
  * never enters a half-space. */
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/plane.h"
 #include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>

@@ -9,7 +9,7 @@
  * computed as c / (−b + √(b² − a c)), the form without cancellation; it
  * needs no division by a, so a zero-length move is safe (it returns
  * before: b = 0). */
-#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/sweep.h"
 
 #include <math.h>
