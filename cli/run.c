@@ -2,7 +2,8 @@
  * until its duration or a stop condition (stop.c: the kinetic energy below
  * stop.kinetic_energy, the watchdog stop.max_time; a last frame at the stop,
  * and a line saying which ended the run), writing frame k at step round(k frame_interval / dt)
- * for k = 0 .. floor(duration / frame_interval): a file each in every
+ * for k = 0 .. floor(duration / frame_interval), and one more at the end
+ * when the duration is not on that grid (always the end state): a file each in every
  * format of output.formats (unless output.frames is false; frame_export.c),
  * frames.pvd listing the .vtu frames, and a row of log.csv (with the
  * contacts and each collider's force, colliders.h, then each soft handle's,
@@ -80,6 +81,7 @@ typedef struct run_job {
     sb_run_state resumed; /* --resume: where the checkpoint left the run */
     uint64_t scene_hash;
     double checkpoint_every, next_checkpoint;
+    bool end_frame; /* the last frame is the end state, off the frame_interval grid */
 } run_job;
 
 static int run_finish(run_job* job, int code) {
@@ -176,6 +178,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
     sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
     sb_status status = sb_simulation_prepare(&job->sim, &sim_args, err);
+    if (status == SB_OK) status = sb_cli_no_mouse(&job->sim.scene, "run", err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status == SB_OK) status = make_force_columns(job, err);
     if (status != SB_OK) return status;
@@ -271,6 +274,11 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
     return SB_EXIT_OK;
 }
 
+/* The solver has moved on since the last frame: the end state is still to write. */
+static bool past_last_frame(const run_job* job) {
+    return job->log.count == 0 || sb_solver_time(job->sim.solver) > job->log.times[job->log.count - 1];
+}
+
 static int simulate(run_job* job, sb_error* err) {
     double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
     double interval = sb_scene_number(&job->sim.scene, SB_KEY_FRAME_INTERVAL);
@@ -289,7 +297,11 @@ static int simulate(run_job* job, sb_error* err) {
     }
     if (code == SB_EXIT_OK && !stopped) {
         code = advance_to(job, steps, &progress, err);
-        if (code == SB_EXIT_OK && job->stop.reason != SB_STOP_RUNNING) code = record_frame(job, err);
+        if (code == SB_EXIT_OK && past_last_frame(job)) {
+            job->end_frame = job->stop.reason == SB_STOP_RUNNING; /* not a stop's frame: said at the end */
+            code = record_frame(job, err);
+            if (code == SB_EXIT_OK) code = checkpoint(job, err);
+        }
     }
     if (code == SB_EXIT_OK && job->stop.reason == SB_STOP_RUNNING)
         sb_stop_at_end(&job->stop, sb_solver_time(job->sim.solver), sb_solver_energies(job->sim.solver).kinetic);
@@ -344,6 +356,7 @@ static int execute(run_job* job, sb_error* err) {
     sb_error index_err;
     sb_status index = write_index(job, true, &index_err);
     uint32_t frames = job->log.count;
+    double last_time = frames ? job->log.times[frames - 1] : 0.0;
     if (index == SB_OK) index = sb_energy_log_close(&job->log, &index_err);
     if (code != SB_EXIT_OK) return code;
     if (index != SB_OK) {
@@ -351,6 +364,9 @@ static int execute(run_job* job, sb_error* err) {
         return SB_EXIT_FAILURE;
     }
     sb_stop_print(&job->stop, stdout);
+    if (job->end_frame)
+        printf("softbond: frame %u is the end state at t = %.9g s (off the frame_interval grid)\n", frames - 1,
+               last_time);
     report(job, frames, sb_wall_seconds() - start);
     return SB_EXIT_OK;
 }

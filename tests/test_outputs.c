@@ -1,0 +1,174 @@
+/* The run's outputs tell the same story as log.csv (issue 31): the bonds
+ * frames of the tearing and cutting scenes sum, frame by frame, to the log's
+ * bond + spring energies (broken and severed bonds left out), and a run
+ * whose duration is off the frame_interval grid writes its end state. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <dirent.h>
+#include <stdio.h>
+#include <sys/stat.h>
+
+#include "tests/test_files.h"
+
+static int setup_dir(void** state) {
+    (void)state;
+    return tu_make_tmp_dir("sb_test_outputs");
+}
+
+static int teardown_dir(void** state) {
+    (void)state;
+    return tu_remove_tmp_dir();
+}
+
+/* ---- log.csv ---------------------------------------------------------------- */
+
+typedef struct csv {
+    char* text;
+    char* names[128];
+    int columns;
+    double* rows; /* rows x columns */
+    int count;
+} csv;
+
+static csv csv_read(const char* path) {
+    csv c = {.text = tu_read_file(path)};
+    if (!c.text) fail_msg("%s: missing", path);
+    char* line_end = strchr(c.text, '\n');
+    assert_non_null(line_end);
+    *line_end = '\0';
+    for (char* save = NULL, *name = strtok_r(c.text, ",", &save); name && c.columns < 128;
+         name = strtok_r(NULL, ",", &save))
+        c.names[c.columns++] = name;
+    size_t capacity = 16;
+    c.rows = malloc(capacity * (size_t)c.columns * sizeof(double));
+    for (char* p = line_end + 1; *p;) {
+        if ((size_t)c.count == capacity) c.rows = realloc(c.rows, (capacity *= 2) * (size_t)c.columns * sizeof(double));
+        for (int k = 0; k < c.columns; k++) {
+            c.rows[(size_t)c.count * (size_t)c.columns + (size_t)k] = strtod(p, &p);
+            if (*p == ',') p++;
+        }
+        while (*p && *p != '\n') p++;
+        if (*p == '\n') p++;
+        c.count++;
+    }
+    return c;
+}
+
+static double csv_at(const csv* c, int row, const char* name) {
+    for (int k = 0; k < c->columns; k++)
+        if (strcmp(c->names[k], name) == 0) return c->rows[(size_t)row * (size_t)c->columns + (size_t)k];
+    fail_msg("log.csv: no column '%s'", name);
+    return 0.0;
+}
+
+static void csv_free(csv* c) {
+    free(c->text);
+    free(c->rows);
+}
+
+/* ---- the bonds frames ---------------------------------------------------------- */
+
+/* The sum of the DataArray `name`'s numbers in the file at path, and their count. */
+static double array_sum(const char* path, const char* name, int* count) {
+    char* text = tu_read_file(path);
+    if (!text) fail_msg("%s: missing", path);
+    char key[64];
+    snprintf(key, sizeof key, "Name=\"%s\"", name);
+    const char* p = strstr(text, key);
+    if (!p) fail_msg("%s: no array %s", path, name);
+    p = strchr(p, '>') + 1;
+    const char* end = strstr(p, "</DataArray>");
+    double sum = 0.0;
+    *count = 0;
+    for (char* next; p < end; p = next) {
+        double v = strtod(p, &next);
+        if (next == p) break;
+        sum += v;
+        ++*count;
+    }
+    free(text);
+    return sum;
+}
+
+/* Runs SCENE into DIR and compares each frame's bond energies with log.csv's
+ * bond + spring terms; the last frame must have broken bonds. */
+static void assert_bonds_agree(const char* scene, const char* dir) {
+    char path[256];
+    snprintf(path, sizeof path, "%s/scenes/%s", SB_SOURCE_DIR, scene);
+    tu_result r = tu_run((const char*[]){"run", path, "--output", dir, NULL});
+    if (r.code != 0) fail_msg("%s: exit %d: %s", scene, r.code, r.err);
+    tu_result_free(&r);
+    snprintf(path, sizeof path, "%s/log.csv", dir);
+    csv log = csv_read(tu_tmp_path(path));
+    assert_true(log.count > 2);
+    int total_bonds = -1;
+    for (int f = 0; f < log.count; f++) {
+        snprintf(path, sizeof path, "%s/frame_%06d_bonds.vtu", dir, f);
+        int cells;
+        double cells_energy = array_sum(tu_tmp_path(path), "energy", &cells);
+        double logged = csv_at(&log, f, "bond") + csv_at(&log, f, "spring");
+        if (fabs(cells_energy - logged) > 1e-4 * fabs(logged) + 1e-9)
+            fail_msg("%s frame %d: the bonds frame's energies sum to %.9g J, log.csv's bond + spring %.9g J", scene,
+                     f, cells_energy, logged);
+        if (f == 0) total_bonds = cells;
+        assert_int_equal(cells + (int)csv_at(&log, f, "broken"), total_bonds);
+    }
+    assert_true(csv_at(&log, log.count - 1, "broken") > 0.0);
+    csv_free(&log);
+}
+
+static void test_bonds_frames_agree_with_log_tearing(void** state) {
+    (void)state;
+    assert_bonds_agree("tearing_sheet.yaml", "tearing");
+}
+
+static void test_bonds_frames_agree_with_log_cutting(void** state) {
+    (void)state;
+    assert_bonds_agree("blade_cut.yaml", "cutting");
+}
+
+/* ---- the end state ------------------------------------------------------------- */
+
+static const char tiny_scene[] = "mesh: {generator: sheet, nx: 4, ny: 4, width: 0.1, height: 0.1}\n"
+                                 "pin: top_edge\n"
+                                 "dt: 0.001\n"
+                                 "duration: 0.1\n"
+                                 "frame_interval: 0.02\n";
+
+static void test_end_state_written(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "duration=0.01", "--set", "frame_interval=1",
+                                         "--output", "end", NULL});
+    if (r.code != 0) fail_msg("exit %d: %s", r.code, r.err);
+    TU_ASSERT_CONTAINS(r.out, "frame 1 is the end state at t = 0.01");
+    tu_result_free(&r);
+    csv log = csv_read(tu_tmp_path("end/log.csv"));
+    assert_int_equal(log.count, 2);
+    TU_ASSERT_NEAR(csv_at(&log, 1, "time"), 0.01, 1e-12);
+    assert_int_equal((int)csv_at(&log, 1, "steps"), 10);
+    csv_free(&log);
+    struct stat info;
+    assert_int_equal(stat(tu_tmp_path("end/frame_000001.vtu"), &info), 0);
+    char* pvd = tu_read_file(tu_tmp_path("end/frames.pvd"));
+    TU_ASSERT_CONTAINS(pvd, "timestep=\"0.01");
+    free(pvd);
+
+    /* on the grid: no extra frame, nothing said */
+    r = tu_run((const char*[]){"run", "tiny.yaml", "--output", "grid", NULL});
+    assert_int_equal(r.code, 0);
+    assert_null(strstr(r.out, "end state"));
+    tu_result_free(&r);
+    log = csv_read(tu_tmp_path("grid/log.csv"));
+    assert_int_equal(log.count, 6);
+    csv_free(&log);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bonds_frames_agree_with_log_tearing),
+        cmocka_unit_test(test_bonds_frames_agree_with_log_cutting),
+        cmocka_unit_test(test_end_state_written),
+    };
+    return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
+}
