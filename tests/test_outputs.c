@@ -1,7 +1,9 @@
 /* The run's outputs tell the same story as log.csv (issue 31): the bonds
  * frames of the tearing and cutting scenes sum, frame by frame, to the log's
  * bond + spring energies (broken and severed bonds left out), and a run
- * whose duration is off the frame_interval grid writes its end state. */
+ * whose duration is off the frame_interval grid writes its end state; keys
+ * that would have no effect are refused; a mistyped value, option or
+ * command gets the nearest name; vectors take one form everywhere. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
@@ -164,11 +166,100 @@ static void test_end_state_written(void** state) {
     csv_free(&log);
 }
 
+
+/* ---- keys without effect, suggestions, vectors ------------------------------------ */
+
+static void assert_fails(const char* const* args, int code, const char* message) {
+    tu_result r = tu_run(args);
+    if (r.code != code || !strstr(r.err, message))
+        fail_msg("expected exit %d and '%s', got %d: %s", code, message, r.code, r.err);
+    tu_result_free(&r);
+}
+
+static void test_keys_without_effect_refused(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "mesh.file=" SB_SOURCE_DIR "/scenes/bowl.obj", "--output",
+                                 "never", NULL},
+                 2, "--set mesh.file=" SB_SOURCE_DIR "/scenes/bowl.obj: 'mesh.file' has no effect: 'mesh.generator' is sheet");
+    tu_write_file("mouse.yaml", "mesh: {generator: sheet, nx: 4, ny: 4, width: 0.1, height: 0.1}\n"
+                                "dt: 0.001\nduration: 0.01\n"
+                                "colliders: [{type: sphere, name: probe, center: [0, 0, 0.1], radius: 0.01}]\n"
+                                "haptics:\n  device: mouse\n  tool: probe\n");
+    assert_fails((const char*[]){"run", "mouse.yaml", "--output", "never", NULL}, 2,
+                 "mouse.yaml:6: 'haptics.device: mouse' is moved by the mouse in softbond view only");
+    assert_fails((const char*[]){"film", "mouse.yaml", "--movie", "never.mp4", NULL}, 2,
+                 "'haptics.device: mouse' is moved by the mouse in softbond view only");
+    struct stat info;
+    assert_int_not_equal(stat(tu_tmp_path("never"), &info), 0);
+}
+
+static void test_suggestions(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "integrator=xbpd", NULL}, 2,
+                 "got 'xbpd' (did you mean 'xpbd'?)");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "pin=top_corner", NULL}, 2,
+                 "got 'top_corner' (did you mean 'top_corners'?)");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "output.formats=vtu,pyl", NULL}, 2,
+                 "(did you mean 'ply'?)");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "colliders=[{type: spere}]", NULL}, 2,
+                 "got 'spere' (did you mean 'sphere'?)");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--thread", "2", NULL}, 2,
+                 "unknown option '--thread' (did you mean '--threads'?)");
+    assert_fails((const char*[]){"runn", "tiny.yaml", NULL}, 2, "unknown command 'runn' (did you mean 'run'?)");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "integrator=zzzzzz", NULL}, 2, "got 'zzzzzz'");
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--set", "integrator=zzzzzz", NULL});
+    assert_null(strstr(r.err, "did you mean"));
+    tu_result_free(&r);
+}
+
+/* One form for every vector: [x, y, z] or x,y,z, in the file, --set and the lists alike. */
+static void test_vector_forms(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    /* in a list's block map too (a flow map {...} splits at commas: YAML's own rule) */
+    tu_write_file("ball.yaml", "colliders:\n  - type: sphere\n    center: 0, 0, -0.2\n    radius: 0.1\n");
+    tu_write_file("ball_brackets.yaml", "colliders:\n  - type: sphere\n    center: [0, 0, -0.2]\n    radius: 0.1\n");
+    static const char* const a[] = {"gravity=[0, 0, -3]", "gravity=0,0,-3", "gravity=0, 0, -3", NULL};
+    char* first = NULL;
+    for (int i = 0; a[i]; i++) {
+        char dir[16], scene[700];
+        snprintf(dir, sizeof dir, "vec%d", i);
+        char* ball = tu_read_file(tu_tmp_path(i == 0 ? "ball_brackets.yaml" : "ball.yaml"));
+        snprintf(scene, sizeof scene, "%s%s", tiny_scene, ball);
+        free(ball);
+        tu_write_file("vec.yaml", scene);
+        tu_result r = tu_run((const char*[]){"run", "vec.yaml", "--set", a[i], "--output", dir, NULL});
+        if (r.code != 0) fail_msg("%s: exit %d: %s", a[i], r.code, r.err);
+        tu_result_free(&r);
+        char path[64];
+        snprintf(path, sizeof path, "%s/log.csv", dir);
+        char* log = tu_read_file(tu_tmp_path(path));
+        assert_non_null(log);
+        if (!first)
+            first = log;
+        else {
+            assert_string_equal(log, first);
+            free(log);
+        }
+    }
+    free(first);
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "gravity=0,0", NULL}, 2,
+                 "'gravity' expects 3 numbers: [x, y, z] or x,y,z, got '0,0'");
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "colliders=[{type: sphere, center: [0, 0], radius: 1}]",
+                                 NULL},
+                 2, "'colliders[0].center' expects 3 numbers: [x, y, z] or x,y,z");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bonds_frames_agree_with_log_tearing),
         cmocka_unit_test(test_bonds_frames_agree_with_log_cutting),
         cmocka_unit_test(test_end_state_written),
+        cmocka_unit_test(test_keys_without_effect_refused),
+        cmocka_unit_test(test_suggestions),
+        cmocka_unit_test(test_vector_forms),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
