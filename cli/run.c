@@ -18,6 +18,7 @@
 #include "cli/frame_export.h"
 #include "cli/output_dir.h"
 #include "cli/progress.h"
+#include "cli/run_record.h"
 #include "scenes/simulation.h"
 #include "cli/stop.h"
 #include "cli/torn_surface.h"
@@ -82,6 +83,8 @@ typedef struct run_job {
     uint64_t scene_hash;
     double checkpoint_every, next_checkpoint;
     bool end_frame; /* the last frame is the end state, off the frame_interval grid */
+    int argc;       /* the command line, for run.yaml */
+    char** argv;
 } run_job;
 
 static int run_finish(run_job* job, int code) {
@@ -339,6 +342,14 @@ static sb_status open_output(run_job* job, sb_error* err) {
                                 (uint32_t)run->frames, err);
 }
 
+/* DIR/run.yaml: the scene as run and how (run_record.h); rewritten by --resume. */
+static sb_status write_record(run_job* job, sb_error* err) {
+    int threads = job->sim.def.runtime.threads;
+    sb_run_record record = {&job->sim.scene, threads > 0 ? threads : sb_runtime_threads(0, NULL), job->argc,
+                            job->argv};
+    return sb_run_record_write(sb_output_dir_path(&job->out, "run.yaml"), &record, err);
+}
+
 /* Simulates, then writes the whole index and closes the log even after a
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
@@ -346,7 +357,7 @@ static int execute(run_job* job, sb_error* err) {
     job->log.broken_column = sb_scene_number(&job->sim.scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
                              sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0 ||
                              job->sim.blades.count > 0;
-    if (open_output(job, err) != SB_OK) return SB_EXIT_FAILURE;
+    if (open_output(job, err) != SB_OK || write_record(job, err) != SB_OK) return SB_EXIT_FAILURE;
     if (sb_scene_haptics_start(&job->sim.haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;
     int code = simulate(job, err);
@@ -374,7 +385,7 @@ static int execute(run_job* job, sb_error* err) {
 int sb_cli_run(int argc, char** argv) {
     static const char* const accepted[] = {"--output",      "--threads",          "--budget-ms", "--max-error",
                                            "--no-realtime", "--checkpoint-every", "--resume",    NULL};
-    run_job job = {0};
+    run_job job = {.argc = argc, .argv = argv};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)
         return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
