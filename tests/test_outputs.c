@@ -7,9 +7,12 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
+#include <errno.h>
 #include <stdio.h>
 #include <sys/stat.h>
 
+#include "scenes/colliders.h"
+#include "scenes/scene.h"
 #include "tests/test_files.h"
 
 static int setup_dir(void** state) {
@@ -252,6 +255,131 @@ static void test_vector_forms(void** state) {
                  2, "'colliders[0].center' expects 3 numbers: [x, y, z] or x,y,z");
 }
 
+/* ---- run.yaml ----------------------------------------------------------------------- */
+
+/* Every key of a scene read with --set values, written and read back, is the same value. */
+static void test_scene_write_round_trip(void** state) {
+    (void)state;
+    const char* path = tu_write_file("full.yaml", "mesh: {generator: sheet, nx: 5, ny: 4, jitter: 0.1}\n"
+                                                 "fixed: [0, 3]\n"
+                                                 "material: gallbladder\n"
+                                                 "output: {formats: [vtu, ply]}\n"
+                                                 "colliders:\n"
+                                                 "  - {type: plane, name: 'floor', point: [0, 0, -0.5]}\n"
+                                                 "  - type: sphere\n"
+                                                 "    center: 0.1, 0, -0.2\n"
+                                                 "    radius: 0.05\n"
+                                                 "    path: [{time: 0, translate: [0, 0, 0]}, {time: 1, translate: [0, 0, 0.1]}]\n"
+                                                 "handles: [{name: grip, vertices: [19], path: [{time: 0.5, rotate: [0, 0, 10]}]}]\n");
+    const char* sets[] = {"dt=0.00033", "gravity=0.1,0,-9", "tissue.density=900", "haptics.file=x y.csv"};
+    sb_scene scene, back;
+    sb_error err;
+    if (sb_scene_read(&scene, path, sets, 4, &err) != SB_OK) fail_msg("%s", err.message);
+    FILE* f = fopen(tu_tmp_path("written.yaml"), "w");
+    assert_non_null(f);
+    sb_scene_write(&scene, f);
+    fclose(f);
+    if (sb_scene_read(&back, tu_tmp_path("written.yaml"), NULL, 0, &err) != SB_OK) fail_msg("%s", err.message);
+    for (int key = 0; key < SB_KEY_COUNT; key++) {
+        const sb_scene_key_info* info = sb_scene_key_get((sb_scene_key)key);
+        const sb_scene_value *a = &scene.values[key], *b = &back.values[key];
+        switch (info->type) {
+        case SB_SCENE_NUMBER: assert_memory_equal(&a->number, &b->number, sizeof(double)); break;
+        case SB_SCENE_INTEGER: assert_int_equal(a->integer, b->integer); break;
+        case SB_SCENE_BOOL: assert_int_equal(a->boolean, b->boolean); break;
+        case SB_SCENE_VEC3:
+        case SB_SCENE_VEC3_OR_NUMBER: assert_memory_equal(a->vec3, b->vec3, sizeof a->vec3); break;
+        case SB_SCENE_INDICES:
+            assert_int_equal(a->index_count, b->index_count);
+            if (a->index_count) assert_memory_equal(a->indices, b->indices, a->index_count * sizeof *a->indices);
+            break;
+        case SB_SCENE_STRING:
+        case SB_SCENE_NAMES: {
+            char* pa = sb_scene_path(&scene, (sb_scene_key)key);
+            char* pb = sb_scene_path(&back, (sb_scene_key)key);
+            if (key == SB_KEY_HAPTICS_FILE) {
+                TU_ASSERT_CONTAINS(pb, "/x y.csv"); /* made absolute */
+                assert_int_equal(pb[0], '/');
+            } else if (key != SB_KEY_MESH_FILE)
+                assert_string_equal(a->string, b->string);
+            else if (a->string[0] == '\0')
+                assert_string_equal(b->string, ""); /* an empty path stays empty */
+            else
+                assert_string_equal(pa, pb);
+            free(pa);
+            free(pb);
+            break;
+        }
+        case SB_SCENE_LIST: break; /* checked below by what they build */
+        }
+        /* a key whose being set matters is set only where the scene set it */
+        assert_int_equal(b->where[0] != 0, key != SB_KEY_TISSUE_YOUNG_MODULUS);
+    }
+    sb_scene_colliders ca, cb;
+    assert_int_equal(sb_scene_colliders_read(&scene, &ca, &err), SB_OK);
+    assert_int_equal(sb_scene_colliders_read(&back, &cb, &err), SB_OK);
+    assert_int_equal(ca.count, 2);
+    assert_int_equal(cb.count, 2);
+    assert_string_equal(ca.entries[0].name, cb.entries[0].name);
+    assert_memory_equal(ca.entries[1].def.center, cb.entries[1].def.center, 3 * sizeof(double));
+    sb_scene_colliders_free(&ca);
+    sb_scene_colliders_free(&cb);
+    sb_scene_free(&scene);
+    sb_scene_free(&back);
+}
+
+/* `softbond run OUT/run.yaml` from another folder gives the same log and frames, bit for bit. */
+static void assert_rerun_same(const char* scene, const char* const* sets, const char* dir) {
+    const char* args[24] = {"run", scene};
+    int n = 2;
+    for (int i = 0; sets[i]; i++) args[n++] = "--set", args[n++] = sets[i];
+    args[n++] = "--output", args[n++] = dir, args[n++] = "--threads", args[n++] = "2", args[n] = NULL;
+    tu_result r = tu_run(args);
+    if (r.code != 0) fail_msg("%s: exit %d: %s", scene, r.code, r.err);
+    tu_result_free(&r);
+    char path[256], again[256];
+    snprintf(path, sizeof path, "%s/%s/run.yaml", tu_tmp_dir, dir);
+    char* record = tu_read_file(path);
+    assert_non_null(record);
+    TU_ASSERT_CONTAINS(record, "# softbond " SB_VERSION_STRING ", commit ");
+    TU_ASSERT_CONTAINS(record, sizeof(sb_real) == sizeof(double) ? "# precision: double; SIMD: " : "# precision: float; SIMD: ");
+    TU_ASSERT_CONTAINS(record, "; threads: 2\n");
+    TU_ASSERT_CONTAINS(record, "# command: softbond run ");
+    TU_ASSERT_CONTAINS(record, " --threads 2\n");
+    TU_ASSERT_CONTAINS(record, "\nmass: ");      /* a default */
+    TU_ASSERT_CONTAINS(record, "\noutput:\n  frames: ");
+    free(record);
+    snprintf(again, sizeof again, "%s_again", dir);
+    assert_int_equal(mkdir(tu_tmp_path("elsewhere"), 0777) == 0 || errno == EEXIST, 1);
+    char rerun_out[300];
+    snprintf(rerun_out, sizeof rerun_out, "%s/%s", tu_tmp_dir, again);
+    r = tu_run((const char*[]){"run", path, "--output", rerun_out, "--threads", "1", NULL});
+    if (r.code != 0) fail_msg("%s again: exit %d: %s", path, r.code, r.err);
+    tu_result_free(&r);
+    static const char* const files[] = {"log.csv", "frame_000000.vtu", "frame_000001.vtu", "frame_000002_bonds.vtu"};
+    for (size_t i = 0; i < 4; i++) {
+        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+        char* a = tu_read_file(tu_tmp_path(path));
+        snprintf(path, sizeof path, "%s/%s", again, files[i]);
+        char* b = tu_read_file(tu_tmp_path(path));
+        if (!a || !b) fail_msg("%s: missing", files[i]);
+        if (strcmp(a, b) != 0) fail_msg("%s/%s differs after softbond run run.yaml", dir, files[i]);
+        free(a);
+        free(b);
+    }
+}
+
+static void test_run_yaml_reproduces(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    assert_rerun_same("tiny.yaml", (const char*[]){"bond.k=250", "gravity=0,0.5,-9", "integrator=xpbd",
+                                                   "colliders=[{type: sphere, center: [0, 0, -0.05], radius: 0.03}]",
+                                                   NULL},
+                      "tiny_run");
+    assert_rerun_same(SB_SOURCE_DIR "/scenes/mesh_bowl.yaml", (const char*[]){"duration=0.1", NULL}, "bowl_run");
+    assert_rerun_same(SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", (const char*[]){"duration=0.3", NULL}, "tear_run");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bonds_frames_agree_with_log_tearing),
@@ -260,6 +388,8 @@ int main(void) {
         cmocka_unit_test(test_keys_without_effect_refused),
         cmocka_unit_test(test_suggestions),
         cmocka_unit_test(test_vector_forms),
+        cmocka_unit_test(test_scene_write_round_trip),
+        cmocka_unit_test(test_run_yaml_reproduces),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
