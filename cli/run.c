@@ -63,7 +63,9 @@ void sb_cli_run_usage(FILE* stream) {
                     "--checkpoint-every T writes DIR/checkpoint.sbck (the whole state, atomically)\n"
                     "after the first frame at or past each T seconds of simulated time; --resume DIR\n"
                     "goes on from it, appending to DIR's frames and log.csv exactly as the run would\n"
-                    "have: give the same scene and --set options (another scene is refused).\n");
+                    "have: give the same scene and --set options (another scene is refused); a\n"
+                    "longer duration (--set duration=T) goes on past a finished run's end, from its\n"
+                    "last checkpoint, as one run of that length would have.\n");
 }
 
 typedef struct run_job {
@@ -150,6 +152,14 @@ static sb_status resume(run_job* job, sb_error* err) {
                             (unsigned long long)job->resumed.log_bytes);
     job->checkpoint_every = job->resumed.every;
     job->next_checkpoint = job->resumed.next;
+    /* the scene's duration now: the run may go on to a longer one */
+    job->resumed.stop.duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);
+    double t = sb_solver_time(job->sim.solver), end = sb_stop_end(&job->resumed.stop);
+    if (t > end + 1e-9 * sb_scene_number(&job->sim.scene, SB_KEY_DT))
+        return sb_scene_fail(&job->sim.scene, SB_KEY_DURATION, err,
+                             "--resume %s: its checkpoint is at t = %.9g s, past the run's end %.9g s (a resumed run "
+                             "may only be longer)",
+                             job->args.resume, t, end);
     return SB_OK;
 }
 
@@ -303,7 +313,6 @@ static int simulate(run_job* job, sb_error* err) {
         if (code == SB_EXIT_OK && past_last_frame(job)) {
             job->end_frame = job->stop.reason == SB_STOP_RUNNING; /* not a stop's frame: said at the end */
             code = record_frame(job, err);
-            if (code == SB_EXIT_OK) code = checkpoint(job, err);
         }
     }
     if (code == SB_EXIT_OK && job->stop.reason == SB_STOP_RUNNING)

@@ -380,6 +380,58 @@ static void test_run_yaml_reproduces(void** state) {
     assert_rerun_same(SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", (const char*[]){"duration=0.3", NULL}, "tear_run");
 }
 
+/* ---- --resume to a longer duration -------------------------------------------------- */
+
+static void run_in(const char* const* args) {
+    tu_result r = tu_run(args);
+    if (r.code != 0) fail_msg("softbond %s %s: exit %d: %s", args[0], args[1], r.code, r.err);
+    tu_result_free(&r);
+}
+
+/* SCENE run for `shorter` s, then resumed to `longer` s, against one run of `longer` s. */
+static void assert_extends(const char* scene, const char* shorter, const char* longer, const char* every) {
+    char set_short[64], set_long[64], command[1200];
+    snprintf(set_short, sizeof set_short, "duration=%s", shorter);
+    snprintf(set_long, sizeof set_long, "duration=%s", longer);
+    snprintf(command, sizeof command, "rm -rf '%s' '%s'", tu_tmp_path("ext_one"), tu_tmp_path("ext_two"));
+    assert_int_equal(system(command), 0);
+    run_in((const char*[]){"run", scene, "--set", set_long, "--checkpoint-every", every, "--output", "ext_one", NULL});
+    run_in((const char*[]){"run", scene, "--set", set_short, "--checkpoint-every", every, "--output", "ext_two", NULL});
+    tu_result r = tu_run((const char*[]){"run", scene, "--set", set_long, "--resume", "ext_two", NULL});
+    if (r.code != 0) fail_msg("--resume to %s s: exit %d: %s", longer, r.code, r.err);
+    TU_ASSERT_CONTAINS(r.out, "softbond: resuming ext_two at frame");
+    tu_result_free(&r);
+    snprintf(command, sizeof command, "diff -r -x run.yaml '%s' '%s' >&2", tu_tmp_path("ext_one"),
+             tu_tmp_path("ext_two"));
+    assert_int_equal(system(command), 0);
+    char* record = tu_read_file(tu_tmp_path("ext_two/run.yaml"));
+    char line[80];
+    snprintf(line, sizeof line, "\nduration: %.17g\n", atof(longer));
+    TU_ASSERT_CONTAINS(record, line);
+    free(record);
+}
+
+static void test_resume_longer(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    assert_extends("tiny.yaml", "0.1", "0.2", "0.04");
+    assert_extends(SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", "0.5", "0.7", "0.1"); /* bonds break from 0.4 s */
+    /* shorter than the checkpoint, or another key changed: refused, nothing touched */
+    assert_fails((const char*[]){"run", SB_SOURCE_DIR "/scenes/tearing_sheet.yaml", "--set", "duration=0.69",
+                                 "--resume", "ext_one", NULL},
+                 2, "its checkpoint is at t = 0.7 s, past the run's end 0.69 s (a resumed run may only be longer)");
+    tu_write_file("tiny2.yaml", tiny_scene);
+    run_in((const char*[]){"run", "tiny.yaml", "--checkpoint-every", "0.04", "--output", "ext_three", NULL});
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "duration=0.3", "--set", "bond.k=1", "--resume",
+                                 "ext_three", NULL},
+                 2, "written for another scene (a key other than duration differs)");
+    /* the same scene under another file name and with a comment is the same scene */
+    tu_write_file("tiny2.yaml", "# a copy\n"
+                                "mesh: {generator: sheet, nx: 4, ny: 4, width: 0.1, height: 0.1}\n"
+                                "pin: top_edge\ndt: 0.001\nduration: 0.1\nframe_interval: 0.02\n");
+    run_in((const char*[]){"run", "tiny2.yaml", "--set", "duration=0.3", "--resume", "ext_three", NULL});
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bonds_frames_agree_with_log_tearing),
@@ -390,6 +442,7 @@ int main(void) {
         cmocka_unit_test(test_vector_forms),
         cmocka_unit_test(test_scene_write_round_trip),
         cmocka_unit_test(test_run_yaml_reproduces),
+        cmocka_unit_test(test_resume_longer),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
