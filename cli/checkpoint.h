@@ -26,8 +26,9 @@ typedef struct sb_run_state {
     double* times; /* each frame's time (frames of them; read: the caller frees) */
 } sb_run_state;
 
-/* The hash a checkpoint of this scene carries: the scene file's bytes and
- * each --set in order. */
+/* The hash a checkpoint of this scene carries: the resolved scene (every
+ * key's value after --set, as sb_scene_write gives it) but its duration, so
+ * that --resume may go on to a longer one; args is not used. */
 sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* args, uint64_t* hash, sb_error* err);
 
 /* Writes the checkpoint at path atomically. */

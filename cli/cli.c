@@ -2,8 +2,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/cli.h"
 #include "common/error.h"
+#include "scenes/suggest.h"
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,12 +65,29 @@ static sb_status usage_fail(sb_error* err, const char* command, const char* form
     return sb_error_set(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
 }
 
+/* "unknown option '--thread' (did you mean '--threads'?)": the nearest of
+ * the command's options (and --set, --help). */
+static sb_status unknown_option(sb_error* err, const char* command, const char* arg, const char* const* accepted) {
+    const char* names[64];
+    size_t count = 0;
+    for (; *accepted && count < 62; accepted++) names[count++] = *accepted;
+    names[count++] = "--set";
+    names[count++] = "--help";
+    char word[128];
+    snprintf(word, sizeof word, "%.*s", (int)strcspn(arg, "="), arg);
+    const char* near = sb_suggest(word, names, count);
+    char message[sizeof err->message];
+    snprintf(message, sizeof message, "unknown option '%s'%s%s%s", arg, near ? " (did you mean '" : "",
+             near ? near : "", near ? "'?)" : "");
+    return sb_error_set(err, SB_ERR_INVALID, "%s (see softbond %s --help)", message, command);
+}
+
 static sb_status parse_option(int argc, char** argv, int* i, const char* const* accepted, sb_cli_args* out,
                               sb_error* err) {
     const char* arg = argv[*i];
     bool is_set = strncmp(arg, "--set", 5) == 0 && (arg[5] == '\0' || arg[5] == '=');
     const option_spec* spec = is_set ? NULL : find_option(arg, accepted);
-    if (!is_set && !spec) return usage_fail(err, argv[0], "unknown option '%s'", arg);
+    if (!is_set && !spec) return unknown_option(err, argv[0], arg, accepted);
     if (spec && spec->flag) {
         *(bool*)((char*)out + spec->offset) = true;
         return SB_OK;
@@ -134,6 +153,14 @@ sb_simulation_args sb_cli_simulation_args(const sb_cli_args* args) {
                                 .threads = args->threads,
                                 .budget_ms = args->budget_ms,
                                 .max_error = args->max_error};
+}
+
+sb_status sb_cli_no_mouse(const sb_scene* scene, const char* command, sb_error* err) {
+    if (strcmp(sb_scene_string(scene, SB_KEY_HAPTICS_DEVICE), "mouse") != 0) return SB_OK;
+    return sb_scene_fail(scene, SB_KEY_HAPTICS_DEVICE, err,
+                         "'haptics.device: mouse' is moved by the mouse in softbond view only: in softbond %s the "
+                         "tool would stand still (use scripted or udp here)",
+                         command);
 }
 
 void sb_cli_args_free(sb_cli_args* args) {

@@ -52,6 +52,10 @@ void sb_cli_args_free(sb_cli_args* args);
 /* The arguments a simulation is made from (scenes/simulation.h). */
 sb_simulation_args sb_cli_simulation_args(const sb_cli_args* args);
 
+/* Refuses haptics.device: mouse (its place named) in a command other than
+ * view: nothing moves that device there, so the tool would stand still. */
+sb_status sb_cli_no_mouse(const sb_scene* scene, const char* command, sb_error* err);
+
 /* --size "WxH", each 16 to 8192 pixels. */
 sb_status sb_cli_size(const char* text, int* width, int* height, sb_error* err);
 

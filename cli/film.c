@@ -237,6 +237,7 @@ static sb_status prepare(film_job* job, sb_error* err) {
     sb_status status = options(job, err);
     sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
     if (status == SB_OK) status = sb_simulation_prepare(&job->sim, &sim_args, err);
+    if (status == SB_OK) status = sb_cli_no_mouse(&job->sim.scene, "film", err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status != SB_OK) return status;
     double duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);

@@ -3,6 +3,7 @@
  * surface. See README.md ("Running a scene", "Viewer", "softbond eval",
  * "softbond info", "softbond tetra"). */
 #include "cli/cli.h"
+#include "scenes/suggest.h"
 
 #include <string.h>
 
@@ -42,6 +43,9 @@ int main(int argc, char** argv) {
         printf("softbond %s\nmachine: %s\n", SB_VERSION_STRING, machine);
         return SB_EXIT_OK;
     }
-    fprintf(stderr, "softbond: unknown command '%s' (see softbond --help)\n", command);
+    static const char* const commands[] = {"run", "view", "film", "eval", "info", "tetra", "--help", "--version"};
+    const char* near = sb_suggest(command, commands, sizeof commands / sizeof commands[0]);
+    fprintf(stderr, "softbond: unknown command '%s'%s%s%s (see softbond --help)\n", command,
+            near ? " (did you mean '" : "", near ? near : "", near ? "'?)" : "");
     return SB_EXIT_INPUT;
 }

@@ -2,7 +2,8 @@
  * until its duration or a stop condition (stop.c: the kinetic energy below
  * stop.kinetic_energy, the watchdog stop.max_time; a last frame at the stop,
  * and a line saying which ended the run), writing frame k at step round(k frame_interval / dt)
- * for k = 0 .. floor(duration / frame_interval): a file each in every
+ * for k = 0 .. floor(duration / frame_interval), and one more at the end
+ * when the duration is not on that grid (always the end state): a file each in every
  * format of output.formats (unless output.frames is false; frame_export.c),
  * frames.pvd listing the .vtu frames, and a row of log.csv (with the
  * contacts and each collider's force, colliders.h, then each soft handle's,
@@ -17,6 +18,7 @@
 #include "cli/frame_export.h"
 #include "cli/output_dir.h"
 #include "cli/progress.h"
+#include "cli/run_record.h"
 #include "scenes/simulation.h"
 #include "cli/stop.h"
 #include "cli/torn_surface.h"
@@ -61,7 +63,9 @@ void sb_cli_run_usage(FILE* stream) {
                     "--checkpoint-every T writes DIR/checkpoint.sbck (the whole state, atomically)\n"
                     "after the first frame at or past each T seconds of simulated time; --resume DIR\n"
                     "goes on from it, appending to DIR's frames and log.csv exactly as the run would\n"
-                    "have: give the same scene and --set options (another scene is refused).\n");
+                    "have: give the same scene and --set options (another scene is refused); a\n"
+                    "longer duration (--set duration=T) goes on past a finished run's end, from its\n"
+                    "last checkpoint, as one run of that length would have.\n");
 }
 
 typedef struct run_job {
@@ -80,6 +84,9 @@ typedef struct run_job {
     sb_run_state resumed; /* --resume: where the checkpoint left the run */
     uint64_t scene_hash;
     double checkpoint_every, next_checkpoint;
+    bool end_frame; /* the last frame is the end state, off the frame_interval grid */
+    int argc;       /* the command line, for run.yaml */
+    char** argv;
 } run_job;
 
 static int run_finish(run_job* job, int code) {
@@ -145,6 +152,14 @@ static sb_status resume(run_job* job, sb_error* err) {
                             (unsigned long long)job->resumed.log_bytes);
     job->checkpoint_every = job->resumed.every;
     job->next_checkpoint = job->resumed.next;
+    /* the scene's duration now: the run may go on to a longer one */
+    job->resumed.stop.duration = sb_scene_number(&job->sim.scene, SB_KEY_DURATION);
+    double t = sb_solver_time(job->sim.solver), end = sb_stop_end(&job->resumed.stop);
+    if (t > end + 1e-9 * sb_scene_number(&job->sim.scene, SB_KEY_DT))
+        return sb_scene_fail(&job->sim.scene, SB_KEY_DURATION, err,
+                             "--resume %s: its checkpoint is at t = %.9g s, past the run's end %.9g s (a resumed run "
+                             "may only be longer)",
+                             job->args.resume, t, end);
     return SB_OK;
 }
 
@@ -176,6 +191,7 @@ static sb_status prepare(run_job* job, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "--output: expected a folder, got ''");
     sb_simulation_args sim_args = sb_cli_simulation_args(&job->args);
     sb_status status = sb_simulation_prepare(&job->sim, &sim_args, err);
+    if (status == SB_OK) status = sb_cli_no_mouse(&job->sim.scene, "run", err);
     if (status == SB_OK) status = sb_simulation_start(&job->sim, NULL, err);
     if (status == SB_OK) status = make_force_columns(job, err);
     if (status != SB_OK) return status;
@@ -271,6 +287,11 @@ static int advance_to(run_job* job, uint64_t step, sb_progress* progress, sb_err
     return SB_EXIT_OK;
 }
 
+/* The solver has moved on since the last frame: the end state is still to write. */
+static bool past_last_frame(const run_job* job) {
+    return job->log.count == 0 || sb_solver_time(job->sim.solver) > job->log.times[job->log.count - 1];
+}
+
 static int simulate(run_job* job, sb_error* err) {
     double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
     double interval = sb_scene_number(&job->sim.scene, SB_KEY_FRAME_INTERVAL);
@@ -289,7 +310,10 @@ static int simulate(run_job* job, sb_error* err) {
     }
     if (code == SB_EXIT_OK && !stopped) {
         code = advance_to(job, steps, &progress, err);
-        if (code == SB_EXIT_OK && job->stop.reason != SB_STOP_RUNNING) code = record_frame(job, err);
+        if (code == SB_EXIT_OK && past_last_frame(job)) {
+            job->end_frame = job->stop.reason == SB_STOP_RUNNING; /* not a stop's frame: said at the end */
+            code = record_frame(job, err);
+        }
     }
     if (code == SB_EXIT_OK && job->stop.reason == SB_STOP_RUNNING)
         sb_stop_at_end(&job->stop, sb_solver_time(job->sim.solver), sb_solver_energies(job->sim.solver).kinetic);
@@ -327,6 +351,14 @@ static sb_status open_output(run_job* job, sb_error* err) {
                                 (uint32_t)run->frames, err);
 }
 
+/* DIR/run.yaml: the scene as run and how (run_record.h); rewritten by --resume. */
+static sb_status write_record(run_job* job, sb_error* err) {
+    int threads = job->sim.def.runtime.threads;
+    sb_run_record record = {&job->sim.scene, threads > 0 ? threads : sb_runtime_threads(0, NULL), job->argc,
+                            job->argv};
+    return sb_run_record_write(sb_output_dir_path(&job->out, "run.yaml"), &record, err);
+}
+
 /* Simulates, then writes the whole index and closes the log even after a
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
@@ -334,7 +366,7 @@ static int execute(run_job* job, sb_error* err) {
     job->log.broken_column = sb_scene_number(&job->sim.scene, SB_KEY_BOND_BREAK_STRAIN) > 0.0 ||
                              sb_scene_number(&job->sim.scene, SB_KEY_SPRINGS_BREAK_STRAIN) > 0.0 ||
                              job->sim.blades.count > 0;
-    if (open_output(job, err) != SB_OK) return SB_EXIT_FAILURE;
+    if (open_output(job, err) != SB_OK || write_record(job, err) != SB_OK) return SB_EXIT_FAILURE;
     if (sb_scene_haptics_start(&job->sim.haptics, sb_output_dir_path(&job->out, "haptics.csv"), err) != SB_OK)
         return SB_EXIT_FAILURE;
     int code = simulate(job, err);
@@ -344,6 +376,7 @@ static int execute(run_job* job, sb_error* err) {
     sb_error index_err;
     sb_status index = write_index(job, true, &index_err);
     uint32_t frames = job->log.count;
+    double last_time = frames ? job->log.times[frames - 1] : 0.0;
     if (index == SB_OK) index = sb_energy_log_close(&job->log, &index_err);
     if (code != SB_EXIT_OK) return code;
     if (index != SB_OK) {
@@ -351,6 +384,9 @@ static int execute(run_job* job, sb_error* err) {
         return SB_EXIT_FAILURE;
     }
     sb_stop_print(&job->stop, stdout);
+    if (job->end_frame)
+        printf("softbond: frame %u is the end state at t = %.9g s (off the frame_interval grid)\n", frames - 1,
+               last_time);
     report(job, frames, sb_wall_seconds() - start);
     return SB_EXIT_OK;
 }
@@ -358,7 +394,7 @@ static int execute(run_job* job, sb_error* err) {
 int sb_cli_run(int argc, char** argv) {
     static const char* const accepted[] = {"--output",      "--threads",          "--budget-ms", "--max-error",
                                            "--no-realtime", "--checkpoint-every", "--resume",    NULL};
-    run_job job = {0};
+    run_job job = {.argc = argc, .argv = argv};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)
         return run_finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));

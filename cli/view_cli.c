@@ -15,7 +15,10 @@ void sb_cli_view_usage(FILE* stream) {
                     "backspace reset, c camera back, h the list of keys, escape quit. Mouse: drag a\n"
                     "vertex (a spring to the cursor), drag elsewhere to orbit, shift+drag to pan,\n"
                     "wheel to zoom; with haptics.device: mouse, drag moves the haptic tool.\n"
-                    "--screenshot FILE.png saves the last frame; --frames N stops after N frames;\n"
+                    "--screenshot FILE.png saves the last frame drawn, when the viewer ends: after\n"
+                    "--frames N frames, at escape or when the window closes; --frames N stops after N\n"
+                    "frames. A solver failure is shown in the window, and when the viewer ends it is\n"
+                    "printed on stderr and the exit status is 3, as softbond run's;\n"
                     "--script FILE plays keys and mouse events at simulated times (README, \"Viewer\").\n"
                     "--render-share X: drawing takes at most this share of the wall clock (default 0.15;\n"
                     "1 = no limit): a slow software renderer lowers its frame rate, not the solver's.\n"
@@ -59,7 +62,11 @@ int sb_cli_view(int argc, char** argv) {
         sb_cli_view_usage(stdout);
     else {
         sb_status status = sb_view_run(&options, NULL, &err);
-        if (status != SB_OK) code = sb_cli_fail(status == SB_ERR_IO ? SB_EXIT_FAILURE : SB_EXIT_INPUT, &err);
+        if (status != SB_OK)
+            code = sb_cli_fail(status == SB_ERR_UNSTABLE ? SB_EXIT_SOLVER
+                               : status == SB_ERR_IO     ? SB_EXIT_FAILURE
+                                                         : SB_EXIT_INPUT,
+                               &err);
     }
     sb_cli_args_free(&args);
     return code;

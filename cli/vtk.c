@@ -96,20 +96,24 @@ static void write_grid(FILE* f, const sb_vtk_frame* frame) {
     write_piece_end(f);
 }
 
-/* Per bond: its two vertices, strain and energy (see vtk.h). */
+/* Per unbroken bond: its two vertices, strain, energy and its index in the
+ * model (see vtk.h); count of them. */
 typedef struct bond_cells {
     uint32_t* nodes;
     double* strain;
     double* energy;
+    double* index;
+    uint32_t count;
 } bond_cells;
 
 static void bond_cells_free(bond_cells* b) {
     free(b->nodes);
     free(b->strain);
     free(b->energy);
+    free(b->index);
 }
 
-static void measure_bond(const sb_vtk_frame* frame, uint32_t e, bond_cells* b) {
+static void measure_bond(const sb_vtk_frame* frame, uint32_t e, uint32_t c, bond_cells* b) {
     sb_bond_info bond = sb_model_bond(frame->model, e);
     uint32_t ends[2] = {bond.i, bond.j};
     if (frame->solver) sb_solver_bond(frame->solver, e, ends);
@@ -117,28 +121,34 @@ static void measure_bond(const sb_vtk_frame* frame, uint32_t e, bond_cells* b) {
     const double* p = frame->positions + 3 * (size_t)bond.i;
     const double* q = frame->positions + 3 * (size_t)bond.j;
     double stretch = hypot(hypot(q[0] - p[0], q[1] - p[1]), q[2] - p[2]) - bond.rest_length;
-    b->nodes[2 * e] = bond.i;
-    b->nodes[2 * e + 1] = bond.j;
-    b->strain[e] = bond.rest_length > 0.0 ? stretch / bond.rest_length : 0.0;
-    b->energy[e] = 0.5 * (bond.k + bond.spring_k) * stretch * stretch;
+    b->nodes[2 * c] = bond.i;
+    b->nodes[2 * c + 1] = bond.j;
+    b->strain[c] = bond.rest_length > 0.0 ? stretch / bond.rest_length : 0.0;
+    b->energy[c] = 0.5 * (bond.k + bond.spring_k) * stretch * stretch;
+    b->index[c] = (double)e;
 }
 
+/* Broken and severed bonds are left out: they carry no force and no
+ * energy, so the cells' energies sum to log.csv's bond + spring terms. */
 static bool bond_cells_make(const sb_vtk_frame* frame, uint32_t count, bond_cells* b) {
     size_t n = count ? count : 1;
-    *b = (bond_cells){malloc(2 * n * sizeof *b->nodes), malloc(n * sizeof(double)), malloc(n * sizeof(double))};
-    if (!b->nodes || !b->strain || !b->energy) return false;
-    for (uint32_t e = 0; e < count; e++) measure_bond(frame, e, b);
+    *b = (bond_cells){malloc(2 * n * sizeof *b->nodes), malloc(n * sizeof(double)), malloc(n * sizeof(double)),
+                      malloc(n * sizeof(double)), 0};
+    if (!b->nodes || !b->strain || !b->energy || !b->index) return false;
+    for (uint32_t e = 0; e < count; e++)
+        if (!frame->solver || !sb_solver_bond_broken(frame->solver, e)) measure_bond(frame, e, b->count++, b);
     return true;
 }
 
-static void write_bond_grid(FILE* f, const sb_vtk_frame* frame, const bond_cells* b, uint32_t count) {
-    write_piece_start(f, frame, count);
+static void write_bond_grid(FILE* f, const sb_vtk_frame* frame, const bond_cells* b) {
+    write_piece_start(f, frame, b->count);
     fprintf(f, "      <CellData Scalars=\"strain\">\n");
-    write_scalars(f, "strain", b->strain, count);
-    write_scalars(f, "energy", b->energy, count);
+    write_scalars(f, "strain", b->strain, b->count);
+    write_scalars(f, "energy", b->energy, b->count);
+    write_scalars(f, "bond", b->index, b->count);
     fprintf(f, "      </CellData>\n");
     write_points(f, frame);
-    write_cells(f, b->nodes, count, 2, VTK_LINE);
+    write_cells(f, b->nodes, b->count, 2, VTK_LINE);
     write_piece_end(f);
 }
 
@@ -158,7 +168,7 @@ sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_err
                            ? sb_atomic_open(&file, path, err)
                            : sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     if (status == SB_OK) {
-        write_bond_grid(file.stream, frame, &bonds, count);
+        write_bond_grid(file.stream, frame, &bonds);
         status = sb_atomic_commit(&file, err);
     }
     bond_cells_free(&bonds);

@@ -26,9 +26,11 @@ void sb_vtk_frame_name(uint32_t index, const char* suffix, char* out, size_t siz
 
 sb_status sb_vtk_write_frame(const char* path, const sb_vtk_frame* frame, sb_error* err);
 /* The model's bonds as VTK_LINE cells over the frame's points, with cell
- * data `strain` = (l - l0) / l0 and `energy` = ½ (k + spring_k) (l - l0)²,
+ * data `strain` = (l - l0) / l0, `energy` = ½ (k + spring_k) (l - l0)²,
  * J: the bond's share of the bond-stretch (Eq. 3) and spring (Eq. 2)
- * energies. */
+ * energies, and `bond`, its index in the model. With a solver, the bonds
+ * it has broken (by strain or by a blade) are left out, so the energies sum
+ * to log.csv's bond + spring of the same frame. */
 sb_status sb_vtk_write_bonds(const char* path, const sb_vtk_frame* frame, sb_error* err);
 /* Lists frames 0 .. count-1 at times[]: each one's surface (part 0, .vtu)
  * and bonds (part 1, _bonds.vtu). */

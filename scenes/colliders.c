@@ -9,6 +9,7 @@
  * sb_collider_create still refuses gets the entry's place in front. */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/colliders.h"
+#include "scenes/suggest.h"
 #include "common/error.h"
 
 #include <math.h>
@@ -144,8 +145,11 @@ static sb_status read_shape(const sb_map_reader* r, sb_collider_shape* shape) {
     sb_status status = sb_map_read_text(r, KEY_TYPE, &type);
     if (status != SB_OK) return status;
     if (!sb_collider_shape_from_name(type, shape))
-        return sb_map_fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'", name,
-                           type);
+    {
+        char near[96];
+        return sb_map_fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'%s",
+                           name, type, sb_suggest_hint(type, "plane, sphere, capsule, box, mesh", near, sizeof near));
+    }
     return SB_OK;
 }
 

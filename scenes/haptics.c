@@ -4,6 +4,7 @@
  * file). */
 #define _POSIX_C_SOURCE 200809L
 #include "scenes/haptics.h"
+#include "scenes/suggest.h"
 #include "common/error.h"
 
 #include <errno.h>
@@ -18,9 +19,11 @@ static bool tool_wanted(const sb_scene* scene) { return sb_scene_string(scene, S
 
 sb_status sb_scene_haptics_check(const sb_scene* scene, sb_error* err) {
     const char* kind = sb_scene_string(scene, SB_KEY_HAPTICS_DEVICE);
+    char near[96];
     if (!sb_haptic_device_kind_known(kind))
         return sb_scene_fail(scene, SB_KEY_HAPTICS_DEVICE, err,
-                             "'haptics.device': expected none, scripted, udp or mouse, got '%s'", kind);
+                             "'haptics.device': expected none, scripted, udp or mouse, got '%s'%s", kind,
+                             sb_suggest_hint(kind, "none, scripted, udp, mouse", near, sizeof near));
     if (strcmp(kind, "scripted") == 0 && sb_scene_string(scene, SB_KEY_HAPTICS_FILE)[0] == '\0')
         return sb_scene_fail(scene, SB_KEY_HAPTICS_DEVICE, err, "'haptics.device: scripted' needs haptics.file");
     int64_t port = sb_scene_integer(scene, SB_KEY_HAPTICS_PORT);

@@ -101,9 +101,10 @@ sb_status sb_map_read_range(const sb_map_reader* r, int key, bool positive, doub
 sb_status sb_map_read_vec3(const sb_map_reader* r, const sb_scene_node* node, const char* key, double out[3]) {
     char name[128];
     sb_map_full_name(r, key, name, sizeof name);
-    if (node->kind != SB_NODE_SEQUENCE || node->count != 3)
-        return sb_map_type_fail(r, node, name, "a sequence of 3 numbers");
-    for (int k = 0; k < 3; k++)
+    bool comma = node->kind == SB_NODE_SCALAR && sb_scene_comma_vec3(node->text, node->plain, out);
+    if (!comma && (node->kind != SB_NODE_SEQUENCE || node->count != 3))
+        return sb_map_type_fail(r, node, name, SB_SCENE_VEC3_FORMS);
+    for (int k = 0; k < 3 && !comma; k++)
         if (!sb_scene_node_number(&node->items[k], &out[k]))
             return sb_map_type_fail(r, &node->items[k], name, "a number");
     if (!isfinite(out[0]) || !isfinite(out[1]) || !isfinite(out[2]))
@@ -173,9 +174,10 @@ sb_status sb_map_read_interpolation(const sb_map_reader* r, int key, sb_interpol
         *out = text[0] == 'l' ? SB_INTERPOLATION_LINEAR : SB_INTERPOLATION_SMOOTH;
         return SB_OK;
     }
-    char name[128];
-    return sb_map_fail(r, r->values[key], "'%s' must be linear or smooth, got '%s'",
-                       sb_map_full_name(r, r->names[key], name, sizeof name), text);
+    char name[128], near[96];
+    return sb_map_fail(r, r->values[key], "'%s' must be linear or smooth, got '%s'%s",
+                       sb_map_full_name(r, r->names[key], name, sizeof name), text,
+                       sb_suggest_hint(text, "linear, smooth", near, sizeof near));
 }
 
 bool sb_scene_good_name(const char* name) {

@@ -12,6 +12,8 @@
 #include "softbond/softbond.h"
 #include "scenes/scene_node.h"
 
+#include <stdio.h>
+
 typedef enum sb_scene_type {
     SB_SCENE_NUMBER,  /* a finite or non-finite double; validation decides */
     SB_SCENE_INTEGER, /* a whole number */
@@ -249,6 +251,11 @@ const char* sb_scene_where(const sb_scene* scene, sb_scene_key key);
  * message alone when there is no WHERE); returns SB_ERR_INVALID. */
 sb_status sb_scene_fail(const sb_scene* scene, sb_scene_key key, sb_error* err, const char* format, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* Writes every key with its value now as YAML the loader reads back to the
+ * same values (scene_write.c): nested maps, numbers to 17 digits, the
+ * lists in block style, the paths made absolute. */
+void sb_scene_write(const sb_scene* scene, FILE* stream);
 
 /* A path value made usable: relative paths are joined to the directory of
  * the file that set it (the current directory for --set). Caller frees. */

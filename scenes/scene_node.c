@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static void node_release(sb_scene_node* node) {
     free(node->text);
@@ -52,4 +53,22 @@ bool sb_scene_scalar_number(const char* text, bool plain, double* out) {
 
 bool sb_scene_node_number(const sb_scene_node* node, double* out) {
     return node->kind == SB_NODE_SCALAR && sb_scene_scalar_number(node->text, node->plain, out);
+}
+
+bool sb_scene_comma_vec3(const char* text, bool plain, double out[3]) {
+    if (!plain || strlen(text) >= 256) return false;
+    char copy[256];
+    snprintf(copy, sizeof copy, "%s", text);
+    char* part = copy;
+    for (int i = 0; i < 3; i++) {
+        char* comma = strchr(part, ',');
+        if ((i < 2) != (comma != NULL)) return false;
+        if (comma) *comma = '\0';
+        while (*part == ' ') part++;
+        size_t n = strlen(part);
+        while (n > 0 && part[n - 1] == ' ') part[--n] = '\0';
+        if (!sb_scene_scalar_number(part, true, &out[i])) return false;
+        if (comma) part = comma + 1;
+    }
+    return true;
 }

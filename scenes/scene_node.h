@@ -52,4 +52,10 @@ void sb_scene_node_describe(const sb_scene_node* node, char* out, size_t size);
 bool sb_scene_scalar_number(const char* text, bool plain, double* out);
 bool sb_scene_node_number(const sb_scene_node* node, double* out);
 
+/* "x,y,z" in one plain scalar: three numbers by the same rule, spaces
+ * around each allowed. Every vector of a scene (top-level keys and the
+ * lists' keys alike) is [x, y, z] or this. */
+bool sb_scene_comma_vec3(const char* text, bool plain, double out[3]);
+#define SB_SCENE_VEC3_FORMS "3 numbers: [x, y, z] or x,y,z"
+
 #endif

@@ -1,6 +1,7 @@
 /* Checks a scene's values before anything is built: ranges of numbers and
  * integers (one table each), names from fixed sets, the combinations
- * (frame_interval >= dt, a file for the file generator, some mass) and the
+ * (frame_interval >= dt, a file for the file generator and none for the
+ * others, some mass) and the
  * colliders (colliders.c), and the run's size: at most SB_SCENE_MAX_STEPS
  * steps (duration / dt) and SB_SCENE_MAX_FRAMES frames (duration /
  * frame_interval), so that a run's loop counts fit their integers and a
@@ -16,6 +17,7 @@
 #include "scenes/haptics.h"
 #include "scenes/pin.h"
 #include "scenes/scene_model.h"
+#include "scenes/suggest.h"
 
 #include <math.h>
 #include <string.h>
@@ -132,48 +134,63 @@ static bool one_of(const char* value, const char* const* names) {
     return false;
 }
 
+/* " (did you mean ...?)" for a value of `key` against the names of `list`. */
+static const char* hint(const sb_scene* scene, sb_scene_key key, const char* list) {
+    static char text[128];
+    return sb_suggest_hint(sb_scene_string(scene, key), list, text, sizeof text);
+}
+
 static sb_status check_names(const sb_scene* scene, sb_error* err) {
     static const char* const generators[] = {"sheet", "icosphere", "file", NULL};
     static const char* const kernels[] = {"reference", "fast", NULL};
     sb_integrator integrator;
     if (!one_of(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), generators))
         return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err,
-                             "'mesh.generator' must be sheet, icosphere or file, got '%s'",
-                             sb_scene_string(scene, SB_KEY_MESH_GENERATOR));
+                             "'mesh.generator' must be sheet, icosphere or file, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_MESH_GENERATOR),
+                             hint(scene, SB_KEY_MESH_GENERATOR, "sheet, icosphere, file"));
     if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
-        return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'",
-                             sb_scene_string(scene, SB_KEY_KERNELS));
+        return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_KERNELS), hint(scene, SB_KEY_KERNELS, "reference, fast"));
     sb_linear_solver linear;
     if (!sb_linear_solver_from_name(sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER), &linear))
         return sb_scene_fail(scene, SB_KEY_IMPLICIT_SOLVER, err,
-                             "'implicit.solver' must be auto, cg or cholesky, got '%s'",
-                             sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER));
+                             "'implicit.solver' must be auto, cg or cholesky, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER),
+                             hint(scene, SB_KEY_IMPLICIT_SOLVER, "auto, cg, cholesky"));
     sb_wait_policy wait;
     if (!sb_wait_policy_from_name(sb_scene_string(scene, SB_KEY_WAIT), &wait))
-        return sb_scene_fail(scene, SB_KEY_WAIT, err, "'wait' must be spin, yield or passive, got '%s'",
-                             sb_scene_string(scene, SB_KEY_WAIT));
+        return sb_scene_fail(scene, SB_KEY_WAIT, err, "'wait' must be spin, yield or passive, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_WAIT), hint(scene, SB_KEY_WAIT, "spin, yield, passive"));
     if (!sb_integrator_from_name(sb_scene_string(scene, SB_KEY_INTEGRATOR), &integrator))
         return sb_scene_fail(scene, SB_KEY_INTEGRATOR, err,
                              "'integrator' must be verlet, velocity_verlet, position_verlet, "
-                             "symplectic_euler, explicit_euler, implicit_euler, pbd, xpbd or vbd, got '%s'",
-                             sb_scene_string(scene, SB_KEY_INTEGRATOR));
+                             "symplectic_euler, explicit_euler, implicit_euler, pbd, xpbd or vbd, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_INTEGRATOR),
+                             hint(scene, SB_KEY_INTEGRATOR,
+                                  "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "
+                                  "implicit_euler, pbd, xpbd, vbd"));
     static const char* const factories[] = {"molecular", "springs", "net", NULL};
     static const char* const materials[] = {"liver", "gallbladder", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_FACTORY), factories))
-        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular, springs or net, got '%s'",
-                             sb_scene_string(scene, SB_KEY_FACTORY));
+        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular, springs or net, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_FACTORY),
+                             hint(scene, SB_KEY_FACTORY, "molecular, springs, net"));
     if (!one_of(sb_scene_string(scene, SB_KEY_MATERIAL), materials))
-        return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'",
-                             sb_scene_string(scene, SB_KEY_MATERIAL));
+        return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_MATERIAL), hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
-        return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'", sb_pin_names(),
-                             sb_scene_string(scene, SB_KEY_PIN));
+        return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'%s", sb_pin_names(),
+                             sb_scene_string(scene, SB_KEY_PIN), hint(scene, SB_KEY_PIN, sb_pin_names()));
     sb_frame_formats formats;
     char bad[64];
     if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))
-        return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err, "'output.formats': %s%s%s (known: %s)",
+    {
+        char near[96];
+        return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err, "'output.formats': %s%s%s (known: %s)%s",
                              bad[0] ? "unknown format '" : "an empty format name", bad, bad[0] ? "'" : "",
-                             sb_frame_formats_known());
+                             sb_frame_formats_known(), sb_suggest_hint(bad, sb_frame_formats_known(), near, sizeof near));
+    }
     return SB_OK;
 }
 
@@ -246,6 +263,11 @@ static sb_status check_combinations(const sb_scene* scene, sb_error* err) {
     bool file = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     if (file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] == '\0')
         return sb_scene_fail(scene, SB_KEY_MESH_GENERATOR, err, "'mesh.generator' is file but 'mesh.file' is not set");
+    if (!file && sb_scene_string(scene, SB_KEY_MESH_FILE)[0] != '\0')
+        return sb_scene_fail(scene, SB_KEY_MESH_FILE, err,
+                             "'mesh.file' has no effect: 'mesh.generator' is %s (set mesh.generator: file to load "
+                             "the file)",
+                             sb_scene_string(scene, SB_KEY_MESH_GENERATOR));
     bool sheet = strcmp(sb_scene_string(scene, SB_KEY_MESH_GENERATOR), "sheet") == 0;
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "net") == 0 &&
         (!sheet || sb_scene_bool(scene, SB_KEY_MESH_REORDER) || sb_scene_lod(scene)))

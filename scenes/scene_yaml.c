@@ -122,9 +122,16 @@ static sb_status type_fail(const yaml_source* src, const yaml_node_t* node, sb_s
 
 /* ---- values of each type -------------------------------------------------- */
 
+static bool parse_comma_vec3(const yaml_node_t* node, double out[3]) {
+    return node->type == YAML_SCALAR_NODE &&
+           sb_scene_comma_vec3(scalar_text(node), node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE, out);
+}
+
+#define VEC3_FORMS SB_SCENE_VEC3_FORMS
+
 static sb_status read_vec3(const yaml_source* src, const yaml_node_t* node, sb_scene_key key, sb_scene_value* out) {
-    if (node->type != YAML_SEQUENCE_NODE || item_count(node) != 3)
-        return type_fail(src, node, key, "a sequence of 3 numbers");
+    if (parse_comma_vec3(node, out->vec3)) return SB_OK;
+    if (node->type != YAML_SEQUENCE_NODE || item_count(node) != 3) return type_fail(src, node, key, VEC3_FORMS);
     for (size_t i = 0; i < 3; i++) {
         yaml_node_t* item = item_node(src, node, i);
         if (!parse_number(item, &out->vec3[i])) return type_fail(src, item, key, "a number");
@@ -231,7 +238,8 @@ static sb_status read_value(const yaml_source* src, const yaml_node_t* node, sb_
     case SB_SCENE_VEC3: return read_vec3(src, node, key, out);
     case SB_SCENE_VEC3_OR_NUMBER:
         if (node->type != YAML_SCALAR_NODE) return read_vec3(src, node, key, out);
-        if (!parse_number(node, &out->vec3[0])) return type_fail(src, node, key, "a number or a sequence of 3 numbers");
+        if (parse_comma_vec3(node, out->vec3)) return SB_OK;
+        if (!parse_number(node, &out->vec3[0])) return type_fail(src, node, key, "a number or " VEC3_FORMS);
         out->vec3[1] = out->vec3[2] = out->vec3[0];
         return SB_OK;
     case SB_SCENE_INDICES: return read_indices(src, node, key, out);

@@ -1,8 +1,10 @@
 /* The nearest name (see suggest.h): the optimal string alignment distance
  * (Levenshtein with swaps of neighbours), three rows of a table at a time.
  * The first nearest name in the list wins a tie. */
+#define _POSIX_C_SOURCE 200809L
 #include "scenes/suggest.h"
 
+#include <stdio.h>
 #include <string.h>
 
 enum { MAX_WORD = 128 };
@@ -48,4 +50,22 @@ const char* sb_suggest(const char* word, const char* const* names, size_t count)
         }
     }
     return best;
+}
+
+enum { MAX_LIST_NAMES = 64 };
+
+const char* sb_suggest_hint(const char* word, const char* list, char* out, size_t size) {
+    char copy[1024];
+    snprintf(copy, sizeof copy, "%s", list);
+    const char* names[MAX_LIST_NAMES];
+    size_t count = 0;
+    char* save = NULL;
+    for (char* name = strtok_r(copy, ", ", &save); name && count < MAX_LIST_NAMES; name = strtok_r(NULL, ", ", &save))
+        if (strcmp(name, "or") != 0) names[count++] = name;
+    const char* near = sb_suggest(word, names, count);
+    if (near && strcmp(near, word) != 0)
+        snprintf(out, size, " (did you mean '%s'?)", near);
+    else if (size)
+        out[0] = '\0';
+    return out;
 }

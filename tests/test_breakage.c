@@ -422,7 +422,7 @@ static void test_bad_scene_blades(void** state) {
                        "bad.yaml:3: unknown key 'blades[0].pth' (did you mean 'blades[0].path'?)");
     assert_scene_fails(
         "mesh: {nx: 3, ny: 3}\nblades:\n  - {a: [0, 0, 0], b: [0, 0, 1]}\n  - {a: [0, 0], b: [0, 0, 1]}\n",
-        "bad.yaml:4: 'blades[1].a' expects a sequence of 3 numbers");
+        "bad.yaml:4: 'blades[1].a' expects 3 numbers: [x, y, z] or x,y,z");
 }
 
 static int setup_dir(void** state) {

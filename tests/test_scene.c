@@ -206,7 +206,7 @@ static void test_wrong_types(void** state) {
     assert_load_fails("type3.yaml", "output:\n  frames: maybe\n",
                       "2: 'output.frames' expects true or false, got 'maybe'");
     assert_load_fails("type4.yaml", "gravity: [0, 0]\n",
-                      "1: 'gravity' expects a sequence of 3 numbers, got a sequence of 2");
+                      "1: 'gravity' expects 3 numbers: [x, y, z] or x,y,z, got a sequence of 2");
     assert_load_fails("type5.yaml", "gravity:\n  - 0\n  - x\n  - 1\n", "3: 'gravity' expects a number, got 'x'");
     assert_load_fails("type6.yaml", "fixed: [1, -2]\n",
                       "1: 'fixed' expects a vertex index (an integer >= 0), got '-2'");
@@ -579,7 +579,7 @@ static void test_colliders_must_be_a_list(void** state) {
                      "'colliders[0].path': a dynamic collider (mass 2) cannot have a path");
     assert_set_fails("colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, 0]}]",
                      "--set colliders=[{type: box, center: [0, 0, 0], half_extents: [1, 1, 1], mass: 2, velocity: [1, "
-                     "0]}]: 'colliders[0].velocity' expects a sequence of 3 numbers, got a sequence of 2");
+                     "0]}]: 'colliders[0].velocity' expects 3 numbers: [x, y, z] or x,y,z, got a sequence of 2");
     assert_set_fails("self_collision=true",
                      "--set self_collision=true: 'self_collision' needs 'contact.thickness' > 0 (the distance kept "
                      "between surfaces)");

@@ -13,7 +13,8 @@
  *   - a scripted drag of the middle vertex pulls it toward the cursor;
  *   - with the "mouse" haptic device, a drag moves the probe into the sheet;
  *   - a bad script line is refused naming file:line;
- *   - without a display, one line and exit 2. */
+ *   - without a display, one line and exit 2;
+ *   - a solver failure: on stderr, exit 3, in red wrapped in the window. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -314,10 +315,45 @@ static void test_script_errors_name_the_line(void** state) {
     assert_non_null(strstr(err.message, "test_viewer_bad.txt:1: expected key NAME"));
 }
 
+/* A solver that fails: its message on stderr, exit 3 (as softbond run's), and
+ * in the screenshot in red on a white panel, wrapped inside the window. */
+static void test_solver_failure_exits_3(void** state) {
+    (void)state;
+    char command[1024], text[2048];
+    remove("test_viewer_failure.png");
+    snprintf(command, sizeof command,
+             "%s view " SCENE " --set dt=0.01 --set threads=1 --screenshot test_viewer_failure.png --frames 10 "
+             "--size %dx%d --render-share 1 2>&1; echo exit $?",
+             SB_PROGRAM, W, H);
+    FILE* p = popen(command, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    pclose(p);
+    if (!strstr(text, "softbond: step ") || !strstr(text, "the time step is too large") || !strstr(text, "\nexit 3\n"))
+        fail_msg("expected the solver's failure and exit 3, got: %s", text);
+    int w, h, channels;
+    unsigned char* rgb = stbi_load("test_viewer_failure.png", &w, &h, &channels, 3);
+    assert_non_null(rgb);
+    int red = 0, red_right = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const unsigned char* c = rgb + 3 * ((size_t)y * (size_t)w + (size_t)x);
+            if (c[0] > 150 && c[1] < 60 && c[2] < 60) {
+                red++;
+                red_right += x >= w - 4;
+            }
+        }
+    stbi_image_free(rgb);
+    TU_ASSERT_LE(200, red); /* the message is drawn */
+    assert_int_equal(red_right, 0); /* and wrapped, not cut at the window's edge */
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_script_errors_name_the_line),
         cmocka_unit_test(test_no_display_is_said),
+        cmocka_unit_test(test_solver_failure_exits_3),
         cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),

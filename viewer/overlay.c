@@ -91,6 +91,56 @@ void sb_overlay_measure(const char* text, float scale, float* width, float* heig
     *height = scale * (float)stb_easy_font_height(copy);
 }
 
+static float width_of(const char* text, size_t length, float scale) {
+    char copy[1024];
+    snprintf(copy, sizeof copy, "%.*s", (int)length, text);
+    return scale * (float)stb_easy_font_width(copy);
+}
+
+/* text with a '\n' put where a line would pass max_width: at the last space
+ * before it, or inside a word longer than the line. */
+static void wrap(const char* text, float max_width, float scale, char* out, size_t size) {
+    size_t used = 0, line_start = 0, last_space = 0;
+    bool has_space = false;
+    for (const char* p = text; *p && used + 2 < size; p++) {
+        out[used++] = *p;
+        if (*p == '\n') {
+            line_start = used, has_space = false;
+            continue;
+        }
+        if (*p == ' ') last_space = used - 1, has_space = true;
+        if (width_of(out + line_start, used - line_start, scale) <= max_width || used - line_start < 2) continue;
+        if (has_space) {
+            out[last_space] = '\n';
+            line_start = last_space + 1;
+        } else { /* cut the word before this character */
+            out[used - 1] = '\n';
+            if (used + 2 < size) out[used++] = *p;
+            line_start = used - 1;
+        }
+        has_space = false;
+    }
+    out[used] = '\0';
+}
+
+float sb_overlay_panel(sb_overlay* o, float x, float y, float max_width, float scale, const char* text,
+                       const float ink[4], const float paper[4]) {
+    char wrapped[2048];
+    wrap(text, max_width, scale, wrapped, sizeof wrapped);
+    float w = 0.0f, lines = 0.0f;
+    for (const char* line = wrapped;; line += strcspn(line, "\n") + 1) {
+        size_t length = strcspn(line, "\n");
+        w = width_of(line, length, scale) > w ? width_of(line, length, scale) : w;
+        lines += 1.0f;
+        if (!line[length]) break;
+    }
+    /* a glyph is 7 of a line's 12 pixels: the paper ends 3 pixels (scaled) below the last one's */
+    float h = (lines * LINE_HEIGHT - (LINE_HEIGHT - 7) + 3) * scale;
+    sb_overlay_rect(o, x - 6, y - 3, w + 12, h + 3, paper);
+    sb_overlay_text(o, x, y, scale, wrapped, ink);
+    return h + 6;
+}
+
 void sb_overlay_draw(sb_overlay* o, const sb_shaders* s, int width, int height) {
     if (o->count == 0) return;
     glBindBuffer(GL_ARRAY_BUFFER, o->vbo);

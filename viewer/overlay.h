@@ -20,6 +20,12 @@ void sb_overlay_rect(sb_overlay* o, float x, float y, float w, float h, const fl
 void sb_overlay_text(sb_overlay* o, float x, float y, float scale, const char* text, const float rgba[4]);
 /* The text's size in pixels at that scale. */
 void sb_overlay_measure(const char* text, float scale, float* width, float* height);
+/* Text word-wrapped to at most max_width pixels (a word longer than that
+ * is cut), on a rectangle of `paper` 6 pixels wider on each side, from 3
+ * pixels above the text to 3 (scaled) below its last glyphs; returns the
+ * height it took, paper included. */
+float sb_overlay_panel(sb_overlay* o, float x, float y, float max_width, float scale, const char* text,
+                       const float ink[4], const float paper[4]);
 void sb_overlay_draw(sb_overlay* o, const sb_shaders* s, int width, int height);
 
 #endif

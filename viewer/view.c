@@ -296,7 +296,7 @@ static void events(view_app* a) {
 /* ---- the overlay ----------------------------------------------------------------- */
 
 static const float INK[4] = {0.08f, 0.08f, 0.1f, 1.0f}, ALARM[4] = {0.8f, 0.05f, 0.05f, 1.0f},
-                   PAPER[4] = {1.0f, 1.0f, 1.0f, 0.85f};
+                   PAPER[4] = {1.0f, 1.0f, 1.0f, 0.85f}, STATUS_PAPER[4] = {0.98f, 0.97f, 0.9f, 0.8f};
 
 static const char* mode(const view_app* a) {
     const sb_sim_controls* c = &a->controls;
@@ -307,25 +307,33 @@ static const char* mode(const view_app* a) {
                                  : "";
 }
 
+/* The statistics, a line each on cream paper at fixed places (the tests'
+ * pictures know them), and the solver's failure below them, wrapped to the
+ * window. */
 static void statistics(view_app* a) {
     char line[512];
     const sb_snapshot* s = a->shown;
     if (!s) return;
-    snprintf(line, sizeof line, "t = %.3f s   %.2fx real time   %.0f steps/s   %u vertices   %s", s->time,
-             a->report.realtime_factor, a->report.steps_per_second, s->vertex_count, mode(a));
-    sb_overlay_text(&a->overlay, 10, 10, 2.0f, line, INK);
+    const float unwrapped = 1e9f;
+    snprintf(line, sizeof line, "t = %.3f s   %.2fx real time   %.0f steps/s   %u vertices%s%s", s->time,
+             a->report.realtime_factor, a->report.steps_per_second, s->vertex_count, mode(a)[0] ? "   " : "",
+             mode(a));
+    sb_overlay_panel(&a->overlay, 10, 10, unwrapped, 2.0f, line, INK, STATUS_PAPER);
     double internal = sb_energies_internal(&s->energies);
     snprintf(line, sizeof line, "energy: kinetic %.4g J   internal %.4g J   gravity %.4g J   total %.4g J",
              s->energies.kinetic, internal, s->energies.gravity, s->energies.kinetic + internal + s->energies.gravity);
-    sb_overlay_text(&a->overlay, 10, 32, 2.0f, line, INK);
+    sb_overlay_panel(&a->overlay, 10, 32, unwrapped, 2.0f, line, INK, STATUS_PAPER);
+    float y = 54;
     if (a->controls.pick >= 0) {
         const double* f = a->report.pick_force;
         snprintf(line, sizeof line, "vertex %lld held: force %.4g N  [%.3g, %.3g, %.3g]", (long long)a->controls.pick,
                  sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), f[0], f[1], f[2]);
-        sb_overlay_text(&a->overlay, 10, 54, 2.0f, line, INK);
+        sb_overlay_panel(&a->overlay, 10, y, unwrapped, 2.0f, line, INK, STATUS_PAPER);
+        y += 22;
     }
-    if (a->report.failure[0]) sb_overlay_text(&a->overlay, 10, 76, 2.0f, a->report.failure, ALARM);
-    sb_overlay_text(&a->overlay, 10, (float)a->height - 24, 2.0f, "h: keys", INK);
+    if (a->report.failure[0])
+        sb_overlay_panel(&a->overlay, 10, y, (float)a->width - 32, 2.0f, a->report.failure, ALARM, PAPER);
+    sb_overlay_panel(&a->overlay, 10, (float)a->height - 24, unwrapped, 2.0f, "h: keys", INK, STATUS_PAPER);
 }
 
 static void help(view_app* a) {
@@ -496,6 +504,10 @@ sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb
     }
     if (status == SB_OK) status = frame_loop(&a, err);
     sb_sim_thread_stop(&a.thread);
+    /* the solver's failure, as softbond run gives it (the window showed it too) */
+    const char* failure = a.thread.report.failure[0] ? a.thread.report.failure : a.report.failure;
+    if (status == SB_OK && failure[0])
+        status = sb_error_set(err, SB_ERR_UNSTABLE, "%s", failure);
     wall = sb_wall_seconds() - wall;
     if (a.sim.solver) {
         simulated = sb_solver_time(a.sim.solver);
