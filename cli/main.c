@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     if (strcmp(command, "tetra") == 0) return sb_cli_tetra(argc - 1, argv + 1);
     if (strcmp(command, "view") == 0) return sb_cli_view(argc - 1, argv + 1);
     if (strcmp(command, "film") == 0) return sb_cli_film(argc - 1, argv + 1);
+    if (strcmp(command, "keys") == 0) return sb_cli_keys(argc - 1, argv + 1);
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
         usage(stdout);
         return SB_EXIT_OK;
