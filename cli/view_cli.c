@@ -16,7 +16,7 @@ void sb_cli_view_usage(FILE* stream) {
                     "vertex (a spring to the cursor), drag elsewhere to orbit, shift+drag to pan,\n"
                     "wheel to zoom; with haptics.device: mouse, drag moves the haptic tool.\n"
                     "--screenshot FILE.png saves the last frame; --frames N stops after N frames;\n"
-                    "--script FILE plays keys and mouse events at simulated times (README, \"Viewer\").\n"
+                    "--script FILE plays keys and mouse events at simulated times (docs/viewer.md).\n"
                     "--render-share X: drawing takes at most this share of the wall clock (default 0.15;\n"
                     "1 = no limit): a slow software renderer lowers its frame rate, not the solver's.\n"
                     "Headless: xvfb-run -a softbond view ...\n");
