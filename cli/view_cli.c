@@ -7,7 +7,7 @@
 
 void sb_cli_view_usage(FILE* stream) {
     fprintf(stream, "usage: softbond view SCENE.yaml [--set key=value]... [--threads N] [--size WxH]\n"
-                    "                     [--screenshot FILE.png --frames N] [--script FILE]\n"
+                    "                     [--render-share X] [--screenshot FILE.png --frames N] [--script FILE]\n"
                     "Shows the scene running in a window (OpenGL 3.3), the simulation on its own thread\n"
                     "at the wall clock's pace (or as fast as it can: the real-time factor is shown).\n"
                     "Keys: F1 vertices, F2 edges, F3 edges coloured by strain, F4 faces, F5 texture,\n"

@@ -25,7 +25,8 @@ typedef struct reader {
 static void* read_snapshots(void* arg) {
     reader* r = arg;
     uint64_t last_sequence = 0;
-    while (!atomic_load(&r->stop)) {
+    for (;;) {
+        bool stopping = atomic_load(&r->stop);                     /* then one last look: the newest snapshot */
         const sb_snapshot* s = sb_state_buffer_acquire(r->buffer); /* NULL before the first publish */
         if (s) {
             if (s->sequence < last_sequence || s->step < r->last_step) r->went_back = true;
@@ -40,6 +41,7 @@ static void* read_snapshots(void* arg) {
             }
             sb_state_buffer_release(r->buffer, s);
         }
+        if (stopping) break;
         nanosleep(&(struct timespec){.tv_nsec = 200000}, NULL); /* a 5 kHz loop */
     }
     return NULL;
