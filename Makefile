@@ -1,5 +1,5 @@
-# Thin wrapper over CMake. `make demo` and `make test` are the README's two
-# set-up commands: each installs missing Debian packages first (as root).
+# Thin wrapper over CMake. `make build` and `make test` are the README's set-up commands
+# (`make demo` runs the default scene): each installs missing Debian packages first (as root).
 JOBS ?= 2
 CMAKE_FLAGS ?=
 
@@ -12,9 +12,10 @@ build: deps
 	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build build -j $(JOBS)
 
-# The program's last line says where the frames and log.csv went.
+# The program's last line says where the frames and log.csv went; then how to watch it.
 demo: build
 	./build/softbond run scenes/default.yaml --output out/demo
+	@echo "next: ./build/softbond view scenes/default.yaml   (the same scene in the viewer; h lists its keys)"
 
 # Four configurations: float (the default), double, float under the
 # address and undefined-behaviour sanitizers, and the threads' tests (label

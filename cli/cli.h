@@ -77,5 +77,8 @@ void sb_cli_run_usage(FILE* stream);
 void sb_cli_eval_usage(FILE* stream);
 void sb_cli_info_usage(FILE* stream);
 void sb_cli_tetra_usage(FILE* stream);
+/* `softbond keys` (keys.c): the scene keys' reference, from the parser's table. */
+int sb_cli_keys(int argc, char** argv);
+void sb_cli_keys_usage(FILE* stream);
 
 #endif

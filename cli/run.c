@@ -42,7 +42,7 @@ void sb_cli_run_usage(FILE* stream) {
                     "iterations, the vertex contacts and each collider's and soft handle's force\n"
                     "<name>_fx,_fy,_fz)\n"
                     "to DIR, by default out/<scene name>.\n"
-                    "--set overrides any scene key (see README.md, \"Running a scene\"), e.g.\n"
+                    "--set overrides any scene key (softbond keys; docs/scenes.md), e.g.\n"
                     "  --set 'colliders=[{type: plane, restitution: 0.5}]' --set contact.thickness=0.002\n"
                     "colliders: a list of {type: plane | sphere | capsule | box | mesh, name,\n"
                     "plane: point, normal; sphere: center, radius; capsule: a, b, radius; box:\n"

@@ -7,7 +7,7 @@
 
 void sb_cli_view_usage(FILE* stream) {
     fprintf(stream, "usage: softbond view SCENE.yaml [--set key=value]... [--threads N] [--size WxH]\n"
-                    "                     [--screenshot FILE.png --frames N] [--script FILE]\n"
+                    "                     [--render-share X] [--screenshot FILE.png --frames N] [--script FILE]\n"
                     "Shows the scene running in a window (OpenGL 3.3), the simulation on its own thread\n"
                     "at the wall clock's pace (or as fast as it can: the real-time factor is shown).\n"
                     "Keys: F1 vertices, F2 edges, F3 edges coloured by strain, F4 faces, F5 texture,\n"
@@ -19,7 +19,7 @@ void sb_cli_view_usage(FILE* stream) {
                     "--frames N frames, at escape or when the window closes; --frames N stops after N\n"
                     "frames. A solver failure is shown in the window, and when the viewer ends it is\n"
                     "printed on stderr and the exit status is 3, as softbond run's;\n"
-                    "--script FILE plays keys and mouse events at simulated times (README, \"Viewer\").\n"
+                    "--script FILE plays keys and mouse events at simulated times (docs/viewer.md).\n"
                     "--render-share X: drawing takes at most this share of the wall clock (default 0.15;\n"
                     "1 = no limit): a slow software renderer lowers its frame rate, not the solver's.\n"
                     "Headless: xvfb-run -a softbond view ...\n");

@@ -1,7 +1,7 @@
 /* The built-in devices, one file each (haptics/device_*.c); haptics/device.c
  * finds them by name. A vendor's device is one more file with an open
  * function of this type and one line in device.c's table, behind a CMake
- * option (README, "Haptics"). */
+ * option (docs/haptics.md). */
 #ifndef SB_HAPTICS_DEVICE_H
 #define SB_HAPTICS_DEVICE_H
 

@@ -1,4 +1,4 @@
-/* The UDP device's packets (README, "Haptics"), shared by the device and
+/* The UDP device's packets (docs/haptics.md), shared by the device and
  * the test client. Little-endian, packed, no padding:
  *   pose  (to softbond, 76 bytes): "SBP1", u32 sequence, f64 time (s),
  *         f64 x y z (m), f64 qw qx qy qz, u32 buttons;

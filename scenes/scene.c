@@ -10,7 +10,7 @@
 #include <string.h>
 
 static const sb_scene_key_info key_table[SB_KEY_COUNT] = {
-#define SB_SCENE_KEY_INFO(id, name, type, def, meaning) {name, SB_SCENE_##type, def, meaning},
+#define SB_SCENE_KEY_INFO(id, name, type, def, unit, meaning) {name, SB_SCENE_##type, def, unit, meaning},
     SB_SCENE_KEYS(SB_SCENE_KEY_INFO)
 #undef SB_SCENE_KEY_INFO
 };

@@ -26,162 +26,166 @@ typedef enum sb_scene_type {
     SB_SCENE_LIST            /* a sequence of maps, kept as read (scene_node.h) for its own module to check */
 } sb_scene_type;
 
-/* X(id, name, type, default, meaning) */
+/* X(id, name, type, default, unit, meaning): the unit is SI, "1" for a ratio,
+ * "" for a count, a name or a switch. `softbond keys` prints this table and
+ * docs/scene_keys.md is its output (tests/CMakeLists.txt: scene_keys_doc). */
 #define SB_SCENE_KEYS(X)                                                                                               \
-    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "sheet, icosphere or file")                                   \
-    X(MESH_FILE, "mesh.file", STRING, "''",                                                                            \
+    X(MESH_GENERATOR, "mesh.generator", STRING, "sheet", "", "sheet, icosphere or file")                               \
+    X(MESH_FILE, "mesh.file", STRING, "''", "",                                                                        \
       "mesh file for generator file (OBJ, OFF, IRIT .itd, POV-Ray .pov, TetGen .node/.ele, Gmsh "                      \
       ".msh or any assimp format), relative to the scene file")                                                        \
-    X(MESH_NX, "mesh.nx", INTEGER, "10", "sheet: vertices along x (>= 2)")                                             \
-    X(MESH_NY, "mesh.ny", INTEGER, "10", "sheet: vertices along y (>= 2)")                                             \
-    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "sheet: size along x, m")                                                 \
-    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "sheet: size along y, m")                                               \
-    X(MESH_JITTER, "mesh.jitter", NUMBER, "0",                                                                         \
+    X(MESH_NX, "mesh.nx", INTEGER, "10", "", "sheet: vertices along x (>= 2)")                                         \
+    X(MESH_NY, "mesh.ny", INTEGER, "10", "", "sheet: vertices along y (>= 2)")                                         \
+    X(MESH_WIDTH, "mesh.width", NUMBER, "1", "m", "sheet: size along x, m")                                            \
+    X(MESH_HEIGHT, "mesh.height", NUMBER, "1", "m", "sheet: size along y, m")                                          \
+    X(MESH_JITTER, "mesh.jitter", NUMBER, "0", "1",                                                                    \
       "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")                                         \
-    X(MESH_SEED, "mesh.seed", INTEGER, "1", "sheet: seed of the jitter")                                               \
-    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2", "icosphere: subdivisions of the icosahedron (0 to 8)")     \
-    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "icosphere: radius, m")                                                 \
-    X(MESH_REORDER, "mesh.reorder", BOOL, "false",                                                                     \
+    X(MESH_SEED, "mesh.seed", INTEGER, "1", "", "sheet: seed of the jitter")                                           \
+    X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2", "", "icosphere: subdivisions of the icosahedron (0 to 8)") \
+    X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "m", "icosphere: radius, m")                                            \
+    X(MESH_REORDER, "mesh.reorder", BOOL, "false", "",                                                                 \
       "renumber vertices along a Morton curve for speed (fixed indices then refer to the new "                         \
       "numbering)")                                                                                                    \
-    X(MESH_SEPARATE_OBJECTS, "mesh.separate_objects", BOOL, "false",                                                   \
+    X(MESH_SEPARATE_OBJECTS, "mesh.separate_objects", BOOL, "false", "",                                               \
       "file: keep the file's meshes as separate bodies (joined within each mesh only); false "                         \
       "merges them, joining identical positions across meshes")                                                        \
-    X(MESH_SCALE, "mesh.scale", VEC3_OR_NUMBER, "1",                                                                   \
+    X(MESH_SCALE, "mesh.scale", VEC3_OR_NUMBER, "1", "1",                                                              \
       "placement: scale factor, or [sx, sy, sz], about the origin, applied first")                                     \
-    X(MESH_ROTATE, "mesh.rotate", VEC3, "[0, 0, 0]",                                                                   \
+    X(MESH_ROTATE, "mesh.rotate", VEC3, "[0, 0, 0]", "deg",                                                            \
       "placement: degrees about the x, then the y, then the z axis (fixed axes), after scale")                         \
-    X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]", "placement: shift, m, applied last")                        \
-    X(MESH_TARGET_VERTICES, "mesh.target_vertices", INTEGER, "0",                                                      \
+    X(MESH_TRANSLATE, "mesh.translate", VEC3, "[0, 0, 0]", "m", "placement: shift, m, applied last")                   \
+    X(MESH_TARGET_VERTICES, "mesh.target_vertices", INTEGER, "0", "",                                                  \
       "level of detail: simplify a surface to about this many vertices (meshoptimizer; boundary "                      \
       "and fixed vertices kept); 0 = off")                                                                             \
-    X(MESH_TARGET_ERROR, "mesh.target_error", NUMBER, "0",                                                             \
+    X(MESH_TARGET_ERROR, "mesh.target_error", NUMBER, "0", "1",                                                        \
       "level of detail: simplify while the error stays below this fraction of the mesh's extent; "                     \
       "0 = off")                                                                                                       \
-    X(BOND_K, "bond.k", NUMBER, "100", "bond stretch stiffness, N/m (Eq. 3); 0 = off")                                 \
-    X(ANGLE_K, "angle.k", NUMBER, "0.1", "angle bend constant, J (Eq. 4); 0 = off")                                    \
-    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0", "stretch-bend constant, J/m (Eq. 5); 0 = off")                    \
-    X(SPRING_K, "spring.k", NUMBER, "0", "damped spring stiffness, N/m (Eq. 2); 0 = off")                              \
-    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "damped spring damping, N s/m")                                   \
-    X(BEND_K, "bend.k", NUMBER, "0", "dihedral bending across interior edges, J/rad^2; 0 = off")                       \
-    X(BOND_BREAK_STRAIN, "bond.break_strain", NUMBER, "0",                                                             \
+    X(BOND_K, "bond.k", NUMBER, "100", "N/m", "bond stretch stiffness, N/m (Eq. 3); 0 = off")                          \
+    X(ANGLE_K, "angle.k", NUMBER, "0.1", "J", "angle bend constant, J (Eq. 4); 0 = off")                               \
+    X(STRETCH_BEND_K, "stretch_bend.k", NUMBER, "0", "J/m", "stretch-bend constant, J/m (Eq. 5); 0 = off")             \
+    X(SPRING_K, "spring.k", NUMBER, "0", "N/m", "damped spring stiffness, N/m (Eq. 2); 0 = off")                       \
+    X(SPRING_DAMPING, "spring.damping", NUMBER, "0", "N s/m", "damped spring damping, N s/m")                          \
+    X(BEND_K, "bend.k", NUMBER, "0", "J/rad^2", "dihedral bending across interior edges, J/rad^2; 0 = off")            \
+    X(BOND_BREAK_STRAIN, "bond.break_strain", NUMBER, "0", "1",                                                        \
       "breakage: a bond breaks beyond its rest length times (1 + this), and the triangles and hinges on its edge "     \
       "go with it; 0 = never")                                                                                         \
-    X(MASS, "mass", NUMBER, "0.01", "mass per vertex, kg (used when density is 0)")                                    \
-    X(DENSITY, "density", NUMBER, "0",                                                                                 \
+    X(MASS, "mass", NUMBER, "0.01", "kg", "mass per vertex, kg (used when density is 0)")                              \
+    X(DENSITY, "density", NUMBER, "0", "kg/m^2",                                                                       \
       "areal density, kg/m^2: a vertex gets a third of its triangles' mass; nonzero "                                  \
       "wins over mass")                                                                                                \
-    X(FACTORY, "factory", STRING, "molecular",                                                                         \
+    X(FACTORY, "factory", STRING, "molecular", "",                                                                     \
       "surface model: molecular (bonds, angles, hinges), springs (stretch, bend and vicinity "                         \
       "springs) or net (a sheet's rows and columns as bonds only); a tetrahedral mesh.file always "                    \
       "builds the tissue model, a .pov one springs with each object's spring_system_* locals")                         \
-    X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "springs: per edge, N/m")                                 \
-    X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "springs: per edge, N s/m")                   \
-    X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "springs: across adjacent triangles, N/m")                       \
-    X(SPRINGS_BEND_DAMPING, "springs.bend.damping", NUMBER, "0.01", "springs: across adjacent triangles, N s/m")       \
-    X(SPRINGS_VICINITY_DISTANCE, "springs.vicinity.distance", NUMBER, "0",                                             \
+    X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "N/m", "springs: per edge, N/m")                          \
+    X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "N s/m", "springs: per edge, N s/m")          \
+    X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "N/m", "springs: across adjacent triangles, N/m")                \
+    X(SPRINGS_BEND_DAMPING, "springs.bend.damping", NUMBER, "0.01", "N s/m",                                           \
+      "springs: across adjacent triangles, N s/m")                                                                     \
+    X(SPRINGS_VICINITY_DISTANCE, "springs.vicinity.distance", NUMBER, "0", "m",                                        \
       "springs: join vertices nearer than this, m; 0 = off")                                                           \
-    X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "springs: vicinity, N/m")                               \
-    X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1", "springs: vicinity, N s/m")                 \
-    X(SPRINGS_BREAK_STRAIN, "springs.break_strain", NUMBER, "0",                                                       \
+    X(SPRINGS_VICINITY_K, "springs.vicinity.k", NUMBER, "100", "N/m", "springs: vicinity, N/m")                        \
+    X(SPRINGS_VICINITY_DAMPING, "springs.vicinity.damping", NUMBER, "0.1", "N s/m", "springs: vicinity, N s/m")        \
+    X(SPRINGS_BREAK_STRAIN, "springs.break_strain", NUMBER, "0", "1",                                                  \
       "springs: every spring breaks beyond its rest length times (1 + this); 0 = never")                               \
-    X(MATERIAL, "material", STRING, "liver",                                                                           \
+    X(MATERIAL, "material", STRING, "liver", "",                                                                       \
       "tetrahedral meshes: liver (E 3.5 kPa) or gallbladder (E 1.5 kPa), 1060 kg/m^3")                                 \
-    X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500",                                                    \
+    X(TISSUE_YOUNG_MODULUS, "tissue.young_modulus", NUMBER, "3500", "Pa",                                              \
       "tetrahedral meshes: Young's modulus, Pa; when set, wins over the material's")                                   \
-    X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060",                                                                \
+    X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060", "kg/m^3",                                                      \
       "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
-    X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1",                                                                   \
+    X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
       "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
-    X(FIXED, "fixed", INDICES, "[]", "indices of vertices held at their rest position")                                \
-    X(PIN, "pin", STRING, "none",                                                                                      \
+    X(FIXED, "fixed", INDICES, "[]", "", "indices of vertices held at their rest position")                            \
+    X(PIN, "pin", STRING, "none", "",                                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                                    \
       "right_corners, <side>_edge or <side>_clamp (the side and its neighbours), side top, "                           \
       "bottom, left or right")                                                                                         \
-    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "gravity, m/s^2")                                                     \
-    X(DRAG, "drag", NUMBER, "0", "viscous drag, 1/s: each free vertex feels -drag m v")                                \
-    X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]",                                                                     \
+    X(GRAVITY, "gravity", VEC3, "[0, 0, -9.81]", "m/s^2", "gravity, m/s^2")                                            \
+    X(DRAG, "drag", NUMBER, "0", "1/s", "viscous drag, 1/s: each free vertex feels -drag m v")                         \
+    X(LOAD_FORCE, "load.force", VEC3, "[0, 0, 0]", "N",                                                                \
       "a constant force, N, on the free vertex nearest load.at, from t = 0; [0, 0, 0] = none")                         \
-    X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]",                                                                           \
+    X(LOAD_AT, "load.at", VEC3, "[0, 0, 0]", "m",                                                                      \
       "where load.force acts: the vertex nearest this point of the placed rest shape, m")                              \
-    X(COLLIDERS, "colliders", LIST, "[]",                                                                              \
+    X(COLLIDERS, "colliders", LIST, "[]", "",                                                                          \
       "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
       "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
-    X(HANDLES, "handles", LIST, "[]",                                                                                  \
+    X(HANDLES, "handles", LIST, "[]", "",                                                                              \
       "vertices driven to a moving pose: a list of maps {name; vertices: [indices] or at: [x, y, z] with radius; "     \
       "stiffness, damping (soft when stiffness > 0); path, interpolation; release_at} (scenes/handles.c)")             \
-    X(BLADES, "blades", LIST, "[]",                                                                                    \
+    X(BLADES, "blades", LIST, "[]", "",                                                                                \
       "edges that cut the bonds they cross as they move: a list of maps {a, b: the ends, m; path, interpolation} "     \
       "(scenes/blades.c)")                                                                                             \
-    X(TEARING_MAX_SPLITS, "tearing.max_splits", INTEGER, "0",                                                          \
+    X(TEARING_MAX_SPLITS, "tearing.max_splits", INTEGER, "0", "",                                                      \
       "vertex copies tearing may make over the run (spare vertices reserved); 0 = default, -1 = no splitting")         \
-    X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0",                                        \
+    X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \
       "vertex copies a step may make, the rest wait; 0 = default 256")                                                 \
-    X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0",                                                             \
+    X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m",                                                        \
       "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")            \
-    X(SELF_COLLISION, "self_collision", BOOL, "false",                                                                 \
+    X(SELF_COLLISION, "self_collision", BOOL, "false", "",                                                             \
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "             \
       "contact.thickness > 0)")                                                                                        \
-    X(HAPTICS_DEVICE, "haptics.device", STRING, "none",                                                                \
-      "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view); README, "        \
-      "\"Haptics\"")                                                                                                   \
-    X(HAPTICS_FILE, "haptics.file", STRING, "''",                                                                      \
+    X(HAPTICS_DEVICE, "haptics.device", STRING, "none", "",                                                            \
+      "the haptic device: none, scripted (haptics.file), udp (haptics.port) or mouse (softbond view: the "             \
+      "pointer drives the tool); docs/haptics.md")                                                                     \
+    X(HAPTICS_FILE, "haptics.file", STRING, "''", "",                                                                  \
       "scripted: the CSV trajectory (time,x,y,z[,qw,qx,qy,qz][,button]), relative to the scene")                       \
-    X(HAPTICS_PORT, "haptics.port", INTEGER, "47000", "udp: the port on 127.0.0.1 poses arrive at")                    \
-    X(HAPTICS_RATE, "haptics.rate", NUMBER, "1000", "the servo thread's rate, Hz")                                     \
-    X(HAPTICS_TOOL, "haptics.tool", STRING, "''",                                                                      \
+    X(HAPTICS_PORT, "haptics.port", INTEGER, "47000", "", "udp: the port on 127.0.0.1 poses arrive at")                \
+    X(HAPTICS_RATE, "haptics.rate", NUMBER, "1000", "Hz", "the servo thread's rate, Hz")                               \
+    X(HAPTICS_TOOL, "haptics.tool", STRING, "''", "",                                                                  \
       "the collider the device drives (not a plane, not dynamic); '' = no haptics")                                    \
-    X(HAPTICS_COUPLING_STIFFNESS, "haptics.coupling.stiffness", NUMBER, "700",                                         \
+    X(HAPTICS_COUPLING_STIFFNESS, "haptics.coupling.stiffness", NUMBER, "700", "N/m",                                  \
       "the virtual coupling's stiffness, N/m (at most the device's 700)")                                              \
-    X(HAPTICS_COUPLING_DAMPING, "haptics.coupling.damping", NUMBER, "0.7",                                             \
+    X(HAPTICS_COUPLING_DAMPING, "haptics.coupling.damping", NUMBER, "0.7", "N s/m",                                    \
       "the virtual coupling's damping, N s/m (> stiffness / rate / 2)")                                                \
-    X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "the force sent to the device is clamped to this, N")     \
-    X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true",                                                              \
+    X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "N",                                                      \
+      "the force sent to the device is clamped to this, N")                                                            \
+    X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true", "",                                                          \
       "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
-    X(INTEGRATOR, "integrator", STRING, "verlet",                                                                      \
+    X(INTEGRATOR, "integrator", STRING, "verlet", "",                                                                  \
       "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "                                   \
       "implicit_euler, pbd, xpbd or vbd")                                                                              \
-    X(ADAPTIVE, "adaptive", BOOL, "false",                                                                             \
+    X(ADAPTIVE, "adaptive", BOOL, "false", "",                                                                         \
       "energy-stable adaptive sub-steps: a sub-step that gains energy is retried at half the size")                    \
-    X(MIN_DT, "min_dt", NUMBER, "1e-9", "adaptive: the smallest sub-step, s")                                          \
-    X(IMPLICIT_TOLERANCE, "implicit.tolerance", NUMBER, "1e-8",                                                        \
+    X(MIN_DT, "min_dt", NUMBER, "1e-9", "s", "adaptive: the smallest sub-step, s")                                     \
+    X(IMPLICIT_TOLERANCE, "implicit.tolerance", NUMBER, "1e-8", "1",                                                   \
       "implicit_euler: Newton stops at this fraction of the first residual")                                           \
-    X(IMPLICIT_NEWTON_ITERATIONS, "implicit.newton_iterations", INTEGER, "20",                                         \
+    X(IMPLICIT_NEWTON_ITERATIONS, "implicit.newton_iterations", INTEGER, "20", "",                                     \
       "implicit_euler: Newton iterations per step, at most")                                                           \
-    X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200",                                                \
+    X(IMPLICIT_CG_ITERATIONS, "implicit.cg_iterations", INTEGER, "200", "",                                            \
       "implicit_euler: conjugate-gradient iterations per Newton iteration, at most")                                   \
-    X(IMPLICIT_SOLVER, "implicit.solver", STRING, "auto",                                                              \
+    X(IMPLICIT_SOLVER, "implicit.solver", STRING, "auto", "",                                                          \
       "implicit_euler's linear solves: cholesky (a sparse factorization), cg, or auto (cholesky up to 20000 "          \
       "vertices where the stiffness outweighs the mass a hundredfold)")                                                \
-    X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false",                                                           \
+    X(IMPLICIT_DEFINITE, "implicit.definite", BOOL, "false", "",                                                       \
       "implicit_euler: each element's stiffness replaced by a positive semi-definite stand-in")                        \
-    X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "pbd, xpbd: constraint projection sweeps per step")             \
-    X(VBD_ITERATIONS, "vbd.iterations", INTEGER, "10", "vbd: Gauss-Seidel sweeps over the vertex colors per step")     \
-    X(VBD_CHEBYSHEV_RHO, "vbd.chebyshev_rho", NUMBER, "0",                                                             \
+    X(PBD_ITERATIONS, "pbd.iterations", INTEGER, "10", "", "pbd, xpbd: constraint projection sweeps per step")         \
+    X(VBD_ITERATIONS, "vbd.iterations", INTEGER, "10", "", "vbd: Gauss-Seidel sweeps over the vertex colors per step") \
+    X(VBD_CHEBYSHEV_RHO, "vbd.chebyshev_rho", NUMBER, "0", "1",                                                        \
       "vbd: Chebyshev acceleration across the sweeps, the spectral radius estimate in [0, 1); 0 = off")                \
-    X(VBD_RELAXATION, "vbd.relaxation", NUMBER, "1",                                                                   \
+    X(VBD_RELAXATION, "vbd.relaxation", NUMBER, "1", "1",                                                              \
       "vbd: over-relaxation of each vertex's Newton step, in (0, 2); 1 = plain steps")                                 \
-    X(DT, "dt", NUMBER, "0.0001", "time step, s")                                                                      \
-    X(DURATION, "duration", NUMBER, "1", "simulated time, s")                                                          \
-    X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0",                                                         \
+    X(DT, "dt", NUMBER, "0.0001", "s", "time step, s")                                                                 \
+    X(DURATION, "duration", NUMBER, "1", "s", "simulated time, s")                                                     \
+    X(STOP_KINETIC_ENERGY, "stop.kinetic_energy", NUMBER, "0", "J",                                                    \
       "J: stop when the total kinetic energy falls below it (not before stop.min_time); 0 = never")                    \
-    X(STOP_MIN_TIME, "stop.min_time", NUMBER, "0", "s: no kinetic-energy stop before this time")                       \
-    X(STOP_MAX_TIME, "stop.max_time", NUMBER, "0",                                                                     \
+    X(STOP_MIN_TIME, "stop.min_time", NUMBER, "0", "s", "s: no kinetic-energy stop before this time")                  \
+    X(STOP_MAX_TIME, "stop.max_time", NUMBER, "0", "s",                                                                \
       "s: the watchdog, the run ends here at the latest; 0 = the duration")                                            \
-    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "simulated time between frames, s (>= dt)")                    \
-    X(THREADS, "threads", INTEGER, "0", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")               \
-    X(WAIT, "wait", STRING, "passive",                                                                                 \
+    X(FRAME_INTERVAL, "frame_interval", NUMBER, "0.04", "s", "simulated time between frames, s (>= dt)")               \
+    X(THREADS, "threads", INTEGER, "0", "", "solver threads; 0 = SOFTBOND_THREADS or the runtime's default")           \
+    X(WAIT, "wait", STRING, "passive", "",                                                                             \
       "how solver threads wait at barriers: spin (a dedicated machine), yield, passive (cores shared)")                \
-    X(PIN_THREADS, "pin_threads", BOOL, "false", "bind solver thread i to core i (hwloc)")                             \
-    X(KERNELS, "kernels", STRING, "fast",                                                                              \
+    X(PIN_THREADS, "pin_threads", BOOL, "false", "", "bind solver thread i to core i (hwloc)")                         \
+    X(KERNELS, "kernels", STRING, "fast", "",                                                                          \
       "fast (SIMD, the solver's threads; tested against the reference) or reference (double scalar, for checking)")    \
-    X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "write frames (output.formats); false writes log.csv only")        \
-    X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]",                                                                \
+    X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "", "write frames (output.formats); false writes log.csv only")    \
+    X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]", "",                                                            \
       "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
       "irit, pov")
 
 typedef enum sb_scene_key {
-#define SB_SCENE_KEY_ENUM(id, name, type, def, meaning) SB_KEY_##id,
+#define SB_SCENE_KEY_ENUM(id, name, type, def, unit, meaning) SB_KEY_##id,
     SB_SCENE_KEYS(SB_SCENE_KEY_ENUM)
 #undef SB_SCENE_KEY_ENUM
         SB_KEY_COUNT
@@ -191,6 +195,7 @@ typedef struct sb_scene_key_info {
     const char* name;
     sb_scene_type type;
     const char* default_value; /* YAML text */
+    const char* unit;          /* SI; "1" a ratio; "" none */
     const char* meaning;
 } sb_scene_key_info;
 

@@ -1,5 +1,5 @@
 /* softbond_haptic_client: plays a trajectory to softbond's "udp" device, as
- * a program holding a real device would (README, "Haptics").
+ * a program holding a real device would (docs/haptics.md).
  *
  *   softbond_haptic_client PORT TRAJECTORY.csv [RATE_HZ]
  *

@@ -1,4 +1,5 @@
-/* Blades: cutting. A blade is a kinematic edge, the segment
+/** @file
+ * Blades: cutting. A blade is a kinematic edge, the segment
  * between two points, that moves along a keyframed path (sb_keyframe and
  * sb_interpolation, as a collider's; the pose turns about the edge's
  * midpoint). Each step it sweeps a surface, the edge at the step's start to
@@ -19,10 +20,10 @@ extern "C" {
 #endif
 
 typedef struct sb_blade_def {
-    double a[3], b[3];       /* the edge's ends at time 0 (before the path's pose), m; distinct */
-    const sb_keyframe* path; /* keyframes in increasing time, copied by the solver; NULL = static */
+    double a[3], b[3];       /**< the edge's ends at time 0 (before the path's pose), m; distinct */
+    const sb_keyframe* path; /**< keyframes in increasing time, copied by the solver; NULL = static */
     uint32_t path_count;
-    sb_interpolation interpolation; /* between keyframes; before the first and after the last the pose holds */
+    sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
 } sb_blade_def;
 
 #ifdef __cplusplus

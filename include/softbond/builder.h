@@ -1,4 +1,5 @@
-/* Construction mode: add vertices, bonds and triangles, then compile them
+/** @file
+ * Construction mode: add vertices, bonds and triangles, then compile them
  * into an immutable sb_model (the Spring Systems library's SpringGraph). */
 #ifndef SOFTBOND_BUILDER_H
 #define SOFTBOND_BUILDER_H
@@ -16,54 +17,54 @@ typedef struct sb_builder sb_builder;
 typedef struct sb_model sb_model;
 
 typedef struct sb_vertex_def {
-    double position[3]; /* m; also the rest position */
-    double velocity[3]; /* m/s, initial */
-    double mass;        /* kg; must be > 0 unless fixed */
+    double position[3]; /**< m; also the rest position */
+    double velocity[3]; /**< m/s, initial */
+    double mass;        /**< kg; must be > 0 unless fixed */
     bool fixed;
 } sb_vertex_def;
 
-/* A bond between two vertices carries two edge terms: the molecular bond
+/** A bond between two vertices carries two edge terms: the molecular bond
  * stretch ½ k (r − r0)² (Sekercioglu & Duysak 2009, Eq. 3) and the classic
  * damped spring (the same paper's Eq. 2)
  * ½ spring_k (r − r0)² with damping spring_damping along the bond. */
 typedef struct sb_bond_def {
     uint32_t i, j;
-    double rest_length;    /* m; negative means the current distance */
-    double k;              /* N/m, bond stretch */
-    double spring_k;       /* N/m, damped spring */
-    double spring_damping; /* N·s/m */
-    /* Breakage (the Spring Systems library's l_min, l_max): a solver breaks
+    double rest_length;    /**< m; negative means the current distance */
+    double k;              /**< N/m, bond stretch */
+    double spring_k;       /**< N/m, damped spring */
+    double spring_damping; /**< N·s/m */
+    /** Breakage (the Spring Systems library's l_min, l_max): a solver breaks
      * the bond at the first step whose end length is below break_min or
      * above break_max — its stiffness and damping become zero for the rest
      * of the run (sb_solver_def.on_break; DESIGN.md, section Breakage). break_min 0
      * and break_max +inf (or 0) never break; a finite limit must leave the
      * rest length strictly inside (break_min, break_max). */
-    double break_min, break_max; /* m */
+    double break_min, break_max; /**< m */
 } sb_bond_def;
 
-/* A triangle contributes one angle per corner: angle bend
+/** A triangle contributes one angle per corner: angle bend
  * ½ angle_k (cos θ − cos θ0)² (Sekercioglu & Duysak 2009, Eq. 4) and
  * stretch-bend stretch_bend_k (cos θ − cos θ0)[(rA − rA0) + (rB − rB0)]
  * (the same paper's Eq. 5, which leaves the constant out). Rest
  * values come from the vertices' positions. */
 typedef struct sb_triangle_def {
     uint32_t i, j, k;
-    double angle_k;        /* J */
-    double stretch_bend_k; /* J/m */
+    double angle_k;        /**< J */
+    double stretch_bend_k; /**< J/m */
 } sb_triangle_def;
 
-/* A hinge is an interior edge (e0, e1) shared by the triangles (e0, e1, o0)
+/** A hinge is an interior edge (e0, e1) shared by the triangles (e0, e1, o0)
  * and (e1, e0, o1); it resists folding with ½ k (φ − φ0)², φ the signed
  * dihedral angle (0 when flat), φ0 taken from the positions. */
 typedef struct sb_hinge_def {
     uint32_t e0, e1, o0, o1;
-    double k; /* J/rad² */
+    double k; /**< J/rad² */
 } sb_hinge_def;
 
 SB_API sb_vertex_def sb_default_vertex_def(void);
 SB_API sb_bond_def sb_default_bond_def(void);
 SB_API sb_triangle_def sb_default_triangle_def(void);
-/* The factories' strain rule, for a bond's break_max: the length beyond
+/** The factories' strain rule, for a bond's break_max: the length beyond
  * which the bond between mesh vertices a and b breaks, r0 (1 + strain), r0
  * their distance, m; +inf when strain is 0. Public so that a factory built
  * outside the library (the scene loader's net) breaks by the same rule. */
@@ -72,7 +73,7 @@ SB_API double sb_strain_break_length(const sb_mesh* mesh, uint32_t a, uint32_t b
 SB_API sb_builder* sb_builder_create(void);
 SB_API void sb_builder_destroy(sb_builder* builder);
 
-/* Each add returns the new element's index, or -1 when out of memory.
+/** Each add returns the new element's index, or -1 when out of memory.
  * Nothing is checked here: compile validates everything at once. */
 SB_API int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* def);
 SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
@@ -80,10 +81,10 @@ SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_de
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
 
 SB_API uint32_t sb_builder_vertex_count(const sb_builder* builder);
-/* Changes a vertex after it was added (to pin it, give it a mass, ...). */
+/** Changes a vertex after it was added (to pin it, give it a mass, ...). */
 SB_API sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
 
-/* Validates and compiles. On failure returns NULL and err names the first
+/** Validates and compiles. On failure returns NULL and err names the first
  * bad element: an index out of range, a bond from a vertex to itself, a
  * duplicate bond (rejected, never merged: the caller decides which constants
  * win), a degenerate triangle or hinge, a non-finite number, a free vertex
@@ -91,22 +92,22 @@ SB_API sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
  * and may be compiled again. */
 SB_API sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err);
 
-/* Constants for the mesh factory: every term is per element, uniform here. */
+/** Constants for the mesh factory: every term is per element, uniform here. */
 typedef struct sb_material_def {
-    double bond_k;         /* N/m, Sekercioglu & Duysak 2009 Eq. 3, 0 = off */
-    double angle_k;        /* J, Sekercioglu & Duysak 2009 Eq. 4, 0 = off */
-    double stretch_bend_k; /* J/m, Sekercioglu & Duysak 2009 Eq. 5, 0 = off */
-    double spring_k;       /* N/m, Sekercioglu & Duysak 2009 Eq. 2, 0 = off */
-    double spring_damping; /* N·s/m, Sekercioglu & Duysak 2009 Eq. 2 */
-    double bend_k;         /* J/rad², hinge term, 0 = off */
-    double mass;           /* kg per vertex, used when density is 0 */
-    double density;        /* kg/m², areal: each vertex gets a third of its triangles' mass */
-    double break_strain;   /* every bond breaks beyond r0 (1 + break_strain); 0 = never */
+    double bond_k;         /**< N/m, Sekercioglu & Duysak 2009 Eq. 3, 0 = off */
+    double angle_k;        /**< J, Sekercioglu & Duysak 2009 Eq. 4, 0 = off */
+    double stretch_bend_k; /**< J/m, Sekercioglu & Duysak 2009 Eq. 5, 0 = off */
+    double spring_k;       /**< N/m, Sekercioglu & Duysak 2009 Eq. 2, 0 = off */
+    double spring_damping; /**< N·s/m, Sekercioglu & Duysak 2009 Eq. 2 */
+    double bend_k;         /**< J/rad², hinge term, 0 = off */
+    double mass;           /**< kg per vertex, used when density is 0 */
+    double density;        /**< kg/m², areal: each vertex gets a third of its triangles' mass */
+    double break_strain;   /**< every bond breaks beyond r0 (1 + break_strain); 0 = never */
 } sb_material_def;
 
 SB_API sb_material_def sb_default_material_def(void);
 
-/* The mesh factory for molecular mechanics: a vertex per mesh vertex (order
+/** The mesh factory for molecular mechanics: a vertex per mesh vertex (order
  * kept), a bond per unique edge (in order of first appearance), a triangle
  * per face (all three corners), a hinge per edge shared by exactly two
  * triangles (only when bend_k > 0). Fails when an edge is shared by more than
@@ -114,7 +115,7 @@ SB_API sb_material_def sb_default_material_def(void);
 SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_material_def* material,
                                      sb_error* err);
 
-/* The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
+/** The Spring Systems mesh factory (Juhasz & Bercovici): a mass point per
  * vertex (order kept), a damped spring (sb_bond_def spring_k and
  * spring_damping, bond stretch k = 0) per unique edge, a bend spring across
  * each edge shared by exactly two triangles (between the two opposite
@@ -124,23 +125,23 @@ SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, c
  * stiffness and damping are both 0 are not added (stretch, bend or
  * vicinity); vicinity = 0 adds none. */
 typedef struct sb_spring_mesh_def {
-    double stretch_k, stretch_damping;   /* N/m, N·s/m: per edge */
-    double bend_k, bend_damping;         /* N/m, N·s/m: across adjacent triangles */
-    double vicinity;                     /* m: join vertices nearer than this; 0 = none */
-    double vicinity_k, vicinity_damping; /* N/m, N·s/m */
-    double mass;                         /* kg per vertex, used when density is 0 */
-    double density;                      /* kg/m², areal: a third of each triangle's mass */
-    double break_strain;                 /* every spring breaks beyond r0 (1 + break_strain); 0 = never */
+    double stretch_k, stretch_damping;   /**< N/m, N·s/m: per edge */
+    double bend_k, bend_damping;         /**< N/m, N·s/m: across adjacent triangles */
+    double vicinity;                     /**< m: join vertices nearer than this; 0 = none */
+    double vicinity_k, vicinity_damping; /**< N/m, N·s/m */
+    double mass;                         /**< kg per vertex, used when density is 0 */
+    double density;                      /**< kg/m², areal: a third of each triangle's mass */
+    double break_strain;                 /**< every spring breaks beyond r0 (1 + break_strain); 0 = never */
 } sb_spring_mesh_def;
 
-/* stretch 100 N/m and 0.1 N·s/m, bend 10 N/m and 0.01 N·s/m, no vicinity
+/** stretch 100 N/m and 0.1 N·s/m, bend 10 N/m and 0.01 N·s/m, no vicinity
  * springs (distance 0; 100 N/m and 0.1 N·s/m once one is set), 0.01 kg per
  * vertex: the scene keys' defaults. */
 SB_API sb_spring_mesh_def sb_default_spring_mesh_def(void);
 SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
                                             sb_error* err);
 
-/* The pairs (i < j) of points nearer than radius (0 < distance < radius),
+/** The pairs (i < j) of points nearer than radius (0 < distance < radius),
  * found with a uniform grid (cells of side radius, sorted by cell) in time
  * linear in count: *pairs receives 2 * *pair_count indices (caller frees),
  * i < j in each pair, pairs in a deterministic order (by cell, not sorted).

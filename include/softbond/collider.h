@@ -1,4 +1,5 @@
-/* Colliders: what the soft bodies touch.
+/** @file
+ * Colliders: what the soft bodies touch.
  *
  * After every step the solver asks each collider, for each free vertex,
  * about the vertex's move in that step (from its position at the start of
@@ -27,82 +28,82 @@
 extern "C" {
 #endif
 
-/* One vertex's move in one step. */
+/** One vertex's move in one step. */
 typedef struct sb_contact_query {
     uint32_t vertex;
-    double t0, t1;    /* s: the step runs from t0 to t1 */
-    double from[3];   /* m: the position at t0 */
-    double to[3];     /* m: where the integrator moved it by t1 */
-    double thickness; /* m: the solver's contact thickness, added to the collider's own */
+    double t0, t1;    /**< s: the step runs from t0 to t1 */
+    double from[3];   /**< m: the position at t0 */
+    double to[3];     /**< m: where the integrator moved it by t1 */
+    double thickness; /**< m: the solver's contact thickness, added to the collider's own */
 } sb_contact_query;
 
-/* A collider's answer for a move that touches it. */
+/** A collider's answer for a move that touches it. */
 typedef struct sb_contact {
-    /* In [0, 1]: the first point of the move, from + fraction (to − from),
+    /** In [0, 1]: the first point of the move, from + fraction (to − from),
      * on the collider's surface inflated by both thicknesses. A move from
      * inside (or on the surface) to inside is resting contact: fraction 1
      * and the depth of `to`; one from inside heading in: fraction 0 and the
      * depth of `from`. */
     double fraction;
-    /* m, >= 0: how far that point lies inside the inflated surface (0 for a
+    /** m, >= 0: how far that point lies inside the inflated surface (0 for a
      * move that met the surface from outside); the solver pushes the vertex
      * out by it along the normal. */
     double depth;
-    double normal[3];       /* unit, out of the collider, at the contact */
-    double velocity[3];     /* m/s: the collider's own velocity at the contact (0 when it does not move) */
-    double restitution;     /* in [0, 1]: normal velocity after = −restitution × normal velocity before */
-    double friction;        /* >= 0: Coulomb coefficient while sliding */
-    double static_friction; /* >= friction: the coefficient below which the vertex sticks */
-    /* m: the point of the collider's (inflated) surface the vertex met, in
+    double normal[3];       /**< unit, out of the collider, at the contact */
+    double velocity[3];     /**< m/s: the collider's own velocity at the contact (0 when it does not move) */
+    double restitution;     /**< in [0, 1]: normal velocity after = −restitution × normal velocity before */
+    double friction;        /**< >= 0: Coulomb coefficient while sliding */
+    double static_friction; /**< >= friction: the coefficient below which the vertex sticks */
+    /** m: the point of the collider's (inflated) surface the vertex met, in
      * the world at t1; the solver takes the torque of the impulse about a
      * dynamic collider's center there. The built-in colliders fill it; a
      * program's own may leave it (it is never dynamic). */
     double point[3];
 } sb_contact;
 
-/* Returns true and fills *contact when the move touches the collider.
+/** Returns true and fills *contact when the move touches the collider.
  * Called from the solver's threads at once, for different vertices: it must
  * only read its own data (update it in a begin-step callback). */
 typedef bool (*sb_collide_fn)(void* user, const sb_contact_query* query, sb_contact* contact);
 
-/* Called once per step, on the thread that advances the solver, before any
+/** Called once per step, on the thread that advances the solver, before any
  * sb_collide_fn of that step: a collider that moves sets its pose for
  * [t0, t1] here. May be NULL. */
 typedef void (*sb_collider_step_fn)(void* user, double t0, double t1);
 
 typedef enum sb_collider_shape {
-    SB_COLLIDER_PLANE = 0, /* the half-space below point, normal */
-    SB_COLLIDER_SPHERE,    /* center, radius */
-    SB_COLLIDER_CAPSULE,   /* the segment a–b, radius */
-    SB_COLLIDER_BOX,       /* center, half_extents, rotate (degrees about x, then y, then z) */
-    SB_COLLIDER_MESH,      /* a triangle mesh: its volume when closed, a shell of the thickness when open */
+    SB_COLLIDER_PLANE = 0, /**< the half-space below point, normal */
+    SB_COLLIDER_SPHERE,    /**< center, radius */
+    SB_COLLIDER_CAPSULE,   /**< the segment a–b, radius */
+    SB_COLLIDER_BOX,       /**< center, half_extents, rotate (degrees about x, then y, then z) */
+    SB_COLLIDER_MESH,      /**< a triangle mesh: its volume when closed, a shell of the thickness when open */
     SB_COLLIDER_SHAPE_COUNT
 } sb_collider_shape;
 
 typedef enum sb_interpolation { SB_INTERPOLATION_LINEAR = 0, SB_INTERPOLATION_SMOOTH } sb_interpolation;
 
-/* A pose of a kinematic collider at a time: rotate (degrees about the
+/** A pose of a kinematic collider at a time: rotate (degrees about the
  * collider's reference point — plane point, sphere or box center, capsule
  * midpoint, the center of a mesh's bounding box — about x, then y, then
  * z), then translate. */
 typedef struct sb_keyframe {
-    double time;         /* s */
-    double translate[3]; /* m */
-    double rotate[3];    /* degrees */
+    double time;         /**< s */
+    double translate[3]; /**< m */
+    double rotate[3];    /**< degrees */
 } sb_keyframe;
 
-/* Fields of other shapes are ignored (and not checked). static_friction
+/** Fields of other shapes are ignored (and not checked). static_friction
  * left at 0 while friction > 0 becomes friction. */
 typedef struct sb_collider_def {
     sb_collider_shape shape;
-    const char* name;           /* how logs and handles refer to it; copied */
-    double point[3], normal[3]; /* plane (normal need not be unit; not zero) */
-    double center[3];           /* sphere, box */
-    double radius;              /* sphere, capsule (m, > 0) */
-    double a[3], b[3];          /* capsule */
-    double half_extents[3];     /* box (m, > 0) */
-    double rotate[3];           /* box: degrees about x, then y, then z */
-    /* mesh: the triangles, in world coordinates (place them first with
+    const char* name;           /**< how logs and handles refer to it; copied */
+    double point[3], normal[3]; /**< plane (normal need not be unit; not zero) */
+    double center[3];           /**< sphere, box */
+    double radius;              /**< sphere, capsule (m, > 0) */
+    double a[3], b[3];          /**< capsule */
+    double half_extents[3];     /**< box (m, > 0) */
+    double rotate[3];           /**< box: degrees about x, then y, then z */
+    /** mesh: the triangles, in world coordinates (place them first with
      * sb_mesh_transform; copied, with a bounding-volume hierarchy built
      * over them). A closed mesh (every edge on two triangles) is solid
      * inside: the volume it encloses, inflated by the thickness, its
@@ -112,14 +113,14 @@ typedef struct sb_collider_def {
      * is a shell of the points within the thickness of its surface, so its
      * thickness must be > 0. A triangle of zero area is refused. */
     const sb_mesh* mesh;
-    double friction;         /* Coulomb, sliding (>= 0) */
-    double static_friction;  /* sticking (>= friction; default: friction) */
-    double restitution;      /* [0, 1] */
-    double thickness;        /* m, >= 0: the surface is inflated by it */
-    const sb_keyframe* path; /* kinematic: keyframes in increasing time (copied); NULL = static */
+    double friction;         /**< Coulomb, sliding (>= 0) */
+    double static_friction;  /**< sticking (>= friction; default: friction) */
+    double restitution;      /**< [0, 1] */
+    double thickness;        /**< m, >= 0: the surface is inflated by it */
+    const sb_keyframe* path; /**< kinematic: keyframes in increasing time (copied); NULL = static */
     uint32_t path_count;
-    sb_interpolation interpolation; /* between keyframes; before the first and after the last the pose holds */
-    /* Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
+    sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
+    /** Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
      * rigid body the solver moves, a solid one: its inertia about its
      * center is 2/5 mass radius² (sphere) or mass/3 (h_j² + h_k²) about the
      * box's own axis i (h its half_extents). In each accepted step it takes
@@ -136,26 +137,26 @@ typedef struct sb_collider_def {
      * kinematic; a dynamic collider cannot have a path; a plane, capsule
      * or mesh cannot be dynamic. Attach it to one solver at a time: every
      * solver it is attached to moves it. */
-    double mass;                /* kg, >= 0 */
-    double velocity[3];         /* m/s: a dynamic collider's velocity at the start */
-    double angular_velocity[3]; /* rad/s, world frame: a dynamic collider's spin at the start */
+    double mass;                /**< kg, >= 0 */
+    double velocity[3];         /**< m/s: a dynamic collider's velocity at the start */
+    double angular_velocity[3]; /**< rad/s, world frame: a dynamic collider's spin at the start */
 } sb_collider_def;
 
-/* A plane through the origin with normal +z, no friction, no restitution,
+/** A plane through the origin with normal +z, no friction, no restitution,
  * no thickness, static. */
 SB_API sb_collider_def sb_default_collider_def(void);
 
 typedef struct sb_collider sb_collider;
 
-/* A built-in collider, checked (a message names the bad field). */
+/** A built-in collider, checked (a message names the bad field). */
 SB_API sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err);
-/* A program's own collider: collide (required) and begin_step (may be NULL)
+/** A program's own collider: collide (required) and begin_step (may be NULL)
  * with their user data. */
 SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, sb_collider_step_fn begin_step,
                                               void* user, sb_error* err);
 SB_API void sb_collider_destroy(sb_collider* collider);
 
-/* Drives a built-in collider from the program (a tool held by a haptic
+/** Drives a built-in collider from the program (a tool held by a haptic
  * device, a mouse): the pose it reaches at the end of the next step,
  * rotate (degrees about x, then y, then z, about its reference point) then
  * translate, as a keyframe's; during that step it moves from its last pose
@@ -166,7 +167,7 @@ SB_API void sb_collider_destroy(sb_collider* collider);
  * one, which the solver moves. */
 SB_API void sb_collider_set_pose(sb_collider* collider, const double translate[3], const double rotate[3]);
 
-/* A built-in sphere's or box's center and velocity now (m, m/s): a dynamic
+/** A built-in sphere's or box's center and velocity now (m, m/s): a dynamic
  * collider's as the solver moved it, a kinematic one's center at the end of
  * its last step with its velocity over that step, a static one's center and
  * zero. A plane's point, a capsule's midpoint, the center of a mesh's
@@ -174,7 +175,7 @@ SB_API void sb_collider_set_pose(sb_collider* collider, const double translate[3
  * NULL. */
 SB_API void sb_collider_state(const sb_collider* collider, double position[3], double velocity[3]);
 
-/* A built-in collider's orientation now (row-major rotation from its def's
+/** A built-in collider's orientation now (row-major rotation from its def's
  * rest frame: the identity for a static one) and angular velocity (rad/s,
  * world frame): a dynamic collider's as the solver turned it, a kinematic
  * one's at the end of its last step with its mean angular velocity over
@@ -182,13 +183,13 @@ SB_API void sb_collider_state(const sb_collider* collider, double position[3], d
  * output may be NULL. */
 SB_API void sb_collider_orientation(const sb_collider* collider, double rotation[9], double angular_velocity[3]);
 
-/* Where a program's own collider can be touched until it says otherwise
+/** Where a program's own collider can be touched until it says otherwise
  * (an axis-aligned box, inflated by its thickness; NULL, NULL: everywhere,
  * the default). The contact pass asks the collider only about moves that
  * reach into the box: a collider that knows where it is should say, from
  * its begin-step callback if it moves. The built-in shapes set their own. */
 SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], const double hi[3]);
-/* How far a built-in collider may move in one step without a vertex it
+/** How far a built-in collider may move in one step without a vertex it
  * meets passing its middle (m): the radius of a sphere or capsule, the
  * smallest half extent of a box, half the smallest extent of a mesh's box
  * (an estimate: a ring is thinner than its box), each plus the thickness;
@@ -198,7 +199,7 @@ SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], co
 SB_API double sb_collider_inner_radius(const sb_collider* collider);
 SB_API const char* sb_collider_name(const sb_collider* collider);
 
-/* "plane", "sphere", "capsule", "box", "mesh". */
+/** "plane", "sphere", "capsule", "box", "mesh". */
 SB_API const char* sb_collider_shape_name(sb_collider_shape shape);
 SB_API bool sb_collider_shape_from_name(const char* name, sb_collider_shape* out);
 

@@ -1,4 +1,5 @@
-/* SB_API marks the functions of the public API. The libraries are built with
+/** @file
+ * SB_API marks the functions of the public API. The libraries are built with
  * hidden visibility, so only what carries SB_API is exported from
  * libsoftbond.so and libsoftbond_io.so; everything else stays internal. */
 #ifndef SOFTBOND_EXPORT_H

@@ -1,4 +1,5 @@
-/* Handles: vertices driven to a pose that changes with time (a hook, a
+/** @file
+ * Handles: vertices driven to a pose that changes with time (a hook, a
  * grasper, a pulled vertex).
  *
  * A handle holds a set of vertices and a rigid pose, pose(t)(x) = R (x − c)
@@ -38,52 +39,52 @@ extern "C" {
 #endif
 
 typedef struct sb_handle_def {
-    const char* name;         /* how logs refer to it; copied */
-    const uint32_t* vertices; /* the model's vertices it holds (copied; at least one, none twice) */
+    const char* name;         /**< how logs refer to it; copied */
+    const uint32_t* vertices; /**< the model's vertices it holds (copied; at least one, none twice) */
     uint32_t vertex_count;
-    /* m: the point the pose's rotations turn about; NULL = the centroid of
+    /** m: the point the pose's rotations turn about; NULL = the centroid of
      * the vertices' rest positions (copied) */
     const double* center;
-    double stiffness;        /* N/m per vertex, >= 0: 0 = hard, > 0 = soft */
-    double damping;          /* N·s/m per vertex, >= 0 (soft handles) */
-    const sb_keyframe* path; /* keyframes in increasing time (copied); NULL = the pose stays the identity */
+    double stiffness;        /**< N/m per vertex, >= 0: 0 = hard, > 0 = soft */
+    double damping;          /**< N·s/m per vertex, >= 0 (soft handles) */
+    const sb_keyframe* path; /**< keyframes in increasing time (copied); NULL = the pose stays the identity */
     uint32_t path_count;
     sb_interpolation interpolation;
-    /* s: the handle lets go at the end of the first step that reaches this
+    /** s: the handle lets go at the end of the first step that reaches this
      * time (once; a later sb_handle_grab holds again); INFINITY = never */
     double release_time;
 } sb_handle_def;
 
-/* No vertices, hard, no path, linear, never released. */
+/** No vertices, hard, no path, linear, never released. */
 SB_API sb_handle_def sb_default_handle_def(void);
 
 typedef struct sb_handle sb_handle;
 
-/* Checked (the message names the handle and the bad field); the vertex
+/** Checked (the message names the handle and the bad field); the vertex
  * indices are checked against the model when the solver is created. */
 SB_API sb_handle* sb_handle_create(const sb_handle_def* def, sb_error* err);
 SB_API void sb_handle_destroy(sb_handle* handle);
 
-/* The pose the handle reaches at the end of the next step (rotate degrees
+/** The pose the handle reaches at the end of the next step (rotate degrees
  * about x, then y, then z about the center, then translate); during that
  * step it moves from its last pose to this one. From the first call on it
  * overrides the path. */
 SB_API void sb_handle_set_pose(sb_handle* handle, const double translate[3], const double rotate[3]);
-/* Lets the vertices go (they keep their velocities) / holds them again
+/** Lets the vertices go (they keep their velocities) / holds them again
  * where they are now. SB_ERR_INVALID when the handle is not attached to a
  * solver (grab). */
 SB_API void sb_handle_release(sb_handle* handle);
 SB_API sb_status sb_handle_grab(sb_handle* handle);
 SB_API bool sb_handle_held(const sb_handle* handle);
-/* A handle of one vertex (a mouse that picks any vertex): holds `vertex`
+/** A handle of one vertex (a mouse that picks any vertex): holds `vertex`
  * instead, grabbed where it is now (its target there, the pose unchanged).
  * SB_ERR_INVALID when the handle holds more than one vertex, is not
  * attached to a solver, or the vertex is not in the solver's model. */
 SB_API sb_status sb_handle_grab_vertex(sb_handle* handle, uint32_t vertex);
-/* The force (N) a soft handle exerted on the body at the last force
+/** The force (N) a soft handle exerted on the body at the last force
  * evaluation of the last step; zeros for a hard or released handle. */
 SB_API void sb_handle_force(const sb_handle* handle, double force[3]);
-/* Vertex k's target (m) at the end of the last step. */
+/** Vertex k's target (m) at the end of the last step. */
 SB_API void sb_handle_target(const sb_handle* handle, uint32_t k, double target[3]);
 SB_API const char* sb_handle_name(const sb_handle* handle);
 SB_API uint32_t sb_handle_vertex_count(const sb_handle* handle);

@@ -1,4 +1,5 @@
-/* Haptics: a device held by a hand drives a tool (a kinematic collider) in
+/** @file
+ * Haptics: a device held by a hand drives a tool (a kinematic collider) in
  * the simulation, and the hand feels the tissue through it.
  *
  * Two threads meet here. The servo thread (sb_haptics_start: its own
@@ -35,49 +36,49 @@
 extern "C" {
 #endif
 
-/* What a device reports: its handle's position (m, in the device's frame:
+/** What a device reports: its handle's position (m, in the device's frame:
  * added to the tool's rest position in the world), orientation (a unit
  * quaternion w x y z) and buttons (bit i: button i down). */
 typedef struct sb_haptic_pose {
-    double time; /* s, on the servo's clock */
+    double time; /**< s, on the servo's clock */
     double position[3];
     double orientation[4];
     uint32_t buttons;
 } sb_haptic_pose;
 
-/* ---- the pose buffer: one writer, any number of readers, no lock -------- */
+/** ---- the pose buffer: one writer, any number of readers, no lock -------- */
 
 typedef struct sb_pose_buffer sb_pose_buffer;
 SB_API sb_pose_buffer* sb_pose_buffer_create(sb_error* err);
 SB_API void sb_pose_buffer_destroy(sb_pose_buffer* buffer);
-/* Writer: never waits. */
+/** Writer: never waits. */
 SB_API void sb_pose_buffer_write(sb_pose_buffer* buffer, const sb_haptic_pose* pose);
-/* Reader: the latest pose whole, true; false before the first write or when
+/** Reader: the latest pose whole, true; false before the first write or when
  * the writer overtook the reader on every one of a few tries (then *pose is
  * untouched). Never waits for the writer otherwise. */
 SB_API bool sb_pose_buffer_read(sb_pose_buffer* buffer, sb_haptic_pose* pose);
 SB_API uint64_t sb_pose_buffer_writes(const sb_pose_buffer* buffer);
 
-/* ---- devices ------------------------------------------------------------ */
+/** ---- devices ------------------------------------------------------------ */
 
-/* A device is four calls; the built-in kinds:
+/** A device is four calls; the built-in kinds:
  *   "none":     the handle at rest at 0, no buttons; forces are dropped;
  *   "scripted": a CSV trajectory, `time,x,y,z` [`,qw,qx,qy,qz`] [`,button`]
  *               (s, m, unit quaternion, 0/1), times increasing, linear
  *               between rows, held before the first and after the last;
- *   "udp":      poses in and forces out over UDP on 127.0.0.1 (README,
- *               "Haptics", has the packets);
+ *   "udp":      poses in and forces out over UDP on 127.0.0.1
+ *               (docs/haptics.md has the packets);
  *   "mouse":    the pose the program last gave sb_haptic_device_move (the
  *               viewer's cursor), from any thread; forces are dropped. */
 typedef struct sb_haptic_device_def {
-    const char* kind; /* "none", "scripted", "udp", "mouse" */
-    const char* file; /* scripted: the CSV */
-    int port;         /* udp: the port softbond listens on (default 47000) */
+    const char* kind; /**< "none", "scripted", "udp", "mouse" */
+    const char* file; /**< scripted: the CSV */
+    int port;         /**< udp: the port softbond listens on (default 47000) */
 } sb_haptic_device_def;
 
 SB_API sb_haptic_device_def sb_default_haptic_device_def(void);
 
-/* A program's own device (a simulated hand in a test, a vendor SDK): read
+/** A program's own device (a simulated hand in a test, a vendor SDK): read
  * the pose at time (s, the servo's clock) and write a force (N, always
  * finite and clamped), each returning SB_OK or an error; close may be NULL.
  * Called on the servo thread only. */
@@ -88,64 +89,64 @@ typedef struct sb_haptic_device_ops {
 } sb_haptic_device_ops;
 
 typedef struct sb_haptic_device sb_haptic_device;
-/* A built-in device, checked (a scripted file's errors name file:line). */
+/** A built-in device, checked (a scripted file's errors name file:line). */
 SB_API sb_haptic_device* sb_haptic_device_open(const sb_haptic_device_def* def, sb_error* err);
 SB_API sb_haptic_device* sb_haptic_device_custom(const sb_haptic_device_ops* ops, void* user, sb_error* err);
 SB_API sb_status sb_haptic_device_read(sb_haptic_device* device, double time, sb_haptic_pose* pose);
 SB_API sb_status sb_haptic_device_write(sb_haptic_device* device, double time, const double force[3]);
 SB_API void sb_haptic_device_close(sb_haptic_device* device);
-/* A "mouse" device's next pose (any thread; the servo reads the latest
+/** A "mouse" device's next pose (any thread; the servo reads the latest
  * whole). Nothing for a device of another kind. */
 SB_API void sb_haptic_device_move(sb_haptic_device* device, const sb_haptic_pose* pose);
-/* Whether `kind` names a built-in device. */
+/** Whether `kind` names a built-in device. */
 SB_API bool sb_haptic_device_kind_known(const char* kind);
 
-/* ---- the coupling and the servo ----------------------------------------- */
+/** ---- the coupling and the servo ----------------------------------------- */
 
 typedef struct sb_haptics_def {
-    double rate;             /* Hz, the servo's (default 1000) */
-    double stiffness;        /* N/m, the coupling's K (default 700 = 0.7 N/mm) */
-    double damping;          /* N s/m, the coupling's b (default K / rate: twice K T / 2) */
-    double max_force;        /* N, |f| never above it (default 3.3, a Phantom Omni's peak) */
-    double device_stiffness; /* N/m, the device's limit: K above it is refused (default 700) */
-    double stall_time;       /* s without a new step before the force ramps down (default 0.05) */
-    double ramp_time;        /* s, a ramp from full force to zero or back (default 0.05) */
-    /* s: the tool's contact force is averaged over about this time (an
+    double rate;             /**< Hz, the servo's (default 1000) */
+    double stiffness;        /**< N/m, the coupling's K (default 700 = 0.7 N/mm) */
+    double damping;          /**< N s/m, the coupling's b (default K / rate: twice K T / 2) */
+    double max_force;        /**< N, |f| never above it (default 3.3, a Phantom Omni's peak) */
+    double device_stiffness; /**< N/m, the device's limit: K above it is refused (default 700) */
+    double stall_time;       /**< s without a new step before the force ramps down (default 0.05) */
+    double ramp_time;        /**< s, a ramp from full force to zero or back (default 0.05) */
+    /** s: the tool's contact force is averaged over about this time (an
      * exponential average, default 0.002): a step's contact impulses come
      * and go, their mean is the tissue's push. 0 = each step's own. */
     double sense_time;
-    /* m/s: the fastest the simulation's tool follows the device, on the
+    /** m/s: the fastest the simulation's tool follows the device, on the
      * simulated clock (default 2, a quick hand). When the simulation
      * stalls (a hitch of the machine) the device moves on meanwhile; the
      * tool then catches up at this speed instead of jumping, which would
      * fling the tissue it holds or pass through it. */
     double max_speed;
-    bool realtime;         /* ask for SCHED_FIFO on the servo thread (default true) */
-    uint32_t log_capacity; /* ticks the log holds until drained (default 65536) */
+    bool realtime;         /**< ask for SCHED_FIFO on the servo thread (default true) */
+    uint32_t log_capacity; /**< ticks the log holds until drained (default 65536) */
 } sb_haptics_def;
 
 SB_API sb_haptics_def sb_default_haptics_def(void);
 
-/* Why the force is ramping down (bits of sb_haptics_faults). */
+/** Why the force is ramping down (bits of sb_haptics_faults). */
 enum {
-    SB_HAPTIC_FAULT_STALL = 1u,     /* no new simulation step for stall_time */
-    SB_HAPTIC_FAULT_NONFINITE = 2u, /* a pose, the contact model or the force was not finite */
-    SB_HAPTIC_FAULT_DEVICE = 4u     /* the device's read or write failed */
+    SB_HAPTIC_FAULT_STALL = 1u,     /**< no new simulation step for stall_time */
+    SB_HAPTIC_FAULT_NONFINITE = 2u, /**< a pose, the contact model or the force was not finite */
+    SB_HAPTIC_FAULT_DEVICE = 4u     /**< the device's read or write failed */
 };
 
-/* One servo tick as the log keeps it (and haptics.csv writes it). */
+/** One servo tick as the log keeps it (and haptics.csv writes it). */
 typedef struct sb_haptic_tick {
-    double time;      /* s, the servo's clock */
-    double device[3]; /* m, world */
-    double proxy[3];  /* m, world */
-    double force[3];  /* N, what was written to the device */
-    uint64_t step;    /* the simulation step of the contact model used */
-    double age;       /* s, how old that model was */
+    double time;      /**< s, the servo's clock */
+    double device[3]; /**< m, world */
+    double proxy[3];  /**< m, world */
+    double force[3];  /**< N, what was written to the device */
+    uint64_t step;    /**< the simulation step of the contact model used */
+    double age;       /**< s, how old that model was */
 } sb_haptic_tick;
 
 typedef struct sb_haptics sb_haptics;
 
-/* Couples device and tool: the tool is a built-in kinematic collider (its
+/** Couples device and tool: the tool is a built-in kinematic collider (its
  * rest position is the device's origin in the world), collider_index its
  * index in the solver's colliders (sb_solver_contact_force). Checks def (a
  * message names the bad field: stiffness above device_stiffness, damping at
@@ -153,20 +154,20 @@ typedef struct sb_haptics sb_haptics;
  * sb_haptics_destroy. */
 SB_API sb_haptics* sb_haptics_create(const sb_haptics_def* def, sb_haptic_device* device, sb_collider* tool,
                                      uint32_t collider_index, sb_error* err);
-SB_API void sb_haptics_destroy(sb_haptics* haptics); /* stops the thread first */
+SB_API void sb_haptics_destroy(sb_haptics* haptics); /**< stops the thread first */
 
-/* The servo thread on the monotonic clock, ticks on absolute deadlines.
+/** The servo thread on the monotonic clock, ticks on absolute deadlines.
  * *realtime is set to whether SCHED_FIFO was granted (may be NULL). */
 SB_API sb_status sb_haptics_start(sb_haptics* haptics, bool* realtime, sb_error* err);
 SB_API void sb_haptics_stop(sb_haptics* haptics);
-/* Seconds on the servo's clock (0 at sb_haptics_create): what the
+/** Seconds on the servo's clock (0 at sb_haptics_create): what the
  * simulation thread passes to sb_haptics_sense. */
 SB_API double sb_haptics_clock(const sb_haptics* haptics);
-/* A virtual clock: one tick at `time` (s), on the calling thread (a test
+/** A virtual clock: one tick at `time` (s), on the calling thread (a test
  * steps it; never while the servo thread runs). */
 SB_API void sb_haptics_tick(sb_haptics* haptics, double time);
 
-/* Simulation thread, before a step: the tool goes to the proxy for the
+/** Simulation thread, before a step: the tool goes to the proxy for the
  * device at the step's end (sb_collider_set_pose): the latest pose, moved
  * on along the device's last move when steps are shorter than the servo's
  * period (the step's length taken from the last two sb_haptics_sense).
@@ -176,30 +177,30 @@ SB_API void sb_haptics_tick(sb_haptics* haptics, double time);
  * that jumped on while the simulation stalled does not take it through
  * the tissue: it catches up over the next steps. */
 SB_API void sb_haptics_drive(sb_haptics* haptics);
-/* Simulation thread, after a step: the tool's contact force becomes the
+/** Simulation thread, after a step: the tool's contact force becomes the
  * contact model the servo reads; `time` on the servo's clock. */
 SB_API void sb_haptics_sense(sb_haptics* haptics, const sb_solver* solver, double time);
-/* The same with the force (N) the tissue put on the tool found by other
+/** The same with the force (N) the tissue put on the tool found by other
  * means (a program's own tissue model, a test's wall) at its step. */
 SB_API void sb_haptics_sense_force(sb_haptics* haptics, const double force[3], uint64_t step, double time);
-/* Simulation thread: the proxy the last sb_haptics_drive put the tool at (m, world). */
+/** Simulation thread: the proxy the last sb_haptics_drive put the tool at (m, world). */
 SB_API void sb_haptics_proxy(const sb_haptics* haptics, double proxy[3]);
 
-/* Any thread. */
+/** Any thread. */
 SB_API uint32_t sb_haptics_faults(const sb_haptics* haptics);
-/* Takes up to max logged ticks, oldest first (one thread at a time);
+/** Takes up to max logged ticks, oldest first (one thread at a time);
  * sb_haptics_dropped counts those lost because the log was full. */
 SB_API size_t sb_haptics_drain(sb_haptics* haptics, sb_haptic_tick* out, size_t max);
 SB_API uint64_t sb_haptics_dropped(const sb_haptics* haptics);
 
-/* The servo's own measurements: read them after sb_haptics_stop (the
+/** The servo's own measurements: read them after sb_haptics_stop (the
  * servo thread writes them while it runs), or between ticks on the virtual
  * clock. Percentiles from 1 µs bins (periods) and 10 µs bins (ages). */
 typedef struct sb_haptics_stats {
     uint64_t ticks;
-    double period_median, period_p99, period_max; /* s, between the starts of ticks */
-    double late_max;                              /* s, the most a tick woke after its deadline */
-    double age_median, age_p99;                   /* s, of the contact model each tick used */
+    double period_median, period_p99, period_max; /**< s, between the starts of ticks */
+    double late_max;                              /**< s, the most a tick woke after its deadline */
+    double age_median, age_p99;                   /**< s, of the contact model each tick used */
 } sb_haptics_stats;
 SB_API sb_haptics_stats sb_haptics_statistics(const sb_haptics* haptics);
 

@@ -1,4 +1,5 @@
-/* The scalar reference: every force term in double precision, plain loops,
+/** @file
+ * The scalar reference: every force term in double precision, plain loops,
  * the exact negative gradient of each energy. It is the yardstick the fast
  * kernels are tested against and what `softbond eval` uses by default. */
 #ifndef SOFTBOND_REFERENCE_H
@@ -12,7 +13,7 @@
 extern "C" {
 #endif
 
-/* Energies in joules: the potential of each term, and for a solver's state
+/** Energies in joules: the potential of each term, and for a solver's state
  * the kinetic energy and the gravitational potential (−Σ m g·x). */
 typedef struct sb_energies {
     double term[SB_TERM_COUNT];
@@ -20,12 +21,12 @@ typedef struct sb_energies {
     double gravity;
 } sb_energies;
 
-/* Sum of the term potentials (without kinetic and gravity). */
+/** Sum of the term potentials (without kinetic and gravity). */
 SB_API double sb_energies_internal(const sb_energies* energies);
-/* internal + kinetic + gravity. */
+/** internal + kinetic + gravity. */
 SB_API double sb_energies_total(const sb_energies* energies);
 
-/* Adds one term's forces to `forces` (3n, x y z interleaved) and stores its
+/** Adds one term's forces to `forces` (3n, x y z interleaved) and stores its
  * energy in *energy. positions are 3n interleaved; velocities (3n or NULL for
  * zero) only matter for the spring's damping. A term that is off adds
  * nothing. Returns SB_ERR_DEGENERATE, naming the element, when an edge the
@@ -34,7 +35,7 @@ SB_API double sb_energies_total(const sb_energies* energies);
 SB_API sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions, const double* velocities,
                             double* forces, double* energy, sb_error* err);
 
-/* All enabled terms: overwrites forces and fills energies->term[]. */
+/** All enabled terms: overwrites forces and fills energies->term[]. */
 SB_API sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities, double* forces,
                               sb_energies* energies, sb_error* err);
 

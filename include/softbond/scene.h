@@ -1,4 +1,5 @@
-/* softbond's YAML scenes for an embedding program (libsoftbond_scene).
+/** @file
+ * softbond's YAML scenes for an embedding program (libsoftbond_scene).
  *
  * One call loads a scene file the way `softbond run` does (the defaults,
  * the file, then each "key=value" override, then the checks) and builds
@@ -34,7 +35,7 @@ extern "C" {
 
 typedef struct sb_scene_file sb_scene_file;
 
-/* Loads the scene at path with `count` overrides "key=value" (a dotted key
+/** Loads the scene at path with `count` overrides "key=value" (a dotted key
  * such as "bond.k" or "mesh.nx"; the value a YAML scalar, flow sequence or
  * flow map), later ones winning, and builds its model into *out. A
  * relative path in the scene (mesh.file) is relative to the scene file.
@@ -46,28 +47,28 @@ typedef struct sb_scene_file sb_scene_file;
  * SB_ERR_NOMEM. */
 SB_API sb_status sb_scene_file_load(const char* path, const char* const* overrides, size_t count, sb_scene_file** out,
                                     sb_error* err);
-/* Frees the scene, its model and what its solver definition points at.
+/** Frees the scene, its model and what its solver definition points at.
  * NULL is a no-op. */
 SB_API void sb_scene_file_destroy(sb_scene_file* scene);
 
-/* The compiled model (the mesh placed, pinned and fixed as the scene says). */
+/** The compiled model (the mesh placed, pinned and fixed as the scene says). */
 SB_API const sb_model* sb_scene_file_model(const sb_scene_file* scene);
-/* The solver's settings: integrator, gravity, kernels, threads, and the
+/** The solver's settings: integrator, gravity, kernels, threads, and the
  * scene's colliders, handles, blades and point load (pointers into the
  * scene, valid until sb_scene_file_destroy). */
 SB_API const sb_solver_def* sb_scene_file_solver_def(const sb_scene_file* scene);
 
-/* The time step, s (`dt`). */
+/** The time step, s (`dt`). */
 SB_API double sb_scene_file_dt(const sb_scene_file* scene);
-/* The simulated time the scene runs for, s (`duration`). */
+/** The simulated time the scene runs for, s (`duration`). */
 SB_API double sb_scene_file_duration(const sb_scene_file* scene);
-/* The simulated time between frames, s (`frame_interval`). */
+/** The simulated time between frames, s (`frame_interval`). */
 SB_API double sb_scene_file_frame_interval(const sb_scene_file* scene);
-/* Any number or integer setting by its dotted key ("stop.kinetic_energy",
- * "mesh.nx"), in the scene's units (README, the table of scene keys).
+/** Any number or integer setting by its dotted key ("stop.kinetic_energy",
+ * "mesh.nx"), in the scene's units (docs/scene_keys.md, `softbond keys`).
  * SB_ERR_INVALID for an unknown key or one that is not a number. */
 SB_API sb_status sb_scene_file_number(const sb_scene_file* scene, const char* key, double* out, sb_error* err);
-/* The scene's name: its file name without directory and extension. */
+/** The scene's name: its file name without directory and extension. */
 SB_API const char* sb_scene_file_name(const sb_scene_file* scene);
 
 #ifdef __cplusplus

@@ -1,4 +1,5 @@
-/* softbond: real-time soft bodies with molecular-mechanics bonded terms. */
+/** @file
+ * softbond: real-time soft bodies with molecular-mechanics bonded terms. */
 #ifndef SOFTBOND_H
 #define SOFTBOND_H
 

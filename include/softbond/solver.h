@@ -1,4 +1,5 @@
-/* The solver advances a state of a model in time: force terms, integrator,
+/** @file
+ * The solver advances a state of a model in time: force terms, integrator,
  * fixed vertices, gravity and external forces. */
 #ifndef SOFTBOND_SOLVER_H
 #define SOFTBOND_SOLVER_H
@@ -17,55 +18,55 @@ extern "C" {
 #endif
 
 typedef enum sb_integrator {
-    SB_INTEGRATOR_VERLET = 0,       /* Störmer-Verlet, position form (Sekercioglu & Duysak 2009, Eq. 12) */
-    SB_INTEGRATOR_VELOCITY_VERLET,  /* kick ½dt, drift dt, kick ½dt */
-    SB_INTEGRATOR_EXPLICIT_EULER,   /* x⁺ = x + v dt, v⁺ = v + a(x, v) dt */
-    SB_INTEGRATOR_SYMPLECTIC_EULER, /* kick then drift: v⁺ = v + a dt, x⁺ = x + v⁺ dt */
-    SB_INTEGRATOR_POSITION_VERLET,  /* Trotter split: drift ½dt, kick dt, drift ½dt */
-    SB_INTEGRATOR_IMPLICIT_EULER,   /* backward Euler, Newton-Raphson with matrix-free CG */
-    SB_INTEGRATOR_PBD,              /* position-based: predict, project bond and corner constraints */
-    SB_INTEGRATOR_XPBD,             /* its compliant form: compliance 1/k, λ accumulated */
-    SB_INTEGRATOR_VBD,              /* Vertex Block Descent: per-vertex Newton steps on backward Euler's potential */
+    SB_INTEGRATOR_VERLET = 0,       /**< Störmer-Verlet, position form (Sekercioglu & Duysak 2009, Eq. 12) */
+    SB_INTEGRATOR_VELOCITY_VERLET,  /**< kick ½dt, drift dt, kick ½dt */
+    SB_INTEGRATOR_EXPLICIT_EULER,   /**< x⁺ = x + v dt, v⁺ = v + a(x, v) dt */
+    SB_INTEGRATOR_SYMPLECTIC_EULER, /**< kick then drift: v⁺ = v + a dt, x⁺ = x + v⁺ dt */
+    SB_INTEGRATOR_POSITION_VERLET,  /**< Trotter split: drift ½dt, kick dt, drift ½dt */
+    SB_INTEGRATOR_IMPLICIT_EULER,   /**< backward Euler, Newton-Raphson with matrix-free CG */
+    SB_INTEGRATOR_PBD,              /**< position-based: predict, project bond and corner constraints */
+    SB_INTEGRATOR_XPBD,             /**< its compliant form: compliance 1/k, λ accumulated */
+    SB_INTEGRATOR_VBD,              /**< Vertex Block Descent: per-vertex Newton steps on backward Euler's potential */
     SB_INTEGRATOR_COUNT
 } sb_integrator;
 
-/* "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
+/** "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
  * "position_verlet", "implicit_euler", "pbd", "xpbd", "vbd". */
 SB_API const char* sb_integrator_name(sb_integrator integrator);
-/* Returns false when the name is unknown. */
+/** Returns false when the name is unknown. */
 SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
 
-/* The blow-up rule: a bond (or, in a model without bonds, a triangle edge)
+/** The blow-up rule: a bond (or, in a model without bonds, a triangle edge)
  * longer than SB_STRETCH_LIMIT times its rest length means an unstable run
  * (SB_ERR_UNSTABLE); checked on every SB_STRETCH_INTERVAL-th advance. */
 #define SB_STRETCH_LIMIT 10.0
 #define SB_STRETCH_INTERVAL 64
 
-/* The force kernels. sb_default_solver_def() chooses the fast ones (SIMD on
+/** The force kernels. sb_default_solver_def() chooses the fast ones (SIMD on
  * the solver's threads, in sb_real), which the tests check against the
  * double scalar reference; ask for the reference explicitly to check a
  * result with it. */
 typedef enum sb_kernels {
-    SB_KERNELS_REFERENCE = 0, /* the double scalar reference */
-    SB_KERNELS_FAST           /* SIMD on the solver's threads: the default */
+    SB_KERNELS_REFERENCE = 0, /**< the double scalar reference */
+    SB_KERNELS_FAST           /**< SIMD on the solver's threads: the default */
 } sb_kernels;
 
-/* implicit_euler's linear solves (sb_solver_def.implicit_solver). */
+/** implicit_euler's linear solves (sb_solver_def.implicit_solver). */
 typedef enum sb_linear_solver {
-    SB_LINEAR_AUTO,     /* SB_LINEAR_CHOLESKY up to SB_CHOLESKY_AUTO_VERTICES vertices, SB_LINEAR_CG above */
-    SB_LINEAR_CG,       /* block-Jacobi preconditioned conjugate gradients */
-    SB_LINEAR_CHOLESKY, /* a sparse Cholesky factorization (CHOLMOD) */
+    SB_LINEAR_AUTO,     /**< SB_LINEAR_CHOLESKY up to SB_CHOLESKY_AUTO_VERTICES vertices, SB_LINEAR_CG above */
+    SB_LINEAR_CG,       /**< block-Jacobi preconditioned conjugate gradients */
+    SB_LINEAR_CHOLESKY, /**< a sparse Cholesky factorization (CHOLMOD) */
     SB_LINEAR_COUNT
 } sb_linear_solver;
 #define SB_CHOLESKY_AUTO_VERTICES 20000
-/* "auto", "cg", "cholesky"; false for another name. */
+/** "auto", "cg", "cholesky"; false for another name. */
 SB_API bool sb_linear_solver_from_name(const char* name, sb_linear_solver* out);
 
-/* Called once per free vertex per force evaluation; adds to force[] (N). */
+/** Called once per free vertex per force evaluation; adds to force[] (N). */
 typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, const double position[3],
                                      const double velocity[3], double force[3]);
 
-/* Called once per bond that breaks (softbond/builder.h's break_min,
+/** Called once per bond that breaks (softbond/builder.h's break_min,
  * break_max), on the thread that advances the solver, in bond order, at the
  * end of the (sub-)step whose end length crossed the limit; time is that
  * step's end (s). */
@@ -73,34 +74,34 @@ typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, d
 
 typedef struct sb_solver_def {
     sb_integrator integrator;
-    double gravity[3]; /* m/s² */
-    double drag;       /* 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
+    double gravity[3]; /**< m/s² */
+    double drag;       /**< 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
     sb_kernels kernels;
-    sb_runtime_def runtime; /* the threads: count, pinning, wait policy (softbond/runtime.h) */
-    /* Contact (softbond/collider.h; DESIGN.md, section Contact): after every step each
+    sb_runtime_def runtime; /**< the threads: count, pinning, wait policy (softbond/runtime.h) */
+    /** Contact (softbond/collider.h; DESIGN.md, section Contact): after every step each
      * free vertex's move is checked against the colliders in this order, and
      * the earliest contact is answered. The colliders must outlive the solver. */
     sb_collider* const* colliders;
     uint32_t collider_count;
-    double contact_thickness; /* m, >= 0: added to every collider's own thickness */
-    /* Self-contact (DESIGN.md, section Contact): after the collider pass of every
+    double contact_thickness; /**< m, >= 0: added to every collider's own thickness */
+    /** Self-contact (DESIGN.md, section Contact): after the collider pass of every
      * step, the model's triangles against each other — a body folding onto
      * itself and the bodies of a multi-object model. A vertex–triangle or
      * edge–edge pair that crossed in the step, or ends it closer than
      * contact_thickness (then required > 0), is moved apart to that distance
      * and loses its closing velocity (inelastic, frictionless). */
     bool self_collision;
-    /* Handles (softbond/handle.h): vertices driven to a moving pose, hard
+    /** Handles (softbond/handle.h): vertices driven to a moving pose, hard
      * (by position) or soft (a spring-damper force). They must outlive the
      * solver; each is attached to this solver only. */
     sb_handle* const* handles;
     uint32_t handle_count;
     sb_external_force_fn external_force;
     void* external_user;
-    /* Breakage (DESIGN.md, section Breakage): the breakage callback, or NULL. */
+    /** Breakage (DESIGN.md, section Breakage): the breakage callback, or NULL. */
     sb_break_fn on_break;
     void* break_user;
-    /* Tearing (DESIGN.md, section Breakage), for a model with break limits and
+    /** Tearing (DESIGN.md, section Breakage), for a model with break limits and
      * triangles: where broken bonds leave a vertex's triangles in separate
      * fans, the vertex is split, one copy per fan, and the surface opens.
      * max_splits: the most vertex copies over the run, reserved at
@@ -111,12 +112,12 @@ typedef struct sb_solver_def {
      * default 256, < 0 refused); the rest wait for the next steps, in order. */
     int32_t max_splits;
     int32_t max_splits_per_step;
-    /* Cutting (softbond/blade.h): blades that sever the bonds they cross;
+    /** Cutting (softbond/blade.h): blades that sever the bonds they cross;
      * their definitions are copied. A model with blades can tear even
      * without break limits (max_splits' default then counts every bond). */
     const sb_blade_def* blades;
     uint32_t blade_count;
-    /* implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
+    /** implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
      * conjugate gradients of at most implicit_cg_iterations. 0 = default
@@ -128,7 +129,7 @@ typedef struct sb_solver_def {
      * kernels, matrix-free, always with the exact
      * stiffness. */
     double implicit_tolerance;
-    /* implicit_euler's linear solver: SB_LINEAR_AUTO (the default) factors
+    /** implicit_euler's linear solver: SB_LINEAR_AUTO (the default) factors
      * the Jacobian (SB_LINEAR_CHOLESKY, a sparse Cholesky) for models of at
      * most SB_CHOLESKY_AUTO_VERTICES vertices and solves by conjugate
      * gradients (SB_LINEAR_CG) above. A Jacobian that is not positive
@@ -140,20 +141,20 @@ typedef struct sb_solver_def {
     int implicit_newton_iterations;
     int implicit_cg_iterations;
     bool implicit_definite;
-    /* pbd, xpbd: constraint projection sweeps per step (0 = default 10);
-     * README.md, Integrators, has the constraints and the stiffness mapping. */
+    /** pbd, xpbd: constraint projection sweeps per step (0 = default 10);
+     * docs/integrators.md has the constraints and the stiffness mapping. */
     int pbd_iterations;
-    /* vbd: Gauss-Seidel sweeps over the vertex colors per step (0 = default
+    /** vbd: Gauss-Seidel sweeps over the vertex colors per step (0 = default
      * 10); Vertex Block Descent (Chen, Liu, Yang and Yuksel 2024). */
     int vbd_iterations;
-    /* vbd: Chebyshev acceleration across a step's sweeps with this spectral
+    /** vbd: Chebyshev acceleration across a step's sweeps with this spectral
      * radius estimate ρ in [0, 1); 0 = off (the default). */
     double vbd_chebyshev_rho;
-    /* vbd: over-relaxation of each vertex's Newton step, x_i += ω Δx_i with
+    /** vbd: over-relaxation of each vertex's Newton step, x_i += ω Δx_i with
      * ω in (0, 2) (successive over-relaxation; 0 = 1, plain steps, the
      * default). */
     double vbd_relaxation;
-    /* Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
+    /** Energy-stable adaptive stepping: sb_solver_advance(dt) splits dt into
      * sub-steps; a sub-step whose total energy gain minus the work of the
      * external forces exceeds adaptive_tolerance × (the largest sum of the
      * energies' magnitudes since the state was set) is undone and retried at half the size, down to min_dt (then
@@ -161,22 +162,22 @@ typedef struct sb_solver_def {
      * never more than what is left of dt. adaptive_tolerance 0 = the
      * precision's rounding level (1e-5 float, 1e-10 double). */
     bool adaptive;
-    double min_dt;             /* s, > 0; default 1e-9 */
-    double adaptive_tolerance; /* >= 0 */
+    double min_dt;             /**< s, > 0; default 1e-9 */
+    double adaptive_tolerance; /**< >= 0 */
 } sb_solver_def;
 
 SB_API sb_solver_def sb_default_solver_def(void);
 
 typedef struct sb_solver sb_solver;
 
-/* The state starts at the model's rest positions and initial velocities.
+/** The state starts at the model's rest positions and initial velocities.
  * The model must outlive the solver. Everything a step needs (the team's
  * threads, every integrator's and the adaptive stepper's buffers) is
  * allocated here: sb_solver_advance never allocates. */
 SB_API sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
 SB_API void sb_solver_destroy(sb_solver* solver);
 
-/* Advances the state by one step of dt seconds (dt > 0 and finite), or,
+/** Advances the state by one step of dt seconds (dt > 0 and finite), or,
  * with def.adaptive, by sub-steps that add up to dt. On failure (a collapsed
  * edge, a non-finite or runaway state, a bond stretched past
  * SB_STRETCH_LIMIT times its rest length (checked every
@@ -187,32 +188,32 @@ SB_API void sb_solver_destroy(sb_solver* solver);
 SB_API sb_status sb_solver_advance(sb_solver* solver, double dt);
 SB_API const char* sb_solver_error(const sb_solver* solver);
 
-/* What the last sb_solver_advance did. */
+/** What the last sb_solver_advance did. */
 typedef struct sb_step_stats {
-    int newton_iterations;   /* implicit_euler: Newton iterations, summed over sub-steps */
-    int cg_iterations;       /* implicit_euler: conjugate-gradient iterations, summed */
-    bool converged;          /* implicit_euler: every Newton solve met its tolerance */
-    uint32_t cg_indefinite;  /* implicit_euler: CG solves stopped at a non-positive curvature */
-    uint32_t factorizations; /* implicit_euler: Jacobians factored (SB_LINEAR_CHOLESKY), summed */
-    uint32_t substeps;       /* sub-steps accepted (1 without adaptive stepping) */
-    uint32_t rejected;       /* adaptive: sub-steps undone and retried at half the size */
-    uint32_t contacts;       /* vertex contacts answered, summed over sub-steps */
-    uint32_t self_contacts;  /* self-contact pairs corrected, summed over sub-steps */
-    uint32_t self_dropped;   /* self-contact candidates dropped: the buffers (16 per triangle) were full */
-    double last_substep;     /* s, the last accepted sub-step */
-    double min_substep;      /* s, the smallest accepted sub-step */
+    int newton_iterations;   /**< implicit_euler: Newton iterations, summed over sub-steps */
+    int cg_iterations;       /**< implicit_euler: conjugate-gradient iterations, summed */
+    bool converged;          /**< implicit_euler: every Newton solve met its tolerance */
+    uint32_t cg_indefinite;  /**< implicit_euler: CG solves stopped at a non-positive curvature */
+    uint32_t factorizations; /**< implicit_euler: Jacobians factored (SB_LINEAR_CHOLESKY), summed */
+    uint32_t substeps;       /**< sub-steps accepted (1 without adaptive stepping) */
+    uint32_t rejected;       /**< adaptive: sub-steps undone and retried at half the size */
+    uint32_t contacts;       /**< vertex contacts answered, summed over sub-steps */
+    uint32_t self_contacts;  /**< self-contact pairs corrected, summed over sub-steps */
+    uint32_t self_dropped;   /**< self-contact candidates dropped: the buffers (16 per triangle) were full */
+    double last_substep;     /**< s, the last accepted sub-step */
+    double min_substep;      /**< s, the smallest accepted sub-step */
 } sb_step_stats;
 
 SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
 
-/* The force (N) collider `index` received from the bodies during the last
+/** The force (N) collider `index` received from the bodies during the last
  * sb_solver_advance: the impulses of its contacts summed in vertex order,
  * divided by the advance's dt. Zeros for an index out of range. */
 SB_API void sb_solver_contact_force(const sb_solver* solver, uint32_t index, double force[3]);
-/* Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
+/** Newton and CG iterations of the last step (implicit_euler; 0 otherwise). */
 SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int* cg);
 
-/* Breakage: the bonds broken so far in this solver's run (they stay
+/** Breakage: the bonds broken so far in this solver's run (they stay
  * broken, sb_solver_set_state included), and whether bond `bond` is one of
  * them (false out of range). A broken bond has no stiffness and no damping,
  * and the triangles (angle, stretch-bend) and hinges that use its edge lose
@@ -220,7 +221,7 @@ SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int*
 SB_API uint32_t sb_solver_broken_count(const sb_solver* solver);
 SB_API bool sb_solver_bond_broken(const sb_solver* solver, uint32_t bond);
 
-/* Tearing's topology (sb_solver_def.max_splits). The solver's vertices are
+/** Tearing's topology (sb_solver_def.max_splits). The solver's vertices are
  * the model's, then the copies splits made: sb_solver_vertex_count of them
  * now, never more than sb_solver_vertex_capacity (size buffers for the
  * getters below by it; both equal the model's count for a solver that
@@ -240,7 +241,7 @@ SB_API double sb_solver_time(const sb_solver* solver);
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
 SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 
-/* Energies of the current state: each term, kinetic, gravity. After a pbd,
+/** Energies of the current state: each term, kinetic, gravity. After a pbd,
  * xpbd, vbd or implicit Euler step with the fast kernels they are evaluated
  * here, when first asked for (as are the forces of sb_solver_get_forces);
  * after a Verlet step with the fast kernels the kinetic and gravitational
@@ -248,7 +249,7 @@ SB_API const sb_model* sb_solver_model(const sb_solver* solver);
  * that step sums them in its own passes): the same numbers either way. */
 SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 
-/* Copies positions, velocities or the total forces (internal, gravity, drag
+/** Copies positions, velocities or the total forces (internal, gravity, drag
  * and external, at the current positions) out as 3n interleaved doubles,
  * n = sb_solver_vertex_count.
  * These getters, like every function here that takes a const sb_solver*,
@@ -258,19 +259,19 @@ SB_API sb_energies sb_solver_energies(const sb_solver* solver);
 SB_API void sb_solver_get_positions(const sb_solver* solver, double* out);
 SB_API void sb_solver_get_velocities(const sb_solver* solver, double* out);
 SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
-/* Replaces positions and velocities (3n interleaved, n =
+/** Replaces positions and velocities (3n interleaved, n =
  * sb_solver_vertex_count; velocities may be NULL for zero) and recomputes
  * forces. Fixed vertices keep their rest position; a torn solver stays
  * torn. */
 SB_API sb_status sb_solver_set_state(sb_solver* solver, const double* positions, const double* velocities);
-/* Changes gravity (m/s², finite) between steps: the forces of the current
+/** Changes gravity (m/s², finite) between steps: the forces of the current
  * state are updated to it, so the next step feels the new gravity from its
  * start (a viewer's "reverse gravity" and "gravity off"); the energies'
  * gravity term follows from that step on. On the thread that advances the
  * solver. SB_ERR_INVALID, and nothing changes, for a non-finite value. */
 SB_API sb_status sb_solver_set_gravity(sb_solver* solver, const double gravity[3]);
 
-/* Checkpoints: the solver's whole state as bytes, from which a run
+/** Checkpoints: the solver's whole state as bytes, from which a run
  * continues bitwise as if it had not stopped (DESIGN.md, section Checkpoints,
  * says what is in it: the state, the Verlet displacement, the clock and step
  * count, the adaptive step size and energy peak, the colliders' poses and

@@ -1,4 +1,5 @@
-/* The state buffer: how other threads see a running simulation. One writer
+/** @file
+ * The state buffer: how other threads see a running simulation. One writer
  * (the thread that advances the solver) publishes snapshots; any number of
  * readers (a haptic servo loop, a viewer, a logger) take the latest one
  * without locks. The writer never waits for a reader, a reader never sees
@@ -16,20 +17,20 @@
 extern "C" {
 #endif
 
-/* One published state. Arrays are 3n interleaved (x y z per vertex). */
+/** One published state. Arrays are 3n interleaved (x y z per vertex). */
 typedef struct sb_snapshot {
-    uint64_t sequence; /* 1 for the first snapshot published, then 2, 3, ... */
-    uint64_t step;     /* the solver's step count (sb_solver_step_count) */
-    double time;       /* s, simulated */
+    uint64_t sequence; /**< 1 for the first snapshot published, then 2, 3, ... */
+    uint64_t step;     /**< the solver's step count (sb_solver_step_count) */
+    double time;       /**< s, simulated */
     sb_energies energies;
-    uint32_t vertex_count; /* the vertices it holds: a tearing solver's grow (sb_solver_vertex_count) */
-    sb_real* positions;    /* m */
-    sb_real* velocities;   /* m/s */
+    uint32_t vertex_count; /**< the vertices it holds: a tearing solver's grow (sb_solver_vertex_count) */
+    sb_real* positions;    /**< m */
+    sb_real* velocities;   /**< m/s */
 } sb_snapshot;
 
 typedef struct sb_state_buffer sb_state_buffer;
 
-/* A buffer for snapshots of vertex_count vertices that up to max_readers
+/** A buffer for snapshots of vertex_count vertices that up to max_readers
  * threads may hold at once (each holding one snapshot at a time); it keeps
  * max_readers + 2 slots. Allocates everything here. For a solver, give
  * sb_solver_vertex_capacity(solver): the model's vertex count, plus the
@@ -38,14 +39,14 @@ typedef struct sb_state_buffer sb_state_buffer;
 SB_API sb_state_buffer* sb_state_buffer_create(uint32_t vertex_count, int max_readers, sb_error* err);
 SB_API void sb_state_buffer_destroy(sb_state_buffer* buffer);
 
-/* Writer: copies the solver's current state (positions, velocities, step,
+/** Writer: copies the solver's current state (positions, velocities, step,
  * time, energies) into a free slot, in parallel on the solver's threads,
  * and makes it the latest. Never blocks and never allocates. SB_ERR_BUSY
  * when every slot is held (more readers than max_readers); SB_ERR_INVALID
  * when the buffer's vertex count is not the solver's capacity. */
 SB_API sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* buffer);
 
-/* Writer: sb_solver_advance, then the new state published as by
+/** Writer: sb_solver_advance, then the new state published as by
  * sb_solver_publish, but cheaper: where the fused Verlet step runs (the
  * fast kernels, verlet or velocity_verlet, not adaptive) its last pass
  * writes the snapshot while each chunk of vertices is still in cache, with
@@ -57,20 +58,20 @@ SB_API sb_status sb_solver_publish(const sb_solver* solver, sb_state_buffer* buf
  * solver's capacity. */
 SB_API sb_status sb_solver_advance_published(sb_solver* solver, double dt, sb_state_buffer* buffer);
 
-/* Publications skipped because every slot was held. Any thread. */
+/** Publications skipped because every slot was held. Any thread. */
 SB_API uint64_t sb_state_buffer_skipped(const sb_state_buffer* buffer);
 
-/* Writer, for other producers (a replay, a test): a free slot to fill, or
+/** Writer, for other producers (a replay, a test): a free slot to fill, or
  * NULL when every slot is held; then commit it to make it the latest. */
 SB_API sb_snapshot* sb_state_buffer_begin(sb_state_buffer* buffer);
 SB_API void sb_state_buffer_commit(sb_state_buffer* buffer, sb_snapshot* snapshot);
 
-/* Reader: the latest snapshot, held until released (the writer does not
+/** Reader: the latest snapshot, held until released (the writer does not
  * touch it meanwhile), or NULL before the first publication. */
 SB_API const sb_snapshot* sb_state_buffer_acquire(sb_state_buffer* buffer);
 SB_API void sb_state_buffer_release(sb_state_buffer* buffer, const sb_snapshot* snapshot);
 
-/* How many snapshots have been committed. Any thread. */
+/** How many snapshots have been committed. Any thread. */
 SB_API uint64_t sb_state_buffer_published(const sb_state_buffer* buffer);
 
 #ifdef __cplusplus

@@ -1,4 +1,5 @@
-/* Volumetric models: tetrahedral meshes from TetGen and Gmsh files, and the
+/** @file
+ * Volumetric models: tetrahedral meshes from TetGen and Gmsh files, and the
  * mass-spring parameters of Sudhamani & Merriliance (2019) after Lloyd et
  * al. (2007): vertex mass from a density, spring stiffness from Young's
  * modulus, a damping rule, and named soft-tissue materials. */
@@ -17,68 +18,68 @@ extern "C" {
 
 typedef struct sb_tet_mesh {
     uint32_t vertex_count;
-    double* positions; /* 3 * vertex_count, x y z interleaved, metres */
+    double* positions; /**< 3 * vertex_count, x y z interleaved, metres */
     uint32_t tet_count;
-    uint32_t* tets; /* 4 * tet_count vertex indices (the corners) */
+    uint32_t* tets; /**< 4 * tet_count vertex indices (the corners) */
 } sb_tet_mesh;
 
-/* Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
+/** Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
 SB_API void sb_tet_mesh_free(sb_tet_mesh* mesh);
 
-/* TetGen: a .node file (points; its first point's number, 0 or 1, is the
+/** TetGen: a .node file (points; its first point's number, 0 or 1, is the
  * numbering base) and an .ele file (tetrahedra of 4 or 10 nodes: the first
  * four are the corners). Comments (#) and blank lines are skipped; extra
  * columns (attributes, markers) are ignored. Vertex order is the file's. */
 SB_API sb_status sb_tet_mesh_load_tetgen(const char* node_path, const char* ele_path, sb_tet_mesh* out, sb_error* err);
 
-/* Gmsh .msh version 4 (4.0 or 4.1), ASCII: the nodes and the tetrahedra
+/** Gmsh .msh version 4 (4.0 or 4.1), ASCII: the nodes and the tetrahedra
  * (element types 4 and 11, corners only); every other element type is
  * skipped. Vertices are the nodes that some tetrahedron uses, in the order
  * of the file. */
 SB_API sb_status sb_tet_mesh_load_gmsh(const char* path, sb_tet_mesh* out, sb_error* err);
 
-/* By extension, ignoring case: ".node" or ".ele" (the other file of the
+/** By extension, ignoring case: ".node" or ".ele" (the other file of the
  * pair is the same name with the other extension) or ".msh". Errors are
  * one line naming the file and line. */
 SB_API sb_status sb_tet_mesh_load(const char* path, sb_tet_mesh* out, sb_error* err);
 
-/* Whether sb_tet_mesh_load reads this path (".node", ".ele", ".msh"). */
+/** Whether sb_tet_mesh_load reads this path (".node", ".ele", ".msh"). */
 SB_API bool sb_tet_mesh_path(const char* path);
 
-/* Signed volume of (a, b, c, d): (b − a) · ((c − a) × (d − a)) / 6, m³. */
+/** Signed volume of (a, b, c, d): (b − a) · ((c − a) × (d − a)) / 6, m³. */
 SB_API double sb_tet_volume(const double* a, const double* b, const double* c, const double* d);
 
-/* Indices in range and not repeated, positions finite, every tetrahedron
+/** Indices in range and not repeated, positions finite, every tetrahedron
  * with a proper volume: an orientation opposite to the mesh's (the sign
  * most of its tetrahedra share; files differ in convention) is inverted,
  * |V| <= 1e-12 × (longest edge)³ is zero volume. The error names the first
  * bad tetrahedron by index and counts the others. */
 SB_API sb_status sb_tet_mesh_check(const sb_tet_mesh* mesh, sb_error* err);
 
-/* The boundary: every face that belongs to exactly one tetrahedron, as a
+/** The boundary: every face that belongs to exactly one tetrahedron, as a
  * triangle facing out of it. All vertices are kept, with their indices, so
  * the surface can stand for the volume in frames, pins and `info`. */
 SB_API sb_status sb_tet_mesh_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
 
-/* A soft tissue: Young's modulus, density, and a factor on the default
+/** A soft tissue: Young's modulus, density, and a factor on the default
  * damping rule (1 = the rule, 0 = undamped). */
 typedef struct sb_tissue_def {
-    double young_modulus; /* Pa */
-    double density;       /* kg/m³ */
-    double damping;       /* dimensionless factor */
+    double young_modulus; /**< Pa */
+    double density;       /**< kg/m³ */
+    double damping;       /**< dimensionless factor */
 } sb_tissue_def;
 
-/* Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
+/** Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
 SB_API sb_tissue_def sb_default_tissue_def(void);
 
-/* "liver" (E = 3.5 kPa) and "gallbladder" (E = 1.5 kPa), the moduli of
+/** "liver" (E = 3.5 kPa) and "gallbladder" (E = 1.5 kPa), the moduli of
  * Sudhamani & Merriliance (2019), which give no density; both get
  * 1060 kg/m³, the adult liver's 1.06 g/cm³ in ICRU Report 46 (1992),
  * typical of soft tissue (the gallbladder is taken the same). Returns false
  * for any other name. */
 SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
 
-/* The volumetric mass-spring factory: a vertex per mesh vertex (order kept),
+/** The volumetric mass-spring factory: a vertex per mesh vertex (order kept),
  * mass m_i = Σ_{t∋i} ρ V_t / 4; a damped spring (sb_bond_def spring_k and
  * spring_damping, bond stretch k = 0, rest length the current distance)
  * per unique tetrahedron edge with

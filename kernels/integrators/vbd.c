@@ -26,13 +26,13 @@
  * sweeps do not just leave the step unconverged: a sweep carries a
  * correction about one neighbour while a stress wave crosses dt √(k/m)
  * edges a step, and the sheet stretches as if softer, storing energy it
- * never had (README, Integrators); acceleration carries it further.
+ * never had (docs/integrators.md); acceleration carries it further.
  *
  * Over-relaxation (vbd_relaxation = ω, 1 plain): each vertex moves ω
  * times its Newton step, successive over-relaxation; the fixed point is the
  * same. Beside Chebyshev's acceleration a mild ω (1.3) carries a sweep's
  * correction further: the threshold sheets need 4 sweeps on 100 × 100 and
- * 3 on 57 × 57 instead of 6 and 4 (README, Integrators).
+ * 3 on 57 × 57 instead of 6 and 4 (docs/integrators.md).
  *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
  * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External

@@ -53,3 +53,21 @@ cc -std=c11 -o "$work/consumer-io-pc" "$src/main_io.c" $(pkg-config --cflags --l
 LD_LIBRARY_PATH="$libdir" "$work/consumer-io-pc" "$work/square.obj"
 cc -std=c11 -o "$work/consumer-scene-pc" "$src/main_scene.c" $(pkg-config --cflags --libs softbond_scene)
 LD_LIBRARY_PATH="$libdir" "$work/consumer-scene-pc" "$work/sheet.yaml"
+
+# Installed for use: the scenes, the manual, the examples, the man page and
+# the bash completion, in their usual places; the installed program runs an
+# installed scene, and the installed examples build against the installation.
+share="$prefix/share"
+for file in softbond/scenes/default.yaml softbond/scenes/bowl.obj softbond/scenes/haptics_probe.csv \
+    doc/softbond/README.md doc/softbond/LICENSE doc/softbond/CHANGELOG.md doc/softbond/docs/scene_keys.md \
+    doc/softbond/docs/getting_started.md doc/softbond/examples/hello.c doc/softbond/examples/CMakeLists.txt \
+    man/man1/softbond.1 bash-completion/completions/softbond; do
+    [ -f "$share/$file" ] || { echo "not installed: share/$file" >&2; exit 1; }
+done
+LD_LIBRARY_PATH="$libdir" "$prefix/bin/softbond" run "$share/softbond/scenes/default.yaml" \
+    --set duration=0.01 --set threads=1 --output "$work/installed-run" >/dev/null
+[ -f "$work/installed-run/log.csv" ] || { echo "the installed program wrote no log.csv" >&2; exit 1; }
+cmake -S "$share/doc/softbond/examples" -B "$work/examples-build" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build "$work/examples-build" >/dev/null
+LD_LIBRARY_PATH="$libdir" "$work/examples-build/example_hello" | grep -q "the free corner at z = -"
+echo "installed: scenes, manual, examples (built and run), man page, bash completion"
