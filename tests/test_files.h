@@ -29,7 +29,7 @@ static inline int tu_remove_tmp_dir(void) {
 
 /* tu_tmp_dir/name in a rotating set of buffers, enough for one call's paths. */
 static inline const char* tu_tmp_path(const char* name) {
-    static char buffers[8][400];
+    static char buffers[8][1024];
     static int next;
     char* path = buffers[next++ % 8];
     snprintf(path, sizeof buffers[0], "%s/%s", tu_tmp_dir, name);

@@ -337,7 +337,7 @@ static void assert_rerun_same(const char* scene, const char* const* sets, const 
     tu_result r = tu_run(args);
     if (r.code != 0) fail_msg("%s: exit %d: %s", scene, r.code, r.err);
     tu_result_free(&r);
-    char path[256], again[256];
+    char path[600], again[300];
     snprintf(path, sizeof path, "%s/%s/run.yaml", tu_tmp_dir, dir);
     char* record = tu_read_file(path);
     assert_non_null(record);
@@ -351,7 +351,7 @@ static void assert_rerun_same(const char* scene, const char* const* sets, const 
     free(record);
     snprintf(again, sizeof again, "%s_again", dir);
     assert_int_equal(mkdir(tu_tmp_path("elsewhere"), 0777) == 0 || errno == EEXIST, 1);
-    char rerun_out[300];
+    char rerun_out[600];
     snprintf(rerun_out, sizeof rerun_out, "%s/%s", tu_tmp_dir, again);
     r = tu_run((const char*[]){"run", path, "--output", rerun_out, "--threads", "1", NULL});
     if (r.code != 0) fail_msg("%s again: exit %d: %s", path, r.code, r.err);
