@@ -13,14 +13,18 @@
 extern "C" {
 #endif
 
+/** A model under construction: growable arrays of vertex, bond, triangle
+ * and hinge definitions, compiled by sb_builder_compile. Opaque. */
 typedef struct sb_builder sb_builder;
+/** The compiled, immutable model (softbond/model.h). */
 typedef struct sb_model sb_model;
 
+/** A mass point. */
 typedef struct sb_vertex_def {
     double position[3]; /**< m; also the rest position */
     double velocity[3]; /**< m/s, initial */
     double mass;        /**< kg; must be > 0 unless fixed */
-    bool fixed;
+    bool fixed;         /**< pinned: stays at its rest position, velocity taken as 0; its mass may be 0 */
 } sb_vertex_def;
 
 /** A bond between two vertices carries two edge terms: the molecular bond
@@ -28,6 +32,10 @@ typedef struct sb_vertex_def {
  * damped spring (the same paper's Eq. 2)
  * ½ spring_k (r − r0)² with damping spring_damping along the bond. */
 typedef struct sb_bond_def {
+    /** @var i
+     * the vertex at one end (an index into the builder's vertices)
+     * @var j
+     * the vertex at the other end; not i */
     uint32_t i, j;
     double rest_length;    /**< m; negative means the current distance */
     double k;              /**< N/m, bond stretch */
@@ -48,6 +56,12 @@ typedef struct sb_bond_def {
  * (the same paper's Eq. 5, which leaves the constant out). Rest
  * values come from the vertices' positions. */
 typedef struct sb_triangle_def {
+    /** @var i
+     * the first corner (an index into the builder's vertices)
+     * @var j
+     * the second corner
+     * @var k
+     * the third corner; the three distinct */
     uint32_t i, j, k;
     double angle_k;        /**< J */
     double stretch_bend_k; /**< J/m */
@@ -57,12 +71,26 @@ typedef struct sb_triangle_def {
  * and (e1, e0, o1); it resists folding with ½ k (φ − φ0)², φ the signed
  * dihedral angle (0 when flat), φ0 taken from the positions. */
 typedef struct sb_hinge_def {
+    /** @var e0
+     * the shared edge's first vertex
+     * @var e1
+     * the shared edge's second vertex
+     * @var o0
+     * the vertex opposite the edge in the triangle (e0, e1, o0)
+     * @var o1
+     * the vertex opposite the edge in the triangle (e1, e0, o1) */
     uint32_t e0, e1, o0, o1;
     double k; /**< J/rad² */
 } sb_hinge_def;
 
+/** A free vertex of 1 kg at rest at the origin. */
 SB_API sb_vertex_def sb_default_vertex_def(void);
+/** A bond between vertices 0 and 0 (set i and j) with no stiffness and no
+ * damping, its rest length the distance at compile time (-1), never
+ * breaking (break_min 0, break_max +inf). */
 SB_API sb_bond_def sb_default_bond_def(void);
+/** A triangle of vertices 0, 0, 0 (set i, j and k) with no constants: all
+ * zeros. */
 SB_API sb_triangle_def sb_default_triangle_def(void);
 /** The factories' strain rule, for a bond's break_max: the length beyond
  * which the bond between mesh vertices a and b breaks, r0 (1 + strain), r0
@@ -70,16 +98,24 @@ SB_API sb_triangle_def sb_default_triangle_def(void);
  * outside the library (the scene loader's net) breaks by the same rule. */
 SB_API double sb_strain_break_length(const sb_mesh* mesh, uint32_t a, uint32_t b, double strain);
 
+/** An empty builder, or NULL when out of memory. Free it with
+ * sb_builder_destroy; the models it compiles do not depend on it. */
 SB_API sb_builder* sb_builder_create(void);
+/** Frees the builder and everything added to it; safe on NULL. */
 SB_API void sb_builder_destroy(sb_builder* builder);
 
 /** Each add returns the new element's index, or -1 when out of memory.
  * Nothing is checked here: compile validates everything at once. */
 SB_API int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* def);
+/** Adds a copy of *def; the index or -1 as sb_builder_add_vertex. */
 SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
+/** Adds a copy of *def; the index or -1 as sb_builder_add_vertex. */
 SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
+/** Adds a copy of *def; the index or -1 as sb_builder_add_vertex. */
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
 
+/** The vertices added so far: the index the next one gets (a factory adds
+ * its mesh's vertices from there). */
 SB_API uint32_t sb_builder_vertex_count(const sb_builder* builder);
 /** Changes a vertex after it was added (to pin it, give it a mass, ...). */
 SB_API sb_vertex_def* sb_builder_vertex(sb_builder* builder, uint32_t index);
@@ -105,6 +141,8 @@ typedef struct sb_material_def {
     double break_strain;   /**< every bond breaks beyond r0 (1 + break_strain); 0 = never */
 } sb_material_def;
 
+/** bond_k 100 N/m, angle_k 0.1 J, 0.01 kg per vertex; every other term off,
+ * density 0, no breakage. */
 SB_API sb_material_def sb_default_material_def(void);
 
 /** The mesh factory for molecular mechanics: a vertex per mesh vertex (order
@@ -125,9 +163,12 @@ SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, c
  * stiffness and damping are both 0 are not added (stretch, bend or
  * vicinity); vicinity = 0 adds none. */
 typedef struct sb_spring_mesh_def {
+    /** N/m: the stretch springs' stiffness, per edge */
     double stretch_k, stretch_damping;   /**< N/m, N·s/m: per edge */
+    /** N/m: the bend springs' stiffness, across adjacent triangles */
     double bend_k, bend_damping;         /**< N/m, N·s/m: across adjacent triangles */
     double vicinity;                     /**< m: join vertices nearer than this; 0 = none */
+    /** N/m: the vicinity springs' stiffness */
     double vicinity_k, vicinity_damping; /**< N/m, N·s/m */
     double mass;                         /**< kg per vertex, used when density is 0 */
     double density;                      /**< kg/m², areal: a third of each triangle's mass */
@@ -138,6 +179,11 @@ typedef struct sb_spring_mesh_def {
  * springs (distance 0; 100 N/m and 0.1 N·s/m once one is set), 0.01 kg per
  * vertex: the scene keys' defaults. */
 SB_API sb_spring_mesh_def sb_default_spring_mesh_def(void);
+/** Adds the mesh's springs as described at sb_spring_mesh_def, the mesh's
+ * vertices after those already in the builder (its vertex v becomes
+ * sb_builder_vertex_count() + v). SB_ERR_INVALID, with nothing added, for a
+ * negative or non-finite constant or a triangle index out of range;
+ * SB_ERR_NOMEM when out of memory (what was added so far stays). */
 SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
                                             sb_error* err);
 
