@@ -30,7 +30,8 @@ extern "C" {
 
 /** One vertex's move in one step. */
 typedef struct sb_contact_query {
-    uint32_t vertex;
+    uint32_t vertex;  /**< the vertex's index in the solver (a tearing solver's copies included) */
+    /** s: the time at the step's start */
     double t0, t1;    /**< s: the step runs from t0 to t1 */
     double from[3];   /**< m: the position at t0 */
     double to[3];     /**< m: where the integrator moved it by t1 */
@@ -71,16 +72,23 @@ typedef bool (*sb_collide_fn)(void* user, const sb_contact_query* query, sb_cont
  * [t0, t1] here. May be NULL. */
 typedef void (*sb_collider_step_fn)(void* user, double t0, double t1);
 
+/** The built-in colliders' shapes (sb_collider_def.shape). */
 typedef enum sb_collider_shape {
     SB_COLLIDER_PLANE = 0, /**< the half-space below point, normal */
     SB_COLLIDER_SPHERE,    /**< center, radius */
     SB_COLLIDER_CAPSULE,   /**< the segment a–b, radius */
     SB_COLLIDER_BOX,       /**< center, half_extents, rotate (degrees about x, then y, then z) */
     SB_COLLIDER_MESH,      /**< a triangle mesh: its volume when closed, a shell of the thickness when open */
-    SB_COLLIDER_SHAPE_COUNT
+    SB_COLLIDER_SHAPE_COUNT /**< the number of shapes, not a shape */
 } sb_collider_shape;
 
-typedef enum sb_interpolation { SB_INTERPOLATION_LINEAR = 0, SB_INTERPOLATION_SMOOTH } sb_interpolation;
+/** How a path's pose goes from one keyframe to the next: translate and
+ * rotate are blended with a weight w of s, the fraction of the interval
+ * elapsed, s in [0, 1]. */
+typedef enum sb_interpolation {
+    SB_INTERPOLATION_LINEAR = 0, /**< w = s: constant velocity, which jumps at each keyframe */
+    SB_INTERPOLATION_SMOOTH      /**< w = s² (3 − 2s) (smoothstep): at rest at every keyframe */
+} sb_interpolation;
 
 /** A pose of a kinematic collider at a time: rotate (degrees about the
  * collider's reference point — plane point, sphere or box center, capsule
@@ -95,11 +103,13 @@ typedef struct sb_keyframe {
 /** Fields of other shapes are ignored (and not checked). static_friction
  * left at 0 while friction > 0 becomes friction. */
 typedef struct sb_collider_def {
-    sb_collider_shape shape;
+    sb_collider_shape shape;    /**< which of the fields below apply */
     const char* name;           /**< how logs and handles refer to it; copied */
+    /** m: plane, a point on it */
     double point[3], normal[3]; /**< plane (normal need not be unit; not zero) */
     double center[3];           /**< sphere, box */
     double radius;              /**< sphere, capsule (m, > 0) */
+    /** m: capsule, one end of its segment */
     double a[3], b[3];          /**< capsule */
     double half_extents[3];     /**< box (m, > 0) */
     double rotate[3];           /**< box: degrees about x, then y, then z */
@@ -118,7 +128,7 @@ typedef struct sb_collider_def {
     double restitution;      /**< [0, 1] */
     double thickness;        /**< m, >= 0: the surface is inflated by it */
     const sb_keyframe* path; /**< kinematic: keyframes in increasing time (copied); NULL = static */
-    uint32_t path_count;
+    uint32_t path_count;     /**< the keyframes in path; 0 = static */
     sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
     /** Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
      * rigid body the solver moves, a solid one: its inertia about its
@@ -146,6 +156,8 @@ typedef struct sb_collider_def {
  * no thickness, static. */
 SB_API sb_collider_def sb_default_collider_def(void);
 
+/** A collider: a built-in shape (sb_collider_create) or a program's own
+ * (sb_collider_create_custom). Opaque. */
 typedef struct sb_collider sb_collider;
 
 /** A built-in collider, checked (a message names the bad field). */
@@ -154,6 +166,8 @@ SB_API sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err
  * with their user data. */
 SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, sb_collider_step_fn begin_step,
                                               void* user, sb_error* err);
+/** Frees the collider (its copied path and mesh with it); safe on NULL.
+ * Destroy every solver it is attached to first. */
 SB_API void sb_collider_destroy(sb_collider* collider);
 
 /** Drives a built-in collider from the program (a tool held by a haptic
@@ -197,10 +211,16 @@ SB_API void sb_collider_set_bounds(sb_collider* collider, const double lo[3], co
  * out of the nearest face, so a tool moved further than this in one step
  * can push what it passes through out of its far side. */
 SB_API double sb_collider_inner_radius(const sb_collider* collider);
+/** The collider's name as copied at creation (cut to 63 bytes): the def's
+ * name, or when that was NULL or empty the shape's name ("sphere", ...) or
+ * "custom" for a program's own. Owned by the collider; NULL for a NULL
+ * collider. */
 SB_API const char* sb_collider_name(const sb_collider* collider);
 
 /** "plane", "sphere", "capsule", "box", "mesh". */
 SB_API const char* sb_collider_shape_name(sb_collider_shape shape);
+/** The shape named by one of those names: true and *out set (out may be
+ * NULL); false, *out untouched, for another name or NULL. */
 SB_API bool sb_collider_shape_from_name(const char* name, sb_collider_shape* out);
 
 #ifdef __cplusplus

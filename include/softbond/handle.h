@@ -38,18 +38,19 @@
 extern "C" {
 #endif
 
+/** A handle's definition (sb_handle_create copies what it needs). */
 typedef struct sb_handle_def {
     const char* name;         /**< how logs refer to it; copied */
     const uint32_t* vertices; /**< the model's vertices it holds (copied; at least one, none twice) */
-    uint32_t vertex_count;
+    uint32_t vertex_count;    /**< the entries of vertices, >= 1 */
     /** m: the point the pose's rotations turn about; NULL = the centroid of
      * the vertices' rest positions (copied) */
     const double* center;
     double stiffness;        /**< N/m per vertex, >= 0: 0 = hard, > 0 = soft */
     double damping;          /**< N·s/m per vertex, >= 0 (soft handles) */
     const sb_keyframe* path; /**< keyframes in increasing time (copied); NULL = the pose stays the identity */
-    uint32_t path_count;
-    sb_interpolation interpolation;
+    uint32_t path_count;     /**< the keyframes in path; 0 = the identity pose */
+    sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
     /** s: the handle lets go at the end of the first step that reaches this
      * time (once; a later sb_handle_grab holds again); INFINITY = never */
     double release_time;
@@ -58,11 +59,14 @@ typedef struct sb_handle_def {
 /** No vertices, hard, no path, linear, never released. */
 SB_API sb_handle_def sb_default_handle_def(void);
 
+/** A handle (sb_handle_create); opaque. */
 typedef struct sb_handle sb_handle;
 
 /** Checked (the message names the handle and the bad field); the vertex
  * indices are checked against the model when the solver is created. */
 SB_API sb_handle* sb_handle_create(const sb_handle_def* def, sb_error* err);
+/** Frees the handle; safe on NULL. Destroy the solver it is attached to
+ * first. */
 SB_API void sb_handle_destroy(sb_handle* handle);
 
 /** The pose the handle reaches at the end of the next step (rotate degrees
@@ -74,7 +78,12 @@ SB_API void sb_handle_set_pose(sb_handle* handle, const double translate[3], con
  * where they are now. SB_ERR_INVALID when the handle is not attached to a
  * solver (grab). */
 SB_API void sb_handle_release(sb_handle* handle);
+/** Holds the handle's vertices again, grabbed where they are now (see
+ * sb_handle_release): SB_OK, or SB_ERR_INVALID when the handle is not
+ * attached to a solver. */
 SB_API sb_status sb_handle_grab(sb_handle* handle);
+/** Whether the handle holds its vertices: true from creation until it is
+ * released (sb_handle_release or release_time), true again after a grab. */
 SB_API bool sb_handle_held(const sb_handle* handle);
 /** A handle of one vertex (a mouse that picks any vertex): holds `vertex`
  * instead, grabbed where it is now (its target there, the pose unchanged).
@@ -86,7 +95,10 @@ SB_API sb_status sb_handle_grab_vertex(sb_handle* handle, uint32_t vertex);
 SB_API void sb_handle_force(const sb_handle* handle, double force[3]);
 /** Vertex k's target (m) at the end of the last step. */
 SB_API void sb_handle_target(const sb_handle* handle, uint32_t k, double target[3]);
+/** The handle's name as copied at creation (cut to 63 bytes; "handle"
+ * when the def's was NULL). Owned by the handle. */
 SB_API const char* sb_handle_name(const sb_handle* handle);
+/** The number of vertices the handle holds (its def's vertex_count). */
 SB_API uint32_t sb_handle_vertex_count(const sb_handle* handle);
 
 #ifdef __cplusplus

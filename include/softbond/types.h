@@ -23,8 +23,10 @@ typedef double sb_real;
 typedef float sb_real;
 #endif
 
+/** What a library call returns: SB_OK, or why it failed (the call's
+ * sb_error, when it takes one, says more). */
 typedef enum sb_status {
-    SB_OK = 0,
+    SB_OK = 0,         /**< success */
     SB_ERR_INVALID,    /**< bad argument or bad model data */
     SB_ERR_IO,         /**< a file could not be read or written */
     SB_ERR_PARSE,      /**< malformed file contents */
@@ -37,7 +39,7 @@ typedef enum sb_status {
 /** Filled by a failing library call: one line naming the file, line or
  * element. The library never prints; callers decide what to do with it. */
 typedef struct sb_error {
-    char message[512];
+    char message[512]; /**< NUL-terminated, cut to 511 bytes; written only by a call that fails */
 } sb_error;
 
 /** A short name for a status code ("invalid", "io", ...). */
