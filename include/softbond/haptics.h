@@ -40,16 +40,20 @@ extern "C" {
  * added to the tool's rest position in the world), orientation (a unit
  * quaternion w x y z) and buttons (bit i: button i down). */
 typedef struct sb_haptic_pose {
-    double time; /**< s, on the servo's clock */
-    double position[3];
-    double orientation[4];
-    uint32_t buttons;
+    double time;           /**< s, on the servo's clock */
+    double position[3];    /**< m, in the device's frame */
+    double orientation[4]; /**< unit quaternion, w x y z */
+    uint32_t buttons;      /**< bit i set: button i down */
 } sb_haptic_pose;
 
 /** ---- the pose buffer: one writer, any number of readers, no lock -------- */
 
+/** One sb_haptic_pose shared between threads; opaque. */
 typedef struct sb_pose_buffer sb_pose_buffer;
+/** An empty buffer (no pose written yet), or NULL and err set
+ * (SB_ERR_NOMEM). Free it with sb_pose_buffer_destroy. */
 SB_API sb_pose_buffer* sb_pose_buffer_create(sb_error* err);
+/** Frees the buffer; safe on NULL. No thread may use it any more. */
 SB_API void sb_pose_buffer_destroy(sb_pose_buffer* buffer);
 /** Writer: never waits. */
 SB_API void sb_pose_buffer_write(sb_pose_buffer* buffer, const sb_haptic_pose* pose);
@@ -57,6 +61,7 @@ SB_API void sb_pose_buffer_write(sb_pose_buffer* buffer, const sb_haptic_pose* p
  * the writer overtook the reader on every one of a few tries (then *pose is
  * untouched). Never waits for the writer otherwise. */
 SB_API bool sb_pose_buffer_read(sb_pose_buffer* buffer, sb_haptic_pose* pose);
+/** How many poses have been written so far. Any thread. */
 SB_API uint64_t sb_pose_buffer_writes(const sb_pose_buffer* buffer);
 
 /** ---- devices ------------------------------------------------------------ */
@@ -76,6 +81,7 @@ typedef struct sb_haptic_device_def {
     int port;         /**< udp: the port softbond listens on (default 47000) */
 } sb_haptic_device_def;
 
+/** Kind "none", no file, port 47000. */
 SB_API sb_haptic_device_def sb_default_haptic_device_def(void);
 
 /** A program's own device (a simulated hand in a test, a vendor SDK): read
@@ -83,17 +89,31 @@ SB_API sb_haptic_device_def sb_default_haptic_device_def(void);
  * finite and clamped), each returning SB_OK or an error; close may be NULL.
  * Called on the servo thread only. */
 typedef struct sb_haptic_device_ops {
+    /** Fills *pose for `time` (s); required. An error is a device fault. */
     sb_status (*read)(void* user, double time, sb_haptic_pose* pose);
+    /** Applies `force` (N) at `time` (s); required.
+     * An error is a device fault. */
     sb_status (*write)(void* user, double time, const double force[3]);
+    /** Releases `user` at sb_haptic_device_close; may be NULL. */
     void (*close)(void* user);
 } sb_haptic_device_ops;
 
+/** A device, built-in or a program's own; opaque. */
 typedef struct sb_haptic_device sb_haptic_device;
 /** A built-in device, checked (a scripted file's errors name file:line). */
 SB_API sb_haptic_device* sb_haptic_device_open(const sb_haptic_device_def* def, sb_error* err);
+/** A program's own device: the ops are copied, user is passed to each of
+ * them (and stays the caller's unless ops->close frees it). NULL and
+ * SB_ERR_INVALID when ops, read or write is NULL; NULL and SB_ERR_NOMEM when
+ * out of memory. */
 SB_API sb_haptic_device* sb_haptic_device_custom(const sb_haptic_device_ops* ops, void* user, sb_error* err);
+/** The device's pose at `time` (s, the servo's clock) into *pose: its read
+ * call's status. */
 SB_API sb_status sb_haptic_device_read(sb_haptic_device* device, double time, sb_haptic_pose* pose);
+/** Sends a force (N) to the device at `time` (s): its write call's status. */
 SB_API sb_status sb_haptic_device_write(sb_haptic_device* device, double time, const double force[3]);
+/** Closes the device (a custom device's close call, when it has one) and
+ * frees it; safe on NULL. Destroy the sb_haptics using it first. */
 SB_API void sb_haptic_device_close(sb_haptic_device* device);
 /** A "mouse" device's next pose (any thread; the servo reads the latest
  * whole). Nothing for a device of another kind. */
@@ -125,6 +145,9 @@ typedef struct sb_haptics_def {
     uint32_t log_capacity; /**< ticks the log holds until drained (default 65536) */
 } sb_haptics_def;
 
+/** The defaults given with each field: 1000 Hz, K 700 N/m, b 0.7 N·s/m,
+ * 3.3 N, device limit 700 N/m, stall and ramp 0.05 s, sense 0.002 s,
+ * 2 m/s, realtime, a log of 65536 ticks. */
 SB_API sb_haptics_def sb_default_haptics_def(void);
 
 /** Why the force is ramping down (bits of sb_haptics_faults). */
@@ -144,6 +167,7 @@ typedef struct sb_haptic_tick {
     double age;       /**< s, how old that model was */
 } sb_haptic_tick;
 
+/** A device coupled to a tool, with its servo thread; opaque. */
 typedef struct sb_haptics sb_haptics;
 
 /** Couples device and tool: the tool is a built-in kinematic collider (its
@@ -159,6 +183,10 @@ SB_API void sb_haptics_destroy(sb_haptics* haptics); /**< stops the thread first
 /** The servo thread on the monotonic clock, ticks on absolute deadlines.
  * *realtime is set to whether SCHED_FIFO was granted (may be NULL). */
 SB_API sb_status sb_haptics_start(sb_haptics* haptics, bool* realtime, sb_error* err);
+/** Stops the servo thread and waits for it to end; nothing is written to
+ * the device afterwards (it keeps the last force it was given). Does
+ * nothing when the thread is not running; sb_haptics_start may start it
+ * again. */
 SB_API void sb_haptics_stop(sb_haptics* haptics);
 /** Seconds on the servo's clock (0 at sb_haptics_create): what the
  * simulation thread passes to sb_haptics_sense. */
@@ -191,17 +219,24 @@ SB_API uint32_t sb_haptics_faults(const sb_haptics* haptics);
 /** Takes up to max logged ticks, oldest first (one thread at a time);
  * sb_haptics_dropped counts those lost because the log was full. */
 SB_API size_t sb_haptics_drain(sb_haptics* haptics, sb_haptic_tick* out, size_t max);
+/** Ticks not logged because the log (log_capacity) was full. Any thread. */
 SB_API uint64_t sb_haptics_dropped(const sb_haptics* haptics);
 
 /** The servo's own measurements: read them after sb_haptics_stop (the
  * servo thread writes them while it runs), or between ticks on the virtual
  * clock. Percentiles from 1 µs bins (periods) and 10 µs bins (ages). */
 typedef struct sb_haptics_stats {
-    uint64_t ticks;
+    uint64_t ticks; /**< ticks run since sb_haptics_create */
+    /** @var period_median
+     * s, the median time between the starts of two ticks
+     * @var period_p99
+     * s, its 99th percentile */
     double period_median, period_p99, period_max; /**< s, between the starts of ticks */
     double late_max;                              /**< s, the most a tick woke after its deadline */
+    /** s, the median age of the contact model a tick used */
     double age_median, age_p99;                   /**< s, of the contact model each tick used */
 } sb_haptics_stats;
+/** The measurements so far; the percentiles are 0 before enough ticks. */
 SB_API sb_haptics_stats sb_haptics_statistics(const sb_haptics* haptics);
 
 #ifdef __cplusplus
