@@ -12,10 +12,12 @@
 extern "C" {
 #endif
 
+/** A mesh owns its two arrays (malloc'd; sb_mesh_free releases them). A
+ * zeroed sb_mesh is the empty mesh. */
 typedef struct sb_mesh {
-    uint32_t vertex_count;
+    uint32_t vertex_count;   /**< vertices in positions */
     double* positions; /**< 3 * vertex_count, x y z interleaved */
-    uint32_t triangle_count;
+    uint32_t triangle_count; /**< triangles in triangles */
     uint32_t* triangles; /**< 3 * triangle_count vertex indices */
 } sb_mesh;
 
@@ -28,13 +30,26 @@ SB_API void sb_mesh_free(sb_mesh* mesh);
  * Interior vertices are moved by up to jitter × spacing in x and y, with a
  * deterministic generator seeded by seed. */
 typedef struct sb_sheet_def {
+    /** @var nx
+     * vertices along x, >= 2
+     * @var ny
+     * vertices along y, >= 2 */
     uint32_t nx, ny;
+    /** @var width
+     * m, the extent along x, > 0
+     * @var height
+     * m, the extent along y, > 0 */
     double width, height;
-    double jitter;
-    uint64_t seed;
+    double jitter; /**< in [0, 0.5), a fraction of the spacing along each axis; 0 = a regular grid */
+    uint64_t seed; /**< the jitter's generator: the same seed, the same sheet */
 } sb_sheet_def;
 
+/** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1. */
 SB_API sb_sheet_def sb_default_sheet_def(void);
+/** Generates the sheet into *out (the caller frees it with sb_mesh_free).
+ * SB_ERR_INVALID for nx or ny below 2, a width or height not positive and
+ * finite, a jitter outside [0, 0.5), more than 2^32 − 1 vertices or
+ * triangles; SB_ERR_NOMEM. On failure *out is empty. */
 SB_API sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error* err);
 
 /** An icosphere: an icosahedron subdivided `subdivisions` times, projected
@@ -67,6 +82,7 @@ typedef struct sb_mesh_load_def {
     bool separate_objects;
 } sb_mesh_load_def;
 
+/** separate_objects false: sb_mesh_load's behaviour. */
 SB_API sb_mesh_load_def sb_default_mesh_load_def(void);
 
 /** What an import did. */
@@ -101,10 +117,18 @@ SB_API sb_status sb_mesh_concatenate(const sb_mesh* meshes, uint32_t count, sb_m
  * one triangle) and non-manifold edges (on three or more). The surface is
  * closed when it has triangles and neither of the two. */
 typedef struct sb_mesh_edge_counts {
+    /** @var edges
+     * unique edges (an edge is a pair of vertices, either direction)
+     * @var boundary
+     * edges on exactly one triangle
+     * @var non_manifold
+     * edges on three or more triangles */
     uint32_t edges, boundary, non_manifold;
-    bool closed;
+    bool closed; /**< triangles, and no boundary or non-manifold edge */
 } sb_mesh_edge_counts;
 
+/** Counts the mesh's edges into *out. Triangle indices must be in range
+ * (not checked). SB_ERR_NOMEM when out of memory (then *out is zeros). */
 SB_API sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err);
 
 /** Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per
@@ -119,7 +143,11 @@ typedef struct sb_mesh_transform_def {
     double translate[3]; /**< m; default 0 */
 } sb_mesh_transform_def;
 
+/** The identity: scale 1, 1, 1, no rotation, no translation. */
 SB_API sb_mesh_transform_def sb_default_mesh_transform_def(void);
+/** Places the mesh in place as sb_mesh_transform_def says (positions, and
+ * the winding when mirrored). SB_ERR_INVALID, with the mesh unchanged, for
+ * a NULL mesh or def, a non-finite value or a zero scale factor. */
 SB_API sb_status sb_mesh_transform(sb_mesh* mesh, const sb_mesh_transform_def* def, sb_error* err);
 
 /** Level of detail: fewer vertices, by quadric edge collapse
@@ -136,17 +164,34 @@ typedef struct sb_simplify_def {
     uint32_t target_vertices; /**< 0 = no count target */
     double target_error;      /**< relative to the mesh's extent (0.01 = 1%); 0 = none */
     const uint32_t* locked;   /**< vertices to keep, e.g. the fixed ones */
-    uint32_t locked_count;
-    bool keep_locked_indices;
+    uint32_t locked_count;    /**< entries in locked; each below the vertex count */
+    bool keep_locked_indices; /**< each locked vertex keeps its index (see above) */
 } sb_simplify_def;
 
+/** What sb_mesh_simplify did. */
 typedef struct sb_simplify_report {
+    /** @var vertices_before
+     * the mesh's vertex count before
+     * @var vertices_after
+     * after (the vertices still used) */
     uint32_t vertices_before, vertices_after;
+    /** @var triangles_before
+     * the mesh's triangle count before
+     * @var triangles_after
+     * after */
     uint32_t triangles_before, triangles_after;
     double error; /**< meshopt's resulting error, relative to the extent */
 } sb_simplify_report;
 
+/** No targets (the mesh is left as it is, minus unused vertices), nothing
+ * locked. */
 SB_API sb_simplify_def sb_default_simplify_def(void);
+/** Simplifies the mesh in place as sb_simplify_def says (the arrays are
+ * replaced); origin (may be NULL) and report (may be NULL) as described
+ * there. SB_ERR_INVALID for a NULL mesh or def, a negative or non-finite
+ * target_error, a locked vertex out of range, a locked index beyond the
+ * new vertex count with keep_locked_indices; SB_ERR_NOMEM. On failure the
+ * mesh is unchanged and the report not written. */
 SB_API sb_status sb_mesh_simplify(sb_mesh* mesh, const sb_simplify_def* def, uint32_t* origin,
                                   sb_simplify_report* report, sb_error* err);
 
@@ -170,9 +215,10 @@ typedef struct sb_mesh_export_def {
      * bounding box's centre from the front, above and the right, far enough
      * to see all of it (a film keeps one camera for every frame) */
     const double* eye;
-    const double* target;
+    const double* target; /**< pov: the point the camera looks at (m); see eye */
 } sb_mesh_export_def;
 
+/** The mesh's own positions, up +z, the camera placed automatically. */
 SB_API sb_mesh_export_def sb_default_mesh_export_def(void);
 
 /** Writes the mesh to path (def NULL: the defaults) in one of these formats:
