@@ -32,13 +32,15 @@ enum {
 typedef struct sb_pov_object {
     char name[64]; /**< the `#declare`d (or `#local`d) name, cut to 63 bytes; "" for a bare mesh2 */
     size_t line;   /**< the line of its `mesh2` keyword */
-    sb_mesh mesh;
+    sb_mesh mesh;   /**< the object's mesh, owned by the object (sb_pov_objects_free) */
     unsigned given;                       /**< SB_POV_* bits */
+    /** N/m: spring_system_ks, the stretch springs' stiffness */
     double stretch_k, bend_k;             /**< N/m */
+    /** N·s/m: spring_system_ds, the stretch springs' damping */
     double stretch_damping, bend_damping; /**< N·s/m */
     double mass;                          /**< kg, the whole object */
     double vicinity;                      /**< m */
-    bool fixed;
+    bool fixed; /**< spring_system_fixed: every vertex of the object is to be fixed (the scene loader pins them) */
 } sb_pov_object;
 
 /** Reads every mesh2 of a POV-Ray file, in file order: declared

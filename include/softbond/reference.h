@@ -16,9 +16,9 @@ extern "C" {
 /** Energies in joules: the potential of each term, and for a solver's state
  * the kinetic energy and the gravitational potential (−Σ m g·x). */
 typedef struct sb_energies {
-    double term[SB_TERM_COUNT];
-    double kinetic;
-    double gravity;
+    double term[SB_TERM_COUNT]; /**< J, each term's potential, indexed by sb_term (0 for a term that is off) */
+    double kinetic;             /**< J, Σ ½ m |v|² */
+    double gravity;             /**< J, −Σ m g·x */
 } sb_energies;
 
 /** Sum of the term potentials (without kinetic and gravity). */

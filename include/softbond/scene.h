@@ -33,6 +33,8 @@
 extern "C" {
 #endif
 
+/** A loaded scene: its model, its solver definition and the run's
+ * settings (sb_scene_file_load); opaque, freed by sb_scene_file_destroy. */
 typedef struct sb_scene_file sb_scene_file;
 
 /** Loads the scene at path with `count` overrides "key=value" (a dotted key

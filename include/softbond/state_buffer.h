@@ -22,12 +22,13 @@ typedef struct sb_snapshot {
     uint64_t sequence; /**< 1 for the first snapshot published, then 2, 3, ... */
     uint64_t step;     /**< the solver's step count (sb_solver_step_count) */
     double time;       /**< s, simulated */
-    sb_energies energies;
+    sb_energies energies;  /**< J: the state's energies (sb_solver_energies) */
     uint32_t vertex_count; /**< the vertices it holds: a tearing solver's grow (sb_solver_vertex_count) */
     sb_real* positions;    /**< m */
     sb_real* velocities;   /**< m/s */
 } sb_snapshot;
 
+/** The snapshots' slots and who holds them; opaque. */
 typedef struct sb_state_buffer sb_state_buffer;
 
 /** A buffer for snapshots of vertex_count vertices that up to max_readers
@@ -37,6 +38,8 @@ typedef struct sb_state_buffer sb_state_buffer;
  * spare vertices of a solver that tears (softbond/solver.h); a snapshot's
  * vertex_count says how many of them it holds. */
 SB_API sb_state_buffer* sb_state_buffer_create(uint32_t vertex_count, int max_readers, sb_error* err);
+/** Frees the buffer and its snapshots; safe on NULL. No thread may hold
+ * or write a snapshot any more. */
 SB_API void sb_state_buffer_destroy(sb_state_buffer* buffer);
 
 /** Writer: copies the solver's current state (positions, velocities, step,
@@ -64,11 +67,15 @@ SB_API uint64_t sb_state_buffer_skipped(const sb_state_buffer* buffer);
 /** Writer, for other producers (a replay, a test): a free slot to fill, or
  * NULL when every slot is held; then commit it to make it the latest. */
 SB_API sb_snapshot* sb_state_buffer_begin(sb_state_buffer* buffer);
+/** Writer: makes the snapshot from sb_state_buffer_begin, filled, the
+ * latest and sets its sequence. */
 SB_API void sb_state_buffer_commit(sb_state_buffer* buffer, sb_snapshot* snapshot);
 
 /** Reader: the latest snapshot, held until released (the writer does not
  * touch it meanwhile), or NULL before the first publication. */
 SB_API const sb_snapshot* sb_state_buffer_acquire(sb_state_buffer* buffer);
+/** Reader: lets go of a snapshot from sb_state_buffer_acquire (once each;
+ * it must not be read afterwards). Nothing for NULL. */
 SB_API void sb_state_buffer_release(sb_state_buffer* buffer, const sb_snapshot* snapshot);
 
 /** How many snapshots have been committed. Any thread. */

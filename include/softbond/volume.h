@@ -16,10 +16,12 @@
 extern "C" {
 #endif
 
+/** A tetrahedral mesh; it owns its two arrays (malloc'd; sb_tet_mesh_free
+ * releases them). A zeroed sb_tet_mesh is the empty mesh. */
 typedef struct sb_tet_mesh {
-    uint32_t vertex_count;
+    uint32_t vertex_count; /**< vertices in positions */
     double* positions; /**< 3 * vertex_count, x y z interleaved, metres */
-    uint32_t tet_count;
+    uint32_t tet_count;    /**< tetrahedra in tets */
     uint32_t* tets; /**< 4 * tet_count vertex indices (the corners) */
 } sb_tet_mesh;
 
