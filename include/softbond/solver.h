@@ -17,6 +17,8 @@
 extern "C" {
 #endif
 
+/** How a step advances positions and velocities (sb_solver_def.integrator);
+ * docs/integrators.md compares them. */
 typedef enum sb_integrator {
     SB_INTEGRATOR_VERLET = 0,       /**< Störmer-Verlet, position form (Sekercioglu & Duysak 2009, Eq. 12) */
     SB_INTEGRATOR_VELOCITY_VERLET,  /**< kick ½dt, drift dt, kick ½dt */
@@ -27,7 +29,7 @@ typedef enum sb_integrator {
     SB_INTEGRATOR_PBD,              /**< position-based: predict, project bond and corner constraints */
     SB_INTEGRATOR_XPBD,             /**< its compliant form: compliance 1/k, λ accumulated */
     SB_INTEGRATOR_VBD,              /**< Vertex Block Descent: per-vertex Newton steps on backward Euler's potential */
-    SB_INTEGRATOR_COUNT
+    SB_INTEGRATOR_COUNT             /**< the number of integrators, not one */
 } sb_integrator;
 
 /** "verlet", "velocity_verlet", "explicit_euler", "symplectic_euler",
@@ -40,6 +42,7 @@ SB_API bool sb_integrator_from_name(const char* name, sb_integrator* out);
  * longer than SB_STRETCH_LIMIT times its rest length means an unstable run
  * (SB_ERR_UNSTABLE); checked on every SB_STRETCH_INTERVAL-th advance. */
 #define SB_STRETCH_LIMIT 10.0
+/** Advances between two checks of the blow-up rule (SB_STRETCH_LIMIT). */
 #define SB_STRETCH_INTERVAL 64
 
 /** The force kernels. sb_default_solver_def() chooses the fast ones (SIMD on
@@ -56,8 +59,10 @@ typedef enum sb_linear_solver {
     SB_LINEAR_AUTO,     /**< SB_LINEAR_CHOLESKY up to SB_CHOLESKY_AUTO_VERTICES vertices, SB_LINEAR_CG above */
     SB_LINEAR_CG,       /**< block-Jacobi preconditioned conjugate gradients */
     SB_LINEAR_CHOLESKY, /**< a sparse Cholesky factorization (CHOLMOD) */
-    SB_LINEAR_COUNT
+    SB_LINEAR_COUNT     /**< the number of linear solvers, not one */
 } sb_linear_solver;
+/** SB_LINEAR_AUTO's limit: models of at most this many vertices are factored
+ * (SB_LINEAR_CHOLESKY), larger ones solved by conjugate gradients. */
 #define SB_CHOLESKY_AUTO_VERTICES 20000
 /** "auto", "cg", "cholesky"; false for another name. */
 SB_API bool sb_linear_solver_from_name(const char* name, sb_linear_solver* out);
@@ -72,17 +77,20 @@ typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, c
  * step's end (s). */
 typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, double time);
 
+/** Everything a solver is made with (sb_solver_create copies it; what its
+ * pointers point at must outlive the solver, except blades, which are
+ * copied). Start from sb_default_solver_def(). */
 typedef struct sb_solver_def {
-    sb_integrator integrator;
+    sb_integrator integrator; /**< default SB_INTEGRATOR_VERLET */
     double gravity[3]; /**< m/s² */
     double drag;       /**< 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
-    sb_kernels kernels;
+    sb_kernels kernels;     /**< default SB_KERNELS_FAST */
     sb_runtime_def runtime; /**< the threads: count, pinning, wait policy (softbond/runtime.h) */
     /** Contact (softbond/collider.h; DESIGN.md, section Contact): after every step each
      * free vertex's move is checked against the colliders in this order, and
      * the earliest contact is answered. The colliders must outlive the solver. */
     sb_collider* const* colliders;
-    uint32_t collider_count;
+    uint32_t collider_count;  /**< the entries of colliders; 0 = no contact pass */
     double contact_thickness; /**< m, >= 0: added to every collider's own thickness */
     /** Self-contact (DESIGN.md, section Contact): after the collider pass of every
      * step, the model's triangles against each other — a body folding onto
@@ -95,12 +103,15 @@ typedef struct sb_solver_def {
      * (by position) or soft (a spring-damper force). They must outlive the
      * solver; each is attached to this solver only. */
     sb_handle* const* handles;
-    uint32_t handle_count;
+    uint32_t handle_count; /**< the entries of handles */
+    /** Forces of the program's own (a wind, a pointer's pull), or NULL: called
+     * for each free vertex at every force evaluation, from the solver's
+     * threads at once (for different vertices). */
     sb_external_force_fn external_force;
-    void* external_user;
+    void* external_user; /**< passed to external_force as its user */
     /** Breakage (DESIGN.md, section Breakage): the breakage callback, or NULL. */
     sb_break_fn on_break;
-    void* break_user;
+    void* break_user; /**< passed to on_break as its user */
     /** Tearing (DESIGN.md, section Breakage), for a model with break limits and
      * triangles: where broken bonds leave a vertex's triangles in separate
      * fans, the vertex is split, one copy per fan, and the surface opens.
@@ -111,12 +122,12 @@ typedef struct sb_solver_def {
      * vertex stays whole. max_splits_per_step: the most a step makes (0 =
      * default 256, < 0 refused); the rest wait for the next steps, in order. */
     int32_t max_splits;
-    int32_t max_splits_per_step;
+    int32_t max_splits_per_step; /**< see max_splits: the most vertex copies one step makes; 0 = 256 */
     /** Cutting (softbond/blade.h): blades that sever the bonds they cross;
      * their definitions are copied. A model with blades can tear even
      * without break limits (max_splits' default then counts every bond). */
     const sb_blade_def* blades;
-    uint32_t blade_count;
+    uint32_t blade_count; /**< the entries of blades */
     /** implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
@@ -138,9 +149,9 @@ typedef struct sb_solver_def {
      * the last one at least halved the residual (DESIGN.md, "Second
      * derivatives"). The factorization allocates. */
     sb_linear_solver implicit_solver;
-    int implicit_newton_iterations;
-    int implicit_cg_iterations;
-    bool implicit_definite;
+    int implicit_newton_iterations; /**< implicit_euler: the most Newton iterations per step; 0 = 20 */
+    int implicit_cg_iterations;     /**< implicit_euler: the most CG iterations per linear solve; 0 = 200 */
+    bool implicit_definite;         /**< implicit_euler: positive semi-definite stand-ins (see implicit_tolerance) */
     /** pbd, xpbd: constraint projection sweeps per step (0 = default 10);
      * docs/integrators.md has the constraints and the stiffness mapping. */
     int pbd_iterations;
@@ -166,8 +177,13 @@ typedef struct sb_solver_def {
     double adaptive_tolerance; /**< >= 0 */
 } sb_solver_def;
 
+/** Verlet on the fast kernels with the runtime's defaults (sb_default_runtime_def),
+ * gravity (0, 0, −9.81) m/s², no drag, contact, handles, blades or external
+ * force, the implicit defaults (1e-8, 20, 200, SB_LINEAR_AUTO), 10 pbd/xpbd
+ * and vbd sweeps, no adaptive stepping (min_dt 1e-9 s once on). */
 SB_API sb_solver_def sb_default_solver_def(void);
 
+/** A model's state advancing in time, with everything a step needs; opaque. */
 typedef struct sb_solver sb_solver;
 
 /** The state starts at the model's rest positions and initial velocities.
@@ -175,6 +191,8 @@ typedef struct sb_solver sb_solver;
  * threads, every integrator's and the adaptive stepper's buffers) is
  * allocated here: sb_solver_advance never allocates. */
 SB_API sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err);
+/** Frees the solver, its threads and buffers; safe on NULL. The model,
+ * colliders and handles it used are the caller's and stay. */
 SB_API void sb_solver_destroy(sb_solver* solver);
 
 /** Advances the state by one step of dt seconds (dt > 0 and finite), or,
@@ -186,6 +204,8 @@ SB_API void sb_solver_destroy(sb_solver* solver);
  * time and the first bad vertex or element; the state is then undefined
  * (adaptive: the last good sub-step's). */
 SB_API sb_status sb_solver_advance(sb_solver* solver, double dt);
+/** The message of the solver's last failure ("" before any), owned by the
+ * solver: valid until the next failure or sb_solver_destroy. */
 SB_API const char* sb_solver_error(const sb_solver* solver);
 
 /** What the last sb_solver_advance did. */
@@ -204,6 +224,7 @@ typedef struct sb_step_stats {
     double min_substep;      /**< s, the smallest accepted sub-step */
 } sb_step_stats;
 
+/** The statistics of the last sb_solver_advance (zeros before the first). */
 SB_API sb_step_stats sb_solver_last_step(const sb_solver* solver);
 
 /** The force (N) collider `index` received from the bodies during the last
@@ -219,6 +240,7 @@ SB_API void sb_solver_last_iterations(const sb_solver* solver, int* newton, int*
  * and the triangles (angle, stretch-bend) and hinges that use its edge lose
  * theirs too. */
 SB_API uint32_t sb_solver_broken_count(const sb_solver* solver);
+/** Whether bond `bond` has broken (or been cut); false out of range. */
 SB_API bool sb_solver_bond_broken(const sb_solver* solver, uint32_t bond);
 
 /** Tearing's topology (sb_solver_def.max_splits). The solver's vertices are
@@ -231,14 +253,25 @@ SB_API bool sb_solver_bond_broken(const sb_solver* solver, uint32_t bond);
  * whether a triangle is alive (no broken bond on its edges) are read
  * here. Out of range: zeros and false. */
 SB_API uint32_t sb_solver_vertex_count(const sb_solver* solver);
+/** The most vertices the solver can have: the model's plus the copies
+ * reserved for tearing (fixed at creation). */
 SB_API uint32_t sb_solver_vertex_capacity(const sb_solver* solver);
+/** The model vertex `vertex` is, or was split from. */
 SB_API uint32_t sb_solver_vertex_origin(const sb_solver* solver, uint32_t vertex);
+/** The triangle's current three vertices, in its corner order. */
 SB_API void sb_solver_triangle(const sb_solver* solver, uint32_t triangle, uint32_t vertices[3]);
+/** Whether the triangle still has all its bonds (none broken or cut). */
 SB_API bool sb_solver_triangle_alive(const sb_solver* solver, uint32_t triangle);
+/** The bond's current two vertices. */
 SB_API void sb_solver_bond(const sb_solver* solver, uint32_t bond, uint32_t ends[2]);
 
+/** The simulated time, s: 0 at creation, each advance adds its dt (a loaded
+ * checkpoint sets it). */
 SB_API double sb_solver_time(const sb_solver* solver);
+/** The advances so far: every sb_solver_advance with a valid dt counts,
+ * one that failed included (a loaded checkpoint sets it). */
 SB_API uint64_t sb_solver_step_count(const sb_solver* solver);
+/** The model the solver was created with. */
 SB_API const sb_model* sb_solver_model(const sb_solver* solver);
 
 /** Energies of the current state: each term, kinetic, gravity. After a pbd,
@@ -257,7 +290,9 @@ SB_API sb_energies sb_solver_energies(const sb_solver* solver);
  * thread that advances it (or while it does not). Other threads read the
  * snapshots the solver publishes (softbond/state_buffer.h). */
 SB_API void sb_solver_get_positions(const sb_solver* solver, double* out);
+/** Velocities, m/s (see sb_solver_get_positions). */
 SB_API void sb_solver_get_velocities(const sb_solver* solver, double* out);
+/** Total forces, N (see sb_solver_get_positions). */
 SB_API void sb_solver_get_forces(const sb_solver* solver, double* out);
 /** Replaces positions and velocities (3n interleaved, n =
  * sb_solver_vertex_count; velocities may be NULL for zero) and recomputes
@@ -291,7 +326,10 @@ SB_API sb_status sb_solver_set_gravity(sb_solver* solver, const double gravity[3
  * collider (sb_collider_create_custom) keeps its state in its user data:
  * the program saves that itself. */
 SB_API size_t sb_solver_state_size(const sb_solver* solver);
+/** Writes the checkpoint into buffer (size bytes, at least
+ * sb_solver_state_size); SB_ERR_INVALID when it is smaller. */
 SB_API sb_status sb_solver_save_state(const sb_solver* solver, void* buffer, size_t size, sb_error* err);
+/** Reads a checkpoint of size bytes into the solver, as described above. */
 SB_API sb_status sb_solver_load_state(sb_solver* solver, const void* buffer, size_t size, sb_error* err);
 
 #ifdef __cplusplus
