@@ -105,8 +105,8 @@ typedef struct sb_solver_def {
     sb_handle* const* handles;
     uint32_t handle_count; /**< the entries of handles */
     /** Forces of the program's own (a wind, a pointer's pull), or NULL: called
-     * for each free vertex at every force evaluation, from the solver's
-     * threads at once (for different vertices). */
+     * for each free vertex at every force evaluation, one vertex after
+     * another in vertex order on one thread (it need not be thread-safe). */
     sb_external_force_fn external_force;
     void* external_user; /**< passed to external_force as its user */
     /** Breakage (DESIGN.md, section Breakage): the breakage callback, or NULL. */
