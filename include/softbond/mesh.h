@@ -12,8 +12,8 @@
 extern "C" {
 #endif
 
-/** A mesh owns its two arrays (malloc'd; sb_mesh_free releases them). A
- * zeroed sb_mesh is the empty mesh. */
+/** A triangle mesh. One the library made owns its two arrays (malloc'd:
+ * sb_mesh_free releases them). A zeroed sb_mesh is the empty mesh. */
 typedef struct sb_mesh {
     uint32_t vertex_count;   /**< vertices in positions */
     double* positions; /**< 3 * vertex_count, x y z interleaved */
@@ -127,8 +127,8 @@ typedef struct sb_mesh_edge_counts {
     bool closed; /**< triangles, and no boundary or non-manifold edge */
 } sb_mesh_edge_counts;
 
-/** Counts the mesh's edges into *out. Triangle indices must be in range
- * (not checked). SB_ERR_NOMEM when out of memory (then *out is zeros). */
+/** Counts the mesh's edges into *out (from the triangles; positions are not
+ * read). SB_ERR_NOMEM when out of memory (then *out is zeros). */
 SB_API sb_status sb_mesh_count_edges(const sb_mesh* mesh, sb_mesh_edge_counts* out, sb_error* err);
 
 /** Placement of a mesh: p' = translate + Rz Ry Rx (scale * p). Scale per

@@ -16,8 +16,8 @@
 extern "C" {
 #endif
 
-/** A tetrahedral mesh; it owns its two arrays (malloc'd; sb_tet_mesh_free
- * releases them). A zeroed sb_tet_mesh is the empty mesh. */
+/** A tetrahedral mesh. One the library made owns its two arrays (malloc'd:
+ * sb_tet_mesh_free releases them). A zeroed sb_tet_mesh is the empty mesh. */
 typedef struct sb_tet_mesh {
     uint32_t vertex_count; /**< vertices in positions */
     double* positions; /**< 3 * vertex_count, x y z interleaved, metres */
