@@ -22,9 +22,9 @@ extern "C" {
 /** A blade (sb_solver_def.blades; the solver copies it). */
 typedef struct sb_blade_def {
     /** m: one end of the edge at time 0; a and b distinct */
-    double a[3], b[3];       /**< the edge's ends at time 0 (before the path's pose), m; distinct */
-    const sb_keyframe* path; /**< keyframes in increasing time, copied by the solver; NULL = static */
-    uint32_t path_count;     /**< the keyframes in path; 0 = static */
+    double a[3], b[3];              /**< the edge's ends at time 0 (before the path's pose), m; distinct */
+    const sb_keyframe* path;        /**< keyframes in increasing time, copied by the solver; NULL = static */
+    uint32_t path_count;            /**< the keyframes in path; 0 = static */
     sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
 } sb_blade_def;
 

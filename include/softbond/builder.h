@@ -164,10 +164,10 @@ SB_API sb_status sb_builder_add_mesh(sb_builder* builder, const sb_mesh* mesh, c
  * vicinity); vicinity = 0 adds none. */
 typedef struct sb_spring_mesh_def {
     /** N/m: the stretch springs' stiffness, per edge */
-    double stretch_k, stretch_damping;   /**< N/m, N·s/m: per edge */
+    double stretch_k, stretch_damping; /**< N/m, N·s/m: per edge */
     /** N/m: the bend springs' stiffness, across adjacent triangles */
-    double bend_k, bend_damping;         /**< N/m, N·s/m: across adjacent triangles */
-    double vicinity;                     /**< m: join vertices nearer than this; 0 = none */
+    double bend_k, bend_damping; /**< N/m, N·s/m: across adjacent triangles */
+    double vicinity;             /**< m: join vertices nearer than this; 0 = none */
     /** N/m: the vicinity springs' stiffness */
     double vicinity_k, vicinity_damping; /**< N/m, N·s/m */
     double mass;                         /**< kg per vertex, used when density is 0 */

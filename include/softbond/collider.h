@@ -30,7 +30,7 @@ extern "C" {
 
 /** One vertex's move in one step. */
 typedef struct sb_contact_query {
-    uint32_t vertex;  /**< the vertex's index in the solver (a tearing solver's copies included) */
+    uint32_t vertex; /**< the vertex's index in the solver (a tearing solver's copies included) */
     /** s: the time at the step's start */
     double t0, t1;    /**< s: the step runs from t0 to t1 */
     double from[3];   /**< m: the position at t0 */
@@ -74,11 +74,11 @@ typedef void (*sb_collider_step_fn)(void* user, double t0, double t1);
 
 /** The built-in colliders' shapes (sb_collider_def.shape). */
 typedef enum sb_collider_shape {
-    SB_COLLIDER_PLANE = 0, /**< the half-space below point, normal */
-    SB_COLLIDER_SPHERE,    /**< center, radius */
-    SB_COLLIDER_CAPSULE,   /**< the segment a–b, radius */
-    SB_COLLIDER_BOX,       /**< center, half_extents, rotate (degrees about x, then y, then z) */
-    SB_COLLIDER_MESH,      /**< a triangle mesh: its volume when closed, a shell of the thickness when open */
+    SB_COLLIDER_PLANE = 0,  /**< the half-space below point, normal */
+    SB_COLLIDER_SPHERE,     /**< center, radius */
+    SB_COLLIDER_CAPSULE,    /**< the segment a–b, radius */
+    SB_COLLIDER_BOX,        /**< center, half_extents, rotate (degrees about x, then y, then z) */
+    SB_COLLIDER_MESH,       /**< a triangle mesh: its volume when closed, a shell of the thickness when open */
     SB_COLLIDER_SHAPE_COUNT /**< the number of shapes, not a shape */
 } sb_collider_shape;
 
@@ -103,16 +103,16 @@ typedef struct sb_keyframe {
 /** Fields of other shapes are ignored (and not checked). static_friction
  * left at 0 while friction > 0 becomes friction. */
 typedef struct sb_collider_def {
-    sb_collider_shape shape;    /**< which of the fields below apply */
-    const char* name;           /**< how logs and handles refer to it; copied */
+    sb_collider_shape shape; /**< which of the fields below apply */
+    const char* name;        /**< how logs and handles refer to it; copied */
     /** m: plane, a point on it */
     double point[3], normal[3]; /**< plane (normal need not be unit; not zero) */
     double center[3];           /**< sphere, box */
     double radius;              /**< sphere, capsule (m, > 0) */
     /** m: capsule, one end of its segment */
-    double a[3], b[3];          /**< capsule */
-    double half_extents[3];     /**< box (m, > 0) */
-    double rotate[3];           /**< box: degrees about x, then y, then z */
+    double a[3], b[3];      /**< capsule */
+    double half_extents[3]; /**< box (m, > 0) */
+    double rotate[3];       /**< box: degrees about x, then y, then z */
     /** mesh: the triangles, in world coordinates (place them first with
      * sb_mesh_transform; copied, with a bounding-volume hierarchy built
      * over them). A closed mesh (every edge on two triangles) is solid
@@ -123,12 +123,12 @@ typedef struct sb_collider_def {
      * is a shell of the points within the thickness of its surface, so its
      * thickness must be > 0. A triangle of zero area is refused. */
     const sb_mesh* mesh;
-    double friction;         /**< Coulomb, sliding (>= 0) */
-    double static_friction;  /**< sticking (>= friction; default: friction) */
-    double restitution;      /**< [0, 1] */
-    double thickness;        /**< m, >= 0: the surface is inflated by it */
-    const sb_keyframe* path; /**< kinematic: keyframes in increasing time (copied); NULL = static */
-    uint32_t path_count;     /**< the keyframes in path; 0 = static */
+    double friction;                /**< Coulomb, sliding (>= 0) */
+    double static_friction;         /**< sticking (>= friction; default: friction) */
+    double restitution;             /**< [0, 1] */
+    double thickness;               /**< m, >= 0: the surface is inflated by it */
+    const sb_keyframe* path;        /**< kinematic: keyframes in increasing time (copied); NULL = static */
+    uint32_t path_count;            /**< the keyframes in path; 0 = static */
     sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
     /** Dynamic (two-way) colliders: a sphere or box with mass > 0 (kg) is a
      * rigid body the solver moves, a solid one: its inertia about its

@@ -46,10 +46,10 @@ typedef struct sb_handle_def {
     /** m: the point the pose's rotations turn about; NULL = the centroid of
      * the vertices' rest positions (copied) */
     const double* center;
-    double stiffness;        /**< N/m per vertex, >= 0: 0 = hard, > 0 = soft */
-    double damping;          /**< N·s/m per vertex, >= 0 (soft handles) */
-    const sb_keyframe* path; /**< keyframes in increasing time (copied); NULL = the pose stays the identity */
-    uint32_t path_count;     /**< the keyframes in path; 0 = the identity pose */
+    double stiffness;               /**< N/m per vertex, >= 0: 0 = hard, > 0 = soft */
+    double damping;                 /**< N·s/m per vertex, >= 0 (soft handles) */
+    const sb_keyframe* path;        /**< keyframes in increasing time (copied); NULL = the pose stays the identity */
+    uint32_t path_count;            /**< the keyframes in path; 0 = the identity pose */
     sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */
     /** s: the handle lets go at the end of the first step that reaches this
      * time (once; a later sb_handle_grab holds again); INFINITY = never */

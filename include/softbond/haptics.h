@@ -234,7 +234,7 @@ typedef struct sb_haptics_stats {
     double period_median, period_p99, period_max; /**< s, between the starts of ticks */
     double late_max;                              /**< s, the most a tick woke after its deadline */
     /** s, the median age of the contact model a tick used */
-    double age_median, age_p99;                   /**< s, of the contact model each tick used */
+    double age_median, age_p99; /**< s, of the contact model each tick used */
 } sb_haptics_stats;
 /** The measurements so far; the percentiles are 0 before enough ticks. */
 SB_API sb_haptics_stats sb_haptics_statistics(const sb_haptics* haptics);

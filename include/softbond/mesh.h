@@ -16,9 +16,9 @@ extern "C" {
  * sb_mesh_free releases them). A zeroed sb_mesh is the empty mesh. */
 typedef struct sb_mesh {
     uint32_t vertex_count;   /**< vertices in positions */
-    double* positions; /**< 3 * vertex_count, x y z interleaved */
+    double* positions;       /**< 3 * vertex_count, x y z interleaved */
     uint32_t triangle_count; /**< triangles in triangles */
-    uint32_t* triangles; /**< 3 * triangle_count vertex indices */
+    uint32_t* triangles;     /**< 3 * triangle_count vertex indices */
 } sb_mesh;
 
 /** Releases the arrays and zeroes the struct; safe on a zeroed mesh. */

@@ -30,12 +30,12 @@ enum {
  * count, face_indices as triangles) and the locals it gave; a value whose
  * bit is not in `given` is 0 (false for fixed). */
 typedef struct sb_pov_object {
-    char name[64]; /**< the `#declare`d (or `#local`d) name, cut to 63 bytes; "" for a bare mesh2 */
-    size_t line;   /**< the line of its `mesh2` keyword */
+    char name[64];  /**< the `#declare`d (or `#local`d) name, cut to 63 bytes; "" for a bare mesh2 */
+    size_t line;    /**< the line of its `mesh2` keyword */
     sb_mesh mesh;   /**< the object's mesh, owned by the object (sb_pov_objects_free) */
-    unsigned given;                       /**< SB_POV_* bits */
+    unsigned given; /**< SB_POV_* bits */
     /** N/m: spring_system_ks, the stretch springs' stiffness */
-    double stretch_k, bend_k;             /**< N/m */
+    double stretch_k, bend_k; /**< N/m */
     /** N·s/m: spring_system_ds, the stretch springs' damping */
     double stretch_damping, bend_damping; /**< N·s/m */
     double mass;                          /**< kg, the whole object */

@@ -32,12 +32,12 @@ SB_API double sb_energies_total(const sb_energies* energies);
  * nothing. Returns SB_ERR_DEGENERATE, naming the element, when an edge the
  * term needs has collapsed (length below 1e-9 of its rest length): the
  * direction is then undefined and is never divided by. */
-SB_API sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions, const double* velocities,
-                            double* forces, double* energy, sb_error* err);
+SB_API sb_status sb_reference_term(const sb_model* model, sb_term term, const double* positions,
+                                   const double* velocities, double* forces, double* energy, sb_error* err);
 
 /** All enabled terms: overwrites forces and fills energies->term[]. */
-SB_API sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities, double* forces,
-                              sb_energies* energies, sb_error* err);
+SB_API sb_status sb_reference_forces(const sb_model* model, const double* positions, const double* velocities,
+                                     double* forces, sb_energies* energies, sb_error* err);
 
 #ifdef __cplusplus
 }

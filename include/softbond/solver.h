@@ -82,10 +82,10 @@ typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, d
  * copied). Start from sb_default_solver_def(). */
 typedef struct sb_solver_def {
     sb_integrator integrator; /**< default SB_INTEGRATOR_VERLET */
-    double gravity[3]; /**< m/s² */
-    double drag;       /**< 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
-    sb_kernels kernels;     /**< default SB_KERNELS_FAST */
-    sb_runtime_def runtime; /**< the threads: count, pinning, wait policy (softbond/runtime.h) */
+    double gravity[3];        /**< m/s² */
+    double drag;              /**< 1/s: each free vertex feels −drag·m·v, a viscous medium (0 = none) */
+    sb_kernels kernels;       /**< default SB_KERNELS_FAST */
+    sb_runtime_def runtime;   /**< the threads: count, pinning, wait policy (softbond/runtime.h) */
     /** Contact (softbond/collider.h; DESIGN.md, section Contact): after every step each
      * free vertex's move is checked against the colliders in this order, and
      * the earliest contact is answered. The colliders must outlive the solver. */

@@ -19,9 +19,9 @@ extern "C" {
 
 /** One published state. Arrays are 3n interleaved (x y z per vertex). */
 typedef struct sb_snapshot {
-    uint64_t sequence; /**< 1 for the first snapshot published, then 2, 3, ... */
-    uint64_t step;     /**< the solver's step count (sb_solver_step_count) */
-    double time;       /**< s, simulated */
+    uint64_t sequence;     /**< 1 for the first snapshot published, then 2, 3, ... */
+    uint64_t step;         /**< the solver's step count (sb_solver_step_count) */
+    double time;           /**< s, simulated */
     sb_energies energies;  /**< J: the state's energies (sb_solver_energies) */
     uint32_t vertex_count; /**< the vertices it holds: a tearing solver's grow (sb_solver_vertex_count) */
     sb_real* positions;    /**< m */

@@ -20,9 +20,9 @@ extern "C" {
  * sb_tet_mesh_free releases them). A zeroed sb_tet_mesh is the empty mesh. */
 typedef struct sb_tet_mesh {
     uint32_t vertex_count; /**< vertices in positions */
-    double* positions; /**< 3 * vertex_count, x y z interleaved, metres */
+    double* positions;     /**< 3 * vertex_count, x y z interleaved, metres */
     uint32_t tet_count;    /**< tetrahedra in tets */
-    uint32_t* tets; /**< 4 * tet_count vertex indices (the corners) */
+    uint32_t* tets;        /**< 4 * tet_count vertex indices (the corners) */
 } sb_tet_mesh;
 
 /** Releases the arrays and zeroes the struct; safe on a zeroed mesh. */
@@ -94,7 +94,7 @@ SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * springs — scale it with `damping`. Fails (nothing added) when the mesh
  * fails sb_tet_mesh_check or a vertex belongs to no tetrahedron. */
 SB_API sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
-                                  sb_error* err);
+                                         sb_error* err);
 
 #ifdef __cplusplus
 }
