@@ -8,6 +8,7 @@
  * the three phases. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/cli.h"
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "cli/output_dir.h"
 #include "scenes/simulation.h"
@@ -83,11 +84,15 @@ static sb_status need(const char* program, const char* package, sb_error* err) {
                               program, package, package);
 }
 
-/* Starts argv quietly (stdout and stderr to /dev/null); its pid, or -1. */
-static pid_t start(char* const* argv) {
+/* Starts argv quietly (stdout to the file `out` when it is not NULL, else
+ * like stderr to /dev/null); its pid, or -1. */
+static pid_t start(char* const* argv, FILE* out) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    if (out)
+        posix_spawn_file_actions_adddup2(&actions, fileno(out), STDOUT_FILENO);
+    else
+        posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
     pid_t pid;
     int failed = posix_spawnp(&pid, argv[0], &actions, NULL, argv, environ);
@@ -138,36 +143,64 @@ static sb_status simulate(film_job* job, sb_error* err) {
     return status;
 }
 
-static pid_t start_povray(film_job* job, uint32_t k) {
+/* povray writes frame k's picture to its stdout (+O-), which is png's
+ * NAME.tmp, renamed when the picture is whole: povray's exit status does
+ * not say whether its writes succeeded (0 onto /dev/full), so the file is
+ * read back for the PNG's last chunk, IEND. */
+static pid_t start_povray(film_job* job, uint32_t k, sb_atomic_file* png, sb_error* err) {
     char in[4200], out[4200], w[32], h[32];
+    if (sb_atomic_open(png, frame_path(job, k, "png"), err) != SB_OK) return -2;
     snprintf(in, sizeof in, "+I%s", frame_path(job, k, "pov"));
-    snprintf(out, sizeof out, "+O%s", frame_path(job, k, "png"));
+    snprintf(out, sizeof out, "+O-");
     snprintf(w, sizeof w, "+W%d", job->width);
     snprintf(h, sizeof h, "+H%d", job->height);
     char* argv[] = {"povray", in, out, w, h, "+FN", "-D", "+A0.3", "-V", NULL};
-    return start(argv);
+    return start(argv, png->stream);
+}
+
+static bool whole_png(const char* path) {
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    unsigned char tail[12];
+    FILE* f = fopen(path, "rb");
+    bool whole = f && fseek(f, -12, SEEK_END) == 0 && fread(tail, 1, 12, f) == 12 && memcmp(tail, iend, 12) == 0;
+    if (f) fclose(f);
+    return whole;
 }
 
 /* Two povrays at a time, frames in order; the first failure names its frame. */
 static sb_status render(film_job* job, sb_error* err) {
     pid_t running[RENDERERS];
+    sb_atomic_file png[RENDERERS];
     uint32_t frame_of[RENDERERS], next = 0;
     int count = 0;
     sb_status status = SB_OK;
     while (count > 0 || (next < job->frames && status == SB_OK)) {
         while (count < RENDERERS && next < job->frames && status == SB_OK) {
             frame_of[count] = next;
-            running[count] = start_povray(job, next++);
-            if (running[count] < 0)
+            running[count] = start_povray(job, next++, &png[count], err);
+            if (running[count] == -1) {
+                sb_atomic_abort(&png[count]);
                 status = sb_error_set(err, SB_ERR_IO, "film: cannot start povray");
+            } else if (running[count] == -2)
+                status = SB_ERR_IO; /* the picture's file could not be opened: err says why */
             else
                 count++;
         }
         if (count == 0) break;
         bool ok = succeeded(running[0]);
-        if (!ok && status == SB_OK)
-            status = sb_error_set(err, SB_ERR_IO, "film: povray failed on %s", frame_path(job, frame_of[0], "pov"));
+        if (!ok || (status == SB_OK && (fflush(png[0].stream) != 0 || !whole_png(sb_atomic_write_path(&png[0]))))) {
+            sb_atomic_abort(&png[0]);
+            if (status == SB_OK)
+                status = ok ? sb_error_set(err, SB_ERR_IO, "%s: cannot write: povray's picture is cut short",
+                                           frame_path(job, frame_of[0], "png"))
+                            : sb_error_set(err, SB_ERR_IO, "film: povray failed on %s",
+                                           frame_path(job, frame_of[0], "pov"));
+        } else if (status != SB_OK)
+            sb_atomic_abort(&png[0]);
+        else
+            status = sb_atomic_commit(&png[0], err);
         memmove(running, running + 1, (size_t)(count - 1) * sizeof *running);
+        memmove(png, png + 1, (size_t)(count - 1) * sizeof *png);
         memmove(frame_of, frame_of + 1, (size_t)(count - 1) * sizeof *frame_of);
         count--;
         progress(job, 1.0, "rendering");
@@ -179,12 +212,19 @@ static sb_status encode(film_job* job, sb_error* err) {
     char rate[32], pattern[4200];
     snprintf(rate, sizeof rate, "%g", job->fps);
     snprintf(pattern, sizeof pattern, "%s/frame_%%06d.png", job->out.dir);
-    char* argv[] = {"ffmpeg",   "-y",   "-loglevel", "error",    "-framerate", rate,  "-i",
-                    pattern,    "-c:v", "libx264",   "-pix_fmt", "yuv420p",    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                    job->movie, NULL};
+    /* the movie appears whole or not at all: ffmpeg writes NAME.tmp (hence -f mp4), renamed when it succeeded */
+    sb_atomic_file movie;
+    if (sb_atomic_open(&movie, job->movie, err) != SB_OK) return SB_ERR_IO;
+    char* argv[] = {"ffmpeg",  "-y",         "-loglevel", "error", "-framerate", rate,      "-i", pattern,
+                    "-c:v",    "libx264",    "-pix_fmt",  "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                    "-f",      "mp4",        (char*)sb_atomic_write_path(&movie), NULL};
     progress(job, 0.0, "encoding");
-    pid_t pid = start(argv);
-    if (pid < 0 || !succeeded(pid)) return sb_error_set(err, SB_ERR_IO, "film: ffmpeg could not make %s", job->movie);
+    pid_t pid = start(argv, NULL);
+    if (pid < 0 || !succeeded(pid)) {
+        sb_atomic_abort(&movie);
+        return sb_error_set(err, SB_ERR_IO, "film: ffmpeg could not make %s", job->movie);
+    }
+    if (sb_atomic_commit(&movie, err) != SB_OK) return SB_ERR_IO;
     progress(job, 1.0, "done");
     return SB_OK;
 }

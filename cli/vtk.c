@@ -10,7 +10,7 @@
  * multiblock dataset with clean arrays in each block. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/vtk.h"
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 #include <math.h>

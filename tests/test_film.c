@@ -2,7 +2,9 @@
  * per second and 64 x 48 pixels makes an MP4 whose video stream ffprobe
  * counts 10 frames in, and no two consecutive decoded frames are the same
  * (ffmpeg's framemd5 of each). A missing povray, or an --eye that is not
- * x,y,z, is said in one line, exit 2. */
+ * x,y,z, is said in one line, exit 2. A movie that cannot be written
+ * (--movie /dev/full) is one line naming it and exit 1; the frames'
+ * pictures are whole PNGs and no NAME.tmp is left. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -63,11 +65,28 @@ static void test_bad_camera_is_refused(void** state) {
     assert_string_equal(text, "softbond: --eye: expected x,y,z in metres, got '1,2'\nexit 2\n");
 }
 
+static void test_movie_onto_a_full_device_fails(void** state) {
+    (void)state;
+    char command[1024], text[1024];
+    snprintf(command, sizeof command,
+             "rm -rf " DIR "_full && %s film %s/scenes/default.yaml --set duration=0.1 --size 32x24 --output " DIR
+             "_full --movie /dev/full 2>&1; echo exit $?",
+             SB_PROGRAM, SB_SOURCE_DIR);
+    output_of(command, text, sizeof text);
+    assert_string_equal(text, "softbond: film: ffmpeg could not make /dev/full\nexit 1\n");
+    output_of("ls " DIR "_full | tr '\\n' ' '", text, sizeof text);
+    assert_string_equal(text, "frame_000000.png frame_000000.pov frame_000001.png frame_000001.pov frame_000002.png "
+                              "frame_000002.pov frame_000003.png frame_000003.pov ");
+    output_of("file -b " DIR "_full/frame_000003.png", text, sizeof text);
+    assert_string_equal(text, "PNG image data, 32 x 24, 8-bit/color RGB, non-interlaced\n");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ten_frames_that_differ),
         cmocka_unit_test(test_missing_povray_is_said),
         cmocka_unit_test(test_bad_camera_is_refused),
+        cmocka_unit_test(test_movie_onto_a_full_device_fails),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

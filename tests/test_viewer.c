@@ -14,7 +14,9 @@
  *   - with the "mouse" haptic device, a drag moves the probe into the sheet;
  *   - a bad script line is refused naming file:line;
  *   - without a display, one line and exit 2;
- *   - a solver failure: on stderr, exit 3, in red wrapped in the window. */
+ *   - a solver failure: on stderr, exit 3, in red wrapped in the window;
+ *   - a screenshot that cannot be written (/dev/full): one line naming the
+ *     file, exit 1, and no PNG left under a regular file's name. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -349,11 +351,27 @@ static void test_solver_failure_exits_3(void** state) {
     assert_int_equal(red_right, 0); /* and wrapped, not cut at the window's edge */
 }
 
+/* --screenshot onto /dev/full: one line naming the file, exit 1 (not 0). */
+static void test_screenshot_onto_a_full_device_fails(void** state) {
+    (void)state;
+    char command[1024], text[2048];
+    snprintf(command, sizeof command,
+             "%s view " SCENE " --set threads=1 --screenshot /dev/full --frames 2 --size %dx%d 2>&1; echo exit $?",
+             SB_PROGRAM, W, H);
+    FILE* p = popen(command, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    pclose(p);
+    assert_string_equal(text, "softbond: /dev/full: cannot write: No space left on device\nexit 1\n");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_script_errors_name_the_line),
         cmocka_unit_test(test_no_display_is_said),
         cmocka_unit_test(test_solver_failure_exits_3),
+        cmocka_unit_test(test_screenshot_onto_a_full_device_fails),
         cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),
