@@ -146,7 +146,8 @@ static sb_status write_frame(film_job* job, uint32_t k, double* positions, sb_er
 
 static sb_status simulate(film_job* job, sb_error* err) {
     double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT);
-    double* positions = malloc(3 * ((size_t)job->sim.mesh.vertex_count + 1) * sizeof *positions);
+    /* a tearing solver has more vertices than the mesh (its split copies): room for all it may write */
+    double* positions = malloc(3 * ((size_t)sb_solver_vertex_capacity(job->sim.solver) + 1) * sizeof *positions);
     if (!positions) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     sb_status status = SB_OK;
     for (uint32_t k = 0; k < job->frames && status == SB_OK; k++) {
