@@ -7,7 +7,8 @@
  * pictures are whole PNGs and no NAME.tmp is left. The film of
  * scenes/draped_sheet.yaml shows its ball: the colliders' teal where the
  * ball is, none in the same film without the ball; its progress bar (on a
- * terminal, script(1)) ends at 100 %. */
+ * terminal, script(1)) ends at 100 %. A kinematic collider moves from
+ * frame to frame; a .pov scene is filmed. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -127,6 +128,29 @@ static void test_film_shows_the_colliders(void** state) {
     assert_int_equal(teal_pixels(DIR "_noball/frame_000000.png", &w, &h), 0);
 }
 
+/* A kinematic collider moves in the film: scenes/kinematic_sphere.yaml's
+ * pusher, still at 0.25 s, is 0.6 m on (its path) at 1.5 s. */
+static void test_film_moves_the_colliders(void** state) {
+    (void)state;
+    char command[1024], text[4096];
+    snprintf(command, sizeof command,
+             "rm -rf " DIR "_kin && %s film %s/scenes/kinematic_sphere.yaml --set duration=1.5 --fps 4 --size 32x24 "
+             "--output " DIR "_kin >/dev/null && grep -h '^sphere' " DIR "_kin/frame_000001.pov " DIR
+             "_kin/frame_000006.pov",
+             SB_PROGRAM, SB_SOURCE_DIR);
+    output_of(command, text, sizeof text);
+    printf("%s", text);
+    double x[2][3];
+    assert_int_equal(sscanf(text, "sphere { <%lf, %lf, %lf>, 0.15 texture { softbond_collider } }\n"
+                                  "sphere { <%lf, %lf, %lf>",
+                            &x[0][0], &x[0][1], &x[0][2], &x[1][0], &x[1][1], &x[1][2]),
+                     6);
+    /* POV-Ray's axes: the scene's up (+y, against gravity) is POV's +y, the scene's z POV's z */
+    TU_ASSERT_NEAR(x[0][2], -0.3, 1e-9);
+    TU_ASSERT_NEAR(x[1][2], 0.3, 1e-9);
+    TU_ASSERT_NEAR(x[1][0], x[0][0], 1e-9);
+}
+
 /* A POV-Ray scene of mesh2 objects is a scene itself (the film maker's input). */
 static void test_film_of_a_pov_scene(void** state) {
     (void)state;
@@ -151,6 +175,7 @@ int main(void) {
         cmocka_unit_test(test_movie_onto_a_full_device_fails),
         cmocka_unit_test(test_film_shows_the_colliders),
         cmocka_unit_test(test_film_of_a_pov_scene),
+        cmocka_unit_test(test_film_moves_the_colliders),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
