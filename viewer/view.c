@@ -406,11 +406,17 @@ static void help(view_app* a) {
              "\nmouse\nleft on a vertex: drag it (a spring)\nleft elsewhere, right: orbit\nshift+left, middle: pan\n"
              "wheel: zoom%s",
              a->tool_index >= 0 ? "\nleft: move the haptic tool (ctrl+left: a vertex)" : "");
-    float w, h;
-    sb_overlay_measure(text, 2.0f, &w, &h);
+    float w, h, scale = 2.0f;
+    sb_overlay_measure(text, scale, &w, &h);
+    /* a small window gets smaller letters: the whole card fits (down to half size) */
+    float fit = fminf(((float)a->width - 32) / w, ((float)a->height - 32) / h);
+    if (fit < 1.0f) {
+        scale *= fmaxf(fit, 0.5f);
+        sb_overlay_measure(text, scale, &w, &h);
+    }
     float x = 0.5f * ((float)a->width - w), y = 0.5f * ((float)a->height - h);
     sb_overlay_rect(&a->overlay, x - 12, y - 12, w + 24, h + 24, PAPER);
-    sb_overlay_text(&a->overlay, x, y, 2.0f, text, INK);
+    sb_overlay_text(&a->overlay, x, y, scale, text, INK);
 }
 
 /* The strain colours from −scale (blue) to +scale (red), at the right edge. */
