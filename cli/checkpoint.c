@@ -1,7 +1,7 @@
 /* The run's checkpoints (see checkpoint.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/checkpoint.h"
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/sections.h"
 

@@ -3,7 +3,7 @@
  * JSON object on stdout. The mesh file's positions are the rest state; the
  * constants are the scene keys' defaults and --set. Double scalar reference
  * by default; --fast goes through a solver with the fast kernels. */
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 #include "cli/cli.h"
 #include "common/error.h"
 #include "cli/positions_csv.h"

@@ -12,6 +12,7 @@
 typedef struct sb_frame_export_def {
     sb_frame_formats formats;
     double up[3];
+    sb_vtk_encoding vtu; /* output.vtu */
 } sb_frame_export_def;
 
 /* Writes frame `index` (frame_000042.<ext>) in each format of the set into

@@ -109,6 +109,8 @@ static void set_export(run_job* job) {
     sb_frame_formats_parse(sb_scene_string(&job->sim.scene, SB_KEY_OUTPUT_FORMATS), &job->export.formats, bad,
                            sizeof bad);
     sb_simulation_up(&job->sim, job->export.up);
+    const char* vtu = sb_scene_string(&job->sim.scene, SB_KEY_OUTPUT_VTU);
+    job->export.vtu = strcmp(vtu, "zlib") == 0 ? SB_VTK_ZLIB : strcmp(vtu, "binary") == 0 ? SB_VTK_BINARY : SB_VTK_ASCII;
 }
 
 static bool soft(const sb_scene_handle* handle) { return handle->def.stiffness > 0.0; }
@@ -220,7 +222,8 @@ static sb_status write_frame(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->sim.solver);
     const sb_mesh* surface = sb_torn_surface_update(&job->surface, job->sim.solver, &job->sim.mesh, job->buffers);
     sb_vtk_frame frame = {surface,          job->sim.model,       job->buffers,
-                          job->buffers + n, job->buffers + 2 * n, job->sim.solver};
+                          job->buffers + n, job->buffers + 2 * n, job->sim.solver,
+                          job->export.vtu};
     sb_solver_get_positions(job->sim.solver, job->buffers);
     sb_solver_get_velocities(job->sim.solver, job->buffers + n);
     sb_solver_get_forces(job->sim.solver, job->buffers + 2 * n);

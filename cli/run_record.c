@@ -1,7 +1,7 @@
 /* run.yaml (see run_record.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/run_record.h"
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 
 #include <string.h>
 

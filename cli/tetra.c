@@ -28,7 +28,7 @@
  * 1 when TetGen is missing or fails (its last message is shown) or OUT
  * cannot be written. */
 #define _POSIX_C_SOURCE 200809L
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 #include "cli/cli.h"
 #include "common/error.h"
 

@@ -1,10 +1,17 @@
-/* Frames ParaView opens: VTK XML UnstructuredGrid files (.vtu, ASCII), two
+/* Frames ParaView opens: VTK XML UnstructuredGrid files (.vtu: ASCII, binary or zlib), two
  * per frame (the surface and the bonds), and a .pvd collection that lists
  * them with their times, the surface as part 0 and the bonds as part 1. */
 #ifndef SB_VTK_H
 #define SB_VTK_H
 
 #include "softbond/softbond.h"
+
+/* How a .vtu holds its arrays (the scene's output.vtu): as text inside
+ * the XML, or appended after it as raw little-endian bytes (each array a
+ * UInt64 byte count and its bytes), or appended zlib-compressed
+ * (compressor vtkZLibDataCompressor: 32 KiB blocks, each compressed on its
+ * own). ParaView, VTK and meshio read all three. */
+typedef enum sb_vtk_encoding { SB_VTK_ASCII, SB_VTK_BINARY, SB_VTK_ZLIB } sb_vtk_encoding;
 
 /* One frame: the mesh's triangles as cells, per-point velocity, force and
  * the fixed flag. Arrays are 3n interleaved doubles. With a solver, the
@@ -17,6 +24,7 @@ typedef struct sb_vtk_frame {
     const double* velocities;
     const double* forces;
     const sb_solver* solver; /* or NULL: the model's numbering */
+    sb_vtk_encoding encoding; /* 0: ascii */
 } sb_vtk_frame;
 
 /* "frame_000012" and suffix: the name of a file of frame `index` inside the

@@ -182,7 +182,10 @@ typedef enum sb_scene_type {
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "", "write frames (output.formats); false writes log.csv only")    \
     X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]", "",                                                            \
       "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
-      "irit, pov")
+      "irit, pov")                                                                                                \
+    X(OUTPUT_VTU, "output.vtu", STRING, "ascii", "",                                                                   \
+      "how .vtu frames hold their arrays: ascii (text), binary (appended raw bytes) or zlib (appended, "              \
+      "zlib-compressed: smaller, slower to write)")
 
 typedef enum sb_scene_key {
 #define SB_SCENE_KEY_ENUM(id, name, type, def, unit, meaning) SB_KEY_##id,

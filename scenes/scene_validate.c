@@ -182,6 +182,11 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
         return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'%s", sb_pin_names(),
                              sb_scene_string(scene, SB_KEY_PIN), hint(scene, SB_KEY_PIN, sb_pin_names()));
+    static const char* const vtu[] = {"ascii", "binary", "zlib", NULL};
+    if (!one_of(sb_scene_string(scene, SB_KEY_OUTPUT_VTU), vtu))
+        return sb_scene_fail(scene, SB_KEY_OUTPUT_VTU, err, "'output.vtu' must be ascii, binary or zlib, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_OUTPUT_VTU),
+                             hint(scene, SB_KEY_OUTPUT_VTU, "ascii, binary, zlib"));
     sb_frame_formats formats;
     char bad[64];
     if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))

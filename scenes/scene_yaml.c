@@ -444,13 +444,43 @@ static sb_status read_scene_file(FILE* file, const char* path, unsigned char** t
     return SB_OK;
 }
 
+/* A POV-Ray scene of mesh2 objects (the Spring Systems film maker's input)
+ * is a scene of its own: its bodies by the film maker's rules (the mesh
+ * reader's), as scenes/film_bounce.yaml sets them: meeting by self-contact,
+ * POV-Ray's down (-y) the gravity's, the film maker's step and duration. */
+static bool is_pov(const char* path) {
+    size_t n = strlen(path);
+    return n > 4 && strcmp(path + n - 4, ".pov") == 0;
+}
+
+static unsigned char* pov_scene_text(const char* path, size_t* size) {
+    const char* slash = strrchr(path, '/');
+    char* text = malloc(strlen(path) + 512);
+    if (!text) return NULL;
+    int n = sprintf(text,
+                    "mesh: {generator: file, file: '%s'}\n"
+                    "self_collision: true\n"
+                    "contact: {thickness: 0.01}\n"
+                    "gravity: [0, -9.8, 0]\n"
+                    "drag: 0.2\n"
+                    "integrator: verlet\n"
+                    "dt: 0.0002\n"
+                    "duration: 2.0\n"
+                    "frame_interval: 0.04\n",
+                    slash ? slash + 1 : path);
+    *size = (size_t)n;
+    return (unsigned char*)text;
+}
+
 sb_status sb_scene_load(sb_scene* scene, const char* path, sb_error* err) {
     FILE* file = fopen(path, "rb");
     if (!file) return sb_error_set(err, SB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     unsigned char* text = NULL;
     size_t size = 0;
-    sb_status status = read_scene_file(file, path, &text, &size, err);
+    sb_status status = is_pov(path) ? SB_OK : read_scene_file(file, path, &text, &size, err);
     fclose(file);
+    if (status == SB_OK && is_pov(path) && !(text = pov_scene_text(path, &size)))
+        status = sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     if (status == SB_OK) status = load_text(scene, text, size, path, err);
     free(text);
     if (status != SB_OK) return status;

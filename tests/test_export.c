@@ -202,7 +202,7 @@ static void test_bond_cells(void** state) {
     uint32_t triangles[6] = {0, 1, 2, 0, 2, 3};
     sb_mesh mesh = {4, (double*)rest, 2, triangles};
     double zero[12] = {0};
-    sb_vtk_frame frame = {&mesh, model, &now[0][0], zero, zero, NULL};
+    sb_vtk_frame frame = {&mesh, model, &now[0][0], zero, zero, NULL, SB_VTK_ASCII};
     sb_error err;
     const char* path = tu_tmp_path("bonds.vtu");
     if (sb_vtk_write_bonds(path, &frame, &err) != SB_OK) fail_msg("%s", err.message);

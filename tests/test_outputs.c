@@ -3,7 +3,10 @@
  * bond + spring energies (broken and severed bonds left out), and a run
  * whose duration is off the frame_interval grid writes its end state; keys
  * that would have no effect are refused; a mistyped value, option or
- * command gets the nearest name; vectors take one form everywhere. */
+ * command gets the nearest name; vectors take one form everywhere;
+ * output.vtu: binary and zlib frames read back by meshio (Debian's
+ * python3-meshio) to the ASCII frame's points, triangles, bonds and
+ * arrays. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
@@ -432,6 +435,55 @@ static void test_resume_longer(void** state) {
     run_in((const char*[]){"run", "tiny2.yaml", "--set", "duration=0.3", "--resume", "ext_three", NULL});
 }
 
+/* ---- output.vtu: binary and zlib against ascii, read by meshio --------------------- */
+
+/* Reads each encoding's frame 3 (surface and bonds) with meshio and compares
+ * it with the ASCII one: the cells exactly, the numbers to the ASCII's 9
+ * significant digits. Prints what differs; exit 0 when all agree. */
+static const char meshio_check[] =
+    "import sys, meshio, numpy as np\n"
+    "def close(a, b): return np.allclose(a, b, rtol=1e-8, atol=1e-12)\n"
+    "bad = 0\n"
+    "for part in ['frame_000003.vtu', 'frame_000003_bonds.vtu']:\n"
+    "    a = meshio.read('vtu_ascii/' + part)\n"
+    "    for e in ['binary', 'zlib']:\n"
+    "        b = meshio.read('vtu_' + e + '/' + part)\n"
+    "        if not close(a.points, b.points): bad += 1; print(e, part, 'points differ')\n"
+    "        for c, d in zip(a.cells, b.cells):\n"
+    "            if c.type != d.type or not np.array_equal(c.data, d.data): bad += 1; print(e, part, c.type, 'differ')\n"
+    "        for k in a.point_data:\n"
+    "            if not close(a.point_data[k], b.point_data[k]): bad += 1; print(e, part, k, 'differs')\n"
+    "        for k in a.cell_data:\n"
+    "            if not close(a.cell_data[k][0], b.cell_data[k][0]): bad += 1; print(e, part, k, 'differs')\n"
+    "        if len(a.point_data) + len(a.cell_data) < 3: bad += 1; print(part, 'arrays missing')\n"
+    "print('checked', len(a.points), 'points') \n"
+    "sys.exit(bad)\n";
+
+static void test_vtu_binary_and_zlib_read_back(void** state) {
+    (void)state;
+    tu_write_file("tiny.yaml", tiny_scene);
+    const char* encodings[] = {"ascii", "binary", "zlib"};
+    for (int e = 0; e < 3; e++) {
+        char set[64], dir[64];
+        snprintf(set, sizeof set, "output.vtu=%s", encodings[e]);
+        snprintf(dir, sizeof dir, "vtu_%s", encodings[e]);
+        run_in((const char*[]){"run", "tiny.yaml", "--set", set, "--output", dir, NULL});
+    }
+    char* text = tu_read_file(tu_tmp_path("vtu_binary/frame_000003.vtu"));
+    TU_ASSERT_CONTAINS(text, "format=\"appended\" offset=\"");
+    TU_ASSERT_CONTAINS(text, "<AppendedData encoding=\"raw\">");
+    assert_null(strstr(text, "compressor="));
+    free(text);
+    text = tu_read_file(tu_tmp_path("vtu_zlib/frame_000003_bonds.vtu"));
+    TU_ASSERT_CONTAINS(text, "compressor=\"vtkZLibDataCompressor\"");
+    free(text);
+    tu_write_file("meshio_check.py", meshio_check);
+    char command[1200];
+    snprintf(command, sizeof command, "cd '%s' && /usr/bin/python3 meshio_check.py >&2", tu_tmp_path(""));
+    assert_int_equal(system(command), 0);
+    assert_fails((const char*[]){"run", "tiny.yaml", "--set", "output.vtu=zlb", NULL}, 2, "did you mean 'zlib'");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bonds_frames_agree_with_log_tearing),
@@ -443,6 +495,7 @@ int main(void) {
         cmocka_unit_test(test_scene_write_round_trip),
         cmocka_unit_test(test_run_yaml_reproduces),
         cmocka_unit_test(test_resume_longer),
+        cmocka_unit_test(test_vtu_binary_and_zlib_read_back),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -14,7 +14,15 @@
  *   - with the "mouse" haptic device, a drag moves the probe into the sheet;
  *   - a bad script line is refused naming file:line;
  *   - without a display, one line and exit 2;
- *   - a solver failure: on stderr, exit 3, in red wrapped in the window. */
+ *   - a solver failure: on stderr, exit 3, in red wrapped in the window;
+ *   - a screenshot that cannot be written (/dev/full): one line naming the
+ *     file, exit 1, and no PNG left under a regular file's name;
+ *   - a script replays identically: twice the same paused time, step,
+ *     positions and picture (p's screenshot, the scene below the overlay);
+ *   - n: three single steps from the start are three steps;
+ *   - l: a reload starts the scene anew (time 0, still paused);
+ *   - a net (factory: net) is drawn as edges: F2 off leaves nearly nothing;
+ *     the camera at the start frames the net's ball too, high above it. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -349,11 +357,118 @@ static void test_solver_failure_exits_3(void** state) {
     assert_int_equal(red_right, 0); /* and wrapped, not cut at the window's edge */
 }
 
+/* The scene's part of two pictures (below the overlay's lines at the top, above its line at the bottom) differ in this many pixels. */
+static int scene_differences(const picture* a, const picture* b) {
+    int differ = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; in_scene(y) && x < W; x++)
+            differ += memcmp(a->rgb + 3 * (y * W + x), b->rgb + 3 * (y * W + x), 3) != 0;
+    return differ;
+}
+
+static void read_picture(const char* path, picture* png) {
+    int channels;
+    png->rgb = stbi_load(path, &png->width, &png->height, &channels, 3);
+    if (!png->rgb) fail_msg("cannot read %s", path);
+    assert_int_equal(png->width, W);
+}
+
+/* The script's events wait for the simulation's clock: pausing at 0.15 s
+ * twice pauses at the same step, and p saves the same picture. */
+static void test_script_replays_identically(void** state) {
+    (void)state;
+    sb_view_result r[2];
+    picture shot[2];
+    remove("default_001.png"), remove("default_002.png");
+    for (int k = 0; k < 2; k++) run_view("replay", "0.15 key space\n0.15 key p\n", 90, &r[k], NULL);
+    printf("paused at t = %.17g s (step %llu) and %.17g s (step %llu)\n", r[0].time, (unsigned long long)r[0].step,
+           r[1].time, (unsigned long long)r[1].step);
+    assert_true(r[0].time >= 0.15 && r[0].time < 0.151);
+    assert_true(r[0].time == r[1].time);
+    assert_int_equal(r[0].step, r[1].step);
+    assert_int_equal(r[0].vertex_count, r[1].vertex_count);
+    assert_memory_equal(r[0].positions, r[1].positions, 3 * (size_t)r[0].vertex_count * sizeof(double));
+    read_picture("default_001.png", &shot[0]); /* p: SCENE_NNN.png, the first number not taken */
+    read_picture("default_002.png", &shot[1]);
+    assert_int_equal(scene_differences(&shot[0], &shot[1]), 0);
+    for (int k = 0; k < 2; k++) {
+        free(shot[k].rgb);
+        sb_view_result_free(&r[k]);
+    }
+}
+
+static void test_n_takes_one_step(void** state) {
+    (void)state;
+    sb_view_result r;
+    run_view("single", "0 key space\n0 key n\n0 key n\n0 key n\n", 20, &r, NULL);
+    assert_int_equal(r.step, 3);
+    sb_view_result_free(&r);
+}
+
+/* l at 0.1 s (then space, before the reload is done): the scene anew, paused at its start. */
+static void test_l_reloads_the_scene(void** state) {
+    (void)state;
+    sb_view_result r;
+    run_view("reload", "0.1 key l\n0.1 key space\n", 40, &r, NULL);
+    assert_int_equal(r.step, 0);
+    assert_true(r.time == 0.0);
+    sb_view_result_free(&r);
+    run_view("no_reload", "0.1 key space\n", 40, &r, NULL);
+    assert_true(r.time >= 0.1);
+    sb_view_result_free(&r);
+}
+
+static int scene_pixels(const picture* png) {
+    int count = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; in_scene(y) && x < W; x++) count += !background(png->rgb + 3 * (y * W + x));
+    return count;
+}
+
+static void test_net_is_drawn_as_edges(void** state) {
+    (void)state;
+    sb_view_result r;
+    picture with, without;
+    run_scene(SB_SOURCE_DIR "/scenes/net.yaml", NULL, "net", "0 key space\n", 5, &r, &with);
+    const double ball[3] = {0.3, 0.6, 3.2}; /* scenes/net.yaml's ball, 2.2 m above the net */
+    double pixel[2];
+    project(&r.camera, ball, pixel);
+    printf("the ball at pixel (%.0f, %.0f)\n", pixel[0], pixel[1]);
+    assert_true(pixel[0] > 0 && pixel[0] < W && pixel[1] > 52 && pixel[1] < H - 30);
+    sb_view_result_free(&r);
+    run_scene(SB_SOURCE_DIR "/scenes/net.yaml", NULL, "net_f2", "0 key F2\n0 key space\n", 5, &r, &without);
+    printf("net: %d pixels with its edges, %d without\n", scene_pixels(&with), scene_pixels(&without));
+    TU_ASSERT_LE(400, scene_pixels(&with));
+    TU_ASSERT_LE(scene_pixels(&without), 150); /* the ball only: no faces */
+    free(with.rgb), free(without.rgb);
+    sb_view_result_free(&r);
+}
+
+/* --screenshot onto /dev/full: one line naming the file, exit 1 (not 0). */
+static void test_screenshot_onto_a_full_device_fails(void** state) {
+    (void)state;
+    char command[1024], text[2048];
+    snprintf(command, sizeof command,
+             "%s view " SCENE " --set threads=1 --screenshot /dev/full --frames 2 --size %dx%d 2>&1; echo exit $?",
+             SB_PROGRAM, W, H);
+    FILE* p = popen(command, "r");
+    assert_non_null(p);
+    size_t n = fread(text, 1, sizeof text - 1, p);
+    text[n] = '\0';
+    pclose(p);
+    assert_string_equal(text, "softbond: /dev/full: cannot write: No space left on device\nexit 1\n");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_script_errors_name_the_line),
         cmocka_unit_test(test_no_display_is_said),
         cmocka_unit_test(test_solver_failure_exits_3),
+        cmocka_unit_test(test_screenshot_onto_a_full_device_fails),
+        cmocka_unit_test(test_script_replays_identically),
+        cmocka_unit_test(test_n_takes_one_step),
+        cmocka_unit_test(test_l_reloads_the_scene),
+        cmocka_unit_test(test_net_is_drawn_as_edges),
         cmocka_unit_test(test_screenshot_shows_the_sheet_where_the_camera_looks),
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),

@@ -17,7 +17,10 @@ typedef enum sb_view_key {
     SB_VKEY_S,         /* stop the bodies / resume */
     SB_VKEY_G,         /* gravity on / off */
     SB_VKEY_SPACE,     /* pause / run */
+    SB_VKEY_N,         /* one step, paused */
     SB_VKEY_BACKSPACE, /* reset: the bodies back to rest */
+    SB_VKEY_P,         /* save a screenshot */
+    SB_VKEY_L,         /* reload the scene file */
     SB_VKEY_H,         /* the list of keys */
     SB_VKEY_C,         /* the camera back to where it started */
     SB_VKEY_ESCAPE,    /* quit */

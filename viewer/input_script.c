@@ -130,3 +130,7 @@ bool sb_input_script_next(sb_input_script* s, double time, sb_view_event* event)
     *event = s->events[s->next++];
     return true;
 }
+
+double sb_input_script_next_time(const sb_input_script* s) {
+    return s->next < s->count ? s->times[s->next] : INFINITY;
+}

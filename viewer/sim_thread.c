@@ -7,7 +7,10 @@
  * step's last pass). Between batches it tries the shared record's lock
  * once: controls in, report out; when the render thread holds the lock the
  * batch goes on without them. So the renderer costs the solver a snapshot
- * per batch and nothing else, whatever its frame rate. */
+ * per batch and nothing else, whatever its frame rate. With a script, no
+ * step starts at or after the time of its next event (controls.hold)
+ * until the renderer has handled the event: the simulation waits there,
+ * published, so each event meets the same state on every run. */
 #define _POSIX_C_SOURCE 200809L
 #include "viewer/sim_thread.h"
 #include "common/clock.h"
@@ -50,6 +53,8 @@ typedef struct sim_state {
     double window_wall, window_sim; /* the rate window's start */
     uint64_t window_steps;
     bool failed;
+    uint64_t single_steps;   /* taken so far */
+    uint64_t published_step; /* the step count of the last snapshot published */
     sb_view_topology topology; /* read here when the solver tears; handed over at an exchange */
     uint32_t broken, vertices; /* what the last read saw */
     bool tears, handed;        /* handed: the last read is in t->topology */
@@ -159,6 +164,7 @@ static bool step(sb_sim_thread* t, sim_state* s, double dt, bool publish) {
     sb_scene_haptics_before_step(&sim->haptics, sim->solver);
     sb_status status =
         publish ? sb_solver_advance_published(sim->solver, dt, t->buffer) : sb_solver_advance(sim->solver, dt);
+    if (publish) s->published_step = sb_solver_step_count(sim->solver);
     sb_error ignored;
     if (status == SB_OK) sb_scene_haptics_after_step(&sim->haptics, sim->solver, &ignored);
     return status == SB_OK;
@@ -175,19 +181,42 @@ static void follow_tearing(sb_sim_thread* t, sim_state* s) {
     s->handed = false;
 }
 
-/* Steps until the simulated time reaches the paced target or BATCH_WALL
- * has passed; the last step publishes. */
+/* At the hold (a script's event not yet handled): the state there is
+ * published, so that the renderer sees it and handles the event. */
+static bool held(sb_sim_thread* t, sim_state* s) {
+    if (sb_solver_time(t->sim->solver) < s->applied.hold) return false;
+    if (s->published_step != sb_solver_step_count(t->sim->solver)) {
+        sb_solver_publish(t->sim->solver, t->buffer);
+        s->published_step = sb_solver_step_count(t->sim->solver);
+    }
+    nap(5e-4);
+    return true;
+}
+
+/* Steps until the simulated time reaches the paced target or the hold, or
+ * BATCH_WALL has passed; the last step publishes. */
 static void batch(sb_sim_thread* t, sim_state* s) {
     double dt = sb_scene_number(&t->sim->scene, SB_KEY_DT), start = sb_wall_seconds();
     double goal = t->realtime > 0 ? s->sim_origin + (start - s->wall_origin) * t->realtime : INFINITY;
+    if (held(t, s)) return;
     if (sb_solver_time(t->sim->solver) + dt > goal) {
         nap(fmin(1e-3, (sb_solver_time(t->sim->solver) + dt - goal) / t->realtime));
         return;
     }
     for (bool last = false; !last && !s->failed;) {
-        last = sb_solver_time(t->sim->solver) + 2 * dt > goal || sb_wall_seconds() - start >= BATCH_WALL;
+        double now = sb_solver_time(t->sim->solver);
+        last = now + 2 * dt > goal || now + dt >= s->applied.hold || sb_wall_seconds() - start >= BATCH_WALL;
         s->failed = !step(t, s, dt, last);
+        if (!last && sb_solver_time(t->sim->solver) >= s->applied.hold) break; /* rounding: held() publishes */
     }
+    follow_tearing(t, s);
+}
+
+/* n: one step while paused or stopped (not past the hold). */
+static void single_step(sb_sim_thread* t, sim_state* s) {
+    if (held(t, s)) return;
+    s->failed = !step(t, s, sb_scene_number(&t->sim->scene, SB_KEY_DT), true);
+    s->single_steps++;
     follow_tearing(t, s);
 }
 
@@ -200,9 +229,12 @@ static void* run(void* arg) {
     if (s.tears && sb_view_topology_create(&s.topology, solver, &t->sim->mesh, NULL) != SB_OK) s.tears = false;
     s.topology.version = t->topology.version; /* each read after it counts on from the start's */
     s.applied.pick = -1;
+    s.applied.hold = INFINITY;
     s.wall_origin = sb_wall_seconds();
     for (bool first = true; exchange(t, &s, first); first = false) {
-        if (s.applied.paused || s.applied.stopped || s.failed || !s.scratch)
+        if (!s.failed && s.scratch && s.single_steps != s.applied.single_steps)
+            single_step(t, &s);
+        else if (s.applied.paused || s.applied.stopped || s.failed || !s.scratch)
             nap(2e-3);
         else
             batch(t, &s);

@@ -23,6 +23,10 @@ typedef struct sb_sim_controls {
     uint64_t picks;        /* each new pick (press) counts one */
     double target[3];      /* m: where the cursor pulls the picked vertex (or the tool) */
     bool tool;             /* the mouse moves the haptic tool to target */
+    uint64_t single_steps; /* n: each new count takes one step while paused or stopped */
+    /* s, simulated: no step starts at or after it (a script's next event,
+     * until the renderer has handled it); INFINITY = none */
+    double hold;
     bool quit;
 } sb_sim_controls;
 

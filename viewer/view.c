@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 static const double PICK_PIXELS = 15.0; /* a press this close to a vertex's image picks it */
 enum { WARM_UP_FRAMES = 3 };            /* frames drawn before the render share applies */
@@ -59,6 +60,11 @@ typedef struct view_app {
     int width, height;
     double draw_seconds;
     uint64_t frames;
+    bool save, reload;   /* p and l, done after the frame is drawn */
+    unsigned saved;      /* the last screenshot's number */
+    char notice[1100];   /* a line the overlay shows for a while: a screenshot saved, a reload refused */
+    bool notice_alarm;   /* in red */
+    double notice_until; /* wall clock */
 } view_app;
 
 static void nap_until(double when) {
@@ -115,6 +121,7 @@ static sb_status start_simulation(view_app* a, sb_error* err) {
         sb_collider_state(a->sim.colliders.colliders[a->tool_index], a->thread.tool_rest, NULL);
     }
     a->controls.pick = -1;
+    a->controls.hold = INFINITY;
     return sb_solver_publish(a->sim.solver, a->buffer) == SB_OK
                ? SB_OK
                : sb_error_set(err, SB_ERR_INVALID, "view: cannot publish the first state");
@@ -131,21 +138,62 @@ static void rest_box(const sb_model* m, double lo[3], double hi[3]) {
     }
 }
 
+/* The colliders but planes (the drawn square follows the bodies) grow the box. */
+static void collider_box(const sb_scene_colliders* colliders, double lo[3], double hi[3]) {
+    for (uint32_t c = 0; c < colliders->count; c++) {
+        const sb_scene_collider* e = &colliders->entries[c];
+        const sb_collider_def* d = &e->def;
+        double r = 0.0;
+        const double *p = NULL, *q = NULL;
+        switch (d->shape) {
+        case SB_COLLIDER_PLANE: continue;
+        case SB_COLLIDER_SPHERE: p = q = d->center, r = d->radius; break;
+        case SB_COLLIDER_CAPSULE: p = d->a, q = d->b, r = d->radius; break;
+        case SB_COLLIDER_BOX:
+            p = q = d->center;
+            r = sqrt(d->half_extents[0] * d->half_extents[0] + d->half_extents[1] * d->half_extents[1] +
+                     d->half_extents[2] * d->half_extents[2]);
+            break;
+        default:
+            for (uint32_t i = 0; i < e->mesh.vertex_count; i++)
+                for (int k = 0; k < 3; k++)
+                    lo[k] = fmin(lo[k], e->mesh.positions[3 * i + k]), hi[k] = fmax(hi[k], e->mesh.positions[3 * i + k]);
+            continue;
+        }
+        for (int k = 0; k < 3; k++)
+            lo[k] = fmin(lo[k], fmin(p[k], q[k]) - r), hi[k] = fmax(hi[k], fmax(p[k], q[k]) + r);
+    }
+}
+
+/* What the scene's model and colliders need drawn (also after a reload);
+ * the camera framing the bodies at rest and the colliders. */
+static sb_status scene_drawing(view_app* a, sb_error* err) {
+    double lo[3], hi[3], up[3], center[3], extent = 0.0;
+    rest_box(a->sim.model, lo, hi);
+    for (int k = 0; k < 3; k++) center[k] = 0.5 * (lo[k] + hi[k]), extent = fmax(extent, hi[k] - lo[k]);
+    double bodies = extent;
+    collider_box(&a->sim.colliders, lo, hi);
+    sb_simulation_up(&a->sim, up);
+    a->camera = a->home = sb_camera_fit(lo, hi, up);
+    double size = 0.0;
+    for (int k = 0; k < 3; k++) size = fmax(size, hi[k] - lo[k]);
+    /* colliders beyond the bodies reach the box's edges: a step back keeps them clear of the overlay's lines */
+    if (size > 1.01 * bodies) a->camera.distance = a->home.distance *= 1.25;
+    sb_status status = sb_mesh_draw_create(&a->mesh, a->sim.model, sb_solver_vertex_capacity(a->sim.solver), err);
+    if (status == SB_OK) sb_mesh_draw_topology(&a->mesh, &a->topology);
+    if (status == SB_OK) status = sb_collider_draw_create(&a->colliders, &a->sim.colliders, extent, center, err);
+    return status;
+}
+
 static sb_status start_drawing(view_app* a, sb_error* err) {
     const sb_view_options* o = a->options;
     if (!(a->window = sb_window_open(o->width, o->height, "softbond view", err))) return SB_ERR_INVALID;
     sb_window_size(a->window, &a->width, &a->height);
-    double lo[3], hi[3], up[3], center[3], extent = 0.0;
-    rest_box(a->sim.model, lo, hi);
-    sb_simulation_up(&a->sim, up);
-    for (int k = 0; k < 3; k++) center[k] = 0.5 * (lo[k] + hi[k]), extent = fmax(extent, hi[k] - lo[k]);
-    a->camera = a->home = sb_camera_fit(lo, hi, up);
-    a->flags = (sb_draw_flags){.edges = true, .faces = true};
+    /* a net (factory: net) is its bonds, strings with holes between: edges only (F4 shows the faces) */
+    bool net = strcmp(sb_scene_string(&a->sim.scene, SB_KEY_FACTORY), "net") == 0;
+    a->flags = (sb_draw_flags){.edges = true, .faces = !net};
     sb_status status = sb_shaders_build(&a->shaders, err);
-    if (status == SB_OK)
-        status = sb_mesh_draw_create(&a->mesh, a->sim.model, sb_solver_vertex_capacity(a->sim.solver), err);
-    if (status == SB_OK) sb_mesh_draw_topology(&a->mesh, &a->topology);
-    if (status == SB_OK) status = sb_collider_draw_create(&a->colliders, &a->sim.colliders, extent, center, err);
+    if (status == SB_OK) status = scene_drawing(a, err);
     if (status == SB_OK) status = sb_overlay_create(&a->overlay, err);
     glEnable(GL_DEPTH_TEST);
     glEnable(GL_PROGRAM_POINT_SIZE);
@@ -262,7 +310,13 @@ static void key(view_app* a, sb_view_key k) {
     case SB_VKEY_S: c->stopped = !c->stopped; break;
     case SB_VKEY_G: c->gravity_off = !c->gravity_off; break;
     case SB_VKEY_SPACE: c->paused = !c->paused; break;
+    case SB_VKEY_N:
+        c->paused = true;
+        c->single_steps++;
+        break;
     case SB_VKEY_BACKSPACE: c->resets++; break;
+    case SB_VKEY_P: a->save = true; break;
+    case SB_VKEY_L: a->reload = true; break;
     case SB_VKEY_H: a->help = !a->help; break;
     case SB_VKEY_C: a->camera = a->home; break;
     case SB_VKEY_ESCAPE: a->running = false; break;
@@ -291,6 +345,7 @@ static void events(view_app* a) {
     sb_view_event e;
     double t = a->shown ? a->shown->time : 0.0;
     while (sb_input_script_next(&a->script, t, &e)) handle(a, &e);
+    a->controls.hold = sb_input_script_next_time(&a->script); /* the simulation waits there for it */
 }
 
 /* ---- the overlay ----------------------------------------------------------------- */
@@ -331,8 +386,13 @@ static void statistics(view_app* a) {
         sb_overlay_panel(&a->overlay, 10, y, unwrapped, 2.0f, line, INK, STATUS_PAPER);
         y += 22;
     }
-    if (a->report.failure[0])
+    if (a->report.failure[0]) {
         sb_overlay_panel(&a->overlay, 10, y, (float)a->width - 32, 2.0f, a->report.failure, ALARM, PAPER);
+        y += 44;
+    }
+    if (a->notice[0] && sb_wall_seconds() < a->notice_until)
+        sb_overlay_panel(&a->overlay, 10, y, (float)a->width - 32, 2.0f, a->notice, a->notice_alarm ? ALARM : INK,
+                         PAPER);
     sb_overlay_panel(&a->overlay, 10, (float)a->height - 24, unwrapped, 2.0f, "h: keys", INK, STATUS_PAPER);
 }
 
@@ -346,11 +406,17 @@ static void help(view_app* a) {
              "\nmouse\nleft on a vertex: drag it (a spring)\nleft elsewhere, right: orbit\nshift+left, middle: pan\n"
              "wheel: zoom%s",
              a->tool_index >= 0 ? "\nleft: move the haptic tool (ctrl+left: a vertex)" : "");
-    float w, h;
-    sb_overlay_measure(text, 2.0f, &w, &h);
+    float w, h, scale = 2.0f;
+    sb_overlay_measure(text, scale, &w, &h);
+    /* a small window gets smaller letters: the whole card fits (down to half size) */
+    float fit = fminf(((float)a->width - 32) / w, ((float)a->height - 32) / h);
+    if (fit < 1.0f) {
+        scale *= fmaxf(fit, 0.5f);
+        sb_overlay_measure(text, scale, &w, &h);
+    }
     float x = 0.5f * ((float)a->width - w), y = 0.5f * ((float)a->height - h);
     sb_overlay_rect(&a->overlay, x - 12, y - 12, w + 24, h + 24, PAPER);
-    sb_overlay_text(&a->overlay, x, y, 2.0f, text, INK);
+    sb_overlay_text(&a->overlay, x, y, scale, text, INK);
 }
 
 /* The strain colours from −scale (blue) to +scale (red), at the right edge. */
@@ -411,6 +477,68 @@ static double drawing_cpu(const view_app* a) {
     return cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - sim;
 }
 
+static void notice(view_app* a, bool alarm, const char* format, const char* what) {
+    snprintf(a->notice, sizeof a->notice, format, what);
+    a->notice_alarm = alarm;
+    a->notice_until = sb_wall_seconds() + 4.0;
+}
+
+/* p: the frame just drawn to SCENE_NNN.png in the current folder, the
+ * first number not taken; a failure is said on stderr and in the window. */
+static void save_screenshot(view_app* a) {
+    char path[512];
+    do
+        snprintf(path, sizeof path, "%s_%03u.png", a->sim.scene.name ? a->sim.scene.name : "softbond", ++a->saved);
+    while (access(path, F_OK) == 0 && a->saved < 100000);
+    sb_error err;
+    if (sb_screenshot_save(path, a->width, a->height, &err) == SB_OK)
+        notice(a, false, "saved %s", path);
+    else {
+        fprintf(stderr, "softbond: %s\n", err.message);
+        notice(a, true, "%s", err.message);
+    }
+}
+
+/* l: the scene file read again and started anew (the camera too). A scene
+ * that does not read is refused in the window, the old one running on. */
+static sb_status reload(view_app* a, sb_error* err) {
+    const sb_simulation_args* args = a->options->args;
+    sb_scene check = {0};
+    sb_error why;
+    sb_status readable = sb_scene_read(&check, args->input, args->sets, (size_t)args->set_count, &why);
+    sb_scene_free(&check);
+    if (readable != SB_OK) {
+        notice(a, true, "reload refused: %s", why.message);
+        return SB_OK;
+    }
+    sb_sim_thread_stop(&a->thread);
+    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
+    a->shown = NULL;
+    sb_collider_draw_free(&a->colliders);
+    sb_mesh_draw_free(&a->mesh);
+    sb_view_topology_free(&a->topology);
+    sb_error ignored;
+    sb_scene_haptics_finish(&a->sim.haptics, &ignored);
+    sb_simulation_free(&a->sim);
+    sb_handle_destroy(a->grab);
+    sb_state_buffer_destroy(a->buffer);
+    a->sim = (sb_simulation){0};
+    a->grab = NULL, a->buffer = NULL, a->tool_index = -1, a->drag = DRAG_NONE;
+    a->report = (sb_sim_report){0};
+    bool paused = a->controls.paused;
+    a->controls = (sb_sim_controls){0};
+    sb_status status = start_simulation(a, err);
+    if (status == SB_OK) status = scene_drawing(a, err);
+    if (status == SB_OK) status = sb_scene_haptics_start(&a->sim.haptics, "/dev/null", err);
+    if (status != SB_OK) return status;
+    a->controls.paused = paused;
+    a->controls.hold = sb_input_script_next_time(&a->script);
+    a->thread.controls = a->controls;
+    status = sb_sim_thread_start(&a->thread, err);
+    if (status == SB_OK) notice(a, false, "reloaded %s", args->input);
+    return status;
+}
+
 static sb_status frame_loop(view_app* a, sb_error* err) {
     const sb_view_options* o = a->options;
     double period = o->fps > 0 ? 1.0 / o->fps : 0.0, next = sb_wall_seconds(), begin = next;
@@ -421,6 +549,8 @@ static sb_status frame_loop(view_app* a, sb_error* err) {
         if (sb_sim_thread_exchange(&a->thread, &a->controls, &a->report, &a->topology))
             sb_mesh_draw_topology(&a->mesh, &a->topology);
         draw(a);
+        if (a->save) save_screenshot(a);
+        a->save = false;
         a->frames++;
         bool last = !a->running || (o->frames && a->frames >= o->frames) ||
                     (o->seconds > 0 && sb_wall_seconds() - begin >= o->seconds);
@@ -429,6 +559,10 @@ static sb_status frame_loop(view_app* a, sb_error* err) {
         sb_window_swap(a->window);
         a->draw_seconds += sb_wall_seconds() - start;
         if (last) break;
+        if (a->reload) {
+            a->reload = false;
+            if (reload(a, err) != SB_OK) return SB_ERR_INVALID;
+        }
         /* the next frame one period on, and not before the renderer has
          * rested used (1/share − 1), used the processor time the frame took
          * on this thread and the renderer's own (llvmpipe's): its share */
@@ -448,6 +582,7 @@ static void early_events(view_app* a) {
     take_snapshot(a);
     sb_view_event e;
     while (sb_input_script_next(&a->script, 0.0, &e)) handle(a, &e);
+    a->controls.hold = sb_input_script_next_time(&a->script);
     a->thread.controls = a->controls;
 }
 

@@ -8,7 +8,9 @@
 #                                  strain (F3);
 #   docs/images/viewer_film.gif    `softbond film` of scenes/film_bounce.yaml (the film
 #                                  maker's "Bounce", 0 to 1.5 s, 12 frames per second,
-#                                  320 x 240) made a looping GIF by ffmpeg.
+#                                  320 x 240) made a looping GIF by ffmpeg;
+#   docs/images/film_draped_sheet.png  `softbond film` of scenes/draped_sheet.yaml, its
+#                                  frame at 0.2 s (480 x 360): the sheet falling onto the ball.
 set -eu
 out=$(mktemp -d)
 shot() { # SCENE SCRIPT PNG
@@ -21,5 +23,7 @@ shot scenes/draped_sheet.yaml '0 key F3\n1.2 quit\n' docs/images/viewer_strain.p
 ./build/softbond film scenes/film_bounce.yaml --set duration=1.5 --fps 12 --size 320x240 --output "$out/film"
 ffmpeg -v error -y -i "$out/film/film_bounce.mp4" \
     -vf "split[a][b];[a]palettegen=max_colors=64[p];[b][p]paletteuse" -loop 0 docs/images/viewer_film.gif
+./build/softbond film scenes/draped_sheet.yaml --set duration=0.2 --fps 5 --size 480x360 --output "$out/still"
+cp "$out/still/frame_000001.png" docs/images/film_draped_sheet.png
 rm -rf "$out"
-echo "wrote docs/images/viewer.png, viewer_strain.png and viewer_film.gif"
+echo "wrote docs/images/viewer.png, viewer_strain.png, viewer_film.gif and film_draped_sheet.png"

@@ -1,7 +1,9 @@
 /* sb_mesh_export: one table maps a format name to its extension and its
  * writer, either an assimp exporter id or one of softbond's text writers
- * (IRIT, POV-Ray). Files are written in place; making a set of frames
- * appear atomically is the caller's business (softbond run stages them).
+ * (IRIT, POV-Ray). The text formats are written through an atomic file
+ * (common/atomic_file.h: checked writes, NAME.tmp renamed); making a set
+ * of frames appear atomically is the caller's business (softbond run
+ * stages them).
  *
  * Assimp is given a scene built here in C: one mesh of triangles (float
  * positions, assimp's ai_real, and area-weighted vertex normals: without
@@ -23,6 +25,7 @@
 #include <assimp/cexport.h>
 #include <assimp/scene.h>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 typedef struct export_format {
@@ -149,13 +152,12 @@ sb_mesh_export_def sb_default_mesh_export_def(void) {
 }
 
 static sb_status write_text(const char* path, const export_format* format, const sb_mesh* mesh,
-                            const sb_mesh_export_def* def, FILE* f, sb_error* err) {
-    format->write_text(f, mesh, def);
-    bool written = fflush(f) == 0 && !ferror(f);
-    if (fclose(f) == 0 && written) return SB_OK;
-    int error = errno;
-    remove(path);
-    return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(error));
+                            const sb_mesh_export_def* def, sb_error* err) {
+    sb_atomic_file file;
+    sb_status status = sb_atomic_open(&file, path, err);
+    if (status != SB_OK) return status;
+    format->write_text(file.stream, mesh, def);
+    return sb_atomic_commit(&file, err);
 }
 
 sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* mesh, const sb_mesh_export_def* def,
@@ -164,11 +166,11 @@ sb_status sb_mesh_export(const char* path, const char* format, const sb_mesh* me
     if (!f)
         return sb_error_set(err, SB_ERR_INVALID, "%s: unknown export format '%s' (ply, obj, gltf, glb, irit or pov)",
                             path, format ? format : "(null)");
-    FILE* stream = fopen(path, "wb");
-    if (!stream) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
     sb_mesh_export_def options = def ? *def : sb_default_mesh_export_def();
     if (!options.positions) options.positions = mesh->positions;
-    if (f->write_text) return write_text(path, f, mesh, &options, stream, err);
+    if (f->write_text) return write_text(path, f, mesh, &options, err);
+    FILE* stream = fopen(path, "wb");
+    if (!stream) return sb_error_set(err, SB_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
     fclose(stream);
     return sb_assimp_write(path, f->assimp_id, mesh, options.positions, err);
 }

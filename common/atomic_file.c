@@ -1,6 +1,6 @@
 /* Atomic files (see atomic_file.h). */
 #define _XOPEN_SOURCE 700
-#include "cli/atomic_file.h"
+#include "common/atomic_file.h"
 #include "common/error.h"
 
 #include <errno.h>

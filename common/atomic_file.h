@@ -21,6 +21,12 @@ typedef struct sb_atomic_file {
 } sb_atomic_file;
 
 sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err);
+/* Where the bytes go until the commit: NAME.tmp, or NAME itself when it
+ * is written in place. Another program (povray, ffmpeg) may write there
+ * between open and commit. */
+static inline const char* sb_atomic_write_path(const sb_atomic_file* file) {
+    return file->tmp_path ? file->tmp_path : file->target;
+}
 /* Flushes, closes and renames; on any failure removes NAME.tmp. */
 sb_status sb_atomic_commit(sb_atomic_file* file, sb_error* err);
 /* Closes and removes NAME.tmp; safe after a failed open. */
