@@ -6,6 +6,7 @@
 #include "common/sections.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -110,6 +111,36 @@ sb_status sb_checkpoint_write(const char* path, uint64_t scene_hash, uint32_t ve
     return status;
 }
 
+/* Every value of the "RUN " section in range, or a message naming the
+ * first that is not (a checkpoint whose checksum was recomputed is
+ * otherwise trusted: a NaN duration made --resume hang, log_bytes 0 cut
+ * log.csv to nothing). */
+static sb_status check_run(const char* path, const uint64_t counts[2], const double v[8], uint32_t reason,
+                           uint64_t max_frames, sb_error* err) {
+    static const char* const names[8] = {"the checkpoint interval", "the next checkpoint's time",
+                                         "stop.kinetic_energy",     "stop.min_time",
+                                         "stop.max_time",           "stop.duration",
+                                         "the stop's time",         "the stop's kinetic energy"};
+    if (counts[0] < 1 || counts[0] > max_frames)
+        return sb_error_set(err, SB_ERR_PARSE, "%s: the run's state is out of range (%llu frames, at most %llu)", path,
+                            (unsigned long long)counts[0], (unsigned long long)max_frames);
+    /* log.csv: a header line and a line per frame, each at least two bytes */
+    if (counts[1] < 2 * (counts[0] + 1) || counts[1] > ((uint64_t)1 << 50))
+        return sb_error_set(err, SB_ERR_PARSE,
+                            "%s: the run's state is out of range (log.csv's length %llu bytes for %llu frames)", path,
+                            (unsigned long long)counts[1], (unsigned long long)counts[0]);
+    if (reason > SB_STOP_DURATION)
+        return sb_error_set(err, SB_ERR_PARSE, "%s: the run's state is out of range (stop reason %u)", path, reason);
+    for (int k = 0; k < 8; k++) {
+        bool ok = isfinite(v[k]) && v[k] >= 0 && v[k] < 1e15;
+        if (k == 0 || k == 5) ok = ok && v[k] > 0; /* the interval and the duration */
+        if (!ok)
+            return sb_error_set(err, SB_ERR_PARSE, "%s: the run's state is out of range (%s = %g)", path, names[k],
+                                v[k]);
+    }
+    return SB_OK;
+}
+
 /* The "RUN " section into run (times not yet). */
 static sb_status read_run(const char* path, const sb_sections_reader* r, uint64_t max_frames, sb_run_state* run,
                           sb_error* err) {
@@ -120,9 +151,8 @@ static sb_status read_run(const char* path, const sb_sections_reader* r, uint64_
     if (!sb_sections_find(r, sb_run_tag, &c) || !sb_cursor_take(&c, counts, sizeof counts) ||
         !sb_cursor_take(&c, v, sizeof v) || !sb_cursor_take(&c, &reason, sizeof reason))
         return sb_error_set(err, SB_ERR_PARSE, "%s: no whole RUN section", path);
-    if (counts[0] < 1 || counts[0] > max_frames || reason > SB_STOP_DURATION || !(v[0] > 0.0))
-        return sb_error_set(err, SB_ERR_PARSE, "%s: the run's state is out of range (%llu frames, at most %llu)", path,
-                            (unsigned long long)counts[0], (unsigned long long)max_frames);
+    sb_status status = check_run(path, counts, v, reason, max_frames, err);
+    if (status != SB_OK) return status;
     *run = (sb_run_state){.frames = counts[0], .log_bytes = counts[1], .every = v[0], .next = v[1]};
     run->stop = (sb_stop){.kinetic_energy = v[2],
                           .min_time = v[3],
@@ -142,6 +172,12 @@ static sb_status read_times(const char* path, const sb_sections_reader* r, sb_ru
                             (unsigned long long)run->frames);
     if (!(run->times = malloc(bytes))) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     sb_cursor_take(&c, run->times, bytes);
+    for (uint64_t k = 0; k < run->frames; k++)
+        if (!(isfinite(run->times[k]) && run->times[k] >= (k > 0 ? run->times[k - 1] : 0.0)))
+            return sb_error_set(err, SB_ERR_PARSE,
+                                "%s: the run's state is out of range (frame %llu's time %g, not finite or before the "
+                                "frame before)",
+                                path, (unsigned long long)k, run->times[k]);
     return SB_OK;
 }
 

@@ -137,8 +137,21 @@ static uint64_t most_frames(const run_job* job) {
 /* DIR/checkpoint.sbck of --resume DIR. */
 static const char* checkpoint_path(run_job* job) { return sb_output_dir_path(&job->out, "checkpoint.sbck"); }
 
-/* --resume DIR: the checkpoint read and the solver's state loaded, and
- * log.csv at least as long as the checkpoint says; nothing written yet. */
+/* Whether log.csv's first `bytes` bytes are its header and `frames` rows:
+ * frames + 1 whole lines. */
+static bool log_rows_match(const char* path, uint64_t bytes, uint64_t frames) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return false;
+    uint64_t lines = 0, at = 0;
+    int c = 0, last = 0;
+    for (; at < bytes && (c = getc(f)) != EOF; at++, last = c) lines += c == '\n';
+    fclose(f);
+    return at == bytes && last == '\n' && lines == frames + 1;
+}
+
+/* --resume DIR: the checkpoint read and the solver's state loaded, its
+ * stop conditions the scene's, and log.csv holding the rows the
+ * checkpoint says; nothing written yet. */
 static sb_status resume(run_job* job, sb_error* err) {
     job->out.dir = strdup(job->args.resume);
     if (!job->out.dir) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
@@ -150,6 +163,18 @@ static sb_status resume(run_job* job, sb_error* err) {
     if (stat(log, &info) != 0 || (uint64_t)info.st_size < job->resumed.log_bytes)
         return sb_error_set(err, SB_ERR_INVALID, "%s: missing or shorter than the checkpoint's %llu bytes", log,
                             (unsigned long long)job->resumed.log_bytes);
+    if (!log_rows_match(log, job->resumed.log_bytes, job->resumed.frames))
+        return sb_error_set(err, SB_ERR_INVALID, "%s: its first %llu bytes are not a header and %llu rows (the checkpoint's)",
+                            log, (unsigned long long)job->resumed.log_bytes, (unsigned long long)job->resumed.frames);
+    sb_stop scene_stop = sb_stop_from_scene(&job->sim.scene);
+    const sb_stop* saved = &job->resumed.stop;
+    if (saved->kinetic_energy != scene_stop.kinetic_energy || saved->min_time != scene_stop.min_time ||
+        saved->max_time != scene_stop.max_time)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: its stop conditions (stop.kinetic_energy %g, min_time %g, max_time %g) are not the "
+                            "scene's (%g, %g, %g)",
+                            checkpoint_path(job), saved->kinetic_energy, saved->min_time, saved->max_time,
+                            scene_stop.kinetic_energy, scene_stop.min_time, scene_stop.max_time);
     job->checkpoint_every = job->resumed.every;
     job->next_checkpoint = job->resumed.next;
     /* the scene's duration now: the run may go on to a longer one */

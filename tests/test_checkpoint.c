@@ -581,6 +581,78 @@ static void test_program_refusals(void** state) {
                  "c/checkpoint.sbck: corrupt (the checksum does not match the contents)");
 }
 
+/* saved.sbck with size bytes at `offset` of its RUN section's payload
+ * replaced by value and the checksum recomputed, as c/checkpoint.sbck. */
+static void patch_run(size_t offset, const void* value, size_t size) {
+    char* data = tu_read_file(tu_tmp_path("saved.sbck"));
+    assert_non_null(data);
+    struct stat info;
+    assert_int_equal(stat(tu_tmp_path("saved.sbck"), &info), 0);
+    sb_sections_reader r;
+    sb_cursor run;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, (size_t)info.st_size, "SBCHKPNT", 1, "saved", &err), SB_OK);
+    assert_true(sb_sections_find(&r, "RUN ", &run));
+    memcpy((uint8_t*)run.at + offset, value, size);
+    reseal((uint8_t*)data, (size_t)info.st_size);
+    FILE* f = fopen(tu_tmp_path("c/checkpoint.sbck"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, (size_t)info.st_size, f), (size_t)info.st_size);
+    fclose(f);
+    free(data);
+}
+
+/* Issue 32, item 4: every value of a checkpoint's run section is
+ * range-checked on load, the checksum recomputed notwithstanding. Before,
+ * log_bytes 0 cut log.csv to nothing with exit 0, and a non-finite or
+ * negative stop value or interval was taken. */
+static void test_program_run_section_range_checked(void** state) {
+    (void)state;
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s/scenes/hook_pull.yaml", SB_SOURCE_DIR);
+    shell("rm -rf '%s' '%s'", tu_tmp_path("c"), tu_tmp_path("d"));
+    run_ok((const char*[]){"run", scene, "--set", "duration=0.1", "--checkpoint-every", "0.05", "--output", "c", NULL});
+    shell("cp '%s' '%s'", tu_tmp_path("c/checkpoint.sbck"), tu_tmp_path("saved.sbck"));
+    shell("cp '%s' '%s'", tu_tmp_path("c/log.csv"), tu_tmp_path("saved.csv"));
+    const char* const resume[] = {"run", scene, "--set", "duration=0.1", "--resume", "c", NULL};
+    /* the RUN payload: frames, log_bytes (u64), every, next, kinetic_energy, min_time, max_time, duration, time,
+     * kinetic (f64), reason (u32) */
+    static const struct {
+        size_t offset;
+        double value;
+        const char* message;
+    } doubles[] = {
+        {56, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.duration = nan)"},
+        {56, INFINITY, "c/checkpoint.sbck: the run's state is out of range (stop.duration = inf)"},
+        {56, -1, "c/checkpoint.sbck: the run's state is out of range (stop.duration = -1)"},
+        {48, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.max_time = nan)"},
+        {16, INFINITY, "c/checkpoint.sbck: the run's state is out of range (the checkpoint interval = inf)"},
+        {24, -5, "c/checkpoint.sbck: the run's state is out of range (the next checkpoint's time = -5)"},
+        {32, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.kinetic_energy = nan)"},
+    };
+    for (size_t i = 0; i < sizeof doubles / sizeof doubles[0]; i++) {
+        patch_run(doubles[i].offset, &doubles[i].value, sizeof(double));
+        assert_fails(resume, doubles[i].message);
+    }
+    uint64_t zero = 0;
+    patch_run(8, &zero, sizeof zero);
+    assert_fails(resume, "c/checkpoint.sbck: the run's state is out of range (log.csv's length 0 bytes for 3 frames)");
+    char* log = tu_read_file(tu_tmp_path("c/log.csv"));
+    assert_non_null(log);
+    assert_true(strlen(log) > 100); /* log.csv untouched */
+    free(log);
+    /* a length inside the rows: not a header and the frames' rows */
+    uint64_t inside = 60;
+    patch_run(8, &inside, sizeof inside);
+    tu_result r = tu_run(resume);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "c/log.csv: its first 60 bytes are not a header and 3 rows"));
+    tu_result_free(&r);
+    /* the untouched checkpoint still resumes */
+    shell("cp '%s' '%s'", tu_tmp_path("saved.sbck"), tu_tmp_path("c/checkpoint.sbck"));
+    run_ok(resume);
+}
+
 static int setup_dir(void** state) {
     (void)state;
     return tu_make_tmp_dir("sb_test_checkpoint");
@@ -610,6 +682,7 @@ int main(void) {
         cmocka_unit_test(test_program_breaking),
         cmocka_unit_test(test_program_cutting),
         cmocka_unit_test(test_program_refusals),
+        cmocka_unit_test(test_program_run_section_range_checked),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
