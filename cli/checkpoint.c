@@ -1,5 +1,5 @@
 /* The run's checkpoints (see checkpoint.h). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE
 #include "cli/checkpoint.h"
 #include "cli/atomic_file.h"
 #include "common/error.h"
@@ -15,7 +15,7 @@
 #define SB_CHECKPOINT_VERSION 1
 
 static const char sb_run_tag[4] = {'R', 'U', 'N', ' '}, sb_times_tag[4] = {'T', 'I', 'M', 'E'},
-                  sb_solver_tag[4] = {'S', 'O', 'L', 'V'};
+                  sb_solver_tag[4] = {'S', 'O', 'L', 'V'}, sb_files_tag[4] = {'F', 'I', 'L', 'E'};
 
 /* A whole regular file (caller frees). */
 static sb_status read_bytes(const char* path, uint8_t** data, size_t* size, sb_error* err) {
@@ -33,7 +33,72 @@ static sb_status read_bytes(const char* path, uint8_t** data, size_t* size, sb_e
     return status;
 }
 
-sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* args, uint64_t* hash, sb_error* err) {
+void sb_checkpoint_files_free(sb_checkpoint_files* files) {
+    for (uint32_t i = 0; i < files->count; i++) free(files->paths[i]);
+    files->count = 0;
+}
+
+/* The hash of a whole file's bytes. */
+static sb_status hash_file(const char* path, uint64_t* hash, sb_error* err) {
+    uint8_t* data = NULL;
+    size_t size = 0;
+    sb_status status = read_bytes(path, &data, &size, err);
+    if (status == SB_OK) *hash = sb_hash(SB_HASH_START, data, size);
+    free(data);
+    return status;
+}
+
+static sb_status add_file(sb_checkpoint_files* files, const char* path, size_t length, sb_error* err) {
+    for (uint32_t i = 0; i < files->count; i++)
+        if (strlen(files->paths[i]) == length && strncmp(files->paths[i], path, length) == 0) return SB_OK;
+    if (files->count == SB_CHECKPOINT_FILES_MAX)
+        return sb_error_set(err, SB_ERR_INVALID, "checkpoints: the scene reads more than %d files",
+                            SB_CHECKPOINT_FILES_MAX);
+    char* copy = strndup(path, length);
+    if (!copy) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    files->paths[files->count] = copy;
+    sb_status status = hash_file(copy, &files->hashes[files->count], err);
+    files->count++;
+    return status;
+}
+
+static bool ends_with(const char* text, size_t length, const char* tail) {
+    size_t n = strlen(tail);
+    return length >= n && strncmp(text + length - n, tail, n) == 0;
+}
+
+/* Every `file: '...'` value of the resolved scene (sb_scene_write gives
+ * them absolute, quoted, a quote doubled), and a TetGen mesh's other file. */
+static sb_status scene_files(const char* text, sb_checkpoint_files* files, sb_error* err) {
+    for (const char* line = text; *line; line += strcspn(line, "\n") + (line[strcspn(line, "\n")] == '\n')) {
+        const char* at = line + strspn(line, " -");
+        if (strncmp(at, "file: '", 7) != 0) continue;
+        at += 7;
+        char path[4096];
+        size_t n = 0;
+        for (; *at && *at != '\n' && n + 1 < sizeof path; at++) {
+            if (*at == '\'' && at[1] != '\'') break;
+            if (*at == '\'') at++;
+            path[n++] = *at;
+        }
+        if (n == 0) continue;
+        path[n] = '\0';
+        sb_status status = add_file(files, path, n, err);
+        if (status == SB_OK && (ends_with(path, n, ".node") || ends_with(path, n, ".ele"))) {
+            bool node = ends_with(path, n, ".node");
+            size_t stem = n - (node ? 5 : 4);
+            if (stem + 6 < sizeof path) {
+                strcpy(path + stem, node ? ".ele" : ".node");
+                status = add_file(files, path, strlen(path), err);
+            }
+        }
+        if (status != SB_OK) return status;
+    }
+    return SB_OK;
+}
+
+sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* args, uint64_t* hash,
+                                   sb_checkpoint_files* files, sb_error* err) {
     (void)args;
     char* text = NULL;
     size_t size = 0;
@@ -49,8 +114,16 @@ sb_status sb_checkpoint_scene_hash(const sb_scene* scene, const sb_cli_args* arg
     size_t cut = duration ? strcspn(duration + 1, "\n") + 1 : 0;
     if (duration) memmove(duration, duration + cut, size - (size_t)(duration - text) - cut + 1);
     *hash = sb_hash(SB_HASH_START, text, strlen(text));
+    /* and every file it reads: a mesh edited since is another scene */
+    sb_checkpoint_files own = {0}, *list = files ? files : &own;
+    sb_status status = scene_files(text, list, err);
+    for (uint32_t i = 0; status == SB_OK && i < list->count; i++) {
+        *hash = sb_hash(*hash, list->paths[i], strlen(list->paths[i]) + 1);
+        *hash = sb_hash(*hash, &list->hashes[i], sizeof list->hashes[i]);
+    }
+    sb_checkpoint_files_free(&own);
     free(text);
-    return SB_OK;
+    return status;
 }
 
 /* The "RUN " section's values, in order. */
@@ -84,6 +157,17 @@ static bool write_all(sb_sections_writer* w, void* buffer, size_t capacity, uint
     sb_sections_open(w, sb_times_tag);
     sb_sections_put(w, run->times, run->frames * sizeof *run->times);
     sb_sections_close(w);
+    if (run->files) {
+        sb_sections_open(w, sb_files_tag);
+        sb_sections_put(w, &run->files->count, sizeof run->files->count);
+        for (uint32_t i = 0; i < run->files->count; i++) {
+            uint32_t length = (uint32_t)strlen(run->files->paths[i]);
+            sb_sections_put(w, &run->files->hashes[i], sizeof run->files->hashes[i]);
+            sb_sections_put(w, &length, sizeof length);
+            sb_sections_put(w, run->files->paths[i], length);
+        }
+        sb_sections_close(w);
+    }
     sb_sections_open(w, sb_solver_tag);
     bool fits = w->data && w->size <= w->capacity && state_size <= w->capacity - w->size;
     if (fits) sb_solver_save_state(solver, w->data + w->size, state_size, NULL);
@@ -181,11 +265,38 @@ static sb_status read_times(const char* path, const sb_sections_reader* r, sb_ru
     return SB_OK;
 }
 
-static sb_status check_header(const char* path, const sb_sections_header* h, uint64_t scene_hash, uint32_t vertex_count,
+/* A file the checkpoint's "FILE" section lists whose bytes are not those
+ * it was written with (now), or NULL. */
+static const char* changed_file(const sb_sections_reader* r, char* name, size_t capacity) {
+    sb_cursor c;
+    uint32_t count;
+    if (!sb_sections_find(r, sb_files_tag, &c) || !sb_cursor_take(&c, &count, sizeof count)) return NULL;
+    for (uint32_t i = 0; i < count && i < SB_CHECKPOINT_FILES_MAX; i++) {
+        uint64_t saved, now;
+        uint32_t length;
+        if (!sb_cursor_take(&c, &saved, sizeof saved) || !sb_cursor_take(&c, &length, sizeof length) ||
+            length >= capacity || !sb_cursor_take(&c, name, length))
+            return NULL;
+        name[length] = '\0';
+        if (strlen(name) != length) return NULL;
+        sb_error ignored;
+        if (hash_file(name, &now, &ignored) != SB_OK || now != saved) return name;
+    }
+    return NULL;
+}
+
+static sb_status check_header(const char* path, const sb_sections_reader* r, uint64_t scene_hash, uint32_t vertex_count,
                               sb_error* err) {
+    const sb_sections_header* h = &r->header;
     if (h->real_size != sizeof(sb_real))
         return sb_error_set(err, SB_ERR_INVALID, "%s: written by a %s build of softbond, this one is %s", path,
                             h->real_size == 8 ? "double" : "float", sizeof(sb_real) == 8 ? "double" : "float");
+    char name[4096];
+    const char* changed = h->hash != scene_hash ? changed_file(r, name, sizeof name) : NULL;
+    if (changed)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: written for another scene (%s has changed since: a resumed run would match neither)",
+                            path, changed);
     if (h->hash != scene_hash)
         return sb_error_set(err, SB_ERR_INVALID, "%s: written for another scene (a key other than duration differs)",
                             path);
@@ -201,7 +312,7 @@ static sb_status read_checked(const char* path, const uint8_t* data, size_t size
     sb_sections_reader r;
     sb_cursor state;
     sb_status status = sb_sections_read(&r, data, size, SB_CHECKPOINT_MAGIC, SB_CHECKPOINT_VERSION, path, err);
-    if (status == SB_OK) status = check_header(path, &r.header, scene_hash, vertex_count, err);
+    if (status == SB_OK) status = check_header(path, &r, scene_hash, vertex_count, err);
     if (status == SB_OK) status = read_run(path, &r, max_frames, run, err);
     if (status == SB_OK) status = read_times(path, &r, run, err);
     if (status == SB_OK && !sb_sections_find(&r, sb_solver_tag, &state))

@@ -83,6 +83,7 @@ typedef struct run_job {
     /* checkpoints (checkpoint.h): every > 0 when they are written */
     sb_run_state resumed; /* --resume: where the checkpoint left the run */
     uint64_t scene_hash;
+    sb_checkpoint_files files; /* the scene's files, in the checkpoint's "FILE" section */
     double checkpoint_every, next_checkpoint;
     bool end_frame; /* the last frame is the end state, off the frame_interval grid */
     int argc;       /* the command line, for run.yaml */
@@ -91,6 +92,7 @@ typedef struct run_job {
 
 static int run_finish(run_job* job, int code) {
     free(job->resumed.times);
+    sb_checkpoint_files_free(&job->files);
     free(job->buffers);
     sb_torn_surface_free(&job->surface);
     sb_error ignored;
@@ -199,7 +201,7 @@ static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
                             "motion is not repeated by a resumed run)");
     if (job->args.resume && job->args.output)
         return sb_error_set(err, SB_ERR_INVALID, "--resume DIR writes into DIR: leave out --output");
-    sb_status status = sb_checkpoint_scene_hash(&job->sim.scene, &job->args, &job->scene_hash, err);
+    sb_status status = sb_checkpoint_scene_hash(&job->sim.scene, &job->args, &job->scene_hash, &job->files, err);
     if (status == SB_OK && job->args.resume) status = resume(job, err);
     if (status != SB_OK || !every) return status;
     char* end;
@@ -286,7 +288,8 @@ static int checkpoint(run_job* job, sb_error* err) {
                         .every = every,
                         .next = job->next_checkpoint,
                         .stop = job->stop,
-                        .times = job->log.times};
+                        .times = job->log.times,
+                        .files = &job->files};
     sb_status status = sb_checkpoint_write(checkpoint_path(job), job->scene_hash, job->sim.mesh.vertex_count, &run,
                                            job->sim.solver, err);
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;

@@ -24,11 +24,13 @@
  * ball, a cloth draped with xpbd, a hook that lets go, a sheet torn
  * apart. A truncated or corrupt checkpoint, one of another scene or of
  * other --set values, a missing one: one line, exit 2. */
-#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE
 #include "test_util.h"
 #include "pulled_sheet.h"
 
 #include <dirent.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 
 #include "common/sections.h"
@@ -653,6 +655,39 @@ static void test_program_run_section_range_checked(void** state) {
     run_ok(resume);
 }
 
+/* Issue 32, item 3: the checkpoint's identity covers the files the scene
+ * reads. scenes/mesh_bowl.yaml checkpointed, its collider's bowl.obj
+ * edited (same vertex count): --resume is refused naming the file; put
+ * back, it resumes. Before, the resume ran with exit 0 to a final frame
+ * neither run's. */
+static void test_program_changed_collider_file_refused(void** state) {
+    (void)state;
+    shell("rm -rf '%s' && mkdir '%s'", tu_tmp_path("bowl"), tu_tmp_path("bowl"));
+    shell("cp '%s/scenes/mesh_bowl.yaml' '%s/bowl/'", SB_SOURCE_DIR, tu_tmp_dir);
+    shell("cp '%s/scenes/bowl.obj' '%s/bowl/'", SB_SOURCE_DIR, tu_tmp_dir);
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s", tu_tmp_path("bowl/mesh_bowl.yaml"));
+    shell("rm -rf '%s' '%s'", tu_tmp_path("e"), tu_tmp_path("f"));
+    run_ok((const char*[]){"run", scene, "--set", "duration=0.08", "--checkpoint-every", "0.04", "--output", "e",
+                           NULL});
+    const char* const resume[] = {"run", scene, "--set", "duration=0.08", "--resume", "e", NULL};
+    shell("cp '%s' '%s'", tu_tmp_path("bowl/bowl.obj"), tu_tmp_path("bowl/saved.obj"));
+    shell("sed -i 's/^v 0.000000 -0.157719 0.044805$/v 0.000000 -0.150000 0.044805/' '%s/%s'", tu_tmp_dir,
+          "bowl/bowl.obj");
+    shell("! cmp -s '%s' '%s'", tu_tmp_path("bowl/bowl.obj"), tu_tmp_path("bowl/saved.obj")); /* edited */
+    tu_result r = tu_run(resume);
+    char real[PATH_MAX], expected[PATH_MAX + 200];
+    assert_non_null(realpath(tu_tmp_path("bowl/bowl.obj"), real));
+    snprintf(expected, sizeof expected,
+             "e/checkpoint.sbck: written for another scene (%s has changed since: a resumed run would match "
+             "neither)\n",
+             real);
+    if (r.code != 2 || !strstr(r.err, expected)) fail_msg("expected exit 2 and '%s', got %d: %s", expected, r.code, r.err);
+    tu_result_free(&r);
+    shell("cp '%s' '%s'", tu_tmp_path("bowl/saved.obj"), tu_tmp_path("bowl/bowl.obj"));
+    run_ok(resume);
+}
+
 static int setup_dir(void** state) {
     (void)state;
     return tu_make_tmp_dir("sb_test_checkpoint");
@@ -683,6 +718,7 @@ int main(void) {
         cmocka_unit_test(test_program_cutting),
         cmocka_unit_test(test_program_refusals),
         cmocka_unit_test(test_program_run_section_range_checked),
+        cmocka_unit_test(test_program_changed_collider_file_refused),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
