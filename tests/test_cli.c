@@ -281,9 +281,9 @@ static void test_eval_bad_positions(void** state) {
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "long.csv", "--forces", "bad_forces.csv", NULL},
                       "long.csv:5: more rows than the mesh's 3 vertices");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "word.csv", "--forces", "bad_forces.csv", NULL},
-                      "word.csv:3: expected three numbers x,y,z, got '1,zero,0'");
+                      "word.csv:3: column 2: expected a number, got 'zero'");
     assert_eval_fails((const char*[]){"eval", "tri.obj", "--positions", "inf.csv", "--forces", "bad_forces.csv", NULL},
-                      "inf.csv:4: non-finite number in '0,inf,0'");
+                      "inf.csv:4: column 2: expected a finite number, got 'inf'");
     assert_eval_fails(
         (const char*[]){"eval", "tri.obj", "--positions", "header.csv", "--forces", "bad_forces.csv", NULL},
         "header.csv:1: expected the header 'x,y,z', got 'a,b,c'");
