@@ -121,7 +121,8 @@ typedef enum sb_scene_type {
     X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \
       "vertex copies a step may make, the rest wait; 0 = default 256")                                                 \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m",                                                        \
-      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")            \
+      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces; "           \
+      "refused above the body's extent (its bounding box's diagonal), as is a collider's own thickness")               \
     X(SELF_COLLISION, "self_collision", BOOL, "false", "",                                                             \
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "             \
       "contact.thickness > 0)")                                                                                        \
