@@ -188,7 +188,7 @@ sb_status sb_checkpoint_write(const char* path, uint64_t scene_hash, uint32_t ve
     sb_atomic_file file;
     sb_status status = sb_atomic_open(&file, path, err);
     if (status == SB_OK) {
-        fwrite(data, 1, size, file.stream);
+        sb_atomic_write(&file, data, size);
         status = sb_atomic_commit(&file, err);
     }
     free(data);

@@ -51,8 +51,12 @@ static sb_status make_model(sb_simulation* sim, const sb_simulation_args* args, 
     if (status != SB_OK) return status;
     bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
     char* source = from_file ? sb_scene_path(&sim->scene, SB_KEY_MESH_FILE) : NULL;
-    sim->model = sb_scene_build_model(&sim->scene, &sim->mesh, source ? source : sim->scene.path, err);
+    /* a model's error names the scene's file and line (of mesh.file or
+     * mesh.generator) as well as the mesh file: it named only one of them */
+    sim->model = sb_scene_build_model(&sim->scene, &sim->mesh,
+                                      source ? source : sb_scene_where(&sim->scene, SB_KEY_MESH_GENERATOR), err);
     free(source);
+    if (!sim->model && from_file) sb_error_prefix(err, SB_ERR_INVALID, sb_scene_where(&sim->scene, SB_KEY_MESH_FILE));
     return sim->model ? SB_OK : SB_ERR_INVALID;
 }
 
@@ -92,6 +96,23 @@ static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def*
 static sb_status check_scale(sb_simulation* sim, sb_error* err) {
     const sb_mesh* mesh = &sim->mesh;
     if (mesh->vertex_count == 0) return SB_OK;
+    /* Coordinates whose squares overflow the state's precision: a mesh at
+     * 1e20 m gave 'an edge collapsed', naming no file (float overflow was
+     * the cause). */
+    const double reach = sizeof(sb_real) == 4 ? 1e18 : 1e150;
+    for (uint32_t v = 0; v < mesh->vertex_count; v++) {
+        const double* p = mesh->positions + 3 * (size_t)v;
+        if (fabs(p[0]) <= reach && fabs(p[1]) <= reach && fabs(p[2]) <= reach) continue;
+        bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
+        char* file = from_file ? sb_scene_path(&sim->scene, SB_KEY_MESH_FILE) : NULL;
+        sb_status status = sb_scene_fail(
+            &sim->scene, from_file ? SB_KEY_MESH_FILE : SB_KEY_MESH_GENERATOR, err,
+            "%s%svertex %u at (%g, %g, %g) m, beyond %g m: its squared lengths overflow the solver's %s arithmetic (a "
+            "slip of units? lengths are in metres)",
+            file ? file : "", file ? ": " : "", v, p[0], p[1], p[2], reach, sizeof(sb_real) == 4 ? "float" : "double");
+        free(file);
+        return status;
+    }
     double low[3], high[3];
     for (int k = 0; k < 3; k++) low[k] = high[k] = mesh->positions[k];
     for (uint32_t v = 1; v < mesh->vertex_count; v++)

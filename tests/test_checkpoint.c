@@ -688,6 +688,22 @@ static void test_program_changed_collider_file_refused(void** state) {
     run_ok(resume);
 }
 
+/* Issue 32, item 9: a full disk while writing a checkpoint says so (it
+ * said 'Input/output error'): the checkpoint a link to /dev/full. */
+static void test_program_full_disk_named(void** state) {
+    (void)state;
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s/scenes/hook_pull.yaml", SB_SOURCE_DIR);
+    shell("rm -rf '%s' && mkdir '%s'", tu_tmp_path("full"), tu_tmp_path("full"));
+    shell("ln -s /dev/full '%s/%s'", tu_tmp_dir, "full/checkpoint.sbck");
+    tu_result r = tu_run(
+        (const char*[]){"run", scene, "--set", "duration=0.1", "--checkpoint-every", "0.05", "--output", "full", NULL});
+    assert_int_not_equal(r.code, 0);
+    if (!strstr(r.err, "full/checkpoint.sbck: cannot write: No space left on device"))
+        fail_msg("got %d: %s", r.code, r.err);
+    tu_result_free(&r);
+}
+
 static int setup_dir(void** state) {
     (void)state;
     return tu_make_tmp_dir("sb_test_checkpoint");
@@ -719,6 +735,7 @@ int main(void) {
         cmocka_unit_test(test_program_refusals),
         cmocka_unit_test(test_program_run_section_range_checked),
         cmocka_unit_test(test_program_changed_collider_file_refused),
+        cmocka_unit_test(test_program_full_disk_named),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -927,9 +927,38 @@ static void test_thickness_against_the_body_refused(void** state) {
                           "collider 'floor': thickness 5 m is more than the body's whole extent (0.361 m");
 }
 
+/* Issue 32, item 9: messages that name their place and their real cause. */
+static void test_messages_name_place_and_cause(void** state) {
+    (void)state;
+    /* --output FILE: it said 'File exists' */
+    tu_write_file("tiny.yaml", tiny_scene);
+    tu_write_file("afile", "not a folder\n");
+    tu_result r = tu_run((const char*[]){"run", "tiny.yaml", "--output", "afile", NULL});
+    assert_int_equal(r.code, 1); /* an output that cannot be written */
+    assert_string_equal(r.err, "softbond: afile: cannot create the output folder: it, or a folder above it, is a file "
+                               "(not a folder)\n");
+    tu_result_free(&r);
+    /* a mesh at 1e20 m: it said 'an edge collapsed', naming no file (float overflow was the cause); a
+     * double build overflows further out */
+    const char* far = sizeof(sb_real) == 4 ? "1e20" : "1e200";
+    char obj[200], expected[200];
+    snprintf(obj, sizeof obj, "v 0 0 0\nv %s 0 0\nv 0 %s 0\nv %s %s 0\nf 1 2 3\nf 2 4 3\n", far, far, far, far);
+    tu_write_file("far.obj", obj);
+    snprintf(expected, sizeof expected, "bad.yaml:4: far.obj: vertex 1 at (%s, 0, 0) m, beyond ",
+             sizeof(sb_real) == 4 ? "1e+20" : "1e+200");
+    tu_assert_scene_fails("duration: 0.01\nmesh:\n  generator: file\n  file: far.obj\n", expected);
+    /* a model's error: the scene's file and line too (it named only the mesh file) */
+    tu_write_file("flat.obj", "v 0 0 0\nv 0 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+    tu_assert_scene_fails("duration: 0.01\nmesh:\n  generator: file\n  file: flat.obj\n",
+                          "bad.yaml:4: flat.obj: bond 0 (0, 1): rest length 0 m must be positive");
+    tu_assert_scene_fails("duration: 0.01\nmesh: {generator: sheet, nx: 2, ny: 2, width: 0.3, height: 1e-30}\n",
+                          "bad.yaml:2: triangle 0 (0, 1, 3): zero area");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_thickness_against_the_body_refused),
+        cmocka_unit_test(test_messages_name_place_and_cause),
         cmocka_unit_test(test_eval_energies_match_hand_values),
         cmocka_unit_test(test_eval_terms_with_zero_constant_are_absent),
         cmocka_unit_test(test_eval_bend_of_a_folded_square),
