@@ -168,6 +168,13 @@ static sb_status resume(run_job* job, sb_error* err) {
     if (!log_rows_match(log, job->resumed.log_bytes, job->resumed.frames))
         return sb_error_set(err, SB_ERR_INVALID, "%s: its first %llu bytes are not a header and %llu rows (the checkpoint's)",
                             log, (unsigned long long)job->resumed.log_bytes, (unsigned long long)job->resumed.frames);
+    /* the solver's clock: as many steps of dt as its time holds */
+    double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT), now = sb_solver_time(job->sim.solver);
+    uint64_t steps = sb_solver_step_count(job->sim.solver);
+    if (!(fabs(now - (double)steps * dt) <= 1e-6 * (now + dt)))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: the run's state is out of range (the solver at t = %g s after %llu steps of %g s)",
+                            checkpoint_path(job), now, (unsigned long long)steps, dt);
     sb_stop scene_stop = sb_stop_from_scene(&job->sim.scene);
     const sb_stop* saved = &job->resumed.stop;
     if (saved->kinetic_energy != scene_stop.kinetic_energy || saved->min_time != scene_stop.min_time ||

@@ -399,6 +399,36 @@ static void reseal(uint8_t* data, size_t size) {
     memcpy(data + size - 8, &sum, sizeof sum);
 }
 
+/* Issue 32, item 4: the clock of a saved state is range-checked whatever
+ * its checksum says (a NaN time was taken). */
+static void test_clock_out_of_range_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    size_t size;
+    uint8_t* data = saved_ball(&a, &size);
+    verlet_ball(&fresh, 1);
+    sb_sections_reader r;
+    sb_cursor clock;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 1, "state", &err), SB_OK);
+    assert_true(sb_sections_find(&r, "CLCK", &clock));
+    double* time = (double*)(data + (clock.at - (const uint8_t*)data));
+    double saved = *time, bad[] = {NAN, INFINITY, -1};
+    for (int k = 0; k < 3; k++) {
+        *time = bad[k];
+        reseal(data, size);
+        char message[100];
+        snprintf(message, sizeof message, "solver state: the clock's time is out of range (%g)", bad[k]);
+        assert_refused(&fresh, data, size, message);
+    }
+    *time = saved;
+    reseal(data, size);
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
 static void test_other_model_setup_or_precision_is_refused(void** state) {
     (void)state;
     rig a = {0}, other = {0};
@@ -650,6 +680,35 @@ static void test_program_run_section_range_checked(void** state) {
     assert_int_equal(r.code, 2);
     assert_non_null(strstr(r.err, "c/log.csv: its first 60 bytes are not a header and 3 rows"));
     tu_result_free(&r);
+    /* the solver's step count not its time's (the checksums inside and out recomputed) */
+    {
+        char* data = tu_read_file(tu_tmp_path("saved.sbck"));
+        struct stat info;
+        assert_int_equal(stat(tu_tmp_path("saved.sbck"), &info), 0);
+        size_t size = (size_t)info.st_size;
+        sb_sections_reader outer, inner;
+        sb_cursor solver, clock;
+        sb_error err;
+        assert_int_equal(sb_sections_read(&outer, data, size, "SBCHKPNT", 1, "saved", &err), SB_OK);
+        assert_true(sb_sections_find(&outer, "SOLV", &solver));
+        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", 1, "state", &err), SB_OK);
+        assert_true(sb_sections_find(&inner, "CLCK", &clock));
+        uint64_t steps = 7;
+        memcpy((uint8_t*)clock.at + 6 * sizeof(double), &steps, sizeof steps);
+        reseal((uint8_t*)solver.at, solver.left);
+        reseal((uint8_t*)data, size);
+        FILE* f = fopen(tu_tmp_path("c/checkpoint.sbck"), "wb");
+        assert_non_null(f);
+        assert_int_equal(fwrite(data, 1, size, f), size);
+        fclose(f);
+        free(data);
+        tu_result bad = tu_run(resume);
+        assert_int_equal(bad.code, 2);
+        if (!strstr(bad.err, "c/checkpoint.sbck: the run's state is out of range (the solver at t = "))
+            fail_msg("got: %s", bad.err);
+        assert_non_null(strstr(bad.err, " after 7 steps of "));
+        tu_result_free(&bad);
+    }
     /* the untouched checkpoint still resumes */
     shell("cp '%s' '%s'", tu_tmp_path("saved.sbck"), tu_tmp_path("c/checkpoint.sbck"));
     run_ok(resume);
@@ -726,6 +785,7 @@ int main(void) {
         cmocka_unit_test(test_breaking),
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
+        cmocka_unit_test(test_clock_out_of_range_is_refused),
         cmocka_unit_test(test_program_verlet_dynamic_ball),
         cmocka_unit_test(test_program_adaptive),
         cmocka_unit_test(test_program_xpbd),
