@@ -89,8 +89,8 @@ static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def*
 
 /* Lengths checked against the body's own scale, where a slip of units is
  * likely: a contact thickness (contact.thickness, a collider's thickness)
- * larger than the body's whole extent (its bounding box's diagonal) is
- * refused. contact.thickness: 10 (metres, in a scene of centimetres) was
+ * larger than the body's whole extent (its bounding box's diagonal), or a
+ * sphere's or capsule's radius over 100 times it, is refused. contact.thickness: 10 (metres, in a scene of centimetres) was
  * taken, and every step searched the whole sheet for contacts: 1.3 s a
  * step instead of 10 ms, in silence. */
 static sb_status check_scale(sb_simulation* sim, sb_error* err) {
@@ -137,6 +137,12 @@ static sb_status check_scale(sb_simulation* sim, sb_error* err) {
                                 "%s: collider '%s': thickness %g m is more than the body's whole extent (%.3g m, its "
                                 "bounding box's diagonal): a slip of units? (lengths are in metres)",
                                 e->where, e->name, own, extent);
+        bool round = e->def.shape == SB_COLLIDER_SPHERE || e->def.shape == SB_COLLIDER_CAPSULE;
+        if (round && e->def.radius > 100 * extent)
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "%s: collider '%s': radius %g m is more than 100 times the body's whole extent (%.3g m, "
+                                "its bounding box's diagonal): a slip of units? (lengths are in metres)",
+                                e->where, e->name, e->def.radius, extent);
     }
     return SB_OK;
 }

@@ -925,6 +925,9 @@ static void test_thickness_against_the_body_refused(void** state) {
     tu_assert_scene_fails("mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
                           "duration: 0.01\ncolliders:\n  - {type: plane, name: floor, thickness: 5}\n",
                           "collider 'floor': thickness 5 m is more than the body's whole extent (0.361 m");
+    tu_assert_scene_fails("mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+                          "duration: 0.01\ncolliders:\n  - {type: sphere, name: ball, center: [0, 0, -51], radius: 50}\n",
+                          "collider 'ball': radius 50 m is more than 100 times the body's whole extent (0.361 m");
 }
 
 /* Issue 32, item 9: messages that name their place and their real cause. */
