@@ -9,10 +9,15 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* errno ENOTDIR when path is there but not a folder (mkdir's EEXIST read
+ * 'File exists', as if the folder were the trouble). */
 static bool make_one(const char* path) {
     struct stat info;
     if (mkdir(path, 0777) == 0) return true;
-    return errno == EEXIST && stat(path, &info) == 0 && S_ISDIR(info.st_mode);
+    if (errno != EEXIST) return false;
+    if (stat(path, &info) == 0 && S_ISDIR(info.st_mode)) return true;
+    errno = ENOTDIR;
+    return false;
 }
 
 /* Makes every prefix of path that ends before a '/', then path itself. */
@@ -39,6 +44,10 @@ sb_status sb_output_dir_create(sb_output_dir* out, const char* requested, const 
     else
         snprintf(out->dir, size, "out/%s", scene_name);
     if (make_parents(out->dir)) return SB_OK;
+    if (errno == ENOTDIR)
+        return sb_error_set(err, SB_ERR_IO,
+                            "%s: cannot create the output folder: it, or a folder above it, is a file (not a folder)",
+                            out->dir);
     return sb_error_set(err, SB_ERR_IO, "%s: cannot create the output folder: %s", out->dir, strerror(errno));
 }
 

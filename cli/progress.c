@@ -31,7 +31,28 @@ void sb_progress_format(char* out, size_t size, uint64_t done, uint64_t total, d
     snprintf(out + used, size - (size_t)used, "  %.3gx real time  %.0f s left", simulated / elapsed, left);
 }
 
+bool sb_progress_slow_note(char* out, size_t size, uint64_t done, uint64_t total, double dt, double elapsed) {
+    if (done == 0 || done >= total || !(elapsed >= SB_SLOW_AFTER)) return false;
+    double simulated = (double)total * dt, projected = elapsed * (double)total / (double)done;
+    if (!(projected > SB_SLOW_FACTOR * simulated && projected > 60.0)) return false;
+    snprintf(out, size,
+             "this run will take about %.3g s of wall-clock time for %.3g s simulated (%.3g s a step, %.3gx slower "
+             "than real time); check the scene's lengths and dt for a slip of units",
+             projected, simulated, elapsed / (double)done, projected / simulated);
+    return true;
+}
+
 void sb_progress_update(sb_progress* progress, uint64_t done) {
+    if (!progress->warned) {
+        char note[300];
+        double elapsed = sb_wall_seconds() - progress->start;
+        if (elapsed >= SB_SLOW_AFTER &&
+            sb_progress_slow_note(note, sizeof note, done, progress->total, progress->dt, elapsed)) {
+            progress->warned = true;
+            fprintf(stderr, "%ssoftbond: %s\n", progress->enabled ? "\n" : "", note);
+            fflush(stderr);
+        }
+    }
     if (!progress->enabled) return;
     double now = sb_wall_seconds();
     if (progress->shown >= 0.0 && now - progress->shown < 0.1 && done < progress->total) return;

@@ -83,6 +83,7 @@ typedef struct run_job {
     /* checkpoints (checkpoint.h): every > 0 when they are written */
     sb_run_state resumed; /* --resume: where the checkpoint left the run */
     uint64_t scene_hash;
+    sb_checkpoint_files files; /* the scene's files, in the checkpoint's "FILE" section */
     double checkpoint_every, next_checkpoint;
     bool end_frame; /* the last frame is the end state, off the frame_interval grid */
     int argc;       /* the command line, for run.yaml */
@@ -91,6 +92,7 @@ typedef struct run_job {
 
 static int run_finish(run_job* job, int code) {
     free(job->resumed.times);
+    sb_checkpoint_files_free(&job->files);
     free(job->buffers);
     sb_torn_surface_free(&job->surface);
     sb_error ignored;
@@ -139,8 +141,21 @@ static uint64_t most_frames(const run_job* job) {
 /* DIR/checkpoint.sbck of --resume DIR. */
 static const char* checkpoint_path(run_job* job) { return sb_output_dir_path(&job->out, "checkpoint.sbck"); }
 
-/* --resume DIR: the checkpoint read and the solver's state loaded, and
- * log.csv at least as long as the checkpoint says; nothing written yet. */
+/* Whether log.csv's first `bytes` bytes are its header and `frames` rows:
+ * frames + 1 whole lines. */
+static bool log_rows_match(const char* path, uint64_t bytes, uint64_t frames) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return false;
+    uint64_t lines = 0, at = 0;
+    int c = 0, last = 0;
+    for (; at < bytes && (c = getc(f)) != EOF; at++, last = c) lines += c == '\n';
+    fclose(f);
+    return at == bytes && last == '\n' && lines == frames + 1;
+}
+
+/* --resume DIR: the checkpoint read and the solver's state loaded, its
+ * stop conditions the scene's, and log.csv holding the rows the
+ * checkpoint says; nothing written yet. */
 static sb_status resume(run_job* job, sb_error* err) {
     job->out.dir = strdup(job->args.resume);
     if (!job->out.dir) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
@@ -152,6 +167,25 @@ static sb_status resume(run_job* job, sb_error* err) {
     if (stat(log, &info) != 0 || (uint64_t)info.st_size < job->resumed.log_bytes)
         return sb_error_set(err, SB_ERR_INVALID, "%s: missing or shorter than the checkpoint's %llu bytes", log,
                             (unsigned long long)job->resumed.log_bytes);
+    if (!log_rows_match(log, job->resumed.log_bytes, job->resumed.frames))
+        return sb_error_set(err, SB_ERR_INVALID, "%s: its first %llu bytes are not a header and %llu rows (the checkpoint's)",
+                            log, (unsigned long long)job->resumed.log_bytes, (unsigned long long)job->resumed.frames);
+    /* the solver's clock: as many steps of dt as its time holds */
+    double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT), now = sb_solver_time(job->sim.solver);
+    uint64_t steps = sb_solver_step_count(job->sim.solver);
+    if (!(fabs(now - (double)steps * dt) <= 1e-6 * (now + dt)))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: the run's state is out of range (the solver at t = %g s after %llu steps of %g s)",
+                            checkpoint_path(job), now, (unsigned long long)steps, dt);
+    sb_stop scene_stop = sb_stop_from_scene(&job->sim.scene);
+    const sb_stop* saved = &job->resumed.stop;
+    if (saved->kinetic_energy != scene_stop.kinetic_energy || saved->min_time != scene_stop.min_time ||
+        saved->max_time != scene_stop.max_time)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: its stop conditions (stop.kinetic_energy %g, min_time %g, max_time %g) are not the "
+                            "scene's (%g, %g, %g)",
+                            checkpoint_path(job), saved->kinetic_energy, saved->min_time, saved->max_time,
+                            scene_stop.kinetic_energy, scene_stop.min_time, scene_stop.max_time);
     job->checkpoint_every = job->resumed.every;
     job->next_checkpoint = job->resumed.next;
     /* the scene's duration now: the run may go on to a longer one */
@@ -176,7 +210,7 @@ static sb_status prepare_checkpoints(run_job* job, sb_error* err) {
                             "motion is not repeated by a resumed run)");
     if (job->args.resume && job->args.output)
         return sb_error_set(err, SB_ERR_INVALID, "--resume DIR writes into DIR: leave out --output");
-    sb_status status = sb_checkpoint_scene_hash(&job->sim.scene, &job->args, &job->scene_hash, err);
+    sb_status status = sb_checkpoint_scene_hash(&job->sim.scene, &job->args, &job->scene_hash, &job->files, err);
     if (status == SB_OK && job->args.resume) status = resume(job, err);
     if (status != SB_OK || !every) return status;
     char* end;
@@ -264,7 +298,8 @@ static int checkpoint(run_job* job, sb_error* err) {
                         .every = every,
                         .next = job->next_checkpoint,
                         .stop = job->stop,
-                        .times = job->log.times};
+                        .times = job->log.times,
+                        .files = &job->files};
     sb_status status = sb_checkpoint_write(checkpoint_path(job), job->scene_hash, job->sim.mesh.vertex_count, &run,
                                            job->sim.solver, err);
     return status == SB_OK ? SB_EXIT_OK : SB_EXIT_FAILURE;

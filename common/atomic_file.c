@@ -73,10 +73,15 @@ sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err) 
     return file->stream ? SB_OK : fail(file, err, "cannot write", errno);
 }
 
+void sb_atomic_write(sb_atomic_file* file, const void* data, size_t size) {
+    errno = 0;
+    if (fwrite(data, 1, size, file->stream) != size && !file->error) file->error = errno ? errno : EIO;
+}
+
 sb_status sb_atomic_commit(sb_atomic_file* file, sb_error* err) {
     errno = 0;
     bool written = fflush(file->stream) == 0 && !ferror(file->stream);
-    int code = errno;
+    int code = file->error ? file->error : errno;
     int closed = fclose(file->stream);
     if (closed != 0 && written) code = errno;
     file->stream = NULL;

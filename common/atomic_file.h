@@ -18,6 +18,7 @@ typedef struct sb_atomic_file {
     char* path;     /* as given, for messages */
     char* target;   /* where the file goes: path, or a link's target */
     char* tmp_path; /* target.tmp; NULL when written in place */
+    int error;      /* the first failed sb_atomic_write's errno, 0 before */
 } sb_atomic_file;
 
 sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err);
@@ -27,6 +28,9 @@ sb_status sb_atomic_open(sb_atomic_file* file, const char* path, sb_error* err);
 static inline const char* sb_atomic_write_path(const sb_atomic_file* file) {
     return file->tmp_path ? file->tmp_path : file->target;
 }
+/* fwrite that keeps the first failure's errno for commit's message (a full
+ * disk said 'Input/output error': the errno was gone by commit). */
+void sb_atomic_write(sb_atomic_file* file, const void* data, size_t size);
 /* Flushes, closes and renames; on any failure removes NAME.tmp. */
 sb_status sb_atomic_commit(sb_atomic_file* file, sb_error* err);
 /* Closes and removes NAME.tmp; safe after a failed open. */

@@ -7,6 +7,7 @@
  * pose holds. The whole file is read at open; reading a pose is a binary
  * search, with no allocation and no system call. */
 #include "haptics/device.h"
+#include "common/csv.h"
 #include "common/error.h"
 
 #include <errno.h>
@@ -25,42 +26,28 @@ typedef struct scripted {
     size_t count;
 } scripted;
 
-enum { SCRIPTED_LINE = 1024 };
-
 /* The columns the header names: 4, 8 (with the quaternion), 5 or 9 (with the button). */
-static int scripted_columns(const char* header) {
+static int scripted_columns(const sb_csv* csv) {
     static const char* forms[] = {"time,x,y,z", "time,x,y,z,button", "time,x,y,z,qw,qx,qy,qz",
                                   "time,x,y,z,qw,qx,qy,qz,button"};
     static const int columns[] = {4, 5, 8, 9};
-    char h[SCRIPTED_LINE];
-    size_t n = 0;
-    for (const char* c = header; *c && n + 1 < sizeof h; c++)
-        if (*c != ' ' && *c != '\t' && *c != '\r' && *c != '\n') h[n++] = *c;
-    h[n] = 0;
+    char h[128];
+    sb_csv_joined(csv, h, sizeof h);
     for (int i = 0; i < 4; i++)
         if (strcmp(h, forms[i]) == 0) return columns[i];
     return 0;
 }
 
-static sb_status scripted_parse_row(const char* path, size_t line, const char* text, int columns, scripted_row* row,
-                                    sb_error* err) {
+static sb_status scripted_parse_row(const sb_csv* csv, int columns, scripted_row* row, sb_error* err) {
+    const char* path = csv->path;
+    size_t line = csv->line_number;
     double v[9];
-    const char* c = text;
+    if (csv->count != columns)
+        return sb_error_at(err, SB_ERR_PARSE, path, line, "expected %d columns, found %d", columns, csv->count);
     for (int i = 0; i < columns; i++) {
-        char* end;
-        errno = 0;
-        v[i] = strtod(c, &end);
-        if (end == c || errno == ERANGE || !isfinite(v[i]))
-            return sb_error_at(err, SB_ERR_PARSE, path, line, "column %d: expected a finite number", i + 1);
-        c = end;
-        while (*c == ' ' || *c == '\t') c++;
-        if (i + 1 < columns) {
-            if (*c != ',') return sb_error_at(err, SB_ERR_PARSE, path, line, "expected %d columns", columns);
-            c++;
-        }
+        sb_status status = sb_csv_number(csv, i, &v[i], err);
+        if (status != SB_OK) return status;
     }
-    while (*c == ' ' || *c == '\t' || *c == '\r' || *c == '\n') c++;
-    if (*c) return sb_error_at(err, SB_ERR_PARSE, path, line, "expected %d columns, found more", columns);
     *row = (scripted_row){.time = v[0], .position = {v[1], v[2], v[3]}, .orientation = {1, 0, 0, 0}};
     if (columns >= 8) {
         double norm = sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
@@ -76,21 +63,24 @@ static sb_status scripted_parse_row(const char* path, size_t line, const char* t
     return SB_OK;
 }
 
+/* Read through common/csv.h's tokenizer: a NUL byte in a row
+ * (1,0,0,-0.01<NUL>5) was read as the row cut there, a 200 kB field as
+ * several lines (the line numbers off after it). */
 static sb_status scripted_load(const char* path, scripted* s, sb_error* err) {
-    FILE* f = fopen(path, "r");
-    if (!f) return sb_error_at(err, SB_ERR_IO, path, 0, "cannot open: %s", strerror(errno));
-    char text[SCRIPTED_LINE];
-    size_t line = 0, capacity = 0;
+    sb_csv csv;
+    sb_status status = sb_csv_open(&csv, path, err);
+    if (status != SB_OK) return status;
+    size_t capacity = 0;
     int columns = 0;
-    sb_status status = SB_OK;
-    while (status == SB_OK && fgets(text, sizeof text, f)) {
-        line++;
-        if (strspn(text, " \t\r\n") == strlen(text)) continue;
+    bool row;
+    while ((status = sb_csv_next(&csv, &row, err)) == SB_OK && row) {
         if (!columns) {
-            columns = scripted_columns(text);
-            if (!columns)
-                status = sb_error_at(err, SB_ERR_PARSE, path, line,
+            columns = scripted_columns(&csv);
+            if (!columns) {
+                status = sb_error_at(err, SB_ERR_PARSE, path, csv.line_number,
                                      "the header must be time,x,y,z [,qw,qx,qy,qz] [,button]");
+                break;
+            }
             continue;
         }
         if (s->count == capacity) {
@@ -102,13 +92,15 @@ static sb_status scripted_load(const char* path, scripted* s, sb_error* err) {
             }
             s->rows = grown;
         }
-        status = scripted_parse_row(path, line, text, columns, &s->rows[s->count], err);
+        status = scripted_parse_row(&csv, columns, &s->rows[s->count], err);
         if (status == SB_OK && s->count > 0 && !(s->rows[s->count].time > s->rows[s->count - 1].time))
-            status = sb_error_at(err, SB_ERR_PARSE, path, line, "times must increase (%g after %g)",
+            status = sb_error_at(err, SB_ERR_PARSE, path, csv.line_number, "times must increase (%g after %g)",
                                  s->rows[s->count].time, s->rows[s->count - 1].time);
         s->count++;
+        if (status != SB_OK) break;
     }
-    fclose(f);
+    size_t line = csv.line_number;
+    sb_csv_close(&csv);
     if (status == SB_OK && s->count == 0) status = sb_error_at(err, SB_ERR_PARSE, path, line, "no rows");
     return status;
 }

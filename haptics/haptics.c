@@ -28,6 +28,9 @@ sb_haptics_def sb_default_haptics_def(void) {
                             .damping = 0.7,
                             .max_force = 3.3,
                             .device_stiffness = 700,
+                            .device_max_force = 3.3,
+                            .workspace = 0.5,
+                            .hand_speed = 10,
                             .stall_time = 0.05,
                             .ramp_time = 0.05,
                             .sense_time = 0.002,
@@ -50,13 +53,23 @@ static sb_status check_def(const sb_haptics_def* d, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID,
                             "haptics: coupling damping must be > K T / 2 = %g N s/m to keep the loop passive (got %g)",
                             passive, d->damping);
-    if (!(d->max_force > 0 && isfinite(d->max_force)))
-        return sb_error_set(err, SB_ERR_INVALID, "haptics: max_force must be > 0 (got %g)", d->max_force);
+    if (!(d->device_max_force > 0 && isfinite(d->device_max_force)))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: device_max_force must be > 0 (got %g)",
+                            d->device_max_force);
+    if (!(d->max_force > 0 && d->max_force <= d->device_max_force))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: max_force must be > 0 and at most the device's %g N (got %g)",
+                            d->device_max_force, d->max_force);
+    if (!(d->workspace > 0 && d->workspace <= 1e3))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: workspace must be > 0 and at most 1000 m (got %g)",
+                            d->workspace);
+    if (!(d->hand_speed > 0 && d->hand_speed <= 1e4))
+        return sb_error_set(err, SB_ERR_INVALID, "haptics: hand_speed must be > 0 and at most 10000 m/s (got %g)",
+                            d->hand_speed);
     if (!(d->stall_time > 0 && d->ramp_time > 0 && isfinite(d->stall_time) && isfinite(d->ramp_time)))
         return sb_error_set(err, SB_ERR_INVALID, "haptics: stall_time and ramp_time must be > 0");
     if (!(d->sense_time >= 0 && isfinite(d->sense_time)))
         return sb_error_set(err, SB_ERR_INVALID, "haptics: sense_time must be >= 0 (got %g)", d->sense_time);
-    if (!(d->max_speed > 0))
+    if (!(d->max_speed > 0 && isfinite(d->max_speed)))
         return sb_error_set(err, SB_ERR_INVALID, "haptics: max_speed must be > 0 (got %g)", d->max_speed);
     if (d->log_capacity < 1) return sb_error_set(err, SB_ERR_INVALID, "haptics: log_capacity must be >= 1");
     return SB_OK;
@@ -161,6 +174,7 @@ void sb_haptics_drive(sb_haptics* h) {
     device_for_step(h, device);
     double proxy[3];
     sb_coupling_proxy(&h->sensed, h->def.stiffness, device, proxy);
+    if (!sb_finite3(proxy)) return; /* the tool holds: nothing the device sends reaches the solver unless finite */
     move_at_most(h->sim_proxy, proxy, max_move(h));
     for (int k = 0; k < 3; k++) translate[k] = h->sim_proxy[k] - h->rest[k];
     sb_quaternion_to_degrees(pose.orientation, rotate);
@@ -188,6 +202,7 @@ static void average_force(sb_haptics* h, const double f[3], double time) {
 }
 
 void sb_haptics_sense_force(sb_haptics* h, const double force[3], uint64_t step, double time) {
+    if (!sb_finite3(force) || !isfinite(time)) return; /* the last model stands (and goes stale: a stall) */
     average_force(h, force, time);
     const double* f = h->mean_force;
     double push = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);

@@ -42,6 +42,8 @@ struct sb_haptics {
     /* The servo's own (one tick at a time). */
     bool ticked;
     double last_time, device_before[3], proxy_before[3], last_force[3], gain;
+    bool posed;                   /* a good pose was read */
+    double good_position[3], good_time; /* the last good pose's position (device frame) and time */
     sb_contact_model model;
     bool modelled;
     atomic_uint faults;

@@ -9,7 +9,9 @@
  * clock reads (vDSO) and the sleep.
  *
  * Watchdogs: the tick's faults (no new contact model for stall_time, a
- * non-finite pose, model or force, a device error) set the gain's target to
+ * non-finite pose, model or force, a device error, a pose no hand gave:
+ * outside the workspace, faster than hand_speed from the last good one, or
+ * an orientation not a unit quaternion) set the gain's target to
  * 0, else 1; the gain moves towards it by period / ramp_time a tick, so the
  * force falls from any value to zero within ramp_time (plus a tick) and
  * comes back as gently when the fault clears. The force ramped is the last
@@ -67,7 +69,30 @@ static bool model_finite(const sb_contact_model* m) {
     return sb_finite3(m->proxy) && sb_finite3(m->normal) && isfinite(m->force) && isfinite(m->stiffness);
 }
 
-/* The device in the world, or the last one when it fails or is not finite. */
+/* Whether a finite pose is one a hand gave: inside the workspace, no
+ * faster than hand_speed from the last good pose (over the time since it,
+ * so a pose that jumped is taken once the time makes the move possible),
+ * and a unit quaternion give or take a factor of 2 (normalized here). A
+ * pose at 1e308 m is finite, but the tool taken there overflowed the
+ * proxy's arithmetic to NaN and poisoned the simulation for good. */
+static bool pose_plausible(const sb_haptics* h, sb_haptic_pose* pose, double time) {
+    double r2 = 0, d2 = 0, q2 = 0;
+    for (int k = 0; k < 3; k++) {
+        r2 += pose->position[k] * pose->position[k];
+        double d = pose->position[k] - h->good_position[k];
+        d2 += d * d;
+    }
+    for (int k = 0; k < 4; k++) q2 += pose->orientation[k] * pose->orientation[k];
+    if (!(r2 <= h->def.workspace * h->def.workspace) || !(q2 >= 0.25 && q2 <= 4)) return false;
+    double reach = h->def.hand_speed * (time - h->good_time);
+    if (h->posed && !(d2 <= reach * reach)) return false;
+    double q = sqrt(q2);
+    for (int k = 0; k < 4; k++) pose->orientation[k] /= q;
+    return true;
+}
+
+/* The device in the world, or the last good one when it fails, is not
+ * finite or is not a pose a hand gave. */
 static uint32_t read_device(sb_haptics* h, double time, double device[3]) {
     sb_haptic_pose pose;
     uint32_t faults = 0;
@@ -75,11 +100,16 @@ static uint32_t read_device(sb_haptics* h, double time, double device[3]) {
         faults |= SB_HAPTIC_FAULT_DEVICE;
     else if (!pose_finite(&pose))
         faults |= SB_HAPTIC_FAULT_NONFINITE;
+    else if (!pose_plausible(h, &pose, time))
+        faults |= SB_HAPTIC_FAULT_POSE;
     if (faults) {
         memcpy(device, h->device_before, sizeof h->device_before);
         return faults;
     }
     pose.time = time;
+    memcpy(h->good_position, pose.position, sizeof h->good_position);
+    h->good_time = time;
+    h->posed = true;
     sb_record_write(&h->pose, &pose, sizeof pose);
     for (int k = 0; k < 3; k++) device[k] = h->rest[k] + pose.position[k];
     return 0;

@@ -45,10 +45,13 @@ static double sb_longest_edge(const sb_tet_mesh* m, uint32_t t) {
     return longest;
 }
 
-/* 0 = proper, 1 = zero volume, 2 = inverted against sign. */
+/* 0 = proper, 1 = zero volume, 2 = inverted against sign, 3 = too large
+ * to compute (the volume or the edge overflows: 'zero volume (inf m^3)'
+ * it said). */
 static int sb_tet_defect(const sb_tet_mesh* m, uint32_t t, int sign, double* volume) {
     *volume = sb_tet_of(m, t);
     double l = sb_longest_edge(m, t);
+    if (!isfinite(*volume) || !isfinite(l * l * l)) return 3;
     if (!(fabs(*volume) > 1e-12 * l * l * l)) return 1;
     return (*volume > 0.0 ? 1 : -1) == sign ? 0 : 2;
 }
@@ -85,6 +88,17 @@ sb_status sb_tet_mesh_check(const sb_tet_mesh* m, sb_error* err) {
     uint32_t bad = 0, first = 0;
     int first_kind = 0;
     double first_volume = 0.0;
+    for (uint32_t t = 0; t < m->tet_count; t++) {
+        double volume;
+        int kind = sb_tet_defect(m, t, sign, &volume);
+        if (kind == 3) {
+            const uint32_t* v = m->tets + 4 * (size_t)t;
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "tetrahedron %u (vertices %u %u %u %u): too large to compute (its longest edge %g m, "
+                                "its volume overflows): a slip of units? (lengths are in metres)",
+                                t, v[0], v[1], v[2], v[3], sb_longest_edge(m, t));
+        }
+    }
     for (uint32_t t = 0; t < m->tet_count; t++) {
         double volume;
         int kind = sb_tet_defect(m, t, sign, &volume);

@@ -38,6 +38,8 @@ sb_status sb_scene_haptics_check(const sb_scene* scene, sb_error* err) {
     def.stiffness = sb_scene_number(scene, SB_KEY_HAPTICS_COUPLING_STIFFNESS);
     def.damping = sb_scene_number(scene, SB_KEY_HAPTICS_COUPLING_DAMPING);
     def.max_force = sb_scene_number(scene, SB_KEY_HAPTICS_MAX_FORCE);
+    def.workspace = sb_scene_number(scene, SB_KEY_HAPTICS_WORKSPACE);
+    def.hand_speed = sb_scene_number(scene, SB_KEY_HAPTICS_HAND_SPEED);
     /* The library checks the numbers; its message is given the place of the key it names. */
     static const struct {
         const char* word;
@@ -45,7 +47,9 @@ sb_status sb_scene_haptics_check(const sb_scene* scene, sb_error* err) {
     } blame[] = {{"rate", SB_KEY_HAPTICS_RATE},
                  {"stiffness", SB_KEY_HAPTICS_COUPLING_STIFFNESS},
                  {"damping", SB_KEY_HAPTICS_COUPLING_DAMPING},
-                 {"max_force", SB_KEY_HAPTICS_MAX_FORCE}};
+                 {"max_force", SB_KEY_HAPTICS_MAX_FORCE},
+                 {"workspace", SB_KEY_HAPTICS_WORKSPACE},
+                 {"hand_speed", SB_KEY_HAPTICS_HAND_SPEED}};
     sb_error check;
     sb_haptic_device* none = sb_haptic_device_open(&(sb_haptic_device_def){.kind = "none"}, err);
     sb_collider_def point = sb_default_collider_def();
@@ -96,6 +100,8 @@ sb_status sb_scene_haptics_create(sb_scene_haptics* h, const sb_scene* scene, co
     def.stiffness = sb_scene_number(scene, SB_KEY_HAPTICS_COUPLING_STIFFNESS);
     def.damping = sb_scene_number(scene, SB_KEY_HAPTICS_COUPLING_DAMPING);
     def.max_force = sb_scene_number(scene, SB_KEY_HAPTICS_MAX_FORCE);
+    def.workspace = sb_scene_number(scene, SB_KEY_HAPTICS_WORKSPACE);
+    def.hand_speed = sb_scene_number(scene, SB_KEY_HAPTICS_HAND_SPEED);
     h->haptics = sb_haptics_create(&def, h->device, colliders->colliders[index], index, err);
     if (!h->haptics) return SB_ERR_INVALID;
     h->paced = sb_scene_bool(scene, SB_KEY_HAPTICS_REALTIME);
@@ -135,9 +141,12 @@ void sb_scene_haptics_before_step(sb_scene_haptics* h, const sb_solver* solver) 
 static void say_faults(sb_scene_haptics* h) {
     uint32_t faults = sb_haptics_faults(h->haptics);
     if (faults && faults != h->faults)
-        fprintf(stderr, "softbond: haptics: the force ramps to zero:%s%s%s\n",
+        fprintf(stderr, "softbond: haptics: the force ramps to zero:%s%s%s%s\n",
                 faults & SB_HAPTIC_FAULT_STALL ? " the simulation stalled" : "",
                 faults & SB_HAPTIC_FAULT_NONFINITE ? " a value was not finite" : "",
+                faults & SB_HAPTIC_FAULT_POSE
+                    ? " a pose no hand gave (outside haptics.workspace, faster than haptics.hand_speed, or not a unit quaternion)"
+                    : "",
                 faults & SB_HAPTIC_FAULT_DEVICE ? " the device failed" : "");
     h->faults = faults;
 }

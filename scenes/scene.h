@@ -121,7 +121,8 @@ typedef enum sb_scene_type {
     X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \
       "vertex copies a step may make, the rest wait; 0 = default 256")                                                 \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m",                                                        \
-      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces")            \
+      "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces; "           \
+      "refused above the body's extent (its bounding box's diagonal), as is a collider's own thickness")               \
     X(SELF_COLLISION, "self_collision", BOOL, "false", "",                                                             \
       "the bodies' triangles against each other: folds of one body, bodies of a multi-object mesh (needs "             \
       "contact.thickness > 0)")                                                                                        \
@@ -139,7 +140,11 @@ typedef enum sb_scene_type {
     X(HAPTICS_COUPLING_DAMPING, "haptics.coupling.damping", NUMBER, "0.7", "N s/m",                                    \
       "the virtual coupling's damping, N s/m (> stiffness / rate / 2)")                                                \
     X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "N",                                                      \
-      "the force sent to the device is clamped to this, N")                                                            \
+      "the force sent to the device is clamped to this, N (at most the device's 3.3)")                                 \
+    X(HAPTICS_WORKSPACE, "haptics.workspace", NUMBER, "0.5", "m",                                                      \
+      "the device's reach about its origin, m: a pose outside is a device fault (the force ramps down)")              \
+    X(HAPTICS_HAND_SPEED, "haptics.hand_speed", NUMBER, "10", "m/s",                                                   \
+      "the fastest a hand moves the device, m/s: a faster jump is a device fault")                                    \
     X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true", "",                                                          \
       "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
     X(INTEGRATOR, "integrator", STRING, "verlet", "",                                                                  \

@@ -24,11 +24,13 @@
  * ball, a cloth draped with xpbd, a hook that lets go, a sheet torn
  * apart. A truncated or corrupt checkpoint, one of another scene or of
  * other --set values, a missing one: one line, exit 2. */
-#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE
 #include "test_util.h"
 #include "pulled_sheet.h"
 
 #include <dirent.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 
 #include "common/sections.h"
@@ -397,6 +399,36 @@ static void reseal(uint8_t* data, size_t size) {
     memcpy(data + size - 8, &sum, sizeof sum);
 }
 
+/* Issue 32, item 4: the clock of a saved state is range-checked whatever
+ * its checksum says (a NaN time was taken). */
+static void test_clock_out_of_range_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    size_t size;
+    uint8_t* data = saved_ball(&a, &size);
+    verlet_ball(&fresh, 1);
+    sb_sections_reader r;
+    sb_cursor clock;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 1, "state", &err), SB_OK);
+    assert_true(sb_sections_find(&r, "CLCK", &clock));
+    double* time = (double*)(data + (clock.at - (const uint8_t*)data));
+    double saved = *time, bad[] = {NAN, INFINITY, -1};
+    for (int k = 0; k < 3; k++) {
+        *time = bad[k];
+        reseal(data, size);
+        char message[100];
+        snprintf(message, sizeof message, "solver state: the clock's time is out of range (%g)", bad[k]);
+        assert_refused(&fresh, data, size, message);
+    }
+    *time = saved;
+    reseal(data, size);
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
 static void test_other_model_setup_or_precision_is_refused(void** state) {
     (void)state;
     rig a = {0}, other = {0};
@@ -581,6 +613,156 @@ static void test_program_refusals(void** state) {
                  "c/checkpoint.sbck: corrupt (the checksum does not match the contents)");
 }
 
+/* saved.sbck with size bytes at `offset` of its RUN section's payload
+ * replaced by value and the checksum recomputed, as c/checkpoint.sbck. */
+static void patch_run(size_t offset, const void* value, size_t size) {
+    char* data = tu_read_file(tu_tmp_path("saved.sbck"));
+    assert_non_null(data);
+    struct stat info;
+    assert_int_equal(stat(tu_tmp_path("saved.sbck"), &info), 0);
+    sb_sections_reader r;
+    sb_cursor run;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, (size_t)info.st_size, "SBCHKPNT", 1, "saved", &err), SB_OK);
+    assert_true(sb_sections_find(&r, "RUN ", &run));
+    memcpy((uint8_t*)run.at + offset, value, size);
+    reseal((uint8_t*)data, (size_t)info.st_size);
+    FILE* f = fopen(tu_tmp_path("c/checkpoint.sbck"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, (size_t)info.st_size, f), (size_t)info.st_size);
+    fclose(f);
+    free(data);
+}
+
+/* Issue 32, item 4: every value of a checkpoint's run section is
+ * range-checked on load, the checksum recomputed notwithstanding. Before,
+ * log_bytes 0 cut log.csv to nothing with exit 0, and a non-finite or
+ * negative stop value or interval was taken. */
+static void test_program_run_section_range_checked(void** state) {
+    (void)state;
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s/scenes/hook_pull.yaml", SB_SOURCE_DIR);
+    shell("rm -rf '%s' '%s'", tu_tmp_path("c"), tu_tmp_path("d"));
+    run_ok((const char*[]){"run", scene, "--set", "duration=0.1", "--checkpoint-every", "0.05", "--output", "c", NULL});
+    shell("cp '%s' '%s'", tu_tmp_path("c/checkpoint.sbck"), tu_tmp_path("saved.sbck"));
+    shell("cp '%s' '%s'", tu_tmp_path("c/log.csv"), tu_tmp_path("saved.csv"));
+    const char* const resume[] = {"run", scene, "--set", "duration=0.1", "--resume", "c", NULL};
+    /* the RUN payload: frames, log_bytes (u64), every, next, kinetic_energy, min_time, max_time, duration, time,
+     * kinetic (f64), reason (u32) */
+    static const struct {
+        size_t offset;
+        double value;
+        const char* message;
+    } doubles[] = {
+        {56, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.duration = nan)"},
+        {56, INFINITY, "c/checkpoint.sbck: the run's state is out of range (stop.duration = inf)"},
+        {56, -1, "c/checkpoint.sbck: the run's state is out of range (stop.duration = -1)"},
+        {48, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.max_time = nan)"},
+        {16, INFINITY, "c/checkpoint.sbck: the run's state is out of range (the checkpoint interval = inf)"},
+        {24, -5, "c/checkpoint.sbck: the run's state is out of range (the next checkpoint's time = -5)"},
+        {32, NAN, "c/checkpoint.sbck: the run's state is out of range (stop.kinetic_energy = nan)"},
+    };
+    for (size_t i = 0; i < sizeof doubles / sizeof doubles[0]; i++) {
+        patch_run(doubles[i].offset, &doubles[i].value, sizeof(double));
+        assert_fails(resume, doubles[i].message);
+    }
+    uint64_t zero = 0;
+    patch_run(8, &zero, sizeof zero);
+    assert_fails(resume, "c/checkpoint.sbck: the run's state is out of range (log.csv's length 0 bytes for 3 frames)");
+    char* log = tu_read_file(tu_tmp_path("c/log.csv"));
+    assert_non_null(log);
+    assert_true(strlen(log) > 100); /* log.csv untouched */
+    free(log);
+    /* a length inside the rows: not a header and the frames' rows */
+    uint64_t inside = 60;
+    patch_run(8, &inside, sizeof inside);
+    tu_result r = tu_run(resume);
+    assert_int_equal(r.code, 2);
+    assert_non_null(strstr(r.err, "c/log.csv: its first 60 bytes are not a header and 3 rows"));
+    tu_result_free(&r);
+    /* the solver's step count not its time's (the checksums inside and out recomputed) */
+    {
+        char* data = tu_read_file(tu_tmp_path("saved.sbck"));
+        struct stat info;
+        assert_int_equal(stat(tu_tmp_path("saved.sbck"), &info), 0);
+        size_t size = (size_t)info.st_size;
+        sb_sections_reader outer, inner;
+        sb_cursor solver, clock;
+        sb_error err;
+        assert_int_equal(sb_sections_read(&outer, data, size, "SBCHKPNT", 1, "saved", &err), SB_OK);
+        assert_true(sb_sections_find(&outer, "SOLV", &solver));
+        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", 1, "state", &err), SB_OK);
+        assert_true(sb_sections_find(&inner, "CLCK", &clock));
+        uint64_t steps = 7;
+        memcpy((uint8_t*)clock.at + 6 * sizeof(double), &steps, sizeof steps);
+        reseal((uint8_t*)solver.at, solver.left);
+        reseal((uint8_t*)data, size);
+        FILE* f = fopen(tu_tmp_path("c/checkpoint.sbck"), "wb");
+        assert_non_null(f);
+        assert_int_equal(fwrite(data, 1, size, f), size);
+        fclose(f);
+        free(data);
+        tu_result bad = tu_run(resume);
+        assert_int_equal(bad.code, 2);
+        if (!strstr(bad.err, "c/checkpoint.sbck: the run's state is out of range (the solver at t = "))
+            fail_msg("got: %s", bad.err);
+        assert_non_null(strstr(bad.err, " after 7 steps of "));
+        tu_result_free(&bad);
+    }
+    /* the untouched checkpoint still resumes */
+    shell("cp '%s' '%s'", tu_tmp_path("saved.sbck"), tu_tmp_path("c/checkpoint.sbck"));
+    run_ok(resume);
+}
+
+/* Issue 32, item 3: the checkpoint's identity covers the files the scene
+ * reads. scenes/mesh_bowl.yaml checkpointed, its collider's bowl.obj
+ * edited (same vertex count): --resume is refused naming the file; put
+ * back, it resumes. Before, the resume ran with exit 0 to a final frame
+ * neither run's. */
+static void test_program_changed_collider_file_refused(void** state) {
+    (void)state;
+    shell("rm -rf '%s' && mkdir '%s'", tu_tmp_path("bowl"), tu_tmp_path("bowl"));
+    shell("cp '%s/scenes/mesh_bowl.yaml' '%s/bowl/'", SB_SOURCE_DIR, tu_tmp_dir);
+    shell("cp '%s/scenes/bowl.obj' '%s/bowl/'", SB_SOURCE_DIR, tu_tmp_dir);
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s", tu_tmp_path("bowl/mesh_bowl.yaml"));
+    shell("rm -rf '%s' '%s'", tu_tmp_path("e"), tu_tmp_path("f"));
+    run_ok((const char*[]){"run", scene, "--set", "duration=0.08", "--checkpoint-every", "0.04", "--output", "e",
+                           NULL});
+    const char* const resume[] = {"run", scene, "--set", "duration=0.08", "--resume", "e", NULL};
+    shell("cp '%s' '%s'", tu_tmp_path("bowl/bowl.obj"), tu_tmp_path("bowl/saved.obj"));
+    shell("sed -i 's/^v 0.000000 -0.157719 0.044805$/v 0.000000 -0.150000 0.044805/' '%s/%s'", tu_tmp_dir,
+          "bowl/bowl.obj");
+    shell("! cmp -s '%s' '%s'", tu_tmp_path("bowl/bowl.obj"), tu_tmp_path("bowl/saved.obj")); /* edited */
+    tu_result r = tu_run(resume);
+    char real[PATH_MAX], expected[PATH_MAX + 200];
+    assert_non_null(realpath(tu_tmp_path("bowl/bowl.obj"), real));
+    snprintf(expected, sizeof expected,
+             "e/checkpoint.sbck: written for another scene (%s has changed since: a resumed run would match "
+             "neither)\n",
+             real);
+    if (r.code != 2 || !strstr(r.err, expected)) fail_msg("expected exit 2 and '%s', got %d: %s", expected, r.code, r.err);
+    tu_result_free(&r);
+    shell("cp '%s' '%s'", tu_tmp_path("bowl/saved.obj"), tu_tmp_path("bowl/bowl.obj"));
+    run_ok(resume);
+}
+
+/* Issue 32, item 9: a full disk while writing a checkpoint says so (it
+ * said 'Input/output error'): the checkpoint a link to /dev/full. */
+static void test_program_full_disk_named(void** state) {
+    (void)state;
+    char scene[500];
+    snprintf(scene, sizeof scene, "%s/scenes/hook_pull.yaml", SB_SOURCE_DIR);
+    shell("rm -rf '%s' && mkdir '%s'", tu_tmp_path("full"), tu_tmp_path("full"));
+    shell("ln -s /dev/full '%s/%s'", tu_tmp_dir, "full/checkpoint.sbck");
+    tu_result r = tu_run(
+        (const char*[]){"run", scene, "--set", "duration=0.1", "--checkpoint-every", "0.05", "--output", "full", NULL});
+    assert_int_not_equal(r.code, 0);
+    if (!strstr(r.err, "full/checkpoint.sbck: cannot write: No space left on device"))
+        fail_msg("got %d: %s", r.code, r.err);
+    tu_result_free(&r);
+}
+
 static int setup_dir(void** state) {
     (void)state;
     return tu_make_tmp_dir("sb_test_checkpoint");
@@ -603,6 +785,7 @@ int main(void) {
         cmocka_unit_test(test_breaking),
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
+        cmocka_unit_test(test_clock_out_of_range_is_refused),
         cmocka_unit_test(test_program_verlet_dynamic_ball),
         cmocka_unit_test(test_program_adaptive),
         cmocka_unit_test(test_program_xpbd),
@@ -610,6 +793,9 @@ int main(void) {
         cmocka_unit_test(test_program_breaking),
         cmocka_unit_test(test_program_cutting),
         cmocka_unit_test(test_program_refusals),
+        cmocka_unit_test(test_program_run_section_range_checked),
+        cmocka_unit_test(test_program_changed_collider_file_refused),
+        cmocka_unit_test(test_program_full_disk_named),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }

@@ -35,6 +35,7 @@ static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] +
 typedef struct test_device {
     double depth, ramp_until;    /* m: z goes to −depth linearly until ramp_until (s), then holds */
     double nan_from, error_from; /* s: a NaN pose, a failing read from then on */
+    double burst_from, burst_until, burst_x; /* s, s, m: x is burst_x over [burst_from, burst_until) */
     double force[3];
     bool wrote_nonfinite;
 } test_device;
@@ -44,6 +45,7 @@ static sb_status test_read(void* user, double time, sb_haptic_pose* pose) {
     *pose = (sb_haptic_pose){.time = time, .orientation = {1, 0, 0, 0}};
     pose->position[2] = -d->depth * fmin(1, time / d->ramp_until);
     if (time >= d->nan_from) pose->position[0] = NAN;
+    if (time >= d->burst_from && time < d->burst_until) pose->position[0] = d->burst_x;
     return time >= d->error_from ? SB_ERR_IO : SB_OK;
 }
 
@@ -125,7 +127,8 @@ static sb_haptics_def rig_def(void) {
 }
 
 static test_device pressing(double depth, double ramp_until) {
-    return (test_device){.depth = depth, .ramp_until = ramp_until, .nan_from = NEVER, .error_from = NEVER};
+    return (test_device){
+        .depth = depth, .ramp_until = ramp_until, .nan_from = NEVER, .error_from = NEVER, .burst_from = NEVER};
 }
 
 /* Every tick: never above max_force; the coupling spring's force
@@ -266,6 +269,50 @@ static void test_nonfinite_pose_and_device_error_ramp_to_zero(void** state) {
     rig_close(&broken);
 }
 
+/* Issue 32, item 1: a burst of finite poses no hand gives (1e308 m, far
+ * outside the workspace; 1e20; −1e200; a 0.3 m jump within a tick) is a
+ * device fault: the force ramps to zero, the tool holds its last good pose
+ * (finite), and when good poses come back the force is back within
+ * ramp_time. Before, the 1e308 burst overflowed the proxy to NaN: the
+ * force stayed 0 for the rest of the run. */
+static void assert_burst_recovers(double x, double from, double until) {
+    sb_haptics_def def = rig_def();
+    rig r = {.device = pressing(0.002, 0.5)};
+    r.device.burst_from = from;
+    r.device.burst_until = until;
+    r.device.burst_x = x;
+    rig_open(&r, &def, 300);
+    long done; /* the ticks run so far */
+    if (until - from > def.ramp_time + 0.02) {
+        assert_ramps_down(&r, from, SB_HAPTIC_FAULT_POSE);
+        done = (long)(from * RATE) + (long)((def.ramp_time + 0.01) * RATE);
+    } else {
+        done = (long)(from * RATE) + 2;
+        rig_run(&r, 0, done, 4, NULL);
+        assert_true(sb_haptics_faults(r.haptics) & SB_HAPTIC_FAULT_POSE);
+    }
+    double proxy[3];
+    sb_haptics_proxy(r.haptics, proxy);
+    assert_true(finite3(proxy));
+    TU_ASSERT_LE(fabs(proxy[0]), 1e-9); /* held where the last good pose put it */
+    long now = (long)(until * RATE) + 1;
+    rig_run(&r, done, now + (long)(def.ramp_time * RATE) + 3, 4, NULL);
+    assert_int_equal(sb_haptics_faults(r.haptics), 0);
+    TU_ASSERT_NEAR(r.device.force[2], 0.42, 1e-3);
+    sb_haptics_proxy(r.haptics, proxy);
+    assert_true(finite3(proxy));
+    rig_close(&r);
+}
+
+static void test_absurd_pose_burst_is_a_fault_and_recovers(void** state) {
+    (void)state;
+    assert_burst_recovers(1e308, 1.3, 1.4);
+    assert_burst_recovers(1e20, 1.3, 1.4);
+    assert_burst_recovers(-1e200, 1.3, 1.4);
+    assert_burst_recovers(0.6, 1.3, 1.4);   /* just outside the 0.5 m workspace */
+    assert_burst_recovers(0.3, 1.3, 1.305); /* inside it, but 0.3 m in a tick: 300 m/s */
+}
+
 static void assert_refused(sb_haptics_def def, const char* words) {
     rig r = {0};
     static const sb_haptic_device_ops ops = {test_read, test_write, NULL};
@@ -291,6 +338,15 @@ static void test_limits_refused(void** state) {
     def = rig_def();
     def.max_force = NAN;
     assert_refused(def, "max_force");
+    def = rig_def();
+    def.max_force = 1000; /* above the device's 3.3 N (issue 32, item 9) */
+    assert_refused(def, "max_force must be > 0 and at most the device's 3.3 N");
+    def = rig_def();
+    def.workspace = INFINITY;
+    assert_refused(def, "workspace");
+    def = rig_def();
+    def.hand_speed = 0;
+    assert_refused(def, "hand_speed");
     def = rig_def();
     def.rate = 0;
     assert_refused(def, "rate");
@@ -474,10 +530,45 @@ static void test_scripted_device_errors_name_the_line(void** state) {
     assert_scripted_refused("time,x,y\n0,0,0\n", "bad.csv:1: the header");
     assert_scripted_refused("time,x,y,z\n0,0,0,0\n0,1,1,1\n", "bad.csv:3: times must increase");
     assert_scripted_refused("time,x,y,z\n0,0,0\n", "bad.csv:2:");
-    assert_scripted_refused("time,x,y,z\n0,0,0,0,5\n", "bad.csv:2: expected 4 columns");
+    assert_scripted_refused("time,x,y,z\n0,0,0,0,5\n", "bad.csv:2: expected 4 columns, found 5");
     assert_scripted_refused("time,x,y,z,qw,qx,qy,qz\n0,0,0,0,2,0,0,0\n", "bad.csv:2: the quaternion");
     assert_scripted_refused("time,x,y,z,button\n0,0,0,0,0.5\n", "bad.csv:2: button");
     assert_scripted_refused("time,x,y,z\n", "no rows");
+    /* Issue 32, item 7: a NUL byte in a row was read as the row cut there (exit 0) */
+    static const char nul_row[] = "time,x,y,z\n0,0,0,0\n1,0,0,-0.01\0" "5\n";
+    FILE* f = fopen(tu_tmp_path("nul.csv"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(nul_row, 1, sizeof nul_row - 1, f), sizeof nul_row - 1);
+    fclose(f);
+    sb_haptic_device_def nul = sb_default_haptic_device_def();
+    nul.kind = "scripted";
+    nul.file = tu_tmp_path("nul.csv");
+    sb_error nul_err;
+    assert_null(sb_haptic_device_open(&nul, &nul_err));
+    if (!strstr(nul_err.message, "nul.csv:3: a NUL byte in the line")) fail_msg("got: %s", nul_err.message);
+    /* Issue 32, item 9: a 200 kB field was 'line 3: expected 4 columns' (fgets cut it into lines) */
+    size_t big = 200000;
+    char* text = malloc(big + 64);
+    assert_non_null(text);
+    int n = snprintf(text, 64, "time,x,y,z\n0,0,0,0\n1,0,0,");
+    memset(text + n, '1', big);
+    strcpy(text + n + big, "\n2,0,0,0\n");
+    assert_scripted_refused(text, "bad.csv:3: the line is 200007 bytes long, more than a row needs (at most 4096)");
+    free(text);
+    text = malloc(600);
+    assert_non_null(text);
+    n = snprintf(text, 64, "time,x,y,z\n\n\n0,0,0,0\n1,0,0,");
+    memset(text + n, '1', 300);
+    strcpy(text + n + 300, "\n");
+    assert_scripted_refused(text, "bad.csv:5: column 4 is 300 bytes long (at most 256)");
+    free(text);
+    assert_scripted_refused("time,x,y,z\n\n0,0,0,0\n\n1,0,abc,0\n", "bad.csv:5: column 3: expected a number, got 'abc'");
+    sb_haptic_device_def dir = sb_default_haptic_device_def();
+    dir.kind = "scripted";
+    dir.file = tu_tmp_dir;
+    sb_error dir_err;
+    assert_null(sb_haptic_device_open(&dir, &dir_err));
+    assert_non_null(strstr(dir_err.message, "is a directory"));
     sb_haptic_device_def def = sb_default_haptic_device_def();
     def.kind = "scripted";
     def.file = "/nonexistent/path.csv";
@@ -544,6 +635,7 @@ int main(void) {
         cmocka_unit_test(test_short_steps_move_the_tool_a_steps_share),
         cmocka_unit_test(test_stalled_simulation_ramps_to_zero_and_back),
         cmocka_unit_test(test_nonfinite_pose_and_device_error_ramp_to_zero),
+        cmocka_unit_test(test_absurd_pose_burst_is_a_fault_and_recovers),
         cmocka_unit_test(test_limits_refused),
         cmocka_unit_test(test_servo_thread_runs_and_stops),
         cmocka_unit_test(test_scene_runs_the_servo_and_writes_haptics_csv),

@@ -629,6 +629,52 @@ static void test_assimp_stl(void** state) {
     sb_mesh_free(&m);
 }
 
+/* Issue 32, item 6: an ASCII PLY's every token is checked before assimp
+ * reads it, the message naming file:line. Before, a face index 'abc',
+ * 'nan' or '1e3' dropped the face as degenerate (exit 0), '1,5' was read
+ * as 1, NaN coordinates gave 'No meshes remaining'. */
+static void assert_ply_refused(const char* vertices, const char* faces, const char* message) {
+    char text[1024], name[32], expected[512];
+    static int n = 0;
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 1\nproperty list uchar int vertex_indices\nend_header\n%s%s",
+             vertices, faces);
+    snprintf(name, sizeof name, "bad%d.ply", n++);
+    const char* path = write_file(name, text);
+    sb_mesh m;
+    sb_error err;
+    assert_int_equal(sb_mesh_load(path, &m, &err), SB_ERR_PARSE);
+    snprintf(expected, sizeof expected, "%s:%s", path, message);
+    if (strcmp(err.message, expected) != 0) fail_msg("expected '%s', got '%s'", expected, err.message);
+}
+
+static void test_ply_ascii_tokens_checked(void** state) {
+    (void)state;
+    const char* good = "0 0 0\n1 0 0\n0 1 0\n";
+    assert_ply_refused(good, "3 0 1 abc\n", "13: face 0: 'abc' is not an integer (int)");
+    assert_ply_refused(good, "3 0 1 nan\n", "13: face 0: 'nan' is not an integer (int)");
+    assert_ply_refused(good, "3 0 1 1e3\n", "13: face 0: '1e3' is not an integer (int)");
+    assert_ply_refused(good, "3 0 1 3\n", "13: face 0: vertex index 3, but there are 3 vertices");
+    assert_ply_refused(good, "3 0 1\n", "13: face 0: too few values on the line");
+    assert_ply_refused(good, "3 0 1 2 7\n", "13: face 0: more values on the line than its 1 properties");
+    assert_ply_refused(good, "300 0 1 2\n", "13: face 0: 300 is out of uchar's range");
+    assert_ply_refused("0 0 0\n1,5 0 0\n0 1 0\n", "3 0 1 2\n", "11: vertex 1: '1,5' is not a finite number (float)");
+    assert_ply_refused("0 0 0\n1 0 0\nnan nan nan\n", "3 0 1 2\n", "12: vertex 2: 'nan' is not a finite number (float)");
+    assert_ply_refused("0 0 0\n1 0 0\n0 1 0\n", "\n\n\n", "16: ends at face 0 of the 1 declared");
+    assert_ply_refused(good, "3 0 1 2\n3 0 1 2\n", "14: a line after the 3 'vertex', 1 'face' the header declares");
+    /* and a good one still loads */
+    const char* path = write_file("good.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                              "property float y\nproperty float z\nelement face 1\n"
+                                              "property list uchar int vertex_indices\nend_header\n"
+                                              "0 0 0\n1.5e-1 0 0\n0 -1 0\n3 0 1 2\n");
+    sb_mesh m;
+    sb_error err;
+    if (sb_mesh_load(path, &m, &err) != SB_OK) fail_msg("%s", err.message);
+    assert_int_equal(m.triangle_count, 1);
+    sb_mesh_free(&m);
+}
+
 static void test_assimp_ply(void** state) {
     (void)state;
     /* A square of two quads sharing an edge, and a lone point face-less. */
@@ -722,6 +768,7 @@ int main(void) {
         cmocka_unit_test(test_obj_extension_case), cmocka_unit_test(test_obj_errors),
         cmocka_unit_test(test_off_read),           cmocka_unit_test(test_off_errors),
         cmocka_unit_test(test_assimp_stl),         cmocka_unit_test(test_assimp_ply),
+        cmocka_unit_test(test_ply_ascii_tokens_checked),
         cmocka_unit_test(test_assimp_errors),      cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_free_zeroed),
     };

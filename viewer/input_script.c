@@ -1,5 +1,6 @@
 /* Scripted input for the viewer (viewer/input_script.h): read whole, each
  * line checked, the first bad one named by file and line. */
+#define _POSIX_C_SOURCE 200809L
 #include "viewer/input_script.h"
 #include "common/error.h"
 
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 enum { LINE_MAX_BYTES = 512 };
 
@@ -101,19 +103,38 @@ static sb_status parse_line(sb_input_script* s, char* line, const char* path, si
     return append(s, time, &e, err);
 }
 
+/* A directory opened for reading reads as nothing: `view --script DIR`
+ * was an empty script (exit 0, or no end without --frames). Only a regular
+ * file or a pipe is a script. */
+static sb_status open_script(const char* path, FILE** f, sb_error* err) {
+    *f = fopen(path, "r");
+    if (!*f) return sb_error_at(err, SB_ERR_IO, path, 0, "cannot read: %s", strerror(errno));
+    struct stat info;
+    if (fstat(fileno(*f), &info) == 0 && (S_ISREG(info.st_mode) || S_ISFIFO(info.st_mode))) return SB_OK;
+    bool directory = S_ISDIR(info.st_mode);
+    fclose(*f);
+    *f = NULL;
+    return sb_error_at(err, SB_ERR_IO, path, 0, "%s", directory ? "is a directory, not a script" : "not a regular file");
+}
+
 sb_status sb_input_script_load(const char* path, sb_input_script* out, sb_error* err) {
     *out = (sb_input_script){0};
-    FILE* f = fopen(path, "r");
-    if (!f) return sb_error_at(err, SB_ERR_IO, path, 0, "cannot read: %s", strerror(errno));
-    char line[LINE_MAX_BYTES];
-    sb_status status = SB_OK;
-    for (size_t number_of_line = 1; status == SB_OK && fgets(line, sizeof line, f); number_of_line++) {
-        if (!strchr(line, '\n') && !feof(f))
-            status =
-                sb_error_at(err, SB_ERR_INVALID, path, number_of_line, "line longer than %d bytes", LINE_MAX_BYTES - 2);
+    FILE* f;
+    sb_status status = open_script(path, &f, err);
+    if (status != SB_OK) return status;
+    char* line = NULL;
+    size_t capacity = 0;
+    ssize_t length;
+    for (size_t number_of_line = 1; status == SB_OK && (length = getline(&line, &capacity, f)) >= 0; number_of_line++) {
+        if (memchr(line, '\0', (size_t)length)) /* it was 'line longer than 510 bytes' */
+            status = sb_error_at(err, SB_ERR_INVALID, path, number_of_line, "a NUL byte in the line");
+        else if (length > LINE_MAX_BYTES - 2 + (line[length - 1] == '\n'))
+            status = sb_error_at(err, SB_ERR_INVALID, path, number_of_line, "line longer than %d bytes (%zd)",
+                                 LINE_MAX_BYTES - 2, length);
         else
             status = parse_line(out, line, path, number_of_line, err);
     }
+    free(line);
     fclose(f);
     if (status != SB_OK) sb_input_script_free(out);
     return status;

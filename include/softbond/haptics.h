@@ -127,8 +127,16 @@ typedef struct sb_haptics_def {
     double rate;             /**< Hz, the servo's (default 1000) */
     double stiffness;        /**< N/m, the coupling's K (default 700 = 0.7 N/mm) */
     double damping;          /**< N s/m, the coupling's b (default K / rate: twice K T / 2) */
-    double max_force;        /**< N, |f| never above it (default 3.3, a Phantom Omni's peak) */
+    double max_force;        /**< N, |f| never above it (default 3.3); at most device_max_force */
     double device_stiffness; /**< N/m, the device's limit: K above it is refused (default 700) */
+    double device_max_force; /**< N, the device's peak: max_force above it is refused (default 3.3, an Omni's) */
+    /** m: the device's workspace, a ball of this radius about its origin
+     * (default 0.5). A pose outside it is a device fault (the force ramps
+     * down, the tool holds its last good pose). */
+    double workspace;
+    /** m/s: the fastest a hand moves the device (default 10). A pose that
+     * far from the last good one faster than this is a device fault. */
+    double hand_speed;
     double stall_time;       /**< s without a new step before the force ramps down (default 0.05) */
     double ramp_time;        /**< s, a ramp from full force to zero or back (default 0.05) */
     /** s: the tool's contact force is averaged over about this time (an
@@ -154,7 +162,11 @@ SB_API sb_haptics_def sb_default_haptics_def(void);
 enum {
     SB_HAPTIC_FAULT_STALL = 1u,     /**< no new simulation step for stall_time */
     SB_HAPTIC_FAULT_NONFINITE = 2u, /**< a pose, the contact model or the force was not finite */
-    SB_HAPTIC_FAULT_DEVICE = 4u     /**< the device's read or write failed */
+    SB_HAPTIC_FAULT_DEVICE = 4u,    /**< the device's read or write failed */
+    /** a finite pose no hand gave: outside the workspace, moved faster than
+     * hand_speed from the last good pose, or its orientation not a unit
+     * quaternion (norm outside 0.5 to 2) */
+    SB_HAPTIC_FAULT_POSE = 8u
 };
 
 /** One servo tick as the log keeps it (and haptics.csv writes it). */

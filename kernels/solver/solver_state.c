@@ -46,6 +46,7 @@
 #include "common/error.h"
 #include "common/sections.h"
 
+#include <math.h>
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
@@ -73,6 +74,24 @@ static void sb_clock_load(sb_solver* s, sb_cursor* r) {
     s->advance_dt = values[4], s->step.dt = values[5];
     s->has_displacement = flags[0] != 0;
     s->published = flags[1] != 0;
+}
+
+/* The clock's length and values: the time and the step sizes finite and
+ * not negative, the energy peak finite (a NaN time, its checksum recomputed, was taken as it was). */
+static sb_status sb_clock_check(const sb_solver* s, sb_cursor r, sb_error* err) {
+    (void)s;
+    double values[6];
+    uint64_t steps;
+    uint8_t flags[2];
+    if (r.left != sizeof values + sizeof steps + sizeof flags || !sb_cursor_take(&r, values, sizeof values))
+        return sb_error_set(err, SB_ERR_PARSE, "section CLCK (clock) has %zu bytes, this solver's %zu", r.left,
+                            sizeof values + sizeof steps + sizeof flags);
+    static const char* const names[6] = {"time", "last step", "adaptive sub-step", "adaptive energy peak",
+                                         "advance", "step"};
+    for (int k = 0; k < 6; k++)
+        if (!(isfinite(values[k]) && (values[k] >= 0 || k == 3) && fabs(values[k]) < 1e300))
+            return sb_error_set(err, SB_ERR_PARSE, "the clock's %s is out of range (%g)", names[k], values[k]);
+    return SB_OK;
 }
 
 static void sb_energies_save(const sb_solver* s, sb_sections_writer* w) {
@@ -198,7 +217,7 @@ static const sb_state_part sb_parts[] = {
     {{'V', 'B', 'D', 'V'}, "vbd's last velocities", sb_has_vbd, sb_vbd_save, NULL, sb_vbd_load},
     {{'I', 'M', 'P', 'G'}, "implicit guess", sb_has_implicit_fast, sb_implicit_fast_save, NULL, sb_implicit_fast_load},
     {{'A', 'R', 'R', 'S'}, "step arrays", sb_always, sb_arrays_save, NULL, sb_arrays_load},
-    {{'C', 'L', 'C', 'K'}, "clock", sb_always, sb_clock_save, NULL, sb_clock_load},
+    {{'C', 'L', 'C', 'K'}, "clock", sb_always, sb_clock_save, sb_clock_check, sb_clock_load},
     {{'S', 'T', 'A', 'T'}, "step statistics", sb_always, sb_stats_save, NULL, sb_stats_load},
     {{'E', 'N', 'R', 'G'}, "energies", sb_always, sb_energies_save, NULL, sb_energies_load},
 };

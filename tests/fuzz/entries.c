@@ -11,6 +11,8 @@
  *                  sb_tet_mesh_load, sb_tet_mesh_check, sb_tet_mesh_surface
  *   gmsh           the same for a .msh file
  *   positions_csv  sb_positions_read for a mesh of 4 vertices
+ *   haptics_csv    sb_haptic_device_open of a scripted trajectory, then
+ *                  five reads
  *   assimp_ply     sb_mesh_load_ex of a .ply file: the PLY check, then
  *                  assimp in its isolated child
  *   checkpoint     sb_checkpoint_read (`softbond run --resume`) of the bytes
@@ -104,6 +106,24 @@ static int obj(const uint8_t* data, size_t size) { return surface_both_ways(".ob
 static int off(const uint8_t* data, size_t size) { return surface_both_ways(".off", data, size); }
 static int irit(const uint8_t* data, size_t size) { return surface_both_ways(".itd", data, size); }
 static int pov(const uint8_t* data, size_t size) { return surface_both_ways(".pov", data, size); }
+
+/* The scripted haptic device's trajectory (common/csv.h's tokenizer, as
+ * positions_csv), opened and read at a few times. */
+static int haptics_csv(const uint8_t* data, size_t size) {
+    const char* path = write_input(".csv", data, size);
+    if (!path) return 0;
+    sb_haptic_device_def def = sb_default_haptic_device_def();
+    def.kind = "scripted";
+    def.file = path;
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_open(&def, &err);
+    if (device) {
+        sb_haptic_pose pose;
+        for (int k = -1; k < 4; k++) sb_haptic_device_read(device, 0.5 * k, &pose);
+        sb_haptic_device_close(device);
+    }
+    return 0;
+}
 
 static int assimp_ply(const uint8_t* data, size_t size) {
     load_surface(write_input(".ply", data, size), false);
@@ -268,6 +288,7 @@ const sb_fuzz_entry sb_fuzz_entries[] = {
     {"tetgen", tetgen},
     {"gmsh", gmsh},
     {"positions_csv", positions_csv},
+    {"haptics_csv", haptics_csv},
     {"assimp_ply", assimp_ply},
     {"checkpoint", checkpoint},
 };

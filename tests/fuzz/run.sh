@@ -1,7 +1,7 @@
 #!/bin/sh
 # Fuzzes softbond's parsers with clang's libFuzzer, each harness for a given
 # time (tests/fuzz/entries.c: scene_yaml, scene_set, obj, off, irit, pov,
-# tetgen, gmsh, positions_csv, assimp_ply), under the address and
+# tetgen, gmsh, positions_csv, haptics_csv, assimp_ply), under the address and
 # undefined-behaviour sanitizers:
 #
 #   tests/fuzz/run.sh SECONDS [HARNESS...] [--build DIR]
