@@ -61,6 +61,19 @@ typedef struct sb_hinge_def {
     double k; /**< J/rad² */
 } sb_hinge_def;
 
+/** A tetrahedron of co-rotated linear elastic material (Müller & Gross
+ * 2004): energy ½ (Rᵀx − x0)ᵀ K0 (Rᵀx − x0), K0 the linear element's
+ * stiffness from E, ν and the rest shape (the vertices' positions), R the
+ * rotation of the polar decomposition of the deformation gradient; forces
+ * are its exact negative gradient. The vertex order may be either
+ * orientation; the volume must not be zero. No damping: use the solver's
+ * drag. */
+typedef struct sb_tet_def {
+    uint32_t v[4];        /**< the vertices, either orientation */
+    double young_modulus; /**< E, Pa (>= 0) */
+    double poisson_ratio; /**< ν, in (−1, 0.5) */
+} sb_tet_def;
+
 SB_API sb_vertex_def sb_default_vertex_def(void);
 SB_API sb_bond_def sb_default_bond_def(void);
 SB_API sb_triangle_def sb_default_triangle_def(void);
@@ -79,6 +92,8 @@ SB_API int64_t sb_builder_add_vertex(sb_builder* builder, const sb_vertex_def* d
 SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
 SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
+/** Adds a co-rotated tetrahedron (sb_tet_def); returns its index or −1. */
+SB_API int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def);
 
 SB_API uint32_t sb_builder_vertex_count(const sb_builder* builder);
 /** Changes a vertex after it was added (to pin it, give it a mass, ...). */
