@@ -27,6 +27,7 @@ void sb_builder_destroy(sb_builder* builder) {
     free(builder->bonds.items);
     free(builder->triangles.items);
     free(builder->hinges.items);
+    free(builder->tets.items);
     free(builder);
 }
 
@@ -59,6 +60,10 @@ int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def)
 
 int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def) {
     return sb_array_push(&builder->hinges, def, sizeof *def);
+}
+
+int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def) {
+    return sb_array_push(&builder->tets, def, sizeof *def);
 }
 
 uint32_t sb_builder_vertex_count(const sb_builder* builder) { return (uint32_t)builder->vertices.count; }

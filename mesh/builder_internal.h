@@ -14,6 +14,7 @@ struct sb_builder {
     sb_array bonds;     /* sb_bond_def */
     sb_array triangles; /* sb_triangle_def */
     sb_array hinges;    /* sb_hinge_def */
+    sb_array tets;      /* sb_tet_def */
 };
 
 #define SB_ITEMS(array, type) ((const type*)(array).items)

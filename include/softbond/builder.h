@@ -83,6 +83,19 @@ typedef struct sb_hinge_def {
     double k; /**< J/rad² */
 } sb_hinge_def;
 
+/** A tetrahedron of co-rotated linear elastic material (Müller & Gross
+ * 2004): energy ½ (Rᵀx − x0)ᵀ K0 (Rᵀx − x0), K0 the linear element's
+ * stiffness from E, ν and the rest shape (the vertices' positions), R the
+ * rotation of the polar decomposition of the deformation gradient; forces
+ * are its exact negative gradient. The vertex order may be either
+ * orientation; the volume must not be zero. No damping: use the solver's
+ * drag. */
+typedef struct sb_tet_def {
+    uint32_t v[4];        /**< the vertices, either orientation */
+    double young_modulus; /**< E, Pa (>= 0) */
+    double poisson_ratio; /**< ν, in (−1, 0.5) */
+} sb_tet_def;
+
 /** A free vertex of 1 kg at rest at the origin. */
 SB_API sb_vertex_def sb_default_vertex_def(void);
 /** A bond between vertices 0 and 0 (set i and j) with no stiffness and no
@@ -113,6 +126,8 @@ SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
 SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
 /** Adds a copy of *def; the index or -1 as sb_builder_add_vertex. */
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
+/** Adds a co-rotated tetrahedron (sb_tet_def); returns its index or −1. */
+SB_API int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def);
 
 /** The vertices added so far: the index the next one gets (a factory adds
  * its mesh's vertices from there). */

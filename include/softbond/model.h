@@ -23,6 +23,7 @@ typedef enum sb_term {
     SB_TERM_STRETCH_BEND, /**< stretch-bend, Sekercioglu & Duysak 2009 Eq. 5 */
     SB_TERM_SPRING,       /**< damped spring, Sekercioglu & Duysak 2009 Eq. 2 */
     SB_TERM_BEND,         /**< dihedral hinge */
+    SB_TERM_COROTATED,    /**< co-rotated linear elasticity of tetrahedra (Müller & Gross 2004) */
     SB_TERM_COUNT
 } sb_term;
 
@@ -41,6 +42,8 @@ SB_API uint32_t sb_model_bond_count(const sb_model* model);
 SB_API uint32_t sb_model_triangle_count(const sb_model* model);
 /** The number of hinges, in the order they were added. */
 SB_API uint32_t sb_model_hinge_count(const sb_model* model);
+/** Tetrahedra of the co-rotated elastic term (sb_builder_add_tet). */
+SB_API uint32_t sb_model_tet_count(const sb_model* model);
 /** Whether the model carries the term (some element has a constant > 0);
  * false for a term out of range. */
 SB_API bool sb_model_term_enabled(const sb_model* model, sb_term term);

@@ -63,12 +63,21 @@ SB_API sb_status sb_tet_mesh_check(const sb_tet_mesh* mesh, sb_error* err);
  * the surface can stand for the volume in frames, pins and `info`. */
 SB_API sb_status sb_tet_mesh_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
 
+/** How a tissue's tetrahedra resist deformation. */
+typedef enum sb_tissue_model {
+    SB_TISSUE_SPRINGS = 0, /**< Lloyd's damped edge springs (the papers'): E only, no ν; see sb_builder_add_tet_mesh */
+    SB_TISSUE_COROTATED    /**< co-rotated linear finite elements (sb_tet_def): E and ν, undamped */
+} sb_tissue_model;
+
 /** A soft tissue: Young's modulus, density, and a factor on the default
- * damping rule (1 = the rule, 0 = undamped). */
+ * damping rule (1 = the rule, 0 = undamped); the model, and Poisson's ratio
+ * for the corotated one. */
 typedef struct sb_tissue_def {
     double young_modulus; /**< Pa */
     double density;       /**< kg/m³ */
-    double damping;       /**< dimensionless factor */
+    double damping;       /**< dimensionless factor (springs only) */
+    double poisson_ratio; /**< ν (corotated only), in (−1, 0.5) */
+    sb_tissue_model model; /**< springs (the default) or corotated */
 } sb_tissue_def;
 
 /** Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */

@@ -50,7 +50,7 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 1
+#define SB_STATE_VERSION 2 /* 2: the energies carry the corotated term */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -267,6 +267,15 @@ static uint64_t sb_state_hash(const sb_solver* s) {
                  {m->hinge_k, 8 * nh}};
     uint64_t h = SB_HASH_START;
     for (size_t p = 0; p < sizeof parts / sizeof *parts; p++) h = sb_hash(h, parts[p].data, parts[p].bytes);
+    if (m->tet_count) { /* only then, so that the hashes of models without them stay as they were */
+        size_t nq = m->tet_count;
+        h = sb_hash(h, &m->tet_count, 4);
+        for (int c = 0; c < 4; c++) h = sb_hash(h, m->tet_v[c], 4 * nq);
+        for (int c = 0; c < 9; c++) h = sb_hash(h, m->tet_dm_inv[c], 8 * nq);
+        h = sb_hash(h, m->tet_volume, 8 * nq);
+        h = sb_hash(h, m->tet_mu, 8 * nq);
+        h = sb_hash(h, m->tet_lambda, 8 * nq);
+    }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {
         d->integrator,           d->kernels, d->adaptive, d->self_collision, (int32_t)d->collider_count,

@@ -1,0 +1,10 @@
+/* Private: the scalar reference for the co-rotated tetrahedra (kernels/forces/reference_tets.c). */
+#ifndef SB_REFERENCE_TETS_H
+#define SB_REFERENCE_TETS_H
+
+#include "mesh/model_internal.h"
+
+/* Co-rotated linear elasticity of the tetrahedra, in tetrahedron order. */
+sb_status sb_reference_tets(const sb_model* m, const double* x, double* f, double* energy, sb_error* err);
+
+#endif

@@ -1,0 +1,249 @@
+/* The finite-element oracle (tests/test_fem.c): CalculiX (`ccx`, Debian's
+ * calculix-ccx) run on the same tetrahedra softbond uses, written as C3D4
+ * or converted to quadratic C3D10 (a node at each edge's middle), with the
+ * same clamps, prescribed displacements and loads; its displacements read
+ * back from the .dat file (*NODE PRINT). In C, beside the tests, so that
+ * the mesh ccx solves is the very array softbond is built from and the
+ * oracle needs nothing beyond ccx itself.
+ *
+ * Loads: a uniform traction on the faces at x = L becomes each face's
+ * consistent nodal loads (linear face: a third of T A to each corner;
+ * quadratic face: a third to each middle node, none to the corners); gravity
+ * is ccx's GRAV load on the density (softbond: the lumped masses ρ V / 4). */
+#ifndef SB_FEM_ORACLE_H
+#define SB_FEM_ORACLE_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct fem_mesh {
+    uint32_t nodes, tets;
+    double* x;     /* 3 a node */
+    uint32_t* tet; /* 4 a tetrahedron, positive volume */
+} fem_mesh;
+
+/* A box [0, lx] × [0, ly] × [0, lz] of nx × ny × nz cubes, each cut into
+ * the six tetrahedra around its diagonal (Freudenthal/Kuhn: conforming). */
+static inline fem_mesh fem_box(double lx, double ly, double lz, int nx, int ny, int nz) {
+    fem_mesh m;
+    m.nodes = (uint32_t)((nx + 1) * (ny + 1) * (nz + 1));
+    m.tets = (uint32_t)(6 * nx * ny * nz);
+    m.x = malloc(3 * sizeof(double) * m.nodes);
+    m.tet = malloc(4 * sizeof(uint32_t) * m.tets);
+#define FEM_ID(i, j, k) ((uint32_t)(((k) * (ny + 1) + (j)) * (nx + 1) + (i)))
+    for (int k = 0; k <= nz; k++)
+        for (int j = 0; j <= ny; j++)
+            for (int i = 0; i <= nx; i++) {
+                double* p = m.x + 3 * FEM_ID(i, j, k);
+                p[0] = lx * i / nx;
+                p[1] = ly * j / ny;
+                p[2] = lz * k / nz;
+            }
+    static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    uint32_t t = 0;
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++)
+                for (int p = 0; p < 6; p++) {
+                    int c[3] = {0, 0, 0};
+                    uint32_t* v = m.tet + 4 * t++;
+                    v[0] = FEM_ID(i, j, k);
+                    for (int s = 0; s < 3; s++) {
+                        c[perms[p][s]] = 1;
+                        v[s + 1] = FEM_ID(i + c[0], j + c[1], k + c[2]);
+                    }
+                    const double *a = m.x + 3 * v[0], *b = m.x + 3 * v[1], *cc = m.x + 3 * v[2], *d = m.x + 3 * v[3];
+                    double u[3], w[3], z[3];
+                    for (int q = 0; q < 3; q++) u[q] = b[q] - a[q], w[q] = cc[q] - a[q], z[q] = d[q] - a[q];
+                    double vol = u[0] * (w[1] * z[2] - w[2] * z[1]) - u[1] * (w[0] * z[2] - w[2] * z[0]) +
+                                 u[2] * (w[0] * z[1] - w[1] * z[0]);
+                    if (vol < 0) {
+                        uint32_t s2 = v[2];
+                        v[2] = v[3];
+                        v[3] = s2;
+                    }
+                }
+#undef FEM_ID
+    return m;
+}
+
+static inline void fem_mesh_free(fem_mesh* m) {
+    free(m->x);
+    free(m->tet);
+}
+
+/* A problem: which nodes are held (all of a node's x at `at` along `axis`,
+ * within 1e-9), a prescribed displacement for another plane, a traction on
+ * the faces of a plane, gravity. */
+typedef struct fem_case {
+    double young_modulus, poisson_ratio, density;
+    int clamp_axis;
+    double clamp_at;
+    int move_axis; /* −1: none; else the nodes at move_at get displacement `move` (all three components) */
+    double move_at, move[3];
+    int traction_axis; /* −1: none */
+    double traction_at, traction[3];
+    double gravity[3];
+} fem_case;
+
+static inline bool fem_on(const double* p, int axis, double at) { return axis >= 0 && fabs(p[axis] - at) < 1e-9; }
+
+/* The faces on the traction's plane: calls add(user, node, force) with the
+ * consistent nodal loads of the linear (quadratic = false) or quadratic
+ * face; mid[] gives each tetrahedron's six middle nodes for quadratic. */
+static const int fem_faces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+/* edge index of (a, b) in C3D10's order: 01 12 02 03 13 23 */
+static inline int fem_edge_slot(int a, int b) {
+    if (a > b) {
+        int s = a;
+        a = b;
+        b = s;
+    }
+    static const int slot[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
+    return slot[a][b];
+}
+
+static inline void fem_traction_loads(const fem_mesh* m, const fem_case* c, const uint32_t* mid, double* load) {
+    if (c->traction_axis < 0) return;
+    for (uint32_t t = 0; t < m->tets; t++)
+        for (int f = 0; f < 4; f++) {
+            const uint32_t* v = m->tet + 4 * t;
+            bool on = true;
+            for (int q = 0; q < 3; q++) on &= fem_on(m->x + 3 * v[fem_faces[f][q]], c->traction_axis, c->traction_at);
+            if (!on) continue;
+            const double *a = m->x + 3 * v[fem_faces[f][0]], *b = m->x + 3 * v[fem_faces[f][1]],
+                         *d = m->x + 3 * v[fem_faces[f][2]];
+            double u[3], w[3];
+            for (int q = 0; q < 3; q++) u[q] = b[q] - a[q], w[q] = d[q] - a[q];
+            double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+            double area = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int q = 0; q < 3; q++) {
+                uint32_t node;
+                if (mid) {
+                    int e = fem_edge_slot(fem_faces[f][q], fem_faces[f][(q + 1) % 3]);
+                    node = mid[6 * t + e];
+                } else {
+                    node = v[fem_faces[f][q]];
+                }
+                for (int k = 0; k < 3; k++) load[3 * node + k] += c->traction[k] * area / 3.0;
+            }
+        }
+}
+
+typedef struct fem_edge {
+    uint32_t a, b;
+} fem_edge;
+static int fem_edge_cmp(const void* p, const void* q) {
+    const fem_edge *x = p, *y = q;
+    if (x->a != y->a) return x->a < y->a ? -1 : 1;
+    return x->b < y->b ? -1 : x->b > y->b;
+}
+
+/* Runs ccx in dir on the mesh (C3D10 when quadratic) and fills u (3 a
+ * corner node, the mesh's numbering) with its displacements. 0 on success. */
+static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c, bool quadratic, double* u) {
+    uint32_t total = m->nodes;
+    uint32_t* mid = NULL;
+    double* xs = NULL;
+    if (quadratic) { /* a node at each edge's middle, numbered after the corners */
+        fem_edge* edges = malloc(6 * sizeof(fem_edge) * m->tets);
+        static const int ends[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+        for (uint32_t t = 0; t < m->tets; t++)
+            for (int e = 0; e < 6; e++) {
+                uint32_t a = m->tet[4 * t + ends[e][0]], b = m->tet[4 * t + ends[e][1]];
+                edges[6 * t + e] = (fem_edge){a < b ? a : b, a < b ? b : a};
+            }
+        size_t n = 6 * (size_t)m->tets, unique = 0;
+        fem_edge* sorted = malloc(sizeof(fem_edge) * n);
+        memcpy(sorted, edges, sizeof(fem_edge) * n);
+        qsort(sorted, n, sizeof *sorted, fem_edge_cmp);
+        for (size_t k = 0; k < n; k++)
+            if (!unique || fem_edge_cmp(sorted + unique - 1, sorted + k)) sorted[unique++] = sorted[k];
+        total = m->nodes + (uint32_t)unique;
+        xs = malloc(3 * sizeof(double) * total);
+        memcpy(xs, m->x, 3 * sizeof(double) * m->nodes);
+        for (size_t k = 0; k < unique; k++)
+            for (int q = 0; q < 3; q++)
+                xs[3 * (m->nodes + k) + q] = 0.5 * (m->x[3 * sorted[k].a + q] + m->x[3 * sorted[k].b + q]);
+        mid = malloc(6 * sizeof(uint32_t) * m->tets);
+        for (size_t k = 0; k < n; k++) {
+            fem_edge* hit = bsearch(edges + k, sorted, unique, sizeof *sorted, fem_edge_cmp);
+            mid[k] = m->nodes + (uint32_t)(hit - sorted);
+        }
+        free(edges);
+        free(sorted);
+    }
+    const double* x = quadratic ? xs : m->x;
+    double* load = calloc(3 * (size_t)total, sizeof(double));
+    fem_traction_loads(m, c, mid, load);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/fem.inp", dir);
+    FILE* f = fopen(path, "w");
+    if (!f) return -1;
+    fprintf(f, "*NODE, NSET=NALL\n");
+    for (uint32_t i = 0; i < total; i++) fprintf(f, "%u, %.17g, %.17g, %.17g\n", i + 1, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    fprintf(f, "*ELEMENT, TYPE=%s, ELSET=EALL\n", quadratic ? "C3D10" : "C3D4");
+    for (uint32_t t = 0; t < m->tets; t++) {
+        const uint32_t* v = m->tet + 4 * t;
+        fprintf(f, "%u, %u, %u, %u, %u", t + 1, v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1);
+        if (quadratic) /* C3D10: 12 23 31 14 24 34, our slots 0 1 2 3 4 5 */
+            for (int e = 0; e < 6; e++) fprintf(f, ", %u", mid[6 * t + e] + 1);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "*MATERIAL, NAME=TISSUE\n*ELASTIC\n%.17g, %.17g\n*DENSITY\n%.17g\n", c->young_modulus, c->poisson_ratio,
+            c->density);
+    fprintf(f, "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n*STEP\n*STATIC\n*BOUNDARY\n");
+    for (uint32_t i = 0; i < total; i++) {
+        if (fem_on(x + 3 * i, c->clamp_axis, c->clamp_at)) fprintf(f, "%u, 1, 3, 0\n", i + 1);
+        if (fem_on(x + 3 * i, c->move_axis, c->move_at))
+            for (int k = 0; k < 3; k++) fprintf(f, "%u, %d, %d, %.12g\n", i + 1, k + 1, k + 1, c->move[k]);
+    }
+    bool any = false;
+    for (uint32_t i = 0; i < total; i++)
+        for (int k = 0; k < 3; k++)
+            if (load[3 * i + k] != 0.0) {
+                if (!any) fprintf(f, "*CLOAD\n");
+                any = true;
+                fprintf(f, "%u, %d, %.12g\n", i + 1, k + 1, load[3 * i + k]);
+            }
+    double g = sqrt(c->gravity[0] * c->gravity[0] + c->gravity[1] * c->gravity[1] + c->gravity[2] * c->gravity[2]);
+    if (g > 0.0)
+        fprintf(f, "*DLOAD\nEALL, GRAV, %.17g, %.17g, %.17g, %.17g\n", g, c->gravity[0] / g, c->gravity[1] / g,
+                c->gravity[2] / g);
+    fprintf(f, "*NODE PRINT, NSET=NALL\nU\n*END STEP\n");
+    fclose(f);
+    free(load);
+    free(xs);
+    free(mid);
+    char command[2600];
+    snprintf(command, sizeof command, "cd '%s' && OMP_NUM_THREADS=2 ccx -i fem > ccx.log 2>&1", dir);
+    if (system(command) != 0) return -2;
+    snprintf(path, sizeof path, "%s/fem.dat", dir);
+    f = fopen(path, "r");
+    if (!f) return -3;
+    char line[512];
+    uint32_t read = 0;
+    bool in = false;
+    while (fgets(line, sizeof line, f)) {
+        if (strstr(line, "displacements")) {
+            in = true;
+            continue;
+        }
+        unsigned id;
+        double a, b, d;
+        if (in && sscanf(line, "%u %lf %lf %lf", &id, &a, &b, &d) == 4 && id >= 1 && id <= m->nodes) {
+            u[3 * (id - 1)] = a;
+            u[3 * (id - 1) + 1] = b;
+            u[3 * (id - 1) + 2] = d;
+            read++;
+        }
+    }
+    fclose(f);
+    return read == m->nodes ? 0 : -4;
+}
+
+#endif
