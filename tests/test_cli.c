@@ -913,7 +913,7 @@ static void test_help_and_version(void** state) {
     tu_result_free(&r);
 }
 
-/* Issue 32, item 5: a thickness larger than the body (contact.thickness:
+/* A thickness larger than the body (contact.thickness:
  * 10, metres, in a scene of centimetres) is refused with the key's place;
  * it used to run at 1.3 s a step in silence. */
 static void test_thickness_against_the_body_refused(void** state) {
@@ -930,7 +930,7 @@ static void test_thickness_against_the_body_refused(void** state) {
                           "collider 'ball': radius 50 m is more than 100 times the body's whole extent (0.361 m");
 }
 
-/* Issue 32, item 9: messages that name their place and their real cause. */
+/* Messages that name their place and their real cause. */
 static void test_messages_name_place_and_cause(void** state) {
     (void)state;
     /* --output FILE: it said 'File exists' */

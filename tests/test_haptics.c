@@ -269,7 +269,7 @@ static void test_nonfinite_pose_and_device_error_ramp_to_zero(void** state) {
     rig_close(&broken);
 }
 
-/* Issue 32, item 1: a burst of finite poses no hand gives (1e308 m, far
+/* A burst of finite poses no hand gives (1e308 m, far
  * outside the workspace; 1e20; −1e200; a 0.3 m jump within a tick) is a
  * device fault: the force ramps to zero, the tool holds its last good pose
  * (finite), and when good poses come back the force is back within
@@ -339,7 +339,7 @@ static void test_limits_refused(void** state) {
     def.max_force = NAN;
     assert_refused(def, "max_force");
     def = rig_def();
-    def.max_force = 1000; /* above the device's 3.3 N (issue 32, item 9) */
+    def.max_force = 1000; /* above the device's 3.3 N */
     assert_refused(def, "max_force must be > 0 and at most the device's 3.3 N");
     def = rig_def();
     def.workspace = INFINITY;
@@ -534,7 +534,7 @@ static void test_scripted_device_errors_name_the_line(void** state) {
     assert_scripted_refused("time,x,y,z,qw,qx,qy,qz\n0,0,0,0,2,0,0,0\n", "bad.csv:2: the quaternion");
     assert_scripted_refused("time,x,y,z,button\n0,0,0,0,0.5\n", "bad.csv:2: button");
     assert_scripted_refused("time,x,y,z\n", "no rows");
-    /* Issue 32, item 7: a NUL byte in a row was read as the row cut there (exit 0) */
+    /* A NUL byte in a row was read as the row cut there (exit 0) */
     static const char nul_row[] = "time,x,y,z\n0,0,0,0\n1,0,0,-0.01\0" "5\n";
     FILE* f = fopen(tu_tmp_path("nul.csv"), "wb");
     assert_non_null(f);
@@ -546,7 +546,7 @@ static void test_scripted_device_errors_name_the_line(void** state) {
     sb_error nul_err;
     assert_null(sb_haptic_device_open(&nul, &nul_err));
     if (!strstr(nul_err.message, "nul.csv:3: a NUL byte in the line")) fail_msg("got: %s", nul_err.message);
-    /* Issue 32, item 9: a 200 kB field was 'line 3: expected 4 columns' (fgets cut it into lines) */
+    /* A 200 kB field was 'line 3: expected 4 columns' (fgets cut it into lines) */
     size_t big = 200000;
     char* text = malloc(big + 64);
     assert_non_null(text);

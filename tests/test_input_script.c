@@ -23,7 +23,7 @@ static void assert_load_fails(const char* path, sb_status status, const char* me
     if (!strstr(err.message, message)) fail_msg("expected '%s' in: %s", message, err.message);
 }
 
-/* Issue 32, item 8: a directory was an empty script (exit 0; without
+/* A directory was an empty script (exit 0; without
  * --frames the viewer ran forever). */
 static void test_directory_is_refused(void** state) {
     (void)state;
@@ -32,7 +32,7 @@ static void test_directory_is_refused(void** state) {
     assert_load_fails(tu_tmp_dir, SB_ERR_IO, message);
 }
 
-/* Issue 32, item 9: a NUL byte was 'line longer than 510 bytes'; a long
+/* A NUL byte was 'line longer than 510 bytes'; a long
  * line is named as one, with its length. */
 static void test_nul_and_long_lines_named(void** state) {
     (void)state;
