@@ -629,7 +629,7 @@ static void test_assimp_stl(void** state) {
     sb_mesh_free(&m);
 }
 
-/* Issue 32, item 6: an ASCII PLY's every token is checked before assimp
+/* An ASCII PLY's every token is checked before assimp
  * reads it, the message naming file:line. Before, a face index 'abc',
  * 'nan' or '1e3' dropped the face as degenerate (exit 0), '1,5' was read
  * as 1, NaN coordinates gave 'No meshes remaining'. */

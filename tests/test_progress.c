@@ -22,7 +22,7 @@ static void test_line_at_the_start_and_end(void** state) {
     assert_string_equal(line, "[########################################] 100%  t = 5 s  0.5x real time  0 s left");
 }
 
-/* Issue 32, item 5: a run far slower than its simulated time says so, on a
+/* A run far slower than its simulated time says so, on a
  * terminal or not (contact.thickness: 10 in a scene of centimetres: 1.3 s
  * a step instead of 10 ms, and nothing printed off a terminal). */
 static void test_slow_run_note(void** state) {

@@ -295,7 +295,7 @@ static void test_one_thread_bound(void** state) {
 
 /* assimp's PLY reader stopped on a failed assertion (abort) for Debian's
  * cube_uv.ply cut after 720 bytes (its isolated child died: one line).
- * The ASCII body is checked before assimp now (issue 32, item 6): the cut
+ * The ASCII body is checked before assimp now: the cut
  * row is named by file:line. The abort itself is still met by the byte
  * flips below. */
 static void test_importer_abort_is_one_message(void** state) {

@@ -205,7 +205,7 @@ static void test_inverted_and_flat_reported(void** state) {
     assert_int_equal(sb_tet_mesh_check(&mesh, &err), SB_ERR_INVALID);
     TU_ASSERT_CONTAINS(err.message, "tetrahedron 4 ");
     TU_ASSERT_CONTAINS(err.message, "zero volume");
-    /* Issue 32, item 9: a huge tetrahedron was 'zero volume (inf m^3)' */
+    /* A huge tetrahedron was 'zero volume (inf m^3)' */
     sb_tet_mesh_free(&mesh);
     cube_mesh(&mesh);
     for (uint32_t v = 0; v < 3 * mesh.vertex_count; v++) mesh.positions[v] *= 1e150;
