@@ -10,10 +10,40 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef enum entry_key { KEY_A, KEY_B, KEY_PATH, KEY_INTERPOLATION, KEY_COUNT } entry_key;
+/* X(id, name, type, default, unit, meaning): the entry's keys, in the order
+ * `softbond keys` prints them; the parser reads the names from here. */
+#define BLADE_KEYS(X)                                                                                                  \
+    X(A, "a", VEC3, SB_ENTRY_REQUIRED, "m", "one end of the cutting edge at time 0")                                   \
+    X(B, "b", VEC3, SB_ENTRY_REQUIRED, "m", "the other end of the edge at time 0, not a")                              \
+    X(PATH, "path", LIST, "[]", "",                                                                                    \
+      "keyframes {time (s, increasing), translate (m), rotate (deg, about the edge's midpoint)}; [] still")            \
+    X(INTERPOLATION, "interpolation", STRING, "linear", "",                                                            \
+      "between keyframes: linear (constant speed) or smooth (eased in and out of each keyframe)")
 
+typedef enum entry_key {
+#define ENTRY_KEY_ENUM(id, name, type, def, unit, meaning) KEY_##id,
+    BLADE_KEYS(ENTRY_KEY_ENUM)
+#undef ENTRY_KEY_ENUM
+        KEY_COUNT
+} entry_key;
+
+static const sb_entry_key key_table[KEY_COUNT] = {
+#define ENTRY_KEY_INFO(id, name, type, def, unit, meaning) {name, SB_SCENE_##type, def, unit, 0, meaning},
+    BLADE_KEYS(ENTRY_KEY_INFO)
+#undef ENTRY_KEY_INFO
+};
+
+/* The names alone, as sb_map_index takes them. */
 static const char* const entry_keys[KEY_COUNT] = {
-    [KEY_A] = "a", [KEY_B] = "b", [KEY_PATH] = "path", [KEY_INTERPOLATION] = "interpolation"};
+#define ENTRY_KEY_NAME(id, name, type, def, unit, meaning) name,
+    BLADE_KEYS(ENTRY_KEY_NAME)
+#undef ENTRY_KEY_NAME
+};
+
+const sb_entry_key* sb_scene_blade_keys(size_t* count) {
+    *count = KEY_COUNT;
+    return key_table;
+}
 
 static sb_status read_value(const sb_map_reader* r, int key, sb_blade_def* def, sb_keyframe** path) {
     switch ((entry_key)key) {
@@ -28,8 +58,8 @@ static sb_status read_value(const sb_map_reader* r, int key, sb_blade_def* def, 
 /* a and b given, and apart. */
 static sb_status check_edge(const sb_map_reader* r, const sb_blade_def* def) {
     char name[128];
-    for (int k = KEY_A; k <= KEY_B; k++)
-        if (!r->values[k])
+    for (int k = 0; k < KEY_COUNT; k++)
+        if (strcmp(key_table[k].default_value, SB_ENTRY_REQUIRED) == 0 && !r->values[k])
             return sb_map_fail(r, r->map, "'%s' is not set (a blade is the edge from a to b)",
                                sb_map_full_name(r, entry_keys[k], name, sizeof name));
     if (memcmp(def->a, def->b, sizeof def->a) == 0)

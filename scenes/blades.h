@@ -27,6 +27,9 @@ typedef struct sb_scene_blades {
 sb_status sb_scene_blades_read(const sb_scene* scene, sb_scene_blades* out, sb_error* err);
 /* sb_scene_validate's check: reads the blades and lets them go. */
 sb_status sb_scene_blades_check(const sb_scene* scene, sb_error* err);
+/* The entries' keys, the parser's own table: name, type, default, unit,
+ * meaning (`softbond keys blades`). */
+const sb_entry_key* sb_scene_blade_keys(size_t* count);
 /* Points def's blades at them (the solver copies them). */
 void sb_scene_blades_attach(const sb_scene_blades* blades, sb_solver_def* def);
 void sb_scene_blades_free(sb_scene_blades* blades);

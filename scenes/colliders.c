@@ -26,87 +26,86 @@ enum {
     ALL = PLANE | SPHERE | CAPSULE | BOX | MESH
 };
 
+/* X(id, name, type, default, unit, shapes, meaning): the entry's keys, in
+ * the order `softbond keys` prints them. The parser reads the names from
+ * here, the shapes that may have each key (key_shapes) and, from a default
+ * of SB_ENTRY_REQUIRED, those that must (key_required). */
+#define COLLIDER_KEYS(X)                                                                                               \
+    X(TYPE, "type", STRING, SB_ENTRY_REQUIRED, "", ALL,                                                                \
+      "the shape: plane, sphere, capsule, box or mesh; it decides which other keys the entry may have")                \
+    X(NAME, "name", STRING, "<type><index>", "", ALL,                                                                  \
+      "how log.csv names its force columns and messages: 1 to 63 letters, digits, '_', '-' or '.', unique; by "        \
+      "default the type and the entry's index (plane0, sphere1)")                                                      \
+    X(POINT, "point", VEC3, "[0, 0, 0]", "m", PLANE, "a point of the plane")                                           \
+    X(NORMAL, "normal", VEC3, "[0, 0, 1]", "", PLANE,                                                                  \
+      "the plane's normal (need not be unit, not [0, 0, 0]); the solid is the half-space below it")                    \
+    X(CENTER, "center", VEC3, SB_ENTRY_REQUIRED, "m", SPHERE | BOX, "the centre")                                      \
+    X(A, "a", VEC3, SB_ENTRY_REQUIRED, "m", CAPSULE, "one end of the capsule's segment")                               \
+    X(B, "b", VEC3, SB_ENTRY_REQUIRED, "m", CAPSULE, "the other end of the segment")                                   \
+    X(RADIUS, "radius", NUMBER, SB_ENTRY_REQUIRED, "m", SPHERE | CAPSULE,                                              \
+      "the radius, > 0 (over 100 times the body's extent is refused as a slip of units)")                              \
+    X(HALF_EXTENTS, "half_extents", VEC3, SB_ENTRY_REQUIRED, "m", BOX,                                                 \
+      "half the box's size along its own axes, each > 0")                                                              \
+    X(ROTATE, "rotate", VEC3, "[0, 0, 0]", "deg", BOX | MESH,                                                          \
+      "box: degrees about x, then y, then z; mesh: its placement's rotation (as mesh.rotate)")                         \
+    X(FILE, "file", STRING, SB_ENTRY_REQUIRED, "", MESH,                                                               \
+      "any file mesh.file reads, relative to the scene file; a closed mesh is solid inside, an open one (a "           \
+      "bowl) a shell of its thickness, which must then be > 0")                                                        \
+    X(SCALE, "scale", VEC3_OR_NUMBER, "1", "1", MESH,                                                                  \
+      "the mesh's placement: its scale (as mesh.scale), finite, not 0")                                                \
+    X(TRANSLATE, "translate", VEC3, "[0, 0, 0]", "m", MESH,                                                            \
+      "the mesh's placement: its shift (as mesh.translate), after scale and rotate")                                   \
+    X(FRICTION, "friction", NUMBER, "0", "1", ALL, "Coulomb coefficient while sliding, >= 0")                          \
+    X(STATIC_FRICTION, "static_friction", NUMBER, "friction", "1", ALL,                                                \
+      "the coefficient below which a vertex sticks, >= friction")                                                      \
+    X(RESTITUTION, "restitution", NUMBER, "0", "1", ALL,                                                               \
+      "in [0, 1]: the normal velocity after a contact is -restitution x the one before")                               \
+    X(THICKNESS, "thickness", NUMBER, "0", "m", ALL,                                                                   \
+      "the surface is inflated by it (and by contact.thickness), >= 0; over the body's whole extent is refused")       \
+    X(PATH, "path", LIST, "[]", "", ALL,                                                                               \
+      "keyframes {time (s, increasing), translate (m), rotate (deg)} of a moving (kinematic) collider, rotate about "  \
+      "its reference point (the plane's point, the centre, the capsule's midpoint, the placed mesh's bounding box's "  \
+      "centre); the pose holds before the first and after the last; [] fixed")                                         \
+    X(INTERPOLATION, "interpolation", STRING, "linear", "", ALL,                                                       \
+      "between keyframes: linear (constant speed) or smooth (eased in and out of each keyframe)")                      \
+    X(MASS, "mass", NUMBER, "0", "kg", SPHERE | BOX,                                                                   \
+      ">= 0; > 0 makes it dynamic, a solid rigid body the bodies push back, moved by gravity and "                     \
+      "contact (not with a path); 0 static or kinematic")                                                              \
+    X(VELOCITY, "velocity", VEC3, "[0, 0, 0]", "m/s", SPHERE | BOX,                                                    \
+      "its velocity at the start, only with a mass > 0 (an unknown key without one)")                                  \
+    X(ANGULAR_VELOCITY, "angular_velocity", VEC3, "[0, 0, 0]", "rad/s", SPHERE | BOX,                                  \
+      "its spin at the start about the world's axes, only with a mass > 0 (an unknown key without one)")
+
 typedef enum entry_key {
-    KEY_TYPE,
-    KEY_NAME,
-    KEY_POINT,
-    KEY_NORMAL,
-    KEY_CENTER,
-    KEY_A,
-    KEY_B,
-    KEY_RADIUS,
-    KEY_HALF_EXTENTS,
-    KEY_ROTATE,
-    KEY_FILE,
-    KEY_SCALE,
-    KEY_TRANSLATE,
-    KEY_FRICTION,
-    KEY_STATIC_FRICTION,
-    KEY_RESTITUTION,
-    KEY_THICKNESS,
-    KEY_PATH,
-    KEY_INTERPOLATION,
-    KEY_MASS,
-    KEY_VELOCITY,
-    KEY_ANGULAR_VELOCITY,
-    KEY_COUNT
+#define ENTRY_KEY_ENUM(id, name, type, def, unit, shapes, meaning) KEY_##id,
+    COLLIDER_KEYS(ENTRY_KEY_ENUM)
+#undef ENTRY_KEY_ENUM
+        KEY_COUNT
 } entry_key;
 
-static const char* const entry_keys[KEY_COUNT] = {
-    [KEY_TYPE] = "type",
-    [KEY_NAME] = "name",
-    [KEY_POINT] = "point",
-    [KEY_NORMAL] = "normal",
-    [KEY_CENTER] = "center",
-    [KEY_A] = "a",
-    [KEY_B] = "b",
-    [KEY_RADIUS] = "radius",
-    [KEY_HALF_EXTENTS] = "half_extents",
-    [KEY_ROTATE] = "rotate",
-    [KEY_FILE] = "file",
-    [KEY_SCALE] = "scale",
-    [KEY_TRANSLATE] = "translate",
-    [KEY_FRICTION] = "friction",
-    [KEY_STATIC_FRICTION] = "static_friction",
-    [KEY_RESTITUTION] = "restitution",
-    [KEY_THICKNESS] = "thickness",
-    [KEY_PATH] = "path",
-    [KEY_INTERPOLATION] = "interpolation",
-    [KEY_MASS] = "mass",
-    [KEY_VELOCITY] = "velocity",
-    [KEY_ANGULAR_VELOCITY] = "angular_velocity",
+static const sb_entry_key key_table[KEY_COUNT] = {
+#define ENTRY_KEY_INFO(id, name, type, def, unit, shapes, meaning) {name, SB_SCENE_##type, def, unit, shapes, meaning},
+    COLLIDER_KEYS(ENTRY_KEY_INFO)
+#undef ENTRY_KEY_INFO
 };
 
-/* The shapes that may have each key, and those that must. */
-static const unsigned key_shapes[KEY_COUNT] = {
-    [KEY_TYPE] = ALL,
-    [KEY_NAME] = ALL,
-    [KEY_POINT] = PLANE,
-    [KEY_NORMAL] = PLANE,
-    [KEY_CENTER] = SPHERE | BOX,
-    [KEY_A] = CAPSULE,
-    [KEY_B] = CAPSULE,
-    [KEY_RADIUS] = SPHERE | CAPSULE,
-    [KEY_HALF_EXTENTS] = BOX,
-    [KEY_ROTATE] = BOX | MESH,
-    [KEY_FILE] = MESH,
-    [KEY_SCALE] = MESH,
-    [KEY_TRANSLATE] = MESH,
-    [KEY_FRICTION] = ALL,
-    [KEY_STATIC_FRICTION] = ALL,
-    [KEY_RESTITUTION] = ALL,
-    [KEY_THICKNESS] = ALL,
-    [KEY_PATH] = ALL,
-    [KEY_INTERPOLATION] = ALL,
-    [KEY_MASS] = SPHERE | BOX,
-    [KEY_VELOCITY] = SPHERE | BOX,
-    [KEY_ANGULAR_VELOCITY] = SPHERE | BOX,
+/* The names alone, as sb_map_index takes them. */
+static const char* const entry_keys[KEY_COUNT] = {
+#define ENTRY_KEY_NAME(id, name, type, def, unit, shapes, meaning) name,
+    COLLIDER_KEYS(ENTRY_KEY_NAME)
+#undef ENTRY_KEY_NAME
 };
-static const unsigned key_required[KEY_COUNT] = {
-    [KEY_TYPE] = ALL,  [KEY_CENTER] = SPHERE | BOX,     [KEY_A] = CAPSULE,
-    [KEY_B] = CAPSULE, [KEY_RADIUS] = SPHERE | CAPSULE, [KEY_HALF_EXTENTS] = BOX,
-    [KEY_FILE] = MESH,
-};
+
+const sb_entry_key* sb_scene_collider_keys(size_t* count) {
+    *count = KEY_COUNT;
+    return key_table;
+}
+
+/* The shapes that may have key k, and those that must. */
+static unsigned key_shapes(int k) { return key_table[k].shapes; }
+static unsigned key_required(int k) {
+    return strcmp(key_table[k].default_value, SB_ENTRY_REQUIRED) == 0 ? key_table[k].shapes : 0;
+}
 
 static sb_status read_path(const sb_map_reader* r, sb_scene_collider* out) {
     sb_status status = sb_map_read_path(r, KEY_PATH, &out->path, &out->def.path_count);
@@ -120,12 +119,12 @@ static sb_status read_path(const sb_map_reader* r, sb_scene_collider* out) {
 static bool motion_key(int key) { return key == KEY_MASS || key == KEY_VELOCITY || key == KEY_ANGULAR_VELOCITY; }
 
 /* "point, normal" (geometry keys) or "center and radius" (required keys) of a shape. */
-static void shape_keys(sb_collider_shape shape, const unsigned* table, const char* last_join, char* out, size_t size) {
+static void shape_keys(sb_collider_shape shape, unsigned (*table)(int), const char* last_join, char* out, size_t size) {
     int count = 0, total = 0;
-    for (int k = 0; k < KEY_COUNT; k++) total += table[k] != ALL && !motion_key(k) && (table[k] & (1u << shape));
+    for (int k = 0; k < KEY_COUNT; k++) total += table(k) != ALL && !motion_key(k) && (table(k) & (1u << shape));
     out[0] = '\0';
     for (int k = 0; k < KEY_COUNT; k++) {
-        if (table[k] == ALL || motion_key(k) || !(table[k] & (1u << shape))) continue;
+        if (table(k) == ALL || motion_key(k) || !(table(k) & (1u << shape))) continue;
         size_t used = strlen(out);
         snprintf(out + used, size - used, "%s%s",
                  count == 0           ? ""
@@ -160,7 +159,7 @@ static sb_status check_shape_keys(const sb_map_reader* r, sb_collider_shape shap
     for (size_t p = 0; p < r->map->count; p++) {
         int k = 0;
         while (strcmp(entry_keys[k], r->map->keys[p].text) != 0) k++;
-        if (key_shapes[k] & (1u << shape)) continue;
+        if (key_shapes(k) & (1u << shape)) continue;
         if (motion_key(k)) /* only a sphere or box can be dynamic: to any other shape the key is unknown */
             return sb_map_fail(r, &r->map->keys[p], "unknown key '%s'",
                                sb_map_full_name(r, entry_keys[k], name, sizeof name));
@@ -169,7 +168,7 @@ static sb_status check_shape_keys(const sb_map_reader* r, sb_collider_shape shap
                            sb_map_full_name(r, entry_keys[k], name, sizeof name), kind, keys);
     }
     for (int k = 0; k < KEY_COUNT; k++) {
-        if (!(key_required[k] & (1u << shape)) || r->values[k]) continue;
+        if (!(key_required(k) & (1u << shape)) || r->values[k]) continue;
         shape_keys(shape, key_required, " and ", keys, sizeof keys);
         return sb_map_fail(r, r->map, "'%s' is not set (a %s needs %s)",
                            sb_map_full_name(r, entry_keys[k], name, sizeof name), kind, keys);

@@ -60,6 +60,9 @@ typedef struct sb_scene_colliders {
 sb_status sb_scene_colliders_read(const sb_scene* scene, sb_scene_colliders* out, sb_error* err);
 /* sb_scene_validate's check: reads the colliders and lets them go. */
 sb_status sb_scene_colliders_check(const sb_scene* scene, sb_error* err);
+/* The entries' keys, the parser's own table: name, type, default, unit, the
+ * shapes that take each, meaning (`softbond keys colliders`). */
+const sb_entry_key* sb_scene_collider_keys(size_t* count);
 /* Makes the library's colliders from the definitions (sb_collider_create);
  * its errors get the entry's place in front. */
 sb_status sb_scene_colliders_create(sb_scene_colliders* colliders, sb_error* err);

@@ -11,24 +11,53 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* X(id, name, type, default, unit, meaning): the entry's keys, in the order
+ * `softbond keys` prints them; the parser reads the names from here. */
+#define HANDLE_KEYS(X)                                                                                                 \
+    X(NAME, "name", STRING, "handle<index>", "",                                                                       \
+      "log.csv's columns and messages: 1 to 63 letters, digits, '_', '-' or '.', unique; by default handle and the "   \
+      "entry's index (handle0)")                                                                                       \
+    X(VERTICES, "vertices", INDICES, "none", "",                                                                       \
+      "the vertices it holds, at least one, each once; give vertices or at, not both")                                 \
+    X(AT, "at", VEC3, "none", "m",                                                                                     \
+      "holds the vertices within radius of this point of the placed rest shape (without radius the nearest one); "     \
+      "give vertices or at, not both")                                                                                 \
+    X(RADIUS, "radius", NUMBER, "none", "m", "with at only: the distance within which vertices are held, > 0")         \
+    X(STIFFNESS, "stiffness", NUMBER, "0", "N/m",                                                                      \
+      "per vertex, >= 0: > 0 makes the handle soft (a spring-damper to its target), 0 hard (moved by position)")       \
+    X(DAMPING, "damping", NUMBER, "0", "N s/m", "per vertex, >= 0: a soft handle's damping")                           \
+    X(PATH, "path", LIST, "[]", "",                                                                                    \
+      "keyframes {time (s, increasing), translate (m), rotate (deg, about the centroid of its vertices)}; [] holds "   \
+      "the vertices where they are")                                                                                   \
+    X(INTERPOLATION, "interpolation", STRING, "linear", "",                                                            \
+      "between keyframes: linear (constant speed) or smooth (eased in and out of each keyframe)")                      \
+    X(RELEASE_AT, "release_at", NUMBER, "never", "s",                                                                  \
+      "the handle lets go at the end of the first advance that reaches this time, >= 0")
+
 typedef enum entry_key {
-    KEY_NAME,
-    KEY_VERTICES,
-    KEY_AT,
-    KEY_RADIUS,
-    KEY_STIFFNESS,
-    KEY_DAMPING,
-    KEY_PATH,
-    KEY_INTERPOLATION,
-    KEY_RELEASE_AT,
-    KEY_COUNT
+#define ENTRY_KEY_ENUM(id, name, type, def, unit, meaning) KEY_##id,
+    HANDLE_KEYS(ENTRY_KEY_ENUM)
+#undef ENTRY_KEY_ENUM
+        KEY_COUNT
 } entry_key;
 
-static const char* const entry_keys[KEY_COUNT] = {
-    [KEY_NAME] = "name",     [KEY_VERTICES] = "vertices",           [KEY_AT] = "at",
-    [KEY_RADIUS] = "radius", [KEY_STIFFNESS] = "stiffness",         [KEY_DAMPING] = "damping",
-    [KEY_PATH] = "path",     [KEY_INTERPOLATION] = "interpolation", [KEY_RELEASE_AT] = "release_at",
+static const sb_entry_key key_table[KEY_COUNT] = {
+#define ENTRY_KEY_INFO(id, name, type, def, unit, meaning) {name, SB_SCENE_##type, def, unit, 0, meaning},
+    HANDLE_KEYS(ENTRY_KEY_INFO)
+#undef ENTRY_KEY_INFO
 };
+
+/* The names alone, as sb_map_index takes them. */
+static const char* const entry_keys[KEY_COUNT] = {
+#define ENTRY_KEY_NAME(id, name, type, def, unit, meaning) name,
+    HANDLE_KEYS(ENTRY_KEY_NAME)
+#undef ENTRY_KEY_NAME
+};
+
+const sb_entry_key* sb_scene_handle_keys(size_t* count) {
+    *count = KEY_COUNT;
+    return key_table;
+}
 
 /* A sequence of vertex indices (whole numbers >= 0), at least one. */
 static sb_status read_vertices(const sb_map_reader* r, sb_scene_handle* out) {

@@ -46,6 +46,9 @@ typedef struct sb_scene_handles {
 sb_status sb_scene_handles_read(const sb_scene* scene, sb_scene_handles* out, sb_error* err);
 /* sb_scene_validate's check: reads the handles and lets them go. */
 sb_status sb_scene_handles_check(const sb_scene* scene, sb_error* err);
+/* The entries' keys, the parser's own table: name, type, default, unit,
+ * meaning (`softbond keys handles`). */
+const sb_entry_key* sb_scene_handle_keys(size_t* count);
 /* Selects each entry's vertices in the model (indices in range; `at`
  * finds at least one) and makes the library's handles; errors name the
  * entry's place. */

@@ -211,6 +211,20 @@ typedef struct sb_scene_key_info {
     const char* meaning;
 } sb_scene_key_info;
 
+/* A key of the maps in a list (`colliders`, `handles`, `blades`): each
+ * loader keeps one table of them, reads the names from it and hands it to
+ * `softbond keys` (sb_scene_collider_keys, sb_scene_handle_keys,
+ * sb_scene_blade_keys), which prints it as `colliders[].radius` ... */
+#define SB_ENTRY_REQUIRED "required" /* the default_value of a key an entry must have */
+typedef struct sb_entry_key {
+    const char* name;
+    sb_scene_type type;
+    const char* default_value; /* YAML text, a description ("<type><index>"), or SB_ENTRY_REQUIRED */
+    const char* unit;          /* SI; "1" a ratio; "" none */
+    unsigned shapes;           /* colliders: bit (1u << sb_collider_shape) of each shape that takes it; else 0 */
+    const char* meaning;
+} sb_entry_key;
+
 const sb_scene_key_info* sb_scene_key_get(sb_scene_key key);
 /* Returns false when no key has this dotted name. */
 bool sb_scene_key_find(const char* name, sb_scene_key* out);
