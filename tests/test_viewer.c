@@ -215,6 +215,27 @@ static void test_h_shows_the_keys(void** state) {
     free(help.rgb);
 }
 
+/* o: the statistics' dark text at the top is gone, and back after o again. */
+static int top_ink(const picture* p) {
+    int dark = 0;
+    for (int y = 0; y < 50; y++)
+        for (int x = 0; x < W; x++) {
+            const unsigned char* c = p->rgb + 3 * (y * W + x);
+            dark += c[0] < 60 && c[1] < 60 && c[2] < 60;
+        }
+    return dark;
+}
+
+static void test_o_hides_the_statistics(void** state) {
+    (void)state;
+    picture shown, hidden;
+    two_pictures("0 key space\n0 key o\n0 key o\n", "0 key space\n0 key o\n", 5, &shown, &hidden);
+    printf("dark pixels at the top: %d with the statistics, %d without\n", top_ink(&shown), top_ink(&hidden));
+    assert_true(top_ink(&shown) > 300 && top_ink(&hidden) == 0);
+    free(shown.rgb);
+    free(hidden.rgb);
+}
+
 static void test_g_turns_gravity_off(void** state) {
     (void)state;
     sb_view_result r;
@@ -503,6 +524,7 @@ int main(void) {
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),
         cmocka_unit_test(test_h_shows_the_keys),
+        cmocka_unit_test(test_o_hides_the_statistics),
         cmocka_unit_test(test_g_turns_gravity_off),
         cmocka_unit_test(test_r_reverses_gravity),
         cmocka_unit_test(test_scripted_drag_pulls_the_vertex),

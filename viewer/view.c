@@ -48,6 +48,7 @@ typedef struct view_app {
     sb_camera camera, home;
     sb_draw_flags flags;
     bool help, running;
+    bool quiet; /* o: the statistics hidden */
     sb_sim_controls controls;
     sb_sim_report report;
     sb_view_topology topology; /* what is drawn: the solver's at the start, then the simulation thread's */
@@ -319,6 +320,7 @@ static void key(view_app* a, sb_view_key k) {
     case SB_VKEY_P: a->save = true; break;
     case SB_VKEY_L: a->reload = true; break;
     case SB_VKEY_H: a->help = !a->help; break;
+    case SB_VKEY_O: a->quiet = !a->quiet; break;
     case SB_VKEY_C: a->camera = a->home; break;
     case SB_VKEY_ESCAPE: a->running = false; break;
     default: break;
@@ -465,7 +467,7 @@ static void draw(view_app* a) {
                             a->report.collider_count);
     if (a->shown) sb_mesh_draw_render(&a->mesh, &a->shaders, matrix, light, a->flags);
     sb_overlay_clear(&a->overlay);
-    statistics(a);
+    if (!a->quiet) statistics(a);
     if (a->flags.strain) color_scale(a);
     if (a->help) help(a);
     sb_overlay_draw(&a->overlay, &a->shaders, a->width, a->height);
