@@ -13,7 +13,7 @@ void sb_cli_view_usage(FILE* stream) {
                     "Keys: F1 vertices, F2 edges, F3 edges coloured by strain, F4 faces, F5 texture,\n"
                     "r reverse gravity, s stop/resume the bodies, g gravity on/off, space pause,\n"
                     "n one step, backspace reset, p screenshot (SCENE_NNN.png), l reload the scene,\n"
-                    "c camera back, h the list of keys, escape quit. Mouse: drag a\n"
+                    "c camera back, h the list of keys, o statistics on/off, escape quit. Mouse: drag a\n"
                     "vertex (a spring to the cursor), drag elsewhere to orbit, shift+drag to pan,\n"
                     "wheel to zoom; with haptics.device: mouse, drag moves the haptic tool.\n"
                     "--screenshot FILE.png saves the last frame drawn, when the viewer ends: after\n"

@@ -45,48 +45,6 @@ static sb_status make_mesh(sb_simulation* sim, const sb_simulation_args* args, c
     return status;
 }
 
-static sb_status make_model(sb_simulation* sim, const sb_simulation_args* args, const sb_solver_def* def,
-                            sb_error* err) {
-    sb_status status = make_mesh(sim, args, def, err);
-    if (status != SB_OK) return status;
-    bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
-    char* source = from_file ? sb_scene_path(&sim->scene, SB_KEY_MESH_FILE) : NULL;
-    /* a model's error names the scene's file and line (of mesh.file or
-     * mesh.generator) as well as the mesh file: it named only one of them */
-    sim->model = sb_scene_build_model(&sim->scene, &sim->mesh,
-                                      source ? source : sb_scene_where(&sim->scene, SB_KEY_MESH_GENERATOR), err);
-    free(source);
-    if (!sim->model && from_file) sb_error_prefix(err, SB_ERR_INVALID, sb_scene_where(&sim->scene, SB_KEY_MESH_FILE));
-    return sim->model ? SB_OK : SB_ERR_INVALID;
-}
-
-static sb_status make_colliders(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
-    sb_status status = sb_scene_colliders_read(&sim->scene, &sim->colliders, err);
-    if (status == SB_OK) status = sb_scene_colliders_create(&sim->colliders, err);
-    if (status == SB_OK) sb_scene_colliders_attach(&sim->colliders, def);
-    return status;
-}
-
-/* The scene's handles, their vertices selected in the model. */
-static sb_status make_handles(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
-    sb_status status = sb_scene_handles_read(&sim->scene, &sim->handles, err);
-    if (status == SB_OK) status = sb_scene_handles_create(&sim->handles, sim->model, err);
-    if (status == SB_OK) sb_scene_handles_attach(&sim->handles, def);
-    return status;
-}
-
-/* def's handles, then extra. */
-static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def* def, sb_error* err) {
-    uint32_t count = def->handle_count;
-    if (!(sim->attached = malloc((count + 1) * sizeof *sim->attached)))
-        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    if (count) memcpy(sim->attached, def->handles, count * sizeof *sim->attached);
-    sim->attached[count] = extra;
-    def->handles = sim->attached;
-    def->handle_count = count + 1;
-    return SB_OK;
-}
-
 /* Lengths checked against the body's own scale, where a slip of units is
  * likely: a contact thickness (contact.thickness, a collider's thickness)
  * larger than the body's whole extent (its bounding box's diagonal), or a
@@ -147,6 +105,50 @@ static sb_status check_scale(sb_simulation* sim, sb_error* err) {
     return SB_OK;
 }
 
+static sb_status make_model(sb_simulation* sim, const sb_simulation_args* args, const sb_solver_def* def,
+                            sb_error* err) {
+    sb_status status = make_mesh(sim, args, def, err);
+    if (status == SB_OK) status = check_scale(sim, err); /* before the model: its lengths could overflow */
+    if (status != SB_OK) return status;
+    bool from_file = strcmp(sb_scene_string(&sim->scene, SB_KEY_MESH_GENERATOR), "file") == 0;
+    char* source = from_file ? sb_scene_path(&sim->scene, SB_KEY_MESH_FILE) : NULL;
+    /* a model's error names the scene's file and line (of mesh.file or
+     * mesh.generator) as well as the mesh file: it named only one of them */
+    sim->model = sb_scene_build_model(&sim->scene, &sim->mesh,
+                                      source ? source : sb_scene_where(&sim->scene, SB_KEY_MESH_GENERATOR), err);
+    free(source);
+    if (!sim->model && from_file) sb_error_prefix(err, SB_ERR_INVALID, sb_scene_where(&sim->scene, SB_KEY_MESH_FILE));
+    return sim->model ? SB_OK : SB_ERR_INVALID;
+}
+
+static sb_status make_colliders(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_colliders_read(&sim->scene, &sim->colliders, err);
+    if (status == SB_OK) status = sb_scene_colliders_create(&sim->colliders, err);
+    if (status == SB_OK) sb_scene_colliders_attach(&sim->colliders, def);
+    return status;
+}
+
+/* The scene's handles, their vertices selected in the model. */
+static sb_status make_handles(sb_simulation* sim, sb_solver_def* def, sb_error* err) {
+    sb_status status = sb_scene_handles_read(&sim->scene, &sim->handles, err);
+    if (status == SB_OK) status = sb_scene_handles_create(&sim->handles, sim->model, err);
+    if (status == SB_OK) sb_scene_handles_attach(&sim->handles, def);
+    return status;
+}
+
+/* def's handles, then extra. */
+static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def* def, sb_error* err) {
+    uint32_t count = def->handle_count;
+    if (!(sim->attached = malloc((count + 1) * sizeof *sim->attached)))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    if (count) memcpy(sim->attached, def->handles, count * sizeof *sim->attached);
+    sim->attached[count] = extra;
+    def->handles = sim->attached;
+    def->handle_count = count + 1;
+    return SB_OK;
+}
+
+
 sb_status sb_simulation_prepare(sb_simulation* sim, const sb_simulation_args* args, sb_error* err) {
     sb_status status = sb_scene_read(&sim->scene, args->input, args->sets, (size_t)args->set_count, err);
     if (status != SB_OK) return status;
@@ -154,7 +156,6 @@ sb_status sb_simulation_prepare(sb_simulation* sim, const sb_simulation_args* ar
     status = sb_simulation_threads(args->threads, &sim->scene, &sim->def.runtime.threads, err);
     if (status == SB_OK) status = make_colliders(sim, &sim->def, err);
     if (status == SB_OK) status = make_model(sim, args, &sim->def, err);
-    if (status == SB_OK) status = check_scale(sim, err);
     if (status == SB_OK) status = make_handles(sim, &sim->def, err);
     if (status == SB_OK) status = sb_scene_blades_read(&sim->scene, &sim->blades, err);
     if (status == SB_OK) sb_scene_blades_attach(&sim->blades, &sim->def);

@@ -399,6 +399,35 @@ static void reseal(uint8_t* data, size_t size) {
     memcpy(data + size - 8, &sum, sizeof sum);
 }
 
+/* A step array's value that is not finite is refused on load, naming the
+ * array and the vertex, whatever the checksum says (it was taken, and the
+ * first step after it failed). */
+static void test_state_not_finite_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    size_t size;
+    uint8_t* data = saved_ball(&a, &size);
+    verlet_ball(&fresh, 1);
+    sb_sections_reader r;
+    sb_cursor arrays;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 2, "state", &err), SB_OK);
+    assert_true(sb_sections_find(&r, "ARRS", &arrays));
+    size_t n = sb_solver_vertex_capacity(fresh.solver); /* the arrays' length: x y z, then vx */
+    uint8_t* vy = data + (arrays.at - (const uint8_t*)data) + (4 * n + 2) * sizeof(sb_real);
+    sb_real saved, bad = (sb_real)NAN;
+    memcpy(&saved, vy, sizeof saved);
+    memcpy(vy, &bad, sizeof bad);
+    reseal(data, size);
+    assert_refused(&fresh, data, size, "solver state: the step arrays' vy of vertex 2 is not finite");
+    memcpy(vy, &saved, sizeof saved);
+    reseal(data, size);
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
 /* The clock of a saved state is range-checked whatever
  * its checksum says (a NaN time was taken). */
 static void test_clock_out_of_range_is_refused(void** state) {
@@ -727,8 +756,8 @@ static void test_program_changed_collider_file_refused(void** state) {
     char scene[500];
     snprintf(scene, sizeof scene, "%s", tu_tmp_path("bowl/mesh_bowl.yaml"));
     shell("rm -rf '%s' '%s'", tu_tmp_path("e"), tu_tmp_path("f"));
-    run_ok((const char*[]){"run", scene, "--set", "duration=0.08", "--checkpoint-every", "0.04", "--output", "e",
-                           NULL});
+    run_ok(
+        (const char*[]){"run", scene, "--set", "duration=0.08", "--checkpoint-every", "0.04", "--output", "e", NULL});
     const char* const resume[] = {"run", scene, "--set", "duration=0.08", "--resume", "e", NULL};
     shell("cp '%s' '%s'", tu_tmp_path("bowl/bowl.obj"), tu_tmp_path("bowl/saved.obj"));
     shell("sed -i 's/^v 0.000000 -0.157719 0.044805$/v 0.000000 -0.150000 0.044805/' '%s/%s'", tu_tmp_dir,
@@ -741,7 +770,8 @@ static void test_program_changed_collider_file_refused(void** state) {
              "e/checkpoint.sbck: written for another scene (%s has changed since: a resumed run would match "
              "neither)\n",
              real);
-    if (r.code != 2 || !strstr(r.err, expected)) fail_msg("expected exit 2 and '%s', got %d: %s", expected, r.code, r.err);
+    if (r.code != 2 || !strstr(r.err, expected))
+        fail_msg("expected exit 2 and '%s', got %d: %s", expected, r.code, r.err);
     tu_result_free(&r);
     shell("cp '%s' '%s'", tu_tmp_path("bowl/saved.obj"), tu_tmp_path("bowl/bowl.obj"));
     run_ok(resume);
@@ -786,6 +816,7 @@ int main(void) {
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
         cmocka_unit_test(test_clock_out_of_range_is_refused),
+        cmocka_unit_test(test_state_not_finite_is_refused),
         cmocka_unit_test(test_program_verlet_dynamic_ball),
         cmocka_unit_test(test_program_adaptive),
         cmocka_unit_test(test_program_xpbd),

@@ -215,6 +215,27 @@ static void test_h_shows_the_keys(void** state) {
     free(help.rgb);
 }
 
+/* o: the statistics' dark text at the top is gone, and back after o again. */
+static int top_ink(const picture* p) {
+    int dark = 0;
+    for (int y = 0; y < 50; y++)
+        for (int x = 0; x < W; x++) {
+            const unsigned char* c = p->rgb + 3 * (y * W + x);
+            dark += c[0] < 60 && c[1] < 60 && c[2] < 60;
+        }
+    return dark;
+}
+
+static void test_o_hides_the_statistics(void** state) {
+    (void)state;
+    picture shown, hidden;
+    two_pictures("0 key space\n0 key o\n0 key o\n", "0 key space\n0 key o\n", 5, &shown, &hidden);
+    printf("dark pixels at the top: %d with the statistics, %d without\n", top_ink(&shown), top_ink(&hidden));
+    assert_true(top_ink(&shown) > 300 && top_ink(&hidden) == 0);
+    free(shown.rgb);
+    free(hidden.rgb);
+}
+
 static void test_g_turns_gravity_off(void** state) {
     (void)state;
     sb_view_result r;
@@ -353,11 +374,40 @@ static void test_solver_failure_exits_3(void** state) {
             }
         }
     stbi_image_free(rgb);
-    TU_ASSERT_LE(200, red); /* the message is drawn */
+    TU_ASSERT_LE(200, red);         /* the message is drawn */
     assert_int_equal(red_right, 0); /* and wrapped, not cut at the window's edge */
 }
 
-/* The scene's part of two pictures (below the overlay's lines at the top, above its line at the bottom) differ in this many pixels. */
+/* In a window narrower than the statistics' lines they wrap: no dark ink
+ * of the text in the window's last columns at the top (the lines were cut
+ * there), and the text is drawn. */
+static void test_statistics_wrap_in_a_narrow_window(void** state) {
+    (void)state;
+    char command[1024];
+    remove("test_viewer_narrow.png");
+    snprintf(command, sizeof command,
+             "%s view " SCENE " --set threads=1 --screenshot test_viewer_narrow.png --frames 3 --size 300x240 "
+             "--render-share 1 > /dev/null 2>&1",
+             SB_PROGRAM);
+    assert_int_equal(system(command), 0);
+    int w, h, channels;
+    unsigned char* rgb = stbi_load("test_viewer_narrow.png", &w, &h, &channels, 3);
+    assert_non_null(rgb);
+    int ink = 0, ink_right = 0;
+    for (int y = 0; y < 100 && y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const unsigned char* c = rgb + 3 * ((size_t)y * (size_t)w + (size_t)x);
+            bool dark = c[0] < 60 && c[1] < 60 && c[2] < 60;
+            ink += dark;
+            ink_right += dark && x >= w - 6;
+        }
+    stbi_image_free(rgb);
+    TU_ASSERT_LE(300, ink);         /* the statistics are drawn */
+    assert_int_equal(ink_right, 0); /* and wrapped, not cut at the window's edge */
+}
+
+/* The scene's part of two pictures (below the overlay's lines at the top, above its line at the bottom) differ in this
+ * many pixels. */
 static int scene_differences(const picture* a, const picture* b) {
     int differ = 0;
     for (int y = 0; y < H; y++)
@@ -464,6 +514,7 @@ int main(void) {
         cmocka_unit_test(test_script_errors_name_the_line),
         cmocka_unit_test(test_no_display_is_said),
         cmocka_unit_test(test_solver_failure_exits_3),
+        cmocka_unit_test(test_statistics_wrap_in_a_narrow_window),
         cmocka_unit_test(test_screenshot_onto_a_full_device_fails),
         cmocka_unit_test(test_script_replays_identically),
         cmocka_unit_test(test_n_takes_one_step),
@@ -473,6 +524,7 @@ int main(void) {
         cmocka_unit_test(test_f2_hides_the_edges),
         cmocka_unit_test(test_f3_shows_the_colour_scale),
         cmocka_unit_test(test_h_shows_the_keys),
+        cmocka_unit_test(test_o_hides_the_statistics),
         cmocka_unit_test(test_g_turns_gravity_off),
         cmocka_unit_test(test_r_reverses_gravity),
         cmocka_unit_test(test_scripted_drag_pulls_the_vertex),

@@ -22,6 +22,7 @@ static const struct {
     [SB_VKEY_P] = {"p", "save a screenshot (SCENE_NNN.png)"},
     [SB_VKEY_L] = {"l", "reload the scene file"},
     [SB_VKEY_H] = {"h", "this list"},
+    [SB_VKEY_O] = {"o", "statistics on/off"},
     [SB_VKEY_C] = {"c", "camera back to the start"},
     [SB_VKEY_ESCAPE] = {"escape", "quit"},
 };

@@ -22,6 +22,7 @@ typedef enum sb_view_key {
     SB_VKEY_P,         /* save a screenshot */
     SB_VKEY_L,         /* reload the scene file */
     SB_VKEY_H,         /* the list of keys */
+    SB_VKEY_O,         /* the statistics overlay on / off */
     SB_VKEY_C,         /* the camera back to where it started */
     SB_VKEY_ESCAPE,    /* quit */
     SB_VKEY_COUNT

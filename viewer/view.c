@@ -48,6 +48,7 @@ typedef struct view_app {
     sb_camera camera, home;
     sb_draw_flags flags;
     bool help, running;
+    bool quiet; /* o: the statistics hidden */
     sb_sim_controls controls;
     sb_sim_report report;
     sb_view_topology topology; /* what is drawn: the solver's at the start, then the simulation thread's */
@@ -157,7 +158,8 @@ static void collider_box(const sb_scene_colliders* colliders, double lo[3], doub
         default:
             for (uint32_t i = 0; i < e->mesh.vertex_count; i++)
                 for (int k = 0; k < 3; k++)
-                    lo[k] = fmin(lo[k], e->mesh.positions[3 * i + k]), hi[k] = fmax(hi[k], e->mesh.positions[3 * i + k]);
+                    lo[k] = fmin(lo[k], e->mesh.positions[3 * i + k]),
+                    hi[k] = fmax(hi[k], e->mesh.positions[3 * i + k]);
             continue;
         }
         for (int k = 0; k < 3; k++)
@@ -318,6 +320,7 @@ static void key(view_app* a, sb_view_key k) {
     case SB_VKEY_P: a->save = true; break;
     case SB_VKEY_L: a->reload = true; break;
     case SB_VKEY_H: a->help = !a->help; break;
+    case SB_VKEY_O: a->quiet = !a->quiet; break;
     case SB_VKEY_C: a->camera = a->home; break;
     case SB_VKEY_ESCAPE: a->running = false; break;
     default: break;
@@ -362,38 +365,46 @@ static const char* mode(const view_app* a) {
                                  : "";
 }
 
-/* The statistics, a line each on cream paper at fixed places (the tests'
- * pictures know them), and the solver's failure below them, wrapped to the
- * window. */
+/* The next line's place below a panel of the statistics: a line each at
+ * fixed places (the tests' pictures know them), lower by what a wrapped one
+ * took. */
+static float below(float y, float panel_height) { return y + (panel_height > 26.0f ? panel_height : 22.0f); }
+
+/* A statistics line on cream paper at (10, y): at the overlay's scale when
+ * it fits the window, else at half of it, wrapped where even that does not
+ * fit; returns where the next line goes. */
+static float statistics_line(view_app* a, float y, const char* line) {
+    const float wrap_at = (float)a->width - 32;
+    float width, height;
+    sb_overlay_measure(line, 2.0f, &width, &height);
+    float scale = width <= wrap_at ? 2.0f : 1.0f;
+    return below(y, sb_overlay_panel(&a->overlay, 10, y, wrap_at, scale, line, INK, STATUS_PAPER));
+}
+
+/* The statistics, on cream paper, and the solver's failure below them, all
+ * fitted to the window. */
 static void statistics(view_app* a) {
     char line[512];
     const sb_snapshot* s = a->shown;
     if (!s) return;
-    const float unwrapped = 1e9f;
+    const float wrap_at = (float)a->width - 32;
     snprintf(line, sizeof line, "t = %.3f s   %.2fx real time   %.0f steps/s   %u vertices%s%s", s->time,
-             a->report.realtime_factor, a->report.steps_per_second, s->vertex_count, mode(a)[0] ? "   " : "",
-             mode(a));
-    sb_overlay_panel(&a->overlay, 10, 10, unwrapped, 2.0f, line, INK, STATUS_PAPER);
+             a->report.realtime_factor, a->report.steps_per_second, s->vertex_count, mode(a)[0] ? "   " : "", mode(a));
+    float y = statistics_line(a, 10, line);
     double internal = sb_energies_internal(&s->energies);
     snprintf(line, sizeof line, "energy: kinetic %.4g J   internal %.4g J   gravity %.4g J   total %.4g J",
              s->energies.kinetic, internal, s->energies.gravity, s->energies.kinetic + internal + s->energies.gravity);
-    sb_overlay_panel(&a->overlay, 10, 32, unwrapped, 2.0f, line, INK, STATUS_PAPER);
-    float y = 54;
+    y = statistics_line(a, y, line);
     if (a->controls.pick >= 0) {
         const double* f = a->report.pick_force;
         snprintf(line, sizeof line, "vertex %lld held: force %.4g N  [%.3g, %.3g, %.3g]", (long long)a->controls.pick,
                  sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), f[0], f[1], f[2]);
-        sb_overlay_panel(&a->overlay, 10, y, unwrapped, 2.0f, line, INK, STATUS_PAPER);
-        y += 22;
+        y = statistics_line(a, y, line);
     }
-    if (a->report.failure[0]) {
-        sb_overlay_panel(&a->overlay, 10, y, (float)a->width - 32, 2.0f, a->report.failure, ALARM, PAPER);
-        y += 44;
-    }
+    if (a->report.failure[0]) y += sb_overlay_panel(&a->overlay, 10, y, wrap_at, 2.0f, a->report.failure, ALARM, PAPER);
     if (a->notice[0] && sb_wall_seconds() < a->notice_until)
-        sb_overlay_panel(&a->overlay, 10, y, (float)a->width - 32, 2.0f, a->notice, a->notice_alarm ? ALARM : INK,
-                         PAPER);
-    sb_overlay_panel(&a->overlay, 10, (float)a->height - 24, unwrapped, 2.0f, "h: keys", INK, STATUS_PAPER);
+        sb_overlay_panel(&a->overlay, 10, y, wrap_at, 2.0f, a->notice, a->notice_alarm ? ALARM : INK, PAPER);
+    sb_overlay_panel(&a->overlay, 10, (float)a->height - 24, wrap_at, 2.0f, "h: keys", INK, STATUS_PAPER);
 }
 
 static void help(view_app* a) {
@@ -456,7 +467,7 @@ static void draw(view_app* a) {
                             a->report.collider_count);
     if (a->shown) sb_mesh_draw_render(&a->mesh, &a->shaders, matrix, light, a->flags);
     sb_overlay_clear(&a->overlay);
-    statistics(a);
+    if (!a->quiet) statistics(a);
     if (a->flags.strain) color_scale(a);
     if (a->help) help(a);
     sb_overlay_draw(&a->overlay, &a->shaders, a->width, a->height);
@@ -487,8 +498,7 @@ static void notice(view_app* a, bool alarm, const char* format, const char* what
  * first number not taken; a failure is said on stderr and in the window. */
 static void save_screenshot(view_app* a) {
     char path[512];
-    do
-        snprintf(path, sizeof path, "%s_%03u.png", a->sim.scene.name ? a->sim.scene.name : "softbond", ++a->saved);
+    do snprintf(path, sizeof path, "%s_%03u.png", a->sim.scene.name ? a->sim.scene.name : "softbond", ++a->saved);
     while (access(path, F_OK) == 0 && a->saved < 100000);
     sb_error err;
     if (sb_screenshot_save(path, a->width, a->height, &err) == SB_OK)
@@ -641,8 +651,7 @@ sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb
     sb_sim_thread_stop(&a.thread);
     /* the solver's failure, as softbond run gives it (the window showed it too) */
     const char* failure = a.thread.report.failure[0] ? a.thread.report.failure : a.report.failure;
-    if (status == SB_OK && failure[0])
-        status = sb_error_set(err, SB_ERR_UNSTABLE, "%s", failure);
+    if (status == SB_OK && failure[0]) status = sb_error_set(err, SB_ERR_UNSTABLE, "%s", failure);
     wall = sb_wall_seconds() - wall;
     if (a.sim.solver) {
         simulated = sb_solver_time(a.sim.solver);

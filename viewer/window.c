@@ -32,6 +32,7 @@ static sb_view_key key_of(int key) {
     case GLFW_KEY_SPACE: return SB_VKEY_SPACE;
     case GLFW_KEY_BACKSPACE: return SB_VKEY_BACKSPACE;
     case GLFW_KEY_H: return SB_VKEY_H;
+    case GLFW_KEY_O: return SB_VKEY_O;
     case GLFW_KEY_N: return SB_VKEY_N;
     case GLFW_KEY_P: return SB_VKEY_P;
     case GLFW_KEY_L: return SB_VKEY_L;

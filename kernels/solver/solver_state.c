@@ -86,7 +86,7 @@ static sb_status sb_clock_check(const sb_solver* s, sb_cursor r, sb_error* err) 
     if (r.left != sizeof values + sizeof steps + sizeof flags || !sb_cursor_take(&r, values, sizeof values))
         return sb_error_set(err, SB_ERR_PARSE, "section CLCK (clock) has %zu bytes, this solver's %zu", r.left,
                             sizeof values + sizeof steps + sizeof flags);
-    static const char* const names[6] = {"time", "last step", "adaptive sub-step", "adaptive energy peak",
+    static const char* const names[6] = {"time",    "last step", "adaptive sub-step", "adaptive energy peak",
                                          "advance", "step"};
     for (int k = 0; k < 6; k++)
         if (!(isfinite(values[k]) && (values[k] >= 0 || k == 3) && fabs(values[k]) < 1e300))
@@ -148,6 +148,44 @@ static void sb_arrays_load(sb_solver* s, sb_cursor* r) {
     size_t lengths[SB_STEP_ARRAYS];
     int count = sb_solver_step_arrays(s, arrays, lengths);
     for (int a = 0; a < count; a++) sb_cursor_take(r, arrays[a], lengths[a] * sizeof(sb_real));
+}
+
+/* Every value of the step arrays finite, whatever the checksum says: a
+ * state that is not finite is refused on load, naming the array and the
+ * vertex, rather than failing the first step after it. */
+static sb_status sb_arrays_check(const sb_solver* s, sb_cursor r, sb_error* err) {
+    static const char* const names[SB_STEP_ARRAYS] = {"x",
+                                                      "y",
+                                                      "z",
+                                                      "vx",
+                                                      "vy",
+                                                      "vz",
+                                                      "fx",
+                                                      "fy",
+                                                      "fz",
+                                                      "displacement x",
+                                                      "displacement y",
+                                                      "displacement z",
+                                                      "packed positions",
+                                                      "packed velocities",
+                                                      "packed displacements",
+                                                      "packed forces"};
+    sb_real* arrays[SB_STEP_ARRAYS];
+    size_t lengths[SB_STEP_ARRAYS], total = 0;
+    int count = sb_solver_step_arrays(s, arrays, lengths);
+    for (int a = 0; a < count; a++) total += lengths[a] * sizeof(sb_real);
+    if (r.left != total)
+        return sb_error_set(err, SB_ERR_PARSE, "section ARRS (step arrays) has %zu bytes, this solver's %zu", r.left,
+                            total);
+    for (int a = 0; a < count; a++)
+        for (size_t k = 0; k < lengths[a]; k++) {
+            sb_real value;
+            sb_cursor_take(&r, &value, sizeof value);
+            if (!isfinite(value))
+                return sb_error_set(err, SB_ERR_PARSE, "the step arrays' %s of vertex %zu is not finite", names[a],
+                                    lengths[a] == s->state.vertex_count ? k : k / 4);
+        }
+    return SB_OK;
 }
 
 static size_t sb_external_bytes(const sb_solver* s) { return 3 * (size_t)s->state.vertex_count * sizeof(double); }
@@ -216,7 +254,7 @@ static const sb_state_part sb_parts[] = {
     {{'E', 'X', 'T', 'F'}, "external forces", sb_has_external, sb_external_save, NULL, sb_external_load},
     {{'V', 'B', 'D', 'V'}, "vbd's last velocities", sb_has_vbd, sb_vbd_save, NULL, sb_vbd_load},
     {{'I', 'M', 'P', 'G'}, "implicit guess", sb_has_implicit_fast, sb_implicit_fast_save, NULL, sb_implicit_fast_load},
-    {{'A', 'R', 'R', 'S'}, "step arrays", sb_always, sb_arrays_save, NULL, sb_arrays_load},
+    {{'A', 'R', 'R', 'S'}, "step arrays", sb_always, sb_arrays_save, sb_arrays_check, sb_arrays_load},
     {{'C', 'L', 'C', 'K'}, "clock", sb_always, sb_clock_save, sb_clock_check, sb_clock_load},
     {{'S', 'T', 'A', 'T'}, "step statistics", sb_always, sb_stats_save, NULL, sb_stats_load},
     {{'E', 'N', 'R', 'G'}, "energies", sb_always, sb_energies_save, NULL, sb_energies_load},
