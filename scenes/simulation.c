@@ -45,10 +45,30 @@ static sb_status make_mesh(sb_simulation* sim, const sb_simulation_args* args, c
     return status;
 }
 
+/* A built-in collider's own size and its name: a sphere's or capsule's
+ * radius, a capsule's length, a box's largest half extent; 0 for a plane or
+ * a mesh (a mesh's size is its file's, checked as it is read). */
+static double collider_size(const sb_collider_def* d, const char** what) {
+    switch (d->shape) {
+    case SB_COLLIDER_SPHERE: *what = "radius"; return d->radius;
+    case SB_COLLIDER_CAPSULE: {
+        double length = sqrt((d->b[0] - d->a[0]) * (d->b[0] - d->a[0]) + (d->b[1] - d->a[1]) * (d->b[1] - d->a[1]) +
+                             (d->b[2] - d->a[2]) * (d->b[2] - d->a[2]));
+        *what = length > d->radius ? "length" : "radius";
+        return fmax(length, d->radius);
+    }
+    case SB_COLLIDER_BOX:
+        *what = "half extent";
+        return fmax(d->half_extents[0], fmax(d->half_extents[1], d->half_extents[2]));
+    default: return 0.0;
+    }
+}
+
 /* Lengths checked against the body's own scale, where a slip of units is
  * likely: a contact thickness (contact.thickness, a collider's thickness)
  * larger than the body's whole extent (its bounding box's diagonal), or a
- * sphere's or capsule's radius over 100 times it, is refused. contact.thickness: 10 (metres, in a scene of centimetres) was
+ * collider's own size (a radius, a capsule's length, a box's half extent)
+ * over 100 times it, is refused. contact.thickness: 10 (metres, in a scene of centimetres) was
  * taken, and every step searched the whole sheet for contacts: 1.3 s a
  * step instead of 10 ms, in silence. */
 static sb_status check_scale(sb_simulation* sim, sb_error* err) {
@@ -95,12 +115,13 @@ static sb_status check_scale(sb_simulation* sim, sb_error* err) {
                                 "%s: collider '%s': thickness %g m is more than the body's whole extent (%.3g m, its "
                                 "bounding box's diagonal): a slip of units? (lengths are in metres)",
                                 e->where, e->name, own, extent);
-        bool round = e->def.shape == SB_COLLIDER_SPHERE || e->def.shape == SB_COLLIDER_CAPSULE;
-        if (round && e->def.radius > 100 * extent)
+        const char* what = NULL;
+        double size = collider_size(&e->def, &what);
+        if (size > 100 * extent)
             return sb_error_set(err, SB_ERR_INVALID,
-                                "%s: collider '%s': radius %g m is more than 100 times the body's whole extent (%.3g m, "
+                                "%s: collider '%s': %s %g m is more than 100 times the body's whole extent (%.3g m, "
                                 "its bounding box's diagonal): a slip of units? (lengths are in metres)",
-                                e->where, e->name, e->def.radius, extent);
+                                e->where, e->name, what, size, extent);
     }
     return SB_OK;
 }
@@ -147,7 +168,6 @@ static sb_status add_handle(sb_simulation* sim, sb_handle* extra, sb_solver_def*
     def->handle_count = count + 1;
     return SB_OK;
 }
-
 
 sb_status sb_simulation_prepare(sb_simulation* sim, const sb_simulation_args* args, sb_error* err) {
     sb_status status = sb_scene_read(&sim->scene, args->input, args->sets, (size_t)args->set_count, err);

@@ -721,8 +721,9 @@ static void test_run_bad_colliders(void** state) {
                           "5: unknown key 'colliders[0].path[0].scale'");
     assert_colliders_fail("  - type: plane\n    path:\n      - {time: 1}\n      - {time: 0.5}\n",
                           "6: 'colliders[0].path[1].time' (0.5) must be > the time before it (1)");
-    assert_colliders_fail("  - type: plane\n    path:\n      - time: 0\n        rotate: [0, 0]\n",
-                          "6: 'colliders[0].path[0].rotate' expects 3 numbers: [x, y, z] or x,y,z, got a sequence of 2");
+    assert_colliders_fail(
+        "  - type: plane\n    path:\n      - time: 0\n        rotate: [0, 0]\n",
+        "6: 'colliders[0].path[0].rotate' expects 3 numbers: [x, y, z] or x,y,z, got a sequence of 2");
     /* names: they head columns of log.csv */
     assert_colliders_fail("  - type: plane\n    name: my floor\n",
                           "4: 'colliders[0].name' must be 1 to 63 letters, digits, '_', '-' or '.', got 'my floor'");
@@ -925,9 +926,18 @@ static void test_thickness_against_the_body_refused(void** state) {
     tu_assert_scene_fails("mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
                           "duration: 0.01\ncolliders:\n  - {type: plane, name: floor, thickness: 5}\n",
                           "collider 'floor': thickness 5 m is more than the body's whole extent (0.361 m");
+    tu_assert_scene_fails(
+        "mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+        "duration: 0.01\ncolliders:\n  - {type: sphere, name: ball, center: [0, 0, -51], radius: 50}\n",
+        "collider 'ball': radius 50 m is more than 100 times the body's whole extent (0.361 m");
     tu_assert_scene_fails("mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
-                          "duration: 0.01\ncolliders:\n  - {type: sphere, name: ball, center: [0, 0, -51], radius: 50}\n",
-                          "collider 'ball': radius 50 m is more than 100 times the body's whole extent (0.361 m");
+                          "duration: 0.01\ncolliders:\n  - {type: box, name: table, center: [0, 0, -41], "
+                          "half_extents: [40, 40, 40]}\n",
+                          "collider 'table': half extent 40 m is more than 100 times the body's whole extent (0.361 m");
+    tu_assert_scene_fails("mesh: {generator: sheet, nx: 4, ny: 3, width: 0.3, height: 0.2}\n"
+                          "duration: 0.01\ncolliders:\n  - {type: capsule, name: rod, a: [-50, 0, -1], b: [50, 0, -1], "
+                          "radius: 0.01}\n",
+                          "collider 'rod': length 100 m is more than 100 times the body's whole extent (0.361 m");
 }
 
 /* Messages that name their place and their real cause. */
