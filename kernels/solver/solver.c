@@ -187,8 +187,8 @@ static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
     return SB_OK;
 }
 
-/* The co-rotated tetrahedra have forces and energies only: no Hessian for
- * implicit Euler and vbd, no constraints for pbd and xpbd, no fast pass
+/* The co-rotated tetrahedra have forces, energies and a fast pass, but no
+ * Hessian for implicit Euler and vbd and no constraints for pbd and xpbd
  * yet, and tearing's vertex splits do not know them. Refused here rather
  * than run wrong. */
 static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_error* err) {
@@ -201,10 +201,6 @@ static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_e
                             "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
                             "symplectic_euler or explicit_euler",
                             sb_integrator_name(it));
-    if (def->kernels == SB_KERNELS_FAST)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "the corotated tetrahedra (tissue.model: corotated) have no fast kernel yet: use "
-                            "kernels: reference");
     return SB_OK;
 }
 
