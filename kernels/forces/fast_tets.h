@@ -8,4 +8,10 @@
 int sb_fast_tets(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                  double energy[1]);
 
+/* implicit Euler's passes on the fast kernels (kernels/forces/fast_hessian.h's
+ * frame): out += scale R K0 Rᵀ p, or each corner's diagonal block of it
+ * into the blocks; no damping. */
+int sb_fast_tets_hessian(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end,
+                         bool serial, double* energy);
+
 #endif

@@ -152,13 +152,14 @@ static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_e
     }
 }
 
-void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[3],
+void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[4],
                             const sb_fast_frame* frame) {
     const sb_fast_model* f = s->fast;
     sb_pass_flags flags = {0, 0}; /* such kernels raise none */
     if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, kernels[0], 0, frame, s->partials, &flags);
     if (f->has_corners || f->fused_bonds) sb_group_pass(w, f, &f->triangles, kernels[1], 0, frame, s->partials, &flags);
     if (f->has_hinges) sb_group_pass(w, f, &f->hinges, kernels[2], 0, frame, s->partials, &flags);
+    if (f->has_tets) sb_group_pass(w, f, &f->tets, kernels[3], 0, frame, s->partials, &flags);
 }
 
 static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, sb_pass_flags* flags) {
