@@ -977,7 +977,8 @@ static void test_tets_match_reference(void** state) {
             x[3 * i + 1] = sn * p[0] + c * p[1];
             x[3 * i + 2] = p[2];
         }
-        assert_fast_matches_reference(model, x, NULL, turned ? "tetrahedra, strained and turned" : "tetrahedra, strained");
+        assert_fast_matches_reference(model, x, NULL,
+                                      turned ? "tetrahedra, strained and turned" : "tetrahedra, strained");
     }
     sb_solver* solver = make_fast_solver(model, 2);
     /* At rest, gravity off: the strain is sb_real's rounding of the rest

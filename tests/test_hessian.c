@@ -437,14 +437,15 @@ static void test_tets_element_matrices(void** state) {
                 for (int c = 0; c < 4; c++)
                     for (int a = 0; a < 3; a++)
                         for (int b = 0; b < 3; b++)
-                            TU_ASSERT_NEAR(blocks[9 * (4 * r + c) + 3 * a + b], dt * dt * k[(3 * r + a) * 12 + 3 * c + b],
-                                           1e-15 * dt * dt * scale);
+                            TU_ASSERT_NEAR(blocks[9 * (4 * r + c) + 3 * a + b],
+                                           dt * dt * k[(3 * r + a) * 12 + 3 * c + b], 1e-15 * dt * dt * scale);
         }
         for (int place = 0; place < 4; place++) {
             double block[9] = {0};
             assert_true(sb_element_vertex_share(m, &e, x, place, shares + 3 * e.vertex[place], block));
             for (int a = 0; a < 3; a++)
-                for (int b = 0; b < 3; b++) TU_ASSERT_NEAR(block[3 * a + b], k[(3 * place + a) * 12 + 3 * place + b], 1e-15 * scale);
+                for (int b = 0; b < 3; b++)
+                    TU_ASSERT_NEAR(block[3 * a + b], k[(3 * place + a) * 12 + 3 * place + b], 1e-15 * scale);
         }
     }
     for (size_t q = 0; q < n3; q++) TU_ASSERT_NEAR(shares[q], f[q], 1e-12 * tu_max_abs(f, n3));

@@ -703,8 +703,9 @@ static void test_corotated_gradient(void** state) {
         double rel = tet_gradient_error(m, cur, L);
         print_message("corotated, seed %llu (strain %.2f L): |f + ∇E| %.3g of the largest force\n",
                       (unsigned long long)seed, strain, rel);
-        if (!(rel <= 1e-6)) fail_msg("corotated, seed %llu: forces differ from −∇E by %.3g (bound 1e-6)",
-                                     (unsigned long long)seed, rel);
+        if (!(rel <= 1e-6))
+            fail_msg("corotated, seed %llu: forces differ from −∇E by %.3g (bound 1e-6)", (unsigned long long)seed,
+                     rel);
         free(rest);
         sb_model_destroy(m);
     }
@@ -757,12 +758,18 @@ static void test_corotated_rest_and_stretch(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_gradient_random),       cmocka_unit_test(test_gradient_special),
-        cmocka_unit_test(test_net_force_and_torque),  cmocka_unit_test(test_rigid_motion_invariance),
-        cmocka_unit_test(test_zero_at_rest),          cmocka_unit_test(test_damping_power),
-        cmocka_unit_test(test_forces_sum_of_terms),   cmocka_unit_test(test_collapsed_edge),
-        cmocka_unit_test(test_known_bond_and_spring), cmocka_unit_test(test_known_angle_and_stretch_bend),
-        cmocka_unit_test(test_known_hinge),           cmocka_unit_test(test_corotated_gradient),
+        cmocka_unit_test(test_gradient_random),
+        cmocka_unit_test(test_gradient_special),
+        cmocka_unit_test(test_net_force_and_torque),
+        cmocka_unit_test(test_rigid_motion_invariance),
+        cmocka_unit_test(test_zero_at_rest),
+        cmocka_unit_test(test_damping_power),
+        cmocka_unit_test(test_forces_sum_of_terms),
+        cmocka_unit_test(test_collapsed_edge),
+        cmocka_unit_test(test_known_bond_and_spring),
+        cmocka_unit_test(test_known_angle_and_stretch_bend),
+        cmocka_unit_test(test_known_hinge),
+        cmocka_unit_test(test_corotated_gradient),
         cmocka_unit_test(test_corotated_rest_and_stretch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -22,7 +22,8 @@ sb_element sb_element_at(const sb_model* m, uint64_t e) {
         return (sb_element){
             SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
     e -= m->hinge_count;
-    return (sb_element){SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
+    return (sb_element){
+        SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
 }
 
 /* A tetrahedron's exact forces at x.v, and −R K0 Rᵀ x.d as their
@@ -163,7 +164,8 @@ static bool sb_tet_jacobian_blocks(const sb_model* m, uint32_t tet, const sb_vec
     for (int r = 0; r < 4; r++)
         for (int c = 0; c < 4; c++)
             for (int a = 0; a < 3; a++)
-                for (int b = 0; b < 3; b++) blocks[9 * (4 * r + c) + 3 * a + b] = scale * k[(3 * r + a) * 12 + 3 * c + b];
+                for (int b = 0; b < 3; b++)
+                    blocks[9 * (4 * r + c) + 3 * a + b] = scale * k[(3 * r + a) * 12 + 3 * c + b];
     return true;
 }
 
