@@ -646,14 +646,131 @@ static void test_known_hinge(void** state) {
     sb_model_destroy(m);
 }
 
+/* ---- the co-rotated tetrahedra ----------------------------------------------
+ * A 2 × 1 × 1 block of cubes of side L cut into twelve tetrahedra
+ * (tu_tet_block), E = 3.5 kPa, ν = 0.45. */
+
+enum { TET_N = 12, TET_DOF = 3 * TET_N };
+
+/* max |f + ∇E| / max |f| for the corotated term, the fourth-order central
+ * difference of gradient_error with h = 1e-4 L (L the cubes' side; the
+ * tetrahedra's heights are about L / 2 and vary with the strain on that
+ * scale): truncation about (1e-4)^4 relative, rounding about ε E / h, near
+ * 1e-10 of the largest force here. */
+static double tet_gradient_error(const sb_model* m, const double* x, double L) {
+    double f[TET_DOF], tmp[TET_DOF], xp[TET_DOF];
+    eval_term(m, SB_TERM_COROTATED, x, NULL, f, TET_DOF);
+    assert_true(tu_all_finite(f, TET_DOF));
+    double fscale = tu_max_abs(f, TET_DOF), h = 1e-4 * L, worst = 0.0;
+    assert_true(fscale > 0.0);
+    for (int i = 0; i < TET_DOF; ++i) {
+        double e[4];
+        const double steps[4] = {2, 1, -1, -2};
+        for (int s = 0; s < 4; ++s) {
+            memcpy(xp, x, sizeof xp);
+            xp[i] += steps[s] * h;
+            e[s] = eval_term(m, SB_TERM_COROTATED, xp, NULL, tmp, TET_DOF);
+        }
+        double g = (-e[0] + 8 * e[1] - 8 * e[2] + e[3]) / (12 * h);
+        worst = fmax(worst, fabs(f[i] + g));
+    }
+    return worst / fscale;
+}
+
+/* The rest block, strained by up to `strain` L per coordinate, then turned
+ * by a random rotation (up to 3 rad) and moved. */
+static void tet_current(const double* rest, double L, double strain, uint64_t seed, double* cur) {
+    tu_rng r = {seed * 104729u + 3u};
+    double R[3][3], strained[TET_DOF], t[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
+    for (int i = 0; i < TET_DOF; ++i) strained[i] = rest[i] + strain * L * tu_uniform(&r, -1, 1);
+    random_rotation(&r, R);
+    rotate(R, strained, cur, TET_N, t);
+}
+
+/* The forces are −∇E under strain with large rotations: every coordinate
+ * moved by up to 0.15 L, and on the last seeds 0.45 L, about the elements'
+ * heights (distortions far beyond the linear range). Measured: below 1e-10
+ * of the largest force. */
+static void test_corotated_gradient(void** state) {
+    (void)state;
+    for (uint64_t seed = 1; seed <= 10; ++seed) {
+        double L = 0.005 * (double)seed, strain = seed <= 7 ? 0.15 : 0.45;
+        sb_model* m = tu_tet_block(2, 1, 1, L, 3500.0, 0.45, 0.1, seed, false);
+        assert_int_equal(sb_model_vertex_count(m), TET_N);
+        double* rest = tu_rest_positions(m);
+        double cur[TET_DOF];
+        tet_current(rest, L, strain, seed, cur);
+        double rel = tet_gradient_error(m, cur, L);
+        print_message("corotated, seed %llu (strain %.2f L): |f + ∇E| %.3g of the largest force\n",
+                      (unsigned long long)seed, strain, rel);
+        if (!(rel <= 1e-6))
+            fail_msg("corotated, seed %llu: forces differ from −∇E by %.3g (bound 1e-6)", (unsigned long long)seed,
+                     rel);
+        free(rest);
+        sb_model_destroy(m);
+    }
+}
+
+/* At rest, and at rest turned by any rotation and moved, the energy is zero
+ * and the forces vanish, within rounding: F = I (or a rotation) to about
+ * ε, so the energy is about V E ε² and each force about E L² ε. Bounds:
+ * 1e-20 E L³ and 1e-11 E L², with the rounding of positions up to 1 m
+ * from the origin for 1 cm elements. A uniaxial
+ * stretch ε has F = diag(1 + ε, 1, 1), R = I and the energy
+ * V ε² (μ + λ / 2), whatever rotation follows. */
+static void test_corotated_rest_and_stretch(void** state) {
+    (void)state;
+    const double E = 3500.0, nu = 0.45, mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+        double L = 0.01 * (double)seed;
+        sb_model* m = tu_tet_block(2, 1, 1, L, E, nu, 0.1, seed, false);
+        double* rest = tu_rest_positions(m);
+        double cur[TET_DOF], f[TET_DOF];
+        tet_current(rest, L, 0.0, seed, cur);
+        const double* states[2] = {rest, cur};
+        for (int k = 0; k < 2; ++k) {
+            double e = eval_term(m, SB_TERM_COROTATED, states[k], NULL, f, TET_DOF);
+            TU_ASSERT_LE(fabs(e), 1e-20 * E * L * L * L);
+            TU_ASSERT_LE(tu_max_abs(f, TET_DOF), 1e-11 * E * L * L);
+        }
+        double stretched[TET_DOF], turned[TET_DOF], R[3][3], eps = 0.01 * (double)seed;
+        for (int i = 0; i < TET_DOF; ++i) stretched[i] = rest[i] * (i % 3 == 0 ? 1 + eps : 1.0);
+        tu_rng r = {seed};
+        random_rotation(&r, R);
+        rotate(R, stretched, turned, TET_N, NULL);
+        double e_turned = eval_term(m, SB_TERM_COROTATED, turned, NULL, f, TET_DOF);
+        double e_stretched = eval_term(m, SB_TERM_COROTATED, stretched, NULL, f, TET_DOF);
+        TU_ASSERT_NEAR(e_turned, e_stretched, 1e-10 * e_stretched);
+        free(rest);
+        sb_model_destroy(m);
+    }
+    /* without jitter the block's volume is 2 L³ and every element has F = diag(1 + ε, 1, 1) */
+    double L = 0.02, eps = 0.03;
+    sb_model* m = tu_tet_block(2, 1, 1, L, E, nu, 0.0, 1, false);
+    double* rest = tu_rest_positions(m);
+    double stretched[TET_DOF], f[TET_DOF];
+    for (int i = 0; i < TET_DOF; ++i) stretched[i] = rest[i] * (i % 3 == 0 ? 1 + eps : 1.0);
+    double e = eval_term(m, SB_TERM_COROTATED, stretched, NULL, f, TET_DOF);
+    TU_ASSERT_NEAR(e, 2 * L * L * L * eps * eps * (mu + 0.5 * lambda), 1e-12 * e);
+    free(rest);
+    sb_model_destroy(m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_gradient_random),       cmocka_unit_test(test_gradient_special),
-        cmocka_unit_test(test_net_force_and_torque),  cmocka_unit_test(test_rigid_motion_invariance),
-        cmocka_unit_test(test_zero_at_rest),          cmocka_unit_test(test_damping_power),
-        cmocka_unit_test(test_forces_sum_of_terms),   cmocka_unit_test(test_collapsed_edge),
-        cmocka_unit_test(test_known_bond_and_spring), cmocka_unit_test(test_known_angle_and_stretch_bend),
+        cmocka_unit_test(test_gradient_random),
+        cmocka_unit_test(test_gradient_special),
+        cmocka_unit_test(test_net_force_and_torque),
+        cmocka_unit_test(test_rigid_motion_invariance),
+        cmocka_unit_test(test_zero_at_rest),
+        cmocka_unit_test(test_damping_power),
+        cmocka_unit_test(test_forces_sum_of_terms),
+        cmocka_unit_test(test_collapsed_edge),
+        cmocka_unit_test(test_known_bond_and_spring),
+        cmocka_unit_test(test_known_angle_and_stretch_bend),
         cmocka_unit_test(test_known_hinge),
+        cmocka_unit_test(test_corotated_gradient),
+        cmocka_unit_test(test_corotated_rest_and_stretch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

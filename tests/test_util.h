@@ -215,6 +215,43 @@ static inline sb_model* tu_every_term_sheet(uint32_t side, bool two_pins) {
     return m;
 }
 
+/* An nx × ny × nz block of cubes of side h from the origin, each cut into
+ * six co-rotated tetrahedra around its diagonal (Kuhn's, conforming), E and
+ * ν, each vertex a mass of ρ h³ (ρ = 1060 kg/m³), the rest positions
+ * jittered by up to `jitter` h (seeded); the vertices at x = 0 fixed when
+ * `clamped`. */
+static inline sb_model* tu_tet_block(int nx, int ny, int nz, double h, double young, double poisson, double jitter,
+                                     uint64_t seed, bool clamped) {
+    static const int kuhn[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+    tu_rng rng = {seed * 6364136223846793005ull + 1442695040888963407ull};
+    sb_builder* b = sb_builder_create();
+    for (int k = 0; k <= nz; k++)
+        for (int j = 0; j <= ny; j++)
+            for (int i = 0; i <= nx; i++) {
+                double d[3];
+                for (int a = 0; a < 3; a++) d[a] = jitter * h * tu_uniform(&rng, -1, 1);
+                tu_vertex(b, i * h + d[0], j * h + d[1], k * h + d[2], 1060.0 * h * h * h, clamped && i == 0);
+            }
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++)
+                for (int t = 0; t < 6; t++) {
+                    sb_tet_def d;
+                    memset(&d, 0, sizeof d);
+                    for (int c = 0; c < 4; c++) {
+                        int corner = kuhn[t][c];
+                        int ci = i + (corner & 1), cj = j + (corner >> 1 & 1), ck = k + (corner >> 2 & 1);
+                        d.v[c] = (uint32_t)((ck * (ny + 1) + cj) * (nx + 1) + ci);
+                    }
+                    d.young_modulus = young;
+                    d.poisson_ratio = poisson;
+                    if (sb_builder_add_tet(b, &d) < 0) fail_msg("sb_builder_add_tet failed");
+                }
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    return m;
+}
+
 /* Rest positions of a model as 3n interleaved doubles (caller frees). */
 static inline double* tu_rest_positions(const sb_model* m) {
     uint32_t n = sb_model_vertex_count(m);

@@ -133,3 +133,38 @@ bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volum
     }
     return true;
 }
+
+bool sb_corotated_stiffness(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
+                            double k[144]) {
+    double F[9], R[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double s = 0.0;
+            for (int e = 0; e < 3; e++) s += (p[e + 1][r] - p[0][r]) * dm_inv[3 * e + c];
+            F[3 * r + c] = s;
+        }
+    for (int q = 0; q < 9; q++)
+        if (!isfinite(F[q])) return false;
+    sb_corotated_rotation(F, R);
+    double g[4][3], rg[4][3]; /* the shape functions' gradients, and turned by R */
+    for (int q = 0; q < 3; q++) {
+        g[0][q] = 0.0;
+        for (int c = 0; c < 3; c++) {
+            g[c + 1][q] = dm_inv[3 * c + q];
+            g[0][q] -= dm_inv[3 * c + q];
+        }
+    }
+    for (int a = 0; a < 4; a++)
+        for (int r = 0; r < 3; r++) rg[a][r] = R[3 * r] * g[a][0] + R[3 * r + 1] * g[a][1] + R[3 * r + 2] * g[a][2];
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+            double gg = g[a][0] * g[b][0] + g[a][1] * g[b][1] + g[a][2] * g[b][2];
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    k[(3 * a + i) * 12 + 3 * b + j] =
+                        volume * (mu * ((i == j ? gg : 0.0) + rg[b][i] * rg[a][j]) + lambda * rg[a][i] * rg[b][j]);
+        }
+    for (int q = 0; q < 144; q++)
+        if (!isfinite(k[q])) return false;
+    return true;
+}

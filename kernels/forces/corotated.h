@@ -22,6 +22,13 @@
 bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
                       double f[4][3], double* energy);
 
+/* The co-rotated stiffness R K0 Rᵀ at the corners p (12 × 12 row-major,
+ * corner-major: row 3 a + i is corner a's axis i), R of F at p
+ * (kernels/forces/hessian_tets.c says what it is and leaves out). false
+ * when it is not finite. */
+bool sb_corotated_stiffness(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
+                            double k[144]);
+
 /* R of F = R S (row-major 3 × 3), as above. */
 void sb_corotated_rotation(const double F[9], double R[9]);
 

@@ -450,6 +450,26 @@ static bool sb_fast_hinges(sb_fast_model* f, const sb_model* m) {
     return ok;
 }
 
+static double* sb_gather_double(const double* in, const sb_element_group* g, bool* ok) {
+    double* out = malloc((g->capacity ? g->capacity : 1) * sizeof *out);
+    if (!out) *ok = false;
+    for (uint32_t s = 0; out && s < g->capacity; s++) out[s] = in[g->source[s]];
+    return out;
+}
+
+static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
+    const uint32_t* ids[4] = {m->tet_v[0], m->tet_v[1], m->tet_v[2], m->tet_v[3]};
+    if (!sb_group_build(&f->tets, m->vertex_count, m->tet_count, 4, ids, NULL, NULL)) return false;
+    bool ok = true;
+    for (int a = 0; a < 4; a++) f->tet_v[a] = sb_gather_index(ids[a], &f->tets, &ok);
+    for (int k = 0; k < 9; k++) f->tet_dm_inv[k] = sb_gather_double(m->tet_dm_inv[k], &f->tets, &ok);
+    f->tet_volume = sb_gather_double(m->tet_volume, &f->tets, &ok);
+    f->tet_mu = sb_gather_double(m->tet_mu, &f->tets, &ok);
+    f->tet_lambda = sb_gather_double(m->tet_lambda, &f->tets, &ok);
+    f->has_tets = m->tet_count > 0 && m->term_enabled[SB_TERM_COROTATED];
+    return ok;
+}
+
 /* slot_of[source[s]] = s for the real slots of every color of a group. */
 static uint32_t* sb_slot_map(const sb_element_group* g, uint32_t model_count, bool* ok) {
     uint32_t* slot_of = malloc((model_count ? model_count : 1) * sizeof *slot_of);
@@ -598,7 +618,7 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
     uint32_t* carried = ok ? sb_hinge_carriers(m, &ok) : NULL;
     ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m, carried) &&
-         (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) &&
+         (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) && sb_fast_tet_group(f, m) &&
          (!m->breakable || (sb_fast_places(f, m, owner, carried) && sb_fast_limits(f, m)));
     free(owner);
     free(carried);
@@ -612,8 +632,8 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
 
 void sb_fast_model_destroy(sb_fast_model* f) {
     if (!f) return;
-    sb_element_group* groups[3] = {&f->bonds, &f->triangles, &f->hinges};
-    for (int g = 0; g < 3; g++) {
+    sb_element_group* groups[4] = {&f->bonds, &f->triangles, &f->hinges, &f->tets};
+    for (int g = 0; g < 4; g++) {
         free(groups[g]->ranges);
         free(groups[g]->blocks);
     }
@@ -639,7 +659,11 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->bond_near_min2,
                       f->tri_owned,
                       f->tri_hinge_edges,
-                      f->hinge_fused_at};
+                      f->hinge_fused_at,
+                      f->tets.source,
+                      f->tet_volume,
+                      f->tet_mu,
+                      f->tet_lambda};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -655,6 +679,7 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_hinge_phi0[c]);
         free(f->tri_hinge_k[c].values);
     }
-    for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
+    for (int a = 0; a < 4; a++) free(f->hinge_v[a]), free(f->tet_v[a]);
+    for (int k = 0; k < 9; k++) free(f->tet_dm_inv[k]);
     free(f);
 }

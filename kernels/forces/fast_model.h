@@ -101,6 +101,16 @@ typedef struct sb_fast_model {
     sb_fast_constant hinge_k;
     bool has_hinges;
 
+    /* Co-rotated tetrahedra (kernels/forces/fast_tets.c), colored by their
+     * four corners; the constants stay in double, in which the element is
+     * computed (kernels/forces/corotated.c). Empty without tetrahedra, and
+     * then no pass runs. */
+    sb_element_group tets;
+    uint32_t* tet_v[4];
+    double* tet_dm_inv[9];
+    double *tet_volume, *tet_mu, *tet_lambda;
+    bool has_tets;
+
     /* Breakage (kernels/interaction/breakage.c), only for a breakable model, whose
      * constants are then never folded to one value: where each model
      * element sits. bond_place[b] >= 0 is a slot of the bond group, else

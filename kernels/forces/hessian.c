@@ -4,10 +4,13 @@
 #include "kernels/forces/hessian_edges.h"
 #include "kernels/forces/hessian_corners.h"
 #include "kernels/forces/hessian_hinges.h"
+#include "kernels/forces/hessian_tets.h"
 
 #include <string.h>
 
-uint64_t sb_element_count(const sb_model* m) { return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count; }
+uint64_t sb_element_count(const sb_model* m) {
+    return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count + m->tet_count;
+}
 
 sb_element sb_element_at(const sb_model* m, uint64_t e) {
     if (e < m->bond_count) return (sb_element){SB_ELEMENT_BOND, (uint32_t)e, 2, {m->bond_i[e], m->bond_j[e]}};
@@ -15,8 +18,35 @@ sb_element sb_element_at(const sb_model* m, uint64_t e) {
     if (e < m->triangle_count)
         return (sb_element){SB_ELEMENT_TRIANGLE, (uint32_t)e, 3, {m->tri_v[0][e], m->tri_v[1][e], m->tri_v[2][e]}};
     e -= m->triangle_count;
+    if (e < m->hinge_count)
+        return (sb_element){
+            SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
+    e -= m->hinge_count;
     return (sb_element){
-        SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
+        SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
+}
+
+/* A tetrahedron's exact forces at x.v, and −R K0 Rᵀ x.d as their
+ * derivative part (hessian.h). */
+static bool sb_tet_forces_dual(const sb_model* m, uint32_t tet, const sb_dvec3* x, sb_dvec3* f) {
+    sb_vec3 at[4];
+    double forces[12], k[144], p[12];
+    for (int a = 0; a < 4; a++) {
+        at[a] = x[a].v;
+        p[3 * a] = x[a].d.x, p[3 * a + 1] = x[a].d.y, p[3 * a + 2] = x[a].d.z;
+    }
+    if (!sb_tet_stiffness(m, tet, at, forces, k)) return false;
+    for (int a = 0; a < 4; a++) {
+        double d[3];
+        for (int i = 0; i < 3; i++) {
+            double s = 0.0;
+            for (int c = 0; c < 12; c++) s -= k[(3 * a + i) * 12 + c] * p[c];
+            d[i] = s;
+        }
+        f[a].v = (sb_vec3){forces[3 * a], forces[3 * a + 1], forces[3 * a + 2]};
+        f[a].d = (sb_vec3){d[0], d[1], d[2]};
+    }
+    return true;
 }
 
 bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f) {
@@ -25,6 +55,7 @@ bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dve
     case SB_ELEMENT_BOND: sb_bond_forces_dual(m, e->index, x, f, &collapsed); break;
     case SB_ELEMENT_TRIANGLE: sb_triangle_forces_dual(m, e->index, x, f, &collapsed); break;
     case SB_ELEMENT_HINGE: sb_hinge_forces_dual(m, e->index, x, f, &collapsed); break;
+    case SB_ELEMENT_TET: return sb_tet_forces_dual(m, e->index, x, f);
     }
     return !collapsed;
 }
@@ -61,9 +92,24 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
     switch (e->kind) {
     case SB_ELEMENT_BOND: return sb_bond_stiffness_matrix(m, e->index, local, k);
     case SB_ELEMENT_TRIANGLE: return sb_triangle_stiffness(m, e->index, local, k);
+    case SB_ELEMENT_TET: return sb_tet_stiffness(m, e->index, local, NULL, k);
     case SB_ELEMENT_HINGE: break;
     }
     return sb_element_stiffness_dual(m, e, x, k);
+}
+
+/* The tetrahedron's vertex share: its exact force and its diagonal block
+ * of R K0 Rᵀ (positive semi-definite, as every diagonal block of a
+ * positive semi-definite matrix). */
+static bool sb_tet_vertex_share(const sb_model* m, uint32_t tet, const sb_vec3* x, int place, double* f,
+                                double* block) {
+    double forces[12], k[144];
+    if (!sb_tet_stiffness(m, tet, x, forces, k)) return false;
+    for (int i = 0; i < 3; i++) {
+        f[i] += forces[3 * place + i];
+        for (int j = 0; j < 3; j++) block[3 * i + j] += k[(3 * place + i) * 12 + 3 * place + j];
+    }
+    return true;
 }
 
 bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const double* x, int place, double* f,
@@ -73,6 +119,7 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
     switch (e->kind) {
     case SB_ELEMENT_BOND: return sb_bond_vertex_share(m, e->index, local, place, f, block);
     case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_TET: return sb_tet_vertex_share(m, e->index, local, place, f, block);
     case SB_ELEMENT_HINGE: break;
     }
     return sb_hinge_vertex_share(m, e->index, local, place, f, block);
@@ -101,9 +148,24 @@ bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const
     case SB_ELEMENT_BOND: sb_bond_definite(m, e->index, local, k); break;
     case SB_ELEMENT_TRIANGLE: sb_triangle_definite(m, e->index, local, k); break;
     case SB_ELEMENT_HINGE: sb_hinge_definite(m, e->index, local, k); break;
+    case SB_ELEMENT_TET:
+        if (!sb_tet_stiffness(m, e->index, local, NULL, k)) return false;
+        break;
     }
     for (int r = 0; r < 9 * e->count * e->count; r++)
         if (!isfinite(k[r])) return false;
+    return true;
+}
+
+/* dt² R K0 Rᵀ in the blocks' layout (hessian.h), definite or not. */
+static bool sb_tet_jacobian_blocks(const sb_model* m, uint32_t tet, const sb_vec3* x, double scale, double* blocks) {
+    double k[144];
+    if (!sb_tet_stiffness(m, tet, x, NULL, k)) return false;
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++)
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++)
+                    blocks[9 * (4 * r + c) + 3 * a + b] = scale * k[(3 * r + a) * 12 + 3 * c + b];
     return true;
 }
 
@@ -115,6 +177,7 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
     switch (e->kind) {
     case SB_ELEMENT_BOND: return sb_bond_jacobian_blocks(m, e->index, local, definite, dt, blocks);
     case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
+    case SB_ELEMENT_TET: return sb_tet_jacobian_blocks(m, e->index, local, scale, blocks);
     case SB_ELEMENT_TRIANGLE: break;
     }
     if (!definite) return sb_triangle_stiffness_blocks(m, e->index, local, scale, blocks);

@@ -17,28 +17,39 @@
  * solvers that use K keep the exact residual, so it costs iterations, never
  * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact.
  *
+ * A co-rotated tetrahedron (4 vertices) is the exception: its stiffness is
+ * the co-rotated approximation R K0 Rᵀ (kernels/forces/hessian_tets.c),
+ * which leaves out the derivative of the element's rotation R. It is
+ * symmetric and positive semi-definite, exact at rest and at any rotation
+ * of it, and off by terms that grow with the stress under strain; its
+ * "dual" forces (sb_element_forces_dual) are the exact forces with the
+ * derivative part −R K0 Rᵀ p, so that every function below serves it by
+ * that matrix. As with the spring's left-out part, the solvers keep the
+ * exact residual: it costs iterations, not accuracy.
+ *
  * This header: the elements and their functions (kernels/forces/hessian.c),
  * which call each term family's, declared in its own header:
  * kernels/forces/hessian_edges.h (the bond's), hessian_corners.h (the
- * triangle's) and hessian_hinges.h (the hinge's). */
+ * triangle's), hessian_hinges.h (the hinge's) and hessian_tets.h (the
+ * tetrahedron's). */
 #ifndef SB_HESSIAN_H
 #define SB_HESSIAN_H
 
 #include "common/dual.h"
 #include "mesh/model_internal.h"
 
-typedef enum sb_element_kind { SB_ELEMENT_BOND, SB_ELEMENT_TRIANGLE, SB_ELEMENT_HINGE } sb_element_kind;
+typedef enum sb_element_kind { SB_ELEMENT_BOND, SB_ELEMENT_TRIANGLE, SB_ELEMENT_HINGE, SB_ELEMENT_TET } sb_element_kind;
 
 enum { SB_ELEMENT_MAX = 4 };
 
 typedef struct sb_element {
     sb_element_kind kind;
-    uint32_t index; /* bond, triangle or hinge index in the model */
+    uint32_t index; /* bond, triangle, hinge or tetrahedron index in the model */
     int count;      /* vertices */
     uint32_t vertex[SB_ELEMENT_MAX];
 } sb_element;
 
-/* Elements are numbered bonds, then triangles, then hinges. */
+/* Elements are numbered bonds, then triangles, then hinges, then tetrahedra. */
 uint64_t sb_element_count(const sb_model* m);
 sb_element sb_element_at(const sb_model* m, uint64_t e);
 
@@ -66,7 +77,7 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
 
 /* A positive semi-definite stand-in for K_e (the definiteness fix of
  * implicit Euler), equal to K_e at the rest shape wherever K_e is positive
- * semi-definite there:
+ * semi-definite there (a tetrahedron's is its R K0 Rᵀ):
  *   bond: k (u uᵀ + max(0, 1 − r0/r)(I − u uᵀ)) per block, K_e's own
  *     projection (a compressed bond loses its negative sideways stiffness);
  *   triangle: per corner, the quadratic form of its energy in (c − c0, S),

@@ -53,7 +53,8 @@
  * arrays. With the fast kernels they run in kernels/integrators/fast_vbd.c: the same
  * shares in sb_real, SIMD over the vertices of a color, on a layout built
  * at creation; a model that may break or tear keeps this file's sweeps
- * (its constants and elements change under the layout). The first guess,
+ * (its constants and elements change under the layout), and so does one
+ * with co-rotated tetrahedra (no fast share for them yet). The first guess,
  * y and the final velocities are this file's either way; the new state's
  * forces and energies come from the chosen kernels. */
 #include "kernels/state/solver_data.h"
@@ -163,8 +164,9 @@ bool sb_vbd_prepare(sb_solver* s) {
     ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
     if (ok) sb_vbd_order(v, m);
     v->built_vertices = s->live_vertices;
-    /* a model that may break or tear changes under the sweep: the reference's, which reads it live */
-    if (ok && s->fast && !s->breakage)
+    /* a model that may break or tear changes under the sweep: the reference's, which reads it live; and
+     * the fast sweep has no share for the co-rotated tetrahedra */
+    if (ok && s->fast && !s->breakage && !m->tet_count)
         ok =
             (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev)) != NULL;
     return ok;

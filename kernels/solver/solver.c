@@ -187,24 +187,19 @@ static sb_status sb_prepare_step_buffers(sb_solver* s, sb_error* err) {
     return SB_OK;
 }
 
-/* The co-rotated tetrahedra have forces and energies only: no Hessian for
- * implicit Euler and vbd, no constraints for pbd and xpbd, no fast pass
- * yet, and tearing's vertex splits do not know them. Refused here rather
- * than run wrong. */
+/* The co-rotated tetrahedra have forces, energies, a fast pass and the
+ * co-rotated stiffness (implicit Euler, vbd), but no constraints for pbd
+ * and xpbd yet, and tearing's vertex splits do not know them. Refused here
+ * rather than run wrong. */
 static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_error* err) {
     if (!m->tet_count) return SB_OK;
     sb_integrator it = def->integrator;
-    if (it == SB_INTEGRATOR_IMPLICIT_EULER || it == SB_INTEGRATOR_VBD || it == SB_INTEGRATOR_PBD ||
-        it == SB_INTEGRATOR_XPBD)
+    if (it == SB_INTEGRATOR_PBD || it == SB_INTEGRATOR_XPBD)
         return sb_error_set(err, SB_ERR_INVALID,
-                            "the corotated tetrahedra (tissue.model: corotated) have no Hessian or constraints yet: "
+                            "the corotated tetrahedra (tissue.model: corotated) have no constraints yet: "
                             "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
-                            "symplectic_euler or explicit_euler",
+                            "symplectic_euler, explicit_euler, implicit_euler or vbd",
                             sb_integrator_name(it));
-    if (def->kernels == SB_KERNELS_FAST)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "the corotated tetrahedra (tissue.model: corotated) have no fast kernel yet: use "
-                            "kernels: reference");
     return SB_OK;
 }
 
