@@ -1,7 +1,8 @@
 #!/bin/sh
 # Makes the gallery (docs/gallery.md and its thumbnails here) from the
 # repository root after a build; needs xvfb-run (Mesa's software OpenGL).
-# For each committed scene: a 320 x 240 still from `softbond view` at the
+# For each committed scene: a 320 x 240 still from `softbond view` (edges
+# and statistics off) at the
 # time below (half its duration, at most 2 s), and the wall time of
 # `softbond run` on 2 threads without frames (output.frames=false) on this
 # machine. Usage: sh docs/images/gallery/make.sh [SCENE.yaml...]
@@ -18,6 +19,7 @@ what() { # one line on what each scene shows
     capsule_hook) echo "a cloth dropped across a capsule rail folds over it like a towel on a hook" ;;
     cloth_fixed_points) echo "a cloth held at fixed points (the Spring Systems film maker's sub-version)" ;;
     cloth_on_rod) echo "a cloth dropped across a thin rod: its halves swing together and pile on the floor (self-contact)" ;;
+    corotated_body) echo "a block of liver-like tissue (E 3.5 kPa, ν 0.45) settling on a table: co-rotated finite elements" ;;
     default) echo "a sheet held at its two top corners falls and swings to rest (what make demo runs)" ;;
     draped_sheet) echo "a sheet drapes over a ball on the floor, its corners folding down" ;;
     falling_rock) echo "a rock read from a 3DS file falls onto a surface (Spring Systems real-time demo)" ;;
@@ -44,7 +46,7 @@ for scene in "$@"; do
     integrator=$(sed -n 's/^integrator: *\([a-z_]*\).*/\1/p' "$scene")
     duration=$(sed -n 's/^duration: *\([0-9.e+-]*\).*/\1/p' "$scene")
     t=$(awk -v d="$duration" 'BEGIN {t = d / 2; if (t > 2) t = 2; print t}')
-    printf "%s key F2\n%s quit\n" 0 "$t" > "$out/script.txt"
+    printf "%s key F2\n%s key o\n%s quit\n" 0 0 "$t" > "$out/script.txt"
     xvfb-run -a -s "-screen 0 640x480x24" ./build/softbond view "$scene" --size 320x240 \
         --script "$out/script.txt" --screenshot "$here/$name.png" > /dev/null
     start=$(date +%s.%N)
@@ -62,7 +64,8 @@ done
 <!-- Made by docs/images/gallery/make.sh: edit the descriptions there. -->
 
 Every committed scene in `scenes/`, as `softbond view SCENE` shows it at
-half its duration (at most 2 s), edges off (F2): click a picture for the
+half its duration (at most 2 s), edges off (F2) and statistics hidden (o):
+click a picture for the
 scene file. Run any of them with `softbond run scenes/NAME.yaml` or watch it
 with `softbond view scenes/NAME.yaml`. *Run time* is the wall time of
 `softbond run` on 2 threads without writing frames, on the project's 2-core
