@@ -399,6 +399,16 @@ static void reseal(uint8_t* data, size_t size) {
     memcpy(data + size - 8, &sum, sizeof sum);
 }
 
+/* Where the saved state's section `tag` starts in data. */
+static uint8_t* section_in(uint8_t* data, size_t size, const char tag[4]) {
+    sb_sections_reader r;
+    sb_cursor section;
+    sb_error err;
+    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 2, "state", &err), SB_OK);
+    assert_true(sb_sections_find(&r, tag, &section));
+    return data + (section.at - (const uint8_t*)data);
+}
+
 /* A step array's value that is not finite is refused on load, naming the
  * array and the vertex, whatever the checksum says (it was taken, and the
  * first step after it failed). */
@@ -408,13 +418,9 @@ static void test_state_not_finite_is_refused(void** state) {
     size_t size;
     uint8_t* data = saved_ball(&a, &size);
     verlet_ball(&fresh, 1);
-    sb_sections_reader r;
-    sb_cursor arrays;
     sb_error err;
-    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 2, "state", &err), SB_OK);
-    assert_true(sb_sections_find(&r, "ARRS", &arrays));
     size_t n = sb_solver_vertex_capacity(fresh.solver); /* the arrays' length: x y z, then vx */
-    uint8_t* vy = data + (arrays.at - (const uint8_t*)data) + (4 * n + 2) * sizeof(sb_real);
+    uint8_t* vy = section_in(data, size, "ARRS") + (4 * n + 2) * sizeof(sb_real);
     sb_real saved, bad = (sb_real)NAN;
     memcpy(&saved, vy, sizeof saved);
     memcpy(vy, &bad, sizeof bad);
@@ -436,12 +442,8 @@ static void test_clock_out_of_range_is_refused(void** state) {
     size_t size;
     uint8_t* data = saved_ball(&a, &size);
     verlet_ball(&fresh, 1);
-    sb_sections_reader r;
-    sb_cursor clock;
     sb_error err;
-    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 2, "state", &err), SB_OK);
-    assert_true(sb_sections_find(&r, "CLCK", &clock));
-    double* time = (double*)(data + (clock.at - (const uint8_t*)data));
+    double* time = (double*)section_in(data, size, "CLCK");
     double saved = *time, bad[] = {NAN, INFINITY, -1};
     for (int k = 0; k < 3; k++) {
         *time = bad[k];

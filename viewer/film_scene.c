@@ -2,31 +2,16 @@
 #include "viewer/film_scene.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/geometry.h"
+#include "mesh/io/pov_axes.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
-
-/* POV-Ray's coordinate k is sign[k] times the scene's axis[k] (as mesh/io/pov_writer.c). */
-typedef struct pov_axes {
-    int axis[3];
-    double sign[3];
-} pov_axes;
-
-static pov_axes axes_for(const double up[3]) {
-    int a = 2;
-    for (int k = 0; k < 2; k++)
-        if (fabs(up[k]) > fabs(up[a])) a = k;
-    double s = up[a] < 0.0 ? -1.0 : 1.0;
-    int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
-    return (pov_axes){{b, a, c}, {1.0, s, s}};
-}
-
 static void to_pov(const sb_film_scene* f, const double p[3], double out[3]) {
-    pov_axes axes = axes_for(f->up);
-    for (int k = 0; k < 3; k++) out[k] = axes.sign[k] * p[axes.axis[k]];
+    sb_pov_axes axes = sb_pov_axes_for(f->up);
+    sb_pov_point(&axes, p, out);
 }
 
 static void put_vector(FILE* out, const sb_film_scene* f, const double p[3]) {
@@ -83,11 +68,18 @@ static void place(const pose* p, const double rest[3], double out[3]) {
 /* A box's half axes at rest (its def's rotation), scene coordinates. */
 static void box_axes(const sb_collider_def* def, double axes[3][3]) {
     double r[3];
-    for (int k = 0; k < 3; k++) r[k] = def->rotate[k] * PI / 180.0;
+    for (int k = 0; k < 3; k++) r[k] = def->rotate[k] * SB_PI / 180.0;
     /* about x, then y, then z: R = Rz Ry Rx */
     double cx = cos(r[0]), sx = sin(r[0]), cy = cos(r[1]), sy = sin(r[1]), cz = cos(r[2]), sz = sin(r[2]);
-    double R[9] = {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx, sz * cy, sz * sy * sx + cz * cx,
-                   sz * sy * cx - cz * sx, -sy, cy * sx, cy * cx};
+    double R[9] = {cz * cy,
+                   cz * sy * sx - sz * cx,
+                   cz * sy * cx + sz * sx,
+                   sz * cy,
+                   sz * sy * sx + cz * cx,
+                   sz * sy * cx - cz * sx,
+                   -sy,
+                   cy * sx,
+                   cy * cx};
     for (int a = 0; a < 3; a++)
         for (int k = 0; k < 3; k++) axes[a][k] = R[3 * k + a] * def->half_extents[a];
 }
@@ -120,7 +112,8 @@ void sb_film_scene_bounds(const sb_film_scene* f, const double* positions, uint3
             }
             break;
         default:
-            for (uint32_t i = 0; i < e->mesh.vertex_count; i++) place(&p, e->mesh.positions + 3 * i, q), grow(lo, hi, q, 0.0);
+            for (uint32_t i = 0; i < e->mesh.vertex_count; i++)
+                place(&p, e->mesh.positions + 3 * i, q), grow(lo, hi, q, 0.0);
         }
     }
 }
@@ -130,15 +123,17 @@ void sb_film_scene_bounds(const sb_film_scene* f, const double* positions, uint3
 /* A mesh2 of n points (already in POV coordinates when pov is set) with smooth normals. */
 static void put_mesh2(FILE* out, const sb_film_scene* f, const double* points, uint32_t n, const uint32_t* triangles,
                       uint32_t m, const char* texture, double* scratch) {
-    double* p = scratch;                    /* 3n: POV coordinates */
+    double* p = scratch;                      /* 3n: POV coordinates */
     double* normal = scratch + 3 * (size_t)n; /* 3n */
     for (uint32_t i = 0; i < n; i++) to_pov(f, points + 3 * i, p + 3 * i);
     memset(normal, 0, 3 * (size_t)n * sizeof *normal);
     for (uint32_t t = 0; t < m; t++) {
         const uint32_t* v = triangles + 3 * t;
         double e1[3], e2[3], c[3];
-        for (int k = 0; k < 3; k++) e1[k] = p[3 * v[1] + k] - p[3 * v[0] + k], e2[k] = p[3 * v[2] + k] - p[3 * v[0] + k];
-        c[0] = e1[1] * e2[2] - e1[2] * e2[1], c[1] = e1[2] * e2[0] - e1[0] * e2[2], c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; k++)
+            e1[k] = p[3 * v[1] + k] - p[3 * v[0] + k], e2[k] = p[3 * v[2] + k] - p[3 * v[0] + k];
+        c[0] = e1[1] * e2[2] - e1[2] * e2[1], c[1] = e1[2] * e2[0] - e1[0] * e2[2],
+        c[2] = e1[0] * e2[1] - e1[1] * e2[0];
         for (int corner = 0; corner < 3; corner++)
             for (int k = 0; k < 3; k++) normal[3 * v[corner] + k] += c[k];
     }
@@ -148,8 +143,10 @@ static void put_mesh2(FILE* out, const sb_film_scene* f, const double* points, u
     for (uint32_t i = 0; i < n; i++) {
         double* q = normal + 3 * i;
         double length = sqrt(dot3(q, q));
-        if (length > 0) fprintf(out, ",\n    <%.6g, %.6g, %.6g>", q[0] / length, q[1] / length, q[2] / length);
-        else fprintf(out, ",\n    <0, 1, 0>");
+        if (length > 0)
+            fprintf(out, ",\n    <%.6g, %.6g, %.6g>", q[0] / length, q[1] / length, q[2] / length);
+        else
+            fprintf(out, ",\n    <0, 1, 0>");
     }
     fprintf(out, "\n  }\n  face_indices { %u", m);
     for (uint32_t t = 0; t < m; t++)
@@ -217,16 +214,18 @@ sb_status sb_film_scene_write_frame(const sb_film_scene* f, const char* path, co
                                     const double* positions, sb_error* err) {
     size_t most = mesh->vertex_count;
     for (uint32_t c = 0; c < f->count; c++)
-        if (f->sim->colliders.entries[c].mesh.vertex_count > most) most = f->sim->colliders.entries[c].mesh.vertex_count;
+        if (f->sim->colliders.entries[c].mesh.vertex_count > most)
+            most = f->sim->colliders.entries[c].mesh.vertex_count;
     double* scratch = malloc(9 * (most + 1) * sizeof *scratch);
     if (!scratch) return sb_error_set(err, SB_ERR_NOMEM, "%s: out of memory", path);
     sb_atomic_file file;
     sb_status status = sb_atomic_open(&file, path, err);
     if (status == SB_OK) {
         FILE* out = file.stream;
-        fprintf(out, "// softbond film frame at t = %.9g s: %u vertices, %u triangles, %u colliders\n"
-                     "// render: povray +L<this folder> +I<this file> (the setting: " SB_FILM_SETTING ")\n"
-                     "#version 3.7;\n#include \"" SB_FILM_SETTING "\"\n",
+        fprintf(out,
+                "// softbond film frame at t = %.9g s: %u vertices, %u triangles, %u colliders\n"
+                "// render: povray +L<this folder> +I<this file> (the setting: " SB_FILM_SETTING ")\n"
+                "#version 3.7;\n#include \"" SB_FILM_SETTING "\"\n",
                 sb_solver_time(f->sim->solver), mesh->vertex_count, mesh->triangle_count, f->count);
         put_mesh2(out, f, positions, mesh->vertex_count, mesh->triangles, mesh->triangle_count, "softbond_body",
                   scratch);
@@ -259,7 +258,7 @@ sb_status sb_film_scene_write_setting(const sb_film_scene* f, const char* path, 
     if (length < 1e-12) back[0] = 1.0, length = 1.0;
     double key[3] = {t[0] + 1.2 * size * (back[0] + back[2]) / length, t[1] + 3.0 * size,
                      t[2] + 1.2 * size * (back[2] - back[0]) / length};
-    double angle = 2.0 * atan(tan(0.5 * fov) * aspect) * 180.0 / PI;
+    double angle = 2.0 * atan(tan(0.5 * fov) * aspect) * 180.0 / SB_PI;
     sb_atomic_file file;
     sb_status status = sb_atomic_open(&file, path, err);
     if (status != SB_OK) return status;

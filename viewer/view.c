@@ -509,6 +509,23 @@ static void save_screenshot(view_app* a) {
     }
 }
 
+/* Stops the simulation and frees what it made: the thread, the shown
+ * snapshot, the topology, the haptic device, the scene, the grab handle and
+ * the state buffer (a reload makes them again). */
+static void release_simulation(view_app* a) {
+    sb_sim_thread_stop(&a->thread);
+    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
+    a->shown = NULL;
+    sb_view_topology_free(&a->topology);
+    sb_error ignored;
+    sb_scene_haptics_finish(&a->sim.haptics, &ignored);
+    sb_simulation_free(&a->sim);
+    sb_handle_destroy(a->grab);
+    sb_state_buffer_destroy(a->buffer);
+    a->sim = (sb_simulation){0};
+    a->grab = NULL, a->buffer = NULL;
+}
+
 /* l: the scene file read again and started anew (the camera too). A scene
  * that does not read is refused in the window, the old one running on. */
 static sb_status reload(view_app* a, sb_error* err) {
@@ -521,19 +538,10 @@ static sb_status reload(view_app* a, sb_error* err) {
         notice(a, true, "reload refused: %s", why.message);
         return SB_OK;
     }
-    sb_sim_thread_stop(&a->thread);
-    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
-    a->shown = NULL;
+    release_simulation(a);
     sb_collider_draw_free(&a->colliders);
     sb_mesh_draw_free(&a->mesh);
-    sb_view_topology_free(&a->topology);
-    sb_error ignored;
-    sb_scene_haptics_finish(&a->sim.haptics, &ignored);
-    sb_simulation_free(&a->sim);
-    sb_handle_destroy(a->grab);
-    sb_state_buffer_destroy(a->buffer);
-    a->sim = (sb_simulation){0};
-    a->grab = NULL, a->buffer = NULL, a->tool_index = -1, a->drag = DRAG_NONE;
+    a->tool_index = -1, a->drag = DRAG_NONE;
     a->report = (sb_sim_report){0};
     bool paused = a->controls.paused;
     a->controls = (sb_sim_controls){0};
@@ -617,8 +625,7 @@ static void fill_result(const view_app* a, sb_view_result* r, double wall, doubl
 }
 
 static void finish(view_app* a) {
-    sb_sim_thread_stop(&a->thread);
-    if (a->shown) sb_state_buffer_release(a->buffer, a->shown);
+    release_simulation(a);
     if (a->window) {
         sb_overlay_free(&a->overlay);
         sb_collider_draw_free(&a->colliders);
@@ -627,12 +634,6 @@ static void finish(view_app* a) {
         sb_window_close(a->window);
     }
     sb_input_script_free(&a->script);
-    sb_view_topology_free(&a->topology);
-    sb_error ignored;
-    sb_scene_haptics_finish(&a->sim.haptics, &ignored);
-    sb_simulation_free(&a->sim);
-    sb_handle_destroy(a->grab);
-    sb_state_buffer_destroy(a->buffer);
 }
 
 sb_status sb_view_run(const sb_view_options* options, sb_view_result* result, sb_error* err) {

@@ -22,29 +22,11 @@
  * aspect ratio up to 4:3, POV-Ray's default (the vertical half-angle is then
  * 19.3° and asin(1 / 3.5) = 16.6°). */
 #include "mesh/io/mesh_writers.h"
+#include "mesh/io/pov_axes.h"
 
 #include <math.h>
 
 #define SB_POV_DISTANCE 3.5
-
-/* POV-Ray's coordinate k is sign[k] times softbond's coordinate axis[k]. */
-typedef struct pov_axes {
-    int axis[3];
-    double sign[3];
-} pov_axes;
-
-static pov_axes axes_for(const double up[3]) {
-    int a = 2;
-    for (int k = 0; k < 2; k++)
-        if (fabs(up[k]) > fabs(up[a])) a = k;
-    double s = up[a] < 0.0 ? -1.0 : 1.0;
-    int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2; /* the other two, in order */
-    return (pov_axes){{b, a, c}, {1.0, s, s}};
-}
-
-static void to_pov(const pov_axes* axes, const double p[3], double out[3]) {
-    for (int k = 0; k < 3; k++) out[k] = axes->sign[k] * p[axes->axis[k]];
-}
 
 typedef struct pov_view {
     double center[3]; /* POV-Ray coordinates */
@@ -52,7 +34,7 @@ typedef struct pov_view {
 } pov_view;
 
 /* The bounding box's centre and half diagonal. */
-static pov_view view_of(const sb_mesh* mesh, const double* positions, const pov_axes* axes) {
+static pov_view view_of(const sb_mesh* mesh, const double* positions, const sb_pov_axes* axes) {
     double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
     for (uint32_t v = 0; v < mesh->vertex_count; v++)
         for (int k = 0; k < 3; k++) {
@@ -64,16 +46,16 @@ static pov_view view_of(const sb_mesh* mesh, const double* positions, const pov_
     double center[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     double radius = 0.5 * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     pov_view view = {{0.0, 0.0, 0.0}, radius > 0.0 ? radius : 1.0};
-    to_pov(axes, center, view.center);
+    sb_pov_point(axes, center, view.center);
     return view;
 }
 
 /* The eye: def's, or from the front, above and the right of the view. */
-static void place_eye(const sb_mesh_export_def* def, const pov_axes* axes, pov_view* view, double eye[3]) {
+static void place_eye(const sb_mesh_export_def* def, const sb_pov_axes* axes, pov_view* view, double eye[3]) {
     static const double direction[3] = {0.4, 0.6, -0.7}; /* centre to eye, length ~1 */
     if (def->eye && def->target) {
-        to_pov(axes, def->eye, eye);
-        to_pov(axes, def->target, view->center);
+        sb_pov_point(axes, def->eye, eye);
+        sb_pov_point(axes, def->target, view->center);
         double d[3] = {eye[0] - view->center[0], eye[1] - view->center[1], eye[2] - view->center[2]};
         view->radius = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / SB_POV_DISTANCE;
         return;
@@ -107,7 +89,7 @@ static void write_mesh2(FILE* f, const sb_mesh* mesh, const double* positions) {
 }
 
 /* POV-Ray's matrix maps <x, y, z> to x m[0] + y m[1] + z m[2] (rows of 3). */
-static void write_object(FILE* f, const pov_axes* axes) {
+static void write_object(FILE* f, const sb_pov_axes* axes) {
     double m[3][3] = {{0.0}};
     for (int k = 0; k < 3; k++) m[axes->axis[k]][k] = axes->sign[k];
     fprintf(f, "object {\n  softbond_mesh\n  matrix <");
@@ -118,7 +100,7 @@ static void write_object(FILE* f, const pov_axes* axes) {
 }
 
 void sb_pov_write(FILE* f, const sb_mesh* mesh, const sb_mesh_export_def* def) {
-    pov_axes axes = axes_for(def->up);
+    sb_pov_axes axes = sb_pov_axes_for(def->up);
     pov_view view = view_of(mesh, def->positions, &axes);
     double eye[3];
     place_eye(def, &axes, &view, eye);
