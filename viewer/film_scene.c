@@ -4,6 +4,7 @@
 #include "common/error.h"
 #include "common/geometry.h"
 #include "mesh/io/pov_axes.h"
+#include "kernels/contact/colliders/rotation.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -65,21 +66,11 @@ static void place(const pose* p, const double rest[3], double out[3]) {
     for (int k = 0; k < 3; k++) out[k] += p->center[k];
 }
 
-/* A box's half axes at rest (its def's rotation), scene coordinates. */
+/* A box's half axes at rest (its def's rotation, as the collider itself
+ * turns it), scene coordinates. */
 static void box_axes(const sb_collider_def* def, double axes[3][3]) {
-    double r[3];
-    for (int k = 0; k < 3; k++) r[k] = def->rotate[k] * SB_PI / 180.0;
-    /* about x, then y, then z: R = Rz Ry Rx */
-    double cx = cos(r[0]), sx = sin(r[0]), cy = cos(r[1]), sy = sin(r[1]), cz = cos(r[2]), sz = sin(r[2]);
-    double R[9] = {cz * cy,
-                   cz * sy * sx - sz * cx,
-                   cz * sy * cx + sz * sx,
-                   sz * cy,
-                   sz * sy * sx + cz * cx,
-                   sz * sy * cx - cz * sx,
-                   -sy,
-                   cy * sx,
-                   cy * cx};
+    double R[9];
+    sb_collider_rotation(def->rotate, R);
     for (int a = 0; a < 3; a++)
         for (int k = 0; k < 3; k++) axes[a][k] = R[3 * k + a] * def->half_extents[a];
 }
