@@ -1,0 +1,85 @@
+"""Colliders, handles, blades, scenes and every integrator through the package."""
+
+import numpy as np
+import pytest
+
+import softbond
+
+
+def test_sheet_rests_on_a_plane_and_the_plane_carries_its_weight():
+    model = softbond.Model.sheet(nx=5, ny=5, width=0.4, height=0.4, bond_k=200, angle_k=0.01, mass=0.01)
+    plane = softbond.Collider("plane", point=(0, 0, -0.1), normal=(0, 0, 1), name="floor")
+    solver = softbond.Solver(model, colliders=[plane], drag=5.0, threads=1)
+    solver.advance(1e-3, steps=2000)
+    assert np.all(solver.positions[:, 2] > -0.1 - 1e-6)
+    weight = model.masses.sum() * 9.81
+    assert solver.contact_force(plane)[2] == pytest.approx(-weight, rel=0.05)
+    assert solver.contact_force(0)[2] == solver.contact_force(plane)[2]
+    assert plane.name == "floor"
+
+
+def test_hard_handle_follows_its_path():
+    model = softbond.Model.sheet(nx=4, ny=4, bond_k=100)
+    handle = softbond.Handle([0, 1], path=[(0.0, (0, 0, 0)), (0.1, (0, 0, 0.2))])
+    solver = softbond.Solver(model, handles=[handle], gravity=(0, 0, 0), threads=1)
+    solver.advance(1e-3, steps=100)
+    positions = solver.positions
+    np.testing.assert_allclose(positions[[0, 1]], model.rest_positions[[0, 1]] + [0, 0, 0.2], atol=1e-5)
+    np.testing.assert_allclose(handle.targets, positions[[0, 1]], atol=1e-5)
+    assert handle.held
+    handle.release()
+    assert not handle.held
+
+
+def test_soft_handle_reports_its_force():
+    model = softbond.Model.from_arrays([[0, 0, 0]], masses=1.0)
+    handle = softbond.Handle([0], stiffness=100.0, damping=0.0)
+    solver = softbond.Solver(model, handles=[handle], integrator="velocity_verlet", threads=1)
+    solver.advance(1e-3, steps=1)
+    assert handle.force[2] > 0  # it holds the vertex up against gravity
+
+
+def test_blade_cuts_the_bonds_it_sweeps():
+    model = softbond.Model.sheet(nx=6, ny=6, bond_k=100, fixed=list(range(6)))
+    blade = softbond.Blade(a=(0.5, -0.5, -0.1), b=(0.5, -0.5, 0.1), path=[(0.0, (0, 0, 0)), (0.05, (0, 2, 0))])
+    solver = softbond.Solver(model, blades=[blade], gravity=(0, 0, 0), threads=1)
+    solver.advance(1e-3, steps=60)
+    cut = solver.broken_bonds
+    assert len(cut) > 0
+    ends = model.bonds[cut]
+    x = model.rest_positions[:, 0]
+    # every cut bond crosses x = 0.5
+    assert np.all((x[ends[:, 0]] - 0.5) * (x[ends[:, 1]] - 0.5) < 0)
+
+
+@pytest.mark.parametrize("integrator", softbond.INTEGRATORS)
+def test_every_integrator_runs_the_default_scene(source_dir, integrator):
+    scene = softbond.Scene.load(source_dir / "scenes" / "default.yaml", {"integrator": integrator})
+    assert scene.integrator == integrator
+    solver = softbond.Solver(scene, threads=1)
+    solver.advance(scene.dt, steps=50)
+    assert solver.step_count == 50
+    assert np.all(np.isfinite(solver.positions))
+
+
+def test_scene_from_dict_and_overrides():
+    scene = softbond.Scene.from_dict(
+        {"mesh": {"generator": "sheet", "nx": 4, "ny": 3}, "bond": {"k": 50}, "dt": 0.002},
+        overrides={"gravity": [0, 0, -1]},
+    )
+    assert scene.model.vertex_count == 12
+    assert scene.dt == 0.002
+    assert scene.gravity == (0, 0, -1)
+    assert scene.number("mesh.nx") == 4
+
+
+def test_tissue_from_youngs_modulus():
+    vertices = np.array([[0, 0, 0], [0.01, 0, 0], [0, 0.01, 0], [0, 0, 0.01]], dtype=float)
+    tets = [[0, 1, 2, 3]]
+    springs = softbond.Model.from_tets(vertices, tets, young_modulus=5e3, density=1000)
+    assert springs.bond_count == 6 and springs.tet_count == 0
+    volume = 0.01**3 / 6
+    assert springs.masses.sum() == pytest.approx(1000 * volume)
+    fem = softbond.Model.from_tets(vertices, tets, young_modulus=5e3, poisson_ratio=0.4, model="corotated", fixed=[0])
+    assert fem.tet_count == 1 and fem.fixed[0]
+    assert "corotated" in fem.terms
