@@ -12,7 +12,10 @@ import numpy as np
 
 import softbond
 
-SCENES = pathlib.Path(__file__).resolve().parents[2] / "scenes"
+HERE = pathlib.Path(__file__).resolve()
+# the source tree's scenes, or the installed ones (share/softbond/scenes beside share/doc/softbond)
+SCENES = next((p for p in (HERE.parents[2] / "scenes", HERE.parents[3] / "softbond" / "scenes") if p.is_dir()),
+              HERE.parent)
 
 
 def device_position(t, start):
