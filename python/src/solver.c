@@ -284,23 +284,31 @@ static int solver_init(SbpySolver* self, PyObject* args, PyObject* kwargs) {
     return 0;
 }
 
-static void solver_dealloc(SbpySolver* self) {
-    PyObject_GC_UnTrack(self);
+/** Destroys the library's solver first (it points at the colliders and handles), then drops the references. */
+static int solver_clear(SbpySolver* self) {
     if (self->solver) {
-        Py_BEGIN_ALLOW_THREADS sb_solver_destroy(self->solver);
+        sb_solver* solver = self->solver;
+        self->solver = NULL;
+        Py_BEGIN_ALLOW_THREADS sb_solver_destroy(solver);
         Py_END_ALLOW_THREADS
     }
-    PyMem_Free(self->collider_ptrs);
-    PyMem_Free(self->handle_ptrs);
-    Py_XDECREF(self->pending.type);
-    Py_XDECREF(self->pending.value);
-    Py_XDECREF(self->pending.traceback);
+    Py_CLEAR(self->pending.type);
+    Py_CLEAR(self->pending.value);
+    Py_CLEAR(self->pending.traceback);
     Py_CLEAR(self->external_force);
     Py_CLEAR(self->on_break);
     Py_CLEAR(self->colliders);
     Py_CLEAR(self->handles);
     Py_CLEAR(self->scene);
     Py_CLEAR(self->model);
+    return 0;
+}
+
+static void solver_dealloc(SbpySolver* self) {
+    PyObject_GC_UnTrack(self);
+    solver_clear(self);
+    PyMem_Free(self->collider_ptrs);
+    PyMem_Free(self->handle_ptrs);
     Py_TYPE(self)->tp_free((PyObject*)self);
 }
 
@@ -691,6 +699,7 @@ PyTypeObject SbpySolverType = {
     .tp_basicsize = sizeof(SbpySolver),
     .tp_dealloc = (destructor)solver_dealloc,
     .tp_traverse = (traverseproc)solver_traverse,
+    .tp_clear = (inquiry)solver_clear,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
     .tp_doc = "Solver(model, **options)\n\n"
               "A model's state advancing in time. model: a Model, or a Scene (its model and its solver definition:\n"

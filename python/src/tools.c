@@ -112,7 +112,7 @@ static bool custom_collide(void* user, const sb_contact_query* q, sb_contact* co
     SbpyCollider* self = user;
     bool touched = false;
     PyGILState_STATE gil = PyGILState_Ensure();
-    if (!self->pending.type) {
+    if (!self->pending.type && self->collide) {
         PyObject* result = PyObject_CallFunction(self->collide, "Idd(ddd)(ddd)d", q->vertex, q->t0, q->t1, q->from[0],
                                                  q->from[1], q->from[2], q->to[0], q->to[1], q->to[2], q->thickness);
         PyObject *normal = NULL, *velocity = NULL;
@@ -189,14 +189,19 @@ static PyObject* collider_custom(PyObject* cls, PyObject* args, PyObject* kwargs
     return (PyObject*)self;
 }
 
-static void collider_dealloc(SbpyCollider* self) {
-    PyObject_GC_UnTrack(self);
-    sb_collider_destroy(self->collider);
+static int collider_clear(SbpyCollider* self) {
     Py_CLEAR(self->collide);
     Py_CLEAR(self->begin_step);
     Py_CLEAR(self->pending.type);
     Py_CLEAR(self->pending.value);
     Py_CLEAR(self->pending.traceback);
+    return 0;
+}
+
+static void collider_dealloc(SbpyCollider* self) {
+    PyObject_GC_UnTrack(self);
+    sb_collider_destroy(self->collider);
+    collider_clear(self);
     Py_TYPE(self)->tp_free((PyObject*)self);
 }
 
@@ -287,6 +292,7 @@ PyTypeObject SbpyColliderType = {
     .tp_basicsize = sizeof(SbpyCollider),
     .tp_dealloc = (destructor)collider_dealloc,
     .tp_traverse = (traverseproc)collider_traverse,
+    .tp_clear = (inquiry)collider_clear,
     .tp_repr = (reprfunc)collider_repr,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
     .tp_doc = "Collider(shape, **fields)\n\n"

@@ -45,3 +45,26 @@ def test_no_leak_over_100000_cycles():
     assert sys.getrefcount(model) == references
     # 10^5 cycles: a leak of even 20 bytes per cycle would show as 2 MB
     assert grown < 2_000_000, f"resident set grew by {grown} bytes"
+
+
+def test_a_cycle_through_a_callback_is_collected():
+    import gc
+
+    freed = []
+
+    class Marker:
+        def __del__(self):
+            freed.append(True)
+
+    def make():
+        marker, holder = Marker(), {}
+
+        def force(vertex, time, position, velocity):
+            return (0.0, 0.0, 0.0) if holder and marker else None
+
+        holder["solver"] = softbond.Solver(softbond.Model.sheet(nx=3, ny=3), external_force=force, threads=1)
+        holder["solver"].advance(1e-3)
+
+    make()
+    gc.collect()
+    assert freed == [True]
