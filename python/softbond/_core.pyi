@@ -49,6 +49,8 @@ class Model:
         tetrahedra: Optional[Indices] = ...,
         young_modulus: Optional[PerElement] = ...,
         poisson_ratio: Optional[PerElement] = ...,
+        hinges: Optional[Indices] = ...,
+        bend_k: Optional[PerElement] = ...,
     ) -> Model: ...
     @classmethod
     def from_mesh(
@@ -67,6 +69,27 @@ class Model:
         break_strain: float = ...,
         fixed: Optional[Indices] = ...,
     ) -> Model: ...
+    @classmethod
+    def spring_mesh(
+        cls,
+        vertices: npt.ArrayLike,
+        triangles: Indices,
+        *,
+        stretch_k: float = ...,
+        stretch_damping: float = ...,
+        bend_k: float = ...,
+        bend_damping: float = ...,
+        vicinity: float = ...,
+        vicinity_k: float = ...,
+        vicinity_damping: float = ...,
+        mass: float = ...,
+        density: float = ...,
+        break_strain: float = ...,
+        fixed: Optional[Indices] = ...,
+    ) -> Model: ...
+    def reference_forces(
+        self, positions: npt.ArrayLike, velocities: Optional[npt.ArrayLike] = ...
+    ) -> Tuple[npt.NDArray[np.float64], Dict[str, float]]: ...
     @classmethod
     def sheet(
         cls,

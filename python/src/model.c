@@ -223,28 +223,53 @@ static int add_tets(sb_builder* builder, PyObject* tets, PyObject* const* k, con
     return status;
 }
 
+static int add_hinges(sb_builder* builder, PyObject* hinges, PyObject* const* k, const char* function) {
+    if (!hinges || hinges == Py_None) return 0;
+    PyArrayObject* corners = sbpy_index_array(hinges, function, "hinges", 4);
+    if (!corners) return -1;
+    npy_intp n = PyArray_DIM(corners, 0);
+    constants c;
+    const char* names[] = {"bend_k"};
+    const double fallback[] = {0};
+    if (constants_read(&c, function, k, names, fallback, 1, n) < 0) {
+        Py_DECREF(corners);
+        return -1;
+    }
+    const int64_t* h = PyArray_DATA(corners);
+    int status = 0;
+    for (npy_intp i = 0; i < n && status == 0; i++) {
+        sb_hinge_def def = {(uint32_t)h[4 * i], (uint32_t)h[4 * i + 1], (uint32_t)h[4 * i + 2], (uint32_t)h[4 * i + 3],
+                            constant(&c, 0, i)};
+        if (sb_builder_add_hinge(builder, &def) < 0) status = -1, PyErr_NoMemory();
+    }
+    constants_release(&c);
+    Py_DECREF(corners);
+    return status;
+}
+
 static PyObject* model_from_arrays(PyObject* cls, PyObject* args, PyObject* kwargs) {
     (void)cls;
     static const char* function = "Model.from_arrays()";
-    static char* keywords[] = {
-        "vertices", "masses",         "velocities",   "fixed",         "bonds",         "bond_k",
-        "spring_k", "spring_damping", "rest_lengths", "break_min",     "break_max",     "triangles",
-        "angle_k",  "stretch_bend_k", "tetrahedra",   "young_modulus", "poisson_ratio", NULL};
+    static char* keywords[] = {"vertices",      "masses",        "velocities",     "fixed",          "bonds",
+                               "bond_k",        "spring_k",      "spring_damping", "rest_lengths",   "break_min",
+                               "break_max",     "triangles",     "angle_k",        "stretch_bend_k", "tetrahedra",
+                               "young_modulus", "poisson_ratio", "hinges",         "bend_k",         NULL};
     PyObject *vertices, *masses = NULL, *velocities = NULL, *fixed = NULL, *bonds = NULL, *triangles = NULL,
-                        *tets = NULL;
+                        *tets = NULL, *hinges = NULL;
     PyObject* bond_k[6] = {NULL};
+    PyObject* hinge_k[1] = {NULL};
     PyObject* tri_k[2] = {NULL};
     PyObject* tet_k[2] = {NULL};
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|$OOOOOOOOOOOOOOOO:from_arrays", keywords, &vertices, &masses,
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|$OOOOOOOOOOOOOOOOOO:from_arrays", keywords, &vertices, &masses,
                                      &velocities, &fixed, &bonds, &bond_k[0], &bond_k[1], &bond_k[2], &bond_k[3],
                                      &bond_k[4], &bond_k[5], &triangles, &tri_k[0], &tri_k[1], &tets, &tet_k[0],
-                                     &tet_k[1]))
+                                     &tet_k[1], &hinges, &hinge_k[0]))
         return NULL;
     sb_builder* builder = sb_builder_create();
     if (!builder) return PyErr_NoMemory();
     if (add_vertices(builder, vertices, masses, velocities, function) < 0 || pin(builder, fixed, function) < 0 ||
         add_bonds(builder, bonds, bond_k, function) < 0 || add_triangles(builder, triangles, tri_k, function) < 0 ||
-        add_tets(builder, tets, tet_k, function) < 0) {
+        add_tets(builder, tets, tet_k, function) < 0 || add_hinges(builder, hinges, hinge_k, function) < 0) {
         sb_builder_destroy(builder);
         return NULL;
     }
@@ -308,33 +333,81 @@ static int read_mesh_kwargs(const char* function, PyObject* kwargs, const sbpy_o
     return sbpy_options(function, kwargs, table, MESH_OPTION_COUNT + own_count);
 }
 
+/** A library mesh (malloc'd, sb_mesh_free) from (n, 3) vertices and (t, 3) triangles. */
+static int mesh_of_arrays(PyObject* vertices, PyObject* triangles, const char* function, sb_mesh* mesh) {
+    PyArrayObject* x = sbpy_array(vertices, function, "vertices", NPY_DOUBLE, 3);
+    PyArrayObject* t = x ? sbpy_index_array(triangles, function, "triangles", 3) : NULL;
+    if (!t) {
+        Py_XDECREF(x);
+        return -1;
+    }
+    *mesh = (sb_mesh){(uint32_t)PyArray_DIM(x, 0), malloc((size_t)PyArray_SIZE(x) * sizeof(double) + 1),
+                      (uint32_t)PyArray_DIM(t, 0), malloc((size_t)PyArray_SIZE(t) * sizeof(uint32_t) + 1)};
+    if (mesh->positions && mesh->triangles) {
+        memcpy(mesh->positions, PyArray_DATA(x), (size_t)PyArray_SIZE(x) * sizeof(double));
+        const int64_t* tv = PyArray_DATA(t);
+        for (npy_intp i = 0; i < PyArray_SIZE(t); i++) mesh->triangles[i] = (uint32_t)tv[i];
+    }
+    Py_DECREF(x);
+    Py_DECREF(t);
+    if (!mesh->positions || !mesh->triangles) {
+        sb_mesh_free(mesh);
+        PyErr_NoMemory();
+        return -1;
+    }
+    return 0;
+}
+
 static PyObject* model_from_mesh(PyObject* cls, PyObject* args, PyObject* kwargs) {
     (void)cls;
     static const char* function = "Model.from_mesh()";
     PyObject *vertices, *triangles;
     if (!PyArg_ParseTuple(args, "OO:from_mesh", &vertices, &triangles)) return NULL;
     mesh_options options;
-    if (read_mesh_kwargs(function, kwargs, NULL, 0, &options) < 0) return NULL;
-    PyArrayObject* x = sbpy_array(vertices, function, "vertices", NPY_DOUBLE, 3);
-    PyArrayObject* t = x ? sbpy_index_array(triangles, function, "triangles", 3) : NULL;
-    if (!t) {
-        Py_XDECREF(x);
+    sb_mesh mesh;
+    if (read_mesh_kwargs(function, kwargs, NULL, 0, &options) < 0 ||
+        mesh_of_arrays(vertices, triangles, function, &mesh) < 0)
+        return NULL;
+    return model_of_mesh(&mesh, &options, function);
+}
+
+/** The Spring Systems factory (sb_builder_add_spring_mesh) over a triangle mesh. */
+static PyObject* model_spring_mesh(PyObject* cls, PyObject* args, PyObject* kwargs) {
+    (void)cls;
+    static const char* function = "Model.spring_mesh()";
+    PyObject *vertices, *triangles, *fixed = NULL;
+    if (!PyArg_ParseTuple(args, "OO:spring_mesh", &vertices, &triangles)) return NULL;
+    sb_spring_mesh_def def = sb_default_spring_mesh_def();
+    sbpy_option table[] = {
+        {"stretch_k", SBPY_DOUBLE, &def.stretch_k, NULL},
+        {"stretch_damping", SBPY_DOUBLE, &def.stretch_damping, NULL},
+        {"bend_k", SBPY_DOUBLE, &def.bend_k, NULL},
+        {"bend_damping", SBPY_DOUBLE, &def.bend_damping, NULL},
+        {"vicinity", SBPY_DOUBLE, &def.vicinity, NULL},
+        {"vicinity_k", SBPY_DOUBLE, &def.vicinity_k, NULL},
+        {"vicinity_damping", SBPY_DOUBLE, &def.vicinity_damping, NULL},
+        {"mass", SBPY_DOUBLE, &def.mass, NULL},
+        {"density", SBPY_DOUBLE, &def.density, NULL},
+        {"break_strain", SBPY_DOUBLE, &def.break_strain, NULL},
+        {"fixed", SBPY_OBJECT, &fixed, NULL},
+    };
+    sb_mesh mesh;
+    if (sbpy_options(function, kwargs, table, sizeof table / sizeof table[0]) < 0 ||
+        mesh_of_arrays(vertices, triangles, function, &mesh) < 0)
+        return NULL;
+    sb_builder* builder = sb_builder_create();
+    sb_error err = {{0}};
+    sb_status status = builder ? sb_builder_add_spring_mesh(builder, &mesh, &def, &err) : SB_ERR_NOMEM;
+    sb_mesh_free(&mesh);
+    if (status != SB_OK) {
+        sb_builder_destroy(builder);
+        return sbpy_raise(status, err.message);
+    }
+    if (pin(builder, fixed, function) < 0) {
+        sb_builder_destroy(builder);
         return NULL;
     }
-    sb_mesh mesh = {(uint32_t)PyArray_DIM(x, 0), malloc((size_t)PyArray_SIZE(x) * sizeof(double)),
-                    (uint32_t)PyArray_DIM(t, 0), malloc((size_t)PyArray_SIZE(t) * sizeof(uint32_t) + 1)};
-    if (!mesh.positions || !mesh.triangles) {
-        sb_mesh_free(&mesh);
-        Py_DECREF(x);
-        Py_DECREF(t);
-        return PyErr_NoMemory();
-    }
-    memcpy(mesh.positions, PyArray_DATA(x), (size_t)PyArray_SIZE(x) * sizeof(double));
-    const int64_t* tv = PyArray_DATA(t);
-    for (npy_intp i = 0; i < PyArray_SIZE(t); i++) mesh.triangles[i] = (uint32_t)tv[i];
-    Py_DECREF(x);
-    Py_DECREF(t);
-    return model_of_mesh(&mesh, &options, function);
+    return compile(builder);
 }
 
 static PyObject* model_sheet(PyObject* cls, PyObject* args, PyObject* kwargs) {
@@ -462,6 +535,53 @@ static PyObject* model_from_tets(PyObject* cls, PyObject* args, PyObject* kwargs
         return NULL;
     }
     return compile(builder);
+}
+
+/* ---- the scalar reference ---- */
+
+static PyObject* model_reference_forces(SbpyModel* self, PyObject* args, PyObject* kwargs) {
+    static const char* function = "Model.reference_forces()";
+    static char* keywords[] = {"positions", "velocities", NULL};
+    PyObject *positions, *velocities = Py_None;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:reference_forces", keywords, &positions, &velocities))
+        return NULL;
+    npy_intp n = sb_model_vertex_count(self->model);
+    PyArrayObject* x = sbpy_array(positions, function, "positions", NPY_DOUBLE, 3);
+    PyArrayObject* v =
+        x && velocities != Py_None ? sbpy_array(velocities, function, "velocities", NPY_DOUBLE, 3) : NULL;
+    npy_intp dims[2] = {n, 3};
+    PyObject* forces = NULL;
+    if (!x || (velocities != Py_None && !v)) goto done;
+    if (PyArray_DIM(x, 0) != n || (v && PyArray_DIM(v, 0) != n)) {
+        PyErr_Format(PyExc_ValueError, "%s: 'positions' and 'velocities' must have %zd rows", function, (Py_ssize_t)n);
+        goto done;
+    }
+    forces = PyArray_ZEROS(2, dims, NPY_DOUBLE, 0);
+    if (!forces) goto done;
+    sb_energies energies;
+    memset(&energies, 0, sizeof energies);
+    sb_error err = {{0}};
+    sb_status status = sb_reference_forces(self->model, PyArray_DATA(x), v ? PyArray_DATA(v) : NULL,
+                                           PyArray_DATA((PyArrayObject*)forces), &energies, &err);
+    if (status != SB_OK) {
+        Py_CLEAR(forces);
+        sbpy_raise(status, err.message);
+        goto done;
+    }
+    PyObject* terms = PyDict_New();
+    for (int t = 0; terms && t < SB_TERM_COUNT; t++) {
+        PyObject* value = PyFloat_FromDouble(energies.term[t]);
+        if (!value || PyDict_SetItemString(terms, sb_term_name((sb_term)t), value) < 0) Py_CLEAR(terms);
+        Py_XDECREF(value);
+    }
+    PyObject* result = terms ? PyTuple_Pack(2, forces, terms) : NULL;
+    Py_XDECREF(terms);
+    Py_DECREF(forces);
+    forces = result;
+done:
+    Py_XDECREF(x);
+    Py_XDECREF(v);
+    return forces;
 }
 
 /* ---- what a model holds ---- */
@@ -604,17 +724,29 @@ static PyMethodDef model_methods[] = {
     {"from_arrays", (PyCFunction)(void (*)(void))model_from_arrays, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
      "from_arrays(vertices, *, masses=1.0, velocities=None, fixed=None, bonds=None, bond_k=0, spring_k=0,\n"
      "            spring_damping=0, rest_lengths=-1, break_min=0, break_max=inf, triangles=None, angle_k=0,\n"
-     "            stretch_bend_k=0, tetrahedra=None, young_modulus=0, poisson_ratio=0.3) -> Model\n\n"
-     "A model from arrays: vertices (n, 3) m; bonds (b, 2), triangles (t, 3) and tetrahedra (e, 4) vertex\n"
-     "indices. Every constant is a number for all elements or an array with one per element: masses kg,\n"
-     "bond_k and spring_k N/m, spring_damping N s/m, rest_lengths m (negative: the current distance),\n"
-     "break_min/break_max m (breakage limits), angle_k J, stretch_bend_k J/m, young_modulus Pa. fixed: vertex\n"
-     "indices or an (n,) bool mask. Raises InvalidError naming the first bad element."},
+     "            stretch_bend_k=0, tetrahedra=None, young_modulus=0, poisson_ratio=0.3, hinges=None,\n"
+     "            bend_k=0) -> Model\n\n"
+     "A model from arrays: vertices (n, 3) m; bonds (b, 2), triangles (t, 3), tetrahedra (e, 4) and hinges\n"
+     "(h, 4) vertex indices (a hinge e0, e1, o0, o1: the edge e0-e1 shared by the triangles (e0, e1, o0) and\n"
+     "(e1, e0, o1)). Every constant is a number for all elements or an array with one per element: masses\n"
+     "kg, bond_k and spring_k N/m, spring_damping N s/m, rest_lengths m (negative: the current distance),\n"
+     "break_min/break_max m (breakage limits), angle_k J, stretch_bend_k J/m, young_modulus Pa, bend_k\n"
+     "J/rad^2. fixed: vertex indices or an (n,) bool mask. Raises InvalidError naming the first bad element."},
     {"from_mesh", (PyCFunction)(void (*)(void))model_from_mesh, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
      "from_mesh(vertices, triangles, *, bond_k=100, angle_k=0.1, stretch_bend_k=0, spring_k=0, spring_damping=0,\n"
      "          bend_k=0, mass=0.01, density=0, break_strain=0, fixed=None) -> Model\n\n"
      "The molecular factory over a triangle mesh: a bond per unique edge, the triangles' angle terms, a hinge\n"
      "per interior edge when bend_k > 0; mass per vertex (kg) or an areal density (kg/m^2)."},
+    {"spring_mesh", (PyCFunction)(void (*)(void))model_spring_mesh, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
+     "spring_mesh(vertices, triangles, *, stretch_k=100, stretch_damping=0.1, bend_k=10, bend_damping=0.01,\n"
+     "            vicinity=0, vicinity_k=100, vicinity_damping=0.1, mass=0.01, density=0, break_strain=0,\n"
+     "            fixed=None) -> Model\n\n"
+     "The Spring Systems factory: a damped spring per edge, a bend spring across each interior edge, and\n"
+     "vicinity springs between vertices nearer than `vicinity` (m) not joined yet."},
+    {"reference_forces", (PyCFunction)(void (*)(void))model_reference_forces, METH_VARARGS | METH_KEYWORDS,
+     "reference_forces(positions, velocities=None) -> (forces, energies)\n\n"
+     "Every term's forces at the given (n, 3) positions by the double scalar reference: an (n, 3) array (N,\n"
+     "internal forces only) and a dict of each term's energy (J). DegenerateError names a collapsed element."},
     {"sheet", (PyCFunction)(void (*)(void))model_sheet, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
      "sheet(*, nx=10, ny=10, width=1, height=1, jitter=0, seed=1, **material) -> Model\n\n"
      "A rectangular sheet in z = 0 (vertex = row * nx + column) through the molecular factory; the material\n"

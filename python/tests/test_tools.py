@@ -83,3 +83,35 @@ def test_tissue_from_youngs_modulus():
     fem = softbond.Model.from_tets(vertices, tets, young_modulus=5e3, poisson_ratio=0.4, model="corotated", fixed=[0])
     assert fem.tet_count == 1 and fem.fixed[0]
     assert "corotated" in fem.terms
+
+
+def test_reference_forces_of_a_stretched_bond():
+    # Bond stretch 1/2 k (r - r0)^2: the force on each end is k (r - r0) along the bond.
+    k, r0, r = 40.0, 1.0, 1.25
+    model = softbond.Model.from_arrays([[0, 0, 0], [r0, 0, 0]], bonds=[[0, 1]], bond_k=k)
+    forces, energies = model.reference_forces([[0, 0, 0], [r, 0, 0]])
+    np.testing.assert_allclose(forces, [[k * (r - r0), 0, 0], [-k * (r - r0), 0, 0]], rtol=1e-12)
+    assert energies["bond"] == pytest.approx(0.5 * k * (r - r0) ** 2, rel=1e-12)
+
+
+def test_hinges_and_the_spring_factory_from_arrays():
+    vertices = [[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0]]
+    triangles = [[0, 1, 2], [1, 0, 3]]
+    hinged = softbond.Model.from_arrays(vertices, triangles=triangles, hinges=[[0, 1, 2, 3]], bend_k=2.0)
+    assert hinged.hinge_count == 1 and hinged.terms == ["bend"]
+    folded = np.array(vertices, dtype=float)
+    folded[2, 2] = 0.5  # fold one wing up: the hinge pushes back
+    _, energies = hinged.reference_forces(folded)
+    assert energies["bend"] > 0
+    springs = softbond.Model.spring_mesh(vertices, triangles, stretch_k=50, bend_k=5, fixed=[0])
+    # five edges and one bend spring between the two opposite vertices
+    assert springs.bond_count == 6 and springs.terms == ["spring"] and springs.fixed[0]
+
+
+def test_keyframes_as_dataclasses_and_the_state_dtype():
+    model = softbond.Model.sheet(nx=3, ny=3)
+    handle = softbond.Handle([4], path=[softbond.Keyframe(0.0), softbond.Keyframe(0.01, (0, 0, 0.1))])
+    solver = softbond.Solver(model, handles=[handle], gravity=(0, 0, 0), threads=1)
+    solver.advance(1e-3, steps=10)
+    assert solver.positions[4, 2] == pytest.approx(0.1, abs=1e-6)
+    assert softbond.REAL_DTYPE == (np.float64 if softbond.DOUBLE else np.float32)
