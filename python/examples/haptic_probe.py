@@ -30,8 +30,8 @@ def main():
     parser.add_argument("--duration", type=float, default=5.0, help="simulated seconds")
     args = parser.parse_args()
     scene = softbond.Scene.load(args.scene)
-    probe = softbond.Collider("sphere", name="probe", center=(0.05, 0.05, 0.012), radius=0.005)
-    solver = softbond.Solver(scene, colliders=[probe], contact_thickness=0.0005)
+    probe = next(collider for collider in scene.colliders if collider.name == "probe")  # the scene's own
+    solver = softbond.Solver(scene)
     buffer = softbond.StateBuffer(solver)
     start = probe.position.copy()
 

@@ -217,6 +217,8 @@ class Scene:
     name: str
     integrator: str
     gravity: Tuple[float, float, float]
+    colliders: Tuple[Collider, ...]
+    handles: Tuple[Handle, ...]
 
 class Snapshot:
     def release(self) -> None: ...

@@ -117,11 +117,13 @@ typedef struct SbpyCollider {
     PyObject* collide;    /**< a program's own collider: collide(...) -> contact or None */
     PyObject* begin_step; /**< its begin_step(t0, t1), or NULL */
     sbpy_pending pending; /**< an exception its callbacks raised */
+    PyObject* owner;      /**< the Scene that owns the collider, or NULL (then it is owned) */
 } SbpyCollider;
 
 /** softbond.Handle. */
 typedef struct SbpyHandle {
     PyObject_HEAD sb_handle* handle;
+    PyObject* owner; /**< the Scene that owns the handle, or NULL (then it is owned) */
 } SbpyHandle;
 
 /** softbond.Scene. */
@@ -152,6 +154,11 @@ typedef struct SbpyStateBuffer {
 
 /** 0 when the solver is not advancing now; otherwise RuntimeError, -1. */
 int sbpy_solver_ready(SbpySolver* self);
+
+/** A scene's colliders or handles as a tuple of Collider or Handle objects that keep the scene alive. */
+PyObject* sbpy_scene_colliders(SbpyScene* scene);
+/** See sbpy_scene_colliders. */
+PyObject* sbpy_scene_handles(SbpyScene* scene);
 
 /** A Model object owning model (or a scene's, with owner). */
 PyObject* sbpy_model_wrap(sb_model* model, PyObject* owner);

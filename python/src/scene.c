@@ -122,7 +122,19 @@ static PyObject* scene_gravity(SbpyScene* self, void* closure) {
     return Py_BuildValue("(ddd)", g[0], g[1], g[2]);
 }
 
+static PyObject* scene_colliders(SbpyScene* self, void* closure) {
+    (void)closure;
+    return sbpy_scene_colliders(self);
+}
+static PyObject* scene_handles(SbpyScene* self, void* closure) {
+    (void)closure;
+    return sbpy_scene_handles(self);
+}
+
 static PyGetSetDef scene_getset[] = {
+    {"colliders", (getter)scene_colliders, NULL,
+     "The scene's colliders (a tuple of Collider, owned by the scene: set_pose drives them).", NULL},
+    {"handles", (getter)scene_handles, NULL, "The scene's handles (a tuple of Handle, owned by the scene).", NULL},
     {"model", (getter)scene_model, NULL, "The scene's Model (the mesh placed, pinned and fixed).", NULL},
     {"dt", (getter)scene_dt, NULL, "The time step, s.", NULL},
     {"duration", (getter)scene_duration, NULL, "The simulated time the scene runs for, s.", NULL},

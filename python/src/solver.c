@@ -245,23 +245,25 @@ static int solver_init(SbpySolver* self, PyObject* args, PyObject* kwargs) {
         return -1;
     }
     if (read_options(&o, kwargs) < 0) return -1;
-    self->colliders = typed_tuple(o.colliders, &SbpyColliderType, "colliders");
-    self->handles = self->colliders ? typed_tuple(o.handles, &SbpyHandleType, "handles") : NULL;
-    if (!self->handles) return -1;
+    if (from_scene) {
+        /* the scene's own colliders and handles, unless the keywords replace them */
+        self->colliders = o.colliders ? NULL : sbpy_scene_colliders((SbpyScene*)source);
+        self->handles = o.handles ? NULL : sbpy_scene_handles((SbpyScene*)source);
+        if (PyErr_Occurred()) return -1;
+    }
+    if (!self->colliders) self->colliders = typed_tuple(o.colliders, &SbpyColliderType, "colliders");
+    if (self->colliders && !self->handles) self->handles = typed_tuple(o.handles, &SbpyHandleType, "handles");
+    if (!self->colliders || !self->handles) return -1;
     sb_blade_def* blades = NULL;
     uint32_t blade_count = 0;
     if (read_blades(o.blades, &blades, &blade_count) < 0) {
         free_blades(blades, blade_count);
         return -1;
     }
-    bool keep_scene_colliders = from_scene && !o.colliders, keep_scene_handles = from_scene && !o.handles;
-    const sb_solver_def scene_def = o.def;
     if (attach(self, &o.def) < 0) {
         free_blades(blades, blade_count);
         return -1;
     }
-    if (keep_scene_colliders) o.def.colliders = scene_def.colliders, o.def.collider_count = scene_def.collider_count;
-    if (keep_scene_handles) o.def.handles = scene_def.handles, o.def.handle_count = scene_def.handle_count;
     if (o.blades) o.def.blades = blades, o.def.blade_count = blade_count;
     if (o.external_force) {
         self->external_force = Py_NewRef(o.external_force);
@@ -506,19 +508,18 @@ static PyObject* solver_last_step(SbpySolver* self, void* closure) {
 
 static PyObject* solver_contact_force(SbpySolver* self, PyObject* arg) {
     READY(self);
-    Py_ssize_t index = -1;
+    Py_ssize_t index = -1, count = PyTuple_GET_SIZE(self->colliders);
     if (PyObject_TypeCheck(arg, &SbpyColliderType)) {
-        for (Py_ssize_t i = 0; i < PyTuple_GET_SIZE(self->colliders); i++)
-            if (PyTuple_GET_ITEM(self->colliders, i) == arg) index = i;
+        /* by the library's collider, so that any view of a scene's collider finds it */
+        for (Py_ssize_t i = 0; i < count; i++)
+            if (((SbpyCollider*)PyTuple_GET_ITEM(self->colliders, i))->collider == ((SbpyCollider*)arg)->collider)
+                index = i;
         if (index < 0) return PyErr_Format(PyExc_ValueError, "contact_force(): the collider is not this solver's");
     } else {
         index = PyNumber_AsSsize_t(arg, PyExc_IndexError);
         if (index == -1 && PyErr_Occurred()) return NULL;
-        uint32_t count = (uint32_t)(self->scene && PyTuple_GET_SIZE(self->colliders) == 0
-                                        ? sb_scene_file_solver_def(((SbpyScene*)self->scene)->scene)->collider_count
-                                        : (uint32_t)PyTuple_GET_SIZE(self->colliders));
-        if (index < 0 || index >= (Py_ssize_t)count)
-            return PyErr_Format(PyExc_IndexError, "contact_force(): 'index' %zd is not below %u", index, count);
+        if (index < 0 || index >= count)
+            return PyErr_Format(PyExc_IndexError, "contact_force(): 'index' %zd is not below %zd", index, count);
     }
     double force[3];
     sb_solver_contact_force(self->solver, (uint32_t)index, force);

@@ -200,7 +200,10 @@ static int collider_clear(SbpyCollider* self) {
 
 static void collider_dealloc(SbpyCollider* self) {
     PyObject_GC_UnTrack(self);
-    sb_collider_destroy(self->collider);
+    if (self->owner)
+        Py_CLEAR(self->owner);
+    else
+        sb_collider_destroy(self->collider);
     collider_clear(self);
     Py_TYPE(self)->tp_free((PyObject*)self);
 }
@@ -366,7 +369,10 @@ static int handle_init(SbpyHandle* self, PyObject* args, PyObject* kwargs) {
 }
 
 static void handle_dealloc(SbpyHandle* self) {
-    sb_handle_destroy(self->handle);
+    if (self->owner)
+        Py_CLEAR(self->owner);
+    else
+        sb_handle_destroy(self->handle);
     Py_TYPE(self)->tp_free((PyObject*)self);
 }
 
@@ -465,3 +471,37 @@ PyTypeObject SbpyHandleType = {
     .tp_init = (initproc)handle_init,
     .tp_new = PyType_GenericNew,
 };
+
+/* ---- a scene's own ---- */
+
+PyObject* sbpy_scene_colliders(SbpyScene* scene) {
+    const sb_solver_def* def = sb_scene_file_solver_def(scene->scene);
+    PyObject* tuple = PyTuple_New(def->collider_count);
+    for (uint32_t i = 0; tuple && i < def->collider_count; i++) {
+        SbpyCollider* view = (SbpyCollider*)SbpyColliderType.tp_alloc(&SbpyColliderType, 0);
+        if (!view) {
+            Py_CLEAR(tuple);
+            break;
+        }
+        view->collider = def->colliders[i];
+        view->owner = Py_NewRef(scene);
+        PyTuple_SET_ITEM(tuple, i, (PyObject*)view);
+    }
+    return tuple;
+}
+
+PyObject* sbpy_scene_handles(SbpyScene* scene) {
+    const sb_solver_def* def = sb_scene_file_solver_def(scene->scene);
+    PyObject* tuple = PyTuple_New(def->handle_count);
+    for (uint32_t i = 0; tuple && i < def->handle_count; i++) {
+        SbpyHandle* view = (SbpyHandle*)SbpyHandleType.tp_alloc(&SbpyHandleType, 0);
+        if (!view) {
+            Py_CLEAR(tuple);
+            break;
+        }
+        view->handle = def->handles[i];
+        view->owner = Py_NewRef(scene);
+        PyTuple_SET_ITEM(tuple, i, (PyObject*)view);
+    }
+    return tuple;
+}

@@ -62,6 +62,16 @@ def test_every_integrator_runs_the_default_scene(source_dir, integrator):
     assert np.all(np.isfinite(solver.positions))
 
 
+def test_a_scenes_own_colliders_and_handles(source_dir):
+    scene = softbond.Scene.load(source_dir / "scenes" / "hook_pull.yaml")
+    solver = softbond.Solver(scene, threads=1)
+    assert len(solver.handles) == len(scene.handles) > 0
+    assert [c.name for c in solver.colliders] == [c.name for c in scene.colliders]
+    del scene  # the solver's views keep the scene alive
+    solver.advance(1e-4, steps=5)
+    assert solver.step_count == 5
+
+
 def test_scene_from_dict_and_overrides():
     scene = softbond.Scene.from_dict(
         {"mesh": {"generator": "sheet", "nx": 4, "ny": 3}, "bond": {"k": 50}, "dt": 0.002},
