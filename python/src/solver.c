@@ -702,7 +702,7 @@ PyTypeObject SbpySolverType = {
     .tp_traverse = (traverseproc)solver_traverse,
     .tp_clear = (inquiry)solver_clear,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
-    .tp_doc = "Solver(model, **options)\n\n"
+    .tp_doc = "Solver(model, /, **options)\n--\n\n"
               "A model's state advancing in time. model: a Model, or a Scene (its model and its solver definition:\n"
               "integrator, gravity, colliders, handles, blades, point load; keywords override them).\n\n"
               "Options: integrator (softbond.INTEGRATORS, default 'verlet'), gravity (m/s^2, default (0, 0, -9.81)),\n"

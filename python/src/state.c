@@ -100,7 +100,7 @@ PyTypeObject SbpyStateBufferType = {
     .tp_basicsize = sizeof(SbpyStateBuffer),
     .tp_dealloc = (destructor)buffer_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "StateBuffer(solver, max_readers=1)\n\n"
+    .tp_doc = "StateBuffer(solver, max_readers=1)\n--\n\n"
               "Snapshots of a solver's state for other threads: the advancing thread publishes (advance(dt,\n"
               "publish=buffer)), up to max_readers threads each hold one snapshot at a time (acquire()). The writer\n"
               "never waits for a reader.",

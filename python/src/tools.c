@@ -298,7 +298,7 @@ PyTypeObject SbpyColliderType = {
     .tp_clear = (inquiry)collider_clear,
     .tp_repr = (reprfunc)collider_repr,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
-    .tp_doc = "Collider(shape, **fields)\n\n"
+    .tp_doc = "Collider(shape, /, **fields)\n--\n\n"
               "A built-in collider: shape 'plane' (point, normal), 'sphere' (center, radius), 'capsule' (a, b,\n"
               "radius), 'box' (center, half_extents, rotate degrees) or 'mesh' (vertices (n, 3), triangles (t, 3)).\n"
               "Common fields: name, friction, static_friction, restitution, thickness (m); kinematic: path, a list\n"
@@ -322,7 +322,7 @@ static int handle_init(SbpyHandle* self, PyObject* args, PyObject* kwargs) {
     }
     if (!PyArg_ParseTuple(args, "O:Handle", &vertex_list)) return -1;
     sb_handle_def def = sb_default_handle_def();
-    PyObject *center = Py_None, *path = NULL;
+    PyObject *center = Py_None, *path = NULL, *release_time = Py_None;
     const char* interpolation = NULL;
     sbpy_option table[] = {
         {"name", SBPY_STRING, &def.name, NULL},
@@ -331,11 +331,18 @@ static int handle_init(SbpyHandle* self, PyObject* args, PyObject* kwargs) {
         {"center", SBPY_OBJECT, &center, NULL},
         {"path", SBPY_OBJECT, &path, NULL},
         {"interpolation", SBPY_STRING, &interpolation, NULL},
-        {"release_time", SBPY_DOUBLE, &def.release_time, NULL},
+        {"release_time", SBPY_OBJECT, &release_time, NULL},
     };
     if (sbpy_options(function, kwargs, table, sizeof table / sizeof table[0]) < 0 ||
         sbpy_interpolation(interpolation, function, &def.interpolation) < 0)
         return -1;
+    if (release_time != Py_None) {
+        def.release_time = PyFloat_AsDouble(release_time);
+        if (def.release_time == -1.0 && PyErr_Occurred()) {
+            PyErr_Format(PyExc_TypeError, "%s: 'release_time' must be a number or None", function);
+            return -1;
+        }
+    }
     double c[3];
     if (center != Py_None) {
         if (sbpy_vec3(center, function, "center", c) < 0) return -1;
@@ -461,10 +468,11 @@ PyTypeObject SbpyHandleType = {
     .tp_basicsize = sizeof(SbpyHandle),
     .tp_dealloc = (destructor)handle_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "Handle(vertices, *, stiffness=0, damping=0, center=None, path=None, interpolation='linear',\n"
-              "       release_time=inf, name=None)\n\n"
+    .tp_doc = "Handle(vertices, /, *, stiffness=0.0, damping=0.0, center=None, path=None, interpolation='linear', "
+              "release_time=None, name=None)\n--\n\n"
               "Vertices driven to a moving rigid pose: hard (stiffness 0: by position) or soft (a spring-damper,\n"
               "N/m and N s/m per vertex). path: (time, translate, rotate) keyframes, or set_pose() each step.\n"
+              "release_time: s, when the handle lets go (None: never).\n"
               "Pass it to Solver(handles=[...]); attach it to one solver at a time.",
     .tp_methods = handle_methods,
     .tp_getset = handle_getset,
