@@ -67,9 +67,21 @@ def test_custom_collider_floor():
 
     model = softbond.Model.from_arrays([[0, 0, 0.05], [1, 0, 0.1]], masses=1.0)
     collider = softbond.Collider.custom(floor, name="floor")
-    solver = softbond.Solver(model, integrator="velocity_verlet", colliders=[collider], threads=1)
+    # two threads: the solver's team calls collide from both, each call taking the GIL
+    solver = softbond.Solver(model, integrator="velocity_verlet", colliders=[collider], threads=2)
     solver.advance(1e-3, steps=500)
     z = solver.positions[:, 2]
     assert np.all(np.abs(z) < 1e-3)
     force = solver.contact_force(collider)
     assert force[2] == pytest.approx(-2 * 9.81, rel=0.05)  # the floor carries both weights
+
+
+def test_custom_collider_exception_is_raised():
+    def broken(vertex, t0, t1, start, end, thickness):
+        raise ZeroDivisionError("inside collide")
+
+    model = softbond.Model.from_arrays([[0, 0, 0.05], [1, 0, 0.1]])
+    solver = softbond.Solver(model, colliders=[softbond.Collider.custom(broken)], threads=2)
+    with pytest.raises(ZeroDivisionError, match="inside collide"):
+        solver.advance(1e-3, steps=50)
+    assert solver.step_count == 1

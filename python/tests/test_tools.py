@@ -18,6 +18,34 @@ def test_sheet_rests_on_a_plane_and_the_plane_carries_its_weight():
     assert plane.name == "floor"
 
 
+def test_dynamic_sphere_is_caught_by_a_pinned_sheet():
+    model = softbond.Model.sheet(nx=9, ny=9, width=1.0, height=1.0, bond_k=500, angle_k=0.01, mass=0.01,
+                                 fixed=[0, 8, 72, 80])
+    ball = softbond.Collider("sphere", center=(0.5, 0.5, 0.2), radius=0.1, mass=0.05)
+    solver = softbond.Solver(model, colliders=[ball], drag=2.0, threads=1)
+    solver.advance(1e-3, steps=1500)
+    # it fell onto the sheet and stays on it, above the lowest vertex, holding it down
+    assert 0.0 > ball.position[2] > solver.positions[:, 2].min()
+    # over a second the sheet's impulse on it balances its weight (it bounces, but stays)
+    impulse = 0.0
+    for _ in range(1000):
+        solver.advance(1e-3)
+        impulse += solver.contact_force(ball)[2] * 1e-3
+    assert impulse == pytest.approx(0.05 * 9.81 * 1.0, rel=0.1)
+    assert 0.0 > ball.position[2] > solver.positions[:, 2].min()
+
+
+def test_kinematic_collider_set_pose_moves_it():
+    model = softbond.Model.sheet(nx=3, ny=3)
+    box = softbond.Collider("box", center=(0, 0, 1), half_extents=(0.1, 0.1, 0.1))
+    solver = softbond.Solver(model, colliders=[box], gravity=(0, 0, 0), threads=1)
+    box.set_pose((0.5, 0, 0), (0, 0, 90))
+    solver.advance(1e-2)
+    np.testing.assert_allclose(box.position, [0.5, 0, 1], atol=1e-12)
+    np.testing.assert_allclose(box.velocity, [50, 0, 0], rtol=1e-9)
+    np.testing.assert_allclose(box.rotation, [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-12)
+
+
 def test_hard_handle_follows_its_path():
     model = softbond.Model.sheet(nx=4, ny=4, bond_k=100)
     handle = softbond.Handle([0, 1], path=[(0.0, (0, 0, 0)), (0.1, (0, 0, 0.2))])
