@@ -36,6 +36,8 @@ from ._core import (  # noqa: F401  (re-exported)
     Solver,
     StateBuffer,
     UnstableError,
+    export_mesh,
+    load_mesh,
 )
 
 Vector = Tuple[float, float, float]
@@ -75,5 +77,5 @@ class Blade:
 __all__ = [
     "Blade", "BusyError", "Collider", "DOUBLE", "DegenerateError", "Error", "FileError", "Handle",
     "INTEGRATORS", "InvalidError", "Keyframe", "Model", "ParseError", "REAL_DTYPE", "Scene", "Snapshot",
-    "Solver", "StateBuffer", "TERMS", "UnstableError",
+    "Solver", "StateBuffer", "TERMS", "UnstableError", "export_mesh", "load_mesh",
 ]

@@ -132,6 +132,7 @@ static struct PyModuleDef module_def = {
     .m_name = "softbond._core",
     .m_doc = "The C extension under the softbond package (import softbond, not this).",
     .m_size = -1,
+    .m_methods = sbpy_mesh_functions,
 };
 
 PyMODINIT_FUNC PyInit__core(void) {

@@ -86,6 +86,9 @@ int sbpy_interpolation(const char* name, const char* function, sb_interpolation*
 /** A new (3,) float64 array. */
 PyObject* sbpy_vector3(const double v[3]);
 
+/* ---- module functions (mesh.c) ---- */
+extern PyMethodDef sbpy_mesh_functions[];
+
 /* ---- types ---- */
 extern PyTypeObject SbpyModelType;
 extern PyTypeObject SbpySolverType;

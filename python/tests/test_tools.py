@@ -153,3 +153,20 @@ def test_keyframes_as_dataclasses_and_the_state_dtype():
     solver.advance(1e-3, steps=10)
     assert solver.positions[4, 2] == pytest.approx(0.1, abs=1e-6)
     assert softbond.REAL_DTYPE == (np.float64 if softbond.DOUBLE else np.float32)
+
+
+def test_mesh_files_round_trip(tmp_path):
+    model = softbond.Model.sheet(nx=4, ny=3)
+    solver = softbond.Solver(model, threads=1)
+    solver.advance(1e-3, steps=5)
+    for name in ("state.obj", "state.ply"):
+        softbond.export_mesh(tmp_path / name, solver.positions, solver.triangles)
+        vertices, triangles = softbond.load_mesh(tmp_path / name)
+        assert triangles.shape == (model.triangle_count, 3)
+        # the exporter may renumber the vertices: compare them as sets (PLY stores float32)
+        np.testing.assert_allclose(np.array(sorted(map(tuple, vertices))),
+                                   np.array(sorted(map(tuple, solver.positions))), atol=1e-6)
+    with pytest.raises(ValueError, match="'format'"):
+        softbond.export_mesh(tmp_path / "state.stl", solver.positions, solver.triangles)
+    with pytest.raises(softbond.FileError):
+        softbond.load_mesh(tmp_path / "missing.obj")
