@@ -215,6 +215,12 @@ static int attach(SbpySolver* self, sb_solver_def* def) {
         self->collider_ptrs[i] = ((SbpyCollider*)PyTuple_GET_ITEM(self->colliders, i))->collider;
     for (Py_ssize_t i = 0; i < nh; i++)
         self->handle_ptrs[i] = ((SbpyHandle*)PyTuple_GET_ITEM(self->handles, i))->handle;
+    for (Py_ssize_t i = 0; i < nc + nh; i++)
+        if (i < nc ? !self->collider_ptrs[i] : !self->handle_ptrs[i - nc]) {
+            PyErr_Format(PyExc_ValueError, "Solver(): %s[%zd] was not initialized", i < nc ? "colliders" : "handles",
+                         i < nc ? i : i - nc);
+            return -1;
+        }
     def->colliders = self->collider_ptrs;
     def->collider_count = (uint32_t)nc;
     def->handles = self->handle_ptrs;

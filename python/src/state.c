@@ -82,6 +82,12 @@ static PyObject* buffer_publish(SbpyStateBuffer* self, PyObject* solver) {
     Py_RETURN_NONE;
 }
 
+/** Refused before __init__ (no library buffer yet). */
+static PyObject* buffer_getattro(SbpyStateBuffer* self, PyObject* name) {
+    if (!self->buffer) return PyErr_Format(PyExc_RuntimeError, "the StateBuffer was not initialized");
+    return PyObject_GenericGetAttr((PyObject*)self, name);
+}
+
 static PyGetSetDef buffer_getset[] = {
     {"published", (getter)buffer_published, NULL, "Snapshots committed so far.", NULL},
     {"skipped", (getter)buffer_skipped, NULL, "Publications skipped because every slot was held.", NULL},
@@ -99,6 +105,7 @@ PyTypeObject SbpyStateBufferType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "softbond.StateBuffer",
     .tp_basicsize = sizeof(SbpyStateBuffer),
     .tp_dealloc = (destructor)buffer_dealloc,
+    .tp_getattro = (getattrofunc)buffer_getattro,
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "StateBuffer(solver, max_readers=1)\n--\n\n"
               "Snapshots of a solver's state for other threads: the advancing thread publishes (advance(dt,\n"

@@ -261,6 +261,12 @@ static PyObject* collider_inner_radius(SbpyCollider* self, void* closure) {
     (void)closure;
     return PyFloat_FromDouble(sb_collider_inner_radius(self->collider));
 }
+/** Every attribute needs the library's collider: refused on an object whose __init__ did not run. */
+static PyObject* collider_getattro(SbpyCollider* self, PyObject* name) {
+    if (!self->collider) return PyErr_Format(PyExc_RuntimeError, "the Collider was not initialized");
+    return PyObject_GenericGetAttr((PyObject*)self, name);
+}
+
 static PyObject* collider_repr(SbpyCollider* self) {
     return PyUnicode_FromFormat("<softbond.Collider '%s'>", self->collider ? sb_collider_name(self->collider) : "?");
 }
@@ -297,6 +303,7 @@ PyTypeObject SbpyColliderType = {
     .tp_traverse = (traverseproc)collider_traverse,
     .tp_clear = (inquiry)collider_clear,
     .tp_repr = (reprfunc)collider_repr,
+    .tp_getattro = (getattrofunc)collider_getattro,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
     .tp_doc = "Collider(shape, /, **fields)\n--\n\n"
               "A built-in collider: shape 'plane' (point, normal), 'sphere' (center, radius), 'capsule' (a, b,\n"
@@ -445,6 +452,12 @@ static PyObject* handle_name(SbpyHandle* self, void* closure) {
     return PyUnicode_FromString(sb_handle_name(self->handle));
 }
 
+/** As collider_getattro: refused before __init__. */
+static PyObject* handle_getattro(SbpyHandle* self, PyObject* name) {
+    if (!self->handle) return PyErr_Format(PyExc_RuntimeError, "the Handle was not initialized");
+    return PyObject_GenericGetAttr((PyObject*)self, name);
+}
+
 static PyGetSetDef handle_getset[] = {
     {"held", (getter)handle_held, NULL, "Whether it holds its vertices.", NULL},
     {"force", (getter)handle_force, NULL,
@@ -467,6 +480,7 @@ PyTypeObject SbpyHandleType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "softbond.Handle",
     .tp_basicsize = sizeof(SbpyHandle),
     .tp_dealloc = (destructor)handle_dealloc,
+    .tp_getattro = (getattrofunc)handle_getattro,
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "Handle(vertices, /, *, stiffness=0.0, damping=0.0, center=None, path=None, interpolation='linear', "
               "release_time=None, name=None)\n--\n\n"

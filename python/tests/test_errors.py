@@ -98,3 +98,17 @@ def test_blow_up_raises_unstable():
     with pytest.raises((softbond.UnstableError, softbond.DegenerateError)) as error:
         solver.advance(0.01, steps=200)
     assert "step" in str(error.value)
+
+
+def test_objects_made_without_init_refuse_instead_of_crashing():
+    collider = softbond.Collider.__new__(softbond.Collider)
+    with pytest.raises(RuntimeError, match="not initialized"):
+        collider.set_pose((0, 0, 0))
+    with pytest.raises(ValueError, match="colliders\\[0\\] was not initialized"):
+        softbond.Solver(softbond.Model.sheet(nx=3, ny=3), colliders=[collider])
+    with pytest.raises(RuntimeError, match="not initialized"):
+        softbond.Handle.__new__(softbond.Handle).force
+    with pytest.raises(RuntimeError, match="not initialized"):
+        softbond.StateBuffer.__new__(softbond.StateBuffer).acquire()
+    with pytest.raises(RuntimeError, match="not created"):
+        softbond.Solver.__new__(softbond.Solver).advance(1.0)
