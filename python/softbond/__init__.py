@@ -14,7 +14,7 @@ softbond.Error whose message is the library's one line. docs/python.md is the
 manual.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
 
 from ._core import (  # noqa: F401  (re-exported)
