@@ -483,10 +483,9 @@ static PyObject* model_from_tets(PyObject* cls, PyObject* args, PyObject* kwargs
     const char* model_name = NULL;
     const char* tissue_name = NULL;
     sb_tissue_def tissue = sb_default_tissue_def();
-    bool e_given = false;
     if (!PyArg_ParseTuple(args, "OO:from_tets", &vertices, &tets)) return NULL;
     sbpy_option table[] = {{"tissue", SBPY_STRING, &tissue_name, NULL},
-                           {"young_modulus", SBPY_DOUBLE, &tissue.young_modulus, &e_given},
+                           {"young_modulus", SBPY_DOUBLE, &tissue.young_modulus, NULL},
                            {"density", SBPY_DOUBLE, &tissue.density, NULL},
                            {"damping", SBPY_DOUBLE, &tissue.damping, NULL},
                            {"poisson_ratio", SBPY_DOUBLE, &tissue.poisson_ratio, NULL},
@@ -499,7 +498,6 @@ static PyObject* model_from_tets(PyObject* cls, PyObject* args, PyObject* kwargs
                                 name);
     }
     if (sbpy_options(function, kwargs, table, sizeof table / sizeof table[0]) < 0) return NULL;
-    (void)e_given;
     if (model_name && strcmp(model_name, "corotated") == 0)
         tissue.model = SB_TISSUE_COROTATED;
     else if (model_name && strcmp(model_name, "springs") != 0)

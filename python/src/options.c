@@ -149,7 +149,8 @@ int sbpy_per_element(PyObject* obj, const char* function, const char* name, npy_
     *owner = NULL;
     *scalar = fallback;
     *values = NULL;
-    if (obj && obj != Py_None && !PyFloat_Check(obj) && !PyLong_Check(obj)) {
+    bool scalar_given = obj && (PyFloat_Check(obj) || PyLong_Check(obj) || PyArray_CheckScalar(obj));
+    if (obj && obj != Py_None && !scalar_given) {
         *owner = sbpy_array(obj, function, name, NPY_DOUBLE, 0);
         if (!*owner) return -1;
         if (PyArray_DIM(*owner, 0) != count) {
@@ -161,9 +162,12 @@ int sbpy_per_element(PyObject* obj, const char* function, const char* name, npy_
         *values = PyArray_DATA(*owner);
         return 0;
     }
-    if (obj && obj != Py_None) {
+    if (scalar_given) {
         *scalar = PyFloat_AsDouble(obj);
-        if (*scalar == -1.0 && PyErr_Occurred()) return -1;
+        if (*scalar == -1.0 && PyErr_Occurred()) {
+            PyErr_Format(PyExc_TypeError, "%s: '%s' must be a number or an array of numbers", function, name);
+            return -1;
+        }
     }
     return 0;
 }

@@ -363,6 +363,7 @@ static PyObject* solver_advance(SbpySolver* self, PyObject* args, PyObject* kwar
         buffer = ((SbpyStateBuffer*)publish)->buffer;
     }
     Py_INCREF(publish);
+    uint64_t steps_before = sb_solver_step_count(self->solver);
     bool watch = self->external_force || self->on_break || PyTuple_GET_SIZE(self->colliders);
     sb_status status = SB_OK;
     self->busy = 1;
@@ -373,6 +374,8 @@ static PyObject* solver_advance(SbpySolver* self, PyObject* args, PyObject* kwar
     Py_END_ALLOW_THREADS self->busy = 0;
     Py_DECREF(publish);
     if (raise_callback_error(self) < 0) return NULL;
+    if (status == SB_ERR_INVALID && buffer && self->solver && sb_solver_step_count(self->solver) == steps_before)
+        return sbpy_raise(status, "advance(): 'publish' is a StateBuffer of another solver (its vertex count differs)");
     if (status != SB_OK) {
         const char* message = sb_solver_error(self->solver);
         return sbpy_raise(status, message[0] ? message : sb_status_name(status));

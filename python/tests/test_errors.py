@@ -112,3 +112,17 @@ def test_objects_made_without_init_refuse_instead_of_crashing():
         softbond.StateBuffer.__new__(softbond.StateBuffer).acquire()
     with pytest.raises(RuntimeError, match="not created"):
         softbond.Solver.__new__(softbond.Solver).advance(1.0)
+
+
+def test_a_state_buffer_of_another_solver_is_refused():
+    solver = softbond.Solver(softbond.Model.sheet(nx=3, ny=3), threads=1)
+    other = softbond.Solver(softbond.Model.sheet(nx=4, ny=4), threads=1)
+    with pytest.raises(softbond.InvalidError, match="'publish' is a StateBuffer of another solver"):
+        other.advance(1e-3, publish=softbond.StateBuffer(solver))
+    assert other.step_count == 0
+
+
+def test_numpy_scalars_are_numbers():
+    model = softbond.Model.from_arrays([[0, 0, 0], [1, 0, 0]], bonds=[[0, 1]], bond_k=np.float32(3),
+                                       masses=np.int64(2))
+    assert list(model.masses) == [2.0, 2.0] and model.terms == ["bond"]
