@@ -253,6 +253,7 @@ class Solver:
         kernels: str = ...,
         threads: int = ...,
         pin_threads: bool = ...,
+        wait: str = ...,
         colliders: Optional[Sequence[Collider]] = ...,
         contact_thickness: float = ...,
         self_collision: bool = ...,

@@ -77,6 +77,7 @@ static int read_options(solver_options* o, PyObject* kwargs) {
         {"kernels", SBPY_STRING, &o->kernels, NULL},
         {"threads", SBPY_INT, &d->runtime.threads, NULL},
         {"pin_threads", SBPY_BOOL, &d->runtime.pin, NULL},
+        {"wait", SBPY_STRING, &o->wait, NULL},
         {"colliders", SBPY_OBJECT, &o->colliders, NULL},
         {"contact_thickness", SBPY_DOUBLE, &d->contact_thickness, NULL},
         {"self_collision", SBPY_BOOL, &d->self_collision, NULL},
@@ -114,6 +115,10 @@ static int read_options(solver_options* o, PyObject* kwargs) {
             PyErr_Format(PyExc_ValueError, "Solver(): 'kernels' must be 'fast' or 'reference', not '%s'", o->kernels);
             return -1;
         }
+    }
+    if (o->wait && !sb_wait_policy_from_name(o->wait, &d->runtime.wait)) {
+        PyErr_Format(PyExc_ValueError, "Solver(): 'wait' must be 'spin', 'yield' or 'passive', not '%s'", o->wait);
+        return -1;
     }
     if (o->implicit_solver && !sb_linear_solver_from_name(o->implicit_solver, &d->implicit_solver)) {
         PyErr_Format(PyExc_ValueError, "Solver(): 'implicit_solver' must be 'auto', 'cg' or 'cholesky', not '%s'",

@@ -84,7 +84,7 @@ def test_blade_cuts_the_bonds_it_sweeps():
 def test_every_integrator_runs_the_default_scene(source_dir, integrator):
     scene = softbond.Scene.load(source_dir / "scenes" / "default.yaml", {"integrator": integrator})
     assert scene.integrator == integrator
-    solver = softbond.Solver(scene, threads=1)
+    solver = softbond.Solver(scene, threads=2, wait="yield")
     solver.advance(scene.dt, steps=50)
     assert solver.step_count == 50
     assert np.all(np.isfinite(solver.positions))
