@@ -26,6 +26,8 @@ static const option_spec option_specs[] = {
     {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
     {"--checkpoint-every", offsetof(sb_cli_args, checkpoint_every), false},
     {"--resume", offsetof(sb_cli_args, resume), false},
+    {"--end-positions", offsetof(sb_cli_args, end_positions), false},
+    {"--workers", offsetof(sb_cli_args, workers), false},
     {"--screenshot", offsetof(sb_cli_args, screenshot), false},
     {"--frames", offsetof(sb_cli_args, frames), false},
     {"--script", offsetof(sb_cli_args, script), false},
