@@ -366,7 +366,9 @@ static sb_status prepare(fit_job* job, sb_error* err) {
     memcpy(sets + job->spec.set_count, job->args.sets, (size_t)job->args.set_count * sizeof *sets);
     sb_scene scene;
     status = sb_scene_read(&scene, job->spec.scene, sets, count, err);
-    if (status != SB_OK) return status;
+    char prefix[600];
+    snprintf(prefix, sizeof prefix, "%s: the scene", job->spec.yaml.path);
+    if (status != SB_OK) return sb_error_prefix(err, status, prefix);
     sb_scene_free(&scene);
     const char* slash = strrchr(job->args.input, '/');
     char name[256];

@@ -64,7 +64,9 @@ static sb_status check_scene(const sb_sweep_job* job, sb_error* err) {
     sb_status status = sb_scene_read(&scene, job->spec.scene, sets, count, err);
     if (status == SB_OK) sb_scene_free(&scene);
     free(sets);
-    return status;
+    char prefix[600];
+    snprintf(prefix, sizeof prefix, "%s: the base scene", job->spec.yaml.path);
+    return status == SB_OK ? SB_OK : sb_error_prefix(err, status, prefix);
 }
 
 static sb_status parse_options(sweep_command* s, sb_error* err) {

@@ -83,8 +83,9 @@ static void metric_chart(FILE* f, const sb_sweep_spec* spec, size_t m) {
 
 static void stability_chart(FILE* f, const sb_sweep_spec* spec) {
     size_t status = spec->axis_count + spec->metric_count + 1;
-    fprintf(f, "set output \"stability.png\"\nset title \"stability: which cases ran to the end\"\n"
-               "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n");
+    fprintf(f,
+            "set output \"stability.png\"\nset title \"stability: which cases ran to the end\"\n"
+            "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\nset format x \"%%g\"\nset format y \"%%g\"\n");
     axis_settings(f, &spec->axes[0], 'x');
     axis_settings(f, &spec->axes[1], 'y');
     fprintf(f,
