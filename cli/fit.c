@@ -345,7 +345,7 @@ static void plot(const fit_job* job) {
     char command[8800];
     snprintf(command, sizeof command,
              "cd '%s' && gnuplot -e \"set terminal pngcairo size 900,600; set output 'fit.png'; "
-             "set datafile separator ','; set key autotitle columnhead; set grid; set xlabel '%s' noenhanced; "
+             "set datafile separator ','; set key autotitle columnhead top left; set grid; set xlabel '%s' noenhanced; "
              "set ylabel '%s' noenhanced; plot 'fit_curve.csv' using 1:2 with points pt 7 title 'target', "
              "'' using 1:3 with lines lw 2 title 'fitted model'\" >/dev/null 2>&1",
              job->dir, job->spec.x_column, job->spec.y_column);

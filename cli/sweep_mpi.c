@@ -22,6 +22,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #ifdef SB_MPI
 #include <mpi.h>
@@ -38,10 +39,22 @@ static void hand_out(sb_sweep_job* job, int rank, size_t* next) {
     MPI_Send(&c, 1, MPI_UNSIGNED_LONG_LONG, rank, TAG_CASE, MPI_COMM_WORLD);
 }
 
+/* Waits for a row from any rank. Open MPI's blocking probe spins on its
+ * shared-memory queue and would take a core from the runs; rank 0 only
+ * hands out work, so it looks every millisecond and sleeps in between. */
+static void wait_for_row(MPI_Status* probe) {
+    int arrived = 0;
+    for (;;) {
+        MPI_Iprobe(MPI_ANY_SOURCE, TAG_ROW, MPI_COMM_WORLD, &arrived, probe);
+        if (arrived) return;
+        nanosleep(&(struct timespec){0, 1000000}, NULL);
+    }
+}
+
 /* Rank 0: one row from any rank, added; the next case sent there. */
 static sb_status gather_one(sb_sweep_job* job, size_t* next, sb_error* err) {
     MPI_Status probe;
-    MPI_Probe(MPI_ANY_SOURCE, TAG_ROW, MPI_COMM_WORLD, &probe);
+    wait_for_row(&probe);
     int length;
     MPI_Get_count(&probe, MPI_CHAR, &length);
     char* row = malloc((size_t)length + 1);
