@@ -45,10 +45,9 @@ void sb_csv_put(FILE* f, const char* text) {
     fputc('"', f);
 }
 
-static sb_status keep_row(sb_sweep_table* t, size_t c, char* row) {
+static void keep_row(sb_sweep_table* t, size_t c, char* row) {
     t->rows[c] = row;
     t->order[t->done++] = c;
-    return SB_OK;
 }
 
 /* One row of a resumed file: its case, in range and new. */
@@ -61,7 +60,9 @@ static sb_status read_row(sb_sweep_table* t, const char* line, size_t number, sb
                             number, t->case_count - 1, line);
     if (t->rows[c]) return sb_error_set(err, SB_ERR_PARSE, "%s:%zu: case %llu a second time", t->path, number, c);
     char* row = strdup(line);
-    return row ? keep_row(t, (size_t)c, row) : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    if (!row) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    keep_row(t, (size_t)c, row);
+    return SB_OK;
 }
 
 static sb_status read_back(sb_sweep_table* t, sb_error* err) {
@@ -113,11 +114,6 @@ void sb_sweep_table_free(sb_sweep_table* t) {
 }
 
 sb_status sb_sweep_table_add(sb_sweep_table* t, size_t c, char* row, sb_error* err) {
-    if (t->rows[c]) { /* a case redone (a lost rank's): the last result stands */
-        free(t->rows[c]);
-        t->rows[c] = row;
-        return rewrite(t, err);
-    }
     keep_row(t, c, row);
     return rewrite(t, err);
 }

@@ -28,7 +28,8 @@ typedef struct sb_sweep_table {
 sb_status sb_sweep_table_open(sb_sweep_table* table, const char* path, const char* header, size_t case_count,
                               bool resume, sb_error* err);
 void sb_sweep_table_free(sb_sweep_table* table);
-/* Takes the row of case c (a malloc'd string starting "c,") and rewrites the file. */
+/* Takes the row of case c (a malloc'd string starting "c,"; a case the
+ * table does not hold yet) and rewrites the file. */
 sb_status sb_sweep_table_add(sb_sweep_table* table, size_t c, char* row, sb_error* err);
 
 /* Splits a CSV line in place into at most max fields ("..." quoted, ""

@@ -76,6 +76,15 @@ static void free_table(table* t) {
     free(t->text);
 }
 
+/* Case c's two varied values, "a,b", for comparing designs. */
+static const char* t_values(const table* t, size_t c) {
+    static char buffers[2][128];
+    static int next;
+    char* out = buffers[next++ % 2];
+    snprintf(out, sizeof buffers[0], "%s,%s", t->fields[c][1], t->fields[c][2]);
+    return out;
+}
+
 static double number(const table* t, size_t c, size_t field) {
     assert_true(field < t->field_count[c]);
     return strtod(t->fields[c][field], NULL);
@@ -262,6 +271,55 @@ static void test_fit_recovers_spring_and_mass(void** state) {
     assert_true(exists(tu_tmp_path("fit/fit_curve.csv")));
 }
 
+/* A Latin hypercube of 8 samples over two log ranges: each key's range,
+ * cut into 8 strata (of its logarithm), has one case in each; a random
+ * design stays within its ranges; the same seed gives the same cases. */
+static void test_sampled_designs(void** state) {
+    (void)state;
+    const char* design = "scene: " DATA "/free_fall.yaml\n"
+                         "set: [duration=0.001]\n"
+                         "vary:\n"
+                         "  - {key: mass, range: {from: 0.001, to: 1, scale: log}}\n"
+                         "  - {key: drag, range: {from: 0.5, to: 2}}\n"
+                         "combine: %s\nsamples: 8\nseed: 7\n";
+    char text[1024];
+    snprintf(text, sizeof text, design, "latin");
+    tu_write_file("latin.yaml", text);
+    snprintf(text, sizeof text, design, "random");
+    tu_write_file("random.yaml", text);
+    tu_result r = tu_run((const char*[]){"sweep", "latin.yaml", "--output", "latin", NULL});
+    assert_int_equal(r.code, 0);
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"sweep", "random.yaml", "--output", "random", NULL});
+    assert_int_equal(r.code, 0);
+    tu_result_free(&r);
+    r = tu_run((const char*[]){"sweep", "random.yaml", "--output", "random2", NULL});
+    assert_int_equal(r.code, 0);
+    tu_result_free(&r);
+    table latin, random, again;
+    read_table(tu_tmp_path("latin/sweep.csv"), &latin);
+    read_table(tu_tmp_path("random/sweep.csv"), &random);
+    read_table(tu_tmp_path("random2/sweep.csv"), &again);
+    assert_int_equal(latin.count, 8);
+    int mass_strata[8] = {0}, drag_strata[8] = {0};
+    for (size_t c = 0; c < 8; c++) {
+        double mass = number(&latin, c, 1), drag = number(&latin, c, 2);
+        int i = (int)floor(8.0 * log(mass / 0.001) / log(1000.0)), j = (int)floor(8.0 * (drag - 0.5) / 1.5);
+        assert_true(i >= 0 && i < 8 && j >= 0 && j < 8);
+        mass_strata[i]++, drag_strata[j]++;
+        double rmass = number(&random, c, 1), rdrag = number(&random, c, 2);
+        assert_true(rmass >= 0.001 && rmass <= 1.0 && rdrag >= 0.5 && rdrag <= 2.0);
+        assert_string_equal(t_values(&random, c), t_values(&again, c));
+    }
+    for (int i = 0; i < 8; i++) {
+        assert_int_equal(mass_strata[i], 1);
+        assert_int_equal(drag_strata[i], 1);
+    }
+    free_table(&latin);
+    free_table(&random);
+    free_table(&again);
+}
+
 /* `softbond COMMAND FILE` exits 2 with one line naming where. */
 static void assert_file_fails(const char* command, const char* text, const char* message) {
     tu_write_file("bad.yaml", text);
@@ -302,9 +360,13 @@ static void test_bad_files_name_file_and_line(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_grid_follows_free_fall),       cmocka_unit_test(test_blowup_is_a_row),
-        cmocka_unit_test(test_killed_sweep_resumes),         cmocka_unit_test(test_mpi_farm_matches_serial),
-        cmocka_unit_test(test_fit_recovers_spring_and_mass), cmocka_unit_test(test_bad_files_name_file_and_line),
+        cmocka_unit_test(test_grid_follows_free_fall),
+        cmocka_unit_test(test_blowup_is_a_row),
+        cmocka_unit_test(test_killed_sweep_resumes),
+        cmocka_unit_test(test_mpi_farm_matches_serial),
+        cmocka_unit_test(test_fit_recovers_spring_and_mass),
+        cmocka_unit_test(test_bad_files_name_file_and_line),
+        cmocka_unit_test(test_sampled_designs),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
