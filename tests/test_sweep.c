@@ -241,6 +241,67 @@ static void test_mpi_farm_matches_serial(void** state) {
 #endif
 }
 
+#ifdef SB_MPIEXEC
+/* mpirun's first child process (a rank), or 0. */
+static pid_t first_child(pid_t parent) {
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%d/task/%d/children", (int)parent, (int)parent);
+    FILE* f = fopen(path, "r");
+    int child = 0;
+    if (f) {
+        if (fscanf(f, "%d", &child) != 1) child = 0;
+        fclose(f);
+    }
+    return (pid_t)child;
+}
+#endif
+
+/* A rank killed midway under mpirun -np 3: Open MPI ends the job and says
+ * which rank died; the table left is whole, and --resume runs the lost
+ * cases: every case exactly once. */
+static void test_dead_rank_reported_and_redone(void** state) {
+    (void)state;
+#ifdef SB_MPIEXEC
+    tu_write_file("ranks.yaml", "scene: " DATA "/free_fall.yaml\n"
+                                "set: [dt=0.00002, duration=0.5]\n"
+                                "vary: [{key: gravity, format: '[0, 0, %g]', range: {from: -1, to: -12, count: 12}}]\n"
+                                "metrics: [{name: z0, vertex: 0, axis: z}]\n");
+    const char* csv = tu_tmp_path("ranks/sweep.csv");
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        bool ok = chdir(tu_tmp_dir) == 0 && freopen("/dev/null", "w", stdout) && freopen("mpirun.err", "w", stderr) &&
+                  setenv("OMPI_MCA_btl", "self,vader", 1) == 0 &&
+                  setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1) == 0;
+        if (ok)
+            execl(SB_MPIEXEC, SB_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-np", "3", SB_PROGRAM, "sweep",
+                  "ranks.yaml", "--output", "ranks", (char*)NULL);
+        _exit(127);
+    }
+    while (!exists(csv) || count_lines(csv) < 3) nanosleep(&(struct timespec){0, 2000000}, NULL);
+    pid_t rank = first_child(pid);
+    assert_true(rank > 0);
+    kill(rank, SIGKILL);
+    int status;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) != 0); /* the job ended */
+    char* err = tu_read_file(tu_tmp_path("mpirun.err"));
+    TU_ASSERT_CONTAINS(err, "exited on signal 9");
+    free(err);
+    size_t before = count_lines(csv) - 1;
+    assert_true(before >= 2 && before < 12);
+    tu_result r = tu_run((const char*[]){"sweep", "ranks.yaml", "--resume", "ranks", NULL});
+    assert_int_equal(r.code, 0);
+    tu_result_free(&r);
+    table t;
+    read_table(csv, &t); /* every case once */
+    assert_int_equal(t.count, 12);
+    free_table(&t);
+#else
+    skip();
+#endif
+}
+
 /* The fit recovers the handle's stiffness and the vertex mass used to make
  * the target from the closed form, from a start 3 times each. */
 static void test_fit_recovers_spring_and_mass(void** state) {
@@ -367,6 +428,7 @@ int main(void) {
         cmocka_unit_test(test_fit_recovers_spring_and_mass),
         cmocka_unit_test(test_bad_files_name_file_and_line),
         cmocka_unit_test(test_sampled_designs),
+        cmocka_unit_test(test_dead_rank_reported_and_redone),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
