@@ -174,6 +174,6 @@ int sb_cli_sweep(int argc, char** argv) {
     if (s.rank == 0) remove_cases_dir(&s.job);
     if (status != SB_OK) code = sb_cli_fail(SB_EXIT_FAILURE, &err);
     if (code == SB_EXIT_OK && s.rank == 0) report(&s.job, s.size);
-    sb_sweep_mpi_end(0);
+    sb_sweep_mpi_end(code); /* a rank that failed ends the job: the others may wait on it */
     return finish(&s, code);
 }
