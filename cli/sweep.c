@@ -159,7 +159,7 @@ int sb_cli_sweep(int argc, char** argv) {
         sb_cli_sweep_usage(stdout);
         return finish(&s, SB_EXIT_OK);
     }
-    sb_sweep_mpi_begin(&s.rank, &s.size);
+    if (sb_sweep_mpi_begin(&s.rank, &s.size, &err) != SB_OK) return finish(&s, sb_cli_fail(SB_EXIT_INPUT, &err));
     int code = SB_EXIT_OK;
     if (prepare(&s, &err) != SB_OK) code = SB_EXIT_INPUT;
     sb_status opened = code == SB_EXIT_OK && s.rank == 0 ? open_table(&s.job, s.args.resume != NULL, &err) : SB_OK;

@@ -30,7 +30,8 @@
 enum { TAG_CASE = 1, TAG_ROW = 2 };
 static const unsigned long long STOP = ~0ull;
 
-bool sb_sweep_mpi_launched(void) { return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK"); }
+/* mpirun (Open MPI's, or a PMIx launcher) sets these in each rank. */
+static bool launched(void) { return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK"); }
 
 /* Rank 0: the next case to `rank`, or STOP. */
 static void hand_out(sb_sweep_job* job, int rank, size_t* next) {
@@ -96,16 +97,18 @@ static sb_status follow(sb_sweep_job* job, sb_error* err) {
     }
 }
 
-void sb_sweep_mpi_begin(int* rank, int* size) {
+sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
+    (void)err;
     *rank = 0, *size = 1;
-    if (!sb_sweep_mpi_launched()) return;
+    if (!launched()) return SB_OK;
     MPI_Init(NULL, NULL);
     MPI_Comm_rank(MPI_COMM_WORLD, rank);
     MPI_Comm_size(MPI_COMM_WORLD, size);
+    return SB_OK;
 }
 
 void sb_sweep_mpi_end(int code) {
-    if (!sb_sweep_mpi_launched()) return;
+    if (!launched()) return;
     if (code != 0) MPI_Abort(MPI_COMM_WORLD, code);
     MPI_Finalize();
 }
@@ -116,9 +119,16 @@ sb_status sb_sweep_farm_mpi(sb_sweep_job* job, int rank, int size, sb_error* err
 
 #else
 
-bool sb_sweep_mpi_launched(void) { return false; }
-
-void sb_sweep_mpi_begin(int* rank, int* size) { *rank = 0, *size = 1; }
+/* Started by mpirun with more than one rank: each would run the whole sweep. */
+sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
+    *rank = 0, *size = 1;
+    const char* ranks = getenv("OMPI_COMM_WORLD_SIZE");
+    if (ranks && atoi(ranks) > 1)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "this softbond is built without MPI (CMake option SB_MPI off): run the sweep without "
+                            "mpirun (--workers N), or build with Open MPI (libopenmpi-dev)");
+    return SB_OK;
+}
 
 void sb_sweep_mpi_end(int code) { (void)code; }
 
