@@ -126,21 +126,45 @@ static sb_status open_table(sb_sweep_job* job, bool resume, sb_error* err) {
     return status;
 }
 
-/* The exit status of a row: its field before the message. */
-static bool row_failed(const char* row) {
-    char* copy = strdup(row);
+/* Field k of a row (0 the case), or "" (in a buffer). */
+static const char* row_field(const char* row, size_t k, char* buffer, size_t size) {
+    snprintf(buffer, size, "%s", row);
     char* fields[1024];
-    size_t n = copy ? sb_csv_split(copy, fields, 1024) : 0;
-    bool failed = n >= 2 && strcmp(fields[n - 2], "0") != 0;
-    free(copy);
-    return failed;
+    size_t n = sb_csv_split(buffer, fields, 1024);
+    return k < n ? fields[k] : "";
 }
 
 static void report(const sb_sweep_job* job, int size) {
-    size_t failed = 0;
-    for (size_t c = 0; c < job->design.case_count; c++) failed += job->table.rows[c] && row_failed(job->table.rows[c]);
+    size_t failed = 0, status_field = 1 + job->spec.axis_count + job->spec.metric_count;
+    for (size_t c = 0; c < job->design.case_count; c++) {
+        char buffer[8192];
+        failed +=
+            job->table.rows[c] && strcmp(row_field(job->table.rows[c], status_field, buffer, sizeof buffer), "0") != 0;
+    }
     printf("softbond: %zu cases (%zu failed) in %s/sweep.csv, %s\n", job->table.done, failed, job->dir,
            size > 1 ? "over MPI ranks" : "on this machine");
+}
+
+/* A log.csv column that no run that ended well had (a misspelt column, a
+ * collider's name): said once, naming the metric's line. */
+static void check_columns(const sb_sweep_job* job) {
+    const sb_sweep_spec* spec = &job->spec;
+    size_t status_field = 1 + spec->axis_count + spec->metric_count;
+    for (size_t m = 0; m < spec->metric_count; m++) {
+        if (spec->metrics[m].kind != SB_METRIC_COLUMN) continue;
+        bool ran = false, found = false;
+        for (size_t c = 0; c < job->design.case_count && !found; c++) {
+            const char* row = job->table.rows[c];
+            char buffer[8192];
+            if (!row || strcmp(row_field(row, status_field, buffer, sizeof buffer), "0") != 0) continue;
+            ran = true;
+            found = row_field(row, 1 + spec->axis_count + m, buffer, sizeof buffer)[0] != '\0';
+        }
+        if (ran && !found)
+            fprintf(stderr,
+                    "softbond: %s:%zu: metric '%s': no run's log.csv has a column '%s' (its fields are empty)\n",
+                    spec->yaml.path, spec->metrics[m].line, spec->metrics[m].name, spec->metrics[m].column);
+    }
 }
 
 /* DIR/cases, when no case's folder is kept in it. */
@@ -173,7 +197,10 @@ int sb_cli_sweep(int argc, char** argv) {
     if (status == SB_OK && s.rank == 0) status = sb_sweep_charts(&s.job.spec, s.job.dir, &err);
     if (s.rank == 0) remove_cases_dir(&s.job);
     if (status != SB_OK) code = sb_cli_fail(SB_EXIT_FAILURE, &err);
-    if (code == SB_EXIT_OK && s.rank == 0) report(&s.job, s.size);
+    if (code == SB_EXIT_OK && s.rank == 0) {
+        check_columns(&s.job);
+        report(&s.job, s.size);
+    }
     sb_sweep_mpi_end(code); /* a rank that failed ends the job: the others may wait on it */
     return finish(&s, code);
 }

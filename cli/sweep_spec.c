@@ -201,6 +201,7 @@ static sb_status read_metric(sb_sweep_spec* spec, sb_sweep_metric* m, const yaml
     yaml_node_t* name = status == SB_OK ? sb_study_yaml_get(y, map, "name") : NULL;
     if (status == SB_OK && !name) return sb_study_yaml_fail(y, map, "metric: needs name (its CSV column)");
     if (status == SB_OK) status = sb_study_yaml_text(y, name, "name", &m->name);
+    m->line = map->start_mark.line + 1;
     if (status == SB_OK && strpbrk(m->name, ",\"\n"))
         return sb_study_yaml_fail(y, name, "name: no commas or quotes in a column name");
     if (status == SB_OK) status = read_metric_source(y, m, map);

@@ -49,6 +49,7 @@ typedef enum sb_metric_of { SB_OF_END, SB_OF_MAX, SB_OF_MIN } sb_metric_of;
 
 typedef struct sb_sweep_metric {
     const char* name;
+    size_t line; /* where the file gives it, for messages */
     sb_metric_kind kind;
     char column[96]; /* SB_METRIC_COLUMN: log.csv's column */
     sb_metric_of of; /* SB_METRIC_COLUMN */

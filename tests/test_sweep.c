@@ -419,6 +419,20 @@ static void test_bad_files_name_file_and_line(void** state) {
     assert_file_fails("fit", text, "bad.yaml:3: target: needs file, x and y");
 }
 
+/* A misspelt log.csv column cannot be known before a run: the sweep runs,
+ * and one line names the metric's line. */
+static void test_unknown_column_said(void** state) {
+    (void)state;
+    tu_write_file("typo.yaml", "scene: " DATA "/free_fall.yaml\n"
+                               "vary: [{key: duration, values: [0.01]}]\n"
+                               "metrics:\n"
+                               "  - {name: k, column: kinetc}\n");
+    tu_result r = tu_run((const char*[]){"sweep", "typo.yaml", "--output", "typo", NULL});
+    assert_int_equal(r.code, 0);
+    TU_ASSERT_CONTAINS(r.err, "typo.yaml:4: metric 'k': no run's log.csv has a column 'kinetc'");
+    tu_result_free(&r);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_grid_follows_free_fall),
@@ -429,6 +443,7 @@ int main(void) {
         cmocka_unit_test(test_bad_files_name_file_and_line),
         cmocka_unit_test(test_sampled_designs),
         cmocka_unit_test(test_dead_rank_reported_and_redone),
+        cmocka_unit_test(test_unknown_column_said),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);
 }
