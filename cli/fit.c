@@ -25,6 +25,7 @@
 #include "cli/log_table.h"
 #include "cli/output_dir.h"
 #include "cli/study_case.h"
+#include "cli/study_mpi.h"
 #include "cli/sweep_spec.h"
 #include "cli/sweep_table.h"
 #include "common/atomic_file.h"
@@ -41,13 +42,15 @@ static const double FAILED_SCORE = 1e30;
 
 void sb_cli_fit_usage(FILE* stream) {
     fprintf(stream, "usage: softbond fit FIT.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+                    "       mpirun -np N softbond fit FIT.yaml ...\n"
                     "Fits scene keys (parameters: key, start, min, max; format for a key inside a list)\n"
                     "so that a curve of log.csv (target: x and y, its column names) follows the target\n"
                     "CSV (target: file, a header then x,y rows): least squares, searched by NLopt's\n"
                     "BOBYQA (algorithm: bobyqa, the default) or Nelder-Mead (neldermead), derivative-free,\n"
                     "one softbond run per evaluation. Writes to DIR (default out/<fit name>):\n"
                     "fit.txt (the fitted keys, the RMS residual), fit_evaluations.csv, fit_curve.csv and\n"
-                    "fit.png (gnuplot). See docs/sweep.md.\n");
+                    "fit.png (gnuplot). Under mpirun (a build with SB_MPI) each rank searches from its\n"
+                    "own start (rank 0 from the file's) and the best of them wins. See docs/sweep.md.\n");
 }
 
 typedef struct fit_parameter {
@@ -73,6 +76,7 @@ typedef struct fit_spec {
 
 typedef struct fit_job {
     sb_cli_args args;
+    int rank, size; /* under mpirun: each rank searches from its own start */
     fit_spec spec;
     sb_log_table target;
     char* dir;
@@ -290,6 +294,14 @@ static double objective(unsigned n, const double* u, double* gradient, void* dat
 
 /* ---- the search and its outputs ---- */
 
+/* Where rank r > 0 starts within key i's range, as a fraction: the
+ * Kronecker sequence frac(r (phi - 1 + (sqrt 2 - 1) i)), spread evenly for
+ * any number of ranks and keys. */
+static double spread(int r, unsigned i) {
+    double x = (double)r * (0.6180339887498949 + 0.41421356237309515 * (double)i);
+    return x - floor(x);
+}
+
 static sb_status search(fit_job* job, sb_error* err) {
     const fit_spec* spec = &job->spec;
     unsigned n = (unsigned)spec->parameter_count;
@@ -300,6 +312,7 @@ static sb_status search(fit_job* job, sb_error* err) {
         const fit_parameter* p = &spec->parameters[i];
         lower[i] = search_value(p, p->min), upper[i] = search_value(p, p->max), u[i] = search_value(p, p->start);
         step[i] = (upper[i] - lower[i]) / 8.0;
+        if (job->rank > 0) u[i] = lower[i] + spread(job->rank, i) * (upper[i] - lower[i]);
     }
     nlopt_set_lower_bounds(opt, lower);
     nlopt_set_upper_bounds(opt, upper);
@@ -312,8 +325,18 @@ static sb_status search(fit_job* job, sb_error* err) {
     nlopt_destroy(opt);
     if (result < 0 && result != NLOPT_ROUNDOFF_LIMITED)
         return sb_error_set(err, SB_ERR_INVALID, "NLopt stopped: %s (code %d)", nlopt_result_to_string(result), result);
+    return SB_OK;
+}
+
+/* Every rank's search done: the best of them (under mpirun), or fails when
+ * no evaluation anywhere ran to the target's end. */
+static sb_status gather(fit_job* job, sb_status searched, sb_error* err) {
+    if (searched != SB_OK && job->size == 1) return searched;
+    if (searched != SB_OK) job->best_score = INFINITY; /* this rank's search failed: another's may stand */
+    sb_study_mpi_best(&job->best_score, job->best, job->spec.parameter_count, job->best_curve, job->target.row_count,
+                      &job->evaluation);
     if (job->best_score >= FAILED_SCORE)
-        return sb_error_set(err, SB_ERR_INVALID, "no evaluation ran to the target's end (see %s/fit_evaluations.csv)",
+        return sb_error_set(err, SB_ERR_INVALID, "no evaluation ran to the target's end (see %s/fit_evaluations*.csv)",
                             job->dir);
     return SB_OK;
 }
@@ -381,9 +404,14 @@ static sb_status prepare(fit_job* job, sb_error* err) {
 }
 
 static sb_status open_evaluations(fit_job* job, sb_error* err) {
-    snprintf(job->run_dir, sizeof job->run_dir, "%s/run", job->dir);
     char path[4200];
-    snprintf(path, sizeof path, "%s/fit_evaluations.csv", job->dir);
+    if (job->rank == 0) {
+        snprintf(job->run_dir, sizeof job->run_dir, "%s/run", job->dir);
+        snprintf(path, sizeof path, "%s/fit_evaluations.csv", job->dir);
+    } else {
+        snprintf(job->run_dir, sizeof job->run_dir, "%s/run_rank%d", job->dir, job->rank);
+        snprintf(path, sizeof path, "%s/fit_evaluations_rank%d.csv", job->dir, job->rank);
+    }
     if (!(job->evaluations = fopen(path, "w"))) return sb_error_set(err, SB_ERR_IO, "%s: cannot write", path);
     fputs("evaluation", job->evaluations);
     for (size_t i = 0; i < job->spec.parameter_count; i++) {
@@ -408,6 +436,15 @@ static int finish(fit_job* job, int code) {
     return code;
 }
 
+/* The fitted keys and the residual on stdout, and the plot. */
+static void report(const fit_job* job) {
+    for (size_t i = 0; i < job->spec.parameter_count; i++)
+        printf("softbond: fitted %s = %.9g\n", job->spec.parameters[i].key, job->best[i]);
+    printf("softbond: RMS residual %.6g after %ld runs%s; fit.txt, fit_curve.csv and fit.png in %s\n", rms(job),
+           job->evaluation, job->size > 1 ? " over the MPI ranks" : "", job->dir);
+    plot(job);
+}
+
 int sb_cli_fit(int argc, char** argv) {
     static const char* const accepted[] = {"--output", "--threads", NULL};
     fit_job job = {0};
@@ -418,14 +455,15 @@ int sb_cli_fit(int argc, char** argv) {
         sb_cli_fit_usage(stdout);
         return finish(&job, SB_EXIT_OK);
     }
-    if (prepare(&job, &err) != SB_OK) return finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
-    if (open_evaluations(&job, &err) != SB_OK || search(&job, &err) != SB_OK || write_results(&job, &err) != SB_OK)
-        return finish(&job, sb_cli_fail(SB_EXIT_FAILURE, &err));
-    for (size_t i = 0; i < job.spec.parameter_count; i++)
-        printf("softbond: fitted %s = %.9g\n", job.spec.parameters[i].key, job.best[i]);
-    printf("softbond: RMS residual %.6g after %ld runs; fit.txt, fit_curve.csv and fit.png in %s\n", rms(&job),
-           job.evaluation, job.dir);
-    sb_study_remove_dir(job.run_dir);
-    plot(&job);
-    return finish(&job, SB_EXIT_OK);
+    if (sb_study_mpi_begin(&job.rank, &job.size, &err) != SB_OK) return finish(&job, sb_cli_fail(SB_EXIT_INPUT, &err));
+    int code = SB_EXIT_OK;
+    if (prepare(&job, &err) != SB_OK) code = SB_EXIT_INPUT;
+    if (code == SB_EXIT_OK && open_evaluations(&job, &err) != SB_OK) code = SB_EXIT_FAILURE;
+    if (code == SB_EXIT_OK && gather(&job, search(&job, &err), &err) != SB_OK) code = SB_EXIT_FAILURE;
+    if (code == SB_EXIT_OK && job.rank == 0 && write_results(&job, &err) != SB_OK) code = SB_EXIT_FAILURE;
+    if (code == SB_EXIT_OK) sb_study_remove_dir(job.run_dir);
+    if (code != SB_EXIT_OK && job.rank == 0) sb_cli_fail(code, &err);
+    if (code == SB_EXIT_OK && job.rank == 0) report(&job);
+    sb_study_mpi_end(code);
+    return finish(&job, code);
 }

@@ -35,7 +35,7 @@ static void usage(FILE* stream) {
             "  softbond sweep SWEEP.yaml [--set key=value]... [--output DIR | --resume DIR]\n"
             "               [--workers N] [--threads N]      (also under mpirun -np N)\n"
             "      run a scene over a design of varied keys: one CSV row per case, charts\n"
-            "  softbond fit FIT.yaml [--set key=value]... [--output DIR] [--threads N]\n"
+            "  softbond fit FIT.yaml [--set key=value]... [--output DIR] [--threads N]   (also under mpirun)\n"
             "      fit scene keys so a log.csv curve follows a measured one (NLopt)\n"
             "\n"
             "Options:\n"

@@ -183,14 +183,14 @@ int sb_cli_sweep(int argc, char** argv) {
         sb_cli_sweep_usage(stdout);
         return finish(&s, SB_EXIT_OK);
     }
-    if (sb_sweep_mpi_begin(&s.rank, &s.size, &err) != SB_OK) return finish(&s, sb_cli_fail(SB_EXIT_INPUT, &err));
+    if (sb_study_mpi_begin(&s.rank, &s.size, &err) != SB_OK) return finish(&s, sb_cli_fail(SB_EXIT_INPUT, &err));
     int code = SB_EXIT_OK;
     if (prepare(&s, &err) != SB_OK) code = SB_EXIT_INPUT;
     sb_status opened = code == SB_EXIT_OK && s.rank == 0 ? open_table(&s.job, s.args.resume != NULL, &err) : SB_OK;
     if (opened != SB_OK) code = opened == SB_ERR_PARSE ? SB_EXIT_INPUT : SB_EXIT_FAILURE;
     if (code != SB_EXIT_OK) {
         if (s.rank == 0) sb_cli_fail(code, &err);
-        sb_sweep_mpi_end(code);
+        sb_study_mpi_end(code);
         return finish(&s, code);
     }
     sb_status status = s.size > 1 ? sb_sweep_farm_mpi(&s.job, s.rank, s.size, &err) : sb_sweep_farm_local(&s.job, &err);
@@ -201,6 +201,6 @@ int sb_cli_sweep(int argc, char** argv) {
         check_columns(&s.job);
         report(&s.job, s.size);
     }
-    sb_sweep_mpi_end(code); /* a rank that failed ends the job: the others may wait on it */
+    sb_study_mpi_end(code); /* a rank that failed ends the job: the others may wait on it */
     return finish(&s, code);
 }

@@ -7,6 +7,7 @@
 
 #include <sys/types.h>
 
+#include "cli/study_mpi.h"
 #include "cli/sweep_design.h"
 #include "cli/sweep_spec.h"
 #include "cli/sweep_table.h"
@@ -37,11 +38,6 @@ size_t sb_sweep_next_case(const sb_sweep_job* job, size_t c);
 
 /* The farms: each runs every case the table lacks and adds its row. */
 sb_status sb_sweep_farm_local(sb_sweep_job* job, sb_error* err);
-/* MPI_Init under mpirun: this rank and the rank count (0 and 1 otherwise).
- * A program built without MPI refuses to run as one of several ranks. */
-sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err);
-/* MPI_Finalize; with code != 0, MPI_Abort (the other ranks may wait on this one). */
-void sb_sweep_mpi_end(int code);
 /* Under mpirun with size > 1: rank 0 hands out the cases and writes the
  * table, the others run them. */
 sb_status sb_sweep_farm_mpi(sb_sweep_job* job, int rank, int size, sb_error* err);

@@ -1,4 +1,4 @@
-/* The MPI task farm (sweep_job.h), with Open MPI: every rank reads the
+/* The MPI task farm (sweep_job.h) and the studies' MPI (study_mpi.h), with Open MPI: every rank reads the
  * sweep file and makes the same cases; rank 0 hands out case numbers one
  * at a time, each other rank runs the case it is given (a child process,
  * as the local farm does: a case that crashes does not take its rank with
@@ -97,7 +97,7 @@ static sb_status follow(sb_sweep_job* job, sb_error* err) {
     }
 }
 
-sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
+sb_status sb_study_mpi_begin(int* rank, int* size, sb_error* err) {
     (void)err;
     *rank = 0, *size = 1;
     if (!launched()) return SB_OK;
@@ -107,7 +107,7 @@ sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
     return SB_OK;
 }
 
-void sb_sweep_mpi_end(int code) {
+void sb_study_mpi_end(int code) {
     if (!launched()) return;
     if (code != 0) MPI_Abort(MPI_COMM_WORLD, code);
     MPI_Finalize();
@@ -117,10 +117,28 @@ sb_status sb_sweep_farm_mpi(sb_sweep_job* job, int rank, int size, sb_error* err
     return rank == 0 ? lead(job, size, err) : follow(job, err);
 }
 
+void sb_study_mpi_best(double* score, double* keys, size_t key_count, double* curve, size_t curve_count,
+                       long* evaluations) {
+    if (!launched()) return;
+    int rank;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    struct {
+        double score;
+        int rank;
+    } mine = {*score, rank}, best;
+    MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, MPI_COMM_WORLD);
+    *score = best.score;
+    MPI_Bcast(keys, (int)key_count, MPI_DOUBLE, best.rank, MPI_COMM_WORLD);
+    MPI_Bcast(curve, (int)curve_count, MPI_DOUBLE, best.rank, MPI_COMM_WORLD);
+    long total;
+    MPI_Allreduce(evaluations, &total, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    *evaluations = total;
+}
+
 #else
 
 /* Started by mpirun with more than one rank: each would run the whole sweep. */
-sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
+sb_status sb_study_mpi_begin(int* rank, int* size, sb_error* err) {
     *rank = 0, *size = 1;
     const char* ranks = getenv("OMPI_COMM_WORLD_SIZE");
     if (ranks && atoi(ranks) > 1)
@@ -130,11 +148,16 @@ sb_status sb_sweep_mpi_begin(int* rank, int* size, sb_error* err) {
     return SB_OK;
 }
 
-void sb_sweep_mpi_end(int code) { (void)code; }
+void sb_study_mpi_end(int code) { (void)code; }
 
 sb_status sb_sweep_farm_mpi(sb_sweep_job* job, int rank, int size, sb_error* err) {
     (void)rank, (void)size;
     return sb_sweep_farm_local(job, err);
+}
+
+void sb_study_mpi_best(double* score, double* keys, size_t key_count, double* curve, size_t curve_count,
+                       long* evaluations) {
+    (void)score, (void)keys, (void)key_count, (void)curve, (void)curve_count, (void)evaluations;
 }
 
 #endif
