@@ -372,7 +372,9 @@ static void plot(const fit_job* job) {
              "set ylabel '%s' noenhanced; plot 'fit_curve.csv' using 1:2 with points pt 7 title 'target', "
              "'' using 1:3 with lines lw 2 title 'fitted model'\" >/dev/null 2>&1",
              job->dir, job->spec.x_column, job->spec.y_column);
-    if (strpbrk(job->dir, "'\"") || system(command) != 0)
+    bool quotable = !strpbrk(job->dir, "'\"\\$`") && !strpbrk(job->spec.x_column, "'\"\\$`") &&
+                    !strpbrk(job->spec.y_column, "'\"\\$`"); /* put into a shell line and gnuplot strings */
+    if (!quotable || system(command) != 0)
         fprintf(stderr, "softbond: %s/fit.png: gnuplot did not draw the fit (is gnuplot-nox installed?)\n", job->dir);
 }
 

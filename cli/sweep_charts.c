@@ -62,9 +62,30 @@ static sb_status write_data(const sb_sweep_spec* spec, const char* dir, bool* dr
     return sb_atomic_commit(&file, err);
 }
 
+/* Whether a list's items are text (integrator names): charted at their indices, named on the axis. */
+static bool text_items(const sb_sweep_axis* axis) {
+    for (size_t i = 0; axis->values && i < axis->count; i++) {
+        char* end;
+        strtod(axis->values[i], &end);
+        if (end == axis->values[i] || *end != '\0') return true;
+    }
+    return false;
+}
+
 static void axis_settings(FILE* f, const sb_sweep_axis* axis, char which) {
     fprintf(f, "set %clabel \"%s\" noenhanced\n", which, axis->key);
     fprintf(f, axis->log ? "set logscale %c\n" : "unset logscale %c\n", which);
+    if (!text_items(axis)) {
+        fprintf(f, "set %ctics autofreq\n", which);
+        return;
+    }
+    fprintf(f, "set %ctics (", which);
+    for (size_t i = 0; i < axis->count; i++) {
+        fputs(i ? ", \"" : "\"", f);
+        for (const char* c = axis->values[i]; *c; c++) fprintf(f, *c == '"' || *c == '\\' ? "\\%c" : "%c", *c);
+        fprintf(f, "\" %zu", i);
+    }
+    fprintf(f, ") noenhanced\n");
 }
 
 static void metric_chart(FILE* f, const sb_sweep_spec* spec, size_t m) {
