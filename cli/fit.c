@@ -387,8 +387,8 @@ static sb_status prepare(fit_job* job, sb_error* err) {
     if (status != SB_OK) return status;
     size_t count = job->spec.set_count + (size_t)job->args.set_count;
     const char* sets[count + 1];
-    memcpy(sets, job->spec.sets, job->spec.set_count * sizeof *sets);
-    memcpy(sets + job->spec.set_count, job->args.sets, (size_t)job->args.set_count * sizeof *sets);
+    for (size_t i = 0; i < job->spec.set_count; i++) sets[i] = job->spec.sets[i]; /* NULL when the file has none */
+    for (int i = 0; i < job->args.set_count; i++) sets[job->spec.set_count + (size_t)i] = job->args.sets[i];
     sb_scene scene;
     status = sb_scene_read(&scene, job->spec.scene, sets, count, err);
     char prefix[600];

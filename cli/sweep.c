@@ -58,8 +58,8 @@ static sb_status check_scene(const sb_sweep_job* job, sb_error* err) {
     size_t count = job->spec.set_count + job->set_count;
     const char** sets = calloc(count ? count : 1, sizeof *sets);
     if (!sets) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
-    memcpy(sets, job->spec.sets, job->spec.set_count * sizeof *sets);
-    memcpy(sets + job->spec.set_count, job->sets, job->set_count * sizeof *sets);
+    for (size_t i = 0; i < job->spec.set_count; i++) sets[i] = job->spec.sets[i]; /* either may be NULL when empty */
+    for (size_t i = 0; i < job->set_count; i++) sets[job->spec.set_count + i] = job->sets[i];
     sb_scene scene;
     sb_status status = sb_scene_read(&scene, job->spec.scene, sets, count, err);
     if (status == SB_OK) sb_scene_free(&scene);
