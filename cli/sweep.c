@@ -108,8 +108,12 @@ static sb_status prepare(sweep_command* s, sb_error* err) {
     if (status != SB_OK) return status;
     char name[256];
     sweep_name(s->args.input, name, sizeof name);
+    if (s->args.resume) { /* the folder as the stopped sweep left it: its table is read, nothing made */
+        job->dir = strdup(s->args.resume);
+        return job->dir ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    }
     sb_output_dir out = {0};
-    status = sb_output_dir_create(&out, s->args.resume ? s->args.resume : s->args.output, name, err);
+    status = sb_output_dir_create(&out, s->args.output, name, err);
     job->dir = out.dir;
     return status;
 }
@@ -187,7 +191,7 @@ int sb_cli_sweep(int argc, char** argv) {
     int code = SB_EXIT_OK;
     if (prepare(&s, &err) != SB_OK) code = SB_EXIT_INPUT;
     sb_status opened = code == SB_EXIT_OK && s.rank == 0 ? open_table(&s.job, s.args.resume != NULL, &err) : SB_OK;
-    if (opened != SB_OK) code = opened == SB_ERR_PARSE ? SB_EXIT_INPUT : SB_EXIT_FAILURE;
+    if (opened != SB_OK) code = s.args.resume || opened == SB_ERR_PARSE ? SB_EXIT_INPUT : SB_EXIT_FAILURE;
     if (code != SB_EXIT_OK) {
         if (s.rank == 0) sb_cli_fail(code, &err);
         sb_study_mpi_end(code);

@@ -466,6 +466,12 @@ static void test_bad_files_name_file_and_line(void** state) {
     snprintf(text, sizeof text, "%sparameters: [{key: mass, start: 1, min: 0.1, max: 10}]\ntarget: {x: a, y: b}\n",
              scene);
     assert_file_fails("fit", text, "bad.yaml:3: target: needs file, x and y");
+    /* --resume of a folder that holds no sweep: said, and nothing made */
+    tu_result r = tu_run((const char*[]){"sweep", DATA "/free_fall_sweep.yaml", "--resume", "nothere", NULL});
+    assert_int_equal(r.code, 2);
+    TU_ASSERT_CONTAINS(r.err, "--resume: nothere/sweep.csv: cannot read");
+    assert_false(exists(tu_tmp_path("nothere")));
+    tu_result_free(&r);
 }
 
 /* A misspelt log.csv column cannot be known before a run: the sweep runs,
