@@ -26,6 +26,8 @@ static const option_spec option_specs[] = {
     {"--no-realtime", offsetof(sb_cli_args, no_realtime), true},
     {"--checkpoint-every", offsetof(sb_cli_args, checkpoint_every), false},
     {"--resume", offsetof(sb_cli_args, resume), false},
+    {"--end-positions", offsetof(sb_cli_args, end_positions), false},
+    {"--workers", offsetof(sb_cli_args, workers), false},
     {"--screenshot", offsetof(sb_cli_args, screenshot), false},
     {"--frames", offsetof(sb_cli_args, frames), false},
     {"--script", offsetof(sb_cli_args, script), false},
@@ -114,6 +116,13 @@ static sb_status parse_arg(int argc, char** argv, int* i, const char* const* acc
     return SB_OK;
 }
 
+/* What the command's one positional argument is, for "missing ...". */
+static const char* missing_input(const char* command) {
+    if (strcmp(command, "eval") == 0 || strcmp(command, "info") == 0) return "MESH";
+    if (strcmp(command, "sweep") == 0) return "SWEEP.yaml";
+    return strcmp(command, "fit") == 0 ? "FIT.yaml" : "SCENE";
+}
+
 sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cli_args* out, sb_error* err) {
     *out = (sb_cli_args){.sets = malloc((size_t)argc * sizeof *out->sets)};
     if (!out->sets) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
@@ -121,9 +130,7 @@ sb_status sb_cli_parse(int argc, char** argv, const char* const* accepted, sb_cl
         sb_status status = parse_arg(argc, argv, &i, accepted, out, err);
         if (status != SB_OK) return status;
     }
-    if (!out->input && !out->help)
-        return usage_fail(err, argv[0], "missing %s",
-                          strcmp(argv[0], "eval") == 0 || strcmp(argv[0], "info") == 0 ? "MESH" : "SCENE");
+    if (!out->input && !out->help) return usage_fail(err, argv[0], "missing %s", missing_input(argv[0]));
     return SB_OK;
 }
 

@@ -29,7 +29,9 @@ typedef struct sb_cli_args {
     const char* max_error;        /* run --max-error M (with --budget-ms) */
     bool no_realtime;             /* run --no-realtime */
     const char* checkpoint_every; /* run --checkpoint-every T */
-    const char* resume;           /* run --resume DIR */
+    const char* resume;           /* run --resume DIR, sweep --resume DIR */
+    const char* end_positions;    /* run --end-positions FILE.csv */
+    const char* workers;          /* sweep --workers N */
     const char* screenshot;       /* view --screenshot FILE.png */
     const char* frames;           /* view --frames N */
     const char* script;           /* view --script FILE */
@@ -80,5 +82,10 @@ void sb_cli_tetra_usage(FILE* stream);
 /* `softbond keys` (keys.c): the scene keys' reference, from the parser's table. */
 int sb_cli_keys(int argc, char** argv);
 void sb_cli_keys_usage(FILE* stream);
+/* `softbond sweep SWEEP.yaml` (sweep.c) and `softbond fit FIT.yaml` (fit.c): studies of many runs. */
+int sb_cli_sweep(int argc, char** argv);
+void sb_cli_sweep_usage(FILE* stream);
+int sb_cli_fit(int argc, char** argv);
+void sb_cli_fit_usage(FILE* stream);
 
 #endif

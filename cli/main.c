@@ -15,6 +15,7 @@ static void usage(FILE* stream) {
             "Commands:\n"
             "  softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
             "               [--budget-ms X [--max-error M]] [--no-realtime] [--checkpoint-every T]\n"
+            "               [--end-positions FILE.csv]\n"
             "  softbond run SCENE.yaml [--set key=value]... --resume DIR [--threads N]\n"
             "      simulate a scene, write its frames and log.csv\n"
             "  softbond view SCENE.yaml [--set key=value]... [--threads N] [--size WxH]\n"
@@ -31,6 +32,11 @@ static void usage(FILE* stream) {
             "      fill a closed surface with tetrahedra (TetGen)\n"
             "  softbond keys [KEY|PREFIX] [--markdown]\n"
             "      every scene key: type, default, unit, meaning\n"
+            "  softbond sweep SWEEP.yaml [--set key=value]... [--output DIR | --resume DIR]\n"
+            "               [--workers N] [--threads N]      (also under mpirun -np N)\n"
+            "      run a scene over a design of varied keys: one CSV row per case, charts\n"
+            "  softbond fit FIT.yaml [--set key=value]... [--output DIR] [--threads N]   (also under mpirun)\n"
+            "      fit scene keys so a log.csv curve follows a measured one (NLopt)\n"
             "\n"
             "Options:\n"
             "  -h, --help     this help (after a command: that command's)\n"
@@ -55,6 +61,8 @@ int main(int argc, char** argv) {
     if (strcmp(command, "view") == 0) return sb_cli_view(argc - 1, argv + 1);
     if (strcmp(command, "film") == 0) return sb_cli_film(argc - 1, argv + 1);
     if (strcmp(command, "keys") == 0) return sb_cli_keys(argc - 1, argv + 1);
+    if (strcmp(command, "sweep") == 0) return sb_cli_sweep(argc - 1, argv + 1);
+    if (strcmp(command, "fit") == 0) return sb_cli_fit(argc - 1, argv + 1);
     if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0) {
         usage(stdout);
         return SB_EXIT_OK;
@@ -65,7 +73,8 @@ int main(int argc, char** argv) {
         printf("softbond %s\nmachine: %s\n", SB_VERSION_STRING, machine);
         return SB_EXIT_OK;
     }
-    static const char* const commands[] = {"run", "view", "film", "eval", "info", "tetra", "--help", "--version"};
+    static const char* const commands[] = {"run",   "view",  "film", "eval",   "info",
+                                           "tetra", "sweep", "fit",  "--help", "--version"};
     const char* near = sb_suggest(command, commands, sizeof commands / sizeof commands[0]);
     fprintf(stderr, "softbond: unknown command '%s'%s%s%s (see softbond --help)\n", command,
             near ? " (did you mean '" : "", near ? near : "", near ? "'?)" : "");

@@ -11,6 +11,7 @@
  * Nothing is created before the scene is valid and its model compiled. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/checkpoint.h"
+#include "common/atomic_file.h"
 #include "common/clock.h"
 #include "cli/cli.h"
 #include "cli/energy_log.h"
@@ -35,6 +36,7 @@ enum { INDEX_EVERY_FRAME = 1024 };
 void sb_cli_run_usage(FILE* stream) {
     fprintf(stream, "usage: softbond run SCENE.yaml [--set key=value]... [--output DIR] [--threads N]\n"
                     "                    [--budget-ms X [--max-error M]] [--no-realtime] [--checkpoint-every T]\n"
+                    "                    [--end-positions FILE.csv]\n"
                     "       softbond run SCENE.yaml [--set key=value]... --resume DIR [--threads N]\n"
                     "Runs a scene and writes its frames (output.formats: .vtu, listed in frames.pvd,\n"
                     "and ply, obj, gltf, glb, irit, pov) and log.csv\n"
@@ -65,7 +67,9 @@ void sb_cli_run_usage(FILE* stream) {
                     "goes on from it, appending to DIR's frames and log.csv exactly as the run would\n"
                     "have: give the same scene and --set options (another scene is refused); a\n"
                     "longer duration (--set duration=T) goes on past a finished run's end, from its\n"
-                    "last checkpoint, as one run of that length would have.\n");
+                    "last checkpoint, as one run of that length would have.\n"
+                    "--end-positions FILE.csv writes the end state's vertex positions (a header x,y,z,\n"
+                    "then a row per vertex, as eval --positions reads them) after a run that ends well.\n");
 }
 
 typedef struct run_job {
@@ -397,6 +401,20 @@ static sb_status write_record(run_job* job, sb_error* err) {
     return sb_run_record_write(sb_output_dir_path(&job->out, "run.yaml"), &record, err);
 }
 
+/* --end-positions FILE.csv: the end state's vertices, x,y,z (eval --positions' form), whole or not at all. */
+static sb_status write_end_positions(run_job* job, sb_error* err) {
+    if (!job->args.end_positions) return SB_OK;
+    sb_atomic_file file;
+    sb_status status = sb_atomic_open(&file, job->args.end_positions, err);
+    if (status != SB_OK) return status;
+    sb_solver_get_positions(job->sim.solver, job->buffers);
+    fputs("x,y,z\n", file.stream);
+    for (uint32_t v = 0; v < sb_solver_vertex_count(job->sim.solver); v++)
+        fprintf(file.stream, "%.17g,%.17g,%.17g\n", job->buffers[3 * v], job->buffers[3 * v + 1],
+                job->buffers[3 * v + 2]);
+    return sb_atomic_commit(&file, err);
+}
+
 /* Simulates, then writes the whole index and closes the log even after a
  * solver failure, so the frames up to the failure can be looked at. */
 static int execute(run_job* job, sb_error* err) {
@@ -417,6 +435,7 @@ static int execute(run_job* job, sb_error* err) {
     double last_time = frames ? job->log.times[frames - 1] : 0.0;
     if (index == SB_OK) index = sb_energy_log_close(&job->log, &index_err);
     if (code != SB_EXIT_OK) return code;
+    if (index == SB_OK) index = write_end_positions(job, &index_err);
     if (index != SB_OK) {
         *err = index_err;
         return SB_EXIT_FAILURE;
@@ -431,7 +450,7 @@ static int execute(run_job* job, sb_error* err) {
 
 int sb_cli_run(int argc, char** argv) {
     static const char* const accepted[] = {"--output",      "--threads",          "--budget-ms", "--max-error",
-                                           "--no-realtime", "--checkpoint-every", "--resume",    NULL};
+                                           "--no-realtime", "--checkpoint-every", "--resume",    "--end-positions", NULL};
     run_job job = {.argc = argc, .argv = argv};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

@@ -12,15 +12,15 @@ top=$("$program" --help) || { echo "softbond --help failed"; exit 1; }
 options_of() { # the options a command's source accepts
     case $1 in
     run) file=run.c ;; view) file=view_cli.c ;; film) file=film.c ;; eval) file=eval.c ;;
-    info) file=info.c ;; tetra) file=tetra.c ;; keys) file=keys.c ;;
+    info) file=info.c ;; tetra) file=tetra.c ;; keys) file=keys.c ;; sweep) file=sweep.c ;; fit) file=fit.c ;;
     esac
     case $1 in
     tetra | keys) grep -oE '(strcmp\([^,]*|option_value\([^"]*), "--[a-z-]*"\)' "$src/cli/$file" | grep -o '"--[a-z-]*"' ;;
     *) sed -n '/accepted\[\] = {/,/};/p' "$src/cli/$file" | grep -o '"--[a-z-]*"' ;;
     esac | tr -d '"' | grep -vx -- '--help' | sort -u
-    case $1 in run | view | film | eval) echo "--set" ;; esac
+    case $1 in run | view | film | eval | sweep | fit) echo "--set" ;; esac
 }
-for command in run view film eval info tetra keys; do
+for command in run view film eval info tetra keys sweep fit; do
     own=$("$program" "$command" --help) || { echo "softbond $command --help failed"; fail=1; continue; }
     case $top in *"softbond $command "* | *"softbond $command") ;; *) echo "softbond --help does not show '$command'"; fail=1 ;; esac
     count=0
