@@ -37,6 +37,7 @@
 #include "kernels/contact/colliders/plane.h"
 #include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/rotation.h"
+#include "kernels/contact/colliders/triangle_point.h"
 #include "common/geometry.h"
 #include "common/error.h"
 
@@ -429,6 +430,48 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
     }
     sb_surface(c, fraction, depth, contact);
     return true;
+}
+
+/* The nearest material point of a triangle (rest frame) to the box's
+ * edges: each edge is a core of the thickness's radius; the nearest of
+ * the twelve. */
+static void sb_box_triangle_point(const sb_collider* c, const double from[3][3], const double to[3][3], double w[3]) {
+    const double *h = c->def.half_extents, *r = c->box_rotation;
+    double corner[8][3], best = INFINITY, cw[3];
+    for (int i = 0; i < 8; i++) {
+        double local[3] = {i & 1 ? h[0] : -h[0], i & 2 ? h[1] : -h[1], i & 4 ? h[2] : -h[2]};
+        for (int k = 0; k < 3; k++)
+            corner[i][k] = c->def.center[k] + r[3 * k] * local[0] + r[3 * k + 1] * local[1] + r[3 * k + 2] * local[2];
+    }
+    for (int i = 0; i < 8; i++)
+        for (int axis = 1; axis < 8; axis <<= 1) { /* the edges from each corner along +x, +y, +z */
+            if (i & axis) continue;
+            double d2 = sb_triangle_swept_nearest(from, to, corner[i], corner[i | axis], cw);
+            if (!(d2 < best)) continue;
+            best = d2;
+            for (int k = 0; k < 3; k++) w[k] = cw[k];
+        }
+}
+
+bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], const double to[3][3], double w[3]) {
+    if (c->begin_step != sb_builtin_begin_step) return false;
+    const sb_collider_def* d = &c->def;
+    if (d->shape != SB_COLLIDER_SPHERE && d->shape != SB_COLLIDER_CAPSULE && d->shape != SB_COLLIDER_BOX) return false;
+    double a[3][3], b[3][3];
+    for (int i = 0; i < 3; i++) {
+        sb_pose_invert(c->pose0, from[i], a[i]);
+        sb_pose_invert(c->pose1, to[i], b[i]);
+    }
+    if (d->shape == SB_COLLIDER_SPHERE) sb_triangle_swept_nearest(a, b, d->center, d->center, w);
+    if (d->shape == SB_COLLIDER_CAPSULE) sb_triangle_swept_nearest(a, b, d->a, d->b, w);
+    if (d->shape == SB_COLLIDER_BOX) sb_box_triangle_point(c, a, b, w);
+    return true;
+}
+
+bool sb_collider_meets_surface(const sb_collider* c) {
+    sb_collider_shape shape = c->def.shape;
+    return c->begin_step == sb_builtin_begin_step &&
+           (shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX);
 }
 
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {

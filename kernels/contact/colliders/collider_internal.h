@@ -61,6 +61,18 @@ typedef bool (*sb_sweep_fn)(const sb_collider_def* def, const double from[3], co
  * translation; identity when it has no path. */
 void sb_collider_pose(const sb_collider* collider, double t, double pose[12]);
 
+/* Whether the collider stops the body's surface as well as its vertices
+ * (the built-in sphere, capsule and box: kernels/contact/surface.c). */
+bool sb_collider_meets_surface(const sb_collider* collider);
+/* For such a collider, the barycentric weights w of the material point of
+ * a triangle that moved from `from` to `to` in the step (its corners in
+ * the world) nearest the collider's core (the center, the segment, the
+ * box's edges) in its rest frame, or the point the core passed through
+ * within the step (kernels/contact/colliders/triangle_point.h); false for
+ * a collider that does not meet the surface. */
+bool sb_collider_triangle_point(const sb_collider* collider, const double from[3][3], const double to[3][3],
+                                double w[3]);
+
 /* Keyframed poses, shared with the handles (kernels/interaction/handle.c). A pose is a
  * rotation (row-major 3x3) then a translation: pose(x) = R (x − c) + c + T
  * for the keyframe's rotate (degrees, R = Rz Ry Rx) and translate T about
