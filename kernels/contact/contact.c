@@ -63,12 +63,12 @@
 
 /* The contact pass's state. */
 typedef struct sb_contact_pass {
-    double* from;     /* 3n: positions at the start of a step the fused path does not take */
-    double* partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
-    double* step;     /* 6 per collider: the last step's impulses on the colliders, then their torques */
-    double* impulse;  /* 3 per collider: summed over the accepted steps of this advance */
-    bool corrects;    /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
-    bool surface;     /* a collider meets the surface (kernels/contact/surface.c) */
+    double* from;        /* 3n: positions at the start of a step the fused path does not take */
+    double* partials;    /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
+    double* step;        /* 6 per collider: the last step's impulses on the colliders, then their torques */
+    double* impulse;     /* 3 per collider: summed over the accepted steps of this advance */
+    bool corrects;       /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
+    sb_surface* surface; /* when a collider meets the surface (kernels/contact/surface.c) */
 } sb_contact_pass;
 
 static void sb_contact_subscribe(sb_solver* s);
@@ -96,7 +96,7 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     if (!c->from || !c->partials || !c->impulse || !c->step)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
-    c->surface = sb_surface_active(s);
+    if (sb_surface_active(s) && !(c->surface = sb_surface_create(s, err))) return SB_ERR_NOMEM;
     sb_contact_subscribe(s);
     return SB_OK;
 }
@@ -108,6 +108,7 @@ void sb_contact_destroy(sb_solver* s) {
     free(c->partials);
     free(c->impulse);
     free(c->step);
+    sb_surface_destroy(c->surface);
     free(c);
 }
 
@@ -244,7 +245,7 @@ void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, 
  * (x and x − d), in 16 independent lanes (4 vertices of x y z w) that
  * vectorize, folded to x y z at the end; plain comparisons, because fmin
  * would be a call per value. */
-static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+static void sb_block_box_packed(const sb_solver* s, uint32_t first, uint32_t last, double dlo[3], double dhi[3]) {
     sb_real lo[16], hi[16];
     for (int k = 0; k < 16; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     const sb_real *x = s->positions4 + 4 * (size_t)first, *d = s->displacements4 + 4 * (size_t)first;
@@ -260,7 +261,6 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
         lo[q & 3] = small < lo[q & 3] ? small : lo[q & 3];
         hi[q & 3] = large > hi[q & 3] ? large : hi[q & 3];
     }
-    double dlo[3], dhi[3];
     for (int c = 0; c < 3; c++) {
         dlo[c] = lo[c], dhi[c] = hi[c];
         for (int v = 1; v < 4; v++) {
@@ -268,12 +268,20 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
             dhi[c] = hi[4 * v + c] > dhi[c] ? hi[4 * v + c] : dhi[c];
         }
     }
-    return sb_colliders_near(s, dlo, dhi);
 }
 
 /* Vertices per block of the broad phase inside a chunk: a chunk of a mesh
  * row spans most of its width; a block of 32 is a small patch. */
-#define SB_CONTACT_BLOCK 32
+#define SB_CONTACT_BLOCK SB_SURFACE_BLOCK
+
+/* The colliders the moves of block [first, last) reach; the block's box
+ * kept for the surface pass. */
+static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    double lo[3], hi[3];
+    sb_block_box_packed(s, first, last, lo, hi);
+    if (s->contact->surface) sb_surface_set_box(s->contact->surface, first / SB_SURFACE_BLOCK, lo, hi);
+    return sb_colliders_near(s, lo, hi);
+}
 
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement): the drift_chunk hook. */
@@ -373,7 +381,7 @@ static bool sb_contact_correct(sb_solver* s, double dt) {
     sb_team_run(s->team, sb_team_size(s->team), sb_contact_state_worker, &job);
     if (s->contact->surface) {
         sb_surface_view view = sb_surface_view_state(s, s->contact->from);
-        sb_surface_pass(s, &view, dt);
+        sb_surface_pass(s, s->contact->surface, &view, false, dt);
     }
     uint32_t contacts = sb_contact_collect(s);
     s->stats.contacts += contacts;
@@ -385,7 +393,7 @@ static bool sb_contact_correct(sb_solver* s, double dt) {
  * contacts already counted). */
 static bool sb_contact_correct_surface(sb_solver* s, double dt) {
     sb_surface_view view = sb_surface_view_state(s, s->contact->from);
-    uint32_t contacts = sb_surface_pass(s, &view, dt);
+    uint32_t contacts = sb_surface_pass(s, s->contact->surface, &view, false, dt);
     if (contacts == 0) return false;
     sb_contact_collect(s);
     s->stats.contacts += contacts;
@@ -395,7 +403,7 @@ static bool sb_contact_correct_surface(sb_solver* s, double dt) {
 /* The fused step's surface pass (the surface_packed hook). */
 static void sb_contact_surface_packed(sb_solver* s, double dt) {
     sb_surface_view view = sb_surface_view_packed(s);
-    sb_surface_pass(s, &view, dt);
+    sb_surface_pass(s, s->contact->surface, &view, true, dt);
 }
 
 /* The begin stage: the colliders' callbacks, and the positions the moves

@@ -29,22 +29,162 @@
  * normal at the point of contact is not the way out at the corner) is then
  * answered as a vertex, by the same collider.
  *
- * One thread, triangles in order and each triangle's colliders in order,
- * each answer seen by the next (Gauss-Seidel): the same for any thread
- * count. A broad phase keeps it cheap: a triangle whose move's box, grown
- * by the contact thickness, reaches no such collider's step bounds costs
- * the box. */
+ * One thread, triangles in a fixed order and each triangle's colliders in
+ * order, each answer seen by the next (Gauss-Seidel): the same for any
+ * thread count. A broad phase keeps it cheap on a large body: each
+ * triangle belongs to the block of 32 vertices of its lowest corner, and
+ * each block knows the blocks its triangles' corners lie in (made once,
+ * from the topology); the box of a block's moves (the fused vertex pass
+ * computes it anyway) joined over those blocks holds every move of its
+ * triangles, so a block whose join reaches no such collider's step bounds
+ * skips its triangles; a triangle whose move's box reaches none costs the
+ * box. A tearing solver's corners change blocks as it splits vertices, so
+ * there every block's triangles are tested. */
 #include "kernels/contact/surface.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/state/solver_fast.h"
+#include "common/error.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
+
+struct sb_surface {
+    uint32_t blocks;
+    uint32_t *owned_first, *owned; /* CSR: the triangles each block owns, in triangle order */
+    uint32_t *reach_first, *reach; /* CSR: the blocks holding their corners, the block itself among them */
+    double* boxes;                 /* 6 a block: the box of its moves this step */
+    bool by_block;                 /* the topology is fixed: blocks may be skipped */
+};
 
 bool sb_surface_active(const sb_solver* s) {
     if (s->model->triangle_count == 0) return false;
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (sb_collider_meets_surface(s->def.colliders[c])) return true;
+    return false;
+}
+
+static uint32_t sb_owner_block(const sb_model* m, uint32_t t) {
+    uint32_t a = m->tri_v[0][t], b = m->tri_v[1][t], c = m->tri_v[2][t], low = a < b ? a : b;
+    return (low < c ? low : c) / SB_SURFACE_BLOCK;
+}
+
+/* first[] from the counts in first[1..blocks] (a prefix sum). */
+static void sb_prefix(uint32_t* first, uint32_t blocks) {
+    for (uint32_t b = 0; b < blocks; b++) first[b + 1] += first[b];
+}
+
+/* The triangles each block owns, in triangle order. */
+static bool sb_surface_own(sb_surface* f, const sb_model* m) {
+    uint32_t* at = malloc(((size_t)f->blocks + 1) * sizeof *at);
+    if (!at) return false;
+    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned_first[sb_owner_block(m, t) + 1]++;
+    sb_prefix(f->owned_first, f->blocks);
+    memcpy(at, f->owned_first, ((size_t)f->blocks + 1) * sizeof *at);
+    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned[at[sb_owner_block(m, t)]++] = t;
+    free(at);
+    return true;
+}
+
+/* The blocks a block's triangles reach (itself first, then each other
+ * once), into reach[] from reach_first[b] on when `reach` is not NULL;
+ * returns how many. `seen` is the last block that marked each block. */
+static uint32_t sb_surface_reached(const sb_surface* f, const sb_model* m, uint32_t b, uint32_t* seen,
+                                   uint32_t* reach) {
+    uint32_t count = 0;
+    seen[b] = b;
+    if (reach) reach[count] = b;
+    count++;
+    for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t other = m->tri_v[c][f->owned[k]] / SB_SURFACE_BLOCK;
+            if (seen[other] == b) continue;
+            seen[other] = b;
+            if (reach) reach[count] = other;
+            count++;
+        }
+    return count;
+}
+
+static bool sb_surface_reach(sb_surface* f, const sb_model* m) {
+    uint32_t* seen = malloc((size_t)f->blocks * sizeof *seen);
+    if (!seen) return false;
+    for (int pass = 0; pass < 2; pass++) { /* count, then fill */
+        for (uint32_t b = 0; b < f->blocks; b++) seen[b] = UINT32_MAX;
+        for (uint32_t b = 0; b < f->blocks; b++) {
+            uint32_t count = sb_surface_reached(f, m, b, seen, pass ? f->reach + f->reach_first[b] : NULL);
+            if (!pass) f->reach_first[b + 1] = count;
+        }
+        if (pass) break;
+        sb_prefix(f->reach_first, f->blocks);
+        f->reach = malloc(((size_t)f->reach_first[f->blocks] + 1) * sizeof *f->reach);
+        if (!f->reach) break;
+    }
+    free(seen);
+    return f->reach != NULL;
+}
+
+sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
+    const sb_model* m = s->model;
+    sb_surface* f = calloc(1, sizeof *f);
+    bool ok = f != NULL;
+    if (ok) {
+        f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
+        f->by_block = s->def.max_splits <= 0;
+        f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
+        f->owned = malloc(((size_t)m->triangle_count + 1) * sizeof *f->owned);
+        f->reach_first = calloc((size_t)f->blocks + 1, sizeof *f->reach_first);
+        f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
+        ok = f->owned_first && f->owned && f->reach_first && f->boxes && sb_surface_own(f, m) && sb_surface_reach(f, m);
+    }
+    if (ok) return f;
+    sb_surface_destroy(f);
+    sb_error_set(err, SB_ERR_NOMEM, "out of memory for the surface contact");
+    return NULL;
+}
+
+void sb_surface_destroy(sb_surface* f) {
+    if (!f) return;
+    free(f->owned_first);
+    free(f->owned);
+    free(f->reach_first);
+    free(f->reach);
+    free(f->boxes);
+    free(f);
+}
+
+void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
+    double* box = f->boxes + 6 * (size_t)block;
+    for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
+}
+
+/* Every block's box from the view (the passes that do not set them). */
+static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_surface_view* view) {
+    uint32_t n = s->model->vertex_count;
+    for (uint32_t b = 0; b < f->blocks; b++) {
+        double* box = f->boxes + 6 * (size_t)b;
+        for (int k = 0; k < 3; k++) box[k] = INFINITY, box[3 + k] = -INFINITY;
+        for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
+            for (int k = 0; k < 3; k++) {
+                size_t at = view->stride * i;
+                double x = view->x[k][at], from = view->from ? view->from[3 * (size_t)i + k] : x - view->d[k][at];
+                box[k] = fmin(box[k], fmin(x, from));
+                box[3 + k] = fmax(box[3 + k], fmax(x, from));
+            }
+    }
+}
+
+/* Whether the join of the boxes of the blocks block b's triangles reach
+ * reaches a collider of `meets`. */
+static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, uint64_t meets) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t k = f->reach_first[b]; k < f->reach_first[b + 1]; k++) {
+        const double* box = f->boxes + 6 * (size_t)f->reach[k];
+        for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], box[a]), hi[a] = fmax(hi[a], box[3 + a]);
+    }
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if ((meets >> c & 1) && sb_contact_reaches(s, c, lo, hi)) return true;
     return false;
 }
 
@@ -192,22 +332,33 @@ static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, c
     return true;
 }
 
-uint32_t sb_surface_pass(const sb_solver* s, const sb_surface_view* view, double dt) {
+/* Triangle t against the colliders of `meets`; returns the contacts. */
+static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* view, uint32_t t, uint64_t meets,
+                                    double dt) {
+    sb_corners corners;
+    double lo[3], hi[3];
+    uint32_t contacts = 0;
+    sb_read_corners(s, view, t, &corners);
+    sb_corners_box(&corners, lo, hi);
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!(meets >> c & 1) || !sb_contact_reaches(s, c, lo, hi)) continue;
+        if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
+        contacts++;
+        sb_read_corners(s, view, t, &corners); /* the next collider sees the answer */
+    }
+    return contacts;
+}
+
+uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_view* view, bool boxes_set, double dt) {
     uint64_t meets = 0;
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (sb_collider_meets_surface(s->def.colliders[c])) meets |= (uint64_t)1 << c;
+    if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
-    for (uint32_t t = 0; t < s->model->triangle_count; t++) {
-        sb_corners corners;
-        double lo[3], hi[3];
-        sb_read_corners(s, view, t, &corners);
-        sb_corners_box(&corners, lo, hi);
-        for (uint32_t c = 0; c < s->def.collider_count; c++) {
-            if (!(meets >> c & 1) || !sb_contact_reaches(s, c, lo, hi)) continue;
-            if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
-            contacts++;
-            sb_read_corners(s, view, t, &corners); /* the next collider sees the answer */
-        }
+    for (uint32_t b = 0; b < f->blocks; b++) {
+        if (f->by_block && !sb_block_reaches(f, s, b, meets)) continue;
+        for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+            contacts += sb_surface_triangle(s, view, f->owned[k], meets, dt);
     }
     return contacts;
 }
