@@ -37,8 +37,9 @@
  * from the topology); the box of a block's moves (the fused vertex pass
  * computes it anyway) joined over those blocks holds every move of its
  * triangles, so a block whose join reaches no such collider's step bounds
- * skips its triangles; a triangle whose move's box reaches none costs the
- * box. A tearing solver's corners change blocks as it splits vertices, so
+ * skips its triangles; a triangle whose move's box lies outside a ball
+ * holding the collider through the step (sb_collider_surface_ball) costs
+ * the box. A tearing solver's corners change blocks as it splits vertices, so
  * there every block's triangles are tested. */
 #include "kernels/contact/surface.h"
 #include "kernels/contact/contact.h"
@@ -332,16 +333,46 @@ static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, c
     return true;
 }
 
-/* Triangle t against the colliders of `meets`; returns the contacts. */
-static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* view, uint32_t t, uint64_t meets,
-                                    double dt) {
+/* The balls that hold the colliders meeting the surface through the step,
+ * grown by the contact thickness: a triangle whose box lies outside a
+ * collider's ball cannot touch it. */
+typedef struct sb_surface_balls {
+    uint64_t meets; /* a bit per collider that meets the surface */
+    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS];
+} sb_surface_balls;
+
+static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
+    balls->meets = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!sb_collider_meets_surface(s->def.colliders[c])) continue;
+        double radius;
+        sb_collider_surface_ball(s->def.colliders[c], balls->center[c], &radius);
+        radius += s->def.contact_thickness;
+        balls->radius2[c] = radius * radius;
+        balls->meets |= (uint64_t)1 << c;
+    }
+}
+
+/* Whether the box [lo, hi] reaches into collider c's ball. */
+static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const double lo[3], const double hi[3]) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double x = balls->center[c][k], out = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0.0;
+        d2 += out * out;
+    }
+    return d2 <= balls->radius2[c];
+}
+
+/* Triangle t against the colliders that meet the surface; returns the contacts. */
+static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* view, uint32_t t,
+                                    const sb_surface_balls* balls, double dt) {
     sb_corners corners;
     double lo[3], hi[3];
     uint32_t contacts = 0;
     sb_read_corners(s, view, t, &corners);
     sb_corners_box(&corners, lo, hi);
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
-        if (!(meets >> c & 1) || !sb_contact_reaches(s, c, lo, hi)) continue;
+        if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
         if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
         contacts++;
         sb_read_corners(s, view, t, &corners); /* the next collider sees the answer */
@@ -350,15 +381,14 @@ static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* v
 }
 
 uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_view* view, bool boxes_set, double dt) {
-    uint64_t meets = 0;
-    for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if (sb_collider_meets_surface(s->def.colliders[c])) meets |= (uint64_t)1 << c;
+    sb_surface_balls balls;
+    sb_surface_balls_of(s, &balls);
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
     for (uint32_t b = 0; b < f->blocks; b++) {
-        if (f->by_block && !sb_block_reaches(f, s, b, meets)) continue;
+        if (f->by_block && !sb_block_reaches(f, s, b, balls.meets)) continue;
         for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
-            contacts += sb_surface_triangle(s, view, f->owned[k], meets, dt);
+            contacts += sb_surface_triangle(s, view, f->owned[k], &balls, dt);
     }
     return contacts;
 }

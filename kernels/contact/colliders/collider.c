@@ -468,6 +468,47 @@ bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], c
     return true;
 }
 
+/* The ball around points p[0..count) grown by `grow`. */
+static void sb_ball_around(const double (*p)[3], int count, double grow, double center[3], double* radius) {
+    double far = 0.0;
+    for (int k = 0; k < 3; k++) {
+        center[k] = 0.0;
+        for (int i = 0; i < count; i++) center[k] += p[i][k] / count;
+    }
+    for (int i = 0; i < count; i++) {
+        double d[3] = {p[i][0] - center[0], p[i][1] - center[1], p[i][2] - center[2]};
+        far = fmax(far, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    }
+    *radius = far + grow;
+}
+
+void sb_collider_surface_ball(const sb_collider* c, double center[3], double* radius) {
+    const sb_collider_def* d = &c->def;
+    double core[8][3], at[16][3];
+    int count = 0;
+    if (d->shape == SB_COLLIDER_SPHERE) {
+        for (int k = 0; k < 3; k++) core[0][k] = d->center[k];
+        count = 1;
+    } else if (d->shape == SB_COLLIDER_CAPSULE) {
+        for (int k = 0; k < 3; k++) core[0][k] = d->a[k], core[1][k] = d->b[k];
+        count = 2;
+    } else {
+        const double *h = d->half_extents, *r = c->box_rotation;
+        for (int i = 0; i < 8; i++) {
+            double local[3] = {i & 1 ? h[0] : -h[0], i & 2 ? h[1] : -h[1], i & 4 ? h[2] : -h[2]};
+            for (int k = 0; k < 3; k++)
+                core[i][k] = d->center[k] + r[3 * k] * local[0] + r[3 * k + 1] * local[1] + r[3 * k + 2] * local[2];
+        }
+        count = 8;
+    }
+    for (int i = 0; i < count; i++) {
+        sb_pose_apply(c->pose0, core[i], at[i]);
+        sb_pose_apply(c->pose1, core[i], at[count + i]);
+    }
+    sb_ball_around((const double(*)[3])at, 2 * count, (d->shape == SB_COLLIDER_BOX ? 0.0 : d->radius) + d->thickness,
+                   center, radius);
+}
+
 bool sb_collider_meets_surface(const sb_collider* c) {
     sb_collider_shape shape = c->def.shape;
     return c->begin_step == sb_builtin_begin_step &&

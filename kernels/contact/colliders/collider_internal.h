@@ -73,6 +73,11 @@ bool sb_collider_meets_surface(const sb_collider* collider);
 bool sb_collider_triangle_point(const sb_collider* collider, const double from[3][3], const double to[3][3],
                                 double w[3]);
 
+/* For such a collider, a ball (world, m) that holds it, inflated by its
+ * own thickness, all through the current step: the surface pass's test of
+ * a triangle's box. */
+void sb_collider_surface_ball(const sb_collider* collider, double center[3], double* radius);
+
 /* Keyframed poses, shared with the handles (kernels/interaction/handle.c). A pose is a
  * rotation (row-major 3x3) then a translation: pose(x) = R (x − c) + c + T
  * for the keyframe's rotate (degrees, R = Rz Ry Rx) and translate T about
