@@ -19,7 +19,10 @@
  *   bitwise.
  * - A sheet of 5 cm spacing falling onto a thin capsule (4 mm) and onto a
  *   box's edge, both lying between two rows of vertices: it rests on
- *   them, and no point of any triangle is inside them. */
+ *   them, and no point of any triangle is inside them.
+ * - A program's own collider (a small ball) with a triangle_point callback
+ *   holds a falling sheet between its vertices; without one it slips
+ *   through. */
 #include "test_util.h"
 
 #define PRESS_SIDE 40
@@ -412,6 +415,79 @@ static void test_sheet_rests_on_a_box_edge(void** state) {
     drape(&def, box_depth, &shape, "box edge");
 }
 
+/* ---- a program's own collider ---------------------------------------------- */
+
+/* A static ball as a program's own collider: the end of a move inside it is
+ * pushed out (the moves here are slow), and a triangle's point is the
+ * centre's projection on its plane when that falls inside it. */
+typedef struct own_ball {
+    double center[3], radius;
+} own_ball;
+
+static bool own_ball_collide(void* user, const sb_contact_query* q, sb_contact* c) {
+    const own_ball* b = user;
+    double d[3] = {q->to[0] - b->center[0], q->to[1] - b->center[1], q->to[2] - b->center[2]}, r = tu_norm(d);
+    if (!(r < b->radius + q->thickness) || r == 0.0) return false;
+    *c = (sb_contact){.fraction = 1.0, .depth = b->radius + q->thickness - r};
+    for (int k = 0; k < 3; k++) c->normal[k] = d[k] / r, c->point[k] = b->center[k] + c->normal[k] * b->radius;
+    return true;
+}
+
+static bool own_ball_triangle_point(void* user, const double from[3][3], const double to[3][3], double w[3]) {
+    (void)from;
+    const own_ball* b = user;
+    double e1[3], e2[3], x[3], n[3];
+    for (int k = 0; k < 3; k++)
+        e1[k] = to[1][k] - to[0][k], e2[k] = to[2][k] - to[0][k], x[k] = b->center[k] - to[0][k];
+    tu_cross(e1, e2, n);
+    double n2 = tu_dot(n, n), c1[3], c2[3];
+    if (!(n2 > 0.0)) return false;
+    tu_cross(x, e2, c1);
+    tu_cross(e1, x, c2);
+    w[1] = tu_dot(c1, n) / n2, w[2] = tu_dot(c2, n) / n2, w[0] = 1.0 - w[1] - w[2];
+    return w[0] >= 0.0 && w[1] >= 0.0 && w[2] >= 0.0;
+}
+
+/* An 11 x 11 sheet of 10 cm (1 cm spacing) falls 1 cm under gravity onto
+ * a program's own ball of radius 2 mm under the middle of a cell: with its
+ * triangle_point callback the sheet rests on the ball (its top layer over
+ * the centre on the ball's top), without it the ball slips between the
+ * vertices. */
+static void test_own_collider_meets_the_surface(void** state) {
+    (void)state;
+    own_ball ball = {{0.045, 0.055, -0.002}, 0.002};
+    for (int surface = 0; surface < 2; surface++) {
+        sb_model* m = sheet(11, 0.1, 0.01, false);
+        sb_error err;
+        sb_collider* c = sb_collider_create_custom("own ball", own_ball_collide, NULL, &ball, &err);
+        assert_non_null(c);
+        double lo[3] = {0.043, 0.053, -0.004}, hi[3] = {0.047, 0.057, 0.0};
+        sb_collider_set_bounds(c, lo, hi);
+        if (surface) sb_collider_set_triangle_point(c, own_ball_triangle_point);
+        sb_solver_def sd = sb_default_solver_def();
+        sd.drag = 5.0;
+        sd.colliders = &c;
+        sd.collider_count = 1;
+        sd.contact_thickness = 0.0002;
+        sd.runtime.threads = 1;
+        sb_solver* s = tu_solver(m, &sd);
+        tu_advance(s, 1e-4, 1500);
+        double* x = malloc(3 * (size_t)sb_model_vertex_count(m) * sizeof *x);
+        sb_solver_get_positions(s, x);
+        double over = height_under(s, x, ball.center[0], ball.center[1]);
+        print_message("%s: the sheet over the ball's centre at z %.4f m\n",
+                      surface ? "with triangle_point" : "vertices only", over);
+        if (surface)
+            assert_true(over > ball.center[2] + ball.radius - 1e-4); /* on it, not in it */
+        else
+            assert_true(over < ball.center[2]);
+        free(x);
+        sb_solver_destroy(s);
+        sb_collider_destroy(c);
+        sb_model_destroy(m);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_between_vertices_feels_the_sheet),
@@ -419,6 +495,7 @@ int main(void) {
         cmocka_unit_test(test_ball_on_a_free_sheet_conserves_momentum),
         cmocka_unit_test(test_sheet_rests_on_a_thin_capsule),
         cmocka_unit_test(test_sheet_rests_on_a_box_edge),
+        cmocka_unit_test(test_own_collider_meets_the_surface),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -453,8 +453,19 @@ static void sb_box_triangle_point(const sb_collider* c, const double from[3][3],
         }
 }
 
+/* Whether a program's callback gave usable weights. */
+static bool sb_weights_valid(const double w[3]) {
+    double sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!(isfinite(w[k]) && w[k] >= 0.0)) return false;
+        sum += w[k];
+    }
+    return fabs(sum - 1.0) <= 1e-6;
+}
+
 bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], const double to[3][3], double w[3]) {
-    if (c->begin_step != sb_builtin_begin_step) return false;
+    if (c->begin_step != sb_builtin_begin_step)
+        return c->triangle_point && c->triangle_point(c->user, from, to, w) && sb_weights_valid(w);
     const sb_collider_def* d = &c->def;
     if (d->shape != SB_COLLIDER_SPHERE && d->shape != SB_COLLIDER_CAPSULE && d->shape != SB_COLLIDER_BOX) return false;
     double a[3][3], b[3][3];
@@ -466,6 +477,10 @@ bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], c
     if (d->shape == SB_COLLIDER_CAPSULE) sb_triangle_swept_nearest(a, b, d->a, d->b, w);
     if (d->shape == SB_COLLIDER_BOX) sb_box_triangle_point(c, a, b, w);
     return true;
+}
+
+void sb_collider_set_triangle_point(sb_collider* c, sb_triangle_point_fn triangle_point) {
+    if (c && c->begin_step != sb_builtin_begin_step) c->triangle_point = triangle_point;
 }
 
 /* The ball around points p[0..count) grown by `grow`. */
@@ -482,10 +497,22 @@ static void sb_ball_around(const double (*p)[3], int count, double grow, double 
     *radius = far + grow;
 }
 
+/* The ball around a program's own collider's bounds (infinite where they are). */
+static void sb_bounds_ball(const sb_collider* c, double center[3], double* radius) {
+    double corners[2][3];
+    for (int k = 0; k < 3; k++) corners[0][k] = c->bounds[k], corners[1][k] = c->bounds[3 + k];
+    sb_ball_around((const double(*)[3])corners, 2, 0.0, center, radius);
+    if (!isfinite(*radius)) center[0] = center[1] = center[2] = 0.0, *radius = INFINITY;
+}
+
 void sb_collider_surface_ball(const sb_collider* c, double center[3], double* radius) {
     const sb_collider_def* d = &c->def;
     double core[8][3], at[16][3];
     int count = 0;
+    if (c->begin_step != sb_builtin_begin_step) {
+        sb_bounds_ball(c, center, radius);
+        return;
+    }
     if (d->shape == SB_COLLIDER_SPHERE) {
         for (int k = 0; k < 3; k++) core[0][k] = d->center[k];
         count = 1;
@@ -511,8 +538,8 @@ void sb_collider_surface_ball(const sb_collider* c, double center[3], double* ra
 
 bool sb_collider_meets_surface(const sb_collider* c) {
     sb_collider_shape shape = c->def.shape;
-    return c->begin_step == sb_builtin_begin_step &&
-           (shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX);
+    if (c->begin_step != sb_builtin_begin_step) return c->triangle_point != NULL;
+    return shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX;
 }
 
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {
