@@ -14,6 +14,11 @@
  * as a constraint inside their projection sweeps; the velocity answer
  * is the same.
  *
+ * The built-in sphere, capsule and box also meet the body's surface between
+ * its vertices: the point of each nearby triangle nearest the collider is
+ * asked about like a vertex, and the answer spread over the triangle's
+ * corners (a program's own collider too, given sb_collider_set_triangle_point).
+ *
  * The built-in shapes (plane, sphere, capsule, box, triangle mesh) are
  * colliders written on this same interface; a program's own collider is a
  * callback of the same type (sb_collider_create_custom). */

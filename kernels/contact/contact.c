@@ -32,6 +32,10 @@
  *     touched, the forces are evaluated again at the corrected positions
  *     (the correct stage, kernels/solver/step.c), so the next step starts
  *     from consistent forces.
+ * After the vertices, the surface pass (kernels/contact/surface.c) answers
+ * the triangles' points between them, on worker 0 after the fused drift
+ * (the surface_packed hook) or in the same correct stage; pbd and xpbd,
+ * whose sweeps answered the vertices, take it as their correct stage.
  * A Verlet-form displacement is set to v'·dt so that the next step carries
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which

@@ -4,8 +4,9 @@
  * Design. The vertex pass (kernels/contact/contact.c) answers each
  * vertex's move; a collider that fits between vertices meets none of
  * them. This pass, after it, takes each triangle and each collider that
- * meets the surface (the built-in sphere, capsule and box,
- * sb_collider_meets_surface): the collider names the material point of the
+ * meets the surface (the built-in sphere, capsule and box, a program's
+ * own collider with a triangle_point callback: sb_collider_meets_surface):
+ * the collider names the material point of the
  * triangle nearest its core, by barycentric weights w — the point its
  * center, segment or edges came nearest in the step, or went through
  * (kernels/contact/colliders/triangle_point.c) — and that point, which
