@@ -548,13 +548,12 @@ static void test_dynamic_ball_momentum_balance(void** state) {
 }
 
 /* A 50 g ball of radius 10 cm (friction 0.5) laid on a 21 x 21 sheet
- * pinned on its border, under gravity with drag on the sheet, for 3 s: it
- * rests on the sheet (no vertex inside it, its bottom in the dip it made,
- * never through the net), and where it moves about that dip, friction
- * makes it roll, not slide: its lowest point moves across the dip at
- * under a tenth of its speed across it. (It does not come to rest: rolling meets no
- * resistance but the sheet's drag, which does not stop it in 3 s; a ball
- * that could only translate was held still by friction.) */
+ * pinned on its border at 0.3 m/s across it, under gravity with drag on
+ * the sheet, for 3 s: it rests on the sheet (no vertex inside it, its
+ * bottom in the dip it made, never through the net), and while it moves
+ * across the dip friction makes it roll, not slide: its lowest point moves
+ * at under a tenth of the ball's speed (summed over the times it moves
+ * faster than 2 cm/s). */
 static void test_dynamic_ball_rests_and_rolls_on_a_sheet(void** state) {
     (void)state;
     const uint32_t side = 21;
@@ -562,34 +561,36 @@ static void test_dynamic_ball_rests_and_rolls_on_a_sheet(void** state) {
     sb_model* m = sheet_model(side, 0.0, 0.0, true);
     uint32_t n = sb_model_vertex_count(m);
     double* x = malloc(3 * (size_t)n * sizeof *x);
-    sb_collider* ball = dynamic_ball(0.05, radius, (double[3]){0, 0, radius + 0.01}, (double[3]){0, 0, 0}, 0.5);
+    sb_collider* ball = dynamic_ball(0.05, radius, (double[3]){0, 0, radius + 0.01}, (double[3]){0.3, 0, 0}, 0.5);
     sb_solver_def sd = contact_def(&ball, 1, SB_INTEGRATOR_VERLET);
     sd.drag = 20.0;
     sb_solver* s = tu_solver(m, &sd);
-    double p[3], v[3], rotation[9], w[3], deepest = 0.0, lowest = INFINITY;
+    double p[3], v[3], rotation[9], w[3], deepest = 0.0, lowest = INFINITY, speeds = 0.0, slips = 0.0;
     for (int step = 0; step < 30000; step++) {
         tu_advance(s, dt, 1);
         if (step % 100 != 99) continue;
         sb_collider_state(ball, p, v);
+        sb_collider_orientation(ball, rotation, w);
         sb_solver_get_positions(s, x);
         lowest = fmin(lowest, p[2] - radius);
         for (uint32_t i = 0; i < n; i++) {
             double d[3] = {x[3 * i] - p[0], x[3 * i + 1] - p[1], x[3 * i + 2] - p[2]};
             deepest = fmax(deepest, radius - sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
         }
+        /* its lowest point, (0, 0, −radius) from the center, moves at v + ω × (0, 0, −radius) */
+        double speed = hypot(v[0], v[1]), slip = hypot(v[0] - radius * w[1], v[1] + radius * w[0]);
+        if (speed < 0.02) continue;
+        speeds += speed;
+        slips += slip;
     }
-    sb_collider_orientation(ball, rotation, w);
-    /* its lowest point, (0, 0, −radius) from the center, moves at v + ω × (0, 0, −radius): across the dip
-     * (horizontally) it hardly moves */
-    double speed = hypot(v[0], v[1]), slip = hypot(v[0] - radius * w[1], v[1] + radius * w[0]);
-    print_message(
-        "after 3 s: ball at (%.4f, %.4f, %.4f) m, across at %.3g m/s, its bottom at %.3g m/s; deepest vertex %.3g m "
-        "inside; lowest bottom %.4f m\n",
-        p[0], p[1], p[2], speed, slip, deepest, lowest);
+    print_message("after 3 s: ball at (%.4f, %.4f, %.4f) m; while moving: mean slip / speed %.3g; deepest vertex %.3g "
+                  "m inside; lowest bottom %.4f m\n",
+                  p[0], p[1], p[2], slips / speeds, deepest, lowest);
     TU_ASSERT_LE(deepest, 1e-4);                       /* nothing inside it */
     assert_true(lowest < 0.0 && lowest > -0.5);        /* it sagged the net, stayed on it */
     assert_true(fabs(p[0]) < 0.4 && fabs(p[1]) < 0.4); /* within the pinned border */
-    TU_ASSERT_LE(slip, 0.1 * speed + 1e-4);            /* it rolls */
+    assert_true(speeds > 1.0);                         /* it moved (50 samples at 2 cm/s) */
+    TU_ASSERT_LE(slips, 0.1 * speeds);                 /* it rolls */
     sb_solver_destroy(s);
     sb_collider_destroy(ball);
     free(x);

@@ -20,7 +20,7 @@
  *   so the needle's round tip meets the body's top vertex elsewhere, and
  *   the window averages of per-vertex contact impulses (a few %);
  * - the force felt after the coupling against that push, within 10 %
- *   (measured: at most 7 %):
+ *   (measured: at most 9 % in float):
  *   the servo puts the proxy where the coupling balances the body's push
  *   averaged over sense_time (2 ms) at a stiffness estimated from the
  *   steps' secants, both noisy at a single vertex's contact;

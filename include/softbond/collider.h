@@ -14,6 +14,11 @@
  * as a constraint inside their projection sweeps; the velocity answer
  * is the same.
  *
+ * The built-in sphere, capsule and box also meet the body's surface between
+ * its vertices: the point of each nearby triangle nearest the collider is
+ * asked about like a vertex, and the answer spread over the triangle's
+ * corners (a program's own collider too, given sb_collider_set_triangle_point).
+ *
  * The built-in shapes (plane, sphere, capsule, box, triangle mesh) are
  * colliders written on this same interface; a program's own collider is a
  * callback of the same type (sb_collider_create_custom). */
@@ -66,6 +71,21 @@ typedef struct sb_contact {
  * Called from the solver's threads at once, for different vertices: it must
  * only read its own data (update it in a begin-step callback). */
 typedef bool (*sb_collide_fn)(void* user, const sb_contact_query* query, sb_contact* contact);
+
+/** Optional, for a program's own collider (sb_collider_set_triangle_point):
+ * which point of a triangle of the body's surface the collider would meet.
+ * `from` holds the triangle's corners at the step's start, `to` where the
+ * integrator moved them by its end (m, world). Returns false when the
+ * triangle is nowhere near; otherwise true and the barycentric weights
+ * (each >= 0, summing to 1) of the point of the triangle nearest the
+ * collider, or of the one the collider passed through within the step. The
+ * solver then asks the collide callback about that point's move, from
+ * Σ w_i from_i to Σ w_i to_i (query.vertex: the corner of the largest
+ * weight), and spreads the answer over the corners (DESIGN.md, section
+ * Contact). Called on one of the solver's threads, between the collide
+ * calls of the same step: it must only read its data. Weights that are not
+ * finite, negative or do not sum to 1 (within 1e-6) are ignored. */
+typedef bool (*sb_triangle_point_fn)(void* user, const double from[3][3], const double to[3][3], double weights[3]);
 
 /** Called once per step, on the thread that advances the solver, before any
  * sb_collide_fn of that step: a collider that moves sets its pose for
@@ -166,6 +186,13 @@ SB_API sb_collider* sb_collider_create(const sb_collider_def* def, sb_error* err
  * with their user data. */
 SB_API sb_collider* sb_collider_create_custom(const char* name, sb_collide_fn collide, sb_collider_step_fn begin_step,
                                               void* user, sb_error* err);
+/** Lets a program's own collider meet the body's surface between its
+ * vertices, as the built-in sphere, capsule and box do: triangle_point (NULL:
+ * vertices only, the default) names the point of a triangle to answer.
+ * Give the collider bounds (sb_collider_set_bounds): the solver asks it
+ * about the triangles whose moves reach them. Does nothing to a built-in
+ * collider. Call it before making a solver with the collider. */
+SB_API void sb_collider_set_triangle_point(sb_collider* collider, sb_triangle_point_fn triangle_point);
 /** Frees the collider (its copied path and mesh with it); safe on NULL.
  * Destroy every solver it is attached to first. */
 SB_API void sb_collider_destroy(sb_collider* collider);

@@ -32,6 +32,10 @@
  *     touched, the forces are evaluated again at the corrected positions
  *     (the correct stage, kernels/solver/step.c), so the next step starts
  *     from consistent forces.
+ * After the vertices, the surface pass (kernels/contact/surface.c) answers
+ * the triangles' points between them, on worker 0 after the fused drift
+ * (the surface_packed hook) or in the same correct stage; pbd and xpbd,
+ * whose sweeps answered the vertices, take it as their correct stage.
  * A Verlet-form displacement is set to v'·dt so that the next step carries
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which
@@ -50,6 +54,7 @@
  * resolve: more than the post-step answer costs, for the same answer at
  * the end of the step. */
 #include "kernels/contact/contact.h"
+#include "kernels/contact/surface.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/dynamic.h"
 #include "kernels/state/solver_fast.h"
@@ -62,11 +67,12 @@
 
 /* The contact pass's state. */
 typedef struct sb_contact_pass {
-    double* from;     /* 3n: positions at the start of a step the fused path does not take */
-    double* partials; /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
-    double* step;     /* 6 per collider: the last step's impulses on the colliders, then their torques */
-    double* impulse;  /* 3 per collider: summed over the accepted steps of this advance */
-    bool corrects;    /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
+    double* from;        /* 3n: positions at the start of a step the fused path does not take */
+    double* partials;    /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
+    double* step;        /* 6 per collider: the last step's impulses on the colliders, then their torques */
+    double* impulse;     /* 3 per collider: summed over the accepted steps of this advance */
+    bool corrects;       /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
+    sb_surface* surface; /* when a collider meets the surface (kernels/contact/surface.c) */
 } sb_contact_pass;
 
 static void sb_contact_subscribe(sb_solver* s);
@@ -94,6 +100,7 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     if (!c->from || !c->partials || !c->impulse || !c->step)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
+    if (sb_surface_active(s) && !(c->surface = sb_surface_create(s, err))) return SB_ERR_NOMEM;
     sb_contact_subscribe(s);
     return SB_OK;
 }
@@ -105,6 +112,7 @@ void sb_contact_destroy(sb_solver* s) {
     free(c->partials);
     free(c->impulse);
     free(c->step);
+    sb_surface_destroy(c->surface);
     free(c);
 }
 
@@ -116,9 +124,7 @@ static void sb_contact_begin_step(sb_solver* s, double t0, double t1) {
     }
 }
 
-/* Whether the box [lo, hi] grown by the contact thickness reaches into
- * collider c's bounds. */
-static bool sb_reaches(const sb_solver* s, uint32_t c, const double lo[3], const double hi[3]) {
+bool sb_contact_reaches(const sb_solver* s, uint32_t c, const double lo[3], const double hi[3]) {
     const double* b = s->def.colliders[c]->bounds;
     double t = s->def.contact_thickness;
     return lo[0] - t <= b[3] && hi[0] + t >= b[0] && lo[1] - t <= b[4] && hi[1] + t >= b[1] && lo[2] - t <= b[5] &&
@@ -129,7 +135,7 @@ static bool sb_reaches(const sb_solver* s, uint32_t c, const double lo[3], const
 static uint64_t sb_colliders_near(const sb_solver* s, const double lo[3], const double hi[3]) {
     uint64_t near = 0;
     for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if (sb_reaches(s, c, lo, hi)) near |= (uint64_t)1 << c;
+        if (sb_contact_reaches(s, c, lo, hi)) near |= (uint64_t)1 << c;
     return near;
 }
 
@@ -142,7 +148,7 @@ static uint64_t sb_move_near(const sb_solver* s, uint64_t near, const double fro
         hi[k] = down ? from[k] : to[k];
     }
     for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if ((near >> c & 1) && !sb_reaches(s, c, lo, hi)) near &= ~((uint64_t)1 << c);
+        if ((near >> c & 1) && !sb_contact_reaches(s, c, lo, hi)) near &= ~((uint64_t)1 << c);
     return near;
 }
 
@@ -178,13 +184,8 @@ void sb_contact_velocity(const sb_contact* c, double v[3]) {
     for (int k = 0; k < 3; k++) v[k] = c->velocity[k] - c->restitution * vn * c->normal[k] + keep * vt[k];
 }
 
-/* Where the answered vertex ends the step (see the design note): along
- * the normal, at the contact point (pushed out by the depth) and then the
- * rest of the step at the answered normal velocity; along the surface, the
- * whole step at the answered tangential velocity, so that a vertex that
- * sticks does not creep and one that slides moves as its velocity says. */
-static void sb_contact_position(const sb_contact* c, double dt, const double from[3], const double to[3],
-                                const double v[3], double x[3]) {
+void sb_contact_position(const sb_contact* c, double dt, const double from[3], const double to[3], const double v[3],
+                         double x[3]) {
     double normal_move = 0.0, vn = 0.0;
     for (int k = 0; k < 3; k++) {
         normal_move += c->fraction * (to[k] - from[k]) * c->normal[k];
@@ -248,7 +249,7 @@ void sb_contact_record_torque(const sb_solver* s, uint32_t chunk, int collider, 
  * (x and x − d), in 16 independent lanes (4 vertices of x y z w) that
  * vectorize, folded to x y z at the end; plain comparisons, because fmin
  * would be a call per value. */
-static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+static void sb_block_box_packed(const sb_solver* s, uint32_t first, uint32_t last, double dlo[3], double dhi[3]) {
     sb_real lo[16], hi[16];
     for (int k = 0; k < 16; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     const sb_real *x = s->positions4 + 4 * (size_t)first, *d = s->displacements4 + 4 * (size_t)first;
@@ -264,7 +265,6 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
         lo[q & 3] = small < lo[q & 3] ? small : lo[q & 3];
         hi[q & 3] = large > hi[q & 3] ? large : hi[q & 3];
     }
-    double dlo[3], dhi[3];
     for (int c = 0; c < 3; c++) {
         dlo[c] = lo[c], dhi[c] = hi[c];
         for (int v = 1; v < 4; v++) {
@@ -272,12 +272,20 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
             dhi[c] = hi[4 * v + c] > dhi[c] ? hi[4 * v + c] : dhi[c];
         }
     }
-    return sb_colliders_near(s, dlo, dhi);
 }
 
 /* Vertices per block of the broad phase inside a chunk: a chunk of a mesh
  * row spans most of its width; a block of 32 is a small patch. */
-#define SB_CONTACT_BLOCK 32
+#define SB_CONTACT_BLOCK SB_SURFACE_BLOCK
+
+/* The colliders the moves of block [first, last) reach; the block's box
+ * kept for the surface pass. */
+static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    double lo[3], hi[3];
+    sb_block_box_packed(s, first, last, lo, hi);
+    if (s->contact->surface) sb_surface_set_box(s->contact->surface, first / SB_SURFACE_BLOCK, lo, hi);
+    return sb_colliders_near(s, lo, hi);
+}
 
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement): the drift_chunk hook. */
@@ -375,16 +383,38 @@ uint32_t sb_contact_collect(sb_solver* s) {
 static bool sb_contact_correct(sb_solver* s, double dt) {
     sb_contact_job job = {s, dt};
     sb_team_run(s->team, sb_team_size(s->team), sb_contact_state_worker, &job);
+    if (s->contact->surface) {
+        sb_surface_view view = sb_surface_view_state(s, s->contact->from);
+        sb_surface_pass(s, s->contact->surface, &view, false, dt);
+    }
     uint32_t contacts = sb_contact_collect(s);
     s->stats.contacts += contacts;
     return contacts > 0;
+}
+
+/* The correct stage of pbd and xpbd, whose sweeps answered the vertices:
+ * the surface pass after the step, into the step's sums (the sweeps'
+ * contacts already counted). */
+static bool sb_contact_correct_surface(sb_solver* s, double dt) {
+    sb_surface_view view = sb_surface_view_state(s, s->contact->from);
+    uint32_t contacts = sb_surface_pass(s, s->contact->surface, &view, false, dt);
+    if (contacts == 0) return false;
+    sb_contact_collect(s);
+    s->stats.contacts += contacts;
+    return true;
+}
+
+/* The fused step's surface pass (the surface_packed hook). */
+static void sb_contact_surface_packed(sb_solver* s, double dt) {
+    sb_surface_view view = sb_surface_view_packed(s);
+    sb_surface_pass(s, s->contact->surface, &view, true, dt);
 }
 
 /* The begin stage: the colliders' callbacks, and the positions the moves
  * start from where the correct stage will run. */
 static void sb_contact_begin(sb_solver* s, double t0, double dt) {
     sb_contact_begin_step(s, t0, t0 + dt);
-    if (s->contact->corrects && !sb_fused(s)) sb_contact_save_from(s);
+    if ((s->contact->corrects || s->contact->surface) && !sb_fused(s)) sb_contact_save_from(s);
 }
 
 /* The collect stage: the fused step's chunk sums. */
@@ -410,9 +440,13 @@ static void sb_contact_subscribe(sb_solver* s) {
                     .begin = sb_contact_begin,
                     .collect = sb_contact_collect_fused,
                     .accept = sb_contact_accept};
-    if (s->contact->corrects) f.correct = sb_contact_correct;
+    if (s->contact->corrects)
+        f.correct = sb_contact_correct;
+    else if (s->contact->surface)
+        f.correct = sb_contact_correct_surface;
     sb_add_feature(s, f);
     s->hooks.drift_chunk = sb_contact_chunk_packed;
+    if (s->contact->surface) s->hooks.surface_packed = sb_contact_surface_packed;
 }
 
 double sb_contact_step_work(const sb_solver* s, double dt) {

@@ -25,6 +25,17 @@ int sb_contact_find(const sb_solver* solver, uint32_t i, const double from[3], c
  * restitution and Coulomb friction relative to the collider's velocity
  * (the design note of kernels/contact/contact.c). */
 void sb_contact_velocity(const sb_contact* c, double v[3]);
+/* Where vertex's move from → to of the step ends after contact c
+ * (velocity v already answered, x out): along the normal, at the contact
+ * point (pushed out by the depth) and then the rest of the step at the
+ * answered normal velocity; along the surface, the whole step at the
+ * answered tangential velocity, so that a vertex that sticks does not
+ * creep and one that slides moves as its velocity says. */
+void sb_contact_position(const sb_contact* c, double dt, const double from[3], const double to[3], const double v[3],
+                         double x[3]);
+/* Whether the box [lo, hi] grown by the contact thickness reaches into
+ * collider c's step bounds. */
+bool sb_contact_reaches(const sb_solver* solver, uint32_t c, const double lo[3], const double hi[3]);
 /* Zeroes a chunk's partial sums; a pass over the chunk then records each
  * answered vertex's impulse m Δv (the collider receives the opposite). */
 void sb_contact_chunk_begin(const sb_solver* solver, uint32_t chunk);

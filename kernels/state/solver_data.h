@@ -61,6 +61,9 @@ typedef struct sb_step_hooks {
     /* drift_chunk: after the fused drift of one vertex chunk, while it is
      * in cache (the colliders' contact) */
     void (*drift_chunk)(const sb_solver* s, uint32_t chunk, double dt);
+    /* surface_packed: worker 0, after every chunk's drift, before
+     * after_drift (the colliders against the triangles) */
+    void (*surface_packed)(sb_solver* s, double dt);
     /* after_drift: all workers, after every chunk's drift (self-contact) */
     void (*after_drift)(const sb_worker* w, sb_solver* s, double dt);
     /* place_packed: worker 0 puts the vertices a feature holds at their

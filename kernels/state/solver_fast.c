@@ -636,8 +636,13 @@ static void sb_place_step(const sb_worker* w, sb_solver* s, double dt) {
     sb_worker_barrier(w);
 }
 
-/* The after_drift hook on every worker (self-contact). */
+/* The surface_packed hook on worker 0 (the others wait for it), then the
+ * after_drift hook on every worker (self-contact). */
 static void sb_after_drift_step(const sb_worker* w, sb_solver* s, double dt) {
+    if (s->hooks.surface_packed) {
+        if (w->index == 0) s->hooks.surface_packed(s, dt);
+        sb_worker_barrier(w);
+    }
     if (s->hooks.after_drift) s->hooks.after_drift(w, s, dt);
 }
 

@@ -37,6 +37,7 @@
 #include "kernels/contact/colliders/plane.h"
 #include "kernels/contact/colliders/sphere.h"
 #include "kernels/contact/colliders/rotation.h"
+#include "kernels/contact/colliders/triangle_point.h"
 #include "common/geometry.h"
 #include "common/error.h"
 
@@ -429,6 +430,116 @@ static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact
     }
     sb_surface(c, fraction, depth, contact);
     return true;
+}
+
+/* The nearest material point of a triangle (rest frame) to the box's
+ * edges: each edge is a core of the thickness's radius; the nearest of
+ * the twelve. */
+static void sb_box_triangle_point(const sb_collider* c, const double from[3][3], const double to[3][3], double w[3]) {
+    const double *h = c->def.half_extents, *r = c->box_rotation;
+    double corner[8][3], best = INFINITY, cw[3];
+    for (int i = 0; i < 8; i++) {
+        double local[3] = {i & 1 ? h[0] : -h[0], i & 2 ? h[1] : -h[1], i & 4 ? h[2] : -h[2]};
+        for (int k = 0; k < 3; k++)
+            corner[i][k] = c->def.center[k] + r[3 * k] * local[0] + r[3 * k + 1] * local[1] + r[3 * k + 2] * local[2];
+    }
+    for (int i = 0; i < 8; i++)
+        for (int axis = 1; axis < 8; axis <<= 1) { /* the edges from each corner along +x, +y, +z */
+            if (i & axis) continue;
+            double d2 = sb_triangle_swept_nearest(from, to, corner[i], corner[i | axis], cw);
+            if (!(d2 < best)) continue;
+            best = d2;
+            for (int k = 0; k < 3; k++) w[k] = cw[k];
+        }
+}
+
+/* Whether a program's callback gave usable weights. */
+static bool sb_weights_valid(const double w[3]) {
+    double sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!(isfinite(w[k]) && w[k] >= 0.0)) return false;
+        sum += w[k];
+    }
+    return fabs(sum - 1.0) <= 1e-6;
+}
+
+bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], const double to[3][3], double w[3]) {
+    if (c->begin_step != sb_builtin_begin_step)
+        return c->triangle_point && c->triangle_point(c->user, from, to, w) && sb_weights_valid(w);
+    const sb_collider_def* d = &c->def;
+    if (d->shape != SB_COLLIDER_SPHERE && d->shape != SB_COLLIDER_CAPSULE && d->shape != SB_COLLIDER_BOX) return false;
+    double a[3][3], b[3][3];
+    for (int i = 0; i < 3; i++) {
+        sb_pose_invert(c->pose0, from[i], a[i]);
+        sb_pose_invert(c->pose1, to[i], b[i]);
+    }
+    if (d->shape == SB_COLLIDER_SPHERE) sb_triangle_swept_nearest(a, b, d->center, d->center, w);
+    if (d->shape == SB_COLLIDER_CAPSULE) sb_triangle_swept_nearest(a, b, d->a, d->b, w);
+    if (d->shape == SB_COLLIDER_BOX) sb_box_triangle_point(c, a, b, w);
+    return true;
+}
+
+void sb_collider_set_triangle_point(sb_collider* c, sb_triangle_point_fn triangle_point) {
+    if (c && c->begin_step != sb_builtin_begin_step) c->triangle_point = triangle_point;
+}
+
+/* The ball around points p[0..count) grown by `grow`. */
+static void sb_ball_around(const double (*p)[3], int count, double grow, double center[3], double* radius) {
+    double far = 0.0;
+    for (int k = 0; k < 3; k++) {
+        center[k] = 0.0;
+        for (int i = 0; i < count; i++) center[k] += p[i][k] / count;
+    }
+    for (int i = 0; i < count; i++) {
+        double d[3] = {p[i][0] - center[0], p[i][1] - center[1], p[i][2] - center[2]};
+        far = fmax(far, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    }
+    *radius = far + grow;
+}
+
+/* The ball around a program's own collider's bounds (infinite where they are). */
+static void sb_bounds_ball(const sb_collider* c, double center[3], double* radius) {
+    double corners[2][3];
+    for (int k = 0; k < 3; k++) corners[0][k] = c->bounds[k], corners[1][k] = c->bounds[3 + k];
+    sb_ball_around((const double(*)[3])corners, 2, 0.0, center, radius);
+    if (!isfinite(*radius)) center[0] = center[1] = center[2] = 0.0, *radius = INFINITY;
+}
+
+void sb_collider_surface_ball(const sb_collider* c, double center[3], double* radius) {
+    const sb_collider_def* d = &c->def;
+    double core[8][3], at[16][3];
+    int count = 0;
+    if (c->begin_step != sb_builtin_begin_step) {
+        sb_bounds_ball(c, center, radius);
+        return;
+    }
+    if (d->shape == SB_COLLIDER_SPHERE) {
+        for (int k = 0; k < 3; k++) core[0][k] = d->center[k];
+        count = 1;
+    } else if (d->shape == SB_COLLIDER_CAPSULE) {
+        for (int k = 0; k < 3; k++) core[0][k] = d->a[k], core[1][k] = d->b[k];
+        count = 2;
+    } else {
+        const double *h = d->half_extents, *r = c->box_rotation;
+        for (int i = 0; i < 8; i++) {
+            double local[3] = {i & 1 ? h[0] : -h[0], i & 2 ? h[1] : -h[1], i & 4 ? h[2] : -h[2]};
+            for (int k = 0; k < 3; k++)
+                core[i][k] = d->center[k] + r[3 * k] * local[0] + r[3 * k + 1] * local[1] + r[3 * k + 2] * local[2];
+        }
+        count = 8;
+    }
+    for (int i = 0; i < count; i++) {
+        sb_pose_apply(c->pose0, core[i], at[i]);
+        sb_pose_apply(c->pose1, core[i], at[count + i]);
+    }
+    sb_ball_around((const double(*)[3])at, 2 * count, (d->shape == SB_COLLIDER_BOX ? 0.0 : d->radius) + d->thickness,
+                   center, radius);
+}
+
+bool sb_collider_meets_surface(const sb_collider* c) {
+    sb_collider_shape shape = c->def.shape;
+    if (c->begin_step != sb_builtin_begin_step) return c->triangle_point != NULL;
+    return shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX;
 }
 
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {

@@ -15,7 +15,8 @@
 struct sb_collider {
     char name[64];
     sb_collide_fn collide;
-    sb_collider_step_fn begin_step; /* may be NULL */
+    sb_collider_step_fn begin_step;      /* may be NULL */
+    sb_triangle_point_fn triangle_point; /* a program's own collider's, may be NULL */
     void* user;
     /* Where the collider can be touched during the current step (lo x y z,
      * hi x y z, m, inflated by its own thickness): the contact pass skips
@@ -60,6 +61,24 @@ typedef bool (*sb_sweep_fn)(const sb_collider_def* def, const double from[3], co
 /* A built-in collider's pose at time t: rotation (row-major 3x3) then
  * translation; identity when it has no path. */
 void sb_collider_pose(const sb_collider* collider, double t, double pose[12]);
+
+/* Whether the collider stops the body's surface as well as its vertices
+ * (the built-in sphere, capsule and box, and a program's own collider with
+ * a triangle_point callback: kernels/contact/surface.c). */
+bool sb_collider_meets_surface(const sb_collider* collider);
+/* For such a collider, the barycentric weights w of the material point of
+ * a triangle that moved from `from` to `to` in the step (its corners in
+ * the world) nearest the collider's core (the center, the segment, the
+ * box's edges) in its rest frame, or the point the core passed through
+ * within the step (kernels/contact/colliders/triangle_point.h); false for
+ * a collider that does not meet the surface. */
+bool sb_collider_triangle_point(const sb_collider* collider, const double from[3][3], const double to[3][3],
+                                double w[3]);
+
+/* For such a collider, a ball (world, m) that holds it, inflated by its
+ * own thickness, all through the current step: the surface pass's test of
+ * a triangle's box (a program's own: the ball around its bounds). */
+void sb_collider_surface_ball(const sb_collider* collider, double center[3], double* radius);
 
 /* Keyframed poses, shared with the handles (kernels/interaction/handle.c). A pose is a
  * rotation (row-major 3x3) then a translation: pose(x) = R (x − c) + c + T

@@ -1,0 +1,395 @@
+/* The colliders against the body's surface: a tool smaller than the
+ * mesh's spacing stops at the triangles between the vertices.
+ *
+ * Design. The vertex pass (kernels/contact/contact.c) answers each
+ * vertex's move; a collider that fits between vertices meets none of
+ * them. This pass, after it, takes each triangle and each collider that
+ * meets the surface (the built-in sphere, capsule and box, a program's
+ * own collider with a triangle_point callback: sb_collider_meets_surface):
+ * the collider names the material point of the
+ * triangle nearest its core, by barycentric weights w — the point its
+ * center, segment or edges came nearest in the step, or went through
+ * (kernels/contact/colliders/triangle_point.c) — and that point, which
+ * moved from Σ w_i x0_i to Σ w_i x1_i, is answered as a vertex is: the
+ * collider's own sweep and the same velocity and position answers
+ * (restitution, Coulomb friction, the push out), so the point of contact
+ * stops, swept: a fast tool does not pass a sheet in a step. A point at a
+ * corner (a weight of 1) is the vertex the vertex pass answered.
+ *
+ * The point's change of velocity Δv and position Δx are spread over the
+ * corners as an impulse would be: corner i takes w_i m_i⁻¹ / W of them, W =
+ * Σ w_j² m_j⁻¹ (a fixed or held corner, m⁻¹ = 0, none), which moves the
+ * point by exactly Δv and Δx (Σ w_i · w_i m_i⁻¹ / W = 1), and gives the body
+ * the momentum Σ m_i Δv_i = Δv Σ_free w_i / W, the opposite of what the
+ * collider receives: momentum is conserved. Along the normal Δx is the
+ * answer's push; along the surface, dt times the change of velocity (the
+ * rest of the step at the answered velocity), so a corner is not dragged
+ * along the surface by the point's reset. A corrected corner takes d = v dt
+ * as its Verlet displacement, as in the vertex pass. A corner the push
+ * carried into the collider (a sheet wrapped round a thin capsule: the
+ * normal at the point of contact is not the way out at the corner) is then
+ * answered as a vertex, by the same collider.
+ *
+ * One thread, triangles in a fixed order and each triangle's colliders in
+ * order, each answer seen by the next (Gauss-Seidel): the same for any
+ * thread count. A broad phase keeps it cheap on a large body: each
+ * triangle belongs to the block of 32 vertices of its lowest corner, and
+ * each block knows the blocks its triangles' corners lie in (made once,
+ * from the topology); the box of a block's moves (the fused vertex pass
+ * computes it anyway) joined over those blocks holds every move of its
+ * triangles, so a block whose join reaches no such collider's step bounds
+ * skips its triangles; a triangle whose move's box lies outside a ball
+ * holding the collider through the step (sb_collider_surface_ball) costs
+ * the box. A tearing solver's corners change blocks as it splits vertices, so
+ * there every block's triangles are tested. */
+#include "kernels/contact/surface.h"
+#include "kernels/contact/contact.h"
+#include "kernels/contact/colliders/collider_internal.h"
+#include "kernels/state/solver_fast.h"
+#include "common/error.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct sb_surface {
+    uint32_t blocks;
+    uint32_t *owned_first, *owned; /* CSR: the triangles each block owns, in triangle order */
+    uint32_t *reach_first, *reach; /* CSR: the blocks holding their corners, the block itself among them */
+    double* boxes;                 /* 6 a block: the box of its moves this step */
+    bool by_block;                 /* the topology is fixed: blocks may be skipped */
+};
+
+bool sb_surface_active(const sb_solver* s) {
+    if (s->model->triangle_count == 0) return false;
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if (sb_collider_meets_surface(s->def.colliders[c])) return true;
+    return false;
+}
+
+static uint32_t sb_owner_block(const sb_model* m, uint32_t t) {
+    uint32_t a = m->tri_v[0][t], b = m->tri_v[1][t], c = m->tri_v[2][t], low = a < b ? a : b;
+    return (low < c ? low : c) / SB_SURFACE_BLOCK;
+}
+
+/* first[] from the counts in first[1..blocks] (a prefix sum). */
+static void sb_prefix(uint32_t* first, uint32_t blocks) {
+    for (uint32_t b = 0; b < blocks; b++) first[b + 1] += first[b];
+}
+
+/* The triangles each block owns, in triangle order. */
+static bool sb_surface_own(sb_surface* f, const sb_model* m) {
+    uint32_t* at = malloc(((size_t)f->blocks + 1) * sizeof *at);
+    if (!at) return false;
+    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned_first[sb_owner_block(m, t) + 1]++;
+    sb_prefix(f->owned_first, f->blocks);
+    memcpy(at, f->owned_first, ((size_t)f->blocks + 1) * sizeof *at);
+    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned[at[sb_owner_block(m, t)]++] = t;
+    free(at);
+    return true;
+}
+
+/* The blocks a block's triangles reach (itself first, then each other
+ * once), into reach[] from reach_first[b] on when `reach` is not NULL;
+ * returns how many. `seen` is the last block that marked each block. */
+static uint32_t sb_surface_reached(const sb_surface* f, const sb_model* m, uint32_t b, uint32_t* seen,
+                                   uint32_t* reach) {
+    uint32_t count = 0;
+    seen[b] = b;
+    if (reach) reach[count] = b;
+    count++;
+    for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+        for (int c = 0; c < 3; c++) {
+            uint32_t other = m->tri_v[c][f->owned[k]] / SB_SURFACE_BLOCK;
+            if (seen[other] == b) continue;
+            seen[other] = b;
+            if (reach) reach[count] = other;
+            count++;
+        }
+    return count;
+}
+
+static bool sb_surface_reach(sb_surface* f, const sb_model* m) {
+    uint32_t* seen = malloc((size_t)f->blocks * sizeof *seen);
+    if (!seen) return false;
+    for (int pass = 0; pass < 2; pass++) { /* count, then fill */
+        for (uint32_t b = 0; b < f->blocks; b++) seen[b] = UINT32_MAX;
+        for (uint32_t b = 0; b < f->blocks; b++) {
+            uint32_t count = sb_surface_reached(f, m, b, seen, pass ? f->reach + f->reach_first[b] : NULL);
+            if (!pass) f->reach_first[b + 1] = count;
+        }
+        if (pass) break;
+        sb_prefix(f->reach_first, f->blocks);
+        f->reach = malloc(((size_t)f->reach_first[f->blocks] + 1) * sizeof *f->reach);
+        if (!f->reach) break;
+    }
+    free(seen);
+    return f->reach != NULL;
+}
+
+sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
+    const sb_model* m = s->model;
+    sb_surface* f = calloc(1, sizeof *f);
+    bool ok = f != NULL;
+    if (ok) {
+        f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
+        f->by_block = s->def.max_splits <= 0;
+        f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
+        f->owned = malloc(((size_t)m->triangle_count + 1) * sizeof *f->owned);
+        f->reach_first = calloc((size_t)f->blocks + 1, sizeof *f->reach_first);
+        f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
+        ok = f->owned_first && f->owned && f->reach_first && f->boxes && sb_surface_own(f, m) && sb_surface_reach(f, m);
+    }
+    if (ok) return f;
+    sb_surface_destroy(f);
+    sb_error_set(err, SB_ERR_NOMEM, "out of memory for the surface contact");
+    return NULL;
+}
+
+void sb_surface_destroy(sb_surface* f) {
+    if (!f) return;
+    free(f->owned_first);
+    free(f->owned);
+    free(f->reach_first);
+    free(f->reach);
+    free(f->boxes);
+    free(f);
+}
+
+void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
+    double* box = f->boxes + 6 * (size_t)block;
+    for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
+}
+
+/* Every block's box from the view (the passes that do not set them). */
+static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_surface_view* view) {
+    uint32_t n = s->model->vertex_count;
+    for (uint32_t b = 0; b < f->blocks; b++) {
+        double* box = f->boxes + 6 * (size_t)b;
+        for (int k = 0; k < 3; k++) box[k] = INFINITY, box[3 + k] = -INFINITY;
+        for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
+            for (int k = 0; k < 3; k++) {
+                size_t at = view->stride * i;
+                double x = view->x[k][at], from = view->from ? view->from[3 * (size_t)i + k] : x - view->d[k][at];
+                box[k] = fmin(box[k], fmin(x, from));
+                box[3 + k] = fmax(box[3 + k], fmax(x, from));
+            }
+    }
+}
+
+/* Whether the join of the boxes of the blocks block b's triangles reach
+ * reaches a collider of `meets`. */
+static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, uint64_t meets) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t k = f->reach_first[b]; k < f->reach_first[b + 1]; k++) {
+        const double* box = f->boxes + 6 * (size_t)f->reach[k];
+        for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], box[a]), hi[a] = fmax(hi[a], box[3 + a]);
+    }
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        if ((meets >> c & 1) && sb_contact_reaches(s, c, lo, hi)) return true;
+    return false;
+}
+
+sb_surface_view sb_surface_view_packed(sb_solver* s) {
+    sb_surface_view view = {.stride = 4, .from = NULL};
+    for (int k = 0; k < 3; k++) {
+        view.x[k] = s->positions4 + k;
+        view.v[k] = s->velocities4 + k;
+        view.d[k] = s->displacements4 + k;
+        view.f[k] = s->forces4 + k;
+    }
+    return view;
+}
+
+sb_surface_view sb_surface_view_state(sb_solver* s, const double* from) {
+    sb_state* st = &s->state;
+    return (sb_surface_view){.x = {st->x, st->y, st->z},
+                             .v = {st->vx, st->vy, st->vz},
+                             .d = {s->disp_x, s->disp_y, s->disp_z},
+                             .f = {NULL, NULL, NULL},
+                             .stride = 1,
+                             .from = from};
+}
+
+/* A triangle's corners at the start and the end of the step, their
+ * velocities and inverse masses. */
+typedef struct sb_corners {
+    uint32_t vertex[3];
+    double from[3][3], to[3][3], v[3][3], inv_mass[3];
+} sb_corners;
+
+static void sb_read_corners(const sb_solver* s, const sb_surface_view* view, uint32_t t, sb_corners* c) {
+    const double* inv_mass = sb_inv_mass(s);
+    for (int j = 0; j < 3; j++) {
+        uint32_t i = c->vertex[j] = s->model->tri_v[j][t];
+        size_t at = view->stride * i;
+        for (int k = 0; k < 3; k++) {
+            c->to[j][k] = view->x[k][at];
+            c->v[j][k] = view->v[k][at];
+            c->from[j][k] = view->from ? view->from[3 * (size_t)i + k] : c->to[j][k] - view->d[k][at];
+        }
+        c->inv_mass[j] = inv_mass[i];
+    }
+}
+
+/* The box around the corners' moves. */
+static void sb_corners_box(const sb_corners* c, double lo[3], double hi[3]) {
+    for (int k = 0; k < 3; k++) {
+        lo[k] = hi[k] = c->to[0][k];
+        for (int j = 0; j < 3; j++) {
+            double a = c->from[j][k], b = c->to[j][k];
+            lo[k] = a < lo[k] ? a : lo[k], lo[k] = b < lo[k] ? b : lo[k];
+            hi[k] = a > hi[k] ? a : hi[k], hi[k] = b > hi[k] ? b : hi[k];
+        }
+    }
+}
+
+/* Σ w_j p_j */
+static void sb_blend(const double w[3], const double p[3][3], double out[3]) {
+    for (int k = 0; k < 3; k++) out[k] = w[0] * p[0][k] + w[1] * p[1][k] + w[2] * p[2][k];
+}
+
+/* Corner j's new state: the share `share` of the point's Δx and Δv. */
+static void sb_move_corner(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, int j, double share,
+                           const double dx[3], const double dv[3], double dt) {
+    size_t at = view->stride * c->vertex[j];
+    for (int k = 0; k < 3; k++) {
+        double v = c->v[j][k] + share * dv[k];
+        view->x[k][at] = (sb_real)(c->to[j][k] + share * dx[k]);
+        view->v[k][at] = (sb_real)v;
+        view->d[k][at] = (sb_real)(v * dt);
+        if (view->f[k]) view->f[k][at] = sb_fast_initial_force(s, c->vertex[j], k, v);
+    }
+}
+
+/* A corner the spread carried into the collider (a sheet wrapped round a
+ * capsule: the push along the normal at the point of contact is not the
+ * way out at the corner) is answered as the vertex pass answers a vertex. */
+static void sb_answer_corner(const sb_solver* s, const sb_surface_view* view, uint32_t i, uint32_t index, double dt) {
+    size_t at = view->stride * i;
+    double x[3], v[3], from[3], impulse[3], point[3];
+    for (int k = 0; k < 3; k++) {
+        x[k] = view->x[k][at], v[k] = view->v[k][at];
+        from[k] = view->from ? view->from[3 * (size_t)i + k] : x[k] - view->d[k][at];
+    }
+    if (sb_contact_vertex(s, i, (uint64_t)1 << index, from, x, v, impulse, point) < 0) return;
+    for (int k = 0; k < 3; k++) {
+        view->x[k][at] = (sb_real)x[k];
+        view->v[k][at] = (sb_real)v[k];
+        view->d[k][at] = (sb_real)(v[k] * dt);
+        if (view->f[k]) view->f[k][at] = sb_fast_initial_force(s, i, k, v[k]);
+    }
+    sb_contact_record(s, 0, (int)index, impulse);
+    sb_contact_record_torque(s, 0, (int)index, point, impulse);
+}
+
+/* The point's move: along the normal, where the answer puts it; along the
+ * surface, the rest of the step at the change of velocity, dt Δv. */
+static void sb_point_move(const sb_contact* contact, const double answered[3], const double to[3], const double dv[3],
+                          double dt, double dx[3]) {
+    double push = 0.0, slip = 0.0;
+    for (int k = 0; k < 3; k++) {
+        push += (answered[k] - to[k]) * contact->normal[k];
+        slip += dv[k] * contact->normal[k];
+    }
+    for (int k = 0; k < 3; k++) dx[k] = push * contact->normal[k] + dt * (dv[k] - slip * contact->normal[k]);
+}
+
+/* The triangle against collider `index`: whether its point of contact was answered. */
+static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, uint32_t index,
+                              double dt) {
+    const sb_collider* collider = s->def.colliders[index];
+    double w[3];
+    if (!sb_collider_triangle_point(collider, c->from, c->to, w)) return false;
+    double W = 0.0, largest = 0.0;
+    int nearest = 0;
+    for (int j = 0; j < 3; j++) {
+        W += w[j] * w[j] * c->inv_mass[j];
+        if (w[j] > largest) largest = w[j], nearest = j;
+    }
+    if (largest >= 1.0 || !(W > 0.0)) return false; /* a vertex (the vertex pass), or held */
+    sb_contact_query q = {
+        .vertex = c->vertex[nearest], .t0 = s->time - s->step.dt, .t1 = s->time, .thickness = s->def.contact_thickness};
+    sb_blend(w, c->from, q.from);
+    sb_blend(w, c->to, q.to);
+    sb_contact contact;
+    if (!collider->collide(collider->user, &q, &contact)) return false;
+    double v[3], before[3], x[3], dx[3], dv[3], taken = 0.0, impulse[3];
+    sb_blend(w, c->v, v);
+    memcpy(before, v, sizeof v);
+    sb_contact_velocity(&contact, v);
+    sb_contact_position(&contact, s->step.dt, q.from, q.to, v, x);
+    for (int k = 0; k < 3; k++) dv[k] = v[k] - before[k];
+    sb_point_move(&contact, x, q.to, dv, dt, dx);
+    for (int j = 0; j < 3; j++) {
+        double share = w[j] * c->inv_mass[j] / W;
+        if (share > 0.0) sb_move_corner(s, view, c, j, share, dx, dv, dt);
+        if (c->inv_mass[j] > 0.0) taken += w[j];
+    }
+    for (int k = 0; k < 3; k++) impulse[k] = dv[k] * taken / W;
+    sb_contact_record(s, 0, (int)index, impulse);
+    sb_contact_record_torque(s, 0, (int)index, contact.point, impulse);
+    for (int j = 0; j < 3; j++)
+        if (c->inv_mass[j] > 0.0) sb_answer_corner(s, view, c->vertex[j], index, dt);
+    return true;
+}
+
+/* The balls that hold the colliders meeting the surface through the step,
+ * grown by the contact thickness: a triangle whose box lies outside a
+ * collider's ball cannot touch it. */
+typedef struct sb_surface_balls {
+    uint64_t meets; /* a bit per collider that meets the surface */
+    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS];
+} sb_surface_balls;
+
+static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
+    balls->meets = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!sb_collider_meets_surface(s->def.colliders[c])) continue;
+        double radius;
+        sb_collider_surface_ball(s->def.colliders[c], balls->center[c], &radius);
+        radius += s->def.contact_thickness;
+        balls->radius2[c] = radius * radius;
+        balls->meets |= (uint64_t)1 << c;
+    }
+}
+
+/* Whether the box [lo, hi] reaches into collider c's ball. */
+static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const double lo[3], const double hi[3]) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double x = balls->center[c][k], out = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0.0;
+        d2 += out * out;
+    }
+    return d2 <= balls->radius2[c];
+}
+
+/* Triangle t against the colliders that meet the surface; returns the contacts. */
+static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* view, uint32_t t,
+                                    const sb_surface_balls* balls, double dt) {
+    sb_corners corners;
+    double lo[3], hi[3];
+    uint32_t contacts = 0;
+    sb_read_corners(s, view, t, &corners);
+    sb_corners_box(&corners, lo, hi);
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
+        if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
+        contacts++;
+        sb_read_corners(s, view, t, &corners); /* the next collider sees the answer */
+    }
+    return contacts;
+}
+
+uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_view* view, bool boxes_set, double dt) {
+    sb_surface_balls balls;
+    sb_surface_balls_of(s, &balls);
+    if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
+    uint32_t contacts = 0;
+    for (uint32_t b = 0; b < f->blocks; b++) {
+        if (f->by_block && !sb_block_reaches(f, s, b, balls.meets)) continue;
+        for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+            contacts += sb_surface_triangle(s, view, f->owned[k], &balls, dt);
+    }
+    return contacts;
+}

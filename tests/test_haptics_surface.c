@@ -1,0 +1,159 @@
+/* The haptic tool on the surface, not only on its vertices: a 5 mm probe
+ * (radius 2.5 mm) driven by a scripted device into the tissue of
+ * tests/test_haptics_tissue.c made coarser, 11 x 11 vertices over 10 cm (1
+ * cm spacing, held along its four sides), between its vertices, then slid
+ * 3 cm along the middle row of vertices at constant depth (across three
+ * vertices and the edges between them), on a virtual clock: ten solver
+ * steps of 0.1 ms per servo tick of 1 ms, one thread.
+ * - Pressed in at a cell's centre the hand feels the sheet (a vertex-only
+ *   contact let the probe through the cell: 0 N).
+ * - While it slides the felt force changes by at most 10 % from one tick
+ *   to the next and stays within 30 % of its mean: no hole between the
+ *   vertices (where a vertex-only contact felt nothing), no spike at them.
+ *   What varies is the sheet's own stiffness: a tool over a vertex holds
+ *   one vertex down, between two it holds both, and the force dips by up
+ *   to a fifth over each vertex of this coarse mesh (its linear triangles
+ *   cannot bend between vertices; a finer mesh dips less). */
+#define _POSIX_C_SOURCE 200809L
+#include "test_util.h"
+#include "test_files.h"
+
+#define T 1e-3
+#define DT 1e-4
+#define STEPS_PER_TICK 10
+#define SIDE 11
+#define WIDTH 0.1
+#define RADIUS 0.0025
+#define SLIDE_FROM 2500 /* ticks: pressed in by 2 s, settled by 2.5 s */
+#define SLIDE_TO 5500   /* 3 cm in 3 s */
+
+typedef struct probe {
+    sb_mesh mesh;
+    sb_model* model;
+    sb_collider* tool;
+    sb_solver* solver;
+} probe;
+
+/* The sheet and the tool, its bottom 7 mm over the sheet at (x, y). */
+static void probe_open(probe* p, double x, double y) {
+    sb_sheet_def sheet = sb_default_sheet_def();
+    sheet.nx = sheet.ny = SIDE;
+    sheet.width = sheet.height = WIDTH;
+    sb_error err;
+    assert_int_equal(sb_mesh_generate_sheet(&sheet, &p->mesh, &err), SB_OK);
+    sb_material_def material = sb_default_material_def();
+    material.bond_k = 200;
+    material.angle_k = 0.0005;
+    material.density = 0.5;
+    sb_builder* builder = sb_builder_create();
+    assert_int_equal(sb_builder_add_mesh(builder, &p->mesh, &material, &err), SB_OK);
+    for (uint32_t row = 0; row < SIDE; row++)
+        for (uint32_t col = 0; col < SIDE; col++)
+            sb_builder_vertex(builder, row * SIDE + col)->fixed =
+                row == 0 || col == 0 || row == SIDE - 1 || col == SIDE - 1;
+    p->model = sb_builder_compile(builder, &err);
+    sb_builder_destroy(builder);
+    assert_non_null(p->model);
+    sb_collider_def c = sb_default_collider_def();
+    c.shape = SB_COLLIDER_SPHERE;
+    c.center[0] = x, c.center[1] = y, c.center[2] = RADIUS + 0.007;
+    c.radius = RADIUS;
+    p->tool = sb_collider_create(&c, &err);
+    assert_non_null(p->tool);
+    sb_solver_def def = sb_default_solver_def();
+    def.gravity[2] = 0.0;
+    def.drag = 20;
+    def.colliders = &p->tool;
+    def.collider_count = 1;
+    def.contact_thickness = 0.0005;
+    def.runtime.threads = 1;
+    p->solver = sb_solver_create(p->model, &def, &err);
+    assert_non_null(p->solver);
+}
+
+static void probe_close(probe* p) {
+    sb_solver_destroy(p->solver);
+    sb_collider_destroy(p->tool);
+    sb_model_destroy(p->model);
+    sb_mesh_free(&p->mesh);
+}
+
+/* One servo tick of the loop: the simulation's steps (drive, step, sense),
+ * then the servo's tick. */
+static void loop_tick(probe* p, sb_haptics* h, long i) {
+    for (int s = 0; s < STEPS_PER_TICK; s++) {
+        sb_haptics_drive(h);
+        assert_int_equal(sb_solver_advance(p->solver, DT), SB_OK);
+        sb_haptics_sense(h, p->solver, (double)(i - 1) * T + (s + 1) * DT);
+    }
+    sb_haptics_tick(h, (double)i * T);
+}
+
+/* Runs the script (device positions from the tool's start) for `ticks`
+ * ticks; the felt force (N, up) and the proxy's x of every tick. */
+static void run_script(const char* name, const char* csv, double x, double y, long ticks, double* felt,
+                       double* proxy_x) {
+    sb_haptic_device_def dd = sb_default_haptic_device_def();
+    dd.kind = "scripted";
+    dd.file = tu_write_file(name, csv);
+    sb_error err;
+    sb_haptic_device* device = sb_haptic_device_open(&dd, &err);
+    assert_non_null(device);
+    probe p = {0};
+    probe_open(&p, x, y);
+    sb_haptics_def hd = sb_default_haptics_def();
+    sb_haptics* h = sb_haptics_create(&hd, device, p.tool, 0, &err);
+    assert_non_null(h);
+    sb_haptic_tick tick;
+    for (long i = 0; i < ticks; i++) {
+        loop_tick(&p, h, i);
+        assert_int_equal(sb_haptics_drain(h, &tick, 1), 1);
+        felt[i] = tick.force[2];
+        proxy_x[i] = tick.proxy[0];
+    }
+    sb_haptics_destroy(h);
+    sb_haptic_device_close(device);
+    probe_close(&p);
+}
+
+static void test_probe_slides_smoothly_across_vertices(void** state) {
+    (void)state;
+    const double spacing = WIDTH / (SIDE - 1), x0 = 3.5 * spacing, y0 = 5 * spacing;
+    double *felt = malloc(SLIDE_TO * sizeof *felt), *proxy_x = malloc(SLIDE_TO * sizeof *proxy_x);
+    /* 14.5 mm down in 2 s (the bottom 7.5 mm below the sheet's plane), held, then 3 cm along x */
+    run_script("slide.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.0145\n2.5,0,0,-0.0145\n5.5,0.03,0,-0.0145\n", x0, y0,
+               SLIDE_TO, felt, proxy_x);
+    double mean = 0.0, jump = 0.0;
+    for (long i = SLIDE_FROM; i < SLIDE_TO; i++) mean += felt[i] / (SLIDE_TO - SLIDE_FROM);
+    for (long i = SLIDE_FROM + 1; i < SLIDE_TO; i++) jump = fmax(jump, fabs(felt[i] - felt[i - 1]) / felt[i - 1]);
+    print_message("at the start (between vertices) %.4f N; sliding: mean %.4f N, largest change in a tick %.2f %%\n",
+                  felt[SLIDE_FROM - 1], mean, 100 * jump);
+    assert_true(felt[SLIDE_FROM - 1] > 0.05); /* felt between the vertices */
+    TU_ASSERT_LE(jump, 0.1);
+    double low = INFINITY, high = 0.0;
+    for (long i = SLIDE_FROM; i < SLIDE_TO; i++) low = fmin(low, felt[i]), high = fmax(high, felt[i]);
+    int vertices = 0;
+    for (int col = 4; col <= 6; col++) /* the ticks where the proxy passes over a vertex of the row */
+        for (long i = SLIDE_FROM + 1; i < SLIDE_TO; i++) {
+            if ((proxy_x[i - 1] - col * spacing) * (proxy_x[i] - col * spacing) > 0.0) continue;
+            print_message("over vertex %d: %.4f N\n", col, felt[i]);
+            vertices++;
+            break;
+        }
+    print_message("sliding: from %.4f to %.4f N\n", low, high);
+    assert_int_equal(vertices, 3);
+    TU_ASSERT_LE(0.7 * mean, low); /* no hole between the vertices, no bump over them */
+    TU_ASSERT_LE(high, 1.3 * mean);
+    free(felt);
+    free(proxy_x);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_probe_slides_smoothly_across_vertices),
+    };
+    if (tu_make_tmp_dir("haptics_surface") != 0) return 1;
+    int failed = cmocka_run_group_tests(tests, NULL, NULL);
+    tu_remove_tmp_dir();
+    return failed;
+}
