@@ -137,6 +137,15 @@ sb_spring_mesh_def sb_scene_springs(const sb_scene* scene) {
     return d;
 }
 
+sb_sheet_material_def sb_scene_sheet(const sb_scene* scene) {
+    sb_sheet_material_def d = sb_default_sheet_material_def();
+    d.young_modulus = sb_scene_number(scene, SB_KEY_SHEET_YOUNG_MODULUS);
+    d.poisson_ratio = sb_scene_number(scene, SB_KEY_SHEET_POISSON_RATIO);
+    d.thickness = sb_scene_number(scene, SB_KEY_SHEET_THICKNESS);
+    d.density = sb_scene_number(scene, SB_KEY_SHEET_DENSITY);
+    return d;
+}
+
 sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
     sb_tissue_def t = sb_default_tissue_def();
     sb_tissue_from_name(sb_scene_string(scene, SB_KEY_MATERIAL), &t);
@@ -144,8 +153,8 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
         t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
-    t.model = strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED
-                                                                                   : SB_TISSUE_SPRINGS;
+    t.model =
+        strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }
@@ -248,6 +257,10 @@ static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder
     if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
     if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "net") == 0) return sb_scene_add_net(scene, mesh, builder, err);
+    if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "membrane") == 0) {
+        sb_sheet_material_def sheet = sb_scene_sheet(scene);
+        return sb_builder_add_sheet(builder, mesh, &sheet, err);
+    }
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
         sb_spring_mesh_def springs = sb_scene_springs(scene);
         return add_spring_body(mesh, &springs, sb_scene_bool(scene, SB_KEY_SELF_COLLISION), builder, err);
