@@ -203,9 +203,9 @@ static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_e
     return SB_OK;
 }
 
-/* A sheet's membranes have forces, energies and the co-rotated stiffness
- * (implicit Euler, vbd), but no constraints for pbd and xpbd and no fast
- * pass yet. Refused here rather than run wrong. */
+/* A sheet's membranes have forces, energies, a fast pass and the
+ * co-rotated stiffness (implicit Euler, vbd), but no constraints for pbd
+ * and xpbd yet. Refused here rather than run wrong. */
 static sb_status sb_check_membranes(const sb_model* m, const sb_solver_def* def, sb_error* err) {
     if (!m->membrane_count) return SB_OK;
     sb_integrator it = def->integrator;
@@ -215,10 +215,6 @@ static sb_status sb_check_membranes(const sb_model* m, const sb_solver_def* def,
                             "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
                             "symplectic_euler, explicit_euler, implicit_euler or vbd",
                             sb_integrator_name(it));
-    if (def->kernels == SB_KERNELS_FAST)
-        return sb_error_set(
-            err, SB_ERR_INVALID,
-            "the sheet's membranes (factory: membrane) have no fast kernel yet: use kernels: reference");
     return SB_OK;
 }
 
