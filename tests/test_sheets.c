@@ -311,6 +311,46 @@ static sb_mesh same_diagonal_mesh(uint32_t nx, uint32_t ny, double width, double
     return mesh;
 }
 
+/* Equilateral triangles: columns of vertices h apart along y, the columns
+ * h √3 / 2 apart along x from x0, every other one shifted by h / 2 (rows
+ * of `per_column`, the shifted columns one fewer). */
+static sb_mesh equilateral_mesh(uint32_t columns, uint32_t per_column, double h, double x0) {
+    uint32_t count = 0, *first = malloc((columns + 1) * sizeof *first);
+    for (uint32_t c = 0; c < columns; c++) first[c] = count, count += per_column - (c % 2);
+    first[columns] = count;
+    sb_mesh mesh = {count, malloc(3 * (size_t)count * sizeof(double)), 0,
+                    malloc(6 * (size_t)columns * per_column * sizeof(uint32_t))};
+    for (uint32_t c = 0; c < columns; c++)
+        for (uint32_t r = first[c]; r < first[c + 1]; r++) {
+            double* p = mesh.positions + 3 * (size_t)r;
+            p[0] = x0 + c * h * sqrt(3.0) / 2.0, p[1] = ((r - first[c]) + 0.5 * (c % 2)) * h, p[2] = 0.0;
+        }
+    uint32_t* t = mesh.triangles;
+    for (uint32_t c = 0; c + 1 < columns; c++) {
+        uint32_t full = c % 2 ? c + 1 : c, half = c % 2 ? c : c + 1; /* the unshifted and the shifted column */
+        for (uint32_t k = 0; k + 1 < per_column; k++) {
+            uint32_t a = first[full] + k, b = first[full] + k + 1, m = first[half] + k;
+            const uint32_t tri[3] = {a, b, m};
+            memcpy(t, tri, sizeof tri), t += 3, mesh.triangle_count++;
+            if (k + 2 < per_column) {
+                const uint32_t other[3] = {m, b, m + 1};
+                memcpy(t, other, sizeof other), t += 3, mesh.triangle_count++;
+            }
+        }
+    }
+    free(first);
+    for (uint32_t q = 0; q < mesh.triangle_count; q++) { /* counter-clockwise seen from +z */
+        uint32_t* v = mesh.triangles + 3 * (size_t)q;
+        const double *a = mesh.positions + 3 * (size_t)v[0], *b = mesh.positions + 3 * (size_t)v[1],
+                     *c = mesh.positions + 3 * (size_t)v[2];
+        if ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0) {
+            uint32_t swap = v[1];
+            v[1] = v[2], v[2] = swap;
+        }
+    }
+    return mesh;
+}
+
 /* A plate L = 0.1 m long (x) and L / 4 wide, clamped along x = 0 (its
  * first two columns of vertices, x = −h and 0, held), under gravity g
  * small enough for the linear answer (a tip deflection of 0.1 % of L). On
@@ -319,10 +359,13 @@ static sb_mesh same_diagonal_mesh(uint32_t nx, uint32_t ny, double width, double
  * in cylindrical bending: Kirchhoff's w(L) = q L⁴ / 8 D per unit width,
  * q = ρ t g. Returns the relative error of the tip line's mean
  * deflection. */
-static double clamped_plate_error(uint32_t cells, double nu, bool alternating) {
-    const double length = 0.1, h = length / cells, g = 2e-5;
-    sb_mesh mesh = alternating ? sheet_mesh(cells + 2, cells / 4 + 1, length + h, length / 4, -h, 0.0)
-                               : same_diagonal_mesh(cells + 2, cells / 4 + 1, length + h, length / 4, -h);
+typedef enum plate_mesh { PARALLEL, ALTERNATING, EQUILATERAL } plate_mesh;
+
+static double clamped_plate_error(uint32_t cells, double nu, plate_mesh kind) {
+    const double length = 0.1, h = length / cells, g = 2e-5, side = h / (sqrt(3.0) / 2.0);
+    sb_mesh mesh = kind == ALTERNATING ? sheet_mesh(cells + 2, cells / 4 + 1, length + h, length / 4, -h, 0.0)
+                   : kind == PARALLEL  ? same_diagonal_mesh(cells + 2, cells / 4 + 1, length + h, length / 4, -h)
+                                       : equilateral_mesh(cells + 2, (uint32_t)lround(length / 4 / side) + 1, side, -h);
     sb_sheet_material_def material = tissue_sheet(nu);
     uint8_t* fixed = calloc(mesh.vertex_count, 1);
     for (uint32_t i = 0; i < mesh.vertex_count; i++) fixed[i] = mesh.positions[3 * i] < 1e-9;
@@ -341,10 +384,12 @@ static double clamped_plate_error(uint32_t cells, double nu, bool alternating) {
     tip /= count;
     double t = material.thickness, d = material.young_modulus * t * t * t / (12.0 * (1.0 - nu * nu));
     double expected = -material.density * t * g * pow(length, 4) / (8.0 * d);
-    print_message("clamped plate, %s diagonals, nu %.2f, %u cells along (%u vertices): tip %.5g m, Kirchhoff %.5g m, "
+    print_message("clamped plate, %s triangles, nu %.2f, %u cells along (%u vertices): tip %.5g m, Kirchhoff %.5g m, "
                   "error %+.1f %%\n",
-                  alternating ? "alternating" : "parallel", nu, cells, mesh.vertex_count, tip, expected,
-                  100.0 * (tip / expected - 1.0));
+                  kind == ALTERNATING ? "alternating"
+                  : kind == PARALLEL  ? "parallel"
+                                      : "equilateral",
+                  nu, cells, mesh.vertex_count, tip, expected, 100.0 * (tip / expected - 1.0));
     free(x), free(load), free(held), free(fixed);
     sb_model_destroy(m);
     sb_mesh_free(&mesh);
@@ -368,16 +413,29 @@ static void assert_too_soft_and_shrinking(const double* err, int count) {
 
 static void test_clamped_plate_parallel_diagonals(void** state) {
     (void)state;
-    double err03[2] = {clamped_plate_error(16, 0.3, false), clamped_plate_error(32, 0.3, false)};
+    double err03[2] = {clamped_plate_error(16, 0.3, PARALLEL), clamped_plate_error(32, 0.3, PARALLEL)};
     assert_too_soft_and_shrinking(err03, 2);
-    double err045[3] = {clamped_plate_error(16, 0.45, false), clamped_plate_error(32, 0.45, false),
-                        clamped_plate_error(48, 0.45, false)};
+    double err045[3] = {clamped_plate_error(16, 0.45, PARALLEL), clamped_plate_error(32, 0.45, PARALLEL),
+                        clamped_plate_error(48, 0.45, PARALLEL)};
     assert_too_soft_and_shrinking(err045, 3);
+}
+
+/* Equilateral triangles (columns of vertices along the clamp, the hinges'
+ * far corners opposite across each edge): no coupling to the twist, and
+ * the error falls as about 7 % + 3.8 / N (+35.9 % at 16 cells, +18.7 % at
+ * 32, +15.1 % at 48 and +12.8 % at 64, measured once; the test runs the
+ * first two): the 25 % target is met at 255 vertices, the 10 % one is not
+ * within a test's minute. */
+static void test_clamped_plate_equilateral(void** state) {
+    (void)state;
+    double err[2] = {clamped_plate_error(16, 0.45, EQUILATERAL), clamped_plate_error(32, 0.45, EQUILATERAL)};
+    assert_too_soft_and_shrinking(err, 2);
+    TU_ASSERT_LE(err[1], 0.25); /* 255 vertices */
 }
 
 static void test_clamped_plate_alternating_diagonals(void** state) {
     (void)state;
-    double err[2] = {clamped_plate_error(16, 0.45, true), clamped_plate_error(32, 0.45, true)};
+    double err[2] = {clamped_plate_error(16, 0.45, ALTERNATING), clamped_plate_error(32, 0.45, ALTERNATING)};
     assert_too_soft_and_shrinking(err, 2);
 }
 
@@ -500,7 +558,9 @@ static void test_solvers(void** state) {
                       sb_integrator_name(both[i]), worst, moved);
         assert_true(moved > 1e-3);
         assert_true(hash[0] == hash[1] && hash[0] == hash[2]);
-        TU_ASSERT_LE(worst, (sizeof(sb_real) == sizeof(float) ? 1e-3 : 1e-7) * moved);
+        /* implicit Euler: each kernel's CG stops at the tolerance, not at the same iterate */
+        double tolerance = sizeof(sb_real) == sizeof(float) ? 1e-3 : both[i] == SB_INTEGRATOR_VERLET ? 1e-7 : 1e-5;
+        TU_ASSERT_LE(worst, tolerance * moved);
         for (int t = 0; t < 3; t++) free(fast[t]);
         free(reference);
     }
@@ -523,6 +583,7 @@ int main(void) {
         cmocka_unit_test(test_strip_pull_nu_045),
         cmocka_unit_test(test_clamped_plate_parallel_diagonals),
         cmocka_unit_test(test_clamped_plate_alternating_diagonals),
+        cmocka_unit_test(test_clamped_plate_equilateral),
         cmocka_unit_test(test_sheet_masses_and_hinges),
         cmocka_unit_test(test_fast_matches_reference),
         cmocka_unit_test(test_solvers),
