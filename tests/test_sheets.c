@@ -269,8 +269,10 @@ static void strip_pull(double nu) {
         if (y0 > width - 1e-9) hi = fmax(hi, x[3 * i + 1]);
     }
     double contraction = (hi - lo) / width - 1.0, expected_pull = 30e3 * 1e-3 * width * strain;
-    print_message("nu %.2f: lateral strain %.6g (closed form %.6g), pull %.6g N (closed form %.6g N)\n", nu,
-                  contraction, -nu * strain, pull, expected_pull);
+    print_message("nu %.2f: lateral strain %.9g (closed form %.9g, off by %.2g of it), pull %.9g N (closed form "
+                  "%.9g N, off by %.2g)\n",
+                  nu, contraction, -nu * strain, fabs(contraction / (-nu * strain) - 1.0), pull, expected_pull,
+                  fabs(pull / expected_pull - 1.0));
     TU_ASSERT_NEAR(contraction, -nu * strain, 1e-3 * nu * strain);
     TU_ASSERT_NEAR(pull, expected_pull, 1e-3 * expected_pull);
     free(f), free(x), free(load), free(held);
