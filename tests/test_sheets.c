@@ -15,6 +15,8 @@
 #include "test_util.h"
 
 #include "kernels/forces/hessian.h"
+#include "scenes/scene.h"
+#include "scenes/scene_model.h"
 
 /* ---- building --------------------------------------------------------------- */
 
@@ -577,6 +579,54 @@ static void test_solvers(void** state) {
     sb_model_destroy(m);
 }
 
+/* ---- the scene keys ------------------------------------------------------------------ */
+
+/* A 4 × 3 sheet scene with the settings; its model, or NULL with the
+ * validation's or the build's message in err. */
+static sb_model* scene_model(const char* const* sets, int count, sb_error* err) {
+    sb_scene scene;
+    assert_int_equal(sb_scene_init(&scene, err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "mesh={nx: 4, ny: 3, width: 0.03, height: 0.02}", err), SB_OK);
+    assert_int_equal(sb_scene_set(&scene, "factory=membrane", err), SB_OK);
+    for (int i = 0; i < count; i++) assert_int_equal(sb_scene_set(&scene, sets[i], err), SB_OK);
+    sb_model* model = NULL;
+    sb_mesh mesh = {0};
+    if (sb_scene_validate(&scene, err) == SB_OK && sb_scene_make_mesh(&scene, &mesh, err) == SB_OK)
+        model = sb_scene_build_model(&scene, &mesh, "sheet", err);
+    sb_mesh_free(&mesh);
+    sb_scene_free(&scene);
+    return model;
+}
+
+/* factory: membrane builds a membrane per triangle, with the sheet.* keys'
+ * material (its mass ρ t A), no terms' triangles unless self_collision
+ * asks for the surface; a Poisson's ratio out of range is named. */
+static void test_scene_keys(void** state) {
+    (void)state;
+    sb_error err;
+    const char* const material[3] = {"sheet.thickness=0.002", "sheet.density=1000", "sheet.young_modulus=1e5"};
+    sb_model* m = scene_model(material, 3, &err);
+    assert_non_null(m);
+    double total = 0.0;
+    for (uint32_t i = 0; i < sb_model_vertex_count(m); i++) total += sb_model_mass(m, i);
+    TU_ASSERT_NEAR(total, 1000.0 * 0.002 * 0.03 * 0.02, 1e-12);
+    assert_int_equal(sb_model_membrane_count(m), 12);
+    assert_int_equal(sb_model_triangle_count(m), 0);
+    sb_model_destroy(m);
+    const char* const surface[2] = {"self_collision=true", "contact.thickness=0.001"};
+    m = scene_model(surface, 2, &err);
+    assert_non_null(m);
+    assert_int_equal(sb_model_triangle_count(m), 12);
+    assert_false(sb_model_term_enabled(m, SB_TERM_ANGLE));
+    sb_model_destroy(m);
+    const char* const bad[1] = {"sheet.poisson_ratio=0.5"};
+    assert_null(scene_model(bad, 1, &err));
+    TU_ASSERT_CONTAINS(err.message, "'sheet.poisson_ratio' must be in (-1, 0.5), got 0.5");
+    const char* const thin[1] = {"sheet.thickness=0"};
+    assert_null(scene_model(thin, 1, &err));
+    TU_ASSERT_CONTAINS(err.message, "sheet.thickness");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_membrane_forces_are_the_energy_gradient),
@@ -589,6 +639,7 @@ int main(void) {
         cmocka_unit_test(test_sheet_masses_and_hinges),
         cmocka_unit_test(test_fast_matches_reference),
         cmocka_unit_test(test_solvers),
+        cmocka_unit_test(test_scene_keys),
     };
     TU_RUN_TESTS(tests);
 }
