@@ -10,17 +10,18 @@
  *     V Ψ,  Ψ = μ ‖F − R‖² + ½ λ (tr S − 2)²,
  * V the rest area times the thickness, μ = E / 2(1 + ν) and the
  * plane-stress λ = E ν / (1 − ν²), so that a uniaxial stress σ gives
- * strain σ/E along and −ν σ/E across (stiffness E t / (1 − ν²) under
- * plane strain in the sheet's plane). The forces are its exact negative
+ * strain σ/E along and −ν σ/E across (E t / (1 − ν²) the stiffness of a
+ * sheet stretched with its width held). The forces are its exact negative
  * gradient −V P D_m⁻ᵀ with P = 2μ (F − R) + λ (tr S − 2) R: R's variation
  * (a turn within the plane, or out of it) is orthogonal to F − R and to
  * F under the Frobenius product, as for the tetrahedron
  * (kernels/forces/corotated.h), so the term is conservative. Why
  * co-rotated linear and not StVK: StVK's energy in the Green strain
- * softens and collapses under compression (a membrane pushed to half its
- * length has no resistance left), while this one is linear in the
- * rotated strain at any rotation, the same element as the tetrahedra's,
- * and costs one 2 × 2 square root.
+ * softens under compression (its resisting force peaks at 1/√3 of the
+ * length and falls to zero as the element is flattened), which a draped
+ * sheet meets everywhere, while this one is linear in the rotated strain
+ * at any rotation, the same element as the tetrahedra's, and costs one
+ * 2 × 2 square root.
  *
  * The stiffness is the co-rotated approximation (R's derivative left out):
  * with g_a the gradient of corner a's shape function in the rest plane
