@@ -579,6 +579,56 @@ static void test_solvers(void** state) {
     sb_model_destroy(m);
 }
 
+/* Membranes alone (no hinges) of Young's modulus `young` on the 9 × 9
+ * sheet, 0.1 g a vertex. */
+static sb_model* membranes_only(double young) {
+    sb_mesh mesh = sheet_mesh(9, 9, 0.05, 0.05, 0.0, 0.1);
+    sb_builder* b = sb_builder_create();
+    for (uint32_t i = 0; i < mesh.vertex_count; i++) {
+        const double* p = mesh.positions + 3 * (size_t)i;
+        tu_vertex(b, p[0], p[1], p[2], 1e-4, false);
+    }
+    for (uint32_t t = 0; t < mesh.triangle_count; t++) {
+        const uint32_t* v = mesh.triangles + 3 * (size_t)t;
+        sb_membrane_def def = {{v[0], v[1], v[2]}, young, 0.45, 1e-3};
+        assert_true(sb_builder_add_membrane(b, &def) >= 0);
+    }
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    sb_mesh_free(&mesh);
+    return m;
+}
+
+/* A sheet's state saved and loaded goes on bitwise as the run it was saved
+ * from; membranes of another Young's modulus refuse it (the membranes are
+ * in the model's hash). */
+static void test_state_round_trip(void** state) {
+    (void)state;
+    sb_model* m = hanging_sheet();
+    sb_solver *a = sheet_solver(m, SB_KERNELS_FAST, SB_INTEGRATOR_VERLET, 2),
+              *b = sheet_solver(m, SB_KERNELS_FAST, SB_INTEGRATOR_VERLET, 2);
+    tu_advance(a, 0.0002, 100);
+    size_t size = sb_solver_state_size(a);
+    void* data = malloc(size);
+    sb_error err;
+    assert_int_equal(sb_solver_save_state(a, data, size, &err), SB_OK);
+    assert_int_equal(sb_solver_load_state(b, data, size, &err), SB_OK);
+    tu_advance(a, 0.0002, 100);
+    tu_advance(b, 0.0002, 100);
+    assert_true(tu_state_hash(a) == tu_state_hash(b));
+    sb_model *soft = membranes_only(30e3), *stiff = membranes_only(60e3);
+    sb_solver *c = sheet_solver(soft, SB_KERNELS_FAST, SB_INTEGRATOR_VERLET, 2),
+              *d = sheet_solver(stiff, SB_KERNELS_FAST, SB_INTEGRATOR_VERLET, 2);
+    size_t small = sb_solver_state_size(c);
+    void* saved = malloc(small);
+    assert_int_equal(sb_solver_save_state(c, saved, small, &err), SB_OK);
+    assert_int_not_equal(sb_solver_load_state(d, saved, small, &err), SB_OK);
+    TU_ASSERT_CONTAINS(err.message, "saved from another model");
+    sb_solver_destroy(a), sb_solver_destroy(b), sb_solver_destroy(c), sb_solver_destroy(d);
+    sb_model_destroy(m), sb_model_destroy(soft), sb_model_destroy(stiff);
+    free(data), free(saved);
+}
+
 /* ---- the scene keys ------------------------------------------------------------------ */
 
 /* A 4 × 3 sheet scene with the settings; its model, or NULL with the
@@ -639,6 +689,7 @@ int main(void) {
         cmocka_unit_test(test_sheet_masses_and_hinges),
         cmocka_unit_test(test_fast_matches_reference),
         cmocka_unit_test(test_solvers),
+        cmocka_unit_test(test_state_round_trip),
         cmocka_unit_test(test_scene_keys),
     };
     TU_RUN_TESTS(tests);
