@@ -3,14 +3,15 @@
  * its energy's differences, its stiffness against the forces' differences;
  * a strip pulled 0.5 % against the plane-stress closed form (lateral
  * contraction −ν ε, pull force E t w ε) for ν 0.3 and 0.45; a plate clamped
- * along one side under gravity against Kirchhoff's cylindrical bending
- * w = q L⁴ / 8 D, D = E t³ / 12 (1 − ν²), at up to three resolutions on
- * two grids; masses ρ t A; the fast kernels against the reference;
- * what the solvers accept.
+ * along one side under gravity against CalculiX's S8R shells
+ * (tests/fem_oracle.h; Kirchhoff's cylindrical bending q L⁴ / 8 D printed
+ * beside), at up to three resolutions on three meshes; masses ρ t A; the
+ * fast kernels against the reference; checkpoints; the scene keys; what
+ * the solvers accept.
  *
  * The static answers are the model's equilibrium: Newton on the reference
- * forces (the exact residual), each system solved by CG on the elements'
- * stiffness products (kernels/forces/hessian.h), with prescribed
+ * forces (the exact residual), each step solved directly (Cholesky) on the
+ * elements' stiffness matrices (kernels/forces/hessian.h), with prescribed
  * components held. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
