@@ -1,6 +1,6 @@
 /* The per-frame log of a run, log.csv, written row by row as the frames
  * come (each row flushed, so a killed run leaves every whole row):
- * time,kinetic,bond,angle,stretch_bend,spring,bend,corotated,gravity,total (the
+ * time,kinetic,bond,angle,stretch_bend,spring,bend,corotated,membrane,gravity,total (the
  * energies of the frame's state, J) then
  * steps,substeps,rejected,newton,cg,unconverged (the solver's work since
  * the previous frame, from sb_solver_last_step; all 0 on frame 0), then

@@ -28,6 +28,7 @@ void sb_builder_destroy(sb_builder* builder) {
     free(builder->triangles.items);
     free(builder->hinges.items);
     free(builder->tets.items);
+    free(builder->membranes.items);
     free(builder);
 }
 
@@ -64,6 +65,10 @@ int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def) {
 
 int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def) {
     return sb_array_push(&builder->tets, def, sizeof *def);
+}
+
+int64_t sb_builder_add_membrane(sb_builder* builder, const sb_membrane_def* def) {
+    return sb_array_push(&builder->membranes, def, sizeof *def);
 }
 
 uint32_t sb_builder_vertex_count(const sb_builder* builder) { return (uint32_t)builder->vertices.count; }

@@ -15,8 +15,14 @@ struct sb_builder {
     sb_array triangles; /* sb_triangle_def */
     sb_array hinges;    /* sb_hinge_def */
     sb_array tets;      /* sb_tet_def */
+    sb_array membranes; /* sb_membrane_def */
 };
 
 #define SB_ITEMS(array, type) ((const type*)(array).items)
+
+/* The membranes (mesh/compile_membranes.c): each checked, naming the
+ * first bad one; then laid out into the model (false when out of memory). */
+sb_status sb_check_membranes(const sb_builder* b, sb_error* err);
+bool sb_fill_membranes(sb_model* m, const sb_builder* b);
 
 #endif

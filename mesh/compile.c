@@ -174,6 +174,7 @@ static sb_status sb_validate(const sb_builder* b, sb_error* err) {
     for (size_t i = 0; i < b->triangles.count && status == SB_OK; i++) status = sb_check_triangle(b, i, err);
     for (size_t i = 0; i < b->hinges.count && status == SB_OK; i++) status = sb_check_hinge(b, i, err);
     for (size_t i = 0; i < b->tets.count && status == SB_OK; i++) status = sb_check_tet(b, i, err);
+    if (status == SB_OK) status = sb_check_membranes(b, err);
     return status;
 }
 
@@ -338,7 +339,7 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     m->triangle_count = (uint32_t)builder->triangles.count;
     m->hinge_count = (uint32_t)builder->hinges.count;
     m->tet_count = (uint32_t)builder->tets.count;
-    if (!sb_model_allocate(m)) {
+    if (!sb_model_allocate(m) || !sb_fill_membranes(m, builder)) {
         sb_model_destroy(m);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory compiling a model of %u vertices", m->vertex_count);
         return NULL;

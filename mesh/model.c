@@ -4,7 +4,8 @@
 #include <stdlib.h>
 
 const char* sb_term_name(sb_term term) {
-    static const char* const names[SB_TERM_COUNT] = {"bond", "angle", "stretch_bend", "spring", "bend", "corotated"};
+    static const char* const names[SB_TERM_COUNT] = {"bond", "angle",     "stretch_bend", "spring",
+                                                     "bend", "corotated", "membrane"};
     return (unsigned)term < SB_TERM_COUNT ? names[term] : "unknown";
 }
 
@@ -26,6 +27,11 @@ void sb_model_destroy(sb_model* m) {
     free(m->tet_volume);
     free(m->tet_mu);
     free(m->tet_lambda);
+    for (int c = 0; c < 3; c++) free(m->membrane_v[c]);
+    for (int c = 0; c < 4; c++) free(m->membrane_dm_inv[c]);
+    free(m->membrane_volume);
+    free(m->membrane_mu);
+    free(m->membrane_lambda);
     free(m);
 }
 
@@ -34,6 +40,7 @@ uint32_t sb_model_bond_count(const sb_model* m) { return m->bond_count; }
 uint32_t sb_model_triangle_count(const sb_model* m) { return m->triangle_count; }
 uint32_t sb_model_hinge_count(const sb_model* m) { return m->hinge_count; }
 uint32_t sb_model_tet_count(const sb_model* m) { return m->tet_count; }
+uint32_t sb_model_membrane_count(const sb_model* m) { return m->membrane_count; }
 
 bool sb_model_term_enabled(const sb_model* m, sb_term term) {
     return (unsigned)term < SB_TERM_COUNT && m->term_enabled[term];

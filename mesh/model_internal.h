@@ -54,6 +54,16 @@ struct sb_model {
     double* tet_mu;     /* Lamé μ, Pa */
     double* tet_lambda; /* Lamé λ, Pa */
 
+    /* membranes: a thin sheet's co-rotated linear plane-stress triangles
+     * (kernels/forces/membrane.c). The rest shape enters as D_m⁻¹ (2 × 2
+     * row-major) of the rest edges written in the triangle's own plane. */
+    uint32_t membrane_count;
+    uint32_t* membrane_v[3];
+    double* membrane_dm_inv[4];
+    double* membrane_volume; /* rest area × thickness, m³ */
+    double* membrane_mu;     /* Lamé μ, Pa */
+    double* membrane_lambda; /* plane-stress λ = E ν / (1 − ν²), Pa */
+
     bool term_enabled[SB_TERM_COUNT];
 };
 

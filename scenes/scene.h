@@ -75,8 +75,15 @@ typedef enum sb_scene_type {
       "wins over mass")                                                                                                \
     X(FACTORY, "factory", STRING, "molecular", "",                                                                     \
       "surface model: molecular (bonds, angles, hinges), springs (stretch, bend and vicinity "                         \
-      "springs) or net (a sheet's rows and columns as bonds only); a tetrahedral mesh.file always "                    \
+      "springs), net (a sheet's rows and columns as bonds only) or membrane (a thin sheet of the sheet.* "             \
+      "material: co-rotated triangles and discrete-shell hinges); a tetrahedral mesh.file always "                     \
       "builds the tissue model, a .pov one springs with each object's spring_system_* locals")                         \
+    X(SHEET_YOUNG_MODULUS, "sheet.young_modulus", NUMBER, "30000", "Pa", "factory membrane: Young's modulus, Pa")      \
+    X(SHEET_POISSON_RATIO, "sheet.poisson_ratio", NUMBER, "0.45", "1",                                                 \
+      "factory membrane: Poisson's ratio, in (-1, 0.5)")                                                               \
+    X(SHEET_THICKNESS, "sheet.thickness", NUMBER, "0.001", "m", "factory membrane: thickness, m")                      \
+    X(SHEET_DENSITY, "sheet.density", NUMBER, "1060", "kg/m^3",                                                        \
+      "factory membrane: density, kg/m^3 (a vertex gets a third of its triangles' density x thickness x area)")        \
     X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "N/m", "springs: per edge, N/m")                          \
     X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "N s/m", "springs: per edge, N s/m")          \
     X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "N/m", "springs: across adjacent triangles, N/m")                \

@@ -137,6 +137,15 @@ sb_spring_mesh_def sb_scene_springs(const sb_scene* scene) {
     return d;
 }
 
+sb_sheet_material_def sb_scene_sheet(const sb_scene* scene) {
+    sb_sheet_material_def d = sb_default_sheet_material_def();
+    d.young_modulus = sb_scene_number(scene, SB_KEY_SHEET_YOUNG_MODULUS);
+    d.poisson_ratio = sb_scene_number(scene, SB_KEY_SHEET_POISSON_RATIO);
+    d.thickness = sb_scene_number(scene, SB_KEY_SHEET_THICKNESS);
+    d.density = sb_scene_number(scene, SB_KEY_SHEET_DENSITY);
+    return d;
+}
+
 sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
     sb_tissue_def t = sb_default_tissue_def();
     sb_tissue_from_name(sb_scene_string(scene, SB_KEY_MATERIAL), &t);
@@ -144,8 +153,8 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
         t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
-    t.model = strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED
-                                                                                   : SB_TISSUE_SPRINGS;
+    t.model =
+        strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }
@@ -178,22 +187,27 @@ bool sb_scene_pov(const sb_scene* scene) {
            sb_pov_path(sb_scene_string(scene, SB_KEY_MESH_FILE));
 }
 
-/* The Spring Systems factory makes springs only, and self-contact keeps
- * the model's triangles apart: with `self_collision` the mesh's triangles
- * (from vertex `base` on) are added too, without terms (angle and
- * stretch-bend constants 0, which the step skips), as the body's surface. */
-static sb_status add_spring_body(const sb_mesh* mesh, const sb_spring_mesh_def* springs, bool surface,
-                                 sb_builder* builder, sb_error* err) {
-    uint32_t base = sb_builder_vertex_count(builder);
-    sb_status status = sb_builder_add_spring_mesh(builder, mesh, springs, err);
-    for (uint32_t t = 0; status == SB_OK && surface && t < mesh->triangle_count; t++) {
+/* Self-contact keeps the model's triangles apart, and the Spring Systems
+ * and sheet factories make none: with `self_collision` the mesh's
+ * triangles (from vertex `base` on) are added too, without terms (angle
+ * and stretch-bend constants 0, which the step skips), as the body's
+ * surface. */
+static sb_status add_surface(const sb_mesh* mesh, uint32_t base, sb_builder* builder, sb_error* err) {
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t* v = mesh->triangles + 3 * (size_t)t;
         sb_triangle_def def = sb_default_triangle_def();
         def.i = base + v[0], def.j = base + v[1], def.k = base + v[2];
         def.angle_k = 0.0, def.stretch_bend_k = 0.0;
-        if (sb_builder_add_triangle(builder, &def) < 0) status = sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+        if (sb_builder_add_triangle(builder, &def) < 0) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
     }
-    return status;
+    return SB_OK;
+}
+
+static sb_status add_spring_body(const sb_mesh* mesh, const sb_spring_mesh_def* springs, bool surface,
+                                 sb_builder* builder, sb_error* err) {
+    uint32_t base = sb_builder_vertex_count(builder);
+    sb_status status = sb_builder_add_spring_mesh(builder, mesh, springs, err);
+    return status == SB_OK && surface ? add_surface(mesh, base, builder, err) : status;
 }
 
 /* One mesh2 object: its triangles over its part of the (placed) mesh,
@@ -248,6 +262,13 @@ static sb_status add_body(const sb_scene* scene, const sb_mesh* mesh, sb_builder
     if (sb_scene_volumetric(scene)) return add_tissue(scene, mesh, builder, err);
     if (sb_scene_pov(scene)) return add_pov(scene, mesh, builder, err);
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "net") == 0) return sb_scene_add_net(scene, mesh, builder, err);
+    if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "membrane") == 0) {
+        sb_sheet_material_def sheet = sb_scene_sheet(scene);
+        uint32_t base = sb_builder_vertex_count(builder);
+        sb_status status = sb_builder_add_sheet(builder, mesh, &sheet, err);
+        return status == SB_OK && sb_scene_bool(scene, SB_KEY_SELF_COLLISION) ? add_surface(mesh, base, builder, err)
+                                                                              : status;
+    }
     if (strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "springs") == 0) {
         sb_spring_mesh_def springs = sb_scene_springs(scene);
         return add_spring_body(mesh, &springs, sb_scene_bool(scene, SB_KEY_SELF_COLLISION), builder, err);

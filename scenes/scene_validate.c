@@ -61,6 +61,9 @@ static const number_rule number_rules[] = {
     {SB_KEY_TISSUE_YOUNG_MODULUS, false},
     {SB_KEY_TISSUE_DENSITY, true},
     {SB_KEY_TISSUE_DAMPING, false},
+    {SB_KEY_SHEET_YOUNG_MODULUS, true},
+    {SB_KEY_SHEET_THICKNESS, true},
+    {SB_KEY_SHEET_DENSITY, true},
     {SB_KEY_MESH_TARGET_ERROR, false},
     {SB_KEY_CONTACT_THICKNESS, false},
     {SB_KEY_STOP_KINETIC_ENERGY, false},
@@ -170,15 +173,16 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              hint(scene, SB_KEY_INTEGRATOR,
                                   "verlet, velocity_verlet, position_verlet, symplectic_euler, explicit_euler, "
                                   "implicit_euler, pbd, xpbd, vbd"));
-    static const char* const factories[] = {"molecular", "springs", "net", NULL};
+    static const char* const factories[] = {"molecular", "springs", "net", "membrane", NULL};
     static const char* const materials[] = {"liver", "gallbladder", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_FACTORY), factories))
-        return sb_scene_fail(scene, SB_KEY_FACTORY, err, "'factory' must be molecular, springs or net, got '%s'%s",
-                             sb_scene_string(scene, SB_KEY_FACTORY),
-                             hint(scene, SB_KEY_FACTORY, "molecular, springs, net"));
+        return sb_scene_fail(
+            scene, SB_KEY_FACTORY, err, "'factory' must be molecular, springs, net or membrane, got '%s'%s",
+            sb_scene_string(scene, SB_KEY_FACTORY), hint(scene, SB_KEY_FACTORY, "molecular, springs, net, membrane"));
     if (!one_of(sb_scene_string(scene, SB_KEY_MATERIAL), materials))
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'%s",
-                             sb_scene_string(scene, SB_KEY_MATERIAL), hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
+                             sb_scene_string(scene, SB_KEY_MATERIAL),
+                             hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
     static const char* const tissue_models[] = {"springs", "corotated", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), tissue_models))
         return sb_scene_fail(scene, SB_KEY_TISSUE_MODEL, err, "'tissue.model' must be springs or corotated, got '%s'%s",
@@ -188,6 +192,10 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
     if (!(nu > -1.0 && nu < 0.5))
         return sb_scene_fail(scene, SB_KEY_TISSUE_POISSON_RATIO, err,
                              "'tissue.poisson_ratio' must be in (-1, 0.5), got %g", nu);
+    double sheet_nu = sb_scene_number(scene, SB_KEY_SHEET_POISSON_RATIO);
+    if (!(sheet_nu > -1.0 && sheet_nu < 0.5))
+        return sb_scene_fail(scene, SB_KEY_SHEET_POISSON_RATIO, err,
+                             "'sheet.poisson_ratio' must be in (-1, 0.5), got %g", sheet_nu);
     if (!sb_pin_known(sb_scene_string(scene, SB_KEY_PIN)))
         return sb_scene_fail(scene, SB_KEY_PIN, err, "'pin' must be one of %s, got '%s'%s", sb_pin_names(),
                              sb_scene_string(scene, SB_KEY_PIN), hint(scene, SB_KEY_PIN, sb_pin_names()));
@@ -198,12 +206,12 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              hint(scene, SB_KEY_OUTPUT_VTU, "ascii, binary, zlib"));
     sb_frame_formats formats;
     char bad[64];
-    if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad))
-    {
+    if (!sb_frame_formats_parse(sb_scene_string(scene, SB_KEY_OUTPUT_FORMATS), &formats, bad, sizeof bad)) {
         char near[96];
         return sb_scene_fail(scene, SB_KEY_OUTPUT_FORMATS, err, "'output.formats': %s%s%s (known: %s)%s",
                              bad[0] ? "unknown format '" : "an empty format name", bad, bad[0] ? "'" : "",
-                             sb_frame_formats_known(), sb_suggest_hint(bad, sb_frame_formats_known(), near, sizeof near));
+                             sb_frame_formats_known(),
+                             sb_suggest_hint(bad, sb_frame_formats_known(), near, sizeof near));
     }
     return SB_OK;
 }

@@ -9,7 +9,10 @@
  * Loads: a uniform traction on the faces at x = L becomes each face's
  * consistent nodal loads (linear face: a third of T A to each corner;
  * quadratic face: a third to each middle node, none to the corners); gravity
- * is ccx's GRAV load on the density (softbond: the lumped masses ρ V / 4). */
+ * is ccx's GRAV load on the density (softbond: the lumped masses ρ V / 4).
+ *
+ * Thin plates (tests/test_sheets.c): ccx's S8R shells on a rectangle
+ * clamped along one side under gravity (fem_ccx_plate). */
 #ifndef SB_FEM_ORACLE_H
 #define SB_FEM_ORACLE_H
 
@@ -143,6 +146,37 @@ static int fem_edge_cmp(const void* p, const void* q) {
     return x->b < y->b ? -1 : x->b > y->b;
 }
 
+/* Runs ccx on dir/fem.inp and reads the displacements of nodes 1 to
+ * `count` (*NODE PRINT U) from dir/fem.dat into u (3 count): 0, or −2 when
+ * ccx failed, −3 without a .dat, −4 when nodes are missing from it. */
+static inline int fem_ccx_solve(const char* dir, uint32_t count, double* u) {
+    char path[1200], command[2600];
+    snprintf(command, sizeof command, "cd '%s' && OMP_NUM_THREADS=2 ccx -i fem > ccx.log 2>&1", dir);
+    if (system(command) != 0) return -2;
+    snprintf(path, sizeof path, "%s/fem.dat", dir);
+    FILE* f = fopen(path, "r");
+    if (!f) return -3;
+    char line[512];
+    uint32_t read = 0;
+    bool in = false;
+    while (fgets(line, sizeof line, f)) {
+        if (strstr(line, "displacements")) {
+            in = true;
+            continue;
+        }
+        unsigned id;
+        double a, b, d;
+        if (in && sscanf(line, "%u %lf %lf %lf", &id, &a, &b, &d) == 4 && id >= 1 && id <= count) {
+            u[3 * (id - 1)] = a;
+            u[3 * (id - 1) + 1] = b;
+            u[3 * (id - 1) + 2] = d;
+            read++;
+        }
+    }
+    fclose(f);
+    return read == count ? 0 : -4;
+}
+
 /* Runs ccx in dir on the mesh (C3D10 when quadratic) and fills u (3 a
  * corner node, the mesh's numbering) with its displacements. 0 on success. */
 static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c, bool quadratic, double* u) {
@@ -185,7 +219,8 @@ static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c,
     FILE* f = fopen(path, "w");
     if (!f) return -1;
     fprintf(f, "*NODE, NSET=NALL\n");
-    for (uint32_t i = 0; i < total; i++) fprintf(f, "%u, %.17g, %.17g, %.17g\n", i + 1, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    for (uint32_t i = 0; i < total; i++)
+        fprintf(f, "%u, %.17g, %.17g, %.17g\n", i + 1, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     fprintf(f, "*ELEMENT, TYPE=%s, ELSET=EALL\n", quadratic ? "C3D10" : "C3D4");
     for (uint32_t t = 0; t < m->tets; t++) {
         const uint32_t* v = m->tet + 4 * t;
@@ -219,31 +254,60 @@ static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c,
     free(load);
     free(xs);
     free(mid);
-    char command[2600];
-    snprintf(command, sizeof command, "cd '%s' && OMP_NUM_THREADS=2 ccx -i fem > ccx.log 2>&1", dir);
-    if (system(command) != 0) return -2;
-    snprintf(path, sizeof path, "%s/fem.dat", dir);
-    f = fopen(path, "r");
-    if (!f) return -3;
-    char line[512];
-    uint32_t read = 0;
-    bool in = false;
-    while (fgets(line, sizeof line, f)) {
-        if (strstr(line, "displacements")) {
-            in = true;
-            continue;
+    return fem_ccx_solve(dir, m->nodes, u);
+}
+
+/* A thin plate for the shell oracle: length (x) × width (y) in the z = 0
+ * plane, clamped along x = 0 (every displacement and rotation), under
+ * gravity `gravity` m/s² along −z. */
+typedef struct fem_plate {
+    double length, width, thickness;
+    double young_modulus, poisson_ratio, density, gravity;
+} fem_plate;
+
+/* ccx's S8R shells (8-node quadratic, reduced integration) on nx × ny
+ * quadrilaterals: writes dir/fem.inp, solves, and returns in *tip the mean
+ * vertical displacement of the nodes on x = length; 0 or fem_ccx_solve's
+ * code. Numbers in 12 digits (ccx reads a field of at most 20 characters). */
+static inline int fem_ccx_plate(const char* dir, const fem_plate* p, int nx, int ny, double* tip) {
+    int cols = 2 * nx + 1, rows = 2 * ny + 1; /* the quadratic grid; the cells' centres unused */
+    uint32_t *id = calloc((size_t)cols * rows, sizeof *id), count = 0;
+    for (int j = 0; j < rows; j++)
+        for (int i = 0; i < cols; i++)
+            if (i % 2 == 0 || j % 2 == 0) id[j * cols + i] = ++count;
+    char path[1200];
+    snprintf(path, sizeof path, "%s/fem.inp", dir);
+    FILE* f = fopen(path, "w");
+    if (!f) return -1;
+    fprintf(f, "*NODE, NSET=NALL\n");
+    for (int j = 0; j < rows; j++)
+        for (int i = 0; i < cols; i++)
+            if (id[j * cols + i])
+                fprintf(f, "%u, %.12g, %.12g, 0\n", id[j * cols + i], p->length * i / (cols - 1),
+                        p->width * j / (rows - 1));
+    fprintf(f, "*ELEMENT, TYPE=S8R, ELSET=EALL\n");
+    for (int ej = 0, e = 1; ej < ny; ej++)
+        for (int ei = 0; ei < nx; ei++, e++) {
+            int i = 2 * ei, j = 2 * ej; /* corners counter-clockwise, then the sides' middles */
+            const int at[8][2] = {{i, j},     {i + 2, j},     {i + 2, j + 2}, {i, j + 2},
+                                  {i + 1, j}, {i + 2, j + 1}, {i + 1, j + 2}, {i, j + 1}};
+            fprintf(f, "%d", e);
+            for (int k = 0; k < 8; k++) fprintf(f, ", %u", id[at[k][1] * cols + at[k][0]]);
+            fprintf(f, "\n");
         }
-        unsigned id;
-        double a, b, d;
-        if (in && sscanf(line, "%u %lf %lf %lf", &id, &a, &b, &d) == 4 && id >= 1 && id <= m->nodes) {
-            u[3 * (id - 1)] = a;
-            u[3 * (id - 1) + 1] = b;
-            u[3 * (id - 1) + 2] = d;
-            read++;
-        }
-    }
+    fprintf(f, "*MATERIAL, NAME=SHEET\n*ELASTIC\n%.12g, %.12g\n*DENSITY\n%.12g\n", p->young_modulus, p->poisson_ratio,
+            p->density);
+    fprintf(f, "*SHELL SECTION, ELSET=EALL, MATERIAL=SHEET\n%.12g\n*STEP\n*STATIC\n*BOUNDARY\n", p->thickness);
+    for (int j = 0; j < rows; j++) fprintf(f, "%u, 1, 6, 0\n", id[j * cols]);
+    fprintf(f, "*DLOAD\nEALL, GRAV, %.12g, 0, 0, -1\n*NODE PRINT, NSET=NALL\nU\n*END STEP\n", p->gravity);
     fclose(f);
-    return read == m->nodes ? 0 : -4;
+    double* u = calloc(3 * (size_t)count, sizeof *u);
+    int status = fem_ccx_solve(dir, count, u);
+    *tip = 0.0;
+    for (int j = 0; j < rows; j++) *tip += u[3 * (id[j * cols + cols - 1] - 1) + 2] / rows;
+    free(u);
+    free(id);
+    return status;
 }
 
 #endif

@@ -277,7 +277,7 @@ static void test_accessors(void** state) {
     sb_model_destroy(m);
     sb_builder_destroy(b);
 
-    const char* names[SB_TERM_COUNT] = {"bond", "angle", "stretch_bend", "spring", "bend", "corotated"};
+    const char* names[SB_TERM_COUNT] = {"bond", "angle", "stretch_bend", "spring", "bend", "corotated", "membrane"};
     for (int t = 0; t < SB_TERM_COUNT; ++t) assert_string_equal(sb_term_name((sb_term)t), names[t]);
 }
 

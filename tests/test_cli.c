@@ -362,8 +362,8 @@ static void assert_frames(const char* dir, int frames) {
 }
 
 enum {
-    LOG_COLUMNS = 17, /* without colliders */
-    LOG_STEPS = 10,
+    LOG_COLUMNS = 18, /* without colliders */
+    LOG_STEPS = 11,
     LOG_SUBSTEPS,
     LOG_REJECTED,
     LOG_NEWTON,
@@ -372,8 +372,9 @@ enum {
     LOG_CONTACTS,
     LOG_MAX_COLUMNS = 64
 };
-static const char* const log_header = "time,kinetic,bond,angle,stretch_bend,spring,bend,corotated,gravity,total,"
-                                      "steps,substeps,rejected,newton,cg,unconverged,contacts";
+static const char* const log_header =
+    "time,kinetic,bond,angle,stretch_bend,spring,bend,corotated,membrane,gravity,total,"
+    "steps,substeps,rejected,newton,cg,unconverged,contacts";
 
 /* The header's collider columns after log_header: three per name. */
 static void assert_collider_columns(const char* rest, const char* names) {
@@ -441,17 +442,17 @@ static void assert_log(const char* dir, int frames, double duration) {
     static double rows[64][LOG_COLUMNS];
     assert_int_equal(read_log(dir, rows, 64), frames);
     for (int i = 0; i < frames; i++) {
-        /* total = kinetic + the six terms + gravity */
+        /* total = kinetic + the seven terms + gravity */
         double sum = 0.0;
-        for (int c = 1; c < 9; c++) sum += rows[i][c];
-        TU_ASSERT_NEAR(rows[i][9], sum, 1e-12 * fmax(1.0, fabs(sum)));
+        for (int c = 1; c < 10; c++) sum += rows[i][c];
+        TU_ASSERT_NEAR(rows[i][10], sum, 1e-12 * fmax(1.0, fabs(sum)));
     }
     for (int i = 0; i < frames; i++) assert_true(rows[i][LOG_CONTACTS] == 0.0); /* no colliders */
     const double* last = rows[frames - 1];
     assert_true(rows[0][0] == 0.0);
     TU_ASSERT_NEAR(last[0], duration, 1e-9);
     assert_true(last[1] > 0.0); /* moving */
-    assert_true(last[8] < 0.0); /* fallen: −Σ m g·x < 0 */
+    assert_true(last[9] < 0.0); /* fallen: −Σ m g·x < 0 */
 }
 
 static void test_run_writes_frames_and_log(void** state) {

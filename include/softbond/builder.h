@@ -96,6 +96,19 @@ typedef struct sb_tet_def {
     double poisson_ratio; /**< ν, in (−1, 0.5) */
 } sb_tet_def;
 
+/** A triangle of a thin sheet's membrane: co-rotated linear plane-stress
+ * elasticity of a constant-strain triangle (kernels/forces/membrane.c),
+ * energy A t (μ ‖F − R‖² + ½ λ (tr RᵀF − 2)²) with μ = E / 2(1 + ν),
+ * λ = E ν / (1 − ν²), F the map from the rest triangle's plane and R its
+ * rotation; the rest shape from the vertices' positions. No damping: use
+ * the solver's drag. */
+typedef struct sb_membrane_def {
+    uint32_t v[3];        /**< the corners, either orientation */
+    double young_modulus; /**< E, Pa (>= 0) */
+    double poisson_ratio; /**< ν, in (−1, 0.5) */
+    double thickness;     /**< t, m (> 0) */
+} sb_membrane_def;
+
 /** A free vertex of 1 kg at rest at the origin. */
 SB_API sb_vertex_def sb_default_vertex_def(void);
 /** A bond between vertices 0 and 0 (set i and j) with no stiffness and no
@@ -128,6 +141,8 @@ SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_de
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
 /** Adds a co-rotated tetrahedron (sb_tet_def); returns its index or −1. */
 SB_API int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def);
+/** Adds a membrane triangle (sb_membrane_def); returns its index or −1. */
+SB_API int64_t sb_builder_add_membrane(sb_builder* builder, const sb_membrane_def* def);
 
 /** The vertices added so far: the index the next one gets (a factory adds
  * its mesh's vertices from there). */
@@ -201,6 +216,30 @@ SB_API sb_spring_mesh_def sb_default_spring_mesh_def(void);
  * SB_ERR_NOMEM when out of memory (what was added so far stays). */
 SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* mesh, const sb_spring_mesh_def* def,
                                             sb_error* err);
+
+/** A thin sheet stated by its material (a cloth, a membrane of tissue):
+ * Young's modulus, Poisson's ratio, thickness and density. */
+typedef struct sb_sheet_material_def {
+    double young_modulus; /**< E, Pa (> 0) */
+    double poisson_ratio; /**< ν, in (−1, 0.5) */
+    double thickness;     /**< t, m (> 0) */
+    double density;       /**< ρ, kg/m³ (> 0): each vertex gets a third of its triangles' ρ t A */
+} sb_sheet_material_def;
+
+/** E 30 kPa, ν 0.45, 1 mm, 1060 kg/m³: a soft tissue's membrane. */
+SB_API sb_sheet_material_def sb_default_sheet_material_def(void);
+/** The sheet factory: the mesh's vertices after those already in the
+ * builder (masses ρ t A / 3 from each triangle), a membrane per triangle
+ * (sb_membrane_def: in-plane stiffness E t / (1 − ν²)) and a hinge per edge
+ * shared by exactly two triangles, the discrete shell's bending (Grinspun
+ * et al. 2003) with its own constant k = D |e|² / (A0 + A1) from the
+ * bending stiffness D = E t³ / 12 (1 − ν²), the edge's length |e| and its
+ * two triangles' areas (mesh/sheet_factory.c says why this constant).
+ * SB_ERR_INVALID, with nothing added, for a constant out of range, a
+ * triangle index out of range or an edge shared by more than two
+ * triangles; SB_ERR_NOMEM when out of memory. */
+SB_API sb_status sb_builder_add_sheet(sb_builder* builder, const sb_mesh* mesh, const sb_sheet_material_def* def,
+                                      sb_error* err);
 
 /** The pairs (i < j) of points nearer than radius (0 < distance < radius),
  * found with a uniform grid (cells of side radius, sorted by cell) in time

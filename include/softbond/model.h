@@ -24,10 +24,11 @@ typedef enum sb_term {
     SB_TERM_SPRING,       /**< damped spring, Sekercioglu & Duysak 2009 Eq. 2 */
     SB_TERM_BEND,         /**< dihedral hinge */
     SB_TERM_COROTATED,    /**< co-rotated linear elasticity of tetrahedra (Müller & Gross 2004) */
+    SB_TERM_MEMBRANE,     /**< co-rotated linear plane-stress triangles: a thin sheet's membrane */
     SB_TERM_COUNT
 } sb_term;
 
-/** "bond", "angle", "stretch_bend", "spring", "bend". */
+/** "bond", "angle", "stretch_bend", "spring", "bend", "corotated", "membrane". */
 SB_API const char* sb_term_name(sb_term term);
 
 /** Frees the model; safe on NULL. Every solver made from it must be
@@ -44,6 +45,8 @@ SB_API uint32_t sb_model_triangle_count(const sb_model* model);
 SB_API uint32_t sb_model_hinge_count(const sb_model* model);
 /** Tetrahedra of the co-rotated elastic term (sb_builder_add_tet). */
 SB_API uint32_t sb_model_tet_count(const sb_model* model);
+/** Membrane triangles of a thin sheet (sb_builder_add_membrane). */
+SB_API uint32_t sb_model_membrane_count(const sb_model* model);
 /** Whether the model carries the term (some element has a constant > 0);
  * false for a term out of range. */
 SB_API bool sb_model_term_enabled(const sb_model* model, sb_term term);

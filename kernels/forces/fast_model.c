@@ -470,6 +470,19 @@ static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
     return ok;
 }
 
+static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
+    const uint32_t* ids[3] = {m->membrane_v[0], m->membrane_v[1], m->membrane_v[2]};
+    if (!sb_group_build(&f->membranes, m->vertex_count, m->membrane_count, 3, ids, NULL, NULL)) return false;
+    bool ok = true;
+    for (int a = 0; a < 3; a++) f->membrane_v[a] = sb_gather_index(ids[a], &f->membranes, &ok);
+    for (int k = 0; k < 4; k++) f->membrane_dm_inv[k] = sb_gather_double(m->membrane_dm_inv[k], &f->membranes, &ok);
+    f->membrane_volume = sb_gather_double(m->membrane_volume, &f->membranes, &ok);
+    f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
+    f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
+    f->has_membranes = m->membrane_count > 0 && m->term_enabled[SB_TERM_MEMBRANE];
+    return ok;
+}
+
 /* slot_of[source[s]] = s for the real slots of every color of a group. */
 static uint32_t* sb_slot_map(const sb_element_group* g, uint32_t model_count, bool* ok) {
     uint32_t* slot_of = malloc((model_count ? model_count : 1) * sizeof *slot_of);
@@ -619,6 +632,7 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     uint32_t* carried = ok ? sb_hinge_carriers(m, &ok) : NULL;
     ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m, carried) &&
          (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) && sb_fast_tet_group(f, m) &&
+         sb_fast_membrane_group(f, m) &&
          (!m->breakable || (sb_fast_places(f, m, owner, carried) && sb_fast_limits(f, m)));
     free(owner);
     free(carried);
@@ -632,8 +646,8 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
 
 void sb_fast_model_destroy(sb_fast_model* f) {
     if (!f) return;
-    sb_element_group* groups[4] = {&f->bonds, &f->triangles, &f->hinges, &f->tets};
-    for (int g = 0; g < 4; g++) {
+    sb_element_group* groups[5] = {&f->bonds, &f->triangles, &f->hinges, &f->tets, &f->membranes};
+    for (int g = 0; g < 5; g++) {
         free(groups[g]->ranges);
         free(groups[g]->blocks);
     }
@@ -663,7 +677,11 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->tets.source,
                       f->tet_volume,
                       f->tet_mu,
-                      f->tet_lambda};
+                      f->tet_lambda,
+                      f->membranes.source,
+                      f->membrane_volume,
+                      f->membrane_mu,
+                      f->membrane_lambda};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -681,5 +699,7 @@ void sb_fast_model_destroy(sb_fast_model* f) {
     }
     for (int a = 0; a < 4; a++) free(f->hinge_v[a]), free(f->tet_v[a]);
     for (int k = 0; k < 9; k++) free(f->tet_dm_inv[k]);
+    for (int a = 0; a < 3; a++) free(f->membrane_v[a]);
+    for (int k = 0; k < 4; k++) free(f->membrane_dm_inv[k]);
     free(f);
 }

@@ -111,6 +111,14 @@ typedef struct sb_fast_model {
     double *tet_volume, *tet_mu, *tet_lambda;
     bool has_tets;
 
+    /* A sheet's membranes (kernels/forces/fast_membranes.c), colored by
+     * their three corners, constants in double like the tetrahedra's. */
+    sb_element_group membranes;
+    uint32_t* membrane_v[3];
+    double* membrane_dm_inv[4];
+    double *membrane_volume, *membrane_mu, *membrane_lambda;
+    bool has_membranes;
+
     /* Breakage (kernels/interaction/breakage.c), only for a breakable model, whose
      * constants are then never folded to one value: where each model
      * element sits. bond_place[b] >= 0 is a slot of the bond group, else

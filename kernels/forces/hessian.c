@@ -5,11 +5,12 @@
 #include "kernels/forces/hessian_corners.h"
 #include "kernels/forces/hessian_hinges.h"
 #include "kernels/forces/hessian_tets.h"
+#include "kernels/forces/hessian_membranes.h"
 
 #include <string.h>
 
 uint64_t sb_element_count(const sb_model* m) {
-    return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count + m->tet_count;
+    return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count + m->tet_count + m->membrane_count;
 }
 
 sb_element sb_element_at(const sb_model* m, uint64_t e) {
@@ -22,8 +23,22 @@ sb_element sb_element_at(const sb_model* m, uint64_t e) {
         return (sb_element){
             SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
     e -= m->hinge_count;
+    if (e < m->tet_count)
+        return (sb_element){
+            SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
+    e -= m->tet_count;
     return (sb_element){
-        SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
+        SB_ELEMENT_MEMBRANE, (uint32_t)e, 3, {m->membrane_v[0][e], m->membrane_v[1][e], m->membrane_v[2][e]}};
+}
+
+/* A membrane's exact forces and K as sb_tet_forces_dual's; false when it
+ * collapsed. */
+static bool sb_membrane_forces_dual(const sb_model* m, uint32_t tri, const sb_dvec3* x, sb_dvec3* f) {
+    sb_vec3 at[3] = {x[0].v, x[1].v, x[2].v};
+    double forces[9], k[81];
+    if (!sb_membrane_element_stiffness(m, tri, at, forces, k)) return false;
+    sb_matrix_forces_dual(3, forces, k, x, f);
+    return true;
 }
 
 /* A tetrahedron's exact forces at x.v, and −R K0 Rᵀ x.d as their
@@ -56,6 +71,7 @@ bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dve
     case SB_ELEMENT_TRIANGLE: sb_triangle_forces_dual(m, e->index, x, f, &collapsed); break;
     case SB_ELEMENT_HINGE: sb_hinge_forces_dual(m, e->index, x, f, &collapsed); break;
     case SB_ELEMENT_TET: return sb_tet_forces_dual(m, e->index, x, f);
+    case SB_ELEMENT_MEMBRANE: return sb_membrane_forces_dual(m, e->index, x, f);
     }
     return !collapsed;
 }
@@ -93,6 +109,7 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
     case SB_ELEMENT_BOND: return sb_bond_stiffness_matrix(m, e->index, local, k);
     case SB_ELEMENT_TRIANGLE: return sb_triangle_stiffness(m, e->index, local, k);
     case SB_ELEMENT_TET: return sb_tet_stiffness(m, e->index, local, NULL, k);
+    case SB_ELEMENT_MEMBRANE: return sb_membrane_element_stiffness(m, e->index, local, NULL, k);
     case SB_ELEMENT_HINGE: break;
     }
     return sb_element_stiffness_dual(m, e, x, k);
@@ -120,6 +137,12 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
     case SB_ELEMENT_BOND: return sb_bond_vertex_share(m, e->index, local, place, f, block);
     case SB_ELEMENT_TRIANGLE: return sb_triangle_vertex_share(m, e->index, local, place, f, block);
     case SB_ELEMENT_TET: return sb_tet_vertex_share(m, e->index, local, place, f, block);
+    case SB_ELEMENT_MEMBRANE: {
+        double forces[9], k[81];
+        if (!sb_membrane_element_stiffness(m, e->index, local, forces, k)) return false;
+        sb_matrix_vertex_share(3, forces, k, place, f, block);
+        return true;
+    }
     case SB_ELEMENT_HINGE: break;
     }
     return sb_hinge_vertex_share(m, e->index, local, place, f, block);
@@ -151,6 +174,9 @@ bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const
     case SB_ELEMENT_TET:
         if (!sb_tet_stiffness(m, e->index, local, NULL, k)) return false;
         break;
+    case SB_ELEMENT_MEMBRANE:
+        if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
+        break;
     }
     for (int r = 0; r < 9 * e->count * e->count; r++)
         if (!isfinite(k[r])) return false;
@@ -178,6 +204,10 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
     case SB_ELEMENT_BOND: return sb_bond_jacobian_blocks(m, e->index, local, definite, dt, blocks);
     case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
     case SB_ELEMENT_TET: return sb_tet_jacobian_blocks(m, e->index, local, scale, blocks);
+    case SB_ELEMENT_MEMBRANE:
+        if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
+        sb_matrix_blocks(3, k, scale, blocks);
+        return true;
     case SB_ELEMENT_TRIANGLE: break;
     }
     if (!definite) return sb_triangle_stiffness_blocks(m, e->index, local, scale, blocks);

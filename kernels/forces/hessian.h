@@ -38,18 +38,26 @@
 #include "common/dual.h"
 #include "mesh/model_internal.h"
 
-typedef enum sb_element_kind { SB_ELEMENT_BOND, SB_ELEMENT_TRIANGLE, SB_ELEMENT_HINGE, SB_ELEMENT_TET } sb_element_kind;
+typedef enum sb_element_kind {
+    SB_ELEMENT_BOND,
+    SB_ELEMENT_TRIANGLE,
+    SB_ELEMENT_HINGE,
+    SB_ELEMENT_TET,
+    SB_ELEMENT_MEMBRANE
+} sb_element_kind;
 
 enum { SB_ELEMENT_MAX = 4 };
 
 typedef struct sb_element {
     sb_element_kind kind;
-    uint32_t index; /* bond, triangle, hinge or tetrahedron index in the model */
+    uint32_t index; /* bond, triangle, hinge, tetrahedron or membrane index in the model */
     int count;      /* vertices */
     uint32_t vertex[SB_ELEMENT_MAX];
 } sb_element;
 
-/* Elements are numbered bonds, then triangles, then hinges, then tetrahedra. */
+/* Elements are numbered bonds, then triangles, then hinges, then
+ * tetrahedra, then membranes (a sheet's triangles, 3 vertices: like a
+ * tetrahedron, one co-rotated matrix, kernels/forces/hessian_membranes.c). */
 uint64_t sb_element_count(const sb_model* m);
 sb_element sb_element_at(const sb_model* m, uint64_t e);
 

@@ -7,7 +7,7 @@
 
 static uint64_t sb_entry_count(const sb_model* m) {
     return 2 * (uint64_t)m->bond_count + 3 * (uint64_t)m->triangle_count + 4 * (uint64_t)m->hinge_count +
-           4 * (uint64_t)m->tet_count;
+           4 * (uint64_t)m->tet_count + 3 * (uint64_t)m->membrane_count;
 }
 
 sb_vertex_elements* sb_vertex_elements_create(const sb_model* m) {

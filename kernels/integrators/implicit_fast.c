@@ -56,6 +56,7 @@
 #include "kernels/forces/fast_hessian_corners.h"
 #include "kernels/forces/fast_hessian_hinges.h"
 #include "kernels/forces/fast_tets.h"
+#include "kernels/forces/fast_membranes.h"
 #include "kernels/interaction/handle_internal.h"
 #include "kernels/runtime/wide.h"
 #include "common/sections.h"
@@ -358,8 +359,9 @@ static void sb_op_curvature(sb_fast_newton* w, size_t begin, size_t end, double*
 
 /* ---- J's product and its diagonal blocks --------------------------------- */
 
-static const sb_fast_kernel sb_hessian_kernels[4] = {sb_fast_bonds_hessian, sb_fast_corners_hessian,
-                                                     sb_fast_hinges_hessian, sb_fast_tets_hessian};
+static const sb_fast_kernel sb_hessian_kernels[5] = {sb_fast_bonds_hessian, sb_fast_corners_hessian,
+                                                     sb_fast_hinges_hessian, sb_fast_tets_hessian,
+                                                     sb_fast_membranes_hessian};
 
 static sb_hessian_frame sb_jacobian_frame(const sb_fast_newton* w, const sb_real* p, sb_real* out) {
     return (sb_hessian_frame){.base = {w->s->positions4, p, out},

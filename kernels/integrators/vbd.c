@@ -165,8 +165,8 @@ bool sb_vbd_prepare(sb_solver* s) {
     if (ok) sb_vbd_order(v, m);
     v->built_vertices = s->live_vertices;
     /* a model that may break or tear changes under the sweep: the reference's, which reads it live; and
-     * the fast sweep has no share for the co-rotated tetrahedra */
-    if (ok && s->fast && !s->breakage && !m->tet_count)
+     * the fast sweep has no share for the co-rotated tetrahedra or the membranes */
+    if (ok && s->fast && !s->breakage && !m->tet_count && !m->membrane_count)
         ok =
             (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev)) != NULL;
     return ok;

@@ -203,9 +203,24 @@ static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_e
     return SB_OK;
 }
 
+/* A sheet's membranes have forces, energies, a fast pass and the
+ * co-rotated stiffness (implicit Euler, vbd), but no constraints for pbd
+ * and xpbd yet. Refused here rather than run wrong. */
+static sb_status sb_check_membranes(const sb_model* m, const sb_solver_def* def, sb_error* err) {
+    if (!m->membrane_count) return SB_OK;
+    sb_integrator it = def->integrator;
+    if (it == SB_INTEGRATOR_PBD || it == SB_INTEGRATOR_XPBD)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "the sheet's membranes (factory: membrane) have no constraints yet: "
+                            "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
+                            "symplectic_euler, explicit_euler, implicit_euler or vbd",
+                            sb_integrator_name(it));
+    return SB_OK;
+}
+
 sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_error* err) {
     if (sb_check_def(def, err) != SB_OK) return NULL;
-    if (sb_check_tets(model, def, err) != SB_OK) return NULL;
+    if (sb_check_tets(model, def, err) != SB_OK || sb_check_membranes(model, def, err) != SB_OK) return NULL;
     sb_solver* s = calloc(1, sizeof *s);
     if (s && sb_breakage_create(model, def, &s->breakage, err) != SB_OK) {
         free(s);

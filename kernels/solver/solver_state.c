@@ -50,7 +50,7 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 2 /* 2: the energies carry the corotated term */
+#define SB_STATE_VERSION 3 /* 2: the energies carry the corotated term; 3: and the membrane term */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -313,6 +313,15 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->tet_volume, 8 * nq);
         h = sb_hash(h, m->tet_mu, 8 * nq);
         h = sb_hash(h, m->tet_lambda, 8 * nq);
+    }
+    if (m->membrane_count) { /* likewise */
+        size_t nm = m->membrane_count;
+        h = sb_hash(h, &m->membrane_count, 4);
+        for (int c = 0; c < 3; c++) h = sb_hash(h, m->membrane_v[c], 4 * nm);
+        for (int c = 0; c < 4; c++) h = sb_hash(h, m->membrane_dm_inv[c], 8 * nm);
+        h = sb_hash(h, m->membrane_volume, 8 * nm);
+        h = sb_hash(h, m->membrane_mu, 8 * nm);
+        h = sb_hash(h, m->membrane_lambda, 8 * nm);
     }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {

@@ -12,8 +12,9 @@
  *      instead when self-contact or hard handles move vertices after the
  *      drift);
  *   2. forces: for each element group (bonds, triangles, hinges,
- *      tetrahedra), for each block color, its blocks in parallel, and in
- *      each block the kernel (SIMD but the tetrahedra's) over each element
+ *      tetrahedra, membranes), for each block color, its blocks in parallel,
+ *      and in each block the kernel (SIMD but the tetrahedra's and the
+ *      membranes') over each element
  *      color (kernels/forces/fast_model.h explains the
  *      blocked coloring). The triangle kernel also computes the bonds and
  *      hinges on its edges (kernels/forces/fast_corners.c), so on a mesh the bond
@@ -52,6 +53,7 @@
 #include "kernels/forces/fast_corners.h"
 #include "kernels/forces/fast_hinges.h"
 #include "kernels/forces/fast_tets.h"
+#include "kernels/forces/fast_membranes.h"
 #include "kernels/state/vertex_state.h"
 #include "softbond/reference.h"
 #include "softbond/runtime.h"
@@ -75,6 +77,7 @@ typedef struct sb_partial_layout {
     double* triangles; /* 5 per block: angle, stretch-bend, fused bond, fused spring, fused bend */
     double* hinges;    /* 1 per block */
     double* tets;      /* 1 per block: corotated */
+    double* membranes; /* 1 per block: membrane */
     double* vertices;  /* 2 per vertex chunk: kinetic, gravity */
     uint32_t vertex_chunks;
 } sb_partial_layout;
@@ -88,7 +91,8 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     p.triangles = p.bonds + 2 * (size_t)f->bonds.block_count;
     p.hinges = p.triangles + 5 * (size_t)f->triangles.block_count;
     p.tets = p.hinges + f->hinges.block_count;
-    p.vertices = p.tets + f->tets.block_count;
+    p.membranes = p.tets + f->tets.block_count;
+    p.vertices = p.membranes + f->membranes.block_count;
     p.vertex_chunks = sb_vertex_chunks(f->vertex_count);
     return p;
 }
@@ -98,7 +102,7 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
     size_t count = 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
-                   f->tets.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
+                   f->tets.block_count + f->membranes.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
     sb_real** arrays[4] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4};
@@ -152,7 +156,7 @@ static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_e
     }
 }
 
-void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[4],
+void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[5],
                             const sb_fast_frame* frame) {
     const sb_fast_model* f = s->fast;
     sb_pass_flags flags = {0, 0}; /* such kernels raise none */
@@ -160,6 +164,7 @@ void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fas
     if (f->has_corners || f->fused_bonds) sb_group_pass(w, f, &f->triangles, kernels[1], 0, frame, s->partials, &flags);
     if (f->has_hinges) sb_group_pass(w, f, &f->hinges, kernels[2], 0, frame, s->partials, &flags);
     if (f->has_tets) sb_group_pass(w, f, &f->tets, kernels[3], 0, frame, s->partials, &flags);
+    if (f->has_membranes) sb_group_pass(w, f, &f->membranes, kernels[4], 0, frame, s->partials, &flags);
 }
 
 static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, sb_pass_flags* flags) {
@@ -170,6 +175,7 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
         sb_group_pass(w, f, &f->triangles, sb_fast_corners, 5, &frame, p->triangles, flags);
     if (f->has_hinges && !f->fused_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
     if (f->has_tets) sb_group_pass(w, f, &f->tets, sb_fast_tets, 1, &frame, p->tets, flags);
+    if (f->has_membranes) sb_group_pass(w, f, &f->membranes, sb_fast_membranes, 1, &frame, p->membranes, flags);
 }
 
 /* Serial, on one thread: the callback need not be thread-safe; then the
@@ -521,6 +527,7 @@ static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool w
     e->term[SB_TERM_BEND] =
         sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0) + sb_sum_strided(p->triangles, triangle_chunks, 5, 4);
     e->term[SB_TERM_COROTATED] = sb_sum_strided(p->tets, f->tets.block_count, 1, 0);
+    e->term[SB_TERM_MEMBRANE] = sb_sum_strided(p->membranes, f->membranes.block_count, 1, 0);
     if (with_vertices) {
         e->kinetic = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 0);
         e->gravity = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 1);

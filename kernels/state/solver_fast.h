@@ -27,12 +27,12 @@ void sb_fast_vertex_energies(sb_solver* solver);
 sb_real sb_fast_initial_force(const sb_solver* solver, uint32_t vertex, int axis, double velocity);
 /* Fills the state's arrays from the packed working state, when stale. */
 void sb_fast_publish(sb_solver* solver);
-/* Inside a job of the team: kernels[0], [1], [2], [3] over the bonds,
- * triangles, hinges and tetrahedra that the force passes run, in their blocked coloring, for
+/* Inside a job of the team: kernels[0], [1], [2], [3], [4] over the bonds,
+ * triangles, hinges, tetrahedra and membranes that the force passes run, in their blocked coloring, for
  * kernels that keep no energies and raise no flags
  * (kernels/forces/fast_hessian.h). Returns with every worker past the last
  * barrier. */
-void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[4],
+void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fast_kernel kernels[5],
                             const sb_fast_frame* frame);
 
 #endif

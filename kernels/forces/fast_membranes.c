@@ -1,0 +1,76 @@
+/* Fast pass of a sheet's membranes: the reference's element
+ * (kernels/forces/membrane.c, in double) one triangle at a time over a
+ * color's slots, reading the packed sb_real positions and adding to the
+ * packed forces, as the tetrahedra's pass does (kernels/forces/fast_tets.c).
+ * Scalar: a lane-wise element over kernels/runtime/wide.h is not written.
+ * The blocked coloring (kernels/forces/fast_model.h) keeps threads apart and
+ * the summation order fixed; the padding slots past a color's end are
+ * never run. */
+#include "kernels/forces/fast_membranes.h"
+#include "kernels/forces/fast_hessian.h"
+#include "kernels/forces/membrane.h"
+
+/* Slot s's corners v[3], their positions p and D_m⁻¹: false for an
+ * element without stiffness. */
+static bool sb_membrane_slot(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t s, uint32_t v[3], double p[3][3],
+                             double dm_inv[4]) {
+    if (m->membrane_mu[s] == 0.0 && m->membrane_lambda[s] == 0.0) return false;
+    for (int c = 0; c < 3; c++) {
+        v[c] = m->membrane_v[c][s];
+        for (int k = 0; k < 3; k++) p[c][k] = fr->positions4[4 * (size_t)v[c] + k];
+    }
+    for (int k = 0; k < 4; k++) dm_inv[k] = m->membrane_dm_inv[k][s];
+    return true;
+}
+
+int sb_fast_membranes(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
+                      double energy[1]) {
+    (void)serial; /* one element at a time either way */
+    double sum = 0.0;
+    bool bad = false;
+    for (uint32_t s = begin; s < end; s++) {
+        double p[3][3], dm_inv[4], g[3][3], e;
+        uint32_t v[3];
+        if (!sb_membrane_slot(m, fr, s, v, p, dm_inv)) continue;
+        if (!sb_membrane_triangle(p, dm_inv, m->membrane_volume[s], m->membrane_mu[s], m->membrane_lambda[s], g, &e)) {
+            bad = true; /* the reference names it (sb_report_collapse) */
+            continue;
+        }
+        for (int c = 0; c < 3; c++)
+            for (int k = 0; k < 3; k++) fr->forces4[4 * (size_t)v[c] + k] += (sb_real)g[c][k];
+        sum += e;
+    }
+    energy[0] += sum;
+    return bad ? SB_KERNEL_COLLAPSED : 0;
+}
+
+int sb_fast_membranes_hessian(const sb_fast_model* m, const sb_fast_frame* base, uint32_t begin, uint32_t end,
+                              bool serial, double* energy) {
+    (void)serial, (void)energy;
+    const sb_hessian_frame* fr = (const sb_hessian_frame*)base;
+    for (uint32_t s = begin; s < end; s++) {
+        double p[3][3], dm_inv[4], k[81];
+        uint32_t v[3];
+        if (!sb_membrane_slot(m, base, s, v, p, dm_inv)) continue;
+        if (!sb_membrane_stiffness(p, dm_inv, m->membrane_volume[s], m->membrane_mu[s], m->membrane_lambda[s], k))
+            continue;            /* the forces' pass reports it */
+        if (base->velocities4) { /* the product */
+            double d[9];
+            for (int c = 0; c < 3; c++)
+                for (int q = 0; q < 3; q++) d[3 * c + q] = base->velocities4[4 * (size_t)v[c] + q];
+            for (int r = 0; r < 9; r++) {
+                double sum = 0.0;
+                for (int c = 0; c < 9; c++) sum += k[9 * r + c] * d[c];
+                base->forces4[4 * (size_t)v[r / 3] + r % 3] += (sb_real)(fr->scale * sum);
+            }
+            continue;
+        }
+        for (int a = 0; a < 3; a++) { /* the upper triangle xx xy xz yy yz zz */
+            sb_real* block = fr->blocks + SB_BLOCK_STRIDE * (size_t)v[a];
+            static const int rows[SB_BLOCK_SIZE] = {0, 0, 0, 1, 1, 2}, cols[SB_BLOCK_SIZE] = {0, 1, 2, 1, 2, 2};
+            for (int q = 0; q < SB_BLOCK_SIZE; q++)
+                block[sb_block_offset[q]] += (sb_real)(fr->scale * k[(3 * a + rows[q]) * 9 + 3 * a + cols[q]]);
+        }
+    }
+    return 0;
+}
