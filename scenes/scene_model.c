@@ -144,8 +144,8 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
         t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
-    t.model = strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED
-                                                                                   : SB_TISSUE_SPRINGS;
+    t.model =
+        strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }
@@ -300,6 +300,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.pbd_iterations = (int)sb_scene_integer(scene, SB_KEY_PBD_ITERATIONS);
     def.max_splits = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS);
     def.max_splits_per_step = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS_PER_STEP);
+    def.shatter = sb_scene_bool(scene, SB_KEY_TEARING_SHATTER);
     def.vbd_iterations = (int)sb_scene_integer(scene, SB_KEY_VBD_ITERATIONS);
     def.vbd_chebyshev_rho = sb_scene_number(scene, SB_KEY_VBD_CHEBYSHEV_RHO);
     def.vbd_relaxation = sb_scene_number(scene, SB_KEY_VBD_RELAXATION);

@@ -37,6 +37,7 @@
 #include "tests/test_files.h"
 
 #define SIDE 12
+#define CRACK_SAVE 1200 /* steps: the crack runs */
 
 /* What one run owns; a case builds it the same way every time. */
 typedef struct rig {
@@ -183,16 +184,20 @@ static void handles(rig* r, int threads) {
 }
 
 /* tests/pulled_sheet.h's sheet, its rows pulled apart 10 cm in 0.5 s: it
- * tears (bonds break, vertices split). */
-static void torn(rig* r, int threads) {
+ * tears, shattering (bonds broken, vertices split) or as a crack. */
+static void pulled(rig* r, int threads, bool shatter) {
     r->model = ps_sheet_model(SIDE, 0.2, 0.3);
     ps_handles(SIDE, r->handles, r->rows[0]);
     r->handle_count = 2;
     sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
     def.drag = 5.0;
     def.gravity[2] = 0.0;
+    def.shatter = shatter;
     r->solver = tu_solver(r->model, &def);
 }
+
+static void torn(rig* r, int threads) { pulled(r, threads, true); }
+static void cracked(rig* r, int threads) { pulled(r, threads, false); }
 
 static void rig_free(rig* r) {
     sb_solver_destroy(r->solver);
@@ -343,6 +348,15 @@ static void test_breaking(void** state) {
     assert_true(seen.vertices_at_end > seen.vertices_at_save); /* and after */
 }
 
+/* Saved while the crack runs: its tips carry over. */
+static void test_cracking(void** state) {
+    (void)state;
+    after_save seen = check_resume(cracked, 1e-4, CRACK_SAVE, 2500);
+    print_message("broken at the save %u, at the end %u\n", seen.broken_at_save, seen.broken_at_end);
+    assert_true(seen.broken_at_save > 0);
+    assert_true(seen.broken_at_end > seen.broken_at_save);
+}
+
 /* ---- refusals ------------------------------------------------------------- */
 
 /* A rig advanced 50 steps and its saved state. */
@@ -404,7 +418,7 @@ static uint8_t* section_in(uint8_t* data, size_t size, const char tag[4]) {
     sb_sections_reader r;
     sb_cursor section;
     sb_error err;
-    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 2, "state", &err), SB_OK);
+    assert_int_equal(sb_sections_read(&r, data, size, "SBSOLVER", 3, "state", &err), SB_OK);
     assert_true(sb_sections_find(&r, tag, &section));
     return data + (section.at - (const uint8_t*)data);
 }
@@ -722,7 +736,7 @@ static void test_program_run_section_range_checked(void** state) {
         sb_error err;
         assert_int_equal(sb_sections_read(&outer, data, size, "SBCHKPNT", 1, "saved", &err), SB_OK);
         assert_true(sb_sections_find(&outer, "SOLV", &solver));
-        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", 2, "state", &err), SB_OK);
+        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", 3, "state", &err), SB_OK);
         assert_true(sb_sections_find(&inner, "CLCK", &clock));
         uint64_t steps = 7;
         memcpy((uint8_t*)clock.at + 6 * sizeof(double), &steps, sizeof steps);
@@ -815,6 +829,7 @@ int main(void) {
         cmocka_unit_test(test_reference_kernels),
         cmocka_unit_test(test_handles),
         cmocka_unit_test(test_breaking),
+        cmocka_unit_test(test_cracking),
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
         cmocka_unit_test(test_clock_out_of_range_is_refused),

@@ -123,6 +123,12 @@ typedef struct sb_solver_def {
      * default 256, < 0 refused); the rest wait for the next steps, in order. */
     int32_t max_splits;
     int32_t max_splits_per_step; /**< see max_splits: the most vertex copies one step makes; 0 = 256 */
+    /** How bonds past their limits break (docs/breakage.md, Cracks): false
+     * (the default), as cracks: the first at the most overstrained bond,
+     * then only at the cracks' tips unless a bond elsewhere is 25 % past its
+     * limit; true, all at once, every bond past a limit at the step's end
+     * (brittle shattering). */
+    bool shatter;
     /** Cutting (softbond/blade.h): blades that sever the bonds they cross;
      * their definitions are copied. A model with blades can tear even
      * without break limits (max_splits' default then counts every bond). */

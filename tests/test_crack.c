@@ -1,0 +1,111 @@
+/* The crack rule (kernels/interaction/breakage.c): scenes/tearing_sheet.yaml,
+ * pulled apart by its two handles for its whole second, ends in exactly two
+ * pieces (the vertices joined by unbroken bonds: no fragment, no vertex
+ * left alone), every broken bond has its ends in different pieces (no
+ * hole, no dead end of a crack inside a piece: no triangle away from the
+ * crack lost a bond) and the broken bonds form one crack (connected
+ * through the model vertices they share); the same with 1, 2 and 3
+ * threads, bond for bond. */
+#include "test_util.h"
+#include "softbond/scene.h"
+
+#define SCENE SB_SOURCE_DIR "/scenes/tearing_sheet.yaml"
+
+static uint32_t find(uint32_t* parent, uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+static void join(uint32_t* parent, uint32_t i, uint32_t j) { parent[find(parent, i)] = find(parent, j); }
+
+static uint32_t* identity(uint32_t n) {
+    uint32_t* parent = malloc(n * sizeof *parent);
+    for (uint32_t i = 0; i < n; i++) parent[i] = i;
+    return parent;
+}
+
+/* The pieces: the solver's vertices joined by its unbroken bonds. */
+static uint32_t* pieces(const sb_solver* s, uint32_t* count) {
+    uint32_t n = sb_solver_vertex_count(s), bonds = sb_model_bond_count(sb_solver_model(s)), ends[2];
+    uint32_t* parent = identity(n);
+    for (uint32_t b = 0; b < bonds; b++) {
+        if (sb_solver_bond_broken(s, b)) continue;
+        sb_solver_bond(s, b, ends);
+        join(parent, ends[0], ends[1]);
+    }
+    *count = 0;
+    for (uint32_t i = 0; i < n; i++) *count += find(parent, i) == i;
+    return parent;
+}
+
+/* The cracks: the broken bonds joined through the model vertices they share. */
+static uint32_t cracks(const sb_solver* s) {
+    uint32_t n = sb_model_vertex_count(sb_solver_model(s)), bonds = sb_model_bond_count(sb_solver_model(s)), ends[2];
+    uint32_t *parent = identity(n), count = 0;
+    uint8_t* on = calloc(n, 1);
+    for (uint32_t b = 0; b < bonds; b++) {
+        if (!sb_solver_bond_broken(s, b)) continue;
+        sb_solver_bond(s, b, ends);
+        uint32_t i = sb_solver_vertex_origin(s, ends[0]), j = sb_solver_vertex_origin(s, ends[1]);
+        join(parent, i, j);
+        on[i] = on[j] = 1;
+    }
+    for (uint32_t i = 0; i < n; i++) count += on[i] && find(parent, i) == i;
+    free(on);
+    free(parent);
+    return count;
+}
+
+static sb_solver* tear(const sb_scene_file* scene, int threads) {
+    sb_solver_def def = *sb_scene_file_solver_def(scene);
+    def.runtime.threads = threads;
+    sb_error err;
+    sb_solver* s = sb_solver_create(sb_scene_file_model(scene), &def, &err);
+    if (!s) fail_msg("%s", err.message);
+    double dt = sb_scene_file_dt(scene);
+    int steps = (int)lround(sb_scene_file_duration(scene) / dt);
+    for (int k = 0; k < steps; k++)
+        if (sb_solver_advance(s, dt) != SB_OK) fail_msg("step %d: %s", k, sb_solver_error(s));
+    return s;
+}
+
+static void test_sheet_tears_along_one_crack(void** state) {
+    (void)state;
+    sb_scene_file* scene;
+    sb_error err;
+    if (sb_scene_file_load(SCENE, NULL, 0, &scene, &err) != SB_OK) fail_msg("%s", err.message);
+    sb_solver* first = NULL;
+    for (int threads = 1; threads <= 3; threads++) {
+        sb_solver* s = tear(scene, threads);
+        uint32_t count, ends[2], bonds = sb_model_bond_count(sb_solver_model(s));
+        uint32_t* parent = pieces(s, &count);
+        print_message("%d threads: %u bonds broken, %u vertices made, %u pieces, %u cracks\n", threads,
+                      sb_solver_broken_count(s), sb_solver_vertex_count(s) - sb_model_vertex_count(sb_solver_model(s)),
+                      count, cracks(s));
+        assert_int_equal(count, 2);
+        assert_int_equal(cracks(s), 1);
+        for (uint32_t b = 0; b < bonds; b++) {
+            if (!sb_solver_bond_broken(s, b)) continue;
+            sb_solver_bond(s, b, ends);
+            if (find(parent, ends[0]) == find(parent, ends[1])) fail_msg("broken bond %u lies inside a piece", b);
+        }
+        free(parent);
+        if (!first) {
+            first = s;
+            continue;
+        }
+        assert_int_equal(sb_solver_broken_count(s), sb_solver_broken_count(first));
+        for (uint32_t b = 0; b < bonds; b++)
+            assert_int_equal(sb_solver_bond_broken(s, b), sb_solver_bond_broken(first, b));
+        sb_solver_destroy(s);
+    }
+    sb_solver_destroy(first);
+    sb_scene_file_destroy(scene);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sheet_tears_along_one_crack),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
