@@ -33,15 +33,18 @@
  *    crack (the direction at rest of the bond that started it, handed on
  *    from tip to tip). A bond at a tip breaks past its tip strength
  *    (SB_TIP_STRENGTH = 0.8 of the way from its rest length to its limit)
- *    when the crack runs across it: its ends on either side of the plane,
- *    and it within 60 degrees of the pull (it carries it). The crack so
+ *    when the crack runs across it: the plane cuts it in its middle half
+ *    (SB_TIP_CUT: a bond of the next row of a jittered mesh, which the
+ *    plane may just clip at an end, is not the crack's), and it is within
+ *    60 degrees of the pull (it carries it). The crack so
  *    runs straight across the pull, mode I, one bond a step at each tip at
  *    most as fast as the sheet's stress moves;
  *  - anywhere else a bond breaks on its own only 25 % past its limit
  *    (SB_CRACK_MARGIN);
- *  - a bond whose triangles are all dead (a ligament: the diagonal left
- *    between two broken bonds of a cell) has no material left to stand for
- *    and breaks with the last of them.
+ *  - an interior bond whose triangles are all dead (a ligament: the
+ *    diagonal left between two broken bonds of a cell) has no material
+ *    left to stand for and breaks with the last of them; a border bond
+ *    stays (a crack along the border's row would otherwise crumble it).
  * The tips are those before the pass, the breaks are made in bond order,
  * the callbacks after them in bond order: the same for any thread count.
  * sb_solver_def.shatter keeps the brittle rule: every bond past a limit
@@ -100,6 +103,7 @@
 #define SB_CRACK_MARGIN 0.25
 #define SB_TIP_STRENGTH 0.8
 #define SB_TIP_ALIGNED 0.5
+#define SB_TIP_CUT 0.25
 #define SB_NONE UINT32_MAX
 
 /* A break's crack: the plane through bond `at`'s rest midpoint square to
@@ -435,13 +439,14 @@ static void sb_crack_reach(sb_breakage* b, uint32_t v, sb_crack_cause cause) {
 
 static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause);
 
-/* Whether bond is a ligament: every triangle on its edge dead (and one at
- * least), so no material is left for it to stand for. */
+/* Whether bond is a ligament: an interior bond (two triangles or more on
+ * its edge) with every one of them dead, so no material is left for it to
+ * stand for. A bond on the surface's border keeps the border whole. */
 static bool sb_ligament(const sb_breakage* b, uint32_t bond) {
     uint32_t first = b->triangles.start[bond], end = b->triangles.start[bond + 1];
     for (uint32_t q = first; q < end; q++)
         if (!b->triangle_dead[b->triangles.element[q]]) return false;
-    return end > first;
+    return end > first + 1;
 }
 
 /* Triangle t dies by cause's break: its constants go, its vertices join
@@ -540,7 +545,8 @@ static bool sb_runs_across(const sb_breakage* b, uint32_t u, uint32_t bond) {
         side_j += (rest[a][m->bond_j[bond]] - mid[a]) * pull[a];
         aligned += dir[a] * pull[a];
     }
-    return side_i * side_j < 0.0 && fabs(aligned) >= SB_TIP_ALIGNED;
+    double cut = side_i / (side_i - side_j); /* where along the bond the plane cuts it, when it does */
+    return side_i * side_j < 0.0 && cut >= SB_TIP_CUT && cut <= 1.0 - SB_TIP_CUT && fabs(aligned) >= SB_TIP_ALIGNED;
 }
 
 /* Limited bond k breaks in this pass, its crack square to bond pull (the
