@@ -5,9 +5,16 @@
  * hole, no dead end of a crack inside a piece: no triangle away from the
  * crack lost a bond) and the broken bonds form one crack (connected
  * through the model vertices they share); the same with 1, 2 and 3
- * threads, bond for bond. */
+ * threads, bond for bond. After every step that broke bonds the solver's
+ * forces and term energies, corrected by the broken elements' alone, are
+ * the scalar reference's of the working copy at that state (plus drag and
+ * gravity), to the fast kernels' rounding. */
 #include "test_util.h"
 #include "softbond/scene.h"
+#include "softbond/reference.h"
+#include "kernels/state/solver_data.h"
+#include "kernels/interaction/breakage.h"
+#include "mesh/model_internal.h"
 
 #define SCENE SB_SOURCE_DIR "/scenes/tearing_sheet.yaml"
 
@@ -103,9 +110,63 @@ static void test_sheet_tears_along_one_crack(void** state) {
     sb_scene_file_destroy(scene);
 }
 
+/* The solver's forces against the reference's of its working copy; returns
+ * the largest difference over the largest reference force. */
+static double forces_error(const sb_solver* s, const sb_solver_def* def) {
+    const sb_model* live = sb_breakage_model(s->breakage);
+    uint32_t n = sb_solver_vertex_count(s), cap = sb_solver_vertex_capacity(s);
+    double *x = calloc(3 * (size_t)cap, sizeof *x), *v = calloc(3 * (size_t)cap, sizeof *v);
+    double *f = calloc(3 * (size_t)cap, sizeof *f), *ref = calloc(3 * (size_t)cap, sizeof *ref), worst = 0.0, top = 0.0;
+    sb_solver_get_positions(s, x);
+    sb_solver_get_velocities(s, v);
+    sb_solver_get_forces(s, f);
+    sb_energies e;
+    sb_error err;
+    assert_int_equal(sb_reference_forces(live, x, v, ref, &e, &err), SB_OK);
+    for (uint32_t i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) {
+            double body = live->mass[i] * (def->gravity[a] - def->drag * v[3 * i + a]);
+            top = fmax(top, fabs(ref[3 * i + a]));
+            worst = fmax(worst, fabs(f[3 * i + a] - ref[3 * i + a] - body));
+        }
+    sb_energies mine = sb_solver_energies(s);
+    for (int t = 0; t < SB_TERM_COUNT; t++)
+        assert_true(fabs(mine.term[t] - e.term[t]) <= 1e-4 * fabs(e.term[t]) + 1e-12);
+    free(x);
+    free(v);
+    free(f);
+    free(ref);
+    return worst / top;
+}
+
+static void test_breaking_steps_correct_their_forces(void** state) {
+    (void)state;
+    sb_scene_file* scene;
+    sb_error err;
+    if (sb_scene_file_load(SCENE, NULL, 0, &scene, &err) != SB_OK) fail_msg("%s", err.message);
+    const sb_solver_def* def = sb_scene_file_solver_def(scene);
+    sb_solver* s = sb_solver_create(sb_scene_file_model(scene), def, &err);
+    if (!s) fail_msg("%s", err.message);
+    double dt = sb_scene_file_dt(scene), worst = 0.0;
+    uint32_t checked = 0;
+    for (int k = 0; k < (int)lround(sb_scene_file_duration(scene) / dt); k++) {
+        uint32_t broken = sb_solver_broken_count(s);
+        assert_int_equal(sb_solver_advance(s, dt), SB_OK);
+        if (sb_solver_broken_count(s) == broken) continue;
+        worst = fmax(worst, forces_error(s, def));
+        checked++;
+    }
+    print_message("%u breaking steps: forces within %g of the largest\n", checked, worst);
+    assert_true(checked > 0);
+    assert_true(worst < 5e-3); /* the fast kernels' float rounding: 1.7e-3 on the steps between */
+    sb_solver_destroy(s);
+    sb_scene_file_destroy(scene);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sheet_tears_along_one_crack),
+        cmocka_unit_test(test_breaking_steps_correct_their_forces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

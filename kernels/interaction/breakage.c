@@ -67,8 +67,15 @@
  * first step of tearing, those of every triangle that has the bond's edge
  * and every hinge whose edge or wings have it (a hinge across a dead
  * triangle has no face to bend); then calls the callback on the advancing
- * thread. The forces and energies are then evaluated again, so that the
- * next step never feels a broken bond. Bond order and one thread: the same
+ * thread. The forces and energies are then corrected, so that the next
+ * step never feels a broken bond: as each bond, triangle and hinge loses
+ * its constants its forces and energies at the step's end state are taken
+ * (the scalar reference's, on a one-element view of the working copy, in
+ * double) and, after the pass, subtracted from the state's and the packed
+ * forces and the term energies: the cost of the broken elements, not of a
+ * force evaluation. A step that splits a vertex (each copy takes the
+ * forces of its own elements) or removes an element whose edge collapsed
+ * evaluates everything again instead. Bond order and one thread: the same
  * bonds break at the same step for any thread count.
  *
  * Tearing (kernels/interaction/topology.c) starts from here: a dying triangle's
@@ -87,6 +94,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "softbond/reference.h"
 #include "common/edge_map.h"
 #include "common/error.h"
 
@@ -132,6 +140,11 @@ struct sb_breakage {
     uint32_t* chosen;                        /* per limited bond: the serial pass's breaks */
     uint8_t* picked;                         /* per limited bond: in chosen */
     uint32_t *fresh, fresh_count;            /* the bonds broken in this accept stage, for the callback */
+    /* the forces' correction (the design note): positions and velocities in
+     * double, the removed elements' forces and energies, 3 per vertex slot */
+    double *x3, *v3, *removed_forces;
+    sb_energies removed;
+    enum { SB_CORRECTION_OFF, SB_CORRECTION_ARMED, SB_CORRECTION_ON, SB_CORRECTION_FAILED } correction;
     uint32_t model_vertices;
     uint8_t *triangle_dead, *hinge_dead; /* on a broken bond's edge */
     double* forces;                      /* 3n: the forces before a break */
@@ -229,9 +242,9 @@ static bool sb_limits(sb_breakage* b, const sb_model* m) {
     b->model_vertices = m->vertex_count;
     b->triangle_dead = calloc((size_t)m->triangle_count + 1, 1);
     b->hinge_dead = calloc((size_t)m->hinge_count + 1, 1);
-    void* arrays[] = {b->limited,  b->min2,          b->max2,       b->broken,         b->tip_min2,
-                      b->tip_max2, b->crack,         b->tips,       b->vertex_start,   b->chosen,
-                      b->picked,   b->triangle_dead, b->hinge_dead, b->vertex_limited, b->fresh};
+    void* arrays[] = {b->limited,    b->min2,           b->max2,         b->broken,     b->tip_min2, b->tip_max2,
+                      b->crack,      b->tips,           b->vertex_start, b->chosen,     b->picked,   b->triangle_dead,
+                      b->hinge_dead, b->vertex_limited, b->fresh,        b->chosen_pull};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++)
         if (!arrays[a]) return false;
     for (uint32_t v = 0; v < m->vertex_count; v++) b->crack[v].at = b->crack[v].pull = SB_NONE;
@@ -345,6 +358,15 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
     return ok;
 }
 
+/* The correction's arrays, for every vertex slot of the working copy. */
+static bool sb_correction_prepare(sb_breakage* b) {
+    size_t n = 3 * (size_t)b->live.vertex_count + 1;
+    b->x3 = malloc(n * sizeof *b->x3);
+    b->v3 = malloc(n * sizeof *b->v3);
+    b->removed_forces = malloc(n * sizeof *b->removed_forces);
+    return b->x3 && b->v3 && b->removed_forces;
+}
+
 sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
     *out = NULL;
     if (!m->breakable && def->blade_count == 0) return SB_OK;
@@ -357,7 +379,7 @@ sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_bre
     }
     if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
     if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
-        !sb_tearing_prepare(b, m, def)) {
+        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b)) {
         sb_breakage_destroy(b);
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
     }
@@ -370,13 +392,35 @@ void sb_breakage_destroy(sb_breakage* b) {
     if (!b) return;
     sb_topology_destroy(b->topology);
     sb_cutting_destroy(b->cutting);
-    void* arrays[] = {b->forces,        b->constants,      b->limited,         b->min2,
-                      b->max2,          b->broken,         b->triangles.start, b->triangles.element,
-                      b->hinges.start,  b->hinges.element, b->triangle_dead,   b->hinge_dead,
-                      b->vertex_block,  b->fixed,          b->index_block,     b->tip_min2,
-                      b->tip_max2,      b->crack,          b->chosen_pull,     b->tips,
-                      b->vertex_start,  b->vertex_limited, b->chosen,          b->picked,
-                      b->triangle_bonds};
+    void* arrays[] = {b->forces,
+                      b->constants,
+                      b->limited,
+                      b->min2,
+                      b->max2,
+                      b->broken,
+                      b->triangles.start,
+                      b->triangles.element,
+                      b->hinges.start,
+                      b->hinges.element,
+                      b->triangle_dead,
+                      b->hinge_dead,
+                      b->vertex_block,
+                      b->fixed,
+                      b->index_block,
+                      b->tip_min2,
+                      b->tip_max2,
+                      b->crack,
+                      b->chosen_pull,
+                      b->tips,
+                      b->vertex_start,
+                      b->vertex_limited,
+                      b->chosen,
+                      b->picked,
+                      b->triangle_bonds,
+                      b->fresh,
+                      b->x3,
+                      b->v3,
+                      b->removed_forces};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(b);
 }
@@ -437,6 +481,69 @@ static void sb_crack_reach(sb_breakage* b, uint32_t v, sb_crack_cause cause) {
     b->crack[u] = cause;
 }
 
+enum { SB_REMOVE_BOND, SB_REMOVE_TRIANGLE, SB_REMOVE_HINGE };
+
+/* Element e of one kind of the working copy, as a model of its own. */
+static sb_model sb_single(const sb_model* m, int kind, uint32_t e) {
+    sb_model one = *m;
+    one.bond_count = one.triangle_count = one.hinge_count = one.tet_count = 0;
+    if (kind == SB_REMOVE_BOND) {
+        one.bond_count = 1;
+        one.bond_i += e, one.bond_j += e, one.bond_r0 += e, one.bond_k += e, one.spring_k += e;
+        one.spring_damping += e;
+    } else if (kind == SB_REMOVE_TRIANGLE) {
+        one.triangle_count = 1;
+        for (int c = 0; c < 3; c++) one.tri_v[c] += e, one.tri_cos0[c] += e, one.tri_len0[c] += e;
+        one.angle_k += e, one.stretch_bend_k += e;
+    } else {
+        one.hinge_count = 1;
+        one.hinge_e0 += e, one.hinge_e1 += e, one.hinge_o0 += e, one.hinge_o1 += e, one.hinge_phi0 += e;
+        one.hinge_k += e;
+    }
+    return one;
+}
+
+/* The first removal of an accept stage: the state in double, nothing removed yet. */
+static void sb_correction_start(sb_solver* s, sb_breakage* b) {
+    const sb_state* st = &s->state;
+    sb_fast_publish(s);
+    sb_interleave(b->x3, st->x, st->y, st->z, st->vertex_count);
+    sb_interleave(b->v3, st->vx, st->vy, st->vz, st->vertex_count);
+    memset(b->removed_forces, 0, 3 * (size_t)st->vertex_count * sizeof *b->removed_forces);
+    memset(&b->removed, 0, sizeof b->removed);
+    b->correction = SB_CORRECTION_ON;
+}
+
+/* Element e of one kind is about to lose its constants: its forces and
+ * energies at the state (the scalar reference's) join the removed ones. */
+static void sb_remove(sb_solver* s, sb_breakage* b, int kind, uint32_t e) {
+    static const sb_term terms[3][2] = {
+        {SB_TERM_BOND, SB_TERM_SPRING}, {SB_TERM_ANGLE, SB_TERM_STRETCH_BEND}, {SB_TERM_BEND, SB_TERM_BEND}};
+    if (b->correction == SB_CORRECTION_ARMED) sb_correction_start(s, b);
+    if (b->correction != SB_CORRECTION_ON) return;
+    sb_model one = sb_single(&b->live, kind, e);
+    for (int q = 0; q < (kind == SB_REMOVE_HINGE ? 1 : 2); q++) {
+        double energy;
+        sb_error err;
+        if (sb_reference_term(&one, terms[kind][q], b->x3, b->v3, b->removed_forces, &energy, &err) != SB_OK)
+            b->correction = SB_CORRECTION_FAILED; /* a collapsed edge: the full evaluation says so */
+        b->removed.term[terms[kind][q]] += energy;
+    }
+}
+
+/* The forces and term energies without the removed elements': the state's
+ * and the packed ones. */
+static void sb_correction_apply(sb_solver* s, sb_breakage* b) {
+    sb_state* st = &s->state;
+    sb_real* f[3] = {st->fx, st->fy, st->fz};
+    for (uint32_t i = 0; i < st->vertex_count; i++)
+        for (int a = 0; a < 3; a++) {
+            f[a][i] = (sb_real)(f[a][i] - b->removed_forces[3 * (size_t)i + a]);
+            if (s->fast) s->forces4[4 * (size_t)i + a] = f[a][i];
+        }
+    for (int t = 0; t < SB_TERM_COUNT; t++) s->energies.term[t] -= b->removed.term[t];
+}
+
 static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause);
 
 /* Whether bond is a ligament: an interior bond (two triangles or more on
@@ -454,6 +561,7 @@ static bool sb_ligament(const sb_breakage* b, uint32_t bond) {
  * break with it. */
 static void sb_drop_triangle(sb_solver* s, sb_breakage* b, uint32_t t, bool notify, sb_crack_cause cause) {
     sb_model* m = &b->live;
+    sb_remove(s, b, SB_REMOVE_TRIANGLE, t);
     m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
     for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
     if (s->fast) sb_fast_drop_triangle(s->fast, t);
@@ -477,6 +585,7 @@ static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond, bool n
         sb_topology_queue(b->topology, m->bond_j[bond]);
     }
     for (uint32_t q = b->hinges.start[bond]; q < b->hinges.start[bond + 1]; q++) {
+        if (!b->hinge_dead[b->hinges.element[q]]) sb_remove(s, b, SB_REMOVE_HINGE, b->hinges.element[q]);
         m->hinge_k[b->hinges.element[q]] = 0.0;
         if (s->fast) sb_fast_drop_hinge(s->fast, b->hinges.element[q]);
         b->hinge_dead[b->hinges.element[q]] = 1;
@@ -499,6 +608,7 @@ static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool noti
     }
     sb_crack_reach(b, m->bond_i[bond], cause);
     sb_crack_reach(b, m->bond_j[bond], cause);
+    sb_remove(s, b, SB_REMOVE_BOND, bond);
     m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
     if (s->fast) sb_fast_break_bond(s->fast, bond);
     if (notify) b->fresh[b->fresh_count++] = bond;
@@ -668,9 +778,12 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     const sb_real* p = sb_packed_positions(s);
     /* the fused step's kernels measured every bond at these positions and flag one near a limit */
     bool measured = sb_fused(s) && s->fast->limits_measured;
+    b->correction = SB_CORRECTION_ARMED;
     bool broke = sb_break_cracks(s, b, p, measured ? s->near_limits : sb_any_past(b, p));
     if (b->cutting)
         broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->step.dt, s->time, sb_sever, s) > 0;
+    bool corrected = b->correction == SB_CORRECTION_ON;
+    b->correction = SB_CORRECTION_OFF;
     sb_notify(s, b);
     if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
@@ -678,8 +791,12 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
     if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
     if (!broke && made == 0) return SB_OK;
-    sb_status status = sb_solver_compute_forces(s);
-    if (status != SB_OK) return status;
+    if (made == 0 && corrected) /* only the removed elements' forces go */
+        sb_correction_apply(s, b);
+    else { /* a split vertex's copies each take their own elements' forces: all evaluated again */
+        sb_status status = sb_solver_compute_forces(s);
+        if (status != SB_OK) return status;
+    }
     sb_rekick(s, b->forces);
     sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
     return SB_OK;
