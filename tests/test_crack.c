@@ -7,8 +7,8 @@
  * through the model vertices they share); the same with 1, 2 and 3
  * threads, bond for bond. After every step that broke bonds the solver's
  * forces and term energies, corrected by the broken elements' alone, are
- * the scalar reference's of the working copy at that state (plus drag and
- * gravity), to the fast kernels' rounding. */
+ * the scalar reference's of the working copy at that state (plus gravity;
+ * no drag there), to the fast kernels' rounding. */
 #include "test_util.h"
 #include "softbond/scene.h"
 #include "softbond/reference.h"
@@ -125,7 +125,7 @@ static double forces_error(const sb_solver* s, const sb_solver_def* def) {
     assert_int_equal(sb_reference_forces(live, x, v, ref, &e, &err), SB_OK);
     for (uint32_t i = 0; i < n; i++)
         for (int a = 0; a < 3; a++) {
-            double body = live->mass[i] * (def->gravity[a] - def->drag * v[3 * i + a]);
+            double body = live->mass[i] * def->gravity[a];
             top = fmax(top, fabs(ref[3 * i + a]));
             worst = fmax(worst, fabs(f[3 * i + a] - ref[3 * i + a] - body));
         }
@@ -143,7 +143,8 @@ static void test_breaking_steps_correct_their_forces(void** state) {
     (void)state;
     sb_scene_file* scene;
     sb_error err;
-    if (sb_scene_file_load(SCENE, NULL, 0, &scene, &err) != SB_OK) fail_msg("%s", err.message);
+    const char* no_drag[] = {"drag=0"}; /* drag reads velocities the step does not keep: no oracle for it */
+    if (sb_scene_file_load(SCENE, no_drag, 1, &scene, &err) != SB_OK) fail_msg("%s", err.message);
     const sb_solver_def* def = sb_scene_file_solver_def(scene);
     sb_solver* s = sb_solver_create(sb_scene_file_model(scene), def, &err);
     if (!s) fail_msg("%s", err.message);
@@ -158,7 +159,8 @@ static void test_breaking_steps_correct_their_forces(void** state) {
     }
     print_message("%u breaking steps: forces within %g of the largest\n", checked, worst);
     assert_true(checked > 0);
-    assert_true(worst < 5e-3); /* the fast kernels' float rounding: 1.7e-3 on the steps between */
+    /* the fast kernels' rounding: in float up to 2.4e-4 on the steps between, in double 5e-13 */
+    assert_true(worst < (sizeof(sb_real) == sizeof(float) ? 1e-3 : 1e-9));
     sb_solver_destroy(s);
     sb_scene_file_destroy(scene);
 }
