@@ -448,6 +448,36 @@ static void test_state_not_finite_is_refused(void** state) {
     rig_free(&fresh);
 }
 
+/* A crack of a saved state that names a bond the model does not have is
+ * refused whatever the checksum says, naming the vertex. */
+static void test_crack_out_of_range_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    cracked(&a, 1);
+    for (int k = 0; k < CRACK_SAVE; k++) advance(&a, 1e-4);
+    size_t size = sb_solver_state_size(a.solver);
+    uint8_t* data = malloc(size);
+    assert_int_equal(sb_solver_save_state(a.solver, data, size, NULL), SB_OK);
+    cracked(&fresh, 1);
+    uint32_t broken, tips, bonds = sb_model_bond_count(fresh.model);
+    uint8_t* section = section_in(data, size, "BRKN");
+    memcpy(&broken, section, 4);
+    memcpy(&tips, section + 4 + 4 * (size_t)broken, 4);
+    uint8_t* crack = section + 8 + 4 * ((size_t)broken + tips); /* vertex 0's: the bond at, the pull */
+    uint32_t saved, bad = bonds + 5;
+    memcpy(&saved, crack, 4);
+    memcpy(crack, &bad, 4);
+    reseal(data, size);
+    assert_refused(&fresh, data, size, "solver state: vertex 0's crack names bonds");
+    memcpy(crack, &saved, 4);
+    reseal(data, size);
+    sb_error err;
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
 /* The clock of a saved state is range-checked whatever
  * its checksum says (a NaN time was taken). */
 static void test_clock_out_of_range_is_refused(void** state) {
@@ -830,6 +860,7 @@ int main(void) {
         cmocka_unit_test(test_handles),
         cmocka_unit_test(test_breaking),
         cmocka_unit_test(test_cracking),
+        cmocka_unit_test(test_crack_out_of_range_is_refused),
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
         cmocka_unit_test(test_clock_out_of_range_is_refused),

@@ -819,6 +819,23 @@ void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
     sb_sections_put(w, b->crack, b->model_vertices * sizeof *b->crack);
 }
 
+/* The cracks' part of the section at r (its length checked): every tip a
+ * model vertex, every crack's bonds bonds of the model or both none. */
+static sb_status sb_cracks_check(const sb_breakage* b, sb_cursor r, uint32_t tips, sb_error* err) {
+    uint32_t tip;
+    sb_crack_cause crack;
+    for (uint32_t q = 0; q < tips; q++)
+        if (sb_cursor_take(&r, &tip, sizeof tip) && tip >= b->model_vertices)
+            return sb_error_set(err, SB_ERR_PARSE, "crack tip %u is not a vertex of the model", tip);
+    for (uint32_t v = 0; v < b->model_vertices && sb_cursor_take(&r, &crack, sizeof crack); v++) {
+        bool none = crack.at == SB_NONE && crack.pull == SB_NONE;
+        if (!none && (crack.at >= b->live.bond_count || crack.pull >= b->live.bond_count))
+            return sb_error_set(err, SB_ERR_PARSE, "vertex %u's crack names bonds %u and %u, not the model's", v,
+                                crack.at, crack.pull);
+    }
+    return SB_OK;
+}
+
 sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
     uint32_t count, bond, last = 0;
     if (b->broken_count > 0)
@@ -842,7 +859,7 @@ sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
                                 bond);
         last = bond;
     }
-    return SB_OK;
+    return sb_cracks_check(b, rest, tips, err);
 }
 
 void sb_breakage_load(sb_solver* s, sb_cursor* r) {
