@@ -72,9 +72,10 @@ typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, c
                                      const double velocity[3], double force[3]);
 
 /** Called once per bond that breaks (softbond/builder.h's break_min,
- * break_max), on the thread that advances the solver, in bond order, at the
- * end of the (sub-)step whose end length crossed the limit; time is that
- * step's end (s). */
+ * break_max; docs/breakage.md, Cracks: past its limit, at a crack tip past
+ * its tip strength, or left with no live triangle), on the thread that
+ * advances the solver, after the (sub-)step it broke at, the step's bonds
+ * in bond order; time is that step's end (s). */
 typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, double time);
 
 /** Everything a solver is made with (sb_solver_create copies it; what its
