@@ -131,6 +131,8 @@ typedef enum sb_scene_type {
       "vertex copies tearing may make over the run (spare vertices reserved); 0 = default, -1 = no splitting")         \
     X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \
       "vertex copies a step may make, the rest wait; 0 = default 256")                                                 \
+    X(TEARING_SHATTER, "tearing.shatter", BOOL, "false", "",                                                           \
+      "true: every bond past its limit breaks at once; false: bonds break as cracks that run from their tips")         \
     X(CONTACT_THICKNESS, "contact.thickness", NUMBER, "0", "m",                                                        \
       "m, >= 0: added to every collider's own thickness; the distance self-contact keeps between surfaces; "           \
       "refused above the body's extent (its bounding box's diagonal), as is a collider's own thickness")               \

@@ -37,6 +37,7 @@
 #include "tests/test_files.h"
 
 #define SIDE 12
+#define CRACK_SAVE 1200 /* steps: the crack runs */
 
 /* What one run owns; a case builds it the same way every time. */
 typedef struct rig {
@@ -183,16 +184,20 @@ static void handles(rig* r, int threads) {
 }
 
 /* tests/pulled_sheet.h's sheet, its rows pulled apart 10 cm in 0.5 s: it
- * tears (bonds break, vertices split). */
-static void torn(rig* r, int threads) {
+ * tears, shattering (bonds broken, vertices split) or as a crack. */
+static void pulled(rig* r, int threads, bool shatter) {
     r->model = ps_sheet_model(SIDE, 0.2, 0.3);
     ps_handles(SIDE, r->handles, r->rows[0]);
     r->handle_count = 2;
     sb_solver_def def = rig_def(r, SB_INTEGRATOR_VERLET, threads);
     def.drag = 5.0;
     def.gravity[2] = 0.0;
+    def.shatter = shatter;
     r->solver = tu_solver(r->model, &def);
 }
+
+static void torn(rig* r, int threads) { pulled(r, threads, true); }
+static void cracked(rig* r, int threads) { pulled(r, threads, false); }
 
 static void rig_free(rig* r) {
     sb_solver_destroy(r->solver);
@@ -343,6 +348,15 @@ static void test_breaking(void** state) {
     assert_true(seen.vertices_at_end > seen.vertices_at_save); /* and after */
 }
 
+/* Saved while the crack runs: its tips carry over. */
+static void test_cracking(void** state) {
+    (void)state;
+    after_save seen = check_resume(cracked, 1e-4, CRACK_SAVE, 2500);
+    print_message("broken at the save %u, at the end %u\n", seen.broken_at_save, seen.broken_at_end);
+    assert_true(seen.broken_at_save > 0);
+    assert_true(seen.broken_at_end > seen.broken_at_save);
+}
+
 /* ---- refusals ------------------------------------------------------------- */
 
 /* A rig advanced 50 steps and its saved state. */
@@ -428,6 +442,36 @@ static void test_state_not_finite_is_refused(void** state) {
     assert_refused(&fresh, data, size, "solver state: the step arrays' vy of vertex 2 is not finite");
     memcpy(vy, &saved, sizeof saved);
     reseal(data, size);
+    assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
+    free(data);
+    rig_free(&a);
+    rig_free(&fresh);
+}
+
+/* A crack of a saved state that names a bond the model does not have is
+ * refused whatever the checksum says, naming the vertex. */
+static void test_crack_out_of_range_is_refused(void** state) {
+    (void)state;
+    rig a = {0}, fresh = {0};
+    cracked(&a, 1);
+    for (int k = 0; k < CRACK_SAVE; k++) advance(&a, 1e-4);
+    size_t size = sb_solver_state_size(a.solver);
+    uint8_t* data = malloc(size);
+    assert_int_equal(sb_solver_save_state(a.solver, data, size, NULL), SB_OK);
+    cracked(&fresh, 1);
+    uint32_t broken, tips, bonds = sb_model_bond_count(fresh.model);
+    uint8_t* section = section_in(data, size, "BRKN");
+    memcpy(&broken, section, 4);
+    memcpy(&tips, section + 4 + 4 * (size_t)broken, 4);
+    uint8_t* crack = section + 8 + 4 * ((size_t)broken + tips); /* vertex 0's: the bond at, the pull */
+    uint32_t saved, bad = bonds + 5;
+    memcpy(&saved, crack, 4);
+    memcpy(crack, &bad, 4);
+    reseal(data, size);
+    assert_refused(&fresh, data, size, "solver state: vertex 0's crack names bonds");
+    memcpy(crack, &saved, 4);
+    reseal(data, size);
+    sb_error err;
     assert_int_equal(sb_solver_load_state(fresh.solver, data, size, &err), SB_OK);
     free(data);
     rig_free(&a);
@@ -815,6 +859,8 @@ int main(void) {
         cmocka_unit_test(test_reference_kernels),
         cmocka_unit_test(test_handles),
         cmocka_unit_test(test_breaking),
+        cmocka_unit_test(test_cracking),
+        cmocka_unit_test(test_crack_out_of_range_is_refused),
         cmocka_unit_test(test_truncated_and_corrupt_are_refused),
         cmocka_unit_test(test_other_model_setup_or_precision_is_refused),
         cmocka_unit_test(test_clock_out_of_range_is_refused),

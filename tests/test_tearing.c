@@ -1,5 +1,5 @@
 /* Tearing (kernels/interaction/topology.c): a sheet pulled apart by two handles tears
- * through — its live triangles, joined through their current vertices
+ * through, shattering (sb_solver_def.shatter) — its live triangles, joined through their current vertices
  * (union-find here), fall into separate components, one holding the
  * bottom row and one the top, and the halves move apart — with the fast
  * and the reference kernels; every step leaves a valid mesh (live
@@ -38,8 +38,11 @@ static void pulled_start(pulled_run* r, sb_solver_def def) {
 
 static void pulled_end(pulled_run* r) { ps_destroy(r->solver, r->handles, r->model); }
 
+/* Shattering (every bond past its limit breaks at once) splits vertices
+ * where cracks running from their tips (tests/test_crack.c) need not. */
 static sb_solver_def kernels_def(sb_kernels kernels, int threads) {
     sb_solver_def def = sb_default_solver_def();
+    def.shatter = true;
     def.kernels = kernels;
     def.runtime.threads = threads;
     return def;

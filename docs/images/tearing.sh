@@ -3,8 +3,8 @@
 # (t = 1 s) of scenes/tearing_sheet.yaml, the sheet torn through by its two
 # handles, and of scenes/blade_cut.yaml, the hanging sheet cut up its
 # middle by the blade. Each picture has its own camera on the sheet (the
-# frame's own frames every vertex, and the torn sheet's loose fragment flies
-# off metres away). Run from the repository root after a build.
+# frame's own frames every vertex). Run from the repository root after a
+# build.
 set -eu
 docs/images/render_frame.sh tearing_sheet scenes/tearing_sheet.yaml 1 480 400 <<'POV'
 camera { perspective location <0.15, 0.85, -0.02> sky <0, 0, 1> right x * image_width / image_height angle 45

@@ -72,9 +72,10 @@ typedef void (*sb_external_force_fn)(void* user, uint32_t vertex, double time, c
                                      const double velocity[3], double force[3]);
 
 /** Called once per bond that breaks (softbond/builder.h's break_min,
- * break_max), on the thread that advances the solver, in bond order, at the
- * end of the (sub-)step whose end length crossed the limit; time is that
- * step's end (s). */
+ * break_max; docs/breakage.md, Cracks: past its limit, at a crack tip past
+ * its tip strength, or left with no live triangle), on the thread that
+ * advances the solver, after the (sub-)step it broke at, the step's bonds
+ * in bond order; time is that step's end (s). */
 typedef void (*sb_break_fn)(void* user, uint32_t bond, uint32_t i, uint32_t j, double time);
 
 /** Everything a solver is made with (sb_solver_create copies it; what its
@@ -123,6 +124,12 @@ typedef struct sb_solver_def {
      * default 256, < 0 refused); the rest wait for the next steps, in order. */
     int32_t max_splits;
     int32_t max_splits_per_step; /**< see max_splits: the most vertex copies one step makes; 0 = 256 */
+    /** How bonds past their limits break (docs/breakage.md, Cracks): false
+     * (the default), as cracks: the first at the most overstrained bond,
+     * then only at the cracks' tips unless a bond elsewhere is 25 % past its
+     * limit; true, all at once, every bond past a limit at the step's end
+     * (brittle shattering). */
+    bool shatter;
     /** Cutting (softbond/blade.h): blades that sever the bonds they cross;
      * their definitions are copied. A model with blades can tear even
      * without break limits (max_splits' default then counts every bond). */

@@ -17,25 +17,65 @@
  * so the fused kernel runs as before, with no branch per element. A model without
  * limits gets none of this: the same fast model, the same step.
  *
+ * Cracks. A break limit with a crack-tip rule, not an energy release
+ * criterion: the model's limits (l_min, l_max) are the material's strength
+ * and need no new constant per bond, where an energy criterion would need
+ * a toughness per bond and the energy at a tip, which a lattice of one
+ * bond per cell resolves no better than the strain. A tip rule gives what
+ * the lattice misses: at a crack tip the stress is singular (it grows as
+ * 1/sqrt(r) towards it), and a cell of the lattice averages it away. So:
+ *  - while nothing is broken, the one most overstrained bond past its limit
+ *    (l²/max² or min²/l², the lowest limited index on a tie) starts the
+ *    crack, at most one a step;
+ *  - a vertex a break reached (the bond's ends and the vertices of the
+ *    triangles it killed) is a tip, and holds its crack: a plane through
+ *    the broken bond's rest midpoint, square to the pull that opened the
+ *    crack (the direction at rest of the bond that started it, handed on
+ *    from tip to tip). A bond at a tip breaks past its tip strength
+ *    (SB_TIP_STRENGTH = 0.8 of the way from its rest length to its limit)
+ *    when the crack runs across it: the plane cuts it in its middle half
+ *    (SB_TIP_CUT: a bond of the next row of a jittered mesh, which the
+ *    plane may just clip at an end, is not the crack's), and it is within
+ *    60 degrees of the pull (it carries it). The crack so
+ *    runs straight across the pull, mode I, one bond a step at each tip at
+ *    most as fast as the sheet's stress moves;
+ *  - anywhere else a bond breaks on its own only 25 % past its limit
+ *    (SB_CRACK_MARGIN);
+ *  - an interior bond whose triangles are all dead (a ligament: the
+ *    diagonal left between two broken bonds of a cell) has no material
+ *    left to stand for and breaks with the last of them; a border bond
+ *    stays (a crack along the border's row would otherwise crumble it).
+ * The tips are those before the pass, the breaks are made in bond order,
+ * the callbacks after them in bond order: the same for any thread count.
+ * sb_solver_def.shatter keeps the brittle rule: every bond past a limit
+ * breaks at once.
+ *
  * After each accepted step (each accepted adaptive sub-step) one pass over
  * the bonds with a finite limit compares their squared end lengths (in
  * double, from the current positions) with the squared limits, branch-free
- * (it vectorizes); only when one is past does a second, serial pass in bond
- * order break them, each once. The fused Verlet step skips the first pass:
+ * (it vectorizes); only when one is past does the serial pass pick those
+ * that break away from the tips (the tips' bonds, few, are looked at
+ * after every step). The fused Verlet step skips the first pass:
  * its force kernels have every bond's squared length in hand already and
  * compare it with the limits' margins (kernels/forces/fast_model.h,
  * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
  * after a step that met a bond near a limit (measured at 100k vertices: a
  * quiet step of a breakable sheet went from 1.5x the unbreakable one's
  * time to 1.1-1.3x, bench/results/tearing.md). A broken bond's limits become −1 and +inf,
- * so it never matches again: a broken bond's limits become −1 and +inf,
  * so it never matches again. For each it zeroes the bond's constants and
  * rest length (no collapse or blow-up check for it any more) and, the
  * first step of tearing, those of every triangle that has the bond's edge
  * and every hinge whose edge or wings have it (a hinge across a dead
  * triangle has no face to bend); then calls the callback on the advancing
- * thread. The forces and energies are then evaluated again, so that the
- * next step never feels a broken bond. Bond order and one thread: the same
+ * thread. The forces and energies are then corrected, so that the next
+ * step never feels a broken bond: as each bond, triangle and hinge loses
+ * its constants its forces and energies at the step's end state are taken
+ * (the scalar reference's, on a one-element view of the working copy, in
+ * double) and, after the pass, subtracted from the state's and the packed
+ * forces and the term energies: the cost of the broken elements, not of a
+ * force evaluation. A step that splits a vertex (each copy takes the
+ * forces of its own elements) or removes an element whose edge collapsed
+ * evaluates everything again instead. Bond order and one thread: the same
  * bonds break at the same step for any thread count.
  *
  * Tearing (kernels/interaction/topology.c) starts from here: a dying triangle's
@@ -54,12 +94,31 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "softbond/reference.h"
 #include "common/edge_map.h"
 #include "common/error.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The crack rule's constants (the design note): a bond off the cracks
+ * breaks on its own when it is longer than (1 + margin) times its break_max
+ * (or shorter than break_min over it); a bond at a crack tip breaks at the
+ * tip strength, that fraction of the way from its rest length to its
+ * limit, when the crack runs across it and it is within 60 degrees of the
+ * crack's pull (|cos| at least 0.5). */
+#define SB_CRACK_MARGIN 0.25
+#define SB_TIP_STRENGTH 0.8
+#define SB_TIP_ALIGNED 0.5
+#define SB_TIP_CUT 0.25
+#define SB_NONE UINT32_MAX
+
+/* A break's crack: the plane through bond `at`'s rest midpoint square to
+ * bond `pull`'s rest direction (the pull that opened the crack). */
+typedef struct sb_crack_cause {
+    uint32_t at, pull;
+} sb_crack_cause;
 
 /* The elements (triangles or hinges) on each bond's edge, by bond: CSR. */
 typedef struct sb_incidence {
@@ -70,13 +129,28 @@ struct sb_breakage {
     sb_model live;     /* the model the solver's kernels read */
     double* constants; /* one block: live's own constant arrays */
     uint32_t limited_count;
-    uint32_t* limited;                   /* the bonds with a finite limit, in bond order */
-    double *min2, *max2;                 /* their squared limits; −1 and +inf once broken */
-    uint8_t* broken;                     /* per bond */
+    uint32_t* limited;                       /* the bonds with a finite limit, in bond order */
+    double *min2, *max2;                     /* their squared limits; −1 and +inf once broken */
+    uint8_t* broken;                         /* per bond */
+    double *tip_min2, *tip_max2;             /* their squared limits at a crack tip */
+    sb_crack_cause* crack;                   /* per model vertex: the break that last reached it; at SB_NONE: none */
+    uint32_t* chosen_pull;                   /* per limited bond: its pull when chosen */
+    uint32_t *tips, tip_count;               /* the model vertices with a crack bond, in the order they got one */
+    uint32_t *vertex_start, *vertex_limited; /* the limited bonds (their k) at each model vertex: CSR */
+    uint32_t* chosen;                        /* per limited bond: the serial pass's breaks */
+    uint8_t* picked;                         /* per limited bond: in chosen */
+    uint32_t *fresh, fresh_count;            /* the bonds broken in this accept stage, for the callback */
+    /* the forces' correction (the design note): positions and velocities in
+     * double, the removed elements' forces and energies, 3 per vertex slot */
+    double *x3, *v3, *removed_forces;
+    sb_energies removed;
+    enum { SB_CORRECTION_OFF, SB_CORRECTION_ARMED, SB_CORRECTION_ON, SB_CORRECTION_FAILED } correction;
+    uint32_t model_vertices;
     uint8_t *triangle_dead, *hinge_dead; /* on a broken bond's edge */
     double* forces;                      /* 3n: the forces before a break */
     uint32_t broken_count;
     sb_incidence triangles, hinges;
+    uint32_t* triangle_bonds; /* 3 per triangle: the bonds on its edges, UINT32_MAX for none */
     /* tearing: NULL without it */
     sb_topology* topology;
     sb_cutting* cutting;   /* the blades; NULL without */
@@ -155,14 +229,42 @@ static bool sb_limits(sb_breakage* b, const sb_model* m) {
     b->min2 = malloc(n * sizeof *b->min2);
     b->max2 = malloc(n * sizeof *b->max2);
     b->broken = calloc(m->bond_count ? m->bond_count : 1, 1);
+    b->fresh = malloc(((size_t)m->bond_count + 1) * sizeof *b->fresh);
+    b->tip_min2 = malloc(n * sizeof *b->tip_min2);
+    b->tip_max2 = malloc(n * sizeof *b->tip_max2);
+    b->crack = malloc(((size_t)m->vertex_count + 1) * sizeof *b->crack);
+    b->chosen_pull = malloc(n * sizeof *b->chosen_pull);
+    b->tips = malloc(((size_t)m->vertex_count + 1) * sizeof *b->tips);
+    b->vertex_start = calloc((size_t)m->vertex_count + 2, sizeof *b->vertex_start);
+    b->vertex_limited = malloc(2 * n * sizeof *b->vertex_limited);
+    b->chosen = malloc(n * sizeof *b->chosen);
+    b->picked = calloc(n, 1);
+    b->model_vertices = m->vertex_count;
     b->triangle_dead = calloc((size_t)m->triangle_count + 1, 1);
     b->hinge_dead = calloc((size_t)m->hinge_count + 1, 1);
-    if (!b->limited || !b->min2 || !b->max2 || !b->broken || !b->triangle_dead || !b->hinge_dead) return false;
+    void* arrays[] = {b->limited,    b->min2,           b->max2,         b->broken,     b->tip_min2, b->tip_max2,
+                      b->crack,      b->tips,           b->vertex_start, b->chosen,     b->picked,   b->triangle_dead,
+                      b->hinge_dead, b->vertex_limited, b->fresh,        b->chosen_pull};
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++)
+        if (!arrays[a]) return false;
+    for (uint32_t v = 0; v < m->vertex_count; v++) b->crack[v].at = b->crack[v].pull = SB_NONE;
     for (uint32_t e = 0, k = 0; e < m->bond_count; e++) {
-        if (!(m->bond_break_min[e] > 0.0 || isfinite(m->bond_break_max[e]))) continue;
+        double lo = m->bond_break_min[e], hi = m->bond_break_max[e], r0 = m->bond_r0[e];
+        if (!(lo > 0.0 || isfinite(hi))) continue;
+        double tip_lo = lo > 0.0 ? r0 - SB_TIP_STRENGTH * (r0 - lo) : 0.0;
+        double tip_hi = isfinite(hi) ? r0 + SB_TIP_STRENGTH * (hi - r0) : INFINITY;
         b->limited[k] = e;
-        b->min2[k] = m->bond_break_min[e] * m->bond_break_min[e];
-        b->max2[k++] = m->bond_break_max[e] * m->bond_break_max[e];
+        b->min2[k] = lo * lo;
+        b->max2[k] = hi * hi;
+        b->tip_min2[k] = tip_lo * tip_lo;
+        b->tip_max2[k++] = tip_hi * tip_hi;
+        b->vertex_start[m->bond_i[e] + 2]++;
+        b->vertex_start[m->bond_j[e] + 2]++;
+    }
+    for (uint32_t v = 0; v < m->vertex_count; v++) b->vertex_start[v + 2] += b->vertex_start[v + 1];
+    for (uint32_t k = 0; k < b->limited_count; k++) { /* start[v + 1] is v's cursor */
+        b->vertex_limited[b->vertex_start[m->bond_i[b->limited[k]] + 1]++] = k;
+        b->vertex_limited[b->vertex_start[m->bond_j[b->limited[k]] + 1]++] = k;
     }
     return true;
 }
@@ -173,6 +275,13 @@ static bool sb_incidences(sb_breakage* b, const sb_model* m) {
     bool inserted;
     for (uint32_t e = 0; e < m->bond_count; e++) sb_edge_map_upsert(&map, m->bond_i[e], m->bond_j[e], e, &inserted);
     bool ok = sb_incidence_build(&b->triangles, m, &map, false) && sb_incidence_build(&b->hinges, m, &map, true);
+    b->triangle_bonds = malloc((3 * (size_t)m->triangle_count + 1) * sizeof *b->triangle_bonds);
+    ok = ok && b->triangle_bonds;
+    for (uint32_t t = 0; ok && t < m->triangle_count; t++)
+        for (int c = 0; c < 3; c++) {
+            const uint32_t* bond = sb_edge_map_find(&map, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t]);
+            b->triangle_bonds[3 * (size_t)t + c] = bond ? *bond : UINT32_MAX;
+        }
     sb_edge_map_free(&map);
     return ok;
 }
@@ -249,6 +358,15 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
     return ok;
 }
 
+/* The correction's arrays, for every vertex slot of the working copy. */
+static bool sb_correction_prepare(sb_breakage* b) {
+    size_t n = 3 * (size_t)b->live.vertex_count + 1;
+    b->x3 = malloc(n * sizeof *b->x3);
+    b->v3 = malloc(n * sizeof *b->v3);
+    b->removed_forces = malloc(n * sizeof *b->removed_forces);
+    return b->x3 && b->v3 && b->removed_forces;
+}
+
 sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
     *out = NULL;
     if (!m->breakable && def->blade_count == 0) return SB_OK;
@@ -261,7 +379,7 @@ sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_bre
     }
     if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
     if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
-        !sb_tearing_prepare(b, m, def)) {
+        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b)) {
         sb_breakage_destroy(b);
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
     }
@@ -274,9 +392,35 @@ void sb_breakage_destroy(sb_breakage* b) {
     if (!b) return;
     sb_topology_destroy(b->topology);
     sb_cutting_destroy(b->cutting);
-    void* arrays[] = {b->forces,        b->constants,       b->limited,           b->min2,         b->max2,
-                      b->broken,        b->triangles.start, b->triangles.element, b->hinges.start, b->hinges.element,
-                      b->triangle_dead, b->hinge_dead,      b->vertex_block,      b->fixed,        b->index_block};
+    void* arrays[] = {b->forces,
+                      b->constants,
+                      b->limited,
+                      b->min2,
+                      b->max2,
+                      b->broken,
+                      b->triangles.start,
+                      b->triangles.element,
+                      b->hinges.start,
+                      b->hinges.element,
+                      b->triangle_dead,
+                      b->hinge_dead,
+                      b->vertex_block,
+                      b->fixed,
+                      b->index_block,
+                      b->tip_min2,
+                      b->tip_max2,
+                      b->crack,
+                      b->chosen_pull,
+                      b->tips,
+                      b->vertex_start,
+                      b->vertex_limited,
+                      b->chosen,
+                      b->picked,
+                      b->triangle_bonds,
+                      b->fresh,
+                      b->x3,
+                      b->v3,
+                      b->removed_forces};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(b);
 }
@@ -312,62 +456,293 @@ static bool sb_any_past(const sb_breakage* b, const sb_real* p) {
     return any != 0;
 }
 
-/* The triangles and hinges on the bond's edge lose their constants; with
- * tearing, their vertices and the bond's ends are queued for splitting. */
-static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond) {
+/* The position of bond in the limited list (in bond order), or UINT32_MAX. */
+static uint32_t sb_limited_index(const sb_breakage* b, uint32_t bond) {
+    uint32_t lo = 0, hi = b->limited_count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (b->limited[mid] < bond)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < b->limited_count && b->limited[lo] == bond ? lo : UINT32_MAX;
+}
+
+/* The model vertex v is (a copy of). */
+static uint32_t sb_breakage_origin(const sb_breakage* b, uint32_t v) {
+    return b->topology ? sb_topology_origin(b->topology, v) : v;
+}
+
+/* Vertex v (of the working copy) joins the cracks, reached by the break of `cause`. */
+static void sb_crack_reach(sb_breakage* b, uint32_t v, sb_crack_cause cause) {
+    uint32_t u = sb_breakage_origin(b, v);
+    if (b->crack[u].at == SB_NONE) b->tips[b->tip_count++] = u;
+    b->crack[u] = cause;
+}
+
+enum { SB_REMOVE_BOND, SB_REMOVE_TRIANGLE, SB_REMOVE_HINGE };
+
+/* Element e of one kind of the working copy, as a model of its own. */
+static sb_model sb_single(const sb_model* m, int kind, uint32_t e) {
+    sb_model one = *m;
+    one.bond_count = one.triangle_count = one.hinge_count = one.tet_count = 0;
+    if (kind == SB_REMOVE_BOND) {
+        one.bond_count = 1;
+        one.bond_i += e, one.bond_j += e, one.bond_r0 += e, one.bond_k += e, one.spring_k += e;
+        one.spring_damping += e;
+    } else if (kind == SB_REMOVE_TRIANGLE) {
+        one.triangle_count = 1;
+        for (int c = 0; c < 3; c++) one.tri_v[c] += e, one.tri_cos0[c] += e, one.tri_len0[c] += e;
+        one.angle_k += e, one.stretch_bend_k += e;
+    } else {
+        one.hinge_count = 1;
+        one.hinge_e0 += e, one.hinge_e1 += e, one.hinge_o0 += e, one.hinge_o1 += e, one.hinge_phi0 += e;
+        one.hinge_k += e;
+    }
+    return one;
+}
+
+/* The first removal of an accept stage: the state in double, nothing removed yet. */
+static void sb_correction_start(sb_solver* s, sb_breakage* b) {
+    const sb_state* st = &s->state;
+    sb_fast_publish(s);
+    sb_interleave(b->x3, st->x, st->y, st->z, st->vertex_count);
+    sb_interleave(b->v3, st->vx, st->vy, st->vz, st->vertex_count);
+    memset(b->removed_forces, 0, 3 * (size_t)st->vertex_count * sizeof *b->removed_forces);
+    memset(&b->removed, 0, sizeof b->removed);
+    b->correction = SB_CORRECTION_ON;
+}
+
+/* Element e of one kind is about to lose its constants: its forces and
+ * energies at the state (the scalar reference's) join the removed ones. */
+static void sb_remove(sb_solver* s, sb_breakage* b, int kind, uint32_t e) {
+    static const sb_term terms[3][2] = {
+        {SB_TERM_BOND, SB_TERM_SPRING}, {SB_TERM_ANGLE, SB_TERM_STRETCH_BEND}, {SB_TERM_BEND, SB_TERM_BEND}};
+    if (b->correction == SB_CORRECTION_ARMED) sb_correction_start(s, b);
+    if (b->correction != SB_CORRECTION_ON) return;
+    sb_model one = sb_single(&b->live, kind, e);
+    for (int q = 0; q < (kind == SB_REMOVE_HINGE ? 1 : 2); q++) {
+        double energy;
+        sb_error err;
+        if (sb_reference_term(&one, terms[kind][q], b->x3, b->v3, b->removed_forces, &energy, &err) != SB_OK)
+            b->correction = SB_CORRECTION_FAILED; /* a collapsed edge: the full evaluation says so */
+        b->removed.term[terms[kind][q]] += energy;
+    }
+}
+
+/* The forces and term energies without the removed elements': the state's
+ * and the packed ones. */
+static void sb_correction_apply(sb_solver* s, sb_breakage* b) {
+    sb_state* st = &s->state;
+    sb_real* f[3] = {st->fx, st->fy, st->fz};
+    for (uint32_t i = 0; i < st->vertex_count; i++)
+        for (int a = 0; a < 3; a++) {
+            f[a][i] = (sb_real)(f[a][i] - b->removed_forces[3 * (size_t)i + a]);
+            if (s->fast) s->forces4[4 * (size_t)i + a] = f[a][i];
+        }
+    for (int t = 0; t < SB_TERM_COUNT; t++) s->energies.term[t] -= b->removed.term[t];
+}
+
+static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause);
+
+/* Whether bond is a ligament: an interior bond (two triangles or more on
+ * its edge) with every one of them dead, so no material is left for it to
+ * stand for. A bond on the surface's border keeps the border whole. */
+static bool sb_ligament(const sb_breakage* b, uint32_t bond) {
+    uint32_t first = b->triangles.start[bond], end = b->triangles.start[bond + 1];
+    for (uint32_t q = first; q < end; q++)
+        if (!b->triangle_dead[b->triangles.element[q]]) return false;
+    return end > first + 1;
+}
+
+/* Triangle t dies by cause's break: its constants go, its vertices join
+ * the crack (and the splitting queue), and its bonds left as ligaments
+ * break with it. */
+static void sb_drop_triangle(sb_solver* s, sb_breakage* b, uint32_t t, bool notify, sb_crack_cause cause) {
+    sb_model* m = &b->live;
+    sb_remove(s, b, SB_REMOVE_TRIANGLE, t);
+    m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
+    for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
+    if (s->fast) sb_fast_drop_triangle(s->fast, t);
+    b->triangle_dead[t] = 1;
+    for (int c = 0; c < 3; c++) {
+        sb_crack_reach(b, m->tri_v[c][t], cause);
+        if (b->topology) sb_topology_queue(b->topology, m->tri_v[c][t]);
+    }
+    for (int c = 0; c < 3; c++) {
+        uint32_t bond = b->triangle_bonds[3 * (size_t)t + c];
+        if (bond != SB_NONE && !b->broken[bond] && sb_ligament(b, bond)) sb_break_bond(s, b, bond, notify, cause);
+    }
+}
+
+/* The hinges and triangles on the bond's edge lose their constants; with
+ * tearing, the bond's ends are queued for splitting. */
+static void sb_drop_elements(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause) {
     sb_model* m = &b->live;
     if (b->topology) {
         sb_topology_queue(b->topology, m->bond_i[bond]);
         sb_topology_queue(b->topology, m->bond_j[bond]);
     }
-    for (uint32_t q = b->triangles.start[bond]; q < b->triangles.start[bond + 1]; q++) {
-        uint32_t t = b->triangles.element[q];
-        m->angle_k[t] = m->stretch_bend_k[t] = 0.0;
-        for (int c = 0; c < 3; c++) m->tri_len0[c][t] = 0.0;
-        if (s->fast) sb_fast_drop_triangle(s->fast, t);
-        b->triangle_dead[t] = 1;
-        for (int c = 0; b->topology && c < 3; c++) sb_topology_queue(b->topology, m->tri_v[c][t]);
-    }
     for (uint32_t q = b->hinges.start[bond]; q < b->hinges.start[bond + 1]; q++) {
+        if (!b->hinge_dead[b->hinges.element[q]]) sb_remove(s, b, SB_REMOVE_HINGE, b->hinges.element[q]);
         m->hinge_k[b->hinges.element[q]] = 0.0;
         if (s->fast) sb_fast_drop_hinge(s->fast, b->hinges.element[q]);
         b->hinge_dead[b->hinges.element[q]] = 1;
     }
+    for (uint32_t q = b->triangles.start[bond]; q < b->triangles.start[bond + 1]; q++)
+        if (!b->triangle_dead[b->triangles.element[q]]) sb_drop_triangle(s, b, b->triangles.element[q], notify, cause);
 }
 
-/* Breaks bond `bond`; the callback too when `notify`. */
-static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify) {
+/* Breaks bond `bond` (once) in the crack `cause` (at itself, or at the
+ * bond whose break left it a ligament); the callback too when `notify`. */
+static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause) {
     sb_model* m = &b->live;
+    if (b->broken[bond]) return;
     b->broken[bond] = 1;
     b->broken_count++;
+    uint32_t k = sb_limited_index(b, bond);
+    if (k != SB_NONE) { /* its limits never match again */
+        b->min2[k] = b->tip_min2[k] = -1.0;
+        b->max2[k] = b->tip_max2[k] = INFINITY;
+    }
+    sb_crack_reach(b, m->bond_i[bond], cause);
+    sb_crack_reach(b, m->bond_j[bond], cause);
+    sb_remove(s, b, SB_REMOVE_BOND, bond);
     m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
     if (s->fast) sb_fast_break_bond(s->fast, bond);
-    sb_drop_elements(s, b, bond);
-    if (notify && s->def.on_break) s->def.on_break(s->def.break_user, bond, m->bond_i[bond], m->bond_j[bond], s->time);
-}
-
-/* Limited bond k past a limit: its limits never match again. */
-static void sb_break(sb_solver* s, sb_breakage* b, uint32_t k, bool notify) {
-    b->min2[k] = -1.0;
-    b->max2[k] = INFINITY;
-    if (!b->broken[b->limited[k]]) sb_break_bond(s, b, b->limited[k], notify); /* a blade may have severed it */
+    if (notify) b->fresh[b->fresh_count++] = bond;
+    sb_drop_elements(s, b, bond, notify, cause);
 }
 
 static void sb_sever(void* solver, uint32_t bond) {
     sb_solver* s = solver;
-    sb_break_bond(s, s->breakage, bond, true);
+    sb_break_bond(s, s->breakage, bond, true, (sb_crack_cause){bond, bond});
 }
 
-/* The serial pass: breaks the limited bonds past a limit, in bond order;
- * whether any. */
-static bool sb_break_past(sb_solver* s, sb_breakage* b, const sb_real* p) {
-    bool any = false;
-    for (uint32_t k = 0; k < b->limited_count; k++)
-        if (sb_past(b, p, k)) {
-            sb_break(s, b, k, true);
-            any = true;
+/* How far limited bond k is past its limits at p: the larger of l²/max²
+ * and min²/l², above 1 exactly when sb_past. */
+static double sb_overstrain(const sb_breakage* b, const sb_real* p, uint32_t k) {
+    double l2 = sb_length2(b, p, k);
+    return fmax(l2 / b->max2[k], b->min2[k] / l2);
+}
+
+/* Bond's midpoint (mid) and unit direction (dir) at rest. */
+static void sb_rest_line(const sb_model* m, uint32_t bond, double mid[3], double dir[3]) {
+    const double* rest[3] = {m->rest_x, m->rest_y, m->rest_z};
+    double length = 0.0;
+    for (int a = 0; a < 3; a++) {
+        mid[a] = 0.5 * (rest[a][m->bond_i[bond]] + rest[a][m->bond_j[bond]]);
+        dir[a] = rest[a][m->bond_j[bond]] - rest[a][m->bond_i[bond]];
+        length += dir[a] * dir[a];
+    }
+    for (int a = 0; a < 3; a++) dir[a] /= sqrt(length);
+}
+
+/* Whether the crack that reached model vertex u runs across bond: at rest,
+ * bond's ends lie on either side of the crack's plane (through the
+ * midpoint of u's crack bond, square to it: the pull that opened it), and
+ * bond is within 60 degrees of that pull (it carries it). */
+static bool sb_runs_across(const sb_breakage* b, uint32_t u, uint32_t bond) {
+    const sb_model* m = &b->live;
+    const double* rest[3] = {m->rest_x, m->rest_y, m->rest_z};
+    double mid[3], pull[3], mid_bond[3], dir[3], unused[3], side_i = 0.0, side_j = 0.0, aligned = 0.0;
+    sb_rest_line(m, b->crack[u].at, mid, unused);
+    sb_rest_line(m, b->crack[u].pull, unused, pull);
+    sb_rest_line(m, bond, mid_bond, dir);
+    for (int a = 0; a < 3; a++) {
+        side_i += (rest[a][m->bond_i[bond]] - mid[a]) * pull[a];
+        side_j += (rest[a][m->bond_j[bond]] - mid[a]) * pull[a];
+        aligned += dir[a] * pull[a];
+    }
+    double cut = side_i / (side_i - side_j); /* where along the bond the plane cuts it, when it does */
+    return side_i * side_j < 0.0 && cut >= SB_TIP_CUT && cut <= 1.0 - SB_TIP_CUT && fabs(aligned) >= SB_TIP_ALIGNED;
+}
+
+/* Limited bond k breaks in this pass, its crack square to bond pull (the
+ * first pick's). */
+static void sb_pick(sb_breakage* b, uint32_t k, uint32_t pull, uint32_t* count) {
+    if (b->picked[k]) return;
+    b->picked[k] = 1;
+    b->chosen_pull[k] = pull;
+    b->chosen[(*count)++] = k;
+}
+
+/* The crack tips' bonds that break: at a cracked vertex, past the tip
+ * strength, the crack running across them. */
+static void sb_pick_tips(sb_breakage* b, const sb_real* p, uint32_t* count) {
+    for (uint32_t t = 0; t < b->tip_count; t++) {
+        uint32_t u = b->tips[t];
+        for (uint32_t q = b->vertex_start[u]; q < b->vertex_start[u + 1]; q++) {
+            uint32_t k = b->vertex_limited[q];
+            double l2 = sb_length2(b, p, k);
+            bool past = (l2 > b->tip_max2[k]) | (l2 < b->tip_min2[k]);
+            if (past && !b->broken[b->limited[k]] && sb_runs_across(b, u, b->limited[k]))
+                sb_pick(b, k, b->crack[u].pull, count);
         }
-    return any;
+    }
+}
+
+/* The bonds past their limits that break away from the tips: those past
+ * by the margin, and, while nothing is broken yet, the most overstrained
+ * (the lowest such k on a tie), which starts the first crack. */
+static void sb_pick_alone(sb_breakage* b, const sb_real* p, uint32_t* count) {
+    const double alone = (1.0 + SB_CRACK_MARGIN) * (1.0 + SB_CRACK_MARGIN);
+    uint32_t start = SB_NONE;
+    double worst = 1.0;
+    for (uint32_t k = 0; k < b->limited_count; k++) {
+        if (!sb_past(b, p, k)) continue;
+        double q = sb_overstrain(b, p, k);
+        if (q > alone)
+            sb_pick(b, k, b->limited[k], count);
+        else if (b->broken_count == 0 && q > worst) {
+            worst = q;
+            start = k;
+        }
+    }
+    if (start != SB_NONE) sb_pick(b, start, b->limited[start], count);
+}
+
+/* Shattering: every bond past a limit, when `past`. */
+static void sb_pick_past(sb_breakage* b, const sb_real* p, bool past, uint32_t* count) {
+    for (uint32_t k = 0; past && k < b->limited_count; k++)
+        if (sb_past(b, p, k)) sb_pick(b, k, b->limited[k], count);
+}
+
+static int sb_compare_k(const void* x, const void* y) {
+    uint32_t a = *(const uint32_t*)x, c = *(const uint32_t*)y;
+    return (a > c) - (a < c);
+}
+
+/* The serial pass, the crack rule (the design note): picks the tips' bonds
+ * and, when `past` (some bond is past a limit), those breaking alone, then
+ * breaks them in bond order; the tips are the cracks' before the pass.
+ * Returns whether any broke. */
+static bool sb_break_cracks(sb_solver* s, sb_breakage* b, const sb_real* p, bool past) {
+    uint32_t count = 0;
+    if (s->def.shatter)
+        sb_pick_past(b, p, past, &count);
+    else {
+        sb_pick_tips(b, p, &count);
+        if (past) sb_pick_alone(b, p, &count);
+    }
+    qsort(b->chosen, count, sizeof *b->chosen, sb_compare_k);
+    for (uint32_t q = 0; q < count; q++) {
+        b->picked[b->chosen[q]] = 0;
+        uint32_t k = b->chosen[q];
+        sb_break_bond(s, b, b->limited[k], true, (sb_crack_cause){b->limited[k], b->chosen_pull[k]});
+    }
+    return count > 0;
+}
+
+/* The callback for the bonds broken in this accept stage, in bond order. */
+static void sb_notify(sb_solver* s, sb_breakage* b) {
+    qsort(b->fresh, b->fresh_count, sizeof *b->fresh, sb_compare_k);
+    for (uint32_t q = 0; s->def.on_break && q < b->fresh_count; q++) {
+        uint32_t bond = b->fresh[q];
+        s->def.on_break(s->def.break_user, bond, b->live.bond_i[bond], b->live.bond_j[bond], s->time);
+    }
+    b->fresh_count = 0;
 }
 
 /* Verlet and velocity Verlet end a step with the half kick a⁺ dt/2 of the
@@ -403,17 +778,25 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     const sb_real* p = sb_packed_positions(s);
     /* the fused step's kernels measured every bond at these positions and flag one near a limit */
     bool measured = sb_fused(s) && s->fast->limits_measured;
-    bool broke = (measured ? s->near_limits : sb_any_past(b, p)) && sb_break_past(s, b, p);
+    b->correction = SB_CORRECTION_ARMED;
+    bool broke = sb_break_cracks(s, b, p, measured ? s->near_limits : sb_any_past(b, p));
     if (b->cutting)
         broke |= sb_cutting_pass(b->cutting, &b->live, p, b->broken, s->time - s->step.dt, s->time, sb_sever, s) > 0;
+    bool corrected = b->correction == SB_CORRECTION_ON;
+    b->correction = SB_CORRECTION_OFF;
+    sb_notify(s, b);
     if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
     sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
     if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
     if (!broke && made == 0) return SB_OK;
-    sb_status status = sb_solver_compute_forces(s);
-    if (status != SB_OK) return status;
+    if (made == 0 && corrected) /* only the removed elements' forces go */
+        sb_correction_apply(s, b);
+    else { /* a split vertex's copies each take their own elements' forces: all evaluated again */
+        sb_status status = sb_solver_compute_forces(s);
+        if (status != SB_OK) return status;
+    }
     sb_rekick(s, b->forces);
     sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
     return SB_OK;
@@ -425,31 +808,49 @@ void sb_breakage_subscribe(sb_solver* s) {
 
 /* ---- the saved state (kernels/solver/solver_state.c) ---------------------------- */
 
+/* The broken bonds' count and list, then the cracks' tips: their count,
+ * their list and every model vertex's crack bond. */
 void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
     sb_sections_put(w, &b->broken_count, sizeof b->broken_count);
     for (uint32_t e = 0; e < b->live.bond_count; e++)
         if (b->broken[e]) sb_sections_put(w, &e, sizeof e);
+    sb_sections_put(w, &b->tip_count, sizeof b->tip_count);
+    sb_sections_put(w, b->tips, b->tip_count * sizeof *b->tips);
+    sb_sections_put(w, b->crack, b->model_vertices * sizeof *b->crack);
 }
 
-/* The position of bond in the limited list (in bond order), or UINT32_MAX. */
-static uint32_t sb_limited_index(const sb_breakage* b, uint32_t bond) {
-    uint32_t lo = 0, hi = b->limited_count;
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (b->limited[mid] < bond)
-            lo = mid + 1;
-        else
-            hi = mid;
+/* The cracks' part of the section at r (its length checked): every tip a
+ * model vertex, every crack's bonds bonds of the model or both none. */
+static sb_status sb_cracks_check(const sb_breakage* b, sb_cursor r, uint32_t tips, sb_error* err) {
+    uint32_t tip;
+    sb_crack_cause crack;
+    for (uint32_t q = 0; q < tips; q++)
+        if (sb_cursor_take(&r, &tip, sizeof tip) && tip >= b->model_vertices)
+            return sb_error_set(err, SB_ERR_PARSE, "crack tip %u is not a vertex of the model", tip);
+    for (uint32_t v = 0; v < b->model_vertices && sb_cursor_take(&r, &crack, sizeof crack); v++) {
+        bool none = crack.at == SB_NONE && crack.pull == SB_NONE;
+        if (!none && (crack.at >= b->live.bond_count || crack.pull >= b->live.bond_count))
+            return sb_error_set(err, SB_ERR_PARSE, "vertex %u's crack names bonds %u and %u, not the model's", v,
+                                crack.at, crack.pull);
     }
-    return lo < b->limited_count && b->limited[lo] == bond ? lo : UINT32_MAX;
+    return SB_OK;
 }
 
 sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
     uint32_t count, bond, last = 0;
     if (b->broken_count > 0)
         return sb_error_set(err, SB_ERR_INVALID, "the solver has broken bonds already: load into a new solver");
-    if (!sb_cursor_take(&r, &count, sizeof count) || r.left != 4 * (size_t)count)
+    uint32_t tips = 0;
+    sb_cursor rest = r;
+    bool sized = sb_cursor_take(&rest, &count, sizeof count) && rest.left >= 4 * (size_t)count + 4;
+    if (sized) {
+        rest.at += 4 * (size_t)count; /* the broken bonds, checked below */
+        rest.left -= 4 * (size_t)count;
+        sb_cursor_take(&rest, &tips, sizeof tips);
+    }
+    if (!sized || tips > b->model_vertices || rest.left != 4 * (size_t)tips + sizeof *b->crack * b->model_vertices)
         return sb_error_set(err, SB_ERR_PARSE, "the broken bonds' section has the wrong length");
+    sb_cursor_take(&r, &count, sizeof count);
     for (uint32_t q = 0; q < count; q++) {
         sb_cursor_take(&r, &bond, sizeof bond);
         bool breakable = bond < b->live.bond_count && (b->cutting || sb_limited_index(b, bond) != UINT32_MAX);
@@ -458,17 +859,16 @@ sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
                                 bond);
         last = bond;
     }
-    return SB_OK;
+    return sb_cracks_check(b, rest, tips, err);
 }
 
 void sb_breakage_load(sb_solver* s, sb_cursor* r) {
     uint32_t count = 0, bond;
     sb_cursor_take(r, &count, sizeof count);
-    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++) {
-        uint32_t k = sb_limited_index(s->breakage, bond);
-        if (k != UINT32_MAX)
-            sb_break(s, s->breakage, k, false);
-        else
-            sb_break_bond(s, s->breakage, bond, false); /* a blade severed it */
-    }
+    sb_breakage* b = s->breakage;
+    for (uint32_t q = 0; q < count && sb_cursor_take(r, &bond, sizeof bond); q++)
+        sb_break_bond(s, b, bond, false, (sb_crack_cause){bond, bond});
+    sb_cursor_take(r, &b->tip_count, sizeof b->tip_count); /* the cracks as they were, not as replayed */
+    sb_cursor_take(r, b->tips, b->tip_count * sizeof *b->tips);
+    sb_cursor_take(r, b->crack, b->model_vertices * sizeof *b->crack);
 }

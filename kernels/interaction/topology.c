@@ -18,8 +18,10 @@
  * to; a piece with no live triangle stays with v. When v has two or more
  * fans with a live triangle, fans 1.. get new vertices: position,
  * velocity, displacement and rest position copied, the mass shared by the
- * fans' rest areas (the copies' masses sum to v's), the forces the Verlet
- * re-kick subtracts shared the same way. An unbroken bond (v, x) goes with
+ * fans' rest areas (each copy its fan's share, v what the copies leave, so
+ * that the masses sum to v's to rounding: the position and momentum of
+ * what was v are kept), the forces the Verlet re-kick subtracts shared the
+ * same way. An unbroken bond (v, x) goes with
  * the fan of the triangles on its edge (all in one fan, the edge being
  * whole), a live hinge with the fan of its wing at v, and the rest
  * (broken bonds, dead hinges) stays with v. A vertex held by a hard handle
@@ -377,16 +379,18 @@ static bool sb_split_vertex(sb_solver* s, sb_topology* t, uint32_t v, uint32_t* 
     sb_model* m = t->live;
     double mass = m->mass[v], force[3] = {before[3 * (size_t)v], before[3 * (size_t)v + 1], before[3 * (size_t)v + 2]};
     bool held = s->pinned_inv_mass && s->pinned_inv_mass[v] == 0.0 && !m->fixed[v];
-    for (uint32_t f = 0; f < fans; f++) {
-        uint32_t w = f ? first + f - 1 : v;
-        if (f) {
-            t->origin[w] = t->origin[v];
-            sb_copy_vertex(s, m, v, w);
-            sb_repoint(s, t, w);
-        }
-        sb_set_mass(s, m, w, mass * t->area[f], f == 0 && held);
-        for (int a = 0; a < 3; a++) before[3 * (size_t)w + a] = force[a] * t->area[f];
+    double rest = mass, rest_force[3] = {force[0], force[1], force[2]};
+    for (uint32_t f = fans - 1; f > 0; f--) { /* the copies' shares; v keeps what they leave */
+        uint32_t w = first + f - 1;
+        t->origin[w] = t->origin[v];
+        sb_copy_vertex(s, m, v, w);
+        sb_repoint(s, t, w);
+        sb_set_mass(s, m, w, mass * t->area[f], false);
+        rest -= m->mass[w];
+        for (int a = 0; a < 3; a++) rest_force[a] -= before[3 * (size_t)w + a] = force[a] * t->area[f];
     }
+    sb_set_mass(s, m, v, rest, held);
+    for (int a = 0; a < 3; a++) before[3 * (size_t)v + a] = rest_force[a];
     t->count += copies;
     *made += copies;
     return true;

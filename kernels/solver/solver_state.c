@@ -50,7 +50,7 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 3 /* 2: the energies carry the corotated term; 3: and the membrane term */
+#define SB_STATE_VERSION 4 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
