@@ -26,6 +26,7 @@ void sb_model_destroy(sb_model* m) {
     free(m->tet_volume);
     free(m->tet_mu);
     free(m->tet_lambda);
+    free(m->tet_beta);
     free(m);
 }
 

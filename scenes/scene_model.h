@@ -26,7 +26,8 @@ sb_mesh_transform_def sb_scene_placement(const sb_scene* scene);
 sb_material_def sb_scene_material(const sb_scene* scene);
 /* The springs.* keys with mass and density (factory: springs). */
 sb_spring_mesh_def sb_scene_springs(const sb_scene* scene);
-/* material, then tissue.young_modulus and tissue.density where set, and tissue.damping. */
+/* material, then tissue.young_modulus and tissue.density where set, tissue.damping and
+ * tissue.stiffness_damping. */
 sb_tissue_def sb_scene_tissue(const sb_scene* scene);
 /* A file generator with a tetrahedral mesh file (.node, .ele, .msh): the
  * model is the tissue model of its tetrahedra. */

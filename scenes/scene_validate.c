@@ -61,6 +61,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_TISSUE_YOUNG_MODULUS, false},
     {SB_KEY_TISSUE_DENSITY, true},
     {SB_KEY_TISSUE_DAMPING, false},
+    {SB_KEY_TISSUE_STIFFNESS_DAMPING, false},
     {SB_KEY_MESH_TARGET_ERROR, false},
     {SB_KEY_CONTACT_THICKNESS, false},
     {SB_KEY_STOP_KINETIC_ENERGY, false},

@@ -313,6 +313,7 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->tet_volume, 8 * nq);
         h = sb_hash(h, m->tet_mu, 8 * nq);
         h = sb_hash(h, m->tet_lambda, 8 * nq);
+        if (m->tet_damped) h = sb_hash(h, m->tet_beta, 8 * nq); /* undamped models' hashes as they were */
     }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {
