@@ -50,7 +50,7 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 2 /* 2: the energies carry the corotated term */
+#define SB_STATE_VERSION 3 /* 2: the energies carry the corotated term; 3: the drifts' carries */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -166,10 +166,14 @@ static sb_status sb_arrays_check(const sb_solver* s, sb_cursor r, sb_error* err)
                                                       "displacement x",
                                                       "displacement y",
                                                       "displacement z",
+                                                      "position carry x",
+                                                      "position carry y",
+                                                      "position carry z",
                                                       "packed positions",
                                                       "packed velocities",
                                                       "packed displacements",
-                                                      "packed forces"};
+                                                      "packed forces",
+                                                      "packed position carries"};
     sb_real* arrays[SB_STEP_ARRAYS];
     size_t lengths[SB_STEP_ARRAYS], total = 0;
     int count = sb_solver_step_arrays(s, arrays, lengths);
