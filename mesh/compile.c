@@ -153,10 +153,11 @@ static sb_status sb_check_tet(const sb_builder* b, size_t index, sb_error* err) 
     const sb_tet_def* t = SB_ITEMS(b->tets, sb_tet_def) + index;
     sb_status status = sb_check_indices("tetrahedron", index, t->v, 4, (uint32_t)b->vertices.count, err);
     if (status != SB_OK) return status;
-    if (!sb_constant_ok(t->young_modulus) || !isfinite(t->poisson_ratio) || !(t->poisson_ratio > -1.0) ||
-        !(t->poisson_ratio < 0.5))
+    if (!sb_constant_ok(t->young_modulus) || !sb_constant_ok(t->stiffness_damping) || !isfinite(t->poisson_ratio) ||
+        !(t->poisson_ratio > -1.0) || !(t->poisson_ratio < 0.5))
         return sb_error_set(err, SB_ERR_INVALID,
-                            "tetrahedron %zu: Young's modulus must be finite and >= 0, Poisson's ratio in (-1, 0.5)",
+                            "tetrahedron %zu: Young's modulus and stiffness damping must be finite and >= 0, Poisson's "
+                            "ratio in (-1, 0.5)",
                             index);
     double longest;
     double volume = sb_tet_signed_volume(b, t->v, &longest);
@@ -217,6 +218,7 @@ static bool sb_model_allocate(sb_model* m) {
     m->tet_volume = sb_alloc_array(nq, sizeof(double), &ok);
     m->tet_mu = sb_alloc_array(nq, sizeof(double), &ok);
     m->tet_lambda = sb_alloc_array(nq, sizeof(double), &ok);
+    m->tet_beta = sb_alloc_array(nq, sizeof(double), &ok);
     return ok;
 }
 
@@ -323,6 +325,8 @@ static void sb_fill_tets(sb_model* m, const sb_builder* b) {
         m->tet_volume[t] = det / 6.0;
         m->tet_mu[t] = e / (2.0 * (1.0 + nu));
         m->tet_lambda[t] = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        m->tet_beta[t] = d[t].stiffness_damping;
+        m->tet_damped |= e > 0.0 && d[t].stiffness_damping > 0.0;
         m->term_enabled[SB_TERM_COROTATED] |= e > 0.0;
     }
 }

@@ -53,6 +53,8 @@ struct sb_model {
     double* tet_volume; /* m³ */
     double* tet_mu;     /* Lamé μ, Pa */
     double* tet_lambda; /* Lamé λ, Pa */
+    double* tet_beta;   /* Rayleigh's stiffness-proportional damping β, s */
+    bool tet_damped;    /* some β > 0: only then do the passes compute the damping */
 
     /* membranes: a thin sheet's co-rotated linear plane-stress triangles
      * (kernels/forces/membrane.c). The rest shape enters as D_m⁻¹ (2 × 2

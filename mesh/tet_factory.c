@@ -1,6 +1,7 @@
 /* The volumetric mass-spring factory (Sudhamani & Merriliance 2019, after
  * Lloyd, Székely & Harders 2007): masses from the density, spring
- * stiffness from Young's modulus, damping from the documented rule. See
+ * stiffness from Young's modulus, damping from the documented rule and
+ * Rayleigh's stiffness-proportional β. See
  * include/softbond/volume.h for the formulas and the materials. */
 #include "mesh/builder_internal.h"
 #include "common/edge_map.h"
@@ -124,7 +125,8 @@ static sb_status sb_tet_springs(sb_builder* b, uint32_t first, const sb_tet_mesh
         def.rest_length = -1.0;
         def.k = 0.0;
         def.spring_k = edges[e].k;
-        def.spring_damping = tissue->damping * sqrt(edges[e].k * pair_mass) / l0;
+        def.spring_damping =
+            tissue->damping * sqrt(edges[e].k * pair_mass) / l0 + tissue->stiffness_damping * edges[e].k;
         if (sb_builder_add_bond(b, &def) < 0) status = sb_error_set(err, SB_ERR_NOMEM, "out of memory adding springs");
     }
     free(edges);
@@ -137,7 +139,8 @@ static sb_status sb_tet_elements(sb_builder* b, uint32_t first, const sb_tet_mes
         const uint32_t* v = m->tets + 4 * (size_t)t;
         sb_tet_def def = {.v = {first + v[0], first + v[1], first + v[2], first + v[3]},
                           .young_modulus = tissue->young_modulus,
-                          .poisson_ratio = tissue->poisson_ratio};
+                          .poisson_ratio = tissue->poisson_ratio,
+                          .stiffness_damping = tissue->stiffness_damping};
         if (sb_builder_add_tet(b, &def) < 0)
             return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding tetrahedra");
     }
@@ -146,9 +149,11 @@ static sb_status sb_tet_elements(sb_builder* b, uint32_t first, const sb_tet_mes
 
 sb_status sb_builder_add_tet_mesh(sb_builder* b, const sb_tet_mesh* m, const sb_tissue_def* tissue, sb_error* err) {
     if (!isfinite(tissue->young_modulus) || tissue->young_modulus < 0.0 || !isfinite(tissue->density) ||
-        tissue->density <= 0.0 || !isfinite(tissue->damping) || tissue->damping < 0.0)
+        tissue->density <= 0.0 || !isfinite(tissue->damping) || tissue->damping < 0.0 ||
+        !isfinite(tissue->stiffness_damping) || tissue->stiffness_damping < 0.0)
         return sb_error_set(err, SB_ERR_INVALID,
-                            "tissue: Young's modulus and damping must be finite and >= 0, density finite and > 0");
+                            "tissue: Young's modulus, damping and stiffness damping must be finite and >= 0, density "
+                            "finite and > 0");
     if (tissue->model == SB_TISSUE_COROTATED && !(tissue->poisson_ratio > -1.0 && tissue->poisson_ratio < 0.5))
         return sb_error_set(err, SB_ERR_INVALID, "tissue: Poisson's ratio %g is not in (-1, 0.5)", tissue->poisson_ratio);
     if (tissue->model != SB_TISSUE_SPRINGS && tissue->model != SB_TISSUE_COROTATED)

@@ -102,7 +102,9 @@ typedef enum sb_scene_type {
     X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060", "kg/m^3",                                                      \
       "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
     X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
-      "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
+      "tetrahedral meshes: factor on the papers' damping rule sqrt(k (mi + mj)) / l0 (springs only)")                 \
+    X(TISSUE_STIFFNESS_DAMPING, "tissue.stiffness_damping", NUMBER, "0", "s",                                          \
+      "tetrahedral meshes: Rayleigh's stiffness-proportional damping beta, s (a mode of frequency w: ratio beta w / 2)") \
     X(TISSUE_MODEL, "tissue.model", STRING, "springs", "",                                                             \
       "tetrahedral meshes: springs (Lloyd's edge springs, the papers') or corotated (finite elements, E and nu)")      \
     X(TISSUE_POISSON_RATIO, "tissue.poisson_ratio", NUMBER, "0.45", "1",                                               \

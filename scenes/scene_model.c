@@ -153,8 +153,9 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
         t.young_modulus = sb_scene_number(scene, SB_KEY_TISSUE_YOUNG_MODULUS);
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
-    t.model =
-        strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED : SB_TISSUE_SPRINGS;
+    t.stiffness_damping = sb_scene_number(scene, SB_KEY_TISSUE_STIFFNESS_DAMPING);
+    t.model = strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED
+                                                                                   : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }

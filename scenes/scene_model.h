@@ -28,7 +28,8 @@ sb_material_def sb_scene_material(const sb_scene* scene);
 sb_spring_mesh_def sb_scene_springs(const sb_scene* scene);
 /* The sheet.* keys (factory: membrane). */
 sb_sheet_material_def sb_scene_sheet(const sb_scene* scene);
-/* material, then tissue.young_modulus and tissue.density where set, and tissue.damping. */
+/* material, then tissue.young_modulus and tissue.density where set, tissue.damping and
+ * tissue.stiffness_damping. */
 sb_tissue_def sb_scene_tissue(const sb_scene* scene);
 /* A file generator with a tetrahedral mesh file (.node, .ele, .msh): the
  * model is the tissue model of its tetrahedra. */

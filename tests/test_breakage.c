@@ -271,8 +271,10 @@ static void test_sheet_tears_and_dead_elements_vanish(void** state) {
         sb_error err;
         assert_int_equal(sb_reference_forces(alive, x, x + 3 * n, f, &expected, &err), SB_OK);
         sb_energies got = sb_solver_energies(r.solver);
-        /* the fast kernels sum in sb_real */
-        double tol = (kernels ? 1e-3 : 1e-9) * sb_energies_internal(&expected) + 1e-15;
+        /* the fast kernels sum in sb_real; the reference evaluates at the
+         * positions with their drifts' carries, which a float build's
+         * published positions round off (kernels/state/vertex_state.h) */
+        double tol = (kernels ? 1e-3 : SB_DOUBLE ? 1e-9 : 1e-6) * sb_energies_internal(&expected) + 1e-15;
         assert_true(expected.term[SB_TERM_BOND] > 0 && expected.term[SB_TERM_ANGLE] > 0);
         for (int t = 0; t < SB_TERM_COUNT; t++) {
             print_message("kernels %d, %s: %g J (expected %g J)\n", kernels, sb_term_name((sb_term)t), got.term[t],

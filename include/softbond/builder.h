@@ -88,12 +88,17 @@ typedef struct sb_hinge_def {
  * stiffness from E, ν and the rest shape (the vertices' positions), R the
  * rotation of the polar decomposition of the deformation gradient; forces
  * are its exact negative gradient. The vertex order may be either
- * orientation; the volume must not be zero. No damping: use the solver's
- * drag. */
+ * orientation; the volume must not be zero. Damping: Rayleigh's
+ * stiffness-proportional f = −β R K0 Rᵀ v (v the four corners' velocities,
+ * R the rotation at the current positions), zero for a translation and for
+ * a rotation of the unstrained element; a mode of angular frequency ω
+ * decays with damping ratio β ω / 2. The solver's drag is the
+ * mass-proportional part. */
 typedef struct sb_tet_def {
-    uint32_t v[4];        /**< the vertices, either orientation */
-    double young_modulus; /**< E, Pa (>= 0) */
-    double poisson_ratio; /**< ν, in (−1, 0.5) */
+    uint32_t v[4];            /**< the vertices, either orientation */
+    double young_modulus;     /**< E, Pa (>= 0) */
+    double poisson_ratio;     /**< ν, in (−1, 0.5) */
+    double stiffness_damping; /**< Rayleigh's β, s (>= 0; 0 = undamped) */
 } sb_tet_def;
 
 /** A triangle of a thin sheet's membrane: co-rotated linear plane-stress

@@ -69,15 +69,17 @@ typedef enum sb_tissue_model {
     SB_TISSUE_COROTATED    /**< co-rotated linear finite elements (sb_tet_def): E and ν, undamped */
 } sb_tissue_model;
 
-/** A soft tissue: Young's modulus, density, and a factor on the default
- * damping rule (1 = the rule, 0 = undamped); the model, and Poisson's ratio
- * for the corotated one. */
+/** A soft tissue: Young's modulus, density, its damping (a factor on the
+ * papers' rule, 1 = the rule, 0 = none; and Rayleigh's stiffness-proportional
+ * β, a material property that does not depend on the mesh); the model, and
+ * Poisson's ratio for the corotated one. */
 typedef struct sb_tissue_def {
-    double young_modulus; /**< Pa */
-    double density;       /**< kg/m³ */
-    double damping;       /**< dimensionless factor (springs only) */
-    double poisson_ratio; /**< ν (corotated only), in (−1, 0.5) */
-    sb_tissue_model model; /**< springs (the default) or corotated */
+    double young_modulus;     /**< Pa */
+    double density;           /**< kg/m³ */
+    double damping;           /**< dimensionless factor on the papers' rule (springs only) */
+    double stiffness_damping; /**< Rayleigh's β, s: damping β × stiffness (both models), 0 = none */
+    double poisson_ratio;     /**< ν (corotated only), in (−1, 0.5) */
+    sb_tissue_model model;    /**< springs (the default) or corotated */
 } sb_tissue_def;
 
 /** Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
@@ -100,7 +102,11 @@ SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * The damping rule is printed garbled in the source; this is the reading
  * we use, a default and not physics: √(k m) is kg/s, so d_ij in N·s/m
  * depends on the length unit (SI here), and it damps strongly for short
- * springs — scale it with `damping`. Fails (nothing added) when the mesh
+ * springs — scale it with `damping`. `stiffness_damping` β adds β k_ij to
+ * each spring's damping (the corotated model: β to each sb_tet_def), the
+ * stiffness-proportional damping D = β K, whose modes of angular frequency
+ * ω decay with damping ratio ζ = β ω / 2 whatever the mesh. Fails
+ * (nothing added) when the mesh
  * fails sb_tet_mesh_check or a vertex belongs to no tetrahedron. */
 SB_API sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
                                          sb_error* err);

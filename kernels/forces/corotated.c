@@ -97,19 +97,40 @@ void sb_corotated_rotation(const double F[9], double R[9]) {
         for (int k = 0; k < 3; k++) R[3 * r + k] = u[0][r] * vs[0][k] + u[1][r] * vs[1][k] + u[2][r] * vs[2][k];
 }
 
-bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
-                      double f[4][3], double* energy) {
-    double F[9];
+/* F = D_s D_m⁻¹ of the corners p (or their velocities: Ḟ); false when not
+ * finite. */
+static bool sb_deformation(const double p[4][3], const double dm_inv[9], double F[9]) {
+    bool finite = true;
     for (int r = 0; r < 3; r++)
         for (int k = 0; k < 3; k++) {
             double s = 0.0;
             for (int c = 0; c < 3; c++) s += (p[c + 1][r] - p[0][r]) * dm_inv[3 * c + k];
             F[3 * r + k] = s;
+            finite &= isfinite(s) != 0;
         }
-    for (int k = 0; k < 9; k++)
-        if (!isfinite(F[k])) return false;
-    double R[9];
-    sb_corotated_rotation(F, R);
+    return finite;
+}
+
+/* f_{c+1} = −scale X g_{c+1} (g_{c+1} row c of D_m⁻¹), f_0 = −Σ: the
+ * corners' forces of the first Piola-Kirchhoff stress X; written, or added
+ * when `add`. */
+static void sb_stress_forces(const double X[9], const double dm_inv[9], double scale, bool add, double f[4][3]) {
+    for (int r = 0; r < 3; r++) {
+        double sum = 0.0;
+        for (int c = 0; c < 3; c++) {
+            double h = 0.0;
+            for (int k = 0; k < 3; k++) h += X[3 * r + k] * dm_inv[3 * c + k];
+            h *= -scale;
+            f[c + 1][r] = add ? f[c + 1][r] + h : h;
+            sum += h;
+        }
+        f[0][r] = add ? f[0][r] - sum : -sum;
+    }
+}
+
+/* The elastic forces −V P D_m⁻ᵀ and the energy V Ψ at F = R S. */
+static void sb_corotated_elastic(const double F[9], const double R[9], const double dm_inv[9], double volume, double mu,
+                                 double lambda, double f[4][3], double* energy) {
     double trace = 0.0, norm = 0.0;
     for (int k = 0; k < 9; k++) {
         trace += R[k] * F[k];
@@ -119,32 +140,56 @@ bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volum
     *energy = volume * (mu * norm + 0.5 * lambda * t * t);
     double P[9];
     for (int k = 0; k < 9; k++) P[k] = 2.0 * mu * (F[k] - R[k]) + lambda * t * R[k];
-    /* H = −V P D_m⁻ᵀ: H[r][c] = −V Σ_k P[r][k] dm_inv[c][k] */
-    for (int r = 0; r < 3; r++) {
-        double sum = 0.0;
-        for (int c = 0; c < 3; c++) {
-            double h = 0.0;
-            for (int k = 0; k < 3; k++) h += P[3 * r + k] * dm_inv[3 * c + k];
-            h *= -volume;
-            f[c + 1][r] = h;
-            sum += h;
-        }
-        f[0][r] = -sum;
+    sb_stress_forces(P, dm_inv, volume, false, f);
+}
+
+/* (R K0 Rᵀ v)_a = V (μ (L + Lᵀ) + λ tr(L) I) R g_a with L = Ḟ Rᵀ
+ * (kernels/forces/hessian_tets.c's blocks summed against v): the damping
+ * force −β R K0 Rᵀ v is that of a Kelvin–Voigt viscous stress of the
+ * rotated strain rate, shear viscosity β μ and β λ on the volume rate;
+ * added to f. */
+static void sb_corotated_viscous(const double Fdot[9], const double R[9], const double dm_inv[9], double volume,
+                                 double mu, double lambda, double beta, double f[4][3]) {
+    double L[9], trace = 0.0;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            L[3 * i + j] = Fdot[3 * i] * R[3 * j] + Fdot[3 * i + 1] * R[3 * j + 1] + Fdot[3 * i + 2] * R[3 * j + 2];
+        trace += L[4 * i];
     }
+    double stress[9]; /* σ R: the stress pulled back to the rest frame's gradients */
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) {
+            double s = 0.0;
+            for (int j = 0; j < 3; j++)
+                s += (mu * (L[3 * i + j] + L[3 * j + i]) + (i == j ? lambda * trace : 0.0)) * R[3 * j + k];
+            stress[3 * i + k] = s;
+        }
+    sb_stress_forces(stress, dm_inv, beta * volume, true, f);
+}
+
+bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
+                      double f[4][3], double* energy) {
+    double F[9], R[9];
+    if (!sb_deformation(p, dm_inv, F)) return false;
+    sb_corotated_rotation(F, R);
+    sb_corotated_elastic(F, R, dm_inv, volume, mu, lambda, f, energy);
+    return true;
+}
+
+bool sb_corotated_tet_damped(const double p[4][3], const double v[4][3], const double dm_inv[9], double volume,
+                             double mu, double lambda, double beta, double f[4][3], double* energy) {
+    double F[9], R[9], Fdot[9];
+    if (!sb_deformation(p, dm_inv, F) || !sb_deformation(v, dm_inv, Fdot)) return false;
+    sb_corotated_rotation(F, R);
+    sb_corotated_elastic(F, R, dm_inv, volume, mu, lambda, f, energy);
+    sb_corotated_viscous(Fdot, R, dm_inv, volume, mu, lambda, beta, f);
     return true;
 }
 
 bool sb_corotated_stiffness(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
                             double k[144]) {
     double F[9], R[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-            double s = 0.0;
-            for (int e = 0; e < 3; e++) s += (p[e + 1][r] - p[0][r]) * dm_inv[3 * e + c];
-            F[3 * r + c] = s;
-        }
-    for (int q = 0; q < 9; q++)
-        if (!isfinite(F[q])) return false;
+    if (!sb_deformation(p, dm_inv, F)) return false;
     sb_corotated_rotation(F, R);
     double g[4][3], rg[4][3]; /* the shape functions' gradients, and turned by R */
     for (int q = 0; q < 3; q++) {

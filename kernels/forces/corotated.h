@@ -29,6 +29,14 @@ bool sb_corotated_tet(const double p[4][3], const double dm_inv[9], double volum
 bool sb_corotated_stiffness(const double p[4][3], const double dm_inv[9], double volume, double mu, double lambda,
                             double k[144]);
 
+/* sb_corotated_tet with Rayleigh's stiffness-proportional damping: adds
+ * −β R K0 Rᵀ v to the forces (v the corners' velocities, R the rotation at
+ * p, the same as the elastic forces'), the divergence of the viscous stress
+ * β (μ (L + Lᵀ) + λ tr(L) I), L = Ḟ Rᵀ: zero for a translation and for a
+ * rotation of the unstrained element. false when F or Ḟ is not finite. */
+bool sb_corotated_tet_damped(const double p[4][3], const double v[4][3], const double dm_inv[9], double volume,
+                             double mu, double lambda, double beta, double f[4][3], double* energy);
+
 /* R of F = R S (row-major 3 × 3), as above. */
 void sb_corotated_rotation(const double F[9], double R[9]);
 

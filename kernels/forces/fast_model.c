@@ -466,6 +466,8 @@ static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
     f->tet_volume = sb_gather_double(m->tet_volume, &f->tets, &ok);
     f->tet_mu = sb_gather_double(m->tet_mu, &f->tets, &ok);
     f->tet_lambda = sb_gather_double(m->tet_lambda, &f->tets, &ok);
+    f->tet_beta = sb_gather_double(m->tet_beta, &f->tets, &ok);
+    f->tet_damped = m->tet_damped;
     f->has_tets = m->tet_count > 0 && m->term_enabled[SB_TERM_COROTATED];
     return ok;
 }
@@ -681,7 +683,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->membranes.source,
                       f->membrane_volume,
                       f->membrane_mu,
-                      f->membrane_lambda};
+                      f->membrane_lambda,
+                      f->tet_beta};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);

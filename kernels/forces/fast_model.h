@@ -108,8 +108,8 @@ typedef struct sb_fast_model {
     sb_element_group tets;
     uint32_t* tet_v[4];
     double* tet_dm_inv[9];
-    double *tet_volume, *tet_mu, *tet_lambda;
-    bool has_tets;
+    double *tet_volume, *tet_mu, *tet_lambda, *tet_beta;
+    bool has_tets, tet_damped; /* tet_damped: some β > 0 */
 
     /* A sheet's membranes (kernels/forces/fast_membranes.c), colored by
      * their three corners, constants in double like the tetrahedra's. */

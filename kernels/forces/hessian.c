@@ -203,7 +203,8 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
     switch (e->kind) {
     case SB_ELEMENT_BOND: return sb_bond_jacobian_blocks(m, e->index, local, definite, dt, blocks);
     case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
-    case SB_ELEMENT_TET: return sb_tet_jacobian_blocks(m, e->index, local, scale, blocks);
+    case SB_ELEMENT_TET: /* dt D + dt² K with D = β K, the element's Rayleigh damping */
+        return sb_tet_jacobian_blocks(m, e->index, local, scale + dt * m->tet_beta[e->index], blocks);
     case SB_ELEMENT_MEMBRANE:
         if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
         sb_matrix_blocks(3, k, scale, blocks);

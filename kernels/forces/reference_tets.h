@@ -4,7 +4,9 @@
 
 #include "mesh/model_internal.h"
 
-/* Co-rotated linear elasticity of the tetrahedra, in tetrahedron order. */
-sb_status sb_reference_tets(const sb_model* m, const double* x, double* f, double* energy, sb_error* err);
+/* Co-rotated linear elasticity of the tetrahedra, with their
+ * stiffness-proportional damping where v is not NULL, in tetrahedron order. */
+sb_status sb_reference_tets(const sb_model* m, const double* x, const double* v, double* f, double* energy,
+                            sb_error* err);
 
 #endif

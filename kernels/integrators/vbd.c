@@ -66,6 +66,7 @@
 #include "kernels/interaction/handle_internal.h"
 #include "kernels/forces/vertex_elements.h"
 #include "kernels/forces/hessian_edges.h"
+#include "kernels/forces/hessian_tets.h"
 #include "kernels/integrators/fast_vbd.h"
 #include "common/sections.h"
 
@@ -220,6 +221,28 @@ static void sb_vbd_damping(const sb_model* m, uint32_t b, int place, const doubl
     }
 }
 
+/* A tetrahedron's Rayleigh damping −β K v on its corner `place`, v = (x − x⁰)/dt
+ * (K = R K0 Rᵀ at x), and β K_pp / dt on the diagonal. */
+static void sb_vbd_tet_damping(const sb_model* m, uint32_t t, int place, const double* x, const double* x0, double dt,
+                               double* f, double* h) {
+    double beta = m->tet_beta[t], k[144], velocity[12];
+    if (beta == 0.0) return;
+    sb_vec3 local[4];
+    for (int c = 0; c < 4; c++) {
+        const double *now = x + 3 * (size_t)m->tet_v[c][t], *before = x0 + 3 * (size_t)m->tet_v[c][t];
+        local[c] = sb_v3(now);
+        for (int a = 0; a < 3; a++) velocity[3 * c + a] = (now[a] - before[a]) / dt;
+    }
+    if (!sb_tet_stiffness(m, t, local, NULL, k)) return;
+    for (int r = 0; r < 3; r++) {
+        const double* row = k + (3 * place + r) * 12;
+        double sum = 0.0;
+        for (int c = 0; c < 12; c++) sum += row[c] * velocity[c];
+        f[r] -= beta * sum;
+        for (int c = 0; c < 3; c++) h[3 * r + c] += beta * row[3 * place + c] / dt;
+    }
+}
+
 /* One vertex's Newton step on the incremental potential. */
 static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
     const sb_solver* s = job->s;
@@ -239,6 +262,8 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
         sb_element_vertex_share(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
         if (e.kind == SB_ELEMENT_BOND)
             sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
+        else if (e.kind == SB_ELEMENT_TET && m->tet_damped)
+            sb_vbd_tet_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
     }
     double step[3];
     if (!sb_solve3(h, f, step)) return; /* not finite (a collapsed element): this vertex waits */

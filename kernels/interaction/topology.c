@@ -341,12 +341,12 @@ static void sb_copy_vertex(sb_solver* s, sb_model* m, uint32_t v, uint32_t w) {
     for (int a = 0; a < 6; a++) rest[a][w] = rest[a][v];
     m->fixed[w] = m->fixed[v];
     sb_state* st = &s->state;
-    sb_real* soa[12] = {st->x,  st->y,  st->z,  st->vx,    st->vy,    st->vz,
-                        st->fx, st->fy, st->fz, s->disp_x, s->disp_y, s->disp_z};
-    for (int a = 0; a < 12; a++) soa[a][w] = soa[a][v];
+    sb_real* soa[15] = {st->x,  st->y,     st->z,     st->vx,    st->vy,     st->vz,     st->fx,    st->fy,
+                        st->fz, s->disp_x, s->disp_y, s->disp_z, s->carry_x, s->carry_y, s->carry_z};
+    for (int a = 0; a < 15; a++) soa[a][w] = soa[a][v];
     if (!s->fast) return;
-    sb_real* packed[4] = {s->positions4, s->velocities4, s->displacements4, s->forces4};
-    for (int a = 0; a < 4; a++) memcpy(packed[a] + 4 * (size_t)w, packed[a] + 4 * (size_t)v, 4 * sizeof(sb_real));
+    sb_real* packed[5] = {s->positions4, s->velocities4, s->displacements4, s->forces4, s->carry4};
+    for (int a = 0; a < 5; a++) memcpy(packed[a] + 4 * (size_t)w, packed[a] + 4 * (size_t)v, 4 * sizeof(sb_real));
 }
 
 /* Vertex i's mass everywhere the solver keeps it; `held` by a hard handle

@@ -59,16 +59,16 @@ struct sb_adaptive {
 int sb_solver_step_arrays(const sb_solver* s, sb_real** arrays, size_t* lengths) {
     size_t n = s->state.vertex_count;
     const sb_state* st = &s->state;
-    sb_real* soa[12] = {st->x,  st->y,  st->z,  st->vx,    st->vy,    st->vz,
-                        st->fx, st->fy, st->fz, s->disp_x, s->disp_y, s->disp_z};
+    sb_real* soa[15] = {st->x,  st->y,     st->z,     st->vx,    st->vy,     st->vz,     st->fx,    st->fy,
+                        st->fz, s->disp_x, s->disp_y, s->disp_z, s->carry_x, s->carry_y, s->carry_z};
     int count = 0;
-    for (int a = 0; a < 12; a++) {
+    for (int a = 0; a < 15; a++) {
         arrays[count] = soa[a];
         lengths[count++] = n;
     }
     if (s->fast) {
-        sb_real* packed[4] = {s->positions4, s->velocities4, s->displacements4, s->forces4};
-        for (int a = 0; a < 4; a++) {
+        sb_real* packed[5] = {s->positions4, s->velocities4, s->displacements4, s->forces4, s->carry4};
+        for (int a = 0; a < 5; a++) {
             arrays[count] = packed[a];
             lengths[count++] = 4 * n;
         }

@@ -25,7 +25,7 @@ sb_status sb_adaptive_advance(sb_solver* solver, double dt);
 /* The sb_real arrays a step may change and their lengths (the state's,
  * the displacement, the fast path's packed ones): what the backup and the
  * saved state (kernels/solver/solver_state.c) copy. */
-#define SB_STEP_ARRAYS 16
+#define SB_STEP_ARRAYS 20
 int sb_solver_step_arrays(const sb_solver* solver, sb_real** arrays, size_t* lengths);
 
 #endif

@@ -68,8 +68,9 @@ sb_solver_def sb_default_solver_def(void) {
 }
 
 static bool sb_solver_allocate(sb_solver* s, uint32_t n) {
-    sb_real** arrays[] = {&s->state.x,  &s->state.y,  &s->state.z,  &s->state.vx, &s->state.vy, &s->state.vz,
-                          &s->state.fx, &s->state.fy, &s->state.fz, &s->disp_x,   &s->disp_y,   &s->disp_z};
+    sb_real** arrays[] = {&s->state.x,  &s->state.y,  &s->state.z,  &s->state.vx, &s->state.vy,
+                          &s->state.vz, &s->state.fx, &s->state.fy, &s->state.fz, &s->disp_x,
+                          &s->disp_y,   &s->disp_z,   &s->carry_x,  &s->carry_y,  &s->carry_z};
     bool ok = true;
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) ok &= (*arrays[a] = calloc(n, sizeof(sb_real))) != NULL;
     double** scratch[] = {&s->scratch_x, &s->scratch_v, &s->scratch_f};
@@ -91,15 +92,16 @@ void sb_solver_destroy(sb_solver* s) {
     free(s->velocities4);
     free(s->displacements4);
     free(s->forces4);
+    free(s->carry4);
     free(s->external);
     sb_implicit_destroy(s);
     sb_vbd_destroy(s->vbd);
     free(s->stretch4);
     sb_pbd_destroy(s->pbd);
     sb_adaptive_destroy(s->adaptive);
-    void* arrays[] = {s->state.x,  s->state.y,  s->state.z,   s->state.vx,  s->state.vy,
-                      s->state.vz, s->state.fx, s->state.fy,  s->state.fz,  s->disp_x,
-                      s->disp_y,   s->disp_z,   s->scratch_x, s->scratch_v, s->scratch_f};
+    void* arrays[] = {s->state.x,  s->state.y,  s->state.z,  s->state.vx,  s->state.vy,  s->state.vz,
+                      s->state.fx, s->state.fy, s->state.fz, s->disp_x,    s->disp_y,    s->disp_z,
+                      s->carry_x,  s->carry_y,  s->carry_z,  s->scratch_x, s->scratch_v, s->scratch_f};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(s);
 }
@@ -285,6 +287,7 @@ sb_status sb_solver_set_state(sb_solver* s, const double* positions, const doubl
         st->vz[i] = m->fixed[i] ? 0 : (sb_real)(initial ? m->vel_z[i] : v ? v[2] : 0.0);
     }
     s->has_displacement = s->forces_stale = false;
+    sb_clear_carries(s);
     sb_adaptive_reset(s->adaptive);
     sb_status status = sb_check_state(s);
     if (status == SB_OK) status = sb_solver_compute_forces(s);

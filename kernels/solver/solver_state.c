@@ -50,7 +50,7 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 4 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips */
+#define SB_STATE_VERSION 5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts' carries */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -166,10 +166,14 @@ static sb_status sb_arrays_check(const sb_solver* s, sb_cursor r, sb_error* err)
                                                       "displacement x",
                                                       "displacement y",
                                                       "displacement z",
+                                                      "position carry x",
+                                                      "position carry y",
+                                                      "position carry z",
                                                       "packed positions",
                                                       "packed velocities",
                                                       "packed displacements",
-                                                      "packed forces"};
+                                                      "packed forces",
+                                                      "packed position carries"};
     sb_real* arrays[SB_STEP_ARRAYS];
     size_t lengths[SB_STEP_ARRAYS], total = 0;
     int count = sb_solver_step_arrays(s, arrays, lengths);
@@ -313,6 +317,7 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->tet_volume, 8 * nq);
         h = sb_hash(h, m->tet_mu, 8 * nq);
         h = sb_hash(h, m->tet_lambda, 8 * nq);
+        if (m->tet_damped) h = sb_hash(h, m->tet_beta, 8 * nq); /* undamped models' hashes as they were */
     }
     if (m->membrane_count) { /* likewise */
         size_t nm = m->membrane_count;

@@ -87,6 +87,9 @@ struct sb_solver {
     sb_solver_def def;
     sb_state state;
     sb_real *disp_x, *disp_y, *disp_z; /* the last step's displacement, x − x⁻ */
+    /* The Verlet drifts' compensation (sb_compensated_add): what rounding x + Δ
+     * to sb_real left out, added to the next drift; zero in double builds. */
+    sb_real *carry_x, *carry_y, *carry_z;
     bool has_displacement;
     double prev_dt;
     double *scratch_x, *scratch_v, *scratch_f; /* 3n interleaved doubles for the reference */
@@ -97,6 +100,7 @@ struct sb_solver {
     /* The fast path's working state, packed x y z w per vertex; the state's
      * arrays are filled from it on demand (published). */
     sb_real *positions4, *velocities4, *displacements4, *forces4;
+    sb_real* carry4; /* the fused drift's compensation, packed like the positions */
     bool published;
     /* The step left the new state's forces and energies to sb_solver_settle
      * (sb_step_needs_forces), or (the fused Verlet step) its kinetic and

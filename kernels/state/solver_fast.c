@@ -105,9 +105,9 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
                    f->tets.block_count + f->membranes.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
-    sb_real** arrays[4] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4};
+    sb_real** arrays[5] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4, &s->carry4};
     bool ok = s->partials != NULL;
-    for (int a = 0; a < 4; a++) {
+    for (int a = 0; a < 5; a++) {
         *arrays[a] = aligned_alloc(64, packed);
         ok = ok && *arrays[a];
         if (*arrays[a]) memset(*arrays[a], 0, packed);
@@ -338,10 +338,10 @@ static void sb_spread_masses(const sb_fast_model* f, size_t begin, size_t end, b
  * The arrays are restrict parameters, not locals, because only then does
  * GCC 12 vectorize the loops (its report says so). */
 static inline __attribute__((always_inline)) int sb_drift_loop(const sb_real* restrict m4, const sb_real* restrict im4,
-                                                               sb_real* restrict x, sb_real* restrict d,
-                                                               sb_real* restrict v, sb_real* restrict f,
-                                                               const sb_step_constants* k, size_t n, bool stormer,
-                                                               bool check) {
+                                                               sb_real* restrict x, sb_real* restrict carry,
+                                                               sb_real* restrict d, sb_real* restrict v,
+                                                               sb_real* restrict f, const sb_step_constants* k,
+                                                               size_t n, bool stormer, bool check) {
     const sb_real scale = k->scale, accel = k->accel, step = k->step, inv_dt = k->inv_dt, drag = k->drag;
     const sb_real limit = k->limit;
     const sb_real* g = k->gravity;
@@ -354,7 +354,10 @@ static inline __attribute__((always_inline)) int sb_drift_loop(const sb_real* re
             v[q] = v[q] + accel * im4[q] * f[q];
             d[q] = step * v[q];
         }
-        x[q] = x[q] + d[q];
+        if (SB_DOUBLE) /* 53 bits: no carry (kernels/state/vertex_state.h) */
+            x[q] = x[q] + d[q];
+        else
+            x[q] = sb_compensated_add(x[q], d[q], &carry[q]);
         f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         if (check) outside |= !((x[q] <= limit) & (x[q] >= -limit));
     }
@@ -363,13 +366,13 @@ static inline __attribute__((always_inline)) int sb_drift_loop(const sb_real* re
 
 /* sb_drift_loop inlined once for each form, with and without the check. */
 static int sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im4, sb_real* restrict x,
-                          sb_real* restrict d, sb_real* restrict v, sb_real* restrict f, const sb_step_constants* k,
-                          size_t n) {
+                          sb_real* restrict carry, sb_real* restrict d, sb_real* restrict v, sb_real* restrict f,
+                          const sb_step_constants* k, size_t n) {
     if (k->stormer)
-        return k->check_in_drift ? sb_drift_loop(m4, im4, x, d, v, f, k, n, true, true)
-                                 : sb_drift_loop(m4, im4, x, d, v, f, k, n, true, false);
-    return k->check_in_drift ? sb_drift_loop(m4, im4, x, d, v, f, k, n, false, true)
-                             : sb_drift_loop(m4, im4, x, d, v, f, k, n, false, false);
+        return k->check_in_drift ? sb_drift_loop(m4, im4, x, carry, d, v, f, k, n, true, true)
+                                 : sb_drift_loop(m4, im4, x, carry, d, v, f, k, n, true, false);
+    return k->check_in_drift ? sb_drift_loop(m4, im4, x, carry, d, v, f, k, n, false, true)
+                             : sb_drift_loop(m4, im4, x, carry, d, v, f, k, n, false, false);
 }
 
 /* The gravitational energy of packed reals [begin, end) into *gravity;
@@ -412,7 +415,7 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
         size_t begin = it.begin, end = it.end;
         if (s->hooks.before_drift) s->hooks.before_drift(s, begin, end);
         sb_spread_masses(s->fast, begin, end, true, &masses);
-        if (sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->displacements4 + begin,
+        if (sb_drift_range(masses.m4, masses.im4, s->positions4 + begin, s->carry4 + begin, s->displacements4 + begin,
                            k->store_velocity ? s->velocities4 + begin : scratch, s->forces4 + begin, k, end - begin))
             sb_worker_raise(bad);
         if (s->hooks.drift_chunk) s->hooks.drift_chunk(s, (uint32_t)c, dt);

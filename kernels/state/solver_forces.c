@@ -39,7 +39,7 @@ static sb_status sb_total_forces(sb_solver* s, const double* x, const double* v,
 static sb_status sb_reference_step_forces(sb_solver* s) {
     sb_state* st = &s->state;
     uint32_t n = s->model->vertex_count;
-    sb_interleave(s->scratch_x, st->x, st->y, st->z, n);
+    sb_interleave_positions(s, s->scratch_x);
     sb_interleave(s->scratch_v, st->vx, st->vy, st->vz, n);
     sb_status status = sb_total_forces(s, s->scratch_x, s->scratch_v, s->scratch_f, &s->energies, s->external);
     if (status != SB_OK) return status;

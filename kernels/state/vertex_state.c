@@ -4,6 +4,7 @@
 #include "common/error.h"
 
 #include <math.h>
+#include <string.h>
 
 sb_status sb_check_state(sb_solver* s) {
     for (uint32_t i = 0; i < s->state.vertex_count; i++) {
@@ -76,4 +77,21 @@ bool sb_step_needs_forces(const sb_solver* s) {
     bool corrected = false; /* a feature corrects the state after the step */
     for (int k = 0; k < s->feature_count; k++) corrected |= s->features[k].correct != NULL;
     return s->def.adaptive || s->def.external_force || s->hooks.post_force || corrected;
+}
+
+void sb_clear_carries(sb_solver* s) {
+    size_t n = s->state.vertex_count;
+    memset(s->carry_x, 0, n * sizeof(sb_real));
+    memset(s->carry_y, 0, n * sizeof(sb_real));
+    memset(s->carry_z, 0, n * sizeof(sb_real));
+    if (s->carry4) memset(s->carry4, 0, 4 * n * sizeof(sb_real));
+}
+
+void sb_interleave_positions(const sb_solver* s, double* out) {
+    const sb_state* st = &s->state;
+    for (uint32_t i = 0; i < st->vertex_count; i++) {
+        out[3 * i] = (double)st->x[i] + (double)s->carry_x[i];
+        out[3 * i + 1] = (double)st->y[i] + (double)s->carry_y[i];
+        out[3 * i + 2] = (double)st->z[i] + (double)s->carry_z[i];
+    }
 }

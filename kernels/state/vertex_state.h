@@ -25,6 +25,28 @@ void sb_store_free_range(sb_solver* solver, const double* x, const double* v, ui
  * the state's arrays gathered into stretch4 (the reference kernels). */
 const sb_real* sb_packed_positions(sb_solver* solver);
 
+/* Compensated drifts (Kahan's summation, in double: a float's sum with a
+ * float is exact there). In float a position is 24 bits, and rounding
+ * x + Δ at every step is a random walk that heats an undamped body (+154 %
+ * energy over 4 × 10⁵ Verlet steps at half the stable step for the sheet of
+ * tests/test_long_run_energy.c); so the drift keeps what the rounding left
+ * out in *carry and adds it to the next step's Δ. The position stays the
+ * one the kernels read; the carry is at most half its last place. In a
+ * double build the carry stays zero and the sum is x + Δ as before. */
+static inline sb_real sb_compensated_add(sb_real x, sb_real d, sb_real* carry) {
+    double sum = (double)x + (double)d + (double)*carry;
+    sb_real rounded = (sb_real)sum;
+    *carry = (sb_real)(sum - (double)rounded);
+    return rounded;
+}
+/* The state's positions with their carries, x + carry in double, as 3n
+ * interleaved doubles: where the reference's forces are evaluated, so that
+ * they see the positions the compensated drifts track, not their 24-bit
+ * roundings (whose noise alone heats a long float run). */
+void sb_interleave_positions(const sb_solver* solver, double* out);
+/* Forgets the drifts' carries (the positions were set from outside). */
+void sb_clear_carries(sb_solver* solver);
+
 /* Whether anything between a step and the next reads the new state's
  * forces or energies, so that the step must evaluate them: the correct
  * stage (collider, self-contact, hard handles), the external and soft
