@@ -396,7 +396,7 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_vbd_follow_topology(s, v);
     double relaxation = s->def.vbd_relaxation > 0.0 ? s->def.vbd_relaxation : 1.0;
     sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), s->def.vbd_chebyshev_rho, relaxation, 0, 0};
-    sb_team_run(s->team, sb_team_size(s->team), sb_vbd_step, &job);
+    sb_team_run_adaptive(s->team, sb_team_size(s->team), sb_vbd_step, &job);
     v->has_previous = true;
     s->has_displacement = false;
     /* The fast sweep leaves the forces and energies to sb_solver_settle when
