@@ -24,10 +24,9 @@
  * a barrier inside a step, where the threads arrive within microseconds of
  * each other and a futex sleep and wake-up costs tens of microseconds (on
  * a 4-sweep vbd step of 10 000 vertices, 32 barriers, about half the
- * step). A short spin before the sleep makes such a step faster, but
- * beside a competing 1 kHz thread it keeps that thread off a core and
- * makes it late far more often (bench/results/notes/team.md has the
- * measurement). So the spin is left to the spin and yield policies.
+ * step, until its sweeps waited only for the blocks they read). A short spin before the sleep makes such a step faster,
+ * but beside a competing 1 kHz thread it keeps that thread off a core and makes it late far more often
+ * (bench/results/notes/team.md has the measurement). So the spin is left to the spin and yield policies.
  *
  * A waker issues FUTEX_WAKE only when a waiter said it sleeps (the sleepers count; sequentially consistent
  * on both sides, so a waiter either sees the new value or is woken).
