@@ -344,6 +344,35 @@ static bool sb_vbd_schedule_build(sb_fast_vbd* f) {
     return ok;
 }
 
+/* Whether block y is among block b's needs. */
+static bool sb_vbd_needs_block(const sb_fast_vbd* f, uint32_t b, uint32_t y) {
+    for (uint32_t e = f->need_first[b]; e < f->need_first[b + 1]; e++)
+        if (f->need[e] == y) return true;
+    return false;
+}
+
+uint32_t sb_fast_vbd_schedule_faults(const sb_fast_vbd* f, const sb_model* m, uint32_t* needs) {
+    uint32_t* block_of = malloc(((size_t)m->vertex_count + 1) * sizeof *block_of);
+    if (!block_of) return UINT32_MAX;
+    for (uint32_t i = 0; i < m->vertex_count; i++) block_of[i] = UINT32_MAX;
+    for (uint32_t b = 0; b < f->block_count; b++)
+        for (uint32_t l = 0; l < f->blocks[b].lanes; l++) block_of[f->lane[(size_t)b * SB_WIDTH + l]] = b;
+    uint32_t faults = 0;
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        if (!sb_vbd_counts_element(m, &e)) continue;
+        for (int a = 0; a < e.count; a++)
+            for (int c = 0; c < e.count; c++) {
+                uint32_t x = block_of[e.vertex[a]], y = block_of[e.vertex[c]];
+                if (a == c || x == UINT32_MAX || y == UINT32_MAX) continue;
+                faults += x == y || !sb_vbd_needs_block(f, x, y); /* one color's vertices share no element */
+            }
+    }
+    *needs = f->need_first[f->block_count];
+    free(block_of);
+    return faults;
+}
+
 static void* sb_vbd_alloc(size_t count, size_t size) { return aligned_alloc(64, ((count * size) / 64 + 1) * 64); }
 
 static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {

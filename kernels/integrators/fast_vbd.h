@@ -47,6 +47,13 @@ typedef struct sb_fast_vbd_step {
     atomic_int* collapsed;
 } sb_fast_vbd_step;
 
+/* Checks the sweeps' schedule against the model's elements (for the
+ * tests): for every element with a constant other than 0 and every two of
+ * its vertices in blocks x and y, x ≠ y and y is among x's needs. Returns
+ * the pairs that fail (UINT32_MAX when out of memory) and, in *needs, the
+ * needs listed in all. */
+uint32_t sb_fast_vbd_schedule_faults(const sb_fast_vbd* f, const sb_model* m, uint32_t* needs);
+
 /* The step's team job, on every worker of the team. */
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* step, const sb_worker* w);
 

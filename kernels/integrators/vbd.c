@@ -408,6 +408,11 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     return sb_solver_compute_forces(s);
 }
 
+uint32_t sb_vbd_schedule_faults(const sb_solver* s, uint32_t* needs) {
+    *needs = 0;
+    return s->vbd && s->vbd->fast ? sb_fast_vbd_schedule_faults(s->vbd->fast, s->model, needs) : UINT32_MAX;
+}
+
 /* The checkpoint's part (kernels/solver/solver_state.c): the velocities the next
  * first guess compares with, and whether there are any yet. */
 static size_t sb_vbd_state_bytes(const sb_solver* s) { return 3 * (size_t)s->model->vertex_count * sizeof(double) + 1; }
