@@ -5,26 +5,29 @@
 # is ("quiet"), then with one core loaded by a niced busy loop
 # (nice -n 19 sh -c 'while :; do :; done'), the loop stopped after.
 #
-#   [SOFTBOND=program] bench/team.sh [--steps N] [--repeats R]
+#   [SOFTBOND=program] bench/team.sh [--steps N] [--repeats R] [--csv FILE]
 #
 # A configuration's ms per step is the difference of two runs (2 and 2 + N
-# steps, so start-up and loading cancel), the least of R repeats (default
-# 3), the configurations interleaved so that a busy moment of a shared
-# machine hits all alike. Writes bench/results/team.csv and prints it; the
-# load averages before and after are printed too (how idle the machine was
-# besides the loop).
+# steps, default N = 400: vbd at 4 sweeps runs this sheet away after about
+# 0.6 s; start-up and loading cancel), the least and the median of R
+# repeats (default 3), the configurations interleaved so that a busy moment
+# of a shared machine hits all alike. Writes FILE (default
+# bench/results/team.csv) and prints it, with the load averages before and
+# after (how idle the machine was besides the loop).
 set -eu
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=$ROOT/build
-STEPS=1000
+STEPS=400
 REPEATS=3
+CSV=$ROOT/bench/results/team.csv
 while [ $# -gt 0 ]; do
     case $1 in
         --steps) STEPS=$2; shift 2 ;;
         --repeats) REPEATS=$2; shift 2 ;;
-        -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
-        *) echo "bench/team.sh: unknown option $1 (--steps N, --repeats R)" >&2; exit 2 ;;
+        --csv) CSV=$2; shift 2 ;;
+        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+        *) echo "bench/team.sh: unknown option $1 (--steps N, --repeats R, --csv FILE)" >&2; exit 2 ;;
     esac
 done
 if [ -n "${SOFTBOND:-}" ]; then
@@ -75,12 +78,16 @@ ms_per_step() {
 measure() {
     for r in $(seq "$REPEATS"); do
         for c in xpbd vbd; do
-            for threads in 1 2; do echo "$1 $c $threads $(ms_per_step "$c" "$threads")" >>"$TMP/rows"; done
+            for threads in 1 2; do
+                ms=$(ms_per_step "$c" "$threads") # a failed run stops the script (set -e)
+                echo "$1 $c $threads $ms" >>"$TMP/rows"
+            done
         done
     done
 }
 
 : >"$TMP/rows"
+echo "program: $SB"
 echo "load averages before: $(cut -d' ' -f1-3 /proc/loadavg)"
 measure quiet
 nice -n 19 sh -c 'while :; do :; done' &
@@ -90,7 +97,6 @@ measure loaded
 stop_loop
 echo "load averages after: $(cut -d' ' -f1-3 /proc/loadavg)"
 
-CSV=$ROOT/bench/results/team.csv
 {
     echo "load,case,threads,ms_per_step_least,ms_per_step_median,repeats"
     for load in quiet loaded; do

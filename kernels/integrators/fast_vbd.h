@@ -9,10 +9,12 @@
 typedef struct sb_fast_vbd sb_fast_vbd;
 
 /* The layout for vbd's colors: color_start (color_count + 1 entries) cuts
- * order, the moving vertices by color. Built once; NULL when out of memory.
- * The model must not change afterwards (no breakage, no tearing). */
+ * order, the moving vertices by color; the sweeps' waits planned for a
+ * team of `width` (other widths run too, waiting on every need). Built
+ * once; NULL when out of memory. The model must not change afterwards (no
+ * breakage, no tearing). */
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev);
+                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width);
 void sb_fast_vbd_destroy(sb_fast_vbd* f);
 
 /* Chebyshev acceleration across a step's sweeps (as the VBD paper uses

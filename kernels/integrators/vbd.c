@@ -166,9 +166,11 @@ bool sb_vbd_prepare(sb_solver* s) {
     v->built_vertices = s->live_vertices;
     /* a model that may break or tear changes under the sweep: the reference's, which reads it live; and
      * the fast sweep has no share for the co-rotated tetrahedra */
-    if (ok && s->fast && !s->breakage && !m->tet_count)
-        ok =
-            (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev)) != NULL;
+    if (ok && s->fast && !s->breakage && !m->tet_count) {
+        int width = sb_runtime_threads(s->def.runtime.threads, NULL); /* the team's size (made after this) */
+        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev,
+                                           width)) != NULL;
+    }
     return ok;
 }
 

@@ -28,8 +28,12 @@
  * but beside a competing 1 kHz thread it keeps that thread off a core and makes it late far more often
  * (bench/results/notes/team.md has the measurement). So the spin is left to the spin and yield policies.
  *
- * A waker issues FUTEX_WAKE only when a waiter said it sleeps (the sleepers count; sequentially consistent
- * on both sides, so a waiter either sees the new value or is woken).
+ * A waker issues FUTEX_WAKE only when a waiter said it sleeps on that very
+ * word (each thread's slot names the word it sleeps on; sequentially
+ * consistent on both sides, so a waiter either sees the new value or is
+ * woken): a block's post in vbd's or xpbd's sweeps, hundreds a step, makes
+ * no system call while the other worker sleeps on something else (a team-wide
+ * count of sleepers made every post a FUTEX_WAKE then).
  * Barriers count arrivals and bump a generation; the last to arrive
  * releases the others. A job ends when every worker has counted itself
  * finished, those that had no share of it too, so that the job's fields
@@ -85,6 +89,11 @@
 #define SB_TEAM_JOBS 8
 #define SB_TEAM_PROBE_EVERY 64
 
+/* The word a thread sleeps on (NULL: none), alone on its cache line. */
+typedef struct sb_sleeper {
+    _Alignas(64) _Atomic(atomic_uint*) on;
+} sb_sleeper;
+
 /* One job function's measured wall times: seconds[0] on the caller alone,
  * seconds[1] at the configured width (0: not measured yet). */
 typedef struct sb_team_choice {
@@ -108,7 +117,7 @@ struct sb_team {
     /* the barrier */
     atomic_int arrived;
     atomic_uint barrier_generation;
-    atomic_int sleepers;
+    sb_sleeper* sleepers;          /* size: the word each thread sleeps on, NULL when awake */
     hwloc_topology_t topology;     /* for pinning; NULL when not pinned */
     hwloc_bitmap_t caller_binding; /* the calling thread's binding before pinning, given back at destroy */
     /* sb_team_run_adaptive's measurements, used by the calling thread only */
@@ -127,7 +136,7 @@ static inline void sb_cpu_relax(void) {
 }
 
 /* Returns once *word differs from old. */
-static void sb_wait_while(sb_team* t, atomic_uint* word, unsigned old) {
+static void sb_wait_while(sb_team* t, int thread, atomic_uint* word, unsigned old) {
     int checks = t->policy == SB_WAIT_SPIN ? SB_SPIN_CHECKS : t->policy == SB_WAIT_YIELD ? SB_YIELD_CHECKS : 0;
     for (int i = 0; i < checks; i++) {
         if (atomic_load_explicit(word, memory_order_acquire) != old) return;
@@ -136,15 +145,24 @@ static void sb_wait_while(sb_team* t, atomic_uint* word, unsigned old) {
         else
             sb_cpu_relax();
     }
-    atomic_fetch_add(&t->sleepers, 1);
+    atomic_store(&t->sleepers[thread].on, word);
     while (atomic_load(word) == old) sb_futex(word, FUTEX_WAIT_PRIVATE, old);
-    atomic_fetch_sub(&t->sleepers, 1);
+    atomic_store(&t->sleepers[thread].on, NULL);
+}
+
+/* Wakes whoever sleeps on word (its new value already stored). */
+static void sb_wake(sb_team* t, atomic_uint* word) {
+    for (int i = 0; i < t->size; i++)
+        if (atomic_load(&t->sleepers[i].on) == word) {
+            sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+            return;
+        }
 }
 
 /* Bumps *word and wakes whoever sleeps on it. */
 static void sb_bump(sb_team* t, atomic_uint* word) {
     atomic_fetch_add(word, 1);
-    if (atomic_load(&t->sleepers) > 0) sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+    sb_wake(t, word);
 }
 
 void sb_worker_barrier(const sb_worker* w) {
@@ -155,13 +173,13 @@ void sb_worker_barrier(const sb_worker* w) {
         atomic_store_explicit(&t->arrived, 0, memory_order_relaxed);
         sb_bump(t, &t->barrier_generation);
     } else {
-        sb_wait_while(t, &t->barrier_generation, generation);
+        sb_wait_while(t, w->index, &t->barrier_generation, generation);
     }
 }
 
 void sb_worker_wait_at_least(const sb_worker* w, atomic_uint* word, unsigned target) {
     for (unsigned seen; (seen = atomic_load_explicit(word, memory_order_acquire)) < target;)
-        sb_wait_while(w->team, word, seen);
+        sb_wait_while(w->team, w->index, word, seen);
 }
 
 void sb_worker_post(const sb_worker* w, atomic_uint* word, unsigned value) {
@@ -169,8 +187,8 @@ void sb_worker_post(const sb_worker* w, atomic_uint* word, unsigned value) {
         atomic_store_explicit(word, value, memory_order_relaxed);
         return;
     }
-    atomic_store(word, value); /* sequentially consistent, before the sleepers are read (sb_bump) */
-    if (atomic_load(&w->team->sleepers) > 0) sb_futex(word, FUTEX_WAKE_PRIVATE, INT_MAX);
+    atomic_store(word, value); /* sequentially consistent, before the sleepers are read */
+    sb_wake(w->team, word);
 }
 
 void sb_worker_range(const sb_worker* w, int64_t count, int64_t* begin, int64_t* end) {
@@ -192,7 +210,7 @@ static void* sb_worker_main(void* arg) {
     sb_pin(t, w->index);
     unsigned seen = 0;
     for (;;) {
-        sb_wait_while(t, &t->job_generation, seen);
+        sb_wait_while(t, w->index, &t->job_generation, seen);
         seen = atomic_load_explicit(&t->job_generation, memory_order_acquire);
         if (atomic_load_explicit(&t->stop, memory_order_acquire)) return NULL;
         if (w->index < t->width) {
@@ -219,7 +237,7 @@ void sb_team_run(sb_team* t, int width, sb_team_job job, void* context) {
     /* Every worker, not only the job's: one that skipped the job must have
      * read the job's width before the next job rewrites it. */
     for (unsigned done; (done = atomic_load_explicit(&t->finished, memory_order_acquire)) != (unsigned)t->size - 1;)
-        sb_wait_while(t, &t->finished, done);
+        sb_wait_while(t, 0, &t->finished, done);
 }
 
 static double sb_seconds(void) {
@@ -284,6 +302,7 @@ void sb_team_destroy(sb_team* t) {
     if (t->topology) hwloc_topology_destroy(t->topology);
     free(t->threads);
     free(t->workers);
+    free(t->sleepers);
     free(t);
 }
 
@@ -308,8 +327,11 @@ sb_team* sb_team_create(const sb_runtime_def* def, sb_error* err) {
     if (t) {
         t->threads = calloc((size_t)size, sizeof *t->threads);
         t->workers = calloc((size_t)size, sizeof *t->workers);
+        t->sleepers = aligned_alloc(_Alignof(sb_sleeper), (size_t)size * sizeof *t->sleepers);
     }
-    if (!t || !t->threads || !t->workers) {
+    if (t && t->sleepers)
+        for (int i = 0; i < size; i++) atomic_init(&t->sleepers[i].on, NULL);
+    if (!t || !t->threads || !t->workers || !t->sleepers) {
         sb_team_destroy(t);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory for a team of %d threads", size);
         return NULL;
