@@ -10,6 +10,7 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <stdatomic.h>
+#include <time.h>
 
 /* Under the thread sanitizer every memory access is checked: smaller runs. */
 #if defined(__SANITIZE_THREAD__)
@@ -92,6 +93,52 @@ static void test_team_runs_jobs_of_any_width(void** state) {
             for (int i = 0; i < width; i++) covered += job.covered[i];
             assert_int_equal(covered, 999);
         }
+        sb_team_destroy(team);
+    }
+}
+
+/* A job that is slow on the worker named by its context's `slow_alone`
+ * (1: on the caller alone, 0: when shared): it sleeps 20 ms there, more
+ * than a busy machine's scheduling delays add to the job otherwise, and
+ * covers its items as team_work does. */
+typedef struct lopsided_job {
+    bool slow_alone;
+    atomic_llong covered;
+} lopsided_job;
+
+static void lopsided_work(void* context, const sb_worker* w) {
+    lopsided_job* job = context;
+    if ((w->width == 1) == job->slow_alone && w->index == 0) nanosleep(&(struct timespec){0, 20000000}, NULL);
+    int64_t begin, end;
+    sb_worker_range(w, 999, &begin, &end);
+    atomic_fetch_add(&job->covered, end - begin);
+    sb_worker_barrier(w);
+}
+
+/* sb_team_run_adaptive runs a job at the width it measured faster, trying
+ * the other now and then: of 256 runs, at most a few go at the slow width
+ * (the first measurement and one probe every 64 runs), and every run
+ * covers all the items whichever width ran it. */
+static void test_adaptive_runs_take_the_faster_width(void** state) {
+    (void)state;
+    for (int slow_alone = 0; slow_alone < 2; slow_alone++) {
+        sb_error err;
+        sb_runtime_def def = {.threads = 2, .wait = SB_WAIT_PASSIVE};
+        sb_team* team = sb_team_create(&def, &err);
+        assert_non_null(team);
+        enum { RUNS = 256, SLOW_AT_MOST = 16 };
+        for (int run = 0; run < RUNS; run++) {
+            lopsided_job job = {.slow_alone = slow_alone};
+            sb_team_run_adaptive(team, 2, lopsided_work, &job);
+            assert_int_equal(atomic_load(&job.covered), 999);
+        }
+        uint64_t runs, alone;
+        sb_team_adaptive_counts(team, &runs, &alone);
+        assert_int_equal(runs, RUNS);
+        if (slow_alone)
+            assert_in_range(alone, 1, SLOW_AT_MOST);
+        else
+            assert_in_range(alone, RUNS - SLOW_AT_MOST, RUNS - 1);
         sb_team_destroy(team);
     }
 }
@@ -450,6 +497,7 @@ static void test_buffer_checks_its_arguments(void** state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_team_runs_jobs_of_any_width),
+        cmocka_unit_test(test_adaptive_runs_take_the_faster_width),
         cmocka_unit_test(test_pinning_gives_the_binding_back),
         cmocka_unit_test(test_default_runtime_shares_the_machine),
         cmocka_unit_test(test_wait_policy_names),

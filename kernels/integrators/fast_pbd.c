@@ -70,7 +70,9 @@
  * worker may run up to a block or so ahead of the other instead of both
  * waiting at every phase. Tearing re-points elements to a split vertex
  * only where they had its origin, so the waits found at creation still
- * cover every pair that shares one. A unit's start edges are taken by its
+ * cover every pair that shares one. When the team runs the step on one
+ * worker (sb_team_run_adaptive, on a busy machine), that worker takes every
+ * unit in index order, which is sweep order. A unit's start edges are taken by its
  * worker before its first sweep (they are then in that worker's cache, and
  * no barrier separates them from the sweeps). A step has 2 barriers (after
  * the prediction, before the velocities), where a barrier after each block
@@ -726,6 +728,20 @@ static bool sb_pbd_unit(const sb_pbd_wide* wide, uint32_t u, const sb_pbd_sweep*
     return collapsed;
 }
 
+/* This worker's turns [begin, end) and the unit of turn e: its plan's, or,
+ * when the job runs on one worker (sb_team_run_adaptive chose the caller
+ * alone, whatever width the plan is for), every unit in index order, which
+ * is sweep order: each unit then finds the units it waits for done. */
+static uint32_t sb_pbd_turns_begin(const sb_pbd_schedule* q, const sb_worker* w) {
+    return w->width == 1 ? 0 : q->plan_first[w->index];
+}
+static uint32_t sb_pbd_turns_end(const sb_pbd_schedule* q, const sb_worker* w) {
+    return w->width == 1 ? q->units : q->plan_first[w->index + 1];
+}
+static uint32_t sb_pbd_turn(const sb_pbd_schedule* q, const sb_worker* w, uint32_t e) {
+    return w->width == 1 ? e : q->plan[e];
+}
+
 /* Sweep `sweep` (0, 1, …) of this worker's units in its plan's order, each
  * once the units it waits for have finished the sweeps it must follow:
  * those of earlier phases this sweep, those of later phases the sweep
@@ -733,8 +749,8 @@ static bool sb_pbd_unit(const sb_pbd_wide* wide, uint32_t u, const sb_pbd_sweep*
 static bool sb_pbd_sweep_units(const sb_worker* w, sb_pbd_schedule* q, const sb_pbd_wide* wide, const sb_pbd_sweep* k,
                                unsigned sweep) {
     bool collapsed = false;
-    for (uint32_t e = q->plan_first[w->index]; e < q->plan_first[w->index + 1]; e++) {
-        uint32_t u = q->plan[e];
+    for (uint32_t e = sb_pbd_turns_begin(q, w); e < sb_pbd_turns_end(q, w); e++) {
+        uint32_t u = sb_pbd_turn(q, w, e);
         for (uint32_t n = q->need_first[u]; n < q->need_first[u + 1]; n++) {
             uint32_t y = q->need[n];
             sb_worker_wait_at_least(w, &q->done[y].sweeps, sweep + (q->phase[y] < q->phase[u]));
@@ -816,8 +832,8 @@ static void sb_pbd_unit_edges(const sb_worker* w, sb_pbd_wide* wide) {
     const sb_pbd_schedule* q = &wide->schedule;
     sb_pbd_wide_bonds* b = &wide->bonds;
     sb_pbd_wide_triangles* t = &wide->triangles;
-    for (uint32_t e = q->plan_first[w->index]; e < q->plan_first[w->index + 1]; e++) {
-        uint32_t u = q->plan[e], block;
+    for (uint32_t e = sb_pbd_turns_begin(q, w); e < sb_pbd_turns_end(q, w); e++) {
+        uint32_t u = sb_pbd_turn(q, w, e), block;
         const sb_pbd_slots* slots = sb_pbd_unit_slots(wide, u, &block);
         uint32_t begin = slots->first[slots->runs->block_first_run[block]];
         uint32_t end = slots->first[slots->runs->block_first_run[block + 1]];
@@ -912,7 +928,7 @@ sb_status sb_pbd_wide_step(sb_solver* s, double dt) {
                            .xpbd = s->def.integrator == SB_INTEGRATOR_XPBD};
     sb_pbd_schedule* q = &p->wide->schedule;
     for (uint32_t u = 0; u < q->units; u++) atomic_store_explicit(&q->done[u].sweeps, 0, memory_order_relaxed);
-    sb_team_run(s->team, q->width, sb_pbd_wide_sweeps, &job); /* the job's start publishes the zeros */
+    sb_team_run_adaptive(s->team, q->width, sb_pbd_wide_sweeps, &job); /* the job's start publishes the zeros */
     s->published = true; /* the state's arrays and the packed positions and velocities hold the new state */
     s->has_displacement = false;
     if (atomic_load(&job.bad)) return sb_check_state(s);

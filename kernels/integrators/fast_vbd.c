@@ -49,7 +49,34 @@
  * check reads when the forces wait for sb_solver_settle); each worker packs
  * and unpacks its own range. Every update reads and writes the
  * same values whatever the split over the team: the state is bitwise the
- * same for any thread count. With Chebyshev acceleration the packed
+ * same for any thread count.
+ *
+ * Schedule. The sweeps have no barrier per color: a block waits only for
+ * the blocks whose vertices its elements read (its needs, found at
+ * creation; the relation is symmetric), each to have finished the sweep it
+ * must follow: a block of an earlier color this sweep, of a later color
+ * the sweep before (kernels/integrators/fast_pbd.c's scheme, its units
+ * being these blocks). Each pair of blocks that share an element is then
+ * ordered as in the colors' Gauss-Seidel order, and the rest run in any
+ * order. A block's finished sweeps are a counter on its own cache line.
+ * Each worker runs its share of each color's blocks (sb_worker_range, as a
+ * barrier per color split them); the vertices of a color are in vertex
+ * order, so on a sheet the two workers' shares touch only along a seam.
+ * Only the needs of another worker's blocks are waited for (a worker's own
+ * run in order), and only the blocks that another worker's read post
+ * (the needs are split so at creation, for the team's size). Each worker
+ * runs those seam blocks of a color first, then the rest, so that the
+ * other finds them done in the next color: a worker waits only where it
+ * overtook the other by about a color. (Running each share straight up,
+ * the second worker began each color waiting for the blocks the first ran
+ * last, a barrier in all but name; running the first worker's share down
+ * instead cost a third more CPU time on the 100 × 100 sheet, the slots
+ * being laid out up.) A step has 2
+ * barriers (after the packing, before the unpacking), where one after each
+ * color made 29 at 4 sweeps on the 100 × 100 sheet (7 colors): with
+ * passive waits each was a futex sleep and wake-up, about half the step.
+ * With Chebyshev acceleration a barrier before and after each sweep's
+ * acceleration stays. With Chebyshev acceleration the packed
  * positions of the last two sweeps are kept and each worker accelerates
  * its own range after a sweep (vbd.c). With over-relaxation each lane adds
  * ω times its Newton step (vbd.c). */
@@ -58,6 +85,7 @@
 #include "kernels/forces/reference_terms.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct sb_vbd_block {
     uint32_t lanes;                        /* real vertices */
@@ -83,11 +111,20 @@ typedef struct sb_vbd_hinges {
     sb_real *cos0, *sin0, *k, *opposite; /* cos φ0, sin φ0; opposite: 1 where p is o0 */
 } sb_vbd_hinges;
 
+/* How many sweeps a block has finished in the step, alone on its cache line. */
+typedef struct sb_vbd_done {
+    _Alignas(64) atomic_uint sweeps;
+} sb_vbd_done;
+
 struct sb_fast_vbd {
     uint32_t vertex_count, color_count, block_count;
     uint32_t* color_block; /* color_count + 1: each color's first block */
     sb_vbd_block* blocks;
-    uint32_t* lane; /* SB_WIDTH per block: the lanes' vertices, padding repeats the first */
+    uint32_t *need_first, *need; /* block b reads the vertices of blocks need[need_first[b] … need_first[b + 1]) */
+    int width;                   /* the workers the split below is for */
+    uint32_t* across;            /* block b's first across[b] needs are of other workers' blocks */
+    sb_vbd_done* done;           /* block_count */
+    uint32_t* lane;              /* SB_WIDTH per block: the lanes' vertices, padding repeats the first */
     sb_vbd_bonds bonds;
     sb_vbd_triangles triangles;
     sb_vbd_hinges hinges;
@@ -258,6 +295,128 @@ static void sb_vbd_fill_block(sb_fast_vbd* f, const sb_model* m, const sb_vertex
     }
 }
 
+/* ---- the schedule ------------------------------------------------------ */
+
+/* Calls visit(v, context) for each vertex that block b's elements read
+ * besides the lanes' own (a vertex as often as entries have it). */
+static void sb_vbd_block_reads(const sb_fast_vbd* f, uint32_t b, void (*visit)(uint32_t, void*), void* context) {
+    const sb_vbd_block* block = &f->blocks[b];
+    for (uint32_t l = 0; l < block->lanes; l++) {
+        for (uint32_t s = 0; s < block->bonds; s++)
+            visit(f->bonds.other[block->bond_at + (size_t)s * SB_WIDTH + l], context);
+        for (uint32_t s = 0; s < block->triangles; s++) {
+            size_t q = block->triangle_at + (size_t)s * SB_WIDTH + l;
+            visit(f->triangles.q[q], context), visit(f->triangles.r[q], context);
+        }
+        for (uint32_t s = 0; s < block->hinges; s++)
+            for (int a = 0; a < 3; a++) visit(f->hinges.v[a][block->hinge_at + (size_t)s * SB_WIDTH + l], context);
+    }
+}
+
+/* The needs pass over one block's reads: each other block (of another
+ * color: a color's vertices share no element) counted or listed once. */
+typedef struct sb_vbd_needs {
+    const uint32_t* block_of; /* per vertex: its block, UINT32_MAX for a vertex in none (fixed) */
+    uint32_t block, *mark;    /* mark[y]: 1 + the last block that took block y */
+    uint32_t count, *out;     /* out: NULL to count */
+} sb_vbd_needs;
+
+static void sb_vbd_take_need(uint32_t v, void* context) {
+    sb_vbd_needs* n = context;
+    uint32_t y = n->block_of[v];
+    if (y == UINT32_MAX || y == n->block || n->mark[y] == n->block + 1) return;
+    n->mark[y] = n->block + 1;
+    if (n->out) n->out[n->count] = y;
+    n->count++;
+}
+
+/* Block b's worker in a team of `width`: its color's blocks split as
+ * sb_worker_range splits them. */
+static int sb_vbd_owner(const sb_fast_vbd* f, uint32_t b, int width) {
+    uint32_t c = 0;
+    while (f->color_block[c + 1] <= b) c++;
+    int64_t count = f->color_block[c + 1] - f->color_block[c], at = b - f->color_block[c];
+    for (int i = 0; i + 1 < width; i++) {
+        sb_worker w = {NULL, i, width};
+        int64_t begin, end;
+        sb_worker_range(&w, count, &begin, &end);
+        if (at < end) return i;
+    }
+    return width - 1;
+}
+
+/* Each block's needs of other workers' blocks (in a team of f->width)
+ * moved to the front of its list, and counted. */
+static void sb_vbd_split_needs(sb_fast_vbd* f) {
+    for (uint32_t b = 0; b < f->block_count; b++) {
+        int mine = sb_vbd_owner(f, b, f->width);
+        uint32_t front = f->need_first[b];
+        for (uint32_t e = f->need_first[b]; e < f->need_first[b + 1]; e++)
+            if (sb_vbd_owner(f, f->need[e], f->width) != mine) {
+                uint32_t y = f->need[e];
+                f->need[e] = f->need[front], f->need[front++] = y;
+            }
+        f->across[b] = front - f->need_first[b];
+    }
+}
+
+/* Each block's needs (the blocks whose vertices it reads, which read its
+ * own in turn) and the blocks' done counters. */
+static bool sb_vbd_schedule_build(sb_fast_vbd* f) {
+    uint32_t blocks = f->block_count ? f->block_count : 1;
+    uint32_t* block_of = malloc(((size_t)f->vertex_count + 1) * sizeof *block_of);
+    sb_vbd_needs n = {.block_of = block_of, .mark = calloc(blocks, sizeof *n.mark)};
+    f->need_first = calloc((size_t)blocks + 1, sizeof *f->need_first);
+    f->done = aligned_alloc(_Alignof(sb_vbd_done), blocks * sizeof *f->done);
+    f->across = malloc(blocks * sizeof *f->across);
+    bool ok = block_of && n.mark && f->need_first && f->done && f->across;
+    for (uint32_t i = 0; ok && i < f->vertex_count; i++) block_of[i] = UINT32_MAX;
+    for (uint32_t b = 0; ok && b < f->block_count; b++)
+        for (uint32_t l = 0; l < f->blocks[b].lanes; l++) block_of[f->lane[(size_t)b * SB_WIDTH + l]] = b;
+    for (int pass = 0; ok && pass < 2; pass++) {
+        memset(n.mark, 0, blocks * sizeof *n.mark);
+        n.out = pass ? f->need : NULL;
+        n.count = 0;
+        for (n.block = 0; n.block < f->block_count; n.block++) {
+            sb_vbd_block_reads(f, n.block, sb_vbd_take_need, &n);
+            f->need_first[n.block + 1] = n.count;
+        }
+        if (!pass) ok = (f->need = malloc(((size_t)n.count + 1) * sizeof *f->need)) != NULL;
+    }
+    if (ok) sb_vbd_split_needs(f);
+    free(block_of), free(n.mark);
+    return ok;
+}
+
+/* Whether block y is among block b's needs. */
+static bool sb_vbd_needs_block(const sb_fast_vbd* f, uint32_t b, uint32_t y) {
+    for (uint32_t e = f->need_first[b]; e < f->need_first[b + 1]; e++)
+        if (f->need[e] == y) return true;
+    return false;
+}
+
+uint32_t sb_fast_vbd_schedule_faults(const sb_fast_vbd* f, const sb_model* m, uint32_t* needs) {
+    uint32_t* block_of = malloc(((size_t)m->vertex_count + 1) * sizeof *block_of);
+    if (!block_of) return UINT32_MAX;
+    for (uint32_t i = 0; i < m->vertex_count; i++) block_of[i] = UINT32_MAX;
+    for (uint32_t b = 0; b < f->block_count; b++)
+        for (uint32_t l = 0; l < f->blocks[b].lanes; l++) block_of[f->lane[(size_t)b * SB_WIDTH + l]] = b;
+    uint32_t faults = 0;
+    for (uint64_t id = 0; id < sb_element_count(m); id++) {
+        sb_element e = sb_element_at(m, id);
+        if (!sb_vbd_counts_element(m, &e)) continue;
+        for (int a = 0; a < e.count; a++)
+            for (int c = 0; c < e.count; c++) {
+                uint32_t x = block_of[e.vertex[a]], y = block_of[e.vertex[c]];
+                if (a == c || x == UINT32_MAX || y == UINT32_MAX) continue;
+                faults += x == y || !sb_vbd_needs_block(f, x, y); /* one color's vertices share no element */
+            }
+    }
+    *needs = f->need_first[f->block_count];
+    free(block_of);
+    return faults;
+}
+
 static void* sb_vbd_alloc(size_t count, size_t size) { return aligned_alloc(64, ((count * size) / 64 + 1) * 64); }
 
 static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
@@ -288,7 +447,8 @@ static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
 
 void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     if (!f) return;
-    free(f->color_block), free(f->blocks), free(f->lane);
+    free(f->color_block), free(f->blocks), free(f->lane), free(f->need_first), free(f->need), free(f->done);
+    free(f->across);
     free(f->bonds.other), free(f->bonds.r0), free(f->bonds.k), free(f->bonds.damping);
     free(f->triangles.q), free(f->triangles.r), free(f->triangles.k_angle), free(f->triangles.k_sb);
     free(f->triangles.lambda), free(f->triangles.gn_p), free(f->triangles.gn_q);
@@ -300,9 +460,10 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
 }
 
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev) {
+                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width) {
     sb_fast_vbd* f = calloc(1, sizeof *f);
     if (!f) return NULL;
+    f->width = width > 1 ? width : 1;
     f->vertex_count = m->vertex_count;
     f->color_count = color_count;
     for (uint32_t c = 0; c < color_count; c++)
@@ -324,6 +485,10 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
         return NULL;
     }
     for (uint32_t b = 0; b < f->block_count; b++) sb_vbd_fill_block(f, m, at, b);
+    if (!sb_vbd_schedule_build(f)) {
+        sb_fast_vbd_destroy(f);
+        return NULL;
+    }
     for (uint32_t i = 0; i < m->vertex_count; i++) f->y4[4 * (size_t)i + 3] = (sb_real)m->mass[i];
     return f;
 }
@@ -591,6 +756,37 @@ static double sb_vbd_accelerate4(sb_fast_vbd* f, double rho, int sweep, double w
     return weight;
 }
 
+/* Block b's Newton steps of sweep `sweep` (0, 1, …), once the blocks it
+ * reads have finished the sweeps it must follow: those of earlier colors
+ * (lower block numbers) this sweep, those of later colors the sweep
+ * before; they wait for it in turn. Whether an element collapsed. */
+static bool sb_vbd_block_in_turn(sb_fast_vbd* f, uint32_t b, unsigned sweep, const sb_vbd_rates* rates,
+                                 const sb_worker* w) {
+    /* a worker's own blocks run in sweep and color order: only the others' need a wait, and only a
+     * block some other worker's block reads (one with needs across: the relation is symmetric) posts */
+    uint32_t needs = w->width == 1 ? 0 : w->width == f->width ? f->across[b] : f->need_first[b + 1] - f->need_first[b];
+    for (uint32_t e = f->need_first[b]; e < f->need_first[b] + needs; e++)
+        sb_worker_wait_at_least(w, &f->done[f->need[e]].sweeps, sweep + (f->need[e] < b));
+    bool collapsed = sb_vbd_block_update(f, b, rates);
+    if (needs) sb_worker_post(w, &f->done[b].sweeps, sweep + 1);
+    return collapsed;
+}
+
+/* This worker's share [begin, end) of color c's blocks in sweep `sweep`:
+ * in the team the waits are planned for, first the blocks that other
+ * workers' blocks read (along the seams between shares), then the rest, so
+ * that the others find them done in the next color; both in block order. */
+static bool sb_vbd_color_share(sb_fast_vbd* f, uint32_t c, int64_t begin, int64_t end, unsigned sweep,
+                               const sb_vbd_rates* rates, const sb_worker* w) {
+    bool collapsed = false, planned = w->width == f->width && w->width > 1;
+    for (int seam = planned; seam >= 0; seam--)
+        for (int64_t k = begin; k < end; k++) {
+            uint32_t b = f->color_block[c] + (uint32_t)k;
+            if (!planned || (f->across[b] > 0) == (seam == 1)) collapsed |= sb_vbd_block_in_turn(f, b, sweep, rates, w);
+        }
+    return collapsed;
+}
+
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker* w) {
     int64_t begin, end;
     sb_worker_range(w, f->vertex_count, &begin, &end);
@@ -601,7 +797,9 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     if (st->chebyshev_rho > 0.0)
         for (size_t q = 4 * (size_t)begin; q < 4 * (size_t)end; q++) f->last4[q] = f->x4[q];
     const int64_t first = begin, past = end;
-    sb_worker_barrier(w);
+    sb_worker_range(w, f->block_count, &begin, &end);
+    for (int64_t b = begin; b < end; b++) atomic_store_explicit(&f->done[b].sweeps, 0, memory_order_relaxed);
+    sb_worker_barrier(w); /* publishes the packing and the zeros */
     const sb_vbd_rates rates = {sb_w_set((sb_real)(1.0 / st->dt)), sb_w_set((sb_real)(1.0 / (st->dt * st->dt))),
                                 sb_w_set((sb_real)(st->drag / st->dt)), sb_w_set((sb_real)st->relaxation)};
     bool collapsed = false;
@@ -609,10 +807,10 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     for (int it = 0; it < st->sweeps; it++) {
         for (uint32_t c = 0; c < f->color_count; c++) {
             sb_worker_range(w, f->color_block[c + 1] - f->color_block[c], &begin, &end);
-            for (int64_t b = begin; b < end; b++)
-                collapsed |= sb_vbd_block_update(f, f->color_block[c] + (uint32_t)b, &rates);
-            sb_worker_barrier(w);
+            collapsed |= sb_vbd_color_share(f, c, begin, end, (unsigned)it, &rates, w);
         }
+        /* every block's sweep done before the acceleration, or before the unpacking */
+        if (st->chebyshev_rho > 0.0 || it + 1 == st->sweeps) sb_worker_barrier(w);
         /* the last sweep's acceleration is of the worker's own range, which it unpacks: no barrier */
         if (st->chebyshev_rho > 0.0) {
             weight = sb_vbd_accelerate4(f, st->chebyshev_rho, it + 1, weight, first, past);

@@ -9,10 +9,12 @@
 typedef struct sb_fast_vbd sb_fast_vbd;
 
 /* The layout for vbd's colors: color_start (color_count + 1 entries) cuts
- * order, the moving vertices by color. Built once; NULL when out of memory.
- * The model must not change afterwards (no breakage, no tearing). */
+ * order, the moving vertices by color; the sweeps' waits planned for a
+ * team of `width` (other widths run too, waiting on every need). Built
+ * once; NULL when out of memory. The model must not change afterwards (no
+ * breakage, no tearing). */
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev);
+                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width);
 void sb_fast_vbd_destroy(sb_fast_vbd* f);
 
 /* Chebyshev acceleration across a step's sweeps (as the VBD paper uses
@@ -46,6 +48,13 @@ typedef struct sb_fast_vbd_step {
     sb_real* positions4;
     atomic_int* collapsed;
 } sb_fast_vbd_step;
+
+/* Checks the sweeps' schedule against the model's elements (for the
+ * tests): for every element with a constant other than 0 and every two of
+ * its vertices in blocks x and y, x ≠ y and y is among x's needs. Returns
+ * the pairs that fail (UINT32_MAX when out of memory) and, in *needs, the
+ * needs listed in all. */
+uint32_t sb_fast_vbd_schedule_faults(const sb_fast_vbd* f, const sb_model* m, uint32_t* needs);
 
 /* The step's team job, on every worker of the team. */
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* step, const sb_worker* w);

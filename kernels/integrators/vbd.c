@@ -167,9 +167,11 @@ bool sb_vbd_prepare(sb_solver* s) {
     v->built_vertices = s->live_vertices;
     /* a model that may break or tear changes under the sweep: the reference's, which reads it live; and
      * the fast sweep has no share for the co-rotated tetrahedra or the membranes */
-    if (ok && s->fast && !s->breakage && !m->tet_count && !m->membrane_count)
-        ok =
-            (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev)) != NULL;
+    if (ok && s->fast && !s->breakage && !m->tet_count && !m->membrane_count) {
+        int width = sb_runtime_threads(s->def.runtime.threads, NULL); /* the team's size (made after this) */
+        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev,
+                                           width)) != NULL;
+    }
     return ok;
 }
 
@@ -421,7 +423,7 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     sb_vbd_follow_topology(s, v);
     double relaxation = s->def.vbd_relaxation > 0.0 ? s->def.vbd_relaxation : 1.0;
     sb_vbd_job job = {s, v, dt, sb_vbd_iterations(&s->def), s->def.vbd_chebyshev_rho, relaxation, 0, 0};
-    sb_team_run(s->team, sb_team_size(s->team), sb_vbd_step, &job);
+    sb_team_run_adaptive(s->team, sb_team_size(s->team), sb_vbd_step, &job);
     v->has_previous = true;
     s->has_displacement = false;
     /* The fast sweep leaves the forces and energies to sb_solver_settle when
@@ -431,6 +433,11 @@ sb_status sb_integrate_vbd(sb_solver* s, double dt) {
     /* the fast step checked the state on the team: only a failure is looked at again, to name the vertex */
     if (s->forces_stale) return atomic_load(&job.unsound) ? sb_check_state(s) : SB_OK;
     return sb_solver_compute_forces(s);
+}
+
+uint32_t sb_vbd_schedule_faults(const sb_solver* s, uint32_t* needs) {
+    *needs = 0;
+    return s->vbd && s->vbd->fast ? sb_fast_vbd_schedule_faults(s->vbd->fast, s->model, needs) : UINT32_MAX;
 }
 
 /* The checkpoint's part (kernels/solver/solver_state.c): the velocities the next

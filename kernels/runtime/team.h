@@ -31,6 +31,19 @@ int sb_team_size(const sb_team* team);
  * wakes. Never allocates. */
 void sb_team_run(sb_team* team, int width, sb_team_job job, void* context);
 
+/* sb_team_run for a step's job whose result does not depend on how many
+ * workers run it (each worker's share is whole blocks of a fixed partition,
+ * and one worker alone runs them all in order). The team times the job at
+ * `width` and on the caller alone, keeps a running estimate of each per job
+ * function, runs the job at the faster and, every SB_TEAM_PROBE_EVERY runs,
+ * once at the other, so that a machine whose load changes is followed
+ * (team.c's design note says why). Never allocates. */
+void sb_team_run_adaptive(sb_team* team, int width, sb_team_job job, void* context);
+
+/* Runs of sb_team_run_adaptive so far, and how many of them went on the
+ * caller alone (for benchmarks' reports). */
+void sb_team_adaptive_counts(const sb_team* team, uint64_t* runs, uint64_t* alone);
+
 /* Waits until every worker of the job has arrived (the policy decides how:
  * spin, yield or sleep); all memory written before it is visible after it. */
 void sb_worker_barrier(const sb_worker* worker);

@@ -699,7 +699,7 @@ sb_status sb_fast_verlet_step(sb_solver* s, double dt) {
         .check_in_drift = !sums && positions_final_in_drift && !s->def.collider_count,
     };
     sb_gravity4(s, job.constants.gravity);
-    sb_team_run(s->team, sb_team_size(s->team), sb_verlet_job, &job);
+    sb_team_run_adaptive(s->team, sb_team_size(s->team), sb_verlet_job, &job);
     s->has_displacement = true;
     s->prev_dt = dt;
     s->published = false;
