@@ -209,7 +209,7 @@ static void test_springs_scene(void** state) {
     tu_result_free(&r);
     r = tu_run((const char*[]){"run", "springs.yaml", "--set", "factory=mm", NULL});
     assert_int_equal(r.code, 2);
-    assert_string_equal(r.err, "softbond: --set factory=mm: 'factory' must be molecular, springs or net, got 'mm'\n");
+    assert_string_equal(r.err, "softbond: --set factory=mm: 'factory' must be molecular, springs, net or membrane, got 'mm'\n");
     tu_result_free(&r);
     r = tu_run((const char*[]){"run", "springs.yaml", "--set", "springs.vicinity.distance=-1", NULL});
     assert_int_equal(r.code, 2);

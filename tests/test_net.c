@@ -71,7 +71,7 @@ static void test_not_a_plain_sheet(void** state) {
     tu_assert_scene_fails("mesh: {generator: icosphere}\nfactory: net\n", message);
     tu_assert_scene_fails("mesh: {reorder: true}\nfactory: net\n", message);
     tu_assert_scene_fails("mesh: {target_vertices: 20}\nfactory: net\n", message);
-    tu_assert_scene_fails("factory: nets\n", "bad.yaml:1: 'factory' must be molecular, springs or net, got 'nets'");
+    tu_assert_scene_fails("factory: nets\n", "bad.yaml:1: 'factory' must be molecular, springs, net or membrane, got 'nets'");
 }
 
 int main(void) {

@@ -117,6 +117,7 @@ class Model:
         density: float = ...,
         damping: float = ...,
         poisson_ratio: float = ...,
+        stiffness_damping: float = ...,
         model: str = ...,
         fixed: Optional[Indices] = ...,
     ) -> Model: ...

@@ -213,9 +213,10 @@ static int add_tets(sb_builder* builder, PyObject* tets, PyObject* const* k, con
     const int64_t* t = PyArray_DATA(corners);
     int status = 0;
     for (npy_intp i = 0; i < n && status == 0; i++) {
-        sb_tet_def def = {{(uint32_t)t[4 * i], (uint32_t)t[4 * i + 1], (uint32_t)t[4 * i + 2], (uint32_t)t[4 * i + 3]},
-                          constant(&c, 0, i),
-                          constant(&c, 1, i)};
+        sb_tet_def def = {
+            .v = {(uint32_t)t[4 * i], (uint32_t)t[4 * i + 1], (uint32_t)t[4 * i + 2], (uint32_t)t[4 * i + 3]},
+            .young_modulus = constant(&c, 0, i),
+            .poisson_ratio = constant(&c, 1, i)}; /* undamped: β through from_tets */
         if (sb_builder_add_tet(builder, &def) < 0) status = -1, PyErr_NoMemory();
     }
     constants_release(&c);
@@ -489,6 +490,7 @@ static PyObject* model_from_tets(PyObject* cls, PyObject* args, PyObject* kwargs
                            {"density", SBPY_DOUBLE, &tissue.density, NULL},
                            {"damping", SBPY_DOUBLE, &tissue.damping, NULL},
                            {"poisson_ratio", SBPY_DOUBLE, &tissue.poisson_ratio, NULL},
+                           {"stiffness_damping", SBPY_DOUBLE, &tissue.stiffness_damping, NULL},
                            {"model", SBPY_STRING, &model_name, NULL},
                            {"fixed", SBPY_OBJECT, &fixed, NULL}};
     if (kwargs) {
@@ -757,10 +759,10 @@ static PyMethodDef model_methods[] = {
      "tetrahedral mesh) through the molecular factory. FileError or ParseError name the file and line."},
     {"from_tets", (PyCFunction)(void (*)(void))model_from_tets, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
      "from_tets(vertices, tetrahedra, *, tissue='liver', young_modulus=3500, density=1060, damping=1,\n"
-     "          poisson_ratio=0.3, model='springs', fixed=None) -> Model\n\n"
+     "          poisson_ratio=0.3, stiffness_damping=0, model='springs', fixed=None) -> Model\n\n"
      "Soft tissue from a tetrahedral mesh and Young's modulus (Pa): model='springs' (damped edge springs, E\n"
      "only) or 'corotated' (co-rotated linear FEM, E and Poisson's ratio). tissue names a preset (liver,\n"
-     "gallbladder) that the other keywords then change."},
+     "gallbladder) that the other keywords then change. stiffness_damping is Rayleigh's beta (s)."},
     {NULL}};
 
 PyTypeObject SbpyModelType = {
