@@ -97,9 +97,10 @@ typedef enum sb_scene_type {
     X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
       "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
     X(TISSUE_MODEL, "tissue.model", STRING, "springs", "",                                                             \
-      "tetrahedral meshes: springs (Lloyd's edge springs, the papers') or corotated (finite elements, E and nu)")      \
+      "tetrahedral meshes: springs (Lloyd's edge springs, the papers'), corotated (linear finite elements, E and nu; " \
+      "stiff in bending) or corotated_quadratic (10-node finite elements, a vertex added at each edge's middle)")      \
     X(TISSUE_POISSON_RATIO, "tissue.poisson_ratio", NUMBER, "0.45", "1",                                               \
-      "tetrahedral meshes, tissue.model corotated: Poisson's ratio, in (-1, 0.5)")                                     \
+      "tetrahedral meshes, the finite elements: Poisson's ratio, in (-1, 0.5)")                                        \
     X(FIXED, "fixed", INDICES, "[]", "", "indices of vertices held at their rest position")                            \
     X(PIN, "pin", STRING, "none", "",                                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                                    \
@@ -146,9 +147,9 @@ typedef enum sb_scene_type {
     X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "N",                                                      \
       "the force sent to the device is clamped to this, N (at most the device's 3.3)")                                 \
     X(HAPTICS_WORKSPACE, "haptics.workspace", NUMBER, "0.5", "m",                                                      \
-      "the device's reach about its origin, m: a pose outside is a device fault (the force ramps down)")              \
+      "the device's reach about its origin, m: a pose outside is a device fault (the force ramps down)")               \
     X(HAPTICS_HAND_SPEED, "haptics.hand_speed", NUMBER, "10", "m/s",                                                   \
-      "the fastest a hand moves the device, m/s: a faster jump is a device fault")                                    \
+      "the fastest a hand moves the device, m/s: a faster jump is a device fault")                                     \
     X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true", "",                                                          \
       "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
     X(INTEGRATOR, "integrator", STRING, "verlet", "",                                                                  \
@@ -191,9 +192,9 @@ typedef enum sb_scene_type {
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "", "write frames (output.formats); false writes log.csv only")    \
     X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]", "",                                                            \
       "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
-      "irit, pov")                                                                                                \
+      "irit, pov")                                                                                                     \
     X(OUTPUT_VTU, "output.vtu", STRING, "ascii", "",                                                                   \
-      "how .vtu frames hold their arrays: ascii (text), binary (appended raw bytes) or zlib (appended, "              \
+      "how .vtu frames hold their arrays: ascii (text), binary (appended raw bytes) or zlib (appended, "               \
       "zlib-compressed: smaller, slower to write)")
 
 typedef enum sb_scene_key {

@@ -1,14 +1,28 @@
-/* Fast pass of the co-rotated tetrahedra: the reference's element
- * (kernels/forces/corotated.c, in double) one tetrahedron at a time over a
- * color's slots, reading the packed sb_real positions and adding to the
- * packed forces. Scalar: the polar decomposition's Jacobi sweeps branch per
- * element, and a lane-wise version over kernels/runtime/wide.h is not
- * written yet. The blocked coloring (kernels/forces/fast_model.h) keeps
- * threads apart and the summation order fixed, as for the other passes;
- * the padding slots past a color's end are never run. */
+/* Fast pass of the co-rotated tetrahedra, linear and quadratic: the
+ * reference's element (kernels/forces/tet_element.h, in double) one
+ * tetrahedron at a time over a color's slots, reading the packed sb_real
+ * positions and adding to the packed forces. Scalar: the polar
+ * decomposition's Jacobi sweeps branch per element, and a lane-wise version
+ * over kernels/runtime/wide.h is not written yet. The blocked coloring
+ * (kernels/forces/fast_model.h) keeps threads apart and the summation order
+ * fixed, as for the other passes; the padding slots past a color's end are
+ * never run. */
 #include "kernels/forces/fast_tets.h"
 #include "kernels/forces/fast_hessian.h"
-#include "kernels/forces/corotated.h"
+#include "kernels/forces/tet_element.h"
+
+/* Slot s's nodes: their vertices, positions and material; the node count. */
+static int sb_fast_tet_at(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t s, uint32_t v[SB_TET_NODES],
+                          double p[SB_TET_NODES][3], double dm_inv[9], sb_tet_material* mat) {
+    int nodes = m->tet_nodes[s];
+    for (int c = 0; c < nodes; c++) {
+        v[c] = m->tet_v[c][s];
+        for (int k = 0; k < 3; k++) p[c][k] = fr->positions4[4 * (size_t)v[c] + k];
+    }
+    for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][s];
+    *mat = (sb_tet_material){dm_inv, m->tet_volume[s], m->tet_mu[s], m->tet_lambda[s]};
+    return nodes;
+}
 
 int sb_fast_tets(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
                  double energy[1]) {
@@ -17,18 +31,15 @@ int sb_fast_tets(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin
     bool bad = false;
     for (uint32_t s = begin; s < end; s++) {
         if (m->tet_mu[s] == 0.0 && m->tet_lambda[s] == 0.0) continue;
-        double p[4][3], dm_inv[9], g[4][3], e;
-        uint32_t v[4];
-        for (int c = 0; c < 4; c++) {
-            v[c] = m->tet_v[c][s];
-            for (int k = 0; k < 3; k++) p[c][k] = fr->positions4[4 * (size_t)v[c] + k];
-        }
-        for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][s];
-        if (!sb_corotated_tet(p, dm_inv, m->tet_volume[s], m->tet_mu[s], m->tet_lambda[s], g, &e)) {
+        double p[SB_TET_NODES][3], dm_inv[9], g[SB_TET_NODES][3], e;
+        uint32_t v[SB_TET_NODES];
+        sb_tet_material mat;
+        int nodes = sb_fast_tet_at(m, fr, s, v, p, dm_inv, &mat);
+        if (!sb_tet_element_forces(nodes, p, &mat, g, &e)) {
             bad = true; /* the reference names it (sb_report_collapse) */
             continue;
         }
-        for (int c = 0; c < 4; c++)
+        for (int c = 0; c < nodes; c++)
             for (int k = 0; k < 3; k++) fr->forces4[4 * (size_t)v[c] + k] += (sb_real)g[c][k];
         sum += e;
     }
@@ -42,30 +53,27 @@ int sb_fast_tets_hessian(const sb_fast_model* m, const sb_fast_frame* base, uint
     const sb_hessian_frame* fr = (const sb_hessian_frame*)base;
     for (uint32_t s = begin; s < end; s++) {
         if (m->tet_mu[s] == 0.0 && m->tet_lambda[s] == 0.0) continue;
-        double p[4][3], dm_inv[9], k[144];
-        uint32_t v[4];
-        for (int c = 0; c < 4; c++) {
-            v[c] = m->tet_v[c][s];
-            for (int q = 0; q < 3; q++) p[c][q] = base->positions4[4 * (size_t)v[c] + q];
-        }
-        for (int q = 0; q < 9; q++) dm_inv[q] = m->tet_dm_inv[q][s];
-        if (!sb_corotated_stiffness(p, dm_inv, m->tet_volume[s], m->tet_mu[s], m->tet_lambda[s], k)) continue;
+        double p[SB_TET_NODES][3], dm_inv[9], k[SB_QUAD_DOFS * SB_QUAD_DOFS];
+        uint32_t v[SB_TET_NODES];
+        sb_tet_material mat;
+        int nodes = sb_fast_tet_at(m, base, s, v, p, dm_inv, &mat), size = 3 * nodes;
+        if (!sb_tet_element_stiffness(nodes, p, &mat, k)) continue;
         if (base->velocities4) { /* the product: the forces' pass reports what is not finite */
-            double d[12];
-            for (int c = 0; c < 4; c++)
+            double d[SB_QUAD_DOFS];
+            for (int c = 0; c < nodes; c++)
                 for (int q = 0; q < 3; q++) d[3 * c + q] = base->velocities4[4 * (size_t)v[c] + q];
-            for (int r = 0; r < 12; r++) {
+            for (int r = 0; r < size; r++) {
                 double sum = 0.0;
-                for (int c = 0; c < 12; c++) sum += k[12 * r + c] * d[c];
+                for (int c = 0; c < size; c++) sum += k[size * r + c] * d[c];
                 base->forces4[4 * (size_t)v[r / 3] + r % 3] += (sb_real)(fr->scale * sum);
             }
             continue;
         }
-        for (int a = 0; a < 4; a++) { /* the upper triangle xx xy xz yy yz zz */
+        for (int a = 0; a < nodes; a++) { /* the upper triangle xx xy xz yy yz zz */
             sb_real* block = fr->blocks + SB_BLOCK_STRIDE * (size_t)v[a];
             static const int rows[SB_BLOCK_SIZE] = {0, 0, 0, 1, 1, 2}, cols[SB_BLOCK_SIZE] = {0, 1, 2, 1, 2, 2};
             for (int q = 0; q < SB_BLOCK_SIZE; q++)
-                block[sb_block_offset[q]] += (sb_real)(fr->scale * k[(3 * a + rows[q]) * 12 + 3 * a + cols[q]]);
+                block[sb_block_offset[q]] += (sb_real)(fr->scale * k[(3 * a + rows[q]) * size + 3 * a + cols[q]]);
         }
     }
     return 0;

@@ -1,21 +1,24 @@
-/* Scalar reference for the co-rotated tetrahedra: kernels/forces/corotated.h
- * per element, forces added in tetrahedron order. */
+/* Scalar reference for the co-rotated tetrahedra, linear and quadratic:
+ * kernels/forces/tet_element.h per element, forces added in tetrahedron
+ * order. */
 #include "kernels/forces/reference_tets.h"
-#include "kernels/forces/corotated.h"
+#include "kernels/forces/tet_element.h"
 #include "common/error.h"
 
 sb_status sb_reference_tets(const sb_model* m, const double* x, double* f, double* energy, sb_error* err) {
     double total = 0.0;
     for (uint32_t t = 0; t < m->tet_count; t++) {
         if (m->tet_mu[t] == 0.0 && m->tet_lambda[t] == 0.0) continue;
-        double p[4][3], dm_inv[9], g[4][3], e;
-        for (int c = 0; c < 4; c++)
+        int nodes = m->tet_nodes[t];
+        double p[SB_TET_NODES][3], dm_inv[9], g[SB_TET_NODES][3], e;
+        for (int c = 0; c < nodes; c++)
             for (int k = 0; k < 3; k++) p[c][k] = x[3 * (size_t)m->tet_v[c][t] + k];
         for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][t];
-        if (!sb_corotated_tet(p, dm_inv, m->tet_volume[t], m->tet_mu[t], m->tet_lambda[t], g, &e))
+        sb_tet_material mat = {dm_inv, m->tet_volume[t], m->tet_mu[t], m->tet_lambda[t]};
+        if (!sb_tet_element_forces(nodes, p, &mat, g, &e))
             return sb_error_set(err, SB_ERR_DEGENERATE, "tetrahedron %u (%u, %u, %u, %u): non-finite deformation", t,
                                 m->tet_v[0][t], m->tet_v[1][t], m->tet_v[2][t], m->tet_v[3][t]);
-        for (int c = 0; c < 4; c++)
+        for (int c = 0; c < nodes; c++)
             for (int k = 0; k < 3; k++) f[3 * (size_t)m->tet_v[c][t] + k] += g[c][k];
         total += e;
     }
