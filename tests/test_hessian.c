@@ -486,9 +486,9 @@ static void test_quadratic_tets_element_matrices(void** state) {
  * moving, implicit Euler's kernels agreeing within float rounding of the
  * sag (1e-4), vbd (10 iterations, a different approximation of the same
  * step) within 10 % of it. */
-static void test_tets_implicit_and_vbd(void** state) {
-    (void)state;
-    sb_model* m = tu_tet_block(6, 2, 2, 0.01, 3.5e5, 0.45, 0.0, 1, true);
+static void check_tets_implicit_and_vbd(bool quadratic) {
+    sb_model* m = quadratic ? tu_quadratic_tet_block(6, 2, 2, 0.01, 3.5e5, 0.45, 0.0, 1, true)
+                            : tu_tet_block(6, 2, 2, 0.01, 3.5e5, 0.45, 0.0, 1, true);
     size_t n = sb_model_vertex_count(m);
     double* rest = tu_rest_positions(m);
     const struct {
@@ -515,14 +515,15 @@ static void test_tets_implicit_and_vbd(void** state) {
         assert_true(tu_all_finite(x, 3 * n));
         sag[r] = 0.0;
         for (size_t i = 0; i < n; i++) sag[r] = fmax(sag[r], rest[3 * i + 2] - x[3 * i + 2]);
-        print_message("tetrahedra, %s (%s kernels, run %d): largest sag %.4g m\n",
-                      sb_integrator_name(runs[r].integrator), runs[r].kernels == SB_KERNELS_FAST ? "fast" : "reference",
-                      r, sag[r]);
+        print_message("%s tetrahedra, %s (%s kernels, run %d): largest sag %.4g m\n",
+                      quadratic ? "quadratic" : "linear", sb_integrator_name(runs[r].integrator),
+                      runs[r].kernels == SB_KERNELS_FAST ? "fast" : "reference", r, sag[r]);
         assert_true(sag[r] > 1e-4);
         sb_solver_destroy(s);
     }
     for (int r = 1; r < 3; r++) TU_ASSERT_NEAR(sag[r], sag[0], 1e-4 * sag[0]);
-    for (int r = 3; r < RUNS; r++) TU_ASSERT_NEAR(sag[r], sag[0], 0.1 * sag[0]);
+    TU_ASSERT_NEAR(sag[4], sag[3], 1e-4 * sag[3]);
+    for (int r = 3; r < RUNS && !quadratic; r++) TU_ASSERT_NEAR(sag[r], sag[0], 0.1 * sag[0]);
     for (int pbd = 0; pbd < 2; pbd++) { /* no constraints for them: refused, with a message */
         sb_solver_def def = sb_default_solver_def();
         def.integrator = pbd ? SB_INTEGRATOR_PBD : SB_INTEGRATOR_XPBD;
@@ -533,6 +534,23 @@ static void test_tets_implicit_and_vbd(void** state) {
     }
     free(x), free(rest);
     sb_model_destroy(m);
+}
+
+static void test_tets_implicit_and_vbd(void** state) {
+    (void)state;
+    check_tets_implicit_and_vbd(false);
+}
+
+/* The same beam of quadratic tetrahedra (its middles at x = 0 clamped too).
+ * vbd is held only to running (finite, moving, its two kernels alike): its
+ * 10 sweeps a step leave this beam far from implicit Euler's answer
+ * (measured: 5.1 mm of sag against 1.45 mm; the middle nodes couple
+ * strongly to their corners, and Gauss-Seidel on vertices converges slowly
+ * there), so docs/materials.md advises implicit Euler or an explicit
+ * integrator for this model. */
+static void test_quadratic_tets_implicit_and_vbd(void** state) {
+    (void)state;
+    check_tets_implicit_and_vbd(true);
 }
 
 int main(void) {
@@ -549,6 +567,7 @@ int main(void) {
         cmocka_unit_test(test_quadratic_tets_against_differences),
         cmocka_unit_test(test_quadratic_tets_element_matrices),
         cmocka_unit_test(test_tets_implicit_and_vbd),
+        cmocka_unit_test(test_quadratic_tets_implicit_and_vbd),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
