@@ -96,9 +96,10 @@ typedef enum sb_scene_type {
       "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
     X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
       "tetrahedral meshes: factor on the damping rule sqrt(k (mi + mj)) / l0")                                         \
-    X(TISSUE_MODEL, "tissue.model", STRING, "springs", "",                                                             \
+    X(TISSUE_MODEL, "tissue.model", STRING, "auto", "",                                                                \
       "tetrahedral meshes: springs (Lloyd's edge springs, the papers'), corotated (linear finite elements, E and nu; " \
-      "stiff in bending) or corotated_quadratic (10-node finite elements, a vertex added at each edge's middle)")      \
+      "stiff in bending), corotated_quadratic (10-node finite elements, a vertex added at each edge's middle) or "     \
+      "auto (corotated_quadratic when tissue.young_modulus is set, else springs)")                                     \
     X(TISSUE_POISSON_RATIO, "tissue.poisson_ratio", NUMBER, "0.45", "1",                                               \
       "tetrahedral meshes, the finite elements: Poisson's ratio, in (-1, 0.5)")                                        \
     X(FIXED, "fixed", INDICES, "[]", "", "indices of vertices held at their rest position")                            \

@@ -158,9 +158,11 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
     const char* model = sb_scene_string(scene, SB_KEY_TISSUE_MODEL);
-    t.model = strcmp(model, "corotated") == 0             ? SB_TISSUE_COROTATED
-              : strcmp(model, "corotated_quadratic") == 0 ? SB_TISSUE_COROTATED_QUADRATIC
-                                                          : SB_TISSUE_SPRINGS;
+    bool physical = scene->values[SB_KEY_TISSUE_YOUNG_MODULUS].where[0]; /* auto: E stated, E honoured */
+    t.model = strcmp(model, "corotated") == 0 ? SB_TISSUE_COROTATED
+              : strcmp(model, "corotated_quadratic") == 0 || (strcmp(model, "auto") == 0 && physical)
+                  ? SB_TISSUE_COROTATED_QUADRATIC
+                  : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }

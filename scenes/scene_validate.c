@@ -179,12 +179,12 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_MATERIAL),
                              hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
-    static const char* const tissue_models[] = {"springs", "corotated", "corotated_quadratic", NULL};
+    static const char* const tissue_models[] = {"auto", "springs", "corotated", "corotated_quadratic", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), tissue_models))
         return sb_scene_fail(scene, SB_KEY_TISSUE_MODEL, err,
-                             "'tissue.model' must be springs, corotated or corotated_quadratic, got '%s'%s",
+                             "'tissue.model' must be auto, springs, corotated or corotated_quadratic, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_TISSUE_MODEL),
-                             hint(scene, SB_KEY_TISSUE_MODEL, "springs, corotated, corotated_quadratic"));
+                             hint(scene, SB_KEY_TISSUE_MODEL, "auto, springs, corotated, corotated_quadratic"));
     double nu = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     if (!(nu > -1.0 && nu < 0.5))
         return sb_scene_fail(scene, SB_KEY_TISSUE_POISSON_RATIO, err,
