@@ -9,6 +9,7 @@
 #include "mesh/sort_key.h"
 
 #include <math.h>
+#include <string.h>
 #include <stdlib.h>
 
 /* A triangle whose area is below this fraction of its longest edge squared
@@ -151,13 +152,21 @@ static double sb_tet_signed_volume(const sb_builder* b, const uint32_t* ids, dou
 
 static sb_status sb_check_tet(const sb_builder* b, size_t index, sb_error* err) {
     const sb_tet_def* t = SB_ITEMS(b->tets, sb_tet_def) + index;
-    sb_status status = sb_check_indices("tetrahedron", index, t->v, 4, (uint32_t)b->vertices.count, err);
+    uint32_t ids[SB_TET_NODES];
+    memcpy(ids, t->v, sizeof t->v);
+    memcpy(ids + 4, t->mid, sizeof t->mid);
+    sb_status status =
+        sb_check_indices("tetrahedron", index, ids, t->quadratic ? SB_TET_NODES : 4, (uint32_t)b->vertices.count, err);
     if (status != SB_OK) return status;
     if (!sb_constant_ok(t->young_modulus) || !sb_constant_ok(t->stiffness_damping) || !isfinite(t->poisson_ratio) ||
         !(t->poisson_ratio > -1.0) || !(t->poisson_ratio < 0.5))
         return sb_error_set(err, SB_ERR_INVALID,
                             "tetrahedron %zu: Young's modulus and stiffness damping must be finite and >= 0, Poisson's "
                             "ratio in (-1, 0.5)",
+                            index);
+    if (t->quadratic && t->stiffness_damping > 0.0)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "tetrahedron %zu: stiffness damping is built for linear elements only, not quadratic",
                             index);
     double longest;
     double volume = sb_tet_signed_volume(b, t->v, &longest);
@@ -213,7 +222,8 @@ static bool sb_model_allocate(sb_model* m) {
     m->hinge_phi0 = sb_alloc_array(nh, sizeof(double), &ok);
     m->hinge_k = sb_alloc_array(nh, sizeof(double), &ok);
     size_t nq = m->tet_count;
-    for (int c = 0; c < 4; c++) m->tet_v[c] = sb_alloc_array(nq, sizeof(uint32_t), &ok);
+    for (int c = 0; c < SB_TET_NODES; c++) m->tet_v[c] = sb_alloc_array(nq, sizeof(uint32_t), &ok);
+    m->tet_nodes = sb_alloc_array(nq, sizeof(uint8_t), &ok);
     for (int c = 0; c < 9; c++) m->tet_dm_inv[c] = sb_alloc_array(nq, sizeof(double), &ok);
     m->tet_volume = sb_alloc_array(nq, sizeof(double), &ok);
     m->tet_mu = sb_alloc_array(nq, sizeof(double), &ok);
@@ -290,36 +300,43 @@ static void sb_fill_hinges(sb_model* m, const sb_builder* b) {
     }
 }
 
-/* Each tetrahedron with positive volume (vertices 2 and 3 swapped where the
+/* Corners 2 and 3 swapped, and the middles of the edges that swaps: 02 with
+ * 03, 12 with 13. */
+static void sb_tet_swap_corners(uint32_t ids[SB_TET_NODES]) {
+    static const int pairs[3][2] = {{2, 3}, {5, 6}, {7, 8}};
+    for (int p = 0; p < 3; p++) {
+        uint32_t swap = ids[pairs[p][0]];
+        ids[pairs[p][0]] = ids[pairs[p][1]];
+        ids[pairs[p][1]] = swap;
+    }
+}
+
+/* Each tetrahedron with positive volume (corners 2 and 3 swapped where the
  * given order is negative), D_m⁻¹ and the Lamé constants
  * μ = E / (2 (1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)). */
 static void sb_fill_tets(sb_model* m, const sb_builder* b) {
     const sb_tet_def* d = SB_ITEMS(b->tets, sb_tet_def);
     const sb_vertex_def* v = SB_ITEMS(b->vertices, sb_vertex_def);
     for (uint32_t t = 0; t < m->tet_count; t++) {
-        uint32_t ids[4] = {d[t].v[0], d[t].v[1], d[t].v[2], d[t].v[3]};
+        uint32_t ids[SB_TET_NODES];
+        memcpy(ids, d[t].v, sizeof d[t].v);
+        for (int e = 0; e < 6; e++) ids[4 + e] = d[t].quadratic ? d[t].mid[e] : ids[0];
         double longest;
-        if (sb_tet_signed_volume(b, ids, &longest) < 0.0) {
-            uint32_t swap = ids[2];
-            ids[2] = ids[3];
-            ids[3] = swap;
-        }
+        if (sb_tet_signed_volume(b, ids, &longest) < 0.0) sb_tet_swap_corners(ids);
         double dm[3][3]; /* columns: edges from vertex 0 */
         for (int c = 0; c < 3; c++)
             for (int r = 0; r < 3; r++) dm[r][c] = v[ids[c + 1]].position[r] - v[ids[0]].position[r];
         double det = dm[0][0] * (dm[1][1] * dm[2][2] - dm[1][2] * dm[2][1]) -
                      dm[0][1] * (dm[1][0] * dm[2][2] - dm[1][2] * dm[2][0]) +
                      dm[0][2] * (dm[1][0] * dm[2][1] - dm[1][1] * dm[2][0]);
-        double inv[9] = {(dm[1][1] * dm[2][2] - dm[1][2] * dm[2][1]) / det,
-                         (dm[0][2] * dm[2][1] - dm[0][1] * dm[2][2]) / det,
-                         (dm[0][1] * dm[1][2] - dm[0][2] * dm[1][1]) / det,
-                         (dm[1][2] * dm[2][0] - dm[1][0] * dm[2][2]) / det,
-                         (dm[0][0] * dm[2][2] - dm[0][2] * dm[2][0]) / det,
-                         (dm[0][2] * dm[1][0] - dm[0][0] * dm[1][2]) / det,
-                         (dm[1][0] * dm[2][1] - dm[1][1] * dm[2][0]) / det,
-                         (dm[0][1] * dm[2][0] - dm[0][0] * dm[2][1]) / det,
-                         (dm[0][0] * dm[1][1] - dm[0][1] * dm[1][0]) / det};
-        for (int c = 0; c < 4; c++) m->tet_v[c][t] = ids[c];
+        double inv[9] = {
+            (dm[1][1] * dm[2][2] - dm[1][2] * dm[2][1]) / det, (dm[0][2] * dm[2][1] - dm[0][1] * dm[2][2]) / det,
+            (dm[0][1] * dm[1][2] - dm[0][2] * dm[1][1]) / det, (dm[1][2] * dm[2][0] - dm[1][0] * dm[2][2]) / det,
+            (dm[0][0] * dm[2][2] - dm[0][2] * dm[2][0]) / det, (dm[0][2] * dm[1][0] - dm[0][0] * dm[1][2]) / det,
+            (dm[1][0] * dm[2][1] - dm[1][1] * dm[2][0]) / det, (dm[0][1] * dm[2][0] - dm[0][0] * dm[2][1]) / det,
+            (dm[0][0] * dm[1][1] - dm[0][1] * dm[1][0]) / det};
+        for (int c = 0; c < SB_TET_NODES; c++) m->tet_v[c][t] = ids[c];
+        m->tet_nodes[t] = d[t].quadratic ? SB_TET_NODES : 4;
         for (int c = 0; c < 9; c++) m->tet_dm_inv[c][t] = inv[c];
         double e = d[t].young_modulus, nu = d[t].poisson_ratio;
         m->tet_volume[t] = det / 6.0;

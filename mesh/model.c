@@ -22,7 +22,8 @@ void sb_model_destroy(sb_model* m) {
         free(m->tri_cos0[c]);
         free(m->tri_len0[c]);
     }
-    for (int c = 0; c < 4; c++) free(m->tet_v[c]);
+    for (int c = 0; c < SB_TET_NODES; c++) free(m->tet_v[c]);
+    free(m->tet_nodes);
     for (int c = 0; c < 9; c++) free(m->tet_dm_inv[c]);
     free(m->tet_volume);
     free(m->tet_mu);

@@ -9,6 +9,9 @@
 
 #include "softbond/model.h"
 
+/* A quadratic tetrahedron's nodes: its corners, then its edges' middles. */
+enum { SB_TET_NODES = 10 };
+
 struct sb_model {
     /* vertices */
     uint32_t vertex_count;
@@ -43,12 +46,17 @@ struct sb_model {
     double* hinge_phi0; /* rest dihedral, rad */
     double* hinge_k;    /* J/rad² */
 
-    /* tetrahedra: co-rotated linear elasticity (Müller & Gross 2004). The
-     * rest shape enters as D_m⁻¹, D_m = [x1 − x0, x2 − x0, x3 − x0] at rest
-     * (row-major, tet_dm_inv[3 r + c]); volume > 0 (the vertices are
-     * reordered at compile so that it is). */
+    /* tetrahedra: co-rotated elasticity (Müller & Gross 2004), linear (4
+     * nodes) or quadratic (10). The rest shape enters as D_m⁻¹,
+     * D_m = [x1 − x0, x2 − x0, x3 − x0] at rest (row-major,
+     * tet_dm_inv[3 r + c]); volume > 0 (the corners are reordered at
+     * compile so that it is). tet_v[4 + e] is the vertex at the middle of
+     * edge e, in the order 01 02 03 12 13 23 (sb_tet_def's), of a quadratic one; a linear one repeats
+     * its corner 0 there, so that every tetrahedron has SB_TET_NODES
+     * vertices to color by. */
     uint32_t tet_count;
-    uint32_t* tet_v[4];
+    uint32_t* tet_v[SB_TET_NODES];
+    uint8_t* tet_nodes; /* 4 or 10 */
     double* tet_dm_inv[9];
     double* tet_volume; /* m³ */
     double* tet_mu;     /* Lamé μ, Pa */

@@ -105,10 +105,12 @@ typedef enum sb_scene_type {
       "tetrahedral meshes: factor on the papers' damping rule sqrt(k (mi + mj)) / l0 (springs only)")                 \
     X(TISSUE_STIFFNESS_DAMPING, "tissue.stiffness_damping", NUMBER, "0", "s",                                          \
       "tetrahedral meshes: Rayleigh's stiffness-proportional damping beta, s (a mode of frequency w: ratio beta w / 2)") \
-    X(TISSUE_MODEL, "tissue.model", STRING, "springs", "",                                                             \
-      "tetrahedral meshes: springs (Lloyd's edge springs, the papers') or corotated (finite elements, E and nu)")      \
+    X(TISSUE_MODEL, "tissue.model", STRING, "auto", "",                                                                \
+      "tetrahedral meshes: springs (Lloyd's edge springs, the papers'), corotated (linear finite elements, E and nu; " \
+      "stiff in bending), corotated_quadratic (10-node finite elements, a vertex added at each edge's middle) or "     \
+      "auto (corotated_quadratic when tissue.young_modulus is set, else springs)")                                     \
     X(TISSUE_POISSON_RATIO, "tissue.poisson_ratio", NUMBER, "0.45", "1",                                               \
-      "tetrahedral meshes, tissue.model corotated: Poisson's ratio, in (-1, 0.5)")                                     \
+      "tetrahedral meshes, the finite elements: Poisson's ratio, in (-1, 0.5)")                                        \
     X(FIXED, "fixed", INDICES, "[]", "", "indices of vertices held at their rest position")                            \
     X(PIN, "pin", STRING, "none", "",                                                                                  \
       "vertices pinned by place: none, top_corners, bottom_corners, left_corners, "                                    \
@@ -157,9 +159,9 @@ typedef enum sb_scene_type {
     X(HAPTICS_MAX_FORCE, "haptics.max_force", NUMBER, "3.3", "N",                                                      \
       "the force sent to the device is clamped to this, N (at most the device's 3.3)")                                 \
     X(HAPTICS_WORKSPACE, "haptics.workspace", NUMBER, "0.5", "m",                                                      \
-      "the device's reach about its origin, m: a pose outside is a device fault (the force ramps down)")              \
+      "the device's reach about its origin, m: a pose outside is a device fault (the force ramps down)")               \
     X(HAPTICS_HAND_SPEED, "haptics.hand_speed", NUMBER, "10", "m/s",                                                   \
-      "the fastest a hand moves the device, m/s: a faster jump is a device fault")                                    \
+      "the fastest a hand moves the device, m/s: a faster jump is a device fault")                                     \
     X(HAPTICS_REALTIME, "haptics.realtime", BOOL, "true", "",                                                          \
       "pace the simulation to the wall clock while the servo runs; false = as fast as it can")                         \
     X(INTEGRATOR, "integrator", STRING, "verlet", "",                                                                  \
@@ -202,9 +204,9 @@ typedef enum sb_scene_type {
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "", "write frames (output.formats); false writes log.csv only")    \
     X(OUTPUT_FORMATS, "output.formats", NAMES, "[vtu]", "",                                                            \
       "frame formats, a list or joined by commas: vtu (with frames.pvd), ply, obj, gltf, glb, "                        \
-      "irit, pov")                                                                                                \
+      "irit, pov")                                                                                                     \
     X(OUTPUT_VTU, "output.vtu", STRING, "ascii", "",                                                                   \
-      "how .vtu frames hold their arrays: ascii (text), binary (appended raw bytes) or zlib (appended, "              \
+      "how .vtu frames hold their arrays: ascii (text), binary (appended raw bytes) or zlib (appended, "               \
       "zlib-compressed: smaller, slower to write)")
 
 typedef enum sb_scene_key {

@@ -19,9 +19,22 @@ static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) 
     return sb_mesh_generate_sheet(&def, out, err);
 }
 
+/* The quadratic tissue's surface: its edges' middles are the model's
+ * vertices too (sb_tet_mesh_quadratic_surface). */
+static sb_status load_quadratic_surface(const sb_scene* scene, char* path, sb_mesh* out, sb_error* err) {
+    sb_tet_mesh volume;
+    sb_status status = sb_tet_mesh_load(path, &volume, err);
+    free(path);
+    if (status == SB_OK) status = sb_tet_mesh_quadratic_surface(&volume, out, err);
+    sb_tet_mesh_free(&volume);
+    return status == SB_OK ? SB_OK : sb_error_prefix(err, status, sb_scene_where(scene, SB_KEY_MESH_FILE));
+}
+
 static sb_status load_file(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     char* path = sb_scene_path(scene, SB_KEY_MESH_FILE);
     if (!path) return sb_scene_fail(scene, SB_KEY_MESH_FILE, err, "out of memory");
+    if (sb_scene_volumetric(scene) && sb_scene_tissue(scene).model == SB_TISSUE_COROTATED_QUADRATIC)
+        return load_quadratic_surface(scene, path, out, err);
     sb_mesh_load_def def = sb_default_mesh_load_def();
     def.separate_objects = sb_scene_bool(scene, SB_KEY_MESH_SEPARATE_OBJECTS);
     sb_mesh* objects = NULL;
@@ -154,8 +167,12 @@ sb_tissue_def sb_scene_tissue(const sb_scene* scene) {
     if (scene->values[SB_KEY_TISSUE_DENSITY].where[0]) t.density = sb_scene_number(scene, SB_KEY_TISSUE_DENSITY);
     t.damping = sb_scene_number(scene, SB_KEY_TISSUE_DAMPING);
     t.stiffness_damping = sb_scene_number(scene, SB_KEY_TISSUE_STIFFNESS_DAMPING);
-    t.model = strcmp(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), "corotated") == 0 ? SB_TISSUE_COROTATED
-                                                                                   : SB_TISSUE_SPRINGS;
+    const char* model = sb_scene_string(scene, SB_KEY_TISSUE_MODEL);
+    bool physical = scene->values[SB_KEY_TISSUE_YOUNG_MODULUS].where[0]; /* auto: E stated, E honoured */
+    t.model = strcmp(model, "corotated") == 0 ? SB_TISSUE_COROTATED
+              : strcmp(model, "corotated_quadratic") == 0 || (strcmp(model, "auto") == 0 && physical)
+                  ? SB_TISSUE_COROTATED_QUADRATIC
+                  : SB_TISSUE_SPRINGS;
     t.poisson_ratio = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     return t;
 }
@@ -172,13 +189,14 @@ static sb_status add_tissue(const sb_scene* scene, const sb_mesh* mesh, sb_build
     sb_tet_mesh volume;
     sb_status status = sb_tet_mesh_load(path, &volume, err);
     free(path);
-    if (status == SB_OK && volume.vertex_count != mesh->vertex_count)
-        status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
     sb_mesh_transform_def placement = sb_scene_placement(scene);
     sb_mesh points = {.vertex_count = volume.vertex_count, .positions = volume.positions};
     if (status == SB_OK) status = sb_mesh_transform(&points, &placement, err);
     sb_tissue_def tissue = sb_scene_tissue(scene);
+    uint32_t first = sb_builder_vertex_count(builder);
     if (status == SB_OK) status = sb_builder_add_tet_mesh(builder, &volume, &tissue, err);
+    if (status == SB_OK && sb_builder_vertex_count(builder) - first != mesh->vertex_count)
+        status = sb_error_set(err, SB_ERR_INVALID, "the file changed while it was read");
     sb_tet_mesh_free(&volume);
     return status;
 }

@@ -158,10 +158,9 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              sb_scene_string(scene, SB_KEY_KERNELS), hint(scene, SB_KEY_KERNELS, "reference, fast"));
     sb_linear_solver linear;
     if (!sb_linear_solver_from_name(sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER), &linear))
-        return sb_scene_fail(scene, SB_KEY_IMPLICIT_SOLVER, err,
-                             "'implicit.solver' must be auto, cg or cholesky, got '%s'%s",
-                             sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER),
-                             hint(scene, SB_KEY_IMPLICIT_SOLVER, "auto, cg, cholesky"));
+        return sb_scene_fail(
+            scene, SB_KEY_IMPLICIT_SOLVER, err, "'implicit.solver' must be auto, cg or cholesky, got '%s'%s",
+            sb_scene_string(scene, SB_KEY_IMPLICIT_SOLVER), hint(scene, SB_KEY_IMPLICIT_SOLVER, "auto, cg, cholesky"));
     sb_wait_policy wait;
     if (!sb_wait_policy_from_name(sb_scene_string(scene, SB_KEY_WAIT), &wait))
         return sb_scene_fail(scene, SB_KEY_WAIT, err, "'wait' must be spin, yield or passive, got '%s'%s",
@@ -184,11 +183,12 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
         return sb_scene_fail(scene, SB_KEY_MATERIAL, err, "'material' must be liver or gallbladder, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_MATERIAL),
                              hint(scene, SB_KEY_MATERIAL, "liver, gallbladder"));
-    static const char* const tissue_models[] = {"springs", "corotated", NULL};
+    static const char* const tissue_models[] = {"auto", "springs", "corotated", "corotated_quadratic", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_TISSUE_MODEL), tissue_models))
-        return sb_scene_fail(scene, SB_KEY_TISSUE_MODEL, err, "'tissue.model' must be springs or corotated, got '%s'%s",
+        return sb_scene_fail(scene, SB_KEY_TISSUE_MODEL, err,
+                             "'tissue.model' must be auto, springs, corotated or corotated_quadratic, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_TISSUE_MODEL),
-                             hint(scene, SB_KEY_TISSUE_MODEL, "springs, corotated"));
+                             hint(scene, SB_KEY_TISSUE_MODEL, "auto, springs, corotated, corotated_quadratic"));
     double nu = sb_scene_number(scene, SB_KEY_TISSUE_POISSON_RATIO);
     if (!(nu > -1.0 && nu < 0.5))
         return sb_scene_fail(scene, SB_KEY_TISSUE_POISSON_RATIO, err,

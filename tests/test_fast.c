@@ -956,14 +956,18 @@ static void test_state_checked_on_every_step(void** state) {
 
 static sb_model* tet_model(bool clamped) { return tu_tet_block(10, 5, 5, 0.01, 3500.0, 0.45, 0.15, 7, clamped); }
 
+/* The same block of quadratic tetrahedra (a vertex at each edge's middle). */
+static sb_model* quadratic_tet_model(bool clamped) {
+    return tu_quadratic_tet_block(10, 5, 5, 0.01, 3500.0, 0.45, 0.15, 7, clamped);
+}
+
 /* The fast pass's forces and energy against the reference's at rest
  * (nothing), strained, and strained and turned by 1 rad (the element's
  * rotation at work): within FAST_TOLERANCE, the positions being rounded
  * to sb_real before the double element and the forces after it. Free
  * (a solver's forces on fixed vertices are not the reference's). */
-static void test_tets_match_reference(void** state) {
-    (void)state;
-    sb_model* model = tet_model(false);
+static void check_tets_match_reference(sb_model* (*make)(bool)) {
+    sb_model* model = make(false);
     uint32_t n = sb_model_vertex_count(model);
     double* rest = tu_rest_positions(model);
     double* x = malloc(3 * n * sizeof *x);
@@ -998,19 +1002,39 @@ static void test_tets_match_reference(void** state) {
     sb_model_destroy(model);
 }
 
-/* The blocked coloring of the tetrahedra: no two of a color share a vertex,
- * and several blocks, so that the thread test below splits them. */
-static void test_tets_colored(void** state) {
+static void test_tets_match_reference(void** state) {
     (void)state;
-    sb_model* model = tet_model(true);
+    check_tets_match_reference(tet_model);
+}
+
+static void test_quadratic_tets_match_reference(void** state) {
+    (void)state;
+    check_tets_match_reference(quadratic_tet_model);
+}
+
+/* The blocked coloring of the tetrahedra: no two of a color share a vertex
+ * (all ten of a quadratic one's), and several blocks, so that the thread
+ * test below splits them. */
+static void check_tets_colored(sb_model* (*make)(bool)) {
+    sb_model* model = make(true);
     sb_error err;
     sb_fast_model* fast = sb_fast_model_create(model, &err);
     assert_non_null(fast);
-    check_group(&fast->tets, 1500, sb_model_vertex_count(model), 4, fast->tet_v);
+    check_group(&fast->tets, 1500, sb_model_vertex_count(model), SB_TET_NODES, fast->tet_v);
     assert_true(fast->tets.block_count > 2);
     assert_true(fast->has_tets);
     sb_fast_model_destroy(fast);
     sb_model_destroy(model);
+}
+
+static void test_tets_colored(void** state) {
+    (void)state;
+    check_tets_colored(tet_model);
+}
+
+static void test_quadratic_tets_colored(void** state) {
+    (void)state;
+    check_tets_colored(quadratic_tet_model);
 }
 
 /* The fused Verlet step, position Verlet and symplectic Euler on the fast
@@ -1018,9 +1042,8 @@ static void test_tets_colored(void** state) {
  * block's fastest modes at this step): bitwise the
  * same on 1, 2 and 3 threads, and following the reference kernels'
  * trajectory (300 steps of 0.2 ms under gravity) within float rounding. */
-static void test_tets_step(void** state) {
-    (void)state;
-    sb_model* model = tet_model(true);
+static void check_tets_step(sb_model* (*make)(bool)) {
+    sb_model* model = make(true);
     uint32_t n = sb_model_vertex_count(model);
     static const sb_integrator explicit_ones[] = {SB_INTEGRATOR_VERLET, SB_INTEGRATOR_VELOCITY_VERLET,
                                                   SB_INTEGRATOR_SYMPLECTIC_EULER, SB_INTEGRATOR_POSITION_VERLET};
@@ -1047,6 +1070,16 @@ static void test_tets_step(void** state) {
     sb_model_destroy(model);
 }
 
+static void test_tets_step(void** state) {
+    (void)state;
+    check_tets_step(tet_model);
+}
+
+static void test_quadratic_tets_step(void** state) {
+    (void)state;
+    check_tets_step(quadratic_tet_model);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_regular_sheet),
@@ -1068,8 +1101,11 @@ int main(void) {
         cmocka_unit_test(test_energies_the_same_when_read_lazily),
         cmocka_unit_test(test_state_checked_on_every_step),
         cmocka_unit_test(test_tets_match_reference),
+        cmocka_unit_test(test_quadratic_tets_match_reference),
         cmocka_unit_test(test_tets_colored),
         cmocka_unit_test(test_tets_step),
+        cmocka_unit_test(test_quadratic_tets_colored),
+        cmocka_unit_test(test_quadratic_tets_step),
     };
     return TU_RUN_TESTS(tests);
 }

@@ -185,7 +185,7 @@ static void check_diagonal_blocks(sb_model* m, double amplitude) {
     double* ref_upper = calloc(SB_BLOCK_STRIDE * n, sizeof *ref_upper);
     sb_real *x4 = packed_vector(n), *blocks[3];
     random_vector(&rng, rest, amplitude, x, x4, n);
-    double k[144], damping[9];
+    double k[SB_ELEMENT_MATRIX], damping[9];
     for (uint64_t id = 0; id < sb_element_count(m); id++) {
         sb_element e = sb_element_at(m, id);
         int size = 3 * e.count;
@@ -257,6 +257,14 @@ static void test_membranes(void** state) {
     (void)state;
     check_product(membrane_model(), 0.001);
     check_diagonal_blocks(membrane_model(), 0.001);
+}
+
+/* The same for the quadratic tetrahedra (the same block, a vertex at each
+ * edge's middle: 30 × 30 element matrices). */
+static void test_quadratic_tets(void** state) {
+    (void)state;
+    check_product(tu_quadratic_tet_block(4, 3, 3, 0.01, 3500.0, 0.45, 0.15, 3, true), 0.001);
+    check_diagonal_blocks(tu_quadratic_tet_block(4, 3, 3, 0.01, 3500.0, 0.45, 0.15, 3, true), 0.001);
 }
 
 static double packed_dot(const sb_real* a, const sb_real* b, size_t n) {
@@ -578,6 +586,7 @@ int main(void) {
         cmocka_unit_test(test_diagonal_blocks),
         cmocka_unit_test(test_tets),
         cmocka_unit_test(test_membranes),
+        cmocka_unit_test(test_quadratic_tets),
         cmocka_unit_test(test_symmetry),
         cmocka_unit_test(test_implicit_fast),
         cmocka_unit_test(test_implicit_fast_loaded),

@@ -169,6 +169,35 @@ static int count_lines(const char* text) {
     return n;
 }
 
+/* A tissue that states its Young's modulus gets, by default
+ * (tissue.model: auto), the quadratic finite elements: the cube's 8
+ * vertices and a vertex at the middle of each of its 18 edges (12 sides, 6
+ * face diagonals) in the frames, its 12 boundary triangles split in four;
+ * `springs` keeps the papers' model on the 8. */
+static void test_tissue_model_by_default(void** state) {
+    (void)state;
+    tu_write_file("cube.node", cube_node);
+    tu_write_file("cube.ele", cube_ele);
+    tu_write_file("physical.yaml", "mesh: {generator: file, file: cube.node}\ntissue: {young_modulus: 20000}\n"
+                                   "pin: bottom_edge\ngravity: [0, -9.81, 0]\ndt: 0.0001\nduration: 0.001\n"
+                                   "frame_interval: 0.001\n");
+    static const struct {
+        const char *set, *piece;
+    } cases[] = {{"tissue.model=auto", "NumberOfPoints=\"26\" NumberOfCells=\"48\""},
+                 {"tissue.model=corotated_quadratic", "NumberOfPoints=\"26\" NumberOfCells=\"48\""},
+                 {"tissue.model=springs", "NumberOfPoints=\"8\" NumberOfCells=\"12\""}};
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        tu_result r =
+            tu_run((const char*[]){"run", "physical.yaml", "--set", cases[c].set, "--output", "physical", NULL});
+        if (r.code != 0) fail_msg("%s: run failed: %s", cases[c].set, r.err);
+        char* frame = tu_read_file(tu_tmp_path("physical/frame_000001.vtu"));
+        assert_non_null(frame);
+        TU_ASSERT_CONTAINS(frame, cases[c].piece);
+        free(frame);
+        tu_result_free(&r);
+    }
+}
+
 static void test_tissue_scene(void** state) {
     (void)state;
     tu_write_file("cube.node", cube_node);
@@ -218,9 +247,13 @@ static void test_springs_scene(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_icosphere),        cmocka_unit_test(test_open_and_split_meshes),
-        cmocka_unit_test(test_tetrahedral_cube), cmocka_unit_test(test_interior_vertex),
-        cmocka_unit_test(test_bad_input),        cmocka_unit_test(test_tissue_scene),
+        cmocka_unit_test(test_icosphere),
+        cmocka_unit_test(test_open_and_split_meshes),
+        cmocka_unit_test(test_tetrahedral_cube),
+        cmocka_unit_test(test_interior_vertex),
+        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_tissue_scene),
+        cmocka_unit_test(test_tissue_model_by_default),
         cmocka_unit_test(test_springs_scene),
     };
     return cmocka_run_group_tests(tests, setup_dir, teardown_dir);

@@ -260,6 +260,54 @@ static inline double* tu_rest_positions(const sb_model* m) {
     return p;
 }
 
+/* tu_tet_block's block (the same jittered vertices and tetrahedra) as a
+ * quadratic tissue (sb_builder_add_tet_mesh, SB_TISSUE_COROTATED_QUADRATIC:
+ * a vertex at each edge's middle, HRZ masses of ρ = 1060 kg/m³); when
+ * `clamped`, the vertices at x = 0 and the middles between them fixed
+ * (jitter at most 0.2). */
+static inline sb_model* tu_quadratic_tet_block(int nx, int ny, int nz, double h, double young, double poisson,
+                                               double jitter, uint64_t seed, bool clamped) {
+    sb_model* linear = tu_tet_block(nx, ny, nz, h, young, poisson, jitter, seed, false);
+    static const int kuhn[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+    uint32_t corners = sb_model_vertex_count(linear);
+    sb_tet_mesh mesh = {corners, tu_rest_positions(linear), (uint32_t)(6 * nx * ny * nz), NULL};
+    sb_model_destroy(linear);
+    mesh.tets = (uint32_t*)malloc(4 * sizeof(uint32_t) * mesh.tet_count);
+    uint32_t* v = mesh.tets;
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++)
+                for (int t = 0; t < 6; t++)
+                    for (int c = 0; c < 4; c++) {
+                        int corner = kuhn[t][c];
+                        int ci = i + (corner & 1), cj = j + (corner >> 1 & 1), ck = k + (corner >> 2 & 1);
+                        *v++ = (uint32_t)((ck * (ny + 1) + cj) * (nx + 1) + ci);
+                    }
+    for (uint32_t t = 0; t < mesh.tet_count; t++) { /* Kuhn's six alternate in orientation: all positive */
+        uint32_t* c = mesh.tets + 4 * t;
+        const double* p = mesh.positions;
+        if (sb_tet_volume(p + 3 * c[0], p + 3 * c[1], p + 3 * c[2], p + 3 * c[3]) < 0.0) {
+            uint32_t swap = c[2];
+            c[2] = c[3];
+            c[3] = swap;
+        }
+    }
+    sb_tissue_def tissue = sb_default_tissue_def();
+    tissue.young_modulus = young;
+    tissue.poisson_ratio = poisson;
+    tissue.model = SB_TISSUE_COROTATED_QUADRATIC;
+    sb_builder* b = sb_builder_create();
+    sb_error err;
+    memset(&err, 0, sizeof err);
+    if (sb_builder_add_tet_mesh(b, &mesh, &tissue, &err) != SB_OK) fail_msg("sb_builder_add_tet_mesh: %s", err.message);
+    for (uint32_t i = 0; clamped && i < sb_builder_vertex_count(b); i++)
+        sb_builder_vertex(b, i)->fixed = sb_builder_vertex(b, i)->position[0] < 0.3 * h;
+    sb_model* m = tu_compile(b);
+    sb_builder_destroy(b);
+    sb_tet_mesh_free(&mesh);
+    return m;
+}
+
 /* ---- solvers -------------------------------------------------------------- */
 
 /* A solver, failing the test (with the library's message) when it cannot be made. */

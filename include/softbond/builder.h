@@ -83,22 +83,31 @@ typedef struct sb_hinge_def {
     double k; /**< J/rad² */
 } sb_hinge_def;
 
-/** A tetrahedron of co-rotated linear elastic material (Müller & Gross
- * 2004): energy ½ (Rᵀx − x0)ᵀ K0 (Rᵀx − x0), K0 the linear element's
- * stiffness from E, ν and the rest shape (the vertices' positions), R the
- * rotation of the polar decomposition of the deformation gradient; forces
- * are its exact negative gradient. The vertex order may be either
- * orientation; the volume must not be zero. Damping: Rayleigh's
- * stiffness-proportional f = −β R K0 Rᵀ v (v the four corners' velocities,
- * R the rotation at the current positions), zero for a translation and for
- * a rotation of the unstrained element; a mode of angular frequency ω
- * decays with damping ratio β ω / 2. The solver's drag is the
- * mass-proportional part. */
+/** A tetrahedron of co-rotated elastic material (Müller & Gross 2004):
+ * energy ½ (Rᵀx − x0)ᵀ K0 (Rᵀx − x0), K0 the element's stiffness from E, ν
+ * and the rest shape (the corners' positions), R the rotation of the polar
+ * decomposition of the deformation gradient of the corners. Linear (4
+ * nodes): forces are the energy's exact negative gradient. Quadratic (10
+ * nodes, `quadratic` true): a vertex at the middle of each edge, shared by
+ * the edge's tetrahedra; its rest place is taken at the middle of its edge
+ * (straight edges); forces f = −R K0 (Rᵀx − x0) with R held (not the
+ * gradient of the energy; kernels/forces/corotated_quadratic.h). The
+ * quadratic element does not lock in bending as the linear one does. The
+ * vertex order may be either orientation; the volume must not be zero.
+ * Damping: Rayleigh's stiffness-proportional f = −β R K0 Rᵀ v (v the
+ * corners' velocities, R the rotation at the current positions; linear
+ * elements only), zero for a translation and for a rotation of the
+ * unstrained element; a mode of angular frequency ω decays with damping
+ * ratio β ω / 2. The solver's drag is the mass-proportional part. */
 typedef struct sb_tet_def {
-    uint32_t v[4];            /**< the vertices, either orientation */
+    uint32_t v[4];            /**< the corners, either orientation */
     double young_modulus;     /**< E, Pa (>= 0) */
     double poisson_ratio;     /**< ν, in (−1, 0.5) */
     double stiffness_damping; /**< Rayleigh's β, s (>= 0; 0 = undamped) */
+    bool quadratic;           /**< 10 nodes: mid[] is used */
+    /** quadratic only: the vertex at the middle of edge (v[0], v[1]),
+     * (v[0], v[2]), (v[0], v[3]), (v[1], v[2]), (v[1], v[3]), (v[2], v[3]) */
+    uint32_t mid[6];
 } sb_tet_def;
 
 /** A triangle of a thin sheet's membrane: co-rotated linear plane-stress

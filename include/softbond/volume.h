@@ -63,10 +63,21 @@ SB_API sb_status sb_tet_mesh_check(const sb_tet_mesh* mesh, sb_error* err);
  * the surface can stand for the volume in frames, pins and `info`. */
 SB_API sb_status sb_tet_mesh_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
 
+/** The surface of the quadratic tissue (SB_TISSUE_COROTATED_QUADRATIC) of
+ * this mesh: the mesh's vertices, then one at the middle of each unique
+ * edge, numbered as sb_builder_add_tet_mesh numbers them (in order of first
+ * appearance, tetrahedron by tetrahedron, edges 01 02 03 12 13 23), so that
+ * it stands for the model's vertices; each boundary triangle of
+ * sb_tet_mesh_surface split in four by its edges' middles. */
+SB_API sb_status sb_tet_mesh_quadratic_surface(const sb_tet_mesh* mesh, sb_mesh* out, sb_error* err);
+
 /** How a tissue's tetrahedra resist deformation. */
 typedef enum sb_tissue_model {
     SB_TISSUE_SPRINGS = 0, /**< Lloyd's damped edge springs (the papers'): E only, no ν; see sb_builder_add_tet_mesh */
-    SB_TISSUE_COROTATED    /**< co-rotated linear finite elements (sb_tet_def): E and ν, undamped */
+    SB_TISSUE_COROTATED,   /**< co-rotated linear finite elements (sb_tet_def): E and ν, undamped; lock in bending */
+    /** co-rotated quadratic finite elements (sb_tet_def, quadratic): a vertex added at each edge's middle; E and ν,
+     * undamped; right in bending */
+    SB_TISSUE_COROTATED_QUADRATIC
 } sb_tissue_model;
 
 /** A soft tissue: Young's modulus, density, its damping (a factor on the
@@ -77,9 +88,9 @@ typedef struct sb_tissue_def {
     double young_modulus;     /**< Pa */
     double density;           /**< kg/m³ */
     double damping;           /**< dimensionless factor on the papers' rule (springs only) */
-    double stiffness_damping; /**< Rayleigh's β, s: damping β × stiffness (both models), 0 = none */
-    double poisson_ratio;     /**< ν (corotated only), in (−1, 0.5) */
-    sb_tissue_model model;    /**< springs (the default) or corotated */
+    double stiffness_damping; /**< Rayleigh's β, s: damping β × stiffness (springs and linear corotated), 0 = none */
+    double poisson_ratio;     /**< ν (the finite elements only), in (−1, 0.5) */
+    sb_tissue_model model;    /**< springs (the default), corotated or corotated quadratic */
 } sb_tissue_def;
 
 /** Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
@@ -92,7 +103,8 @@ SB_API sb_tissue_def sb_default_tissue_def(void);
  * for any other name. */
 SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
 
-/** The volumetric mass-spring factory: a vertex per mesh vertex (order kept),
+/** The volumetric factory. Springs (SB_TISSUE_SPRINGS, the papers'): a
+ * vertex per mesh vertex (order kept),
  * mass m_i = Σ_{t∋i} ρ V_t / 4; a damped spring (sb_bond_def spring_k and
  * spring_damping, bond stretch k = 0, rest length the current distance)
  * per unique tetrahedron edge with
@@ -105,8 +117,14 @@ SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * springs — scale it with `damping`. `stiffness_damping` β adds β k_ij to
  * each spring's damping (the corotated model: β to each sb_tet_def), the
  * stiffness-proportional damping D = β K, whose modes of angular frequency
- * ω decay with damping ratio ζ = β ω / 2 whatever the mesh. Fails
- * (nothing added) when the mesh
+ * ω decay with damping ratio ζ = β ω / 2 whatever the mesh.
+ * Corotated: the same vertices and
+ * masses, a linear sb_tet_def per tetrahedron. Quadratic corotated: after
+ * the mesh's vertices one at the middle of each unique edge (numbered as
+ * sb_tet_mesh_quadratic_surface says), a quadratic sb_tet_def per
+ * tetrahedron, and HRZ-lumped masses (the consistent mass matrix's
+ * diagonal scaled to the element's mass): ρ V_t / 36 to each corner and
+ * 4 ρ V_t / 27 to each middle. Fails (nothing added) when the mesh
  * fails sb_tet_mesh_check or a vertex belongs to no tetrahedron. */
 SB_API sb_status sb_builder_add_tet_mesh(sb_builder* builder, const sb_tet_mesh* mesh, const sb_tissue_def* tissue,
                                          sb_error* err);

@@ -458,10 +458,14 @@ static double* sb_gather_double(const double* in, const sb_element_group* g, boo
 }
 
 static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
-    const uint32_t* ids[4] = {m->tet_v[0], m->tet_v[1], m->tet_v[2], m->tet_v[3]};
-    if (!sb_group_build(&f->tets, m->vertex_count, m->tet_count, 4, ids, NULL, NULL)) return false;
+    const uint32_t* ids[SB_TET_NODES];
+    for (int a = 0; a < SB_TET_NODES; a++) ids[a] = m->tet_v[a];
+    if (!sb_group_build(&f->tets, m->vertex_count, m->tet_count, SB_TET_NODES, ids, NULL, NULL)) return false;
     bool ok = true;
-    for (int a = 0; a < 4; a++) f->tet_v[a] = sb_gather_index(ids[a], &f->tets, &ok);
+    for (int a = 0; a < SB_TET_NODES; a++) f->tet_v[a] = sb_gather_index(ids[a], &f->tets, &ok);
+    f->tet_nodes = malloc(f->tets.capacity ? f->tets.capacity : 1);
+    if (!f->tet_nodes) ok = false;
+    for (uint32_t s = 0; f->tet_nodes && s < f->tets.capacity; s++) f->tet_nodes[s] = m->tet_nodes[f->tets.source[s]];
     for (int k = 0; k < 9; k++) f->tet_dm_inv[k] = sb_gather_double(m->tet_dm_inv[k], &f->tets, &ok);
     f->tet_volume = sb_gather_double(m->tet_volume, &f->tets, &ok);
     f->tet_mu = sb_gather_double(m->tet_mu, &f->tets, &ok);
@@ -684,7 +688,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->membrane_volume,
                       f->membrane_mu,
                       f->membrane_lambda,
-                      f->tet_beta};
+                      f->tet_beta,
+                      f->tet_nodes};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -700,7 +705,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_hinge_phi0[c]);
         free(f->tri_hinge_k[c].values);
     }
-    for (int a = 0; a < 4; a++) free(f->hinge_v[a]), free(f->tet_v[a]);
+    for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
+    for (int a = 0; a < SB_TET_NODES; a++) free(f->tet_v[a]);
     for (int k = 0; k < 9; k++) free(f->tet_dm_inv[k]);
     for (int a = 0; a < 3; a++) free(f->membrane_v[a]);
     for (int k = 0; k < 4; k++) free(f->membrane_dm_inv[k]);

@@ -101,12 +101,15 @@ typedef struct sb_fast_model {
     sb_fast_constant hinge_k;
     bool has_hinges;
 
-    /* Co-rotated tetrahedra (kernels/forces/fast_tets.c), colored by their
-     * four corners; the constants stay in double, in which the element is
-     * computed (kernels/forces/corotated.c). Empty without tetrahedra, and
-     * then no pass runs. */
+    /* Co-rotated tetrahedra (kernels/forces/fast_tets.c), linear or
+     * quadratic (tet_nodes 4 or 10), colored by all their SB_TET_NODES
+     * vertices (a linear one's repeat its corner 0: mesh/model_internal.h);
+     * the constants stay in double, in which the element is computed
+     * (kernels/forces/tet_element.h). Empty without tetrahedra, and then no
+     * pass runs. */
     sb_element_group tets;
-    uint32_t* tet_v[4];
+    uint32_t* tet_v[SB_TET_NODES];
+    uint8_t* tet_nodes;
     double* tet_dm_inv[9];
     double *tet_volume, *tet_mu, *tet_lambda, *tet_beta;
     bool has_tets, tet_damped; /* tet_damped: some β > 0 */

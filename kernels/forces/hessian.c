@@ -23,9 +23,11 @@ sb_element sb_element_at(const sb_model* m, uint64_t e) {
         return (sb_element){
             SB_ELEMENT_HINGE, (uint32_t)e, 4, {m->hinge_e0[e], m->hinge_e1[e], m->hinge_o0[e], m->hinge_o1[e]}};
     e -= m->hinge_count;
-    if (e < m->tet_count)
-        return (sb_element){
-            SB_ELEMENT_TET, (uint32_t)e, 4, {m->tet_v[0][e], m->tet_v[1][e], m->tet_v[2][e], m->tet_v[3][e]}};
+    if (e < m->tet_count) {
+        sb_element tet = {SB_ELEMENT_TET, (uint32_t)e, m->tet_nodes[e], {0}};
+        for (int a = 0; a < tet.count; a++) tet.vertex[a] = m->tet_v[a][e];
+        return tet;
+    }
     e -= m->tet_count;
     return (sb_element){
         SB_ELEMENT_MEMBRANE, (uint32_t)e, 3, {m->membrane_v[0][e], m->membrane_v[1][e], m->membrane_v[2][e]}};
@@ -44,18 +46,19 @@ static bool sb_membrane_forces_dual(const sb_model* m, uint32_t tri, const sb_dv
 /* A tetrahedron's exact forces at x.v, and −R K0 Rᵀ x.d as their
  * derivative part (hessian.h). */
 static bool sb_tet_forces_dual(const sb_model* m, uint32_t tet, const sb_dvec3* x, sb_dvec3* f) {
-    sb_vec3 at[4];
-    double forces[12], k[144], p[12];
-    for (int a = 0; a < 4; a++) {
+    int nodes = m->tet_nodes[tet], size = 3 * nodes;
+    sb_vec3 at[SB_ELEMENT_MAX] = {{0.0, 0.0, 0.0}};
+    double forces[3 * SB_ELEMENT_MAX], k[SB_ELEMENT_MATRIX], p[3 * SB_ELEMENT_MAX];
+    for (int a = 0; a < nodes; a++) {
         at[a] = x[a].v;
         p[3 * a] = x[a].d.x, p[3 * a + 1] = x[a].d.y, p[3 * a + 2] = x[a].d.z;
     }
     if (!sb_tet_stiffness(m, tet, at, forces, k)) return false;
-    for (int a = 0; a < 4; a++) {
+    for (int a = 0; a < nodes; a++) {
         double d[3];
         for (int i = 0; i < 3; i++) {
             double s = 0.0;
-            for (int c = 0; c < 12; c++) s -= k[(3 * a + i) * 12 + c] * p[c];
+            for (int c = 0; c < size; c++) s -= k[(3 * a + i) * size + c] * p[c];
             d[i] = s;
         }
         f[a].v = (sb_vec3){forces[3 * a], forces[3 * a + 1], forces[3 * a + 2]};
@@ -120,11 +123,12 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
  * positive semi-definite matrix). */
 static bool sb_tet_vertex_share(const sb_model* m, uint32_t tet, const sb_vec3* x, int place, double* f,
                                 double* block) {
-    double forces[12], k[144];
+    int size = 3 * m->tet_nodes[tet];
+    double forces[3 * SB_ELEMENT_MAX], k[SB_ELEMENT_MATRIX];
     if (!sb_tet_stiffness(m, tet, x, forces, k)) return false;
     for (int i = 0; i < 3; i++) {
         f[i] += forces[3 * place + i];
-        for (int j = 0; j < 3; j++) block[3 * i + j] += k[(3 * place + i) * 12 + 3 * place + j];
+        for (int j = 0; j < 3; j++) block[3 * i + j] += k[(3 * place + i) * size + 3 * place + j];
     }
     return true;
 }
@@ -185,13 +189,14 @@ bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const
 
 /* dt² R K0 Rᵀ in the blocks' layout (hessian.h), definite or not. */
 static bool sb_tet_jacobian_blocks(const sb_model* m, uint32_t tet, const sb_vec3* x, double scale, double* blocks) {
-    double k[144];
+    int nodes = m->tet_nodes[tet], size = 3 * nodes;
+    double k[SB_ELEMENT_MATRIX];
     if (!sb_tet_stiffness(m, tet, x, NULL, k)) return false;
-    for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 4; c++)
+    for (int r = 0; r < nodes; r++)
+        for (int c = 0; c < nodes; c++)
             for (int a = 0; a < 3; a++)
                 for (int b = 0; b < 3; b++)
-                    blocks[9 * (4 * r + c) + 3 * a + b] = scale * k[(3 * r + a) * 12 + 3 * c + b];
+                    blocks[9 * (nodes * r + c) + 3 * a + b] = scale * k[(3 * r + a) * size + 3 * c + b];
     return true;
 }
 

@@ -17,7 +17,7 @@
  * solvers that use K keep the exact residual, so it costs iterations, never
  * accuracy. Its velocity Jacobian, D = −∂f/∂v = d u uᵀ per spring, is exact.
  *
- * A co-rotated tetrahedron (4 vertices) is the exception: its stiffness is
+ * A co-rotated tetrahedron (4 vertices, or 10 when quadratic) is the exception: its stiffness is
  * the co-rotated approximation R K0 Rᵀ (kernels/forces/hessian_tets.c),
  * which leaves out the derivative of the element's rotation R. It is
  * symmetric and positive semi-definite, exact at rest and at any rotation
@@ -46,7 +46,8 @@ typedef enum sb_element_kind {
     SB_ELEMENT_MEMBRANE
 } sb_element_kind;
 
-enum { SB_ELEMENT_MAX = 4 };
+enum { SB_ELEMENT_MAX = SB_TET_NODES };                           /* a quadratic tetrahedron's 10 */
+enum { SB_ELEMENT_MATRIX = 9 * SB_ELEMENT_MAX * SB_ELEMENT_MAX }; /* the largest element matrix, doubles */
 
 typedef struct sb_element {
     sb_element_kind kind;
@@ -67,7 +68,7 @@ sb_element sb_element_at(const sb_model* m, uint64_t e);
 bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dvec3* x, sb_dvec3* f);
 
 /* K_e = −∂f_e/∂x at x (3n interleaved), row-major 3 count × 3 count in k
- * (at most 12 × 12). False when the element collapsed. Bonds and triangles
+ * (at most 30 × 30). False when the element collapsed. Bonds and triangles
  * in closed form (sb_bond_stiffness_matrix, sb_triangle_stiffness: several
  * times faster than the 12-seed dual run), hinges by the dual run. */
 bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* x, double* k);

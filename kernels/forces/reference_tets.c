@@ -1,36 +1,36 @@
-/* Scalar reference for the co-rotated tetrahedra: kernels/forces/corotated.h
- * per element, its elastic forces and, where the model has β > 0 and
- * velocities are given, its stiffness-proportional damping, added in
+/* Scalar reference for the co-rotated tetrahedra, linear and quadratic:
+ * kernels/forces/tet_element.h per element, its elastic forces and, for a
+ * linear element where the model has β > 0 and velocities are given, its
+ * stiffness-proportional damping (kernels/forces/corotated.h), added in
  * tetrahedron order. */
 #include "kernels/forces/reference_tets.h"
 #include "kernels/forces/corotated.h"
+#include "kernels/forces/tet_element.h"
 #include "common/error.h"
 
-/* The corners' positions (or velocities) of tetrahedron t. */
-static void sb_tet_corners(const sb_model* m, uint32_t t, const double* x, double p[4][3]) {
-    for (int c = 0; c < 4; c++)
+/* The nodes' positions (or velocities) of tetrahedron t. */
+static void sb_tet_nodes_at(const sb_model* m, uint32_t t, int nodes, const double* x, double p[][3]) {
+    for (int c = 0; c < nodes; c++)
         for (int k = 0; k < 3; k++) p[c][k] = x[3 * (size_t)m->tet_v[c][t] + k];
-}
-
-static void sb_tet_add(const sb_model* m, uint32_t t, const double g[4][3], double* f) {
-    for (int c = 0; c < 4; c++)
-        for (int k = 0; k < 3; k++) f[3 * (size_t)m->tet_v[c][t] + k] += g[c][k];
 }
 
 /* The element's forces at x (and v), added to f; false when not finite. */
 static bool sb_reference_tet(const sb_model* m, uint32_t t, const double* x, const double* v, double* f, double* e) {
-    double p[4][3], dm_inv[9], g[4][3];
-    sb_tet_corners(m, t, x, p);
+    int nodes = m->tet_nodes[t];
+    double p[SB_TET_NODES][3], dm_inv[9], g[SB_TET_NODES][3];
+    sb_tet_nodes_at(m, t, nodes, x, p);
     for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][t];
     double volume = m->tet_volume[t], mu = m->tet_mu[t], lambda = m->tet_lambda[t], beta = m->tet_beta[t];
-    if (v && beta > 0.0) {
+    if (v && beta > 0.0 && nodes == 4) {
         double u[4][3];
-        sb_tet_corners(m, t, v, u);
+        sb_tet_nodes_at(m, t, 4, v, u);
         if (!sb_corotated_tet_damped(p, u, dm_inv, volume, mu, lambda, beta, g, e)) return false;
-    } else if (!sb_corotated_tet(p, dm_inv, volume, mu, lambda, g, e)) {
-        return false;
+    } else {
+        sb_tet_material mat = {dm_inv, volume, mu, lambda};
+        if (!sb_tet_element_forces(nodes, p, &mat, g, e)) return false;
     }
-    sb_tet_add(m, t, g, f);
+    for (int c = 0; c < nodes; c++)
+        for (int k = 0; k < 3; k++) f[3 * (size_t)m->tet_v[c][t] + k] += g[c][k];
     return true;
 }
 

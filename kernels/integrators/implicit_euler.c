@@ -122,7 +122,7 @@ enum {
 struct sb_implicit {
     double* work;                  /* W_COUNT × 3n */
     double* term_forces;           /* SB_TERM_COUNT × 3n: the residual's forces, term by term */
-    double* element_matrices;      /* the team's chunks: width × SB_ASSEMBLY_CHUNK × 144 */
+    double* element_matrices;      /* the team's chunks: width × SB_ASSEMBLY_CHUNK × SB_ELEMENT_MATRIX */
     double* inverse_blocks;        /* 9n: the preconditioner */
     sb_block_matrix* matrix;       /* J */
     sb_sparse_cholesky* cholesky;  /* its factorization; NULL when CG solves */
@@ -241,15 +241,15 @@ static void sb_assemble_worker(void* context, const sb_worker* worker) {
     uint32_t rows_end = (uint32_t)(rows * (worker->index + 1) / worker->width);
     for (uint64_t round = 0; round < job->count; round += per_round) {
         uint64_t first = round + (uint64_t)worker->index * SB_ASSEMBLY_CHUNK;
-        double* mine = job->matrices + (size_t)worker->index * SB_ASSEMBLY_CHUNK * 144;
+        double* mine = job->matrices + (size_t)worker->index * SB_ASSEMBLY_CHUNK * SB_ELEMENT_MATRIX;
         for (uint64_t id = first; id < first + SB_ASSEMBLY_CHUNK && id < job->count; id++) {
             sb_element e = sb_element_at(m, id);
-            double* k = mine + (id - first) * 144;
+            double* k = mine + (id - first) * SB_ELEMENT_MATRIX;
             if (!sb_element_jacobian_blocks(m, &e, x, job->definite, job->w->dt, k)) k[0] = NAN; /* worker 0 names it */
         }
         sb_worker_barrier(worker);
         for (uint64_t id = round; id < round + per_round && id < job->count; id++) {
-            const double* k = job->matrices + (id - round) * 144;
+            const double* k = job->matrices + (id - round) * SB_ELEMENT_MATRIX;
             if (isnan(k[0])) {
                 if (worker->index == 0 && job->collapsed == UINT64_MAX) job->collapsed = id;
                 continue;
@@ -515,7 +515,8 @@ bool sb_implicit_prepare(sb_solver* s) {
     im->work = calloc(W_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->term_forces = calloc(SB_TERM_COUNT * (n3 ? n3 : 1), sizeof(double));
     im->inverse_blocks = calloc(9 * (n ? n : 1), sizeof(double));
-    im->element_matrices = malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * 144 * sizeof(double));
+    im->element_matrices =
+        malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * SB_ELEMENT_MATRIX * sizeof(double));
     im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - s->live_vertices);
     im->pattern_vertices = s->live_vertices;
     if (!im->work || !im->term_forces || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;

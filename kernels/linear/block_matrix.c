@@ -46,9 +46,9 @@ sb_block_matrix* sb_block_matrix_create(const sb_model* m, uint32_t spare) {
     if (!a) return NULL;
     a->rows = n;
     a->elements = sb_vertex_elements_create(m);
-    uint32_t widest = 1; /* the most candidates a row can have: 1 + 4 per element entry */
+    uint32_t widest = 1; /* the most candidates a row can have: 1 + SB_ELEMENT_MAX per element entry */
     for (uint32_t i = 0; a->elements && i < n; i++) {
-        uint32_t width = 1 + 4 * (a->elements->start[i + 1] - a->elements->start[i]);
+        uint32_t width = 1 + SB_ELEMENT_MAX * (a->elements->start[i + 1] - a->elements->start[i]);
         if (width > widest) widest = width;
     }
     a->scratch = malloc(widest * sizeof *a->scratch);

@@ -197,11 +197,12 @@ static sb_status sb_check_tets(const sb_model* m, const sb_solver_def* def, sb_e
     if (!m->tet_count) return SB_OK;
     sb_integrator it = def->integrator;
     if (it == SB_INTEGRATOR_PBD || it == SB_INTEGRATOR_XPBD)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "the corotated tetrahedra (tissue.model: corotated) have no constraints yet: "
-                            "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
-                            "symplectic_euler, explicit_euler, implicit_euler or vbd",
-                            sb_integrator_name(it));
+        return sb_error_set(
+            err, SB_ERR_INVALID,
+            "the corotated tetrahedra (tissue.model: corotated or corotated_quadratic) have no constraints yet: "
+            "integrator %s cannot run them; use verlet, velocity_verlet, position_verlet, "
+            "symplectic_euler, explicit_euler, implicit_euler or vbd",
+            sb_integrator_name(it));
     return SB_OK;
 }
 

@@ -317,6 +317,9 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->tet_volume, 8 * nq);
         h = sb_hash(h, m->tet_mu, 8 * nq);
         h = sb_hash(h, m->tet_lambda, 8 * nq);
+        bool quadratic = false; /* the middles only then, as above */
+        for (size_t t = 0; t < nq; t++) quadratic |= m->tet_nodes[t] == SB_TET_NODES;
+        for (int c = 4; quadratic && c < SB_TET_NODES; c++) h = sb_hash(h, m->tet_v[c], 4 * nq);
         if (m->tet_damped) h = sb_hash(h, m->tet_beta, 8 * nq); /* undamped models' hashes as they were */
     }
     if (m->membrane_count) { /* likewise */

@@ -502,8 +502,11 @@ static PyObject* model_from_tets(PyObject* cls, PyObject* args, PyObject* kwargs
     if (sbpy_options(function, kwargs, table, sizeof table / sizeof table[0]) < 0) return NULL;
     if (model_name && strcmp(model_name, "corotated") == 0)
         tissue.model = SB_TISSUE_COROTATED;
+    else if (model_name && strcmp(model_name, "corotated_quadratic") == 0)
+        tissue.model = SB_TISSUE_COROTATED_QUADRATIC;
     else if (model_name && strcmp(model_name, "springs") != 0)
-        return PyErr_Format(PyExc_ValueError, "%s: 'model' must be 'springs' or 'corotated', not '%s'", function,
+        return PyErr_Format(PyExc_ValueError,
+                            "%s: 'model' must be 'springs', 'corotated' or 'corotated_quadratic', not '%s'", function,
                             model_name);
     PyArrayObject* x = sbpy_array(vertices, function, "vertices", NPY_DOUBLE, 3);
     PyArrayObject* t = x ? sbpy_index_array(tets, function, "tetrahedra", 4) : NULL;
@@ -761,7 +764,8 @@ static PyMethodDef model_methods[] = {
      "from_tets(vertices, tetrahedra, *, tissue='liver', young_modulus=3500, density=1060, damping=1,\n"
      "          poisson_ratio=0.3, stiffness_damping=0, model='springs', fixed=None) -> Model\n\n"
      "Soft tissue from a tetrahedral mesh and Young's modulus (Pa): model='springs' (damped edge springs, E\n"
-     "only) or 'corotated' (co-rotated linear FEM, E and Poisson's ratio). tissue names a preset (liver,\n"
+     "only), 'corotated' (co-rotated linear FEM, E and Poisson's ratio) or 'corotated_quadratic' (10-node\n"
+     "elements, a vertex added at each edge's middle: no locking in bending). tissue names a preset (liver,\n"
      "gallbladder) that the other keywords then change. stiffness_damping is Rayleigh's beta (s)."},
     {NULL}};
 
