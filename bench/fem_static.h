@@ -207,16 +207,20 @@ done:
     return body;
 }
 
+/* The body's static equilibrium (left in body->x) and its displacement
+ * at the problem's probe; NAN on any failure. */
+static inline double fem_body_static(fem_body* body, const fem_problem* pb) {
+    uint32_t probe = body->model ? fem_point_at(body->rest, body->count, pb->probe) : UINT32_MAX;
+    if (probe == UINT32_MAX) return NAN;
+    fem_static s = {.model = body->model, .load = body->load, .held = body->held, .n3 = 3 * (size_t)body->count};
+    fem_solve_static(&s, body->x, pb->lz);
+    return s.failed ? NAN : body->x[3 * probe + pb->probe_axis] - body->rest[3 * probe + pb->probe_axis];
+}
+
 /* softbond's static displacement at the probe (NAN on any failure). */
 static inline double fem_softbond(const fem_problem* pb, int n, sb_tissue_model model) {
     fem_body body = fem_body_build(pb, n, model);
-    double v = NAN;
-    uint32_t probe = body.model ? fem_point_at(body.rest, body.count, pb->probe) : UINT32_MAX;
-    if (probe != UINT32_MAX) {
-        fem_static s = {.model = body.model, .load = body.load, .held = body.held, .n3 = 3 * (size_t)body.count};
-        fem_solve_static(&s, body.x, pb->lz);
-        if (!s.failed) v = body.x[3 * probe + pb->probe_axis] - body.rest[3 * probe + pb->probe_axis];
-    }
+    double v = fem_body_static(&body, pb);
     fem_body_free(&body);
     return v;
 }

@@ -7,9 +7,9 @@
  * papers' springs
  * (Lloyd's k = Σ (√2/25) l_t E). The reference is ccx's quadratic C3D10 on
  * a finer mesh, checked against a coarser C3D10 (within 1 %). softbond's
- * answer is its model's static equilibrium: Newton on its own reference
- * forces, each system solved by CG with the stiffness's products from
- * central differences of those forces. Loads are small (deflections about
+ * answer is its model's static equilibrium (bench/fem_static.h): Newton on
+ * its own reference forces, each system solved by CG with the stiffness's
+ * products from central differences of those forces. Loads are small (deflections about
  * 0.1 % of the length) so that the linear oracle applies. */
 #define _POSIX_C_SOURCE 200809L
 #include "tests/test_util.h"
