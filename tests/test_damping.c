@@ -13,7 +13,7 @@
  * meshes: the settle time 1/(ζ ω) and the frequency must stay put when the
  * mesh is refined. */
 #include "tests/test_util.h"
-#include "tests/fem_oracle.h"
+#include "bench/fem_oracle.h"
 #include "softbond/volume.h"
 
 #define CUBE 0.02 /* m */

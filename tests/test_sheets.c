@@ -4,7 +4,7 @@
  * a strip pulled 0.5 % against the plane-stress closed form (lateral
  * contraction −ν ε, pull force E t w ε) for ν 0.3 and 0.45; a plate clamped
  * along one side under gravity against CalculiX's S8R shells
- * (tests/fem_oracle.h; Kirchhoff's cylindrical bending q L⁴ / 8 D printed
+ * (bench/fem_oracle.h; Kirchhoff's cylindrical bending q L⁴ / 8 D printed
  * beside), at up to three resolutions on three meshes; masses ρ t A; the
  * fast kernels against the reference; checkpoints; the scene keys; what
  * the solvers accept.
@@ -16,7 +16,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 #include "tests/test_files.h"
-#include "tests/fem_oracle.h"
+#include "bench/fem_oracle.h"
 
 #include <sys/stat.h>
 

@@ -1,4 +1,4 @@
-/* The finite-element oracle (tests/test_fem.c): CalculiX (`ccx`, Debian's
+/* The finite-element oracle (tests/test_fem.c, bench/bench_materials.c): CalculiX (`ccx`, Debian's
  * calculix-ccx) run on the same tetrahedra softbond uses, written as C3D4
  * or converted to quadratic C3D10 (a node at each edge's middle), with the
  * same clamps, prescribed displacements and loads; its displacements read
