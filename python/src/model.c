@@ -143,110 +143,80 @@ done:
     return status;
 }
 
-static int add_bonds(sb_builder* builder, PyObject* bonds, PyObject* const* k, const char* function) {
-    if (!bonds || bonds == Py_None) return 0;
-    PyArrayObject* ij = sbpy_index_array(bonds, function, "bonds", 2);
-    if (!ij) return -1;
-    npy_intp n = PyArray_DIM(ij, 0);
+/** One kind of element from_arrays takes: its index array's name and width,
+ * its per-element constants (names and fallbacks) and how one is added. */
+typedef struct element_kind {
+    const char* name;
+    int width;
+    int constant_count;
+    const char* const* constant_names;
+    const double* fallbacks;
+    int (*add)(sb_builder* builder, const int64_t* v, const constants* c, npy_intp element);
+} element_kind;
+
+static int add_elements(sb_builder* builder, PyObject* elements, PyObject* const* k, const element_kind* kind,
+                        const char* function) {
+    if (!elements || elements == Py_None) return 0;
+    PyArrayObject* indices = sbpy_index_array(elements, function, kind->name, kind->width);
+    if (!indices) return -1;
+    npy_intp n = PyArray_DIM(indices, 0);
     constants c;
-    const char* names[] = {"bond_k", "spring_k", "spring_damping", "rest_lengths", "break_min", "break_max"};
-    const double fallback[] = {0, 0, 0, -1, 0, INFINITY};
-    if (constants_read(&c, function, k, names, fallback, 6, n) < 0) {
-        Py_DECREF(ij);
+    if (constants_read(&c, function, k, kind->constant_names, kind->fallbacks, kind->constant_count, n) < 0) {
+        Py_DECREF(indices);
         return -1;
     }
-    const int64_t* e = PyArray_DATA(ij);
+    const int64_t* v = PyArray_DATA(indices);
     int status = 0;
-    for (npy_intp b = 0; b < n && status == 0; b++) {
-        sb_bond_def def = sb_default_bond_def();
-        def.i = (uint32_t)e[2 * b];
-        def.j = (uint32_t)e[2 * b + 1];
-        def.k = constant(&c, 0, b);
-        def.spring_k = constant(&c, 1, b);
-        def.spring_damping = constant(&c, 2, b);
-        def.rest_length = constant(&c, 3, b);
-        def.break_min = constant(&c, 4, b);
-        def.break_max = constant(&c, 5, b);
-        if (sb_builder_add_bond(builder, &def) < 0) status = -1, PyErr_NoMemory();
-    }
+    for (npy_intp e = 0; e < n && status == 0; e++)
+        if (kind->add(builder, v + kind->width * e, &c, e) < 0) status = -1, PyErr_NoMemory();
     constants_release(&c);
-    Py_DECREF(ij);
+    Py_DECREF(indices);
     return status;
 }
 
-static int add_triangles(sb_builder* builder, PyObject* triangles, PyObject* const* k, const char* function) {
-    if (!triangles || triangles == Py_None) return 0;
-    PyArrayObject* ijk = sbpy_index_array(triangles, function, "triangles", 3);
-    if (!ijk) return -1;
-    npy_intp n = PyArray_DIM(ijk, 0);
-    constants c;
-    const char* names[] = {"angle_k", "stretch_bend_k"};
-    const double fallback[] = {0, 0};
-    if (constants_read(&c, function, k, names, fallback, 2, n) < 0) {
-        Py_DECREF(ijk);
-        return -1;
-    }
-    const int64_t* t = PyArray_DATA(ijk);
-    int status = 0;
-    for (npy_intp i = 0; i < n && status == 0; i++) {
-        sb_triangle_def def = {(uint32_t)t[3 * i], (uint32_t)t[3 * i + 1], (uint32_t)t[3 * i + 2], constant(&c, 0, i),
-                               constant(&c, 1, i)};
-        if (sb_builder_add_triangle(builder, &def) < 0) status = -1, PyErr_NoMemory();
-    }
-    constants_release(&c);
-    Py_DECREF(ijk);
-    return status;
+static int add_bond(sb_builder* builder, const int64_t* v, const constants* c, npy_intp b) {
+    sb_bond_def def = sb_default_bond_def();
+    def.i = (uint32_t)v[0];
+    def.j = (uint32_t)v[1];
+    def.k = constant(c, 0, b);
+    def.spring_k = constant(c, 1, b);
+    def.spring_damping = constant(c, 2, b);
+    def.rest_length = constant(c, 3, b);
+    def.break_min = constant(c, 4, b);
+    def.break_max = constant(c, 5, b);
+    return sb_builder_add_bond(builder, &def);
 }
 
-static int add_tets(sb_builder* builder, PyObject* tets, PyObject* const* k, const char* function) {
-    if (!tets || tets == Py_None) return 0;
-    PyArrayObject* corners = sbpy_index_array(tets, function, "tetrahedra", 4);
-    if (!corners) return -1;
-    npy_intp n = PyArray_DIM(corners, 0);
-    constants c;
-    const char* names[] = {"young_modulus", "poisson_ratio"};
-    const double fallback[] = {0, 0.3};
-    if (constants_read(&c, function, k, names, fallback, 2, n) < 0) {
-        Py_DECREF(corners);
-        return -1;
-    }
-    const int64_t* t = PyArray_DATA(corners);
-    int status = 0;
-    for (npy_intp i = 0; i < n && status == 0; i++) {
-        sb_tet_def def = {
-            .v = {(uint32_t)t[4 * i], (uint32_t)t[4 * i + 1], (uint32_t)t[4 * i + 2], (uint32_t)t[4 * i + 3]},
-            .young_modulus = constant(&c, 0, i),
-            .poisson_ratio = constant(&c, 1, i)}; /* undamped: β through from_tets */
-        if (sb_builder_add_tet(builder, &def) < 0) status = -1, PyErr_NoMemory();
-    }
-    constants_release(&c);
-    Py_DECREF(corners);
-    return status;
+static int add_triangle(sb_builder* builder, const int64_t* v, const constants* c, npy_intp t) {
+    sb_triangle_def def = {(uint32_t)v[0], (uint32_t)v[1], (uint32_t)v[2], constant(c, 0, t), constant(c, 1, t)};
+    return sb_builder_add_triangle(builder, &def);
 }
 
-static int add_hinges(sb_builder* builder, PyObject* hinges, PyObject* const* k, const char* function) {
-    if (!hinges || hinges == Py_None) return 0;
-    PyArrayObject* corners = sbpy_index_array(hinges, function, "hinges", 4);
-    if (!corners) return -1;
-    npy_intp n = PyArray_DIM(corners, 0);
-    constants c;
-    const char* names[] = {"bend_k"};
-    const double fallback[] = {0};
-    if (constants_read(&c, function, k, names, fallback, 1, n) < 0) {
-        Py_DECREF(corners);
-        return -1;
-    }
-    const int64_t* h = PyArray_DATA(corners);
-    int status = 0;
-    for (npy_intp i = 0; i < n && status == 0; i++) {
-        sb_hinge_def def = {(uint32_t)h[4 * i], (uint32_t)h[4 * i + 1], (uint32_t)h[4 * i + 2], (uint32_t)h[4 * i + 3],
-                            constant(&c, 0, i)};
-        if (sb_builder_add_hinge(builder, &def) < 0) status = -1, PyErr_NoMemory();
-    }
-    constants_release(&c);
-    Py_DECREF(corners);
-    return status;
+static int add_tet(sb_builder* builder, const int64_t* v, const constants* c, npy_intp t) {
+    sb_tet_def def = {.v = {(uint32_t)v[0], (uint32_t)v[1], (uint32_t)v[2], (uint32_t)v[3]},
+                      .young_modulus = constant(c, 0, t),
+                      .poisson_ratio = constant(c, 1, t)}; /* undamped: β through from_tets */
+    return sb_builder_add_tet(builder, &def);
 }
+
+static int add_hinge(sb_builder* builder, const int64_t* v, const constants* c, npy_intp h) {
+    sb_hinge_def def = {(uint32_t)v[0], (uint32_t)v[1], (uint32_t)v[2], (uint32_t)v[3], constant(c, 0, h)};
+    return sb_builder_add_hinge(builder, &def);
+}
+
+static const element_kind bond_kind = {
+    "bonds",
+    2,
+    6,
+    (const char* const[]){"bond_k", "spring_k", "spring_damping", "rest_lengths", "break_min", "break_max"},
+    (const double[]){0, 0, 0, -1, 0, INFINITY},
+    add_bond};
+static const element_kind triangle_kind = {
+    "triangles", 3, 2, (const char* const[]){"angle_k", "stretch_bend_k"}, (const double[]){0, 0}, add_triangle};
+static const element_kind tet_kind = {
+    "tetrahedra", 4, 2, (const char* const[]){"young_modulus", "poisson_ratio"}, (const double[]){0, 0.3}, add_tet};
+static const element_kind hinge_kind = {"hinges", 4, 1, (const char* const[]){"bend_k"}, (const double[]){0},
+                                        add_hinge};
 
 static PyObject* model_from_arrays(PyObject* cls, PyObject* args, PyObject* kwargs) {
     (void)cls;
@@ -269,8 +239,10 @@ static PyObject* model_from_arrays(PyObject* cls, PyObject* args, PyObject* kwar
     sb_builder* builder = sb_builder_create();
     if (!builder) return PyErr_NoMemory();
     if (add_vertices(builder, vertices, masses, velocities, function) < 0 || pin(builder, fixed, function) < 0 ||
-        add_bonds(builder, bonds, bond_k, function) < 0 || add_triangles(builder, triangles, tri_k, function) < 0 ||
-        add_tets(builder, tets, tet_k, function) < 0 || add_hinges(builder, hinges, hinge_k, function) < 0) {
+        add_elements(builder, bonds, bond_k, &bond_kind, function) < 0 ||
+        add_elements(builder, triangles, tri_k, &triangle_kind, function) < 0 ||
+        add_elements(builder, tets, tet_k, &tet_kind, function) < 0 ||
+        add_elements(builder, hinges, hinge_k, &hinge_kind, function) < 0) {
         sb_builder_destroy(builder);
         return NULL;
     }
