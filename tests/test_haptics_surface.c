@@ -17,6 +17,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 #include "test_files.h"
+#include "held_sheet.h"
 
 #define T 1e-3
 #define DT 1e-4
@@ -27,55 +28,12 @@
 #define SLIDE_FROM 2500 /* ticks: pressed in by 2 s, settled by 2.5 s */
 #define SLIDE_TO 5500   /* 3 cm in 3 s */
 
-typedef struct probe {
-    sb_mesh mesh;
-    sb_model* model;
-    sb_collider* tool;
-    sb_solver* solver;
-} probe;
+typedef held_sheet probe;
 
 /* The sheet and the tool, its bottom 7 mm over the sheet at (x, y). */
 static void probe_open(probe* p, double x, double y) {
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = SIDE;
-    sheet.width = sheet.height = WIDTH;
-    sb_error err;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &p->mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 200;
-    material.angle_k = 0.0005;
-    material.density = 0.5;
-    sb_builder* builder = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(builder, &p->mesh, &material, &err), SB_OK);
-    for (uint32_t row = 0; row < SIDE; row++)
-        for (uint32_t col = 0; col < SIDE; col++)
-            sb_builder_vertex(builder, row * SIDE + col)->fixed =
-                row == 0 || col == 0 || row == SIDE - 1 || col == SIDE - 1;
-    p->model = sb_builder_compile(builder, &err);
-    sb_builder_destroy(builder);
-    assert_non_null(p->model);
-    sb_collider_def c = sb_default_collider_def();
-    c.shape = SB_COLLIDER_SPHERE;
-    c.center[0] = x, c.center[1] = y, c.center[2] = RADIUS + 0.007;
-    c.radius = RADIUS;
-    p->tool = sb_collider_create(&c, &err);
-    assert_non_null(p->tool);
-    sb_solver_def def = sb_default_solver_def();
-    def.gravity[2] = 0.0;
-    def.drag = 20;
-    def.colliders = &p->tool;
-    def.collider_count = 1;
-    def.contact_thickness = 0.0005;
-    def.runtime.threads = 1;
-    p->solver = sb_solver_create(p->model, &def, &err);
-    assert_non_null(p->solver);
-}
-
-static void probe_close(probe* p) {
-    sb_solver_destroy(p->solver);
-    sb_collider_destroy(p->tool);
-    sb_model_destroy(p->model);
-    sb_mesh_free(&p->mesh);
+    const double centre[3] = {x, y, RADIUS + 0.007};
+    held_sheet_open(p, SIDE, WIDTH, centre, RADIUS, NULL, 0);
 }
 
 /* One servo tick of the loop: the simulation's steps (drive, step, sense),
@@ -113,7 +71,7 @@ static void run_script(const char* name, const char* csv, double x, double y, lo
     }
     sb_haptics_destroy(h);
     sb_haptic_device_close(device);
-    probe_close(&p);
+    held_sheet_close(&p);
 }
 
 static void test_probe_slides_smoothly_across_vertices(void** state) {

@@ -11,6 +11,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 #include "test_files.h"
+#include "held_sheet.h"
 
 #define T 1e-3
 #define DT 1e-4
@@ -21,10 +22,7 @@
 #define WINDOWS 30
 
 typedef struct tissue {
-    sb_mesh mesh;
-    sb_model* model;
-    sb_collider* tool;
-    sb_solver* solver;
+    held_sheet sheet;
     long steps;
     double reaction[WINDOWS]; /* N: the tool's contact force along z, averaged over each window */
 } tissue;
@@ -32,56 +30,15 @@ typedef struct tissue {
 /* The tool's contact force after a step, into its window's average. */
 static void record_reaction(tissue* t) {
     double f[3];
-    sb_solver_contact_force(t->solver, 0, f);
+    sb_solver_contact_force(t->sheet.solver, 0, f);
     long w = t->steps++ / WINDOW_STEPS;
     if (w < WINDOWS) t->reaction[w] += f[2] / WINDOW_STEPS;
 }
 
 /* The sheet, and a sphere at rest above its middle, on the path given (NULL: driven). */
 static void tissue_open(tissue* t, const sb_keyframe* path, uint32_t path_count) {
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = SIDE;
-    sheet.width = sheet.height = 0.1;
-    sb_error err;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &t->mesh, &err), SB_OK);
-    sb_material_def material = sb_default_material_def();
-    material.bond_k = 200;
-    material.angle_k = 0.0005;
-    material.density = 0.5;
-    sb_builder* builder = sb_builder_create();
-    assert_int_equal(sb_builder_add_mesh(builder, &t->mesh, &material, &err), SB_OK);
-    for (uint32_t row = 0; row < SIDE; row++)
-        for (uint32_t col = 0; col < SIDE; col++)
-            if (row == 0 || col == 0 || row == SIDE - 1 || col == SIDE - 1)
-                sb_builder_vertex(builder, row * SIDE + col)->fixed = true;
-    t->model = sb_builder_compile(builder, &err);
-    sb_builder_destroy(builder);
-    assert_non_null(t->model);
-    sb_collider_def c = sb_default_collider_def();
-    c.shape = SB_COLLIDER_SPHERE;
-    c.center[0] = c.center[1] = 0.05;
-    c.center[2] = REST_Z;
-    c.radius = 0.005;
-    c.path = path;
-    c.path_count = path_count;
-    t->tool = sb_collider_create(&c, &err);
-    assert_non_null(t->tool);
-    sb_solver_def def = sb_default_solver_def();
-    def.gravity[0] = def.gravity[1] = def.gravity[2] = 0;
-    def.drag = 20;
-    def.colliders = &t->tool;
-    def.collider_count = 1;
-    def.contact_thickness = 0.0005;
-    def.runtime.threads = 1;
-    t->solver = sb_solver_create(t->model, &def, &err);
-    assert_non_null(t->solver);
-}
-
-static void tissue_close(tissue* t) {
-    sb_solver_destroy(t->solver);
-    sb_collider_destroy(t->tool);
-    sb_model_destroy(t->model);
-    sb_mesh_free(&t->mesh);
+    const double centre[3] = {0.05, 0.05, REST_Z};
+    held_sheet_open(&t->sheet, SIDE, 0.1, centre, 0.005, path, path_count);
 }
 
 /* One servo tick of the whole loop: the simulation's steps during the
@@ -90,9 +47,9 @@ static void tissue_close(tissue* t) {
 static void loop_tick(tissue* t, sb_haptics* h, long i) {
     for (int s = 0; s < STEPS_PER_TICK; s++) {
         sb_haptics_drive(h);
-        assert_int_equal(sb_solver_advance(t->solver, DT), SB_OK);
+        assert_int_equal(sb_solver_advance(t->sheet.solver, DT), SB_OK);
         record_reaction(t);
-        sb_haptics_sense(h, t->solver, (double)(i - 1) * T + (s + 1) * DT);
+        sb_haptics_sense(h, t->sheet.solver, (double)(i - 1) * T + (s + 1) * DT);
     }
     sb_haptics_tick(h, (double)i * T);
 }
@@ -100,7 +57,7 @@ static void loop_tick(tissue* t, sb_haptics* h, long i) {
 static sb_haptics* couple(tissue* t, sb_haptic_device* device) {
     sb_error err;
     sb_haptics_def def = sb_default_haptics_def();
-    sb_haptics* h = sb_haptics_create(&def, device, t->tool, 0, &err);
+    sb_haptics* h = sb_haptics_create(&def, device, t->sheet.tool, 0, &err);
     assert_non_null(h);
     return h;
 }
@@ -140,7 +97,7 @@ static void test_felt_force_is_the_static_reaction(void** state) {
     sb_haptics_proxy(h, proxy);
     sb_haptics_destroy(h);
     sb_haptic_device_close(device);
-    tissue_close(&t);
+    held_sheet_close(&t.sheet);
 
     /* The same sheet with the tool on a kinematic path to where the proxy
      * ended, held there: the sheet's reaction, averaged over 0.2 s. */
@@ -150,12 +107,12 @@ static void test_felt_force_is_the_static_reaction(void** state) {
     tissue_open(&s, path, 3);
     double reaction = 0;
     for (long i = 0; i < ticks * STEPS_PER_TICK; i++) {
-        assert_int_equal(sb_solver_advance(s.solver, DT), SB_OK);
+        assert_int_equal(sb_solver_advance(s.sheet.solver, DT), SB_OK);
         double f[3];
-        sb_solver_contact_force(s.solver, 0, f);
+        sb_solver_contact_force(s.sheet.solver, 0, f);
         if (i >= (ticks - 200) * STEPS_PER_TICK) reaction += f[2] / (200.0 * STEPS_PER_TICK);
     }
-    tissue_close(&s);
+    held_sheet_close(&s.sheet);
     print_message("proxy %.3f mm below rest, felt %.4f N, static reaction %.4f N\n", 1e3 * (REST_Z - proxy[2]), felt,
                   reaction);
     assert_true(reaction > 0.03); /* the sheet was pressed */
@@ -186,7 +143,7 @@ static void test_scripted_device_matches_the_kinematic_path(void** state) {
     tissue* moved = calloc(1, sizeof *moved);
     tissue_open(moved, path, 3);
     for (long i = 0; i < 3000 * STEPS_PER_TICK; i++) {
-        assert_int_equal(sb_solver_advance(moved->solver, DT), SB_OK);
+        assert_int_equal(sb_solver_advance(moved->sheet.solver, DT), SB_OK);
         record_reaction(moved);
     }
     double peak = 0;
@@ -195,8 +152,8 @@ static void test_scripted_device_matches_the_kinematic_path(void** state) {
     for (int w = 0; w < WINDOWS; w++) TU_ASSERT_NEAR(felt->reaction[w], moved->reaction[w], 0.05 * peak);
     print_message("reaction at 3 s: %.4f N driven by the device, %.4f N on the path\n", felt->reaction[WINDOWS - 1],
                   moved->reaction[WINDOWS - 1]);
-    tissue_close(felt);
-    tissue_close(moved);
+    held_sheet_close(&felt->sheet);
+    held_sheet_close(&moved->sheet);
     free(felt);
     free(moved);
 }
@@ -225,7 +182,7 @@ static void test_tool_after_a_stall_does_not_pass_through(void** state) {
         }
     }
     static double x[3 * SIDE * SIDE];
-    sb_solver_get_positions(t.solver, x);
+    sb_solver_get_positions(t.sheet.solver, x);
     const uint32_t middle = (SIDE / 2) * SIDE + SIDE / 2;
     double proxy[3];
     sb_haptics_proxy(h, proxy);
@@ -235,7 +192,7 @@ static void test_tool_after_a_stall_does_not_pass_through(void** state) {
     TU_ASSERT_LE(x[3 * middle + 2], proxy[2]); /* under the tool, not over it */
     sb_haptics_destroy(h);
     sb_haptic_device_close(device);
-    tissue_close(&t);
+    held_sheet_close(&t.sheet);
 }
 
 /* ---- the simulated hand ------------------------------------------------ */
@@ -299,7 +256,7 @@ static void test_tapping_hand_gains_no_energy(void** state) {
     TU_ASSERT_LE(hand.work, 0);
     sb_haptics_destroy(h);
     sb_haptic_device_close(device);
-    tissue_close(&t);
+    held_sheet_close(&t.sheet);
 }
 
 int main(void) {
