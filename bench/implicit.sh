@@ -24,8 +24,7 @@
 # SOFTBOND: time that program instead of building this tree's (an A/B of two
 # builds, alternating, in the same minutes).
 set -eu
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BUILD=$ROOT/build
+. "$(dirname "$0")/common.sh"
 OUT=$ROOT/bench/results/implicit.md
 QUICK=0
 IMPLICIT_FAST_ONLY=0
@@ -40,13 +39,7 @@ for arg in "$@"; do
     *) echo "bench/implicit.sh: unknown option $arg (--quick, --implicit-fast, --vbd, --default-scene)" >&2 && exit 2 ;;
     esac
 done
-if [ -n "${SOFTBOND:-}" ]; then
-    SB=$SOFTBOND
-else
-    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$BUILD" -j "$(nproc)" --target softbond_cli >/dev/null
-    SB=$BUILD/softbond
-fi
+bench_program
 SCENE=$ROOT/scenes/default.yaml
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT

@@ -16,8 +16,7 @@
 # after (how idle the machine was besides the loop).
 set -eu
 
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BUILD=$ROOT/build
+. "$(dirname "$0")/common.sh"
 STEPS=400
 REPEATS=3
 CSV=$ROOT/bench/results/team.csv
@@ -30,13 +29,7 @@ while [ $# -gt 0 ]; do
         *) echo "bench/team.sh: unknown option $1 (--steps N, --repeats R, --csv FILE)" >&2; exit 2 ;;
     esac
 done
-if [ -n "${SOFTBOND:-}" ]; then
-    SB=$SOFTBOND
-else
-    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$BUILD" -j "$(nproc)" --target softbond_cli >/dev/null
-    SB=$BUILD/softbond
-fi
+bench_program
 SCENE=$ROOT/scenes/default.yaml
 TMP=$(mktemp -d)
 LOOP=
