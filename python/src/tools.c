@@ -214,14 +214,21 @@ static int collider_traverse(SbpyCollider* self, visitproc visit, void* arg) {
     return 0;
 }
 
-static PyObject* collider_set_pose(SbpyCollider* self, PyObject* args, PyObject* kwargs) {
+/** set_pose(translate, rotate=(0, 0, 0)) of a collider or a handle. */
+static int pose_arguments(PyObject* args, PyObject* kwargs, double t[3], double r[3]) {
     static char* keywords[] = {"translate", "rotate", NULL};
     PyObject *translate, *rotate = NULL;
-    double t[3], r[3] = {0, 0, 0};
+    r[0] = r[1] = r[2] = 0;
     if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:set_pose", keywords, &translate, &rotate) ||
         sbpy_vec3(translate, "set_pose()", "translate", t) < 0 ||
         (rotate && sbpy_vec3(rotate, "set_pose()", "rotate", r) < 0))
-        return NULL;
+        return -1;
+    return 0;
+}
+
+static PyObject* collider_set_pose(SbpyCollider* self, PyObject* args, PyObject* kwargs) {
+    double t[3], r[3];
+    if (pose_arguments(args, kwargs, t, r) < 0) return NULL;
     sb_collider_set_pose(self->collider, t, r);
     Py_RETURN_NONE;
 }
@@ -391,13 +398,8 @@ static void handle_dealloc(SbpyHandle* self) {
 }
 
 static PyObject* handle_set_pose(SbpyHandle* self, PyObject* args, PyObject* kwargs) {
-    static char* keywords[] = {"translate", "rotate", NULL};
-    PyObject *translate, *rotate = NULL;
-    double t[3], r[3] = {0, 0, 0};
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:set_pose", keywords, &translate, &rotate) ||
-        sbpy_vec3(translate, "set_pose()", "translate", t) < 0 ||
-        (rotate && sbpy_vec3(rotate, "set_pose()", "rotate", r) < 0))
-        return NULL;
+    double t[3], r[3];
+    if (pose_arguments(args, kwargs, t, r) < 0) return NULL;
     sb_handle_set_pose(self->handle, t, r);
     Py_RETURN_NONE;
 }
@@ -496,34 +498,40 @@ PyTypeObject SbpyHandleType = {
 
 /* ---- a scene's own ---- */
 
-PyObject* sbpy_scene_colliders(SbpyScene* scene) {
-    const sb_solver_def* def = sb_scene_file_solver_def(scene->scene);
-    PyObject* tuple = PyTuple_New(def->collider_count);
-    for (uint32_t i = 0; tuple && i < def->collider_count; i++) {
-        SbpyCollider* view = (SbpyCollider*)SbpyColliderType.tp_alloc(&SbpyColliderType, 0);
-        if (!view) {
+/** A tuple of `count` views of the scene's own objects, `view(scene, i)` each. */
+static PyObject* scene_views(SbpyScene* scene, uint32_t count, PyObject* (*view)(SbpyScene*, uint32_t)) {
+    PyObject* tuple = PyTuple_New(count);
+    for (uint32_t i = 0; tuple && i < count; i++) {
+        PyObject* item = view(scene, i);
+        if (!item) {
             Py_CLEAR(tuple);
             break;
         }
-        view->collider = def->colliders[i];
-        view->owner = Py_NewRef(scene);
-        PyTuple_SET_ITEM(tuple, i, (PyObject*)view);
+        PyTuple_SET_ITEM(tuple, i, item);
     }
     return tuple;
 }
 
+static PyObject* collider_view(SbpyScene* scene, uint32_t i) {
+    SbpyCollider* view = (SbpyCollider*)SbpyColliderType.tp_alloc(&SbpyColliderType, 0);
+    if (!view) return NULL;
+    view->collider = sb_scene_file_solver_def(scene->scene)->colliders[i];
+    view->owner = Py_NewRef(scene);
+    return (PyObject*)view;
+}
+
+static PyObject* handle_view(SbpyScene* scene, uint32_t i) {
+    SbpyHandle* view = (SbpyHandle*)SbpyHandleType.tp_alloc(&SbpyHandleType, 0);
+    if (!view) return NULL;
+    view->handle = sb_scene_file_solver_def(scene->scene)->handles[i];
+    view->owner = Py_NewRef(scene);
+    return (PyObject*)view;
+}
+
+PyObject* sbpy_scene_colliders(SbpyScene* scene) {
+    return scene_views(scene, sb_scene_file_solver_def(scene->scene)->collider_count, collider_view);
+}
+
 PyObject* sbpy_scene_handles(SbpyScene* scene) {
-    const sb_solver_def* def = sb_scene_file_solver_def(scene->scene);
-    PyObject* tuple = PyTuple_New(def->handle_count);
-    for (uint32_t i = 0; tuple && i < def->handle_count; i++) {
-        SbpyHandle* view = (SbpyHandle*)SbpyHandleType.tp_alloc(&SbpyHandleType, 0);
-        if (!view) {
-            Py_CLEAR(tuple);
-            break;
-        }
-        view->handle = def->handles[i];
-        view->owner = Py_NewRef(scene);
-        PyTuple_SET_ITEM(tuple, i, (PyObject*)view);
-    }
-    return tuple;
+    return scene_views(scene, sb_scene_file_solver_def(scene->scene)->handle_count, handle_view);
 }
