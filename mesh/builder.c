@@ -29,6 +29,7 @@ void sb_builder_destroy(sb_builder* builder) {
     free(builder->hinges.items);
     free(builder->tets.items);
     free(builder->membranes.items);
+    free(builder->faces.items);
     free(builder);
 }
 
@@ -61,6 +62,10 @@ int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def)
 
 int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def) {
     return sb_array_push(&builder->hinges, def, sizeof *def);
+}
+
+int64_t sb_builder_add_face(sb_builder* builder, const uint32_t corners[3]) {
+    return sb_array_push(&builder->faces, corners, 3 * sizeof *corners);
 }
 
 int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def) {

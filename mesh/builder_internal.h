@@ -16,6 +16,7 @@ struct sb_builder {
     sb_array hinges;    /* sb_hinge_def */
     sb_array tets;      /* sb_tet_def */
     sb_array membranes; /* sb_membrane_def */
+    sb_array faces;     /* uint32_t[3]: surface triangles for contact only */
 };
 
 #define SB_ITEMS(array, type) ((const type*)(array).items)

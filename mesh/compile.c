@@ -184,6 +184,8 @@ static sb_status sb_validate(const sb_builder* b, sb_error* err) {
     for (size_t i = 0; i < b->triangles.count && status == SB_OK; i++) status = sb_check_triangle(b, i, err);
     for (size_t i = 0; i < b->hinges.count && status == SB_OK; i++) status = sb_check_hinge(b, i, err);
     for (size_t i = 0; i < b->tets.count && status == SB_OK; i++) status = sb_check_tet(b, i, err);
+    for (size_t i = 0; i < b->faces.count && status == SB_OK; i++)
+        status = sb_check_indices("face", i, SB_ITEMS(b->faces, uint32_t) + 3 * i, 3, (uint32_t)b->vertices.count, err);
     if (status == SB_OK) status = sb_check_membranes(b, err);
     return status;
 }
@@ -214,6 +216,7 @@ static bool sb_model_allocate(sb_model* m) {
         m->tri_v[c] = sb_alloc_array(nt, sizeof(uint32_t), &ok);
         m->tri_cos0[c] = sb_alloc_array(nt, sizeof(double), &ok);
         m->tri_len0[c] = sb_alloc_array(nt, sizeof(double), &ok);
+        m->face_v[c] = sb_alloc_array(m->face_count, sizeof(uint32_t), &ok);
     }
     m->angle_k = sb_alloc_array(nt, sizeof(double), &ok);
     m->stretch_bend_k = sb_alloc_array(nt, sizeof(double), &ok);
@@ -282,6 +285,12 @@ static void sb_fill_triangles(sb_model* m, const sb_builder* b) {
         m->term_enabled[SB_TERM_ANGLE] |= d[t].angle_k > 0.0;
         m->term_enabled[SB_TERM_STRETCH_BEND] |= d[t].stretch_bend_k > 0.0;
     }
+}
+
+static void sb_fill_faces(sb_model* m, const sb_builder* b) {
+    const uint32_t* v = SB_ITEMS(b->faces, uint32_t);
+    for (uint32_t f = 0; f < m->face_count; f++)
+        for (int c = 0; c < 3; c++) m->face_v[c][f] = v[3 * (size_t)f + c];
 }
 
 static void sb_fill_hinges(sb_model* m, const sb_builder* b) {
@@ -360,6 +369,7 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     m->triangle_count = (uint32_t)builder->triangles.count;
     m->hinge_count = (uint32_t)builder->hinges.count;
     m->tet_count = (uint32_t)builder->tets.count;
+    m->face_count = (uint32_t)builder->faces.count;
     if (!sb_model_allocate(m) || !sb_fill_membranes(m, builder)) {
         sb_model_destroy(m);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory compiling a model of %u vertices", m->vertex_count);
@@ -370,5 +380,6 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     sb_fill_triangles(m, builder);
     sb_fill_hinges(m, builder);
     sb_fill_tets(m, builder);
+    sb_fill_faces(m, builder);
     return m;
 }

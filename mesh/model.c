@@ -21,6 +21,7 @@ void sb_model_destroy(sb_model* m) {
         free(m->tri_v[c]);
         free(m->tri_cos0[c]);
         free(m->tri_len0[c]);
+        free(m->face_v[c]);
     }
     for (int c = 0; c < SB_TET_NODES; c++) free(m->tet_v[c]);
     free(m->tet_nodes);

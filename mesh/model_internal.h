@@ -74,6 +74,11 @@ struct sb_model {
     double* membrane_mu;     /* Lamé μ, Pa */
     double* membrane_lambda; /* plane-stress λ = E ν / (1 − ν²), Pa */
 
+    /* faces: triangles of the surface that carry no force, only contact
+     * (kernels/contact/surface_triangles.c): a volume of springs's boundary */
+    uint32_t face_count;
+    uint32_t* face_v[3];
+
     bool term_enabled[SB_TERM_COUNT];
 };
 

@@ -140,6 +140,22 @@ static sb_status sb_tet_elements(sb_builder* b, uint32_t first, const sb_tet_mes
     return SB_OK;
 }
 
+/* The mesh's boundary as faces (the quadratic tissue's split at its
+ * edges' middle vertices), so that the colliders stop at its surface
+ * between vertices. */
+static sb_status sb_tet_faces_add(sb_builder* b, uint32_t first, const sb_tet_mesh* m, bool quadratic, sb_error* err) {
+    sb_mesh surface;
+    sb_status status =
+        quadratic ? sb_tet_mesh_quadratic_surface(m, &surface, err) : sb_tet_mesh_surface(m, &surface, err);
+    for (uint32_t t = 0; status == SB_OK && t < surface.triangle_count; t++) {
+        uint32_t v[3];
+        for (int c = 0; c < 3; c++) v[c] = first + surface.triangles[3 * (size_t)t + c];
+        if (sb_builder_add_face(b, v) < 0) status = sb_error_set(err, SB_ERR_NOMEM, "out of memory adding the surface");
+    }
+    sb_mesh_free(&surface);
+    return status;
+}
+
 static bool sb_tissue_elements(sb_tissue_model model) {
     return model == SB_TISSUE_COROTATED || model == SB_TISSUE_COROTATED_QUADRATIC;
 }
@@ -173,6 +189,7 @@ sb_status sb_builder_add_tet_mesh(sb_builder* b, const sb_tet_mesh* m, const sb_
         status = sb_tissue_elements(tissue->model)
                      ? sb_tet_elements(b, first, m, quadratic ? &edges : NULL, tissue, err)
                      : sb_tet_springs(b, first, m, &edges, mass, tissue, err);
+    if (status == SB_OK) status = sb_tet_faces_add(b, first, m, quadratic, err);
     free(mass);
     sb_tet_edge_set_free(&edges);
     return status;

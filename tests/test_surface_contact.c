@@ -280,6 +280,73 @@ static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
     sb_model_destroy(m);
 }
 
+/* ---- a volume's surface ---------------------------------------------------- */
+
+/* The mass-weighted mean z of the body. */
+static double mean_z(const sb_model* m, const double* x) {
+    double sum = 0.0, mass = 0.0;
+    for (uint32_t i = 0; i < sb_model_vertex_count(m); i++) {
+        double mi = sb_model_mass(m, i);
+        sum += mi * x[3 * (size_t)i + 2];
+        mass += mi;
+    }
+    return sum / mass;
+}
+
+/* A free block of tetrahedra (4 × 4 × 2 cubes of 1 cm, E 100 kPa, no
+ * gravity) and a 1 mm sphere driven down at 0.5 m/s onto its top between
+ * the surface's vertices (inside a triangle of a cube's top face): the
+ * sphere meets the body's boundary faces and carries the body along (its
+ * centre of mass moves with the sphere, less the dent), where the
+ * vertices alone (1 cm apart) would let it into the body, which would then
+ * hardly move. For the edge springs (the tissue factory's faces), the
+ * linear elements (a model built tetrahedron by tetrahedron: the faces
+ * its tetrahedra do not share) and the quadratic ones (faces split at the
+ * middle vertices), fast and reference kernels. */
+static void test_small_sphere_stops_at_a_volume_surface(void** state) {
+    (void)state;
+    const double h = 0.01, r = 0.001, speed = 0.5, dt = 2e-5, travel = 0.01;
+    const double px = 1.3 * h, py = 1.6 * h, top = 2 * h;
+    const char* names[] = {"springs", "corotated", "quadratic"};
+    for (int model = 0; model < 3; model++)
+        for (int kernels = 0; kernels < 2; kernels++) {
+            sb_model* m = model == 1
+                              ? tu_tet_block(4, 4, 2, h, 1e5, 0.3, 0.0, 1, false)
+                              : tu_tissue_tet_block(4, 4, 2, h, 1e5, 0.3, 0.0, 1, false,
+                                                    model == 0 ? SB_TISSUE_SPRINGS : SB_TISSUE_COROTATED_QUADRATIC);
+            uint32_t n = sb_model_vertex_count(m);
+            double* x = malloc(3 * (size_t)n * sizeof *x);
+            const sb_keyframe path[2] = {{.time = 0.0}, {.time = travel / speed, .translate = {0, 0, -travel}}};
+            sb_collider_def def = sb_default_collider_def();
+            def.shape = SB_COLLIDER_SPHERE;
+            def.center[0] = px, def.center[1] = py, def.center[2] = top + r + 1e-4;
+            def.radius = r;
+            def.path = path;
+            def.path_count = 2;
+            sb_collider* tool = make_collider(&def);
+            sb_solver_def sd = sb_default_solver_def();
+            sd.kernels = kernels ? SB_KERNELS_FAST : SB_KERNELS_REFERENCE;
+            sd.gravity[2] = 0.0;
+            sd.colliders = &tool;
+            sd.collider_count = 1;
+            sd.contact_thickness = 1e-4;
+            sd.runtime.threads = 1;
+            sb_solver* s = tu_solver(m, &sd);
+            sb_solver_get_positions(s, x);
+            double before = mean_z(m, x);
+            tu_advance(s, dt, (int)lround(travel / speed / dt));
+            sb_solver_get_positions(s, x);
+            double carried = before - mean_z(m, x);
+            print_message("%-9s %-9s: the body carried %.2f mm of the sphere's %.0f mm\n", names[model],
+                          kernels ? "fast" : "reference", 1e3 * carried, 1e3 * travel);
+            assert_true(carried > 0.5 * travel);
+            sb_solver_destroy(s);
+            sb_collider_destroy(tool);
+            free(x);
+            sb_model_destroy(m);
+        }
+}
+
 /* ---- momentum -------------------------------------------------------------- */
 
 /* Σ m v of the sheet plus the ball's. */
@@ -498,6 +565,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_between_vertices_feels_the_sheet),
         cmocka_unit_test(test_fast_small_sphere_does_not_pass_a_sheet),
+        cmocka_unit_test(test_small_sphere_stops_at_a_volume_surface),
         cmocka_unit_test(test_ball_on_a_free_sheet_conserves_momentum),
         cmocka_unit_test(test_sheet_rests_on_a_thin_capsule),
         cmocka_unit_test(test_sheet_rests_on_a_box_edge),

@@ -261,12 +261,12 @@ static inline double* tu_rest_positions(const sb_model* m) {
 }
 
 /* tu_tet_block's block (the same jittered vertices and tetrahedra) as a
- * quadratic tissue (sb_builder_add_tet_mesh, SB_TISSUE_COROTATED_QUADRATIC:
- * a vertex at each edge's middle, HRZ masses of ρ = 1060 kg/m³); when
- * `clamped`, the vertices at x = 0 and the middles between them fixed
- * (jitter at most 0.2). */
-static inline sb_model* tu_quadratic_tet_block(int nx, int ny, int nz, double h, double young, double poisson,
-                                               double jitter, uint64_t seed, bool clamped) {
+ * tissue of the given model (sb_builder_add_tet_mesh: for
+ * SB_TISSUE_COROTATED_QUADRATIC a vertex at each edge's middle, HRZ masses
+ * of ρ = 1060 kg/m³), undamped; when `clamped`, the vertices at x = 0 (and the
+ * middles between them) fixed (jitter at most 0.2). */
+static inline sb_model* tu_tissue_tet_block(int nx, int ny, int nz, double h, double young, double poisson,
+                                            double jitter, uint64_t seed, bool clamped, sb_tissue_model model) {
     sb_model* linear = tu_tet_block(nx, ny, nz, h, young, poisson, jitter, seed, false);
     static const int kuhn[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
     uint32_t corners = sb_model_vertex_count(linear);
@@ -295,7 +295,8 @@ static inline sb_model* tu_quadratic_tet_block(int nx, int ny, int nz, double h,
     sb_tissue_def tissue = sb_default_tissue_def();
     tissue.young_modulus = young;
     tissue.poisson_ratio = poisson;
-    tissue.model = SB_TISSUE_COROTATED_QUADRATIC;
+    tissue.model = model;
+    tissue.damping = 0.0; /* the springs' damping rule off: it needs a far smaller step */
     sb_builder* b = sb_builder_create();
     sb_error err;
     memset(&err, 0, sizeof err);
@@ -306,6 +307,12 @@ static inline sb_model* tu_quadratic_tet_block(int nx, int ny, int nz, double h,
     sb_builder_destroy(b);
     sb_tet_mesh_free(&mesh);
     return m;
+}
+
+/* tu_tissue_tet_block's quadratic tissue. */
+static inline sb_model* tu_quadratic_tet_block(int nx, int ny, int nz, double h, double young, double poisson,
+                                               double jitter, uint64_t seed, bool clamped) {
+    return tu_tissue_tet_block(nx, ny, nz, h, young, poisson, jitter, seed, clamped, SB_TISSUE_COROTATED_QUADRATIC);
 }
 
 /* ---- solvers -------------------------------------------------------------- */

@@ -153,6 +153,13 @@ SB_API int64_t sb_builder_add_bond(sb_builder* builder, const sb_bond_def* def);
 SB_API int64_t sb_builder_add_triangle(sb_builder* builder, const sb_triangle_def* def);
 /** Adds a copy of *def; the index or -1 as sb_builder_add_vertex. */
 SB_API int64_t sb_builder_add_hinge(sb_builder* builder, const sb_hinge_def* def);
+/** Adds a face: a triangle of the body's surface (corners, indices into
+ * the builder's vertices) that carries no force, only contact: the
+ * colliders stop at it between its corners (docs/contact.md). For a body
+ * whose surface is not otherwise made of triangles or membranes: a volume
+ * of springs (sb_builder_add_tet_mesh adds its boundary). Returns its index
+ * or −1 as sb_builder_add_vertex. */
+SB_API int64_t sb_builder_add_face(sb_builder* builder, const uint32_t corners[3]);
 /** Adds a co-rotated tetrahedron (sb_tet_def); returns its index or −1. */
 SB_API int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def);
 /** Adds a membrane triangle (sb_membrane_def); returns its index or −1. */

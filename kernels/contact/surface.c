@@ -44,6 +44,7 @@
  * there every block's triangles are tested. */
 #include "kernels/contact/surface.h"
 #include "kernels/contact/contact.h"
+#include "kernels/contact/surface_triangles.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/state/solver_fast.h"
 #include "common/error.h"
@@ -53,6 +54,7 @@
 #include <string.h>
 
 struct sb_surface {
+    sb_surface_triangles triangles;
     uint32_t blocks;
     uint32_t *owned_first, *owned; /* CSR: the triangles each block owns, in triangle order */
     uint32_t *reach_first, *reach; /* CSR: the blocks holding their corners, the block itself among them */
@@ -61,14 +63,14 @@ struct sb_surface {
 };
 
 bool sb_surface_active(const sb_solver* s) {
-    if (s->model->triangle_count == 0) return false;
+    if (!sb_surface_triangles_exist(s->model)) return false;
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (sb_collider_meets_surface(s->def.colliders[c])) return true;
     return false;
 }
 
-static uint32_t sb_owner_block(const sb_model* m, uint32_t t) {
-    uint32_t a = m->tri_v[0][t], b = m->tri_v[1][t], c = m->tri_v[2][t], low = a < b ? a : b;
+static uint32_t sb_owner_block(const sb_surface_triangles* tris, uint32_t t) {
+    uint32_t a = tris->v[0][t], b = tris->v[1][t], c = tris->v[2][t], low = a < b ? a : b;
     return (low < c ? low : c) / SB_SURFACE_BLOCK;
 }
 
@@ -78,13 +80,13 @@ static void sb_prefix(uint32_t* first, uint32_t blocks) {
 }
 
 /* The triangles each block owns, in triangle order. */
-static bool sb_surface_own(sb_surface* f, const sb_model* m) {
+static bool sb_surface_own(sb_surface* f) {
     uint32_t* at = malloc(((size_t)f->blocks + 1) * sizeof *at);
     if (!at) return false;
-    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned_first[sb_owner_block(m, t) + 1]++;
+    for (uint32_t t = 0; t < f->triangles.count; t++) f->owned_first[sb_owner_block(&f->triangles, t) + 1]++;
     sb_prefix(f->owned_first, f->blocks);
     memcpy(at, f->owned_first, ((size_t)f->blocks + 1) * sizeof *at);
-    for (uint32_t t = 0; t < m->triangle_count; t++) f->owned[at[sb_owner_block(m, t)]++] = t;
+    for (uint32_t t = 0; t < f->triangles.count; t++) f->owned[at[sb_owner_block(&f->triangles, t)]++] = t;
     free(at);
     return true;
 }
@@ -92,15 +94,14 @@ static bool sb_surface_own(sb_surface* f, const sb_model* m) {
 /* The blocks a block's triangles reach (itself first, then each other
  * once), into reach[] from reach_first[b] on when `reach` is not NULL;
  * returns how many. `seen` is the last block that marked each block. */
-static uint32_t sb_surface_reached(const sb_surface* f, const sb_model* m, uint32_t b, uint32_t* seen,
-                                   uint32_t* reach) {
+static uint32_t sb_surface_reached(const sb_surface* f, uint32_t b, uint32_t* seen, uint32_t* reach) {
     uint32_t count = 0;
     seen[b] = b;
     if (reach) reach[count] = b;
     count++;
     for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
         for (int c = 0; c < 3; c++) {
-            uint32_t other = m->tri_v[c][f->owned[k]] / SB_SURFACE_BLOCK;
+            uint32_t other = f->triangles.v[c][f->owned[k]] / SB_SURFACE_BLOCK;
             if (seen[other] == b) continue;
             seen[other] = b;
             if (reach) reach[count] = other;
@@ -109,13 +110,13 @@ static uint32_t sb_surface_reached(const sb_surface* f, const sb_model* m, uint3
     return count;
 }
 
-static bool sb_surface_reach(sb_surface* f, const sb_model* m) {
+static bool sb_surface_reach(sb_surface* f) {
     uint32_t* seen = malloc((size_t)f->blocks * sizeof *seen);
     if (!seen) return false;
     for (int pass = 0; pass < 2; pass++) { /* count, then fill */
         for (uint32_t b = 0; b < f->blocks; b++) seen[b] = UINT32_MAX;
         for (uint32_t b = 0; b < f->blocks; b++) {
-            uint32_t count = sb_surface_reached(f, m, b, seen, pass ? f->reach + f->reach_first[b] : NULL);
+            uint32_t count = sb_surface_reached(f, b, seen, pass ? f->reach + f->reach_first[b] : NULL);
             if (!pass) f->reach_first[b + 1] = count;
         }
         if (pass) break;
@@ -130,15 +131,19 @@ static bool sb_surface_reach(sb_surface* f, const sb_model* m) {
 sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
     const sb_model* m = s->model;
     sb_surface* f = calloc(1, sizeof *f);
+    if (f && sb_surface_triangles_make(m, &f->triangles, err) != SB_OK) {
+        free(f);
+        return NULL;
+    }
     bool ok = f != NULL;
     if (ok) {
         f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
         f->by_block = s->def.max_splits <= 0;
         f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
-        f->owned = malloc(((size_t)m->triangle_count + 1) * sizeof *f->owned);
+        f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
         f->reach_first = calloc((size_t)f->blocks + 1, sizeof *f->reach_first);
         f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
-        ok = f->owned_first && f->owned && f->reach_first && f->boxes && sb_surface_own(f, m) && sb_surface_reach(f, m);
+        ok = f->owned_first && f->owned && f->reach_first && f->boxes && sb_surface_own(f) && sb_surface_reach(f);
     }
     if (ok) return f;
     sb_surface_destroy(f);
@@ -148,6 +153,7 @@ sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
 
 void sb_surface_destroy(sb_surface* f) {
     if (!f) return;
+    sb_surface_triangles_free(&f->triangles);
     free(f->owned_first);
     free(f->owned);
     free(f->reach_first);
@@ -218,10 +224,11 @@ typedef struct sb_corners {
     double from[3][3], to[3][3], v[3][3], inv_mass[3];
 } sb_corners;
 
-static void sb_read_corners(const sb_solver* s, const sb_surface_view* view, uint32_t t, sb_corners* c) {
+static void sb_read_corners(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t t,
+                            sb_corners* c) {
     const double* inv_mass = sb_inv_mass(s);
     for (int j = 0; j < 3; j++) {
-        uint32_t i = c->vertex[j] = s->model->tri_v[j][t];
+        uint32_t i = c->vertex[j] = f->triangles.v[j][t];
         size_t at = view->stride * i;
         for (int k = 0; k < 3; k++) {
             c->to[j][k] = view->x[k][at];
@@ -365,18 +372,18 @@ static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const d
 }
 
 /* Triangle t against the colliders that meet the surface; returns the contacts. */
-static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface_view* view, uint32_t t,
+static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t t,
                                     const sb_surface_balls* balls, double dt) {
     sb_corners corners;
     double lo[3], hi[3];
     uint32_t contacts = 0;
-    sb_read_corners(s, view, t, &corners);
+    sb_read_corners(s, f, view, t, &corners);
     sb_corners_box(&corners, lo, hi);
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
         if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
         if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
         contacts++;
-        sb_read_corners(s, view, t, &corners); /* the next collider sees the answer */
+        sb_read_corners(s, f, view, t, &corners); /* the next collider sees the answer */
     }
     return contacts;
 }
@@ -389,7 +396,7 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     for (uint32_t b = 0; b < f->blocks; b++) {
         if (f->by_block && !sb_block_reaches(f, s, b, balls.meets)) continue;
         for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
-            contacts += sb_surface_triangle(s, view, f->owned[k], &balls, dt);
+            contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
     }
     return contacts;
 }
