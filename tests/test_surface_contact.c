@@ -488,6 +488,46 @@ static void test_sheet_rests_on_a_box_edge(void** state) {
     drape(&def, box_depth, &shape, "box edge");
 }
 
+/* A mesh collider's ridge: a closed prism 60 cm long along x, its top
+ * edge at z = 0, y = 52.5 cm (between two rows of the sheet's vertices),
+ * its sides at 45° down to a base 8 cm wide. Vertex contact alone lets
+ * the sheet's vertices slide 2.5 cm down its sides and the ridge through
+ * the triangles between them. */
+typedef struct prism {
+    double x0, x1, y, half, height;
+} prism;
+
+static double prism_depth(const void* shape, const double x[3]) {
+    const prism* p = shape;
+    double across = x[1] - p->y, r = sqrt(0.5);
+    double depth = fmin(x[0] - p->x0, p->x1 - x[0]);
+    depth = fmin(depth, x[2] + p->height);      /* the base */
+    depth = fmin(depth, -(-across + x[2]) * r); /* the side facing -y */
+    return fmin(depth, -(across + x[2]) * r);   /* the side facing +y */
+}
+
+static void test_sheet_rests_on_a_mesh_ridge(void** state) {
+    (void)state;
+    const prism shape = {0.2, 0.8, 0.525, 0.04, 0.04};
+    double positions[18];
+    for (int end = 0; end < 2; end++) { /* apex, the -y and the +y foot */
+        double x = end ? shape.x1 : shape.x0, *p = positions + 9 * end;
+        const double corner[3][3] = {
+            {x, shape.y, 0.0}, {x, shape.y - shape.half, -shape.height}, {x, shape.y + shape.half, -shape.height}};
+        memcpy(p, corner, sizeof corner);
+    }
+    uint32_t triangles[] = {0, 2, 1, 3, 4, 5,  /* the ends */
+                            0, 1, 4, 0, 4, 3,  /* the side facing -y */
+                            0, 3, 5, 0, 5, 2,  /* the side facing +y */
+                            1, 2, 5, 1, 5, 4}; /* the base */
+    sb_mesh mesh = {.vertex_count = 6, .positions = positions, .triangle_count = 8, .triangles = triangles};
+    sb_collider_def def = sb_default_collider_def();
+    def.shape = SB_COLLIDER_MESH;
+    def.mesh = &mesh;
+    def.friction = 0.5;
+    drape(&def, prism_depth, &shape, "mesh ridge");
+}
+
 /* ---- a program's own collider ---------------------------------------------- */
 
 /* A static ball as a program's own collider: the end of a move inside it is
@@ -569,6 +609,7 @@ int main(void) {
         cmocka_unit_test(test_ball_on_a_free_sheet_conserves_momentum),
         cmocka_unit_test(test_sheet_rests_on_a_thin_capsule),
         cmocka_unit_test(test_sheet_rests_on_a_box_edge),
+        cmocka_unit_test(test_sheet_rests_on_a_mesh_ridge),
         cmocka_unit_test(test_own_collider_meets_the_surface),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

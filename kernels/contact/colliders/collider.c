@@ -453,6 +453,19 @@ static void sb_box_triangle_point(const sb_collider* c, const double from[3][3],
         }
 }
 
+/* How far from a triangle (its corners at the end of the step) a mesh's
+ * ridge is asked about: its longest edge and the shell's thickness (the
+ * collider's answer then says whether the point is in contact). */
+static double sb_ridge_reach(const sb_collider* c, const double t[3][3]) {
+    double longest = 0.0;
+    for (int i = 0; i < 3; i++) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; k++) d2 += (t[(i + 1) % 3][k] - t[i][k]) * (t[(i + 1) % 3][k] - t[i][k]);
+        longest = fmax(longest, sqrt(d2));
+    }
+    return longest + c->def.thickness;
+}
+
 /* Whether a program's callback gave usable weights. */
 static bool sb_weights_valid(const double w[3]) {
     double sum = 0.0;
@@ -467,7 +480,7 @@ bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], c
     if (c->begin_step != sb_builtin_begin_step)
         return c->triangle_point && c->triangle_point(c->user, from, to, w) && sb_weights_valid(w);
     const sb_collider_def* d = &c->def;
-    if (d->shape != SB_COLLIDER_SPHERE && d->shape != SB_COLLIDER_CAPSULE && d->shape != SB_COLLIDER_BOX) return false;
+    if (!sb_collider_meets_surface(c)) return false;
     double a[3][3], b[3][3];
     for (int i = 0; i < 3; i++) {
         sb_pose_invert(c->pose0, from[i], a[i]);
@@ -476,6 +489,7 @@ bool sb_collider_triangle_point(const sb_collider* c, const double from[3][3], c
     if (d->shape == SB_COLLIDER_SPHERE) sb_triangle_swept_nearest(a, b, d->center, d->center, w);
     if (d->shape == SB_COLLIDER_CAPSULE) sb_triangle_swept_nearest(a, b, d->a, d->b, w);
     if (d->shape == SB_COLLIDER_BOX) sb_box_triangle_point(c, a, b, w);
+    if (d->shape == SB_COLLIDER_MESH) return sb_mesh_triangle_point(c->mesh, a, b, sb_ridge_reach(c, b), w);
     return true;
 }
 
@@ -519,6 +533,12 @@ void sb_collider_surface_ball(const sb_collider* c, double center[3], double* ra
     } else if (d->shape == SB_COLLIDER_CAPSULE) {
         for (int k = 0; k < 3; k++) core[0][k] = d->a[k], core[1][k] = d->b[k];
         count = 2;
+    } else if (d->shape == SB_COLLIDER_MESH) { /* the corners of its box */
+        double box[6];
+        sb_mesh_shape_box(c->mesh, box);
+        for (int i = 0; i < 8; i++)
+            for (int k = 0; k < 3; k++) core[i][k] = box[(i >> k & 1) ? 3 + k : k];
+        count = 8;
     } else {
         const double *h = d->half_extents, *r = c->box_rotation;
         for (int i = 0; i < 8; i++) {
@@ -532,14 +552,15 @@ void sb_collider_surface_ball(const sb_collider* c, double center[3], double* ra
         sb_pose_apply(c->pose0, core[i], at[i]);
         sb_pose_apply(c->pose1, core[i], at[count + i]);
     }
-    sb_ball_around((const double(*)[3])at, 2 * count, (d->shape == SB_COLLIDER_BOX ? 0.0 : d->radius) + d->thickness,
-                   center, radius);
+    bool rounded = d->shape == SB_COLLIDER_SPHERE || d->shape == SB_COLLIDER_CAPSULE;
+    sb_ball_around((const double(*)[3])at, 2 * count, (rounded ? d->radius : 0.0) + d->thickness, center, radius);
 }
 
 bool sb_collider_meets_surface(const sb_collider* c) {
     sb_collider_shape shape = c->def.shape;
     if (c->begin_step != sb_builtin_begin_step) return c->triangle_point != NULL;
-    return shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX;
+    return shape == SB_COLLIDER_SPHERE || shape == SB_COLLIDER_CAPSULE || shape == SB_COLLIDER_BOX ||
+           shape == SB_COLLIDER_MESH;
 }
 
 void sb_collider_set_pose(sb_collider* c, const double translate[3], const double rotate[3]) {

@@ -49,6 +49,7 @@
  * within t of the surface, so the entry is the solid's. */
 #include "kernels/contact/colliders/mesh_shape.h"
 #include "kernels/contact/colliders/capsule.h"
+#include "kernels/contact/colliders/triangle_point.h"
 #include "kernels/contact/colliders/sweep.h"
 #include "common/edge_map.h"
 #include "common/error.h"
@@ -76,6 +77,7 @@ struct sb_mesh_shape {
     double* triangle_boxes; /* 6 per triangle: lo x y z, hi x y z (a leaf's triangles tested by their own box first) */
     double* edge_normals;   /* 9 per triangle: edge k (corner k to k + 1), unit sum of its faces' normals */
     double* vertex_normals; /* 3 per vertex: the angle-weighted sum of its faces' normals, unit */
+    uint8_t* sharp;         /* 3 per triangle: edge k is a ridge (convex, not flat) or a shell's rim */
     sb_mesh_node* nodes;
     uint32_t node_count;
     double tiny; /* m: nearer the surface than this, the direction to it is noise: the pseudo-normal serves */
@@ -336,6 +338,25 @@ static void sb_compute_normals(sb_mesh_shape* m, const uint32_t* twin) {
     for (uint32_t v = 0; v < m->mesh.vertex_count; v++) sb_normalize(m->vertex_normals + 3 * (size_t)v);
 }
 
+/* A ridge bends the surface away from its faces' planes by more than
+ * SB_RIDGE_COS: a feature a surface between vertices can rest on, where a
+ * flat or concave edge lies in or under the surface the vertices meet. */
+#define SB_RIDGE_COS 0.9998 /* 1.1° */
+
+static void sb_find_ridges(sb_mesh_shape* m, const uint32_t* twin) {
+    for (size_t h = 0; h < 3 * (size_t)m->mesh.triangle_count; h++) {
+        if (twin[h] == UINT32_MAX) {
+            m->sharp[h] = 1;
+            continue;
+        }
+        uint32_t t = (uint32_t)(h / 3), u = twin[h] / 3;
+        const double *n = m->face_normals + 3 * (size_t)t, *other = m->face_normals + 3 * (size_t)u;
+        double away[3]; /* from the edge to the neighbour's third corner */
+        sb_sub(sb_corner(m, u, (int)((twin[h] % 3 + 2) % 3)), sb_corner(m, t, (int)(h % 3)), away);
+        m->sharp[h] = sb_dot(n, other) < SB_RIDGE_COS && sb_dot(n, away) < 0.0;
+    }
+}
+
 /* ---- making and destroying ---------------------------------------------------- */
 
 void sb_mesh_shape_destroy(sb_mesh_shape* m) {
@@ -345,6 +366,7 @@ void sb_mesh_shape_destroy(sb_mesh_shape* m) {
     free(m->triangle_boxes);
     free(m->edge_normals);
     free(m->vertex_normals);
+    free(m->sharp);
     free(m->nodes);
     free(m);
 }
@@ -359,8 +381,9 @@ static bool sb_mesh_shape_allocate(sb_mesh_shape* m, const sb_mesh* mesh) {
     m->triangle_boxes = malloc(6 * nt * sizeof *m->triangle_boxes);
     m->edge_normals = malloc(9 * nt * sizeof *m->edge_normals);
     m->vertex_normals = malloc(3 * nv * sizeof *m->vertex_normals);
+    m->sharp = malloc(3 * nt * sizeof *m->sharp);
     if (!m->mesh.positions || !m->mesh.triangles || !m->face_normals || !m->triangle_boxes || !m->edge_normals ||
-        !m->vertex_normals)
+        !m->vertex_normals || !m->sharp)
         return false;
     memcpy(m->mesh.positions, mesh->positions, 3 * nv * sizeof *m->mesh.positions);
     memcpy(m->mesh.triangles, mesh->triangles, 3 * nt * sizeof *m->mesh.triangles);
@@ -411,6 +434,7 @@ sb_mesh_shape* sb_mesh_shape_create(const char* label, const sb_mesh* mesh, doub
         return NULL;
     }
     sb_compute_normals(m, twin);
+    sb_find_ridges(m, twin);
     free(twin);
     for (uint32_t t = 0; t < mesh->triangle_count; t++) sb_triangle_box(m, t, m->triangle_boxes + 6 * (size_t)t);
     const double* box = m->nodes[0].box;
@@ -729,4 +753,53 @@ bool sb_mesh_sweep(const sb_mesh_shape* m, const double from[3], const double to
     memset(&e1, 0, sizeof e1);
     if (!entered) sb_mesh_end(m, to, thickness, &e1); /* `to` matters only when the entry was lost to rounding */
     return sb_sweep_from_outside(entered, lo, hi, n, &e1, fraction, depth, normal);
+}
+
+/* ---- the ridges against a triangle of a body's surface ----------------------------- */
+
+static bool sb_boxes_overlap(const double a[6], const double b[6]) {
+    for (int k = 0; k < 3; k++)
+        if (a[k] > b[3 + k] || b[k] > a[3 + k]) return false;
+    return true;
+}
+
+/* The ridges of a leaf's triangles in `box` against the triangle's move. */
+static void sb_ridges_in_leaf(const sb_mesh_shape* m, const sb_mesh_node* node, const double box[6],
+                              const double from[3][3], const double to[3][3], double* best, double w[3]) {
+    for (uint32_t t = node->first; t < node->first + node->count; t++) {
+        if (!sb_boxes_overlap(m->triangle_boxes + 6 * (size_t)t, box)) continue;
+        for (int k = 0; k < 3; k++) {
+            if (!m->sharp[3 * (size_t)t + k]) continue;
+            double cw[3];
+            double d2 = sb_triangle_swept_nearest(from, to, sb_corner(m, t, k), sb_corner(m, t, (k + 1) % 3), cw);
+            if (d2 < *best) *best = d2, memcpy(w, cw, sizeof cw);
+        }
+    }
+}
+
+bool sb_mesh_triangle_point(const sb_mesh_shape* m, const double from[3][3], const double to[3][3], double reach,
+                            double w[3]) {
+    double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY}, best = reach * reach;
+    for (int j = 0; j < 3; j++)
+        for (int k = 0; k < 3; k++) {
+            box[k] = fmin(box[k], fmin(from[j][k], to[j][k]) - reach);
+            box[3 + k] = fmax(box[3 + k], fmax(from[j][k], to[j][k]) + reach);
+        }
+    bool found = false;
+    uint32_t stack[SB_MESH_STACK], top = 0;
+    stack[top++] = 0;
+    while (top) {
+        uint32_t index = stack[--top];
+        const sb_mesh_node* node = &m->nodes[index];
+        if (!sb_boxes_overlap(node->box, box)) continue;
+        if (node->count) {
+            double before = best;
+            sb_ridges_in_leaf(m, node, box, from, to, &best, w);
+            found |= best < before;
+            continue;
+        }
+        stack[top++] = node->right;
+        stack[top++] = index + 1;
+    }
+    return found;
 }

@@ -22,4 +22,12 @@ void sb_mesh_shape_box(const sb_mesh_shape* shape, double box[6]);
 bool sb_mesh_sweep(const sb_mesh_shape* shape, const double from[3], const double to[3], double thickness,
                    double* fraction, double* depth, double normal[3]);
 
+/* The weights of the material point of a body's triangle that moved from
+ * `from` to `to` (in the collider's rest frame) that came nearest one of
+ * the mesh's ridges (its convex edges, not flat ones, and an open mesh's
+ * rim; sb_triangle_swept_nearest) within `reach`: a sharp edge or corner
+ * between the body's vertices. False when none is within reach. */
+bool sb_mesh_triangle_point(const sb_mesh_shape* shape, const double from[3][3], const double to[3][3], double reach,
+                            double w[3]);
+
 #endif
