@@ -113,6 +113,14 @@ static uint32_t* sb_edge_neighbours(const sb_triangle_bvh* bvh) {
     return across;
 }
 
+/* The corners of the triangles in leaf order, padded with the last one's. */
+static void sb_copy_corners(sb_triangle_bvh* bvh) {
+    uint32_t n = bvh->triangle_count;
+    for (int c = 0; c < 3; c++)
+        for (size_t k = 0; k < (size_t)n + 16; k++)
+            bvh->corners.corner[c][k] = bvh->tri_v[c][bvh->order[k < n ? k : n - 1]];
+}
+
 /* Whether each node's triangles are edge-connected: a search from its first
  * triangle through neighbours inside the node's range reaches them all. */
 static bool sb_mark_connected(sb_triangle_bvh* bvh) {
@@ -212,18 +220,25 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
     bvh->node_count = b.next;
     bool ok = true;
     size_t padded = (size_t)triangle_count + 16;
-    for (int c = 0; c < 3; c++) {
-        uint32_t* corner = bvh->corners.corner[c] = malloc(padded * sizeof *corner);
-        ok = ok && corner;
-        for (size_t k = 0; corner && k < padded; k++)
-            corner[k] = tri_v[c][bvh->order[k < triangle_count ? k : triangle_count - 1]];
-    }
+    for (int c = 0; c < 3; c++) ok = ok && (bvh->corners.corner[c] = malloc(padded * sizeof(uint32_t))) != NULL;
+    if (ok) sb_copy_corners(bvh);
     for (int j = 0; j < 9; j++) ok = ok && (bvh->scratch.value[j] = malloc(padded * sizeof(sb_real))) != NULL;
     if (!ok || !sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
         sb_triangle_bvh_destroy(bvh);
         return NULL;
     }
     return bvh;
+}
+
+bool sb_triangle_bvh_retopologize(sb_triangle_bvh* bvh, const uint8_t* dead) {
+    sb_copy_corners(bvh);
+    if (!sb_mark_connected(bvh)) return false;
+    for (uint32_t i = 0; dead && i < bvh->node_count; i++) {
+        sb_bvh_node* node = &bvh->nodes[i];
+        for (uint32_t k = node->first; node->connected && k < node->first + node->count; k++)
+            node->connected = !dead[bvh->order[k]];
+    }
+    return true;
 }
 
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh) {

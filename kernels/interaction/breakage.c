@@ -104,6 +104,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "kernels/contact/self_contact.h"
 #include "softbond/reference.h"
 #include "common/edge_map.h"
 #include "common/error.h"
@@ -871,6 +872,29 @@ static void sb_rekick(sb_solver* s, const double* before) {
     }
 }
 
+/* After the breaks (`broke`; `corrected`: their forces taken), the splits
+ * and the forces: the broken elements' forces subtracted in place where
+ * nothing splits, else everything evaluated again. */
+static sb_status sb_after_breaks(sb_solver* s, sb_breakage* b, bool broke, bool corrected) {
+    if (!(b->topology && sb_topology_splits(b->topology))) {
+        if (b->topology) sb_topology_split(s, b->topology, b->forces); /* the queue drained: nothing to split */
+        if (corrected && sb_correction_apply(s, b)) /* in place: only the removed elements' forces go */
+            sb_correction_energies(s, b);
+        if (corrected || !broke) return SB_OK;
+    }
+    sb_correction_drop(b);
+    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
+    if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
+    /* a split vertex's copies each take their own elements' forces: all evaluated again */
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
+    return SB_OK;
+}
+
 /* The accept stage: after a kept (sub-)step of dt, breaks the bonds whose
  * length is past a limit (in bond order, the callback for each), then those
  * a blade crossed (kernels/interaction/cutting.c), splits where the surface
@@ -890,23 +914,15 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     bool corrected = b->correction == SB_CORRECTION_ON;
     b->correction = SB_CORRECTION_OFF;
     sb_notify(s, b);
-    if (!(b->topology && sb_topology_splits(b->topology))) {
-        if (b->topology) sb_topology_split(s, b->topology, b->forces); /* the queue drained: nothing to split */
-        if (corrected && sb_correction_apply(s, b)) /* in place: only the removed elements' forces go */
-            sb_correction_energies(s, b);
-        if (corrected || !broke) return SB_OK;
-    }
-    sb_correction_drop(b);
-    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
-    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
-    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
-    if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
-    /* a split vertex's copies each take their own elements' forces: all evaluated again */
-    sb_status status = sb_solver_compute_forces(s);
-    if (status != SB_OK) return status;
-    sb_rekick(s, b->forces);
-    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
-    return SB_OK;
+    uint32_t vertices = s->live_vertices;
+    sb_status status = sb_after_breaks(s, b, broke, corrected);
+    if (status == SB_OK && (broke || s->live_vertices != vertices)) /* the surface changed */
+        status = sb_breakage_update_contact(s, &s->error);
+    return status;
+}
+
+sb_status sb_breakage_update_contact(sb_solver* s, sb_error* err) {
+    return s->breakage ? sb_self_contact_retopologize(s, s->breakage->triangle_dead, err) : SB_OK;
 }
 
 void sb_breakage_subscribe(sb_solver* s) {
