@@ -41,8 +41,11 @@
  * overlapping cut nodes against each other) taken dynamically by the team,
  * each writing its candidates to its own worker's buffer and recording
  * where; the response reads them task by task in the tasks' order, so the
- * result is the same for any thread count. Everything is allocated at
- * creation; a step whose candidates overflow the buffers (more than
+ * result is the same for any thread count. With tearing, a step that
+ * broke a bond or split a vertex makes the unique edges, their owners and
+ * the hierarchy's corners and connected patches again from the live
+ * triangles (sb_self_contact_retopologize: a dead triangle owns and meets
+ * nothing); otherwise everything is allocated at creation; a step whose candidates overflow the buffers (more than
  * SB_SELF_CANDIDATES_PER_TRIANGLE per triangle on one worker) drops the
  * rest and counts them in the step's stats. */
 #include "kernels/contact/self_contact.h"

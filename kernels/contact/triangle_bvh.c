@@ -1,6 +1,6 @@
 /* The triangle hierarchy of self-contact (kernels/contact/triangle_bvh.h).
  *
- * Design. The topology is fixed, so the tree is built once, top-down from
+ * Design. The tree is built once, top-down from
  * the rest shape (each node split at the median of its triangles' centroids
  * along its longest axis, leaves of up to SB_BVH_LEAF triangles, nodes in
  * pre-order so that a subtree is a contiguous range of nodes and of
@@ -22,7 +22,10 @@
  * end of the step (Provot's choice): a patch flat at the end of a step
  * that was folded through itself during it would have to turn a triangle
  * inside out within the step. Whether a node is connected
- * (through shared edges) is found once, at the build. Like Provot's cones
+ * (through shared edges) is found at the build, and again with the
+ * corners' copy after tearing changed the triangles' vertices
+ * (sb_triangle_bvh_retopologize: the tree itself stays, a torn node only
+ * loses its flatness). Like Provot's cones
  * this ignores the contour test (a patch whose outline folds over itself
  * in projection), which a compact patch of a mesh does not do in practice.
  *
