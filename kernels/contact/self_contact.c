@@ -41,8 +41,11 @@
  * overlapping cut nodes against each other) taken dynamically by the team,
  * each writing its candidates to its own worker's buffer and recording
  * where; the response reads them task by task in the tasks' order, so the
- * result is the same for any thread count. Everything is allocated at
- * creation; a step whose candidates overflow the buffers (more than
+ * result is the same for any thread count. With tearing, a step that
+ * broke a bond or split a vertex makes the unique edges, their owners and
+ * the hierarchy's corners and connected patches again from the live
+ * triangles (sb_self_contact_retopologize: a dead triangle owns and meets
+ * nothing); otherwise everything is allocated at creation; a step whose candidates overflow the buffers (more than
  * SB_SELF_CANDIDATES_PER_TRIANGLE per triangle on one worker) drops the
  * rest and counts them in the step's stats. */
 #include "kernels/contact/self_contact.h"
@@ -78,6 +81,7 @@ struct sb_self_contact {
     uint32_t (*edges)[2];
     uint32_t* tri_edges; /* 3 per triangle: edge (v[e], v[(e + 1) % 3]) */
     uint8_t* owns;       /* per triangle: bit c, it owns vertex v[c]; bit 3 + e, edge e */
+    const uint8_t* dead; /* per triangle, tearing's (NULL: none): out of the contact */
     double h;
     sb_real *from4, *x4, *v4; /* start positions; the generic path's packed copies */
     uint8_t* touched;
@@ -97,21 +101,21 @@ struct sb_self_contact {
 
 static sb_self_contact* sb_self(const sb_solver* s) { return s->self; }
 
-/* Unique edges and which triangle owns each vertex and edge (its first). */
+/* Unique edges and which live triangle owns each vertex and edge (its
+ * first); a dead triangle (sc->dead: tearing's) owns nothing and meets
+ * nothing. */
 static bool sb_self_features(sb_self_contact* sc, const sb_model* m) {
     uint32_t n = m->triangle_count;
     sb_edge_map map;
-    sc->tri_edges = malloc(3 * (size_t)n * sizeof *sc->tri_edges);
-    sc->edges = malloc(3 * (size_t)n * sizeof *sc->edges);
-    sc->owns = calloc(n, 1);
     uint8_t* seen = calloc(m->vertex_count, 1);
-    if (!sc->tri_edges || !sc->edges || !sc->owns || !seen || !sb_edge_map_init(&map, 3 * (size_t)n)) {
+    if (!seen || !sb_edge_map_init(&map, 3 * (size_t)n)) {
         free(seen);
         return false;
     }
+    memset(sc->owns, 0, n);
     uint32_t count = 0;
     for (uint32_t t = 0; t < n; t++)
-        for (int e = 0; e < 3; e++) {
+        for (int e = 0; e < 3 && !(sc->dead && sc->dead[t]); e++) {
             uint32_t a = m->tri_v[e][t], b = m->tri_v[(e + 1) % 3][t];
             bool inserted;
             uint32_t* id = sb_edge_map_upsert(&map, a, b, count, &inserted);
@@ -133,6 +137,15 @@ static bool sb_self_features(sb_self_contact* sc, const sb_model* m) {
 
 static void sb_self_contact_subscribe(sb_solver* s);
 
+sb_status sb_self_contact_retopologize(sb_solver* s, const uint8_t* triangle_dead, sb_error* err) {
+    sb_self_contact* sc = s->self;
+    if (!sc) return SB_OK;
+    sc->dead = triangle_dead;
+    if (!sb_self_features(sc, s->model) || !sb_triangle_bvh_retopologize(sc->bvh, triangle_dead))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory updating self-contact after a split");
+    return SB_OK;
+}
+
 sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
     const sb_model* m = s->model;
     if (!(s->def.contact_thickness > 0.0))
@@ -150,7 +163,10 @@ sb_status sb_self_contact_prepare(sb_solver* s, sb_error* err) {
         rest[3 * i] = m->rest_x[i], rest[3 * i + 1] = m->rest_y[i], rest[3 * i + 2] = m->rest_z[i];
     ok = ok && (sc->bvh = sb_triangle_bvh_create(m->triangle_count, (const uint32_t* const*)m->tri_v, rest)) != NULL;
     free(rest);
-    ok = ok && sb_self_features(sc, m);
+    sc->tri_edges = malloc(3 * (size_t)m->triangle_count * sizeof *sc->tri_edges);
+    sc->edges = malloc(3 * (size_t)m->triangle_count * sizeof *sc->edges);
+    sc->owns = calloc(m->triangle_count, 1);
+    ok = ok && sc->tri_edges && sc->edges && sc->owns && sb_self_features(sc, m);
     /* packed arrays 64-byte aligned, as the fast kernels' loads of them want */
     size_t packed = (4 * (size_t)m->vertex_count * sizeof(sb_real) / 64 + 1) * 64;
     sc->from4 = aligned_alloc(64, packed);
@@ -312,6 +328,7 @@ static void sb_triangle_pair(const sb_self_search* q, const sb_leaf_boxes* a, ui
     const sb_model* m = q->model;
     const sb_self_contact* sc = q->sc;
     uint32_t ta = a->triangle[i], tb = b->triangle[j];
+    if (sc->dead && (sc->dead[ta] || sc->dead[tb])) return;
     for (int c = 0; c < 3; c++) {
         if (sc->owns[ta] >> c & 1) sb_vertex_against(q, m->tri_v[c][ta], a->corner[i][c], tb, b->box[j]);
         if (sc->owns[tb] >> c & 1) sb_vertex_against(q, m->tri_v[c][tb], b->corner[j][c], ta, a->box[i]);

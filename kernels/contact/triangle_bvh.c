@@ -1,6 +1,6 @@
 /* The triangle hierarchy of self-contact (kernels/contact/triangle_bvh.h).
  *
- * Design. The topology is fixed, so the tree is built once, top-down from
+ * Design. The tree is built once, top-down from
  * the rest shape (each node split at the median of its triangles' centroids
  * along its longest axis, leaves of up to SB_BVH_LEAF triangles, nodes in
  * pre-order so that a subtree is a contiguous range of nodes and of
@@ -22,7 +22,10 @@
  * end of the step (Provot's choice): a patch flat at the end of a step
  * that was folded through itself during it would have to turn a triangle
  * inside out within the step. Whether a node is connected
- * (through shared edges) is found once, at the build. Like Provot's cones
+ * (through shared edges) is found at the build, and again with the
+ * corners' copy after tearing changed the triangles' vertices
+ * (sb_triangle_bvh_retopologize: the tree itself stays, a torn node only
+ * loses its flatness). Like Provot's cones
  * this ignores the contour test (a patch whose outline folds over itself
  * in projection), which a compact patch of a mesh does not do in practice.
  *
@@ -111,6 +114,14 @@ static uint32_t* sb_edge_neighbours(const sb_triangle_bvh* bvh) {
         }
     sb_edge_map_free(&map);
     return across;
+}
+
+/* The corners of the triangles in leaf order, padded with the last one's. */
+static void sb_copy_corners(sb_triangle_bvh* bvh) {
+    uint32_t n = bvh->triangle_count;
+    for (int c = 0; c < 3; c++)
+        for (size_t k = 0; k < (size_t)n + 16; k++)
+            bvh->corners.corner[c][k] = bvh->tri_v[c][bvh->order[k < n ? k : n - 1]];
 }
 
 /* Whether each node's triangles are edge-connected: a search from its first
@@ -212,18 +223,25 @@ sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t*
     bvh->node_count = b.next;
     bool ok = true;
     size_t padded = (size_t)triangle_count + 16;
-    for (int c = 0; c < 3; c++) {
-        uint32_t* corner = bvh->corners.corner[c] = malloc(padded * sizeof *corner);
-        ok = ok && corner;
-        for (size_t k = 0; corner && k < padded; k++)
-            corner[k] = tri_v[c][bvh->order[k < triangle_count ? k : triangle_count - 1]];
-    }
+    for (int c = 0; c < 3; c++) ok = ok && (bvh->corners.corner[c] = malloc(padded * sizeof(uint32_t))) != NULL;
+    if (ok) sb_copy_corners(bvh);
     for (int j = 0; j < 9; j++) ok = ok && (bvh->scratch.value[j] = malloc(padded * sizeof(sb_real))) != NULL;
     if (!ok || !sb_mark_connected(bvh) || !sb_choose_cut(bvh)) {
         sb_triangle_bvh_destroy(bvh);
         return NULL;
     }
     return bvh;
+}
+
+bool sb_triangle_bvh_retopologize(sb_triangle_bvh* bvh, const uint8_t* dead) {
+    sb_copy_corners(bvh);
+    if (!sb_mark_connected(bvh)) return false;
+    for (uint32_t i = 0; dead && i < bvh->node_count; i++) {
+        sb_bvh_node* node = &bvh->nodes[i];
+        for (uint32_t k = node->first; node->connected && k < node->first + node->count; k++)
+            node->connected = !dead[bvh->order[k]];
+    }
+    return true;
 }
 
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh) {

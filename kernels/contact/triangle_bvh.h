@@ -54,6 +54,11 @@ typedef struct sb_triangle_bvh {
 sb_triangle_bvh* sb_triangle_bvh_create(uint32_t triangle_count, const uint32_t* const tri_v[3],
                                         const double* positions);
 void sb_triangle_bvh_destroy(sb_triangle_bvh* bvh);
+/* After the triangles' vertices changed (tearing's splits), the corners'
+ * copy and which nodes are connected, from tri_v again; a node with a dead
+ * triangle (dead: per triangle, or NULL) is never connected, so never flat.
+ * false when out of memory. */
+bool sb_triangle_bvh_retopologize(sb_triangle_bvh* bvh, const uint8_t* dead);
 
 /* Refits the subtree of node `root` from the packed positions (x y z w per
  * vertex) at the start (from4) and end (to4) of the step; boxes inflated by

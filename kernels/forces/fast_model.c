@@ -559,14 +559,17 @@ static bool sb_fast_limits(sb_fast_model* f, const sb_model* m) {
         ok = ok && (*arrays[a] = malloc(n * sizeof **arrays[a])) != NULL;
         for (size_t s = 0; ok && s < n; s++) (*arrays[a])[s] = a < 4 ? (sb_real)INFINITY : 0;
     }
-    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
-        sb_real *max2, *min2;
-        sb_limit_slots(f, b, &max2, &min2);
-        double hi = m->bond_break_max[b], lo = m->bond_break_min[b];
-        *max2 = (sb_real)(hi * hi * (1.0 - SB_LIMIT_MARGIN));
-        if (min2) *min2 = (sb_real)(lo * lo * (1.0 + SB_LIMIT_MARGIN));
-    }
+    for (uint32_t b = 0; ok && b < m->bond_count; b++)
+        sb_fast_set_limits(f, b, m->bond_break_min[b], m->bond_break_max[b]);
     return ok;
+}
+
+void sb_fast_set_limits(sb_fast_model* f, uint32_t bond, double lo, double hi) {
+    if (!f->bond_near_max2) return;
+    sb_real *max2, *min2;
+    sb_limit_slots(f, bond, &max2, &min2);
+    *max2 = (sb_real)(hi * hi * (1.0 - SB_LIMIT_MARGIN));
+    if (min2) *min2 = (sb_real)(lo * lo * (1.0 + SB_LIMIT_MARGIN));
 }
 
 void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {

@@ -152,6 +152,10 @@ void sb_fast_model_destroy(sb_fast_model* fast);
  * stiffness, damping and rest length (so no collapse check either); a
  * triangle its corners' constants and rest lengths; a hinge its constant. */
 void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond); /* its limits' margins too */
+/* The lengths (lo, hi: the model's break_min and break_max, or any others)
+ * near which the kernels flag bond `bond` (SB_KERNEL_NEAR_LIMIT): the
+ * margins' limits. Nothing for a model without limits. */
+void sb_fast_set_limits(sb_fast_model* fast, uint32_t bond, double lo, double hi);
 void sb_fast_drop_triangle(sb_fast_model* fast, uint32_t triangle);
 void sb_fast_drop_hinge(sb_fast_model* fast, uint32_t hinge);
 

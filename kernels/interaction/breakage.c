@@ -61,7 +61,12 @@
  * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
  * after a step that met a bond near a limit (measured at 100k vertices: a
  * quiet step of a breakable sheet went from 1.5x the unbreakable one's
- * time to 1.1-1.3x, bench/results/tearing.md). A broken bond's limits become −1 and +inf,
+ * time to 1.1-1.3x, bench/results/tearing.md). Once a crack runs (not
+ * shattering), the margins the kernels compare with are the limits past
+ * by SB_CRACK_MARGIN, the only ones a bond away from the tips breaks at:
+ * the bonds around a running crack sit past their plain limits at every
+ * step, and the serial pass would otherwise look at every limited bond at
+ * every step of the crack. A broken bond's limits become −1 and +inf,
  * so it never matches again. For each it zeroes the bond's constants and
  * rest length (no collapse or blow-up check for it any more) and, the
  * first step of tearing, those of every triangle that has the bond's edge
@@ -71,11 +76,16 @@
  * step never feels a broken bond: as each bond, triangle and hinge loses
  * its constants its forces and energies at the step's end state are taken
  * (the scalar reference's, on a one-element view of the working copy, in
- * double) and, after the pass, subtracted from the state's and the packed
- * forces and the term energies: the cost of the broken elements, not of a
- * force evaluation. A step that splits a vertex (each copy takes the
+ * double, the positions and velocities gathered at its vertices only) and,
+ * after the pass, subtracted from the forces at those vertices (the fused
+ * step's packed ones, unpublished, or the state's and the packed) and from
+ * the term energies, and those vertices' velocities re-kicked: the cost of
+ * the broken elements, with no pass over the vertices (the kinetic energy
+ * is summed again only where the step summed it, else left to
+ * sb_solver_settle). A step that splits a vertex (each copy takes the
  * forces of its own elements) or removes an element whose edge collapsed
- * evaluates everything again instead. Bond order and one thread: the same
+ * evaluates everything again instead; whether a queued vertex splits is
+ * asked of its star first (sb_topology_splits). Bond order and one thread: the same
  * bonds break at the same step for any thread count.
  *
  * Tearing (kernels/interaction/topology.c) starts from here: a dying triangle's
@@ -94,6 +104,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "kernels/contact/self_contact.h"
 #include "softbond/reference.h"
 #include "common/edge_map.h"
 #include "common/error.h"
@@ -143,6 +154,9 @@ struct sb_breakage {
     /* the forces' correction (the design note): positions and velocities in
      * double, the removed elements' forces and energies, 3 per vertex slot */
     double *x3, *v3, *removed_forces;
+    uint32_t *touched, touched_count; /* the vertex slots x3, v3 and removed_forces hold, in the order met */
+    uint8_t* touched_mark;            /* per vertex slot: in touched */
+    bool packed;                      /* the correction reads and writes the packed state only (unpublished) */
     sb_energies removed;
     enum { SB_CORRECTION_OFF, SB_CORRECTION_ARMED, SB_CORRECTION_ON, SB_CORRECTION_FAILED } correction;
     uint32_t model_vertices;
@@ -364,7 +378,9 @@ static bool sb_correction_prepare(sb_breakage* b) {
     b->x3 = malloc(n * sizeof *b->x3);
     b->v3 = malloc(n * sizeof *b->v3);
     b->removed_forces = malloc(n * sizeof *b->removed_forces);
-    return b->x3 && b->v3 && b->removed_forces;
+    b->touched = malloc(n / 3 * sizeof *b->touched + sizeof *b->touched);
+    b->touched_mark = calloc(n / 3 + 1, 1);
+    return b->x3 && b->v3 && b->removed_forces && b->touched && b->touched_mark;
 }
 
 sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
@@ -420,7 +436,9 @@ void sb_breakage_destroy(sb_breakage* b) {
                       b->fresh,
                       b->x3,
                       b->v3,
-                      b->removed_forces};
+                      b->removed_forces,
+                      b->touched,
+                      b->touched_mark};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(b);
 }
@@ -503,15 +521,45 @@ static sb_model sb_single(const sb_model* m, int kind, uint32_t e) {
     return one;
 }
 
-/* The first removal of an accept stage: the state in double, nothing removed yet. */
+/* The first removal of an accept stage: nothing removed yet, no vertex
+ * gathered; where the state is (the fused step's unpublished packed
+ * arrays, or the state's arrays). */
 static void sb_correction_start(sb_solver* s, sb_breakage* b) {
-    const sb_state* st = &s->state;
-    sb_fast_publish(s);
-    sb_interleave(b->x3, st->x, st->y, st->z, st->vertex_count);
-    sb_interleave(b->v3, st->vx, st->vy, st->vz, st->vertex_count);
-    memset(b->removed_forces, 0, 3 * (size_t)st->vertex_count * sizeof *b->removed_forces);
+    b->packed = s->fast && !s->published;
+    b->touched_count = 0;
     memset(&b->removed, 0, sizeof b->removed);
     b->correction = SB_CORRECTION_ON;
+}
+
+/* Vertex v's position and velocity in double (x3, v3) and no removed force
+ * yet, once per accept stage: the correction touches only the vertices of
+ * the elements it removes. */
+static void sb_correction_gather(const sb_solver* s, sb_breakage* b, uint32_t v) {
+    if (b->touched_mark[v]) return;
+    b->touched_mark[v] = 1;
+    b->touched[b->touched_count++] = v;
+    const sb_state* st = &s->state;
+    const sb_real* x[3] = {st->x, st->y, st->z};
+    const sb_real* u[3] = {st->vx, st->vy, st->vz};
+    for (int a = 0; a < 3; a++) {
+        b->x3[3 * (size_t)v + a] = b->packed ? s->positions4[4 * (size_t)v + a] : x[a][v];
+        b->v3[3 * (size_t)v + a] = b->packed ? s->velocities4[4 * (size_t)v + a] : u[a][v];
+        b->removed_forces[3 * (size_t)v + a] = 0.0;
+    }
+}
+
+/* The vertices of element e of one kind. */
+static int sb_element_vertices(const sb_model* m, int kind, uint32_t e, uint32_t out[4]) {
+    if (kind == SB_REMOVE_BOND) {
+        out[0] = m->bond_i[e], out[1] = m->bond_j[e];
+        return 2;
+    }
+    if (kind == SB_REMOVE_TRIANGLE) {
+        for (int c = 0; c < 3; c++) out[c] = m->tri_v[c][e];
+        return 3;
+    }
+    out[0] = m->hinge_e0[e], out[1] = m->hinge_e1[e], out[2] = m->hinge_o0[e], out[3] = m->hinge_o1[e];
+    return 4;
 }
 
 /* Element e of one kind is about to lose its constants: its forces and
@@ -521,6 +569,9 @@ static void sb_remove(sb_solver* s, sb_breakage* b, int kind, uint32_t e) {
         {SB_TERM_BOND, SB_TERM_SPRING}, {SB_TERM_ANGLE, SB_TERM_STRETCH_BEND}, {SB_TERM_BEND, SB_TERM_BEND}};
     if (b->correction == SB_CORRECTION_ARMED) sb_correction_start(s, b);
     if (b->correction != SB_CORRECTION_ON) return;
+    uint32_t vertices[4];
+    for (int q = sb_element_vertices(&b->live, kind, e, vertices) - 1; q >= 0; q--)
+        sb_correction_gather(s, b, vertices[q]);
     sb_model one = sb_single(&b->live, kind, e);
     for (int q = 0; q < (kind == SB_REMOVE_HINGE ? 1 : 2); q++) {
         double energy;
@@ -531,20 +582,75 @@ static void sb_remove(sb_solver* s, sb_breakage* b, int kind, uint32_t e) {
     }
 }
 
-/* The forces and term energies without the removed elements': the state's
- * and the packed ones. */
-static void sb_correction_apply(sb_solver* s, sb_breakage* b) {
+/* Whether the integrator ends a step with the half kick of the forces at
+ * its end (sb_rekick), which a change of those forces redoes. */
+static bool sb_kicks_at_end(const sb_solver* s) {
+    return s->def.integrator == SB_INTEGRATOR_VERLET || s->def.integrator == SB_INTEGRATOR_VELOCITY_VERLET;
+}
+
+/* Vertex i's inverse mass as the integrators move it. */
+static double sb_moving_inv_mass(sb_solver* s, uint32_t i) {
+    return s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i];
+}
+
+/* The forces and term energies without the removed elements', at the
+ * touched vertices only, and their velocities re-kicked (sb_rekick): the
+ * packed state's where it is unpublished, else the state's arrays and the
+ * packed ones. Returns whether a velocity changed. */
+static bool sb_correction_apply(sb_solver* s, sb_breakage* b) {
     sb_state* st = &s->state;
     sb_real* f[3] = {st->fx, st->fy, st->fz};
-    for (uint32_t i = 0; i < st->vertex_count; i++)
+    sb_real* v[3] = {st->vx, st->vy, st->vz};
+    bool kick = sb_kicks_at_end(s);
+    for (uint32_t q = 0; q < b->touched_count; q++) {
+        uint32_t i = b->touched[q];
+        double h = kick ? 0.5 * s->step.dt * sb_moving_inv_mass(s, i) : 0.0;
+        b->touched_mark[i] = 0;
         for (int a = 0; a < 3; a++) {
-            f[a][i] = (sb_real)(f[a][i] - b->removed_forces[3 * (size_t)i + a]);
-            if (s->fast) s->forces4[4 * (size_t)i + a] = f[a][i];
+            size_t at = 4 * (size_t)i + a;
+            sb_real old = b->packed ? s->forces4[at] : f[a][i];
+            sb_real now = (sb_real)(old - b->removed_forces[3 * (size_t)i + a]);
+            sb_real velocity = (sb_real)((b->packed ? s->velocities4[at] : v[a][i]) + h * ((double)now - old));
+            if (!b->packed) f[a][i] = now, v[a][i] = velocity;
+            if (s->fast) s->forces4[at] = now, s->velocities4[at] = velocity;
         }
+    }
+    b->touched_count = 0;
     for (int t = 0; t < SB_TERM_COUNT; t++) s->energies.term[t] -= b->removed.term[t];
+    return kick;
+}
+
+/* The touched vertices' marks cleared, the correction dropped. */
+static void sb_correction_drop(sb_breakage* b) {
+    for (uint32_t q = 0; q < b->touched_count; q++) b->touched_mark[b->touched[q]] = 0;
+    b->touched_count = 0;
+}
+
+/* The kinetic energy after the correction re-kicked velocities: the fused
+ * step's vertex sums again, or left to sb_solver_settle where the step
+ * left them for later; the state's otherwise. */
+static void sb_correction_energies(sb_solver* s, sb_breakage* b) {
+    if (!b->packed)
+        sb_update_energies(s);
+    else if (!s->forces_stale)
+        sb_fast_vertex_energies(s);
 }
 
 static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool notify, sb_crack_cause cause);
+
+/* Once a crack runs, a bond away from its tips breaks only past its limits
+ * by the margin (SB_CRACK_MARGIN): the fast kernels flag a bond near those
+ * instead, so that the serial pass over the limited bonds runs only when
+ * one may break alone (the tips' bonds are looked at after every step). */
+static void sb_alone_margins(sb_solver* s, const sb_breakage* b) {
+    if (!s->fast) return;
+    const sb_model* m = &b->live;
+    for (uint32_t k = 0; k < b->limited_count; k++) {
+        uint32_t bond = b->limited[k];
+        sb_fast_set_limits(s->fast, bond, m->bond_break_min[bond] / (1.0 + SB_CRACK_MARGIN),
+                           m->bond_break_max[bond] * (1.0 + SB_CRACK_MARGIN));
+    }
+}
 
 /* Whether bond is a ligament: an interior bond (two triangles or more on
  * its edge) with every one of them dead, so no material is left for it to
@@ -600,7 +706,7 @@ static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool noti
     sb_model* m = &b->live;
     if (b->broken[bond]) return;
     b->broken[bond] = 1;
-    b->broken_count++;
+    if (b->broken_count++ == 0 && !s->def.shatter) sb_alone_margins(s, b);
     uint32_t k = sb_limited_index(b, bond);
     if (k != SB_NONE) { /* its limits never match again */
         b->min2[k] = b->tip_min2[k] = -1.0;
@@ -753,17 +859,40 @@ static void sb_notify(sb_solver* s, sb_breakage* b) {
  * force of the step's end. Hard-held vertices (inverse mass 0: the packed
  * one, sb_inv_mass) keep their handle's velocity. */
 static void sb_rekick(sb_solver* s, const double* before) {
-    if (s->def.integrator != SB_INTEGRATOR_VERLET && s->def.integrator != SB_INTEGRATOR_VELOCITY_VERLET) return;
+    if (!sb_kicks_at_end(s)) return;
     sb_state* st = &s->state;
     sb_real* v[3] = {st->vx, st->vy, st->vz};
     const sb_real* f[3] = {st->fx, st->fy, st->fz};
     for (uint32_t i = 0; i < st->vertex_count; i++) {
-        double h = 0.5 * s->step.dt * (s->fast ? s->fast->inv_mass[i] : sb_inv_mass(s)[i]);
+        double h = 0.5 * s->step.dt * sb_moving_inv_mass(s, i);
         for (int a = 0; a < 3; a++) {
             v[a][i] = (sb_real)(v[a][i] + h * (f[a][i] - before[3 * (size_t)i + a]));
             if (s->fast) s->velocities4[4 * (size_t)i + a] = v[a][i];
         }
     }
+}
+
+/* After the breaks (`broke`; `corrected`: their forces taken), the splits
+ * and the forces: the broken elements' forces subtracted in place where
+ * nothing splits, else everything evaluated again. */
+static sb_status sb_after_breaks(sb_solver* s, sb_breakage* b, bool broke, bool corrected) {
+    if (!(b->topology && sb_topology_splits(b->topology))) {
+        if (b->topology) sb_topology_split(s, b->topology, b->forces); /* the queue drained: nothing to split */
+        if (corrected && sb_correction_apply(s, b)) /* in place: only the removed elements' forces go */
+            sb_correction_energies(s, b);
+        if (corrected || !broke) return SB_OK;
+    }
+    sb_correction_drop(b);
+    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
+    if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
+    /* a split vertex's copies each take their own elements' forces: all evaluated again */
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
+    return SB_OK;
 }
 
 /* The accept stage: after a kept (sub-)step of dt, breaks the bonds whose
@@ -785,21 +914,15 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     bool corrected = b->correction == SB_CORRECTION_ON;
     b->correction = SB_CORRECTION_OFF;
     sb_notify(s, b);
-    if (!broke && !(b->topology && sb_topology_pending(b->topology))) return SB_OK;
-    sb_fast_publish(s); /* the fused path: the state's arrays, which the evaluation packs again */
-    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
-    uint32_t made = b->topology ? sb_topology_split(s, b->topology, b->forces) : 0;
-    if (made) s->live_vertices = sb_topology_vertex_count(b->topology);
-    if (!broke && made == 0) return SB_OK;
-    if (made == 0 && corrected) /* only the removed elements' forces go */
-        sb_correction_apply(s, b);
-    else { /* a split vertex's copies each take their own elements' forces: all evaluated again */
-        sb_status status = sb_solver_compute_forces(s);
-        if (status != SB_OK) return status;
-    }
-    sb_rekick(s, b->forces);
-    sb_update_energies(s); /* the reference's evaluation zeroes kinetic and gravity */
-    return SB_OK;
+    uint32_t vertices = s->live_vertices;
+    sb_status status = sb_after_breaks(s, b, broke, corrected);
+    if (status == SB_OK && (broke || s->live_vertices != vertices)) /* the surface changed */
+        status = sb_breakage_update_contact(s, &s->error);
+    return status;
+}
+
+sb_status sb_breakage_update_contact(sb_solver* s, sb_error* err) {
+    return s->breakage ? sb_self_contact_retopologize(s, s->breakage->triangle_dead, err) : SB_OK;
 }
 
 void sb_breakage_subscribe(sb_solver* s) {

@@ -43,5 +43,9 @@ const sb_topology* sb_breakage_topology(const sb_breakage* breakage);
 sb_topology* sb_breakage_topology_to_load(sb_breakage* breakage);
 /* Whether a triangle lost its constants to a broken bond on its edge. */
 bool sb_breakage_triangle_dead(const sb_breakage* breakage, uint32_t triangle);
+/* Self-contact after the surface changed (bonds broken, vertices split: an
+ * accept stage's, a loaded state's): its features and hierarchy from the
+ * working copy again, the dead triangles out of it. */
+sb_status sb_breakage_update_contact(sb_solver* solver, sb_error* err);
 
 #endif

@@ -176,7 +176,6 @@ void sb_topology_queue(sb_topology* t, uint32_t v) {
     t->queue[(t->head + t->queued++) % t->capacity] = v;
 }
 
-bool sb_topology_pending(const sb_topology* t) { return t->queued > 0; }
 uint32_t sb_topology_vertex_count(const sb_topology* t) { return t->count; }
 uint32_t sb_topology_origin(const sb_topology* t, uint32_t v) { return t->origin[v]; }
 uint32_t sb_topology_refused(const sb_topology* t) { return t->refused; }
@@ -239,6 +238,12 @@ static uint32_t sb_label_fans(sb_topology* t, uint32_t v) {
         fan[i] = f == SB_NONE ? 0 : f;
     }
     return fans;
+}
+
+bool sb_topology_splits(sb_topology* t) {
+    for (uint32_t q = 0; q < t->queued; q++)
+        if (sb_label_fans(t, t->queue[(t->head + q) % t->capacity]) >= 2) return true;
+    return false;
 }
 
 /* The fan of v's first triangle that has both x and (y or z) besides v, or 0. */

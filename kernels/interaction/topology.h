@@ -21,7 +21,10 @@ void sb_topology_destroy(sb_topology* topology);
 /* A vertex whose triangles may have come apart (on a dead triangle or a
  * broken bond): it waits, once, in a first-in first-out queue. */
 void sb_topology_queue(sb_topology* topology, uint32_t vertex);
-bool sb_topology_pending(const sb_topology* topology);
+/* Whether a queued vertex has come apart (two fans or more with a live
+ * triangle), so that sb_topology_split will split it: a look at the
+ * queued vertices' stars only. */
+bool sb_topology_splits(sb_topology* topology);
 
 /* Splits the queued vertices in queue order, at most the per-step cap of
  * new vertices (a vertex that would pass it waits for the next call): the

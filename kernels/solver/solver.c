@@ -243,10 +243,6 @@ sb_solver* sb_solver_create(const sb_model* model, const sb_solver_def* def, sb_
     s->def = *def;
     sb_runaway_box(s);
     sb_status status = (s->team = sb_team_create(&def->runtime, err)) ? SB_OK : SB_ERR_INVALID;
-    if (status == SB_OK && def->self_collision && sb_breakage_topology(s->breakage))
-        status = sb_error_set(err, SB_ERR_INVALID,
-                              "self_collision with a model that tears is not supported yet (set max_splits < 0 to "
-                              "keep its surface whole)");
     if (status == SB_OK && def->kernels == SB_KERNELS_FAST) status = sb_fast_prepare(s, err);
     if (status == SB_OK) status = sb_contact_prepare(s, err);
     if (status == SB_OK && def->self_collision) status = sb_self_contact_prepare(s, err);

@@ -50,7 +50,9 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts' carries */
+#define SB_STATE_VERSION                                                                                               \
+    5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts'       \
+         carries */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -433,5 +435,5 @@ sb_status sb_solver_load_state(sb_solver* s, const void* buffer, size_t size, sb
     for (int p = 0; p < SB_PART_COUNT; p++)
         if (sb_parts[p].present(s)) sb_parts[p].load(s, &found[p]);
     s->forces_stale = false; /* saved settled */
-    return SB_OK;
+    return sb_breakage_update_contact(s, err);
 }
