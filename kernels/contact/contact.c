@@ -434,6 +434,10 @@ static sb_status sb_contact_accept(sb_solver* s, double dt) {
     return SB_OK;
 }
 
+void sb_contact_set_dead_triangles(sb_solver* s, const uint8_t* dead) {
+    if (s->contact && s->contact->surface) sb_surface_set_dead(s->contact->surface, dead);
+}
+
 static void sb_contact_subscribe(sb_solver* s) {
     sb_feature f = {.name = "contact",
                     .start = sb_contact_start,

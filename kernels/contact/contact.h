@@ -11,6 +11,10 @@
  * nothing without colliders. */
 sb_status sb_contact_prepare(sb_solver* solver, sb_error* err);
 void sb_contact_destroy(sb_solver* solver);
+/* Tearing's dead triangles (1 for a triangle on a broken bond's edge,
+ * which spans the crack) are out of face contact: they would hold the
+ * crack shut against a collider. NULL: none. */
+void sb_contact_set_dead_triangles(sb_solver* solver, const uint8_t* dead);
 /* Answers vertex i's move from → x among the colliders of `near` (a bit
  * each, those whose bounds the move reaches; x and v updated in place);
  * returns the collider or -1, the impulse m Δv the vertex took and the

@@ -60,6 +60,7 @@ struct sb_surface {
     uint32_t *reach_first, *reach; /* CSR: the blocks holding their corners, the block itself among them */
     double* boxes;                 /* 6 a block: the box of its moves this step */
     bool by_block;                 /* the topology is fixed: blocks may be skipped */
+    const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
 };
 
 bool sb_surface_active(const sb_solver* s) {
@@ -161,6 +162,8 @@ void sb_surface_destroy(sb_surface* f) {
     free(f->boxes);
     free(f);
 }
+
+void sb_surface_set_dead(sb_surface* f, const uint8_t* dead) { f->dead = dead; }
 
 void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
     double* box = f->boxes + 6 * (size_t)block;
@@ -396,7 +399,8 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     for (uint32_t b = 0; b < f->blocks; b++) {
         if (f->by_block && !sb_block_reaches(f, s, b, balls.meets)) continue;
         for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
-            contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
+            if (!(f->dead && f->dead[f->owned[k]]))
+                contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
     }
     return contacts;
 }

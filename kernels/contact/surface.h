@@ -33,6 +33,9 @@ void sb_surface_destroy(sb_surface* surface);
 /* The box of block b's moves this step (lo x y z, hi x y z), from the
  * fused vertex pass, which computes it anyway. */
 void sb_surface_set_box(sb_surface* surface, uint32_t block, const double lo[3], const double hi[3]);
+/* Triangles whose dead[t] is 1 are out of the pass (tearing's, read in
+ * place; the surface must be the model's triangles); NULL: none. */
+void sb_surface_set_dead(sb_surface* surface, const uint8_t* dead);
 /* The fused step's packed state, and the state's arrays with `from`. */
 sb_surface_view sb_surface_view_packed(sb_solver* solver);
 sb_surface_view sb_surface_view_state(sb_solver* solver, const double* from);

@@ -104,6 +104,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "kernels/contact/contact.h"
 #include "kernels/contact/self_contact.h"
 #include "softbond/reference.h"
 #include "common/edge_map.h"
@@ -926,7 +927,9 @@ sb_status sb_breakage_update_contact(sb_solver* s, sb_error* err) {
 }
 
 void sb_breakage_subscribe(sb_solver* s) {
-    if (s->breakage) sb_add_feature(s, (sb_feature){.name = "breakage", .accept = sb_breakage_accept});
+    if (!s->breakage) return;
+    sb_add_feature(s, (sb_feature){.name = "breakage", .accept = sb_breakage_accept});
+    sb_contact_set_dead_triangles(s, s->breakage->triangle_dead);
 }
 
 /* ---- the saved state (kernels/solver/solver_state.c) ---------------------------- */
