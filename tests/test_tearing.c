@@ -118,6 +118,58 @@ static void test_sheet_tears_in_two(void** state) {
     }
 }
 
+/* After the sheet tore in two, a 3 mm sphere lowered through the middle of
+ * the gap between the halves touches nothing: the triangles on the
+ * broken bonds' edges, which span the crack, are out of face contact (they
+ * would hold the sphere as a membrane across the gap). */
+static void test_a_tool_passes_through_the_crack(void** state) {
+    (void)state;
+    sb_collider_def cd = sb_default_collider_def();
+    cd.shape = SB_COLLIDER_SPHERE;
+    cd.radius = 0.003;
+    cd.center[0] = 0.05, cd.center[1] = 0.05, cd.center[2] = 0.5; /* far above, until the sheet is torn */
+    sb_error err;
+    sb_collider* tool = sb_collider_create(&cd, &err);
+    assert_non_null(tool);
+    sb_solver_def def = kernels_def(SB_KERNELS_FAST, 1);
+    def.colliders = &tool;
+    def.collider_count = 1;
+    def.contact_thickness = 0.0005;
+    pulled_run r;
+    pulled_start(&r, def);
+    pull(&r);
+    uint32_t n = sb_solver_vertex_count(r.solver);
+    uint32_t* parent = ps_components(r.solver);
+    uint32_t bottom = ps_find(parent, r.rows[0][0]);
+    double* x = malloc(3 * (size_t)n * sizeof *x);
+    sb_solver_get_positions(r.solver, x);
+    double below = -INFINITY, above = INFINITY; /* the halves' edges near x = 5 cm */
+    for (uint32_t i = 0; i < n; i++) {
+        if (fabs(x[3 * i] - 0.05) > 0.01) continue;
+        if (ps_find(parent, i) == bottom)
+            below = fmax(below, x[3 * i + 1]);
+        else
+            above = fmin(above, x[3 * i + 1]);
+    }
+    double gap = 0.5 * (below + above), largest = 0.0;
+    print_message("the gap at x = 5 cm: y from %.4f to %.4f m\n", below, above);
+    assert_true(above - below > 2 * (cd.radius + 0.003));
+    for (int step = 0; step <= 200; step++) { /* down through the sheet's plane, 2 cm in 20 ms */
+        double translate[3] = {0.0, gap - 0.05, -0.49 - 1e-4 * step}, rotate[3] = {0, 0, 0};
+        sb_collider_set_pose(tool, translate, rotate);
+        assert_int_equal(sb_solver_advance(r.solver, 1e-4), SB_OK);
+        double f[3];
+        sb_solver_contact_force(r.solver, 0, f);
+        largest = fmax(largest, tu_norm(f));
+    }
+    print_message("the largest contact force on the tool: %g N\n", largest);
+    assert_true(largest == 0.0);
+    free(x);
+    free(parent);
+    pulled_end(&r);
+    sb_collider_destroy(tool);
+}
+
 /* No two blocks of a block color share a vertex; within a block, no two
  * slots of one SIMD color (the overflow color runs one at a time). */
 static void check_group_colors(const sb_element_group* g, const uint32_t* const* v, int arity, uint32_t vertices) {
@@ -319,9 +371,13 @@ static void test_caps_are_kept(void** state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sheet_tears_in_two),    cmocka_unit_test(test_colors_stay_valid_and_kernels_agree),
-        cmocka_unit_test(test_threads_tear_the_same), cmocka_unit_test(test_every_integrator_tears),
-        cmocka_unit_test(test_caps_are_kept),         cmocka_unit_test(test_tearing_leaves_the_forces_for_later),
+        cmocka_unit_test(test_sheet_tears_in_two),
+        cmocka_unit_test(test_a_tool_passes_through_the_crack),
+        cmocka_unit_test(test_colors_stay_valid_and_kernels_agree),
+        cmocka_unit_test(test_threads_tear_the_same),
+        cmocka_unit_test(test_every_integrator_tears),
+        cmocka_unit_test(test_caps_are_kept),
+        cmocka_unit_test(test_tearing_leaves_the_forces_for_later),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
