@@ -40,6 +40,11 @@
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which
  * answers it in the next step.
+ * Then restitution per body (kernels/contact/body_restitution.c): each
+ * answer is reported to it, and after the pass (the fused step's collect
+ * stage, the others' correct stage) a body in contact keeps at most e
+ * times its centre's approach speed; what it takes off joins the
+ * collider's impulse of the step.
  *
  * pbd and xpbd do not take this pass: their step is itself a projection, so
  * a contact is one more constraint inside their sweeps
