@@ -13,10 +13,8 @@
  * So restitution is also answered per body, as Newton's law states it for
  * a body: while a connected part of the model (a body: its vertices joined
  * by bonds, triangles, hinges, tetrahedra or membranes) is in contact with
- * a collider (an episode: from the step one of its vertices is first
- * answered to the first step none is), the normal velocity of its centre
- * of mass relative to the collider may not exceed e times the speed it
- * came in with:
+ * a collider, its centre of mass leaves the height it touched at with at
+ * most e times the speed it came in with:
  *
  *   at first touch  n = the mean of the touching vertices' contact normals,
  *                   u = the mean of the collider's velocities at them,
@@ -24,38 +22,56 @@
  *                   w = −(V⁻ − u)·n, V⁻ the centre-of-mass velocity before
  *                   the step's answers (V minus the answers' impulses over
  *                   the body's mass); no episode when it was not approaching
- *   every step of the episode  vr = (V − u)·n, u of the step's touching
- *                   vertices; where vr > e w the whole body takes
- *                   Δv = −(vr − e w) n (every vertex the same, so the
- *                   springs feel nothing), and the collider the opposite
- *                   impulse M (vr − e w) n at the touching vertices' mean
- *                   point.
+ *                   (a vibrating body's vertex touching as it leaves);
+ *   every step of the episode  s, how far the centre has moved out along
+ *                   n since the touch, grows by vr dt, vr = (V − u)·n, u of
+ *                   the step's touching vertices; in a step that touches,
+ *                   vr may not exceed √((e w)² − 2 g_n s) (g_n: gravity
+ *                   into the collider), the speed that reaches the touch
+ *                   height (s = 0) at e w: the excess is taken off the
+ *                   whole body as Δv = −excess n (every vertex the same, so
+ *                   the springs feel nothing), and the collider takes the
+ *                   opposite impulse M excess n at the touching vertices'
+ *                   mean point.
+ *
+ * An episode runs from the first touching vertex through the steps in
+ * which none touches while the centre is below the touch (s < 0: the
+ * lowest vertices bounce off and come back while the rest arrives and
+ * while the body springs back), until the centre is back above it
+ * untouched, has fallen untouched for longer than SB_CONTACT_GAP (it left,
+ * off a ledge say), or another collider touches the body instead (which
+ * opens its own). Holding the speed at the touch height rather than at
+ * each step (vr <= e w) matters: a ball still compressed when capped keeps
+ * touching while gravity slows it on its way back up, and would leave
+ * below e w.
  *
  * Only momentum along n is taken, and only what the collider's own pushes
- * gave the body beyond e w in this step (the step before was capped), so
- * the collider still pushes, never pulls; the tangential motion is left to
- * friction. After the body leaves the collider nothing but gravity changes
- * its centre's velocity, so it rebounds with e w: to e² h. The energy the
- * springs hold stays as the body's vibration (its material's damping takes
- * it, or it rings). For a rebound the body's own springs make smaller than
- * e w (a soft, damped body) nothing is added: e is an upper bound there, as
- * a material's restitution is. A flat patch already leaves with e w, and a
- * point is its own centre: for them nothing changes. The alternatives
- * weighed: damping the body's internal modes during contact in proportion
- * to 1 − e does not give e² h without tuning per body (how much of the
- * impact goes into which mode depends on the mesh and the stiffness);
- * moving the vibration's energy into the rebound when it falls short of
- * e w would make energy flow against the material's own law.
+ * gave the body beyond the allowed speed in this step (the step before was
+ * capped), so the collider still pushes, never pulls; the tangential
+ * motion is left to friction. After the body leaves the collider nothing
+ * but gravity changes its centre's velocity, so it rises to e² h. The
+ * energy the springs hold stays as the body's vibration (its material's
+ * damping takes it, or it rings). For a rebound the body's own springs
+ * make smaller (a soft, damped body) nothing is added: e is an upper bound
+ * there, as a material's restitution is. A flat patch already leaves with
+ * e w, and a lone vertex is its own centre: for them nothing changes. The
+ * alternatives weighed: damping the body's internal modes during contact
+ * in proportion to 1 − e does not give e² h without tuning per body (how
+ * much of the impact goes into which mode depends on the mesh and the
+ * stiffness); moving the vibration's energy into the rebound when it falls
+ * short of e w would make energy flow against the material's own law.
  *
  * It runs serially after the contact pass (its collect or correct stage),
  * over the touched vertices in index order and the bodies in order, so it
  * is the same for any thread count. Its state is the open episodes (per
- * body: n, e, w and the collider), kept at accept, so that a rejected
- * adaptive sub-step leaves none, and saved with a checkpoint. pbd and xpbd
- * project contacts inside their sweeps and keep the per-vertex law; a model
- * that tears keeps it too (its bodies change as it runs). A body holding a
- * fixed or handled vertex is held from outside, so its centre is not free:
- * it keeps the per-vertex law. */
+ * body: n, e, w, s, u, the collider, the time untouched), kept at accept,
+ * so that a rejected adaptive sub-step leaves none, and saved with a
+ * checkpoint. pbd and xpbd project contacts inside their sweeps and keep
+ * the per-vertex law; a model that tears keeps it too (its bodies change
+ * as it runs). A body holding a fixed or handled vertex is held from
+ * outside, so its centre is not free: it keeps the per-vertex law. Its
+ * cost is a pass over the touched chunks' vertices and one over each
+ * touched body's vertices per step, on one thread. */
 #include "kernels/contact/body_restitution.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/dynamic.h"
@@ -240,6 +256,10 @@ void sb_body_restitution_touch(sb_body_restitution* b, uint32_t i, int collider,
                                const double impulse[3]) {
     if (b->body_of[i] == UINT32_MAX) return;
     sb_vertex_hit* h = &b->hits[i];
+    if (h->stamp == b->stamp) { /* answered again (a corner of the surface pass): its impulses add up */
+        for (int k = 0; k < 3; k++) h->impulse[k] += impulse[k];
+        return;
+    }
     h->stamp = b->stamp;
     h->collider = collider;
     h->restitution = c->restitution;

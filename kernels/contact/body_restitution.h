@@ -20,7 +20,9 @@ void sb_body_restitution_destroy(sb_body_restitution* bodies);
  * on are its own. */
 void sb_body_restitution_begin(sb_body_restitution* bodies);
 /* Vertex i was answered by contact c of collider `collider`, taking the
- * impulse m Δv at c's point; called by the pass that owns i's chunk. */
+ * impulse m Δv at c's point; called by the pass that owns i's chunk (a
+ * vertex answered twice in a step keeps its first contact and the sum of
+ * its impulses). */
 void sb_body_restitution_touch(sb_body_restitution* bodies, uint32_t i, int collider, const sb_contact* c,
                                const double impulse[3]);
 /* After the step's contact pass: each body in contact keeps at most e
