@@ -408,7 +408,7 @@ static void test_truncated_and_corrupt_are_refused(void** state) {
 }
 
 /* The solver state's format version (SB_STATE_VERSION, kernels/solver/solver_state.c). */
-enum { STATE_VERSION = 5 };
+enum { STATE_VERSION = 6 };
 
 /* The header rewritten and the checksum made to match: what another build would write. */
 static void reseal(uint8_t* data, size_t size) {
@@ -769,7 +769,8 @@ static void test_program_run_section_range_checked(void** state) {
         sb_error err;
         assert_int_equal(sb_sections_read(&outer, data, size, "SBCHKPNT", 1, "saved", &err), SB_OK);
         assert_true(sb_sections_find(&outer, "SOLV", &solver));
-        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", STATE_VERSION, "state", &err), SB_OK);
+        assert_int_equal(sb_sections_read(&inner, solver.at, solver.left, "SBSOLVER", STATE_VERSION, "state", &err),
+                         SB_OK);
         assert_true(sb_sections_find(&inner, "CLCK", &clock));
         uint64_t steps = 7;
         memcpy((uint8_t*)clock.at + 6 * sizeof(double), &steps, sizeof steps);

@@ -40,6 +40,11 @@
  * the corrected velocity. A vertex is answered by one collider per step:
  * in a corner of two colliders it can be pushed into the second, which
  * answers it in the next step.
+ * Then restitution per body (kernels/contact/body_restitution.c): each
+ * answer is reported to it, and after the pass (the fused step's collect
+ * stage, the others' correct stage) a body in contact keeps at most e
+ * times its centre's approach speed; what it takes off joins the
+ * collider's impulse of the step.
  *
  * pbd and xpbd do not take this pass: their step is itself a projection, so
  * a contact is one more constraint inside their sweeps
@@ -55,6 +60,7 @@
  * the end of the step. */
 #include "kernels/contact/contact.h"
 #include "kernels/contact/surface.h"
+#include "kernels/contact/body_restitution.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/dynamic.h"
 #include "kernels/state/solver_fast.h"
@@ -67,12 +73,13 @@
 
 /* The contact pass's state. */
 typedef struct sb_contact_pass {
-    double* from;        /* 3n: positions at the start of a step the fused path does not take */
-    double* partials;    /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
-    double* step;        /* 6 per collider: the last step's impulses on the colliders, then their torques */
-    double* impulse;     /* 3 per collider: summed over the accepted steps of this advance */
-    bool corrects;       /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
-    sb_surface* surface; /* when a collider meets the surface (kernels/contact/surface.c) */
+    double* from;                /* 3n: positions at the start of a step the fused path does not take */
+    double* partials;            /* per vertex chunk: 3 impulse sums per collider, the contact count, 3 torque sums */
+    double* step;                /* 6 per collider: the last step's impulses on the colliders, then their torques */
+    double* impulse;             /* 3 per collider: summed over the accepted steps of this advance */
+    bool corrects;               /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
+    sb_surface* surface;         /* when a collider meets the surface (kernels/contact/surface.c) */
+    sb_body_restitution* bodies; /* restitution per body (kernels/contact/body_restitution.c); NULL where off */
 } sb_contact_pass;
 
 static void sb_contact_subscribe(sb_solver* s);
@@ -101,6 +108,8 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
     if (sb_surface_active(s) && !(c->surface = sb_surface_create(s, err))) return SB_ERR_NOMEM;
+    sb_status status = sb_body_restitution_create(s, &c->bodies, err);
+    if (status != SB_OK) return status;
     sb_contact_subscribe(s);
     return SB_OK;
 }
@@ -113,6 +122,7 @@ void sb_contact_destroy(sb_solver* s) {
     free(c->impulse);
     free(c->step);
     sb_surface_destroy(c->surface);
+    sb_body_restitution_destroy(c->bodies);
     free(c);
 }
 
@@ -223,6 +233,7 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
     double m = s->model->mass[i];
     for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
     memcpy(point, c.point, sizeof c.point);
+    if (s->contact->bodies) sb_body_restitution_touch(s->contact->bodies, i, hit, &c, impulse);
     return hit;
 }
 
@@ -389,7 +400,8 @@ static bool sb_contact_correct(sb_solver* s, double dt) {
     }
     uint32_t contacts = sb_contact_collect(s);
     s->stats.contacts += contacts;
-    return contacts > 0;
+    bool held = s->contact->bodies && sb_body_restitution_apply(s, s->contact->bodies, false, dt, s->contact->step);
+    return contacts > 0 || held;
 }
 
 /* The correct stage of pbd and xpbd, whose sweeps answered the vertices:
@@ -414,11 +426,16 @@ static void sb_contact_surface_packed(sb_solver* s, double dt) {
  * start from where the correct stage will run. */
 static void sb_contact_begin(sb_solver* s, double t0, double dt) {
     sb_contact_begin_step(s, t0, t0 + dt);
+    if (s->contact->bodies) sb_body_restitution_begin(s->contact->bodies);
     if ((s->contact->corrects || s->contact->surface) && !sb_fused(s)) sb_contact_save_from(s);
 }
 
-/* The collect stage: the fused step's chunk sums. */
-static void sb_contact_collect_fused(sb_solver* s) { s->stats.contacts += sb_contact_collect(s); }
+/* The collect stage: the fused step's chunk sums, then restitution per
+ * body on the packed state. */
+static void sb_contact_collect_fused(sb_solver* s) {
+    s->stats.contacts += sb_contact_collect(s);
+    if (s->contact->bodies) sb_body_restitution_apply(s, s->contact->bodies, true, s->step.dt, s->contact->step);
+}
 
 /* The start of an advance: its impulses start from zero. */
 static void sb_contact_start(sb_solver* s) {
@@ -431,6 +448,7 @@ static sb_status sb_contact_accept(sb_solver* s, double dt) {
     sb_contact_pass* c = s->contact;
     for (uint32_t k = 0; k < 3 * s->def.collider_count; k++) c->impulse[k] += c->step[k];
     sb_colliders_after_step(s->def.colliders, s->def.collider_count, c->step, s->def.gravity, dt);
+    if (c->bodies) sb_body_restitution_accept(c->bodies);
     return SB_OK;
 }
 
@@ -469,6 +487,14 @@ void sb_contact_load(sb_solver* s, sb_cursor* r) {
     sb_cursor_take(r, s->contact->step, 6 * colliders * sizeof(double));
     sb_cursor_take(r, s->contact->impulse, 3 * colliders * sizeof(double));
 }
+
+bool sb_contact_has_bodies(const sb_solver* s) { return s->contact && s->contact->bodies; }
+
+void sb_contact_bodies_save(const sb_solver* s, sb_sections_writer* w) {
+    sb_body_restitution_save(s->contact->bodies, w);
+}
+
+void sb_contact_bodies_load(sb_solver* s, sb_cursor* r) { sb_body_restitution_load(s->contact->bodies, r); }
 
 void sb_solver_contact_force(const sb_solver* s, uint32_t index, double force[3]) {
     for (int k = 0; k < 3; k++)

@@ -58,5 +58,10 @@ double sb_contact_step_work(const sb_solver* solver, double dt);
 /* Its part of a saved state: the last step's impulses and the advance's. */
 void sb_contact_save(const sb_solver* solver, sb_sections_writer* w);
 void sb_contact_load(sb_solver* solver, sb_cursor* r);
+/* Whether the pass answers restitution per body (kernels/contact/body_restitution.c),
+ * and that part of a saved state: the bodies' open contact episodes. */
+bool sb_contact_has_bodies(const sb_solver* solver);
+void sb_contact_bodies_save(const sb_solver* solver, sb_sections_writer* w);
+void sb_contact_bodies_load(sb_solver* solver, sb_cursor* r);
 
 #endif

@@ -12,7 +12,8 @@
  * external forces kept for the adaptive stepper, the clock and step count,
  * the last step's length, the adaptive stepper's next sub-step and energy
  * peak, the energies and the last advance's statistics and contact
- * impulses, each collider's moving state (poses, a dynamic body's position,
+ * impulses and the bodies' open contact episodes, each collider's moving
+ * state (poses, a dynamic body's position,
  * velocity, orientation and angular momentum), each handle's (held or
  * not, poses, grab positions, release time) and the broken bonds, whose
  * zeroed constants follow from them, vbd's velocities of the last
@@ -50,9 +51,9 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION                                                                                               \
-    5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts'       \
-         carries */
+/* 2: the energies carry the corotated term; 3: and the membrane term; 4: the
+ * cracks' tips; 5: the drifts' carries; 6: the bodies' contact episodes */
+#define SB_STATE_VERSION 6
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -257,6 +258,12 @@ static const sb_state_part sb_parts[] = {
     {{'H', 'N', 'D', 'L'}, "handles", sb_has_handles, sb_handles_save, NULL, sb_handles_load},
     {{'C', 'O', 'L', 'L'}, "colliders", sb_has_colliders, sb_colliders_save, NULL, sb_colliders_load},
     {{'I', 'M', 'P', 'S'}, "contact impulses", sb_has_impulses, sb_contact_save, NULL, sb_contact_load},
+    {{'B', 'O', 'D', 'Y'},
+     "contact episodes",
+     sb_contact_has_bodies,
+     sb_contact_bodies_save,
+     NULL,
+     sb_contact_bodies_load},
     {{'E', 'X', 'T', 'F'}, "external forces", sb_has_external, sb_external_save, NULL, sb_external_load},
     {{'V', 'B', 'D', 'V'}, "vbd's last velocities", sb_has_vbd, sb_vbd_save, NULL, sb_vbd_load},
     {{'I', 'M', 'P', 'G'}, "implicit guess", sb_has_implicit_fast, sb_implicit_fast_save, NULL, sb_implicit_fast_load},
