@@ -112,7 +112,7 @@ static void fast_pass(const sb_model* m, int threads, const sb_real* x4, const s
     size_t n = sb_model_vertex_count(m);
     if (out4) memset(out4, 0, 4 * n * sizeof *out4);
     if (blocks) memset(blocks, 0, SB_BLOCK_STRIDE * n * sizeof *blocks);
-    pass_job job = {s, {{x4, p4, out4}, 1, (sb_real)DAMPING_WEIGHT, blocks}};
+    pass_job job = {s, {{x4, s->carry4, p4, out4}, 1, (sb_real)DAMPING_WEIGHT, blocks}}; /* zero carries */
     sb_team_run(s->team, sb_team_size(s->team), pass_worker, &job);
     sb_solver_destroy(s);
 }

@@ -3,6 +3,7 @@
 #ifndef SB_FAST_BLOCK_H
 #define SB_FAST_BLOCK_H
 
+#include "kernels/forces/fast_kernels.h"
 #include "kernels/forces/fast_model.h"
 #include "kernels/runtime/wide.h"
 #include "common/geometry.h"
@@ -15,6 +16,53 @@ static inline uint32_t sb_block_step(bool serial) { return serial ? 1u : SB_WIDT
 /* Real elements in the block starting at s. */
 static inline int sb_block_count(uint32_t s, uint32_t end, uint32_t step) {
     return (int)(end - s < step ? end - s : step);
+}
+
+/* An element's vertices as its kernel reads them. In float a position is
+ * 24 bits, and the compensated drifts keep what its rounding left out in a
+ * carry (kernels/state/vertex_state.h); a force evaluated at the rounded
+ * positions carries their noise, which heats an undamped body (+46 %
+ * energy over 4 × 10⁵ Verlet steps, tests/test_long_run_energy.c, against
+ * +0.03 % with the carries). So in float each element is placed about its
+ * first vertex x_0: vertex c at (x_c − x_0) + (carry_c − carry_0), where
+ * the first difference is exact or rounded to the element's size, not to
+ * the coordinates', and the carries add back the rest; vertex 0 sits at
+ * the origin. The force formulas depend only on differences of positions,
+ * so the translation changes nothing else. In a double build there are no
+ * carries and each vertex is x_c itself, as before. */
+typedef struct sb_worigin {
+    sb_wvec3 x, carry; /* vertex 0's position and carry (float) */
+} sb_worigin;
+
+/* Vertex 0 of each lane's element, which sets *origin. */
+static inline sb_wvec3 sb_wv_origin_at(const sb_fast_frame* fr, const uint32_t* id, sb_worigin* origin) {
+    sb_wvec3 x = sb_wv_load4_at(fr->positions4, id);
+#if SB_DOUBLE
+    (void)origin;
+    return x;
+#else
+    *origin = (sb_worigin){x, sb_wv_load4_at(fr->carries4, id)};
+    const sb_wide zero = sb_w_set(0);
+    return (sb_wvec3){zero, zero, zero};
+#endif
+}
+
+/* Another vertex of each lane's element, about its origin. */
+static inline sb_wvec3 sb_wv_vertex_at(const sb_fast_frame* fr, const uint32_t* id, const sb_worigin* origin) {
+    sb_wvec3 x = sb_wv_load4_at(fr->positions4, id);
+#if SB_DOUBLE
+    (void)origin;
+    return x;
+#else
+    return sb_wv_add(sb_wv_sub(x, origin->x), sb_wv_sub(sb_wv_load4_at(fr->carries4, id), origin->carry));
+#endif
+}
+
+/* The scalar kernels' (in double) position of vertex v, component k:
+ * x + carry, exact in double. */
+static inline double sb_fast_position(const sb_fast_frame* fr, uint32_t v, int k) {
+    size_t at = 4 * (size_t)v + (size_t)k;
+    return SB_DOUBLE ? (double)fr->positions4[at] : (double)fr->positions4[at] + (double)fr->carries4[at];
 }
 
 /* Whether a lane's squared length is at or past the margin of its break

@@ -13,7 +13,9 @@ int sb_fast_bonds(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begi
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
         sb_windex i = sb_w_index(m->bond_i + s), j = sb_w_index(m->bond_j + s);
-        sb_wvec3 d = sb_wv_sub(sb_wv_load4(fr->positions4, j), sb_wv_load4(fr->positions4, i));
+        sb_worigin origin;
+        sb_wvec3 xi = sb_wv_origin_at(fr, m->bond_i + s, &origin);
+        sb_wvec3 d = sb_wv_sub(sb_wv_vertex_at(fr, m->bond_j + s, &origin), xi);
         sb_wide squared = sb_wv_dot(d, d), inv_r = sb_w_rsqrt(squared);
         sb_wide r = sb_w_mul(squared, inv_r), r0 = sb_w_load(m->bond_r0 + s);
         collapsed |= sb_w_any(sb_w_less(r, sb_w_mul(ratio, r0)), count);

@@ -106,6 +106,7 @@ static inline __attribute__((always_inline)) void sb_fast_owned_bond(const sb_fa
 typedef struct sb_wwing {
     sb_wvec3 p[3], normal;
     sb_wide length[3], normal_sq, inverse_normal_sq;
+    sb_worigin origin; /* p[0]'s (fast_block.h): where the fourth vertices are placed */
 } sb_wwing;
 
 /* Per lane a[c] for the edge c whose field is c + 1 (any of them for 0). */
@@ -131,7 +132,7 @@ static inline bool sb_fast_carried_hinge(const sb_fast_model* m, const sb_fast_f
     sb_wvec3 unit = sb_wv_pick3(field, t->unit[0], t->unit[1], t->unit[2]);
     sb_wide length = sb_w_pick3(field, w->length[0], w->length[1], w->length[2]);
     sb_windex other = sb_w_index(m->tri_hinge_other[j] + s);
-    sb_wvec3 o1 = sb_wv_load4(fr->positions4, other);
+    sb_wvec3 o1 = sb_wv_vertex_at(fr, m->tri_hinge_other[j] + s, &w->origin);
     sb_wvec3 n1 = sb_wv_cross(sb_wv_sub(o1, e1), sb_wv_sub(o1, e0));
     sb_wide n1_sq = sb_wv_dot(n1, n1);
     sb_wide sine = sb_wv_dot(sb_wv_cross(w->normal, n1), unit);
@@ -207,7 +208,9 @@ static inline __attribute__((always_inline)) int sb_fast_corners_loop(const sb_f
         sb_fast_corners_prefetch(m, s + SB_PREFETCH_SLOTS);
         sb_wwing wing;
 #pragma GCC unroll 3
-        for (int c = 0; c < 3; c++) wing.p[c] = sb_wv_load4_at(fr->positions4, m->tri_v[c] + s);
+        for (int c = 0; c < 3; c++)
+            wing.p[c] = c == 0 ? sb_wv_origin_at(fr, m->tri_v[c] + s, &wing.origin)
+                               : sb_wv_vertex_at(fr, m->tri_v[c] + s, &wing.origin);
         sb_wtriangle t;
         sb_wfused fused;
         sb_wvec3 edge[3];

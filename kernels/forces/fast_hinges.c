@@ -21,9 +21,11 @@ int sb_fast_hinges(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t beg
         int count = sb_block_count(s, end, step);
         sb_windex v[4];
         sb_wvec3 p[4]; /* e0, e1, o0, o1 */
+        sb_worigin origin;
         for (int a = 0; a < 4; a++) {
             v[a] = sb_w_index(m->hinge_v[a] + s);
-            p[a] = sb_wv_load4(fr->positions4, v[a]);
+            p[a] = a == 0 ? sb_wv_origin_at(fr, m->hinge_v[a] + s, &origin)
+                          : sb_wv_vertex_at(fr, m->hinge_v[a] + s, &origin);
         }
         sb_wvec3 edge = sb_wv_sub(p[1], p[0]);
         sb_wvec3 n0 = sb_wv_cross(sb_wv_sub(p[2], p[0]), sb_wv_sub(p[2], p[1]));

@@ -15,9 +15,13 @@
 #include "kernels/runtime/team.h"
 
 /* What the kernels read and write: positions, velocities (for damping) and
- * forces, packed x y z w per vertex (see kernels/runtime/wide.h). */
+ * forces, packed x y z w per vertex (see kernels/runtime/wide.h). carries4
+ * holds the compensated drifts' carries, packed alike (zero in a double
+ * build): the force kernels evaluate at positions + carries, as the
+ * reference does (kernels/forces/fast_block.h, sb_wv_vertex_at). */
 typedef struct sb_fast_frame {
     const sb_real* positions4;
+    const sb_real* carries4;
     const sb_real* velocities4;
     sb_real* forces4;
 } sb_fast_frame;

@@ -17,7 +17,7 @@ static bool sb_membrane_slot(const sb_fast_model* m, const sb_fast_frame* fr, ui
     if (m->membrane_mu[s] == 0.0 && m->membrane_lambda[s] == 0.0) return false;
     for (int c = 0; c < 3; c++) {
         v[c] = m->membrane_v[c][s];
-        for (int k = 0; k < 3; k++) p[c][k] = fr->positions4[4 * (size_t)v[c] + k];
+        for (int k = 0; k < 3; k++) p[c][k] = sb_fast_position(fr, v[c], k);
     }
     for (int k = 0; k < 4; k++) dm_inv[k] = m->membrane_dm_inv[k][s];
     return true;

@@ -20,7 +20,7 @@ static int sb_fast_tet_at(const sb_fast_model* m, const sb_fast_frame* fr, uint3
     int nodes = m->tet_nodes[s];
     for (int c = 0; c < nodes; c++) {
         v[c] = m->tet_v[c][s];
-        for (int k = 0; k < 3; k++) p[c][k] = fr->positions4[4 * (size_t)v[c] + k];
+        for (int k = 0; k < 3; k++) p[c][k] = sb_fast_position(fr, v[c], k);
     }
     for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][s];
     *mat = (sb_tet_material){dm_inv, m->tet_volume[s], m->tet_mu[s], m->tet_lambda[s]};

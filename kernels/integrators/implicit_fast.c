@@ -364,7 +364,7 @@ static const sb_fast_kernel sb_hessian_kernels[5] = {sb_fast_bonds_hessian, sb_f
                                                      sb_fast_membranes_hessian};
 
 static sb_hessian_frame sb_jacobian_frame(const sb_fast_newton* w, const sb_real* p, sb_real* out) {
-    return (sb_hessian_frame){.base = {w->s->positions4, p, out},
+    return (sb_hessian_frame){.base = {w->s->positions4, w->s->carry4, p, out},
                               .scale = (sb_real)(w->dt * w->dt),
                               .damping = (sb_real)(1.0 / w->dt),
                               .blocks = w->im->blocks};

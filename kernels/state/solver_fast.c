@@ -169,7 +169,7 @@ void sb_fast_element_passes(const sb_worker* w, const sb_solver* s, const sb_fas
 
 static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_partial_layout* p, sb_pass_flags* flags) {
     const sb_fast_model* f = s->fast;
-    sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
+    sb_fast_frame frame = {s->positions4, s->carry4, s->velocities4, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, flags);
     if (f->has_corners || f->fused_bonds || f->fused_hinges)
         sb_group_pass(w, f, &f->triangles, sb_fast_corners, 5, &frame, p->triangles, flags);

@@ -31,7 +31,9 @@ const sb_real* sb_packed_positions(sb_solver* solver);
  * energy over 4 × 10⁵ Verlet steps at half the stable step for the sheet of
  * tests/test_long_run_energy.c); so the drift keeps what the rounding left
  * out in *carry and adds it to the next step's Δ. The position stays the
- * one the kernels read; the carry is at most half its last place. In a
+ * one contact, handles and the output read; the force kernels add the
+ * carry (the reference below, the fast kernels in
+ * kernels/forces/fast_block.h); it is at most half its last place. In a
  * double build the carry stays zero and the sum is x + Δ as before. */
 static inline sb_real sb_compensated_add(sb_real x, sb_real d, sb_real* carry) {
     double sum = (double)x + (double)d + (double)*carry;
