@@ -379,7 +379,8 @@ sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_bre
     }
     if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
     if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
-        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b)) {
+        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b) ||
+        (b->cutting && !sb_cutting_room(b->cutting, b->live.vertex_count))) {
         sb_breakage_destroy(b);
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
     }
@@ -802,8 +803,16 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     return SB_OK;
 }
 
+/* The begin stage: the blades' sweep starts from the vertices' positions now. */
+static void sb_breakage_begin(sb_solver* s, double t0, double dt) {
+    (void)t0, (void)dt;
+    sb_cutting* cutting = s->breakage->cutting;
+    if (cutting) sb_cutting_start(cutting, sb_packed_positions(s), s->model->vertex_count);
+}
+
 void sb_breakage_subscribe(sb_solver* s) {
-    if (s->breakage) sb_add_feature(s, (sb_feature){.name = "breakage", .accept = sb_breakage_accept});
+    if (s->breakage)
+        sb_add_feature(s, (sb_feature){.name = "breakage", .begin = sb_breakage_begin, .accept = sb_breakage_accept});
 }
 
 /* ---- the saved state (kernels/solver/solver_state.c) ---------------------------- */
