@@ -19,7 +19,7 @@ void sb_torn_surface_free(sb_torn_surface* s) {
 const sb_mesh* sb_torn_surface_update(sb_torn_surface* s, const sb_solver* solver, const sb_mesh* whole,
                                       double* positions) {
     if (!s->tears) return whole;
-    uint32_t count = 0, triangles = sb_model_triangle_count(sb_solver_model(solver));
+    uint32_t count = 0, triangles = sb_solver_triangle_count(solver);
     for (uint32_t t = 0; t < triangles; t++)
         if (sb_solver_triangle_alive(solver, t)) sb_solver_triangle(solver, t, s->mesh.triangles + 3 * (size_t)count++);
     s->mesh.triangle_count = count;

@@ -127,14 +127,15 @@ static void sb_volume_cubic(const sb_moving* e, const sb_moving* s, double k[4])
 static double sb_cubic(const double k[4], double tau) { return ((k[3] * tau + k[2]) * tau + k[1]) * tau + k[0]; }
 
 /* Whether the segments e and s, coplanar at tau, meet there: their closest
- * points lie within both. Parallel ones do not cross. */
-static bool sb_meet_at(const sb_moving* e, const sb_moving* s, double tau) {
+ * points lie within both (*along: where along s). Parallel ones do not cross. */
+static bool sb_meet_at(const sb_moving* e, const sb_moving* s, double tau, double* along) {
     sb_vec3 a = sb_at(e->p, e->dp, tau), u = sb_v3_sub(sb_at(e->q, e->dq, tau), a);
     sb_vec3 x = sb_at(s->p, s->dp, tau), w = sb_v3_sub(sb_at(s->q, s->dq, tau), x), r = sb_v3_sub(x, a);
     double uu = sb_v3_dot(u, u), ww = sb_v3_dot(w, w), uw = sb_v3_dot(u, w), ur = sb_v3_dot(u, r), wr = sb_v3_dot(w, r);
     double det = uu * ww - uw * uw;
     if (!(det > 1e-12 * uu * ww)) return false;
     double along_edge = (ur * ww - wr * uw) / det, along_bond = (ur * uw - wr * uu) / det;
+    *along = along_bond;
     return along_edge >= 0.0 && along_edge <= 1.0 && along_bond >= 0.0 && along_bond <= 1.0;
 }
 
@@ -177,8 +178,9 @@ static int sb_monotone_ends(const double k[4], double ends[4]) {
     return count;
 }
 
-/* Whether the moving edge and bond meet during the step. */
-static bool sb_sweeps_meet(const sb_moving* edge, const sb_moving* bond) {
+/* Whether the moving edge and bond meet during the step (first), and where
+ * along the bond (*along, a fraction from its first end). */
+static bool sb_sweeps_meet(const sb_moving* edge, const sb_moving* bond, double* along) {
     double k[4], ends[4];
     sb_volume_cubic(edge, bond, k);
     if (k[0] == 0.0 && k[1] == 0.0 && k[2] == 0.0 && k[3] == 0.0) return false; /* coplanar throughout: not across */
@@ -186,8 +188,8 @@ static bool sb_sweeps_meet(const sb_moving* edge, const sb_moving* bond) {
     for (int i = 0; i + 1 < count; i++) {
         double lo = sb_cubic(k, ends[i]), hi = sb_cubic(k, ends[i + 1]);
         if ((lo > 0.0 && hi > 0.0) || (lo < 0.0 && hi < 0.0)) continue;
-        if (sb_meet_at(edge, bond, lo == 0.0 ? ends[i] : hi == 0.0 ? ends[i + 1] : sb_bisect(k, ends[i], ends[i + 1])))
-            return true;
+        double tau = lo == 0.0 ? ends[i] : hi == 0.0 ? ends[i + 1] : sb_bisect(k, ends[i], ends[i + 1]);
+        if (sb_meet_at(edge, bond, tau, along)) return true;
     }
     return false;
 }
@@ -220,8 +222,8 @@ void sb_cutting_start(sb_cutting* c, const sb_real* p, uint32_t vertex_count) {
     memcpy(c->start, p, 4 * (size_t)vertex_count * sizeof *c->start);
 }
 
-uint32_t sb_cutting_pass(const sb_cutting* c, const sb_model* m, const sb_real* p, const uint8_t* broken, double t0,
-                         double t1, void (*sever)(void* user, uint32_t bond), void* user) {
+uint32_t sb_cutting_pass(const sb_cutting* c, const sb_model* m, const sb_real* p, const uint8_t* skip, double t0,
+                         double t1, void (*meet)(void* user, uint32_t bond, double along), void* user) {
     uint32_t severed = 0;
     for (uint32_t k = 0; k < c->count; k++) {
         double ends[4][3], lo[3], hi[3];
@@ -233,14 +235,15 @@ uint32_t sb_cutting_pass(const sb_cutting* c, const sb_model* m, const sb_real* 
         sb_moving edge = {sb_v3(ends[0]), sb_v3(ends[1]), sb_v3_sub(sb_v3(ends[2]), sb_v3(ends[0])),
                           sb_v3_sub(sb_v3(ends[3]), sb_v3(ends[1]))};
         for (uint32_t e = 0; e < m->bond_count; e++) {
-            if (broken[e]) continue;
+            if (skip[e]) continue;
             uint32_t i = m->bond_i[e], j = m->bond_j[e];
             const sb_real* x[4] = {c->start + 4 * (size_t)i, c->start + 4 * (size_t)j, p + 4 * (size_t)i,
                                    p + 4 * (size_t)j};
             if (sb_box_apart(x, lo, hi)) continue;
             sb_moving bond = sb_bond_motion(c->start, p, i, j);
-            if (!sb_sweeps_meet(&edge, &bond)) continue;
-            sever(user, e);
+            double along;
+            if (!sb_sweeps_meet(&edge, &bond, &along)) continue;
+            meet(user, e, along);
             severed++;
         }
     }
