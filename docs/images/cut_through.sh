@@ -1,7 +1,7 @@
 #!/bin/sh
 # Renders docs/images/cut_through.png: the hanging sheet of
 # scenes/blade_cut.yaml cut through its triangles (cut_through: true) by a
-# blade carried up it at 30 degrees to the mesh's columns, at t = 0.55 s. The
+# blade carried up it at 30 degrees to the mesh's columns, at t = 0.8 s. The
 # two halves hang apart along a straight incision, the blade's line, not
 # the zigzag of the mesh's edges that severing bonds leaves
 # (docs/images/blade_cut.png). The step is a quarter of blade_cut.yaml's:
@@ -29,7 +29,7 @@ kernels: reference
 integrator: verlet
 dt: 0.00005
 YAML
-docs/images/render_frame.sh cut_through "$scene" 0.55 480 400 <<'POV'
+docs/images/render_frame.sh cut_through "$scene" 0.8 480 400 <<'POV'
 light_source { <-2, 4, 2> color rgb <0.5, 0.5, 0.5> }
 POV
 rm -f "$scene"

@@ -16,7 +16,13 @@
  * Each accepted step, the blades' edges are swept against the bonds
  * (kernels/interaction/cutting.c, continuous in time) and each crossing,
  * where along the bond the edge met it (fraction f from its first end),
- *  - within SB_CUT_SNAP of an end puts that end on the cut (no sliver);
+ *  - on a bond with an end already on the cut, past its middle, puts the
+ *    other end on the cut: the blade's path holds two points of the bond,
+ *    so it runs along it (refining there, as the tissue moves the blade
+ *    across it again and again, would make ever shorter edges); nearer, it
+ *    is no crossing;
+ *  - within SB_CUT_SNAP of the mean bond length of an end puts that end on
+ *    the cut (no sliver);
  *  - else refines the bond: a vertex P on it at f, on the cut. P takes a
  *    share w of the two ends' mass in the lever ratio, (1 − f) w from the
  *    first end and f w from the second, w a quarter of theirs, at most a
@@ -62,15 +68,16 @@
 #include <string.h>
 
 #define SB_NONE UINT32_MAX
-/* A crossing this close to a bond's end (a fraction of the bond) puts the
- * end on the cut instead of a new vertex: at most 2 % of a bond off the
- * blade's line, and no sliver. */
+/* A crossing this close to a bond's end (a fraction of the model's mean
+ * bond rest length) puts the end on the cut instead of a new vertex: the
+ * cut at most 2 % of a bond off the blade's line, and no sliver. */
 #define SB_CUT_SNAP 0.02
 
 struct sb_cut_mesh {
     sb_model* live;
     uint32_t vertices, vertex_capacity; /* in use, reserved (live->vertex_count) */
     uint32_t bond_capacity, triangle_capacity, refused;
+    double snap;            /* m: SB_CUT_SNAP of the model's mean bond rest length */
     uint8_t *on_cut, *skip; /* per vertex: on the cut; per bond: cut, or severed */
     uint32_t* side;         /* per bond: for a cut one, the triangle it belongs to */
     double* block;          /* the element arrays with room */
@@ -146,6 +153,9 @@ sb_cut_mesh* sb_cut_mesh_create(sb_model* live, uint32_t model_vertices, bool* o
         return NULL;
     }
     for (size_t e = 0; e < nb; e++) c->side[e] = SB_NONE;
+    double sum = 0.0;
+    for (uint32_t e = 0; e < live->bond_count; e++) sum += live->bond_r0[e];
+    c->snap = live->bond_count ? SB_CUT_SNAP * sum / live->bond_count : 0.0;
     return c;
 }
 
@@ -191,7 +201,8 @@ static void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint
     sb_vertex_arrays(s, rest, state);
     for (int a = 0; a < 6; a++) rest[a][w] = (1.0 - f) * rest[a][u] + f * rest[a][v];
     for (int a = 0; a < 12; a++) state[a][w] = (sb_real)((1.0 - f) * state[a][u] + f * state[a][v]);
-    ((sb_model*)s->model)->fixed[w] = 0;
+    uint8_t* fixed = ((sb_model*)s->model)->fixed;
+    fixed[w] = u == v && fixed[u]; /* a copy of a fixed vertex is fixed; a vertex on a bond is free */
 }
 
 /* Moves `share` of vertex u's mass (and the same part of its force before the
@@ -332,10 +343,16 @@ void sb_cut_mesh_cross(sb_solver* s, sb_cut_mesh* c, uint32_t bond, double f, do
     if (!edge) { /* a bond on no triangle's edge (a spring across cells) is severed */
         m->bond_k[bond] = m->spring_k[bond] = m->spring_damping[bond] = m->bond_r0[bond] = 0.0;
         c->skip[bond] = 1;
-    } else if (f < SB_CUT_SNAP)
-        c->on_cut[m->bond_i[bond]] = 1;
-    else if (f > 1.0 - SB_CUT_SNAP)
-        c->on_cut[m->bond_j[bond]] = 1;
+    } else if (c->on_cut[m->bond_i[bond]] || c->on_cut[m->bond_j[bond]]) {
+        /* the blade met the bond at one of its ends and at a second point past
+         * its middle: it runs along it, and the far end is on the cut (nearer,
+         * it is the end's own crossing: an end snapped onto the cut lies a
+         * little off the blade's line, which meets its bonds near it) */
+        uint32_t far = c->on_cut[m->bond_i[bond]] ? m->bond_j[bond] : m->bond_i[bond];
+        double from_cut = (far == m->bond_j[bond] ? f : 1.0 - f) * m->bond_r0[bond];
+        if (from_cut >= 0.5 * m->bond_r0[bond]) c->on_cut[far] = 1;
+    } else if (f * m->bond_r0[bond] < c->snap || (1.0 - f) * m->bond_r0[bond] < c->snap)
+        c->on_cut[f < 0.5 ? m->bond_i[bond] : m->bond_j[bond]] = 1;
     else if (sb_fits(c))
         sb_refine(s, c, bond, f, before);
     else
