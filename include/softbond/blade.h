@@ -9,7 +9,9 @@
  * damping any more, the triangles and hinges on its edge with it, the
  * breakage callback, the surface split where the cut runs, as tearing
  * splits it). A blade held still cuts tissue pulled across it, and nothing
- * in tissue at rest. Bonds are looked at in bond order, blades in their
+ * in tissue at rest. With sb_solver_def.cut_through the blades split the
+ * triangles they pass through along their path instead (the incision lies
+ * where they went). Bonds are looked at in bond order, blades in their
  * order: the same cuts for any thread count. */
 #ifndef SOFTBOND_BLADE_H
 #define SOFTBOND_BLADE_H

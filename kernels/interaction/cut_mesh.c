@@ -431,9 +431,10 @@ static bool sb_edge_cut(const sb_cut_mesh* c, uint32_t v, uint32_t x) {
     return false;
 }
 
-/* v's triangles into c->star and their fans into c->fan (0, 1, … in the
- * order of their first triangle), joined through edges not cut. Returns the fans. */
-static uint32_t sb_fans(sb_cut_mesh* c, uint32_t v) {
+/* v's triangles into c->star (*degree of them) and their fans into c->fan
+ * (0, 1, … in the order of their first triangle), joined through edges not
+ * cut. Returns the fans. */
+static uint32_t sb_fans(sb_cut_mesh* c, uint32_t v, uint32_t* degree) {
     const sb_model* m = c->live;
     uint32_t d = 0, fans = 0;
     for (uint32_t t = 0; t < m->triangle_count; t++)
@@ -454,6 +455,7 @@ static uint32_t sb_fans(sb_cut_mesh* c, uint32_t v) {
         if (c->fan[root] == SB_NONE) c->fan[root] = fans++;
         c->fan[i] = c->fan[root];
     }
+    *degree = d;
     return d ? fans : 0;
 }
 
@@ -524,8 +526,7 @@ void sb_cut_mesh_separate(sb_solver* s, sb_cut_mesh* c, double* before) {
     uint32_t vertices = c->vertices;
     for (uint32_t v = 0; v < vertices; v++) {
         if (!c->on_cut[v]) continue;
-        uint32_t fans = sb_fans(c, v), d = 0;
-        for (uint32_t t = 0; t < c->live->triangle_count; t++) d += sb_corner(c->live, t, v) >= 0;
+        uint32_t d, fans = sb_fans(c, v, &d);
         if (fans > 1) sb_split(s, c, v, fans, d, before);
     }
 }
