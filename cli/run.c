@@ -116,7 +116,9 @@ static void set_export(run_job* job) {
                            sizeof bad);
     sb_simulation_up(&job->sim, job->export.up);
     const char* vtu = sb_scene_string(&job->sim.scene, SB_KEY_OUTPUT_VTU);
-    job->export.vtu = strcmp(vtu, "zlib") == 0 ? SB_VTK_ZLIB : strcmp(vtu, "binary") == 0 ? SB_VTK_BINARY : SB_VTK_ASCII;
+    job->export.vtu = strcmp(vtu, "zlib") == 0     ? SB_VTK_ZLIB
+                      : strcmp(vtu, "binary") == 0 ? SB_VTK_BINARY
+                                                   : SB_VTK_ASCII;
 }
 
 static bool soft(const sb_scene_handle* handle) { return handle->def.stiffness > 0.0; }
@@ -172,8 +174,9 @@ static sb_status resume(run_job* job, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "%s: missing or shorter than the checkpoint's %llu bytes", log,
                             (unsigned long long)job->resumed.log_bytes);
     if (!log_rows_match(log, job->resumed.log_bytes, job->resumed.frames))
-        return sb_error_set(err, SB_ERR_INVALID, "%s: its first %llu bytes are not a header and %llu rows (the checkpoint's)",
-                            log, (unsigned long long)job->resumed.log_bytes, (unsigned long long)job->resumed.frames);
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "%s: its first %llu bytes are not a header and %llu rows (the checkpoint's)", log,
+                            (unsigned long long)job->resumed.log_bytes, (unsigned long long)job->resumed.frames);
     /* the solver's clock: as many steps of dt as its time holds */
     double dt = sb_scene_number(&job->sim.scene, SB_KEY_DT), now = sb_solver_time(job->sim.solver);
     uint64_t steps = sb_solver_step_count(job->sim.solver);
@@ -259,9 +262,9 @@ static sb_status write_index(run_job* job, bool last, sb_error* err) {
 static sb_status write_frame(run_job* job, sb_error* err) {
     size_t n = 3 * (size_t)sb_solver_vertex_capacity(job->sim.solver);
     const sb_mesh* surface = sb_torn_surface_update(&job->surface, job->sim.solver, &job->sim.mesh, job->buffers);
-    sb_vtk_frame frame = {surface,          job->sim.model,       job->buffers,
-                          job->buffers + n, job->buffers + 2 * n, job->sim.solver,
-                          job->export.vtu};
+    if (!surface) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the cut surface's triangles");
+    sb_vtk_frame frame = {surface,         job->sim.model, job->buffers, job->buffers + n, job->buffers + 2 * n,
+                          job->sim.solver, job->export.vtu};
     sb_solver_get_positions(job->sim.solver, job->buffers);
     sb_solver_get_velocities(job->sim.solver, job->buffers + n);
     sb_solver_get_forces(job->sim.solver, job->buffers + 2 * n);
@@ -396,8 +399,7 @@ static sb_status open_output(run_job* job, sb_error* err) {
 /* DIR/run.yaml: the scene as run and how (run_record.h); rewritten by --resume. */
 static sb_status write_record(run_job* job, sb_error* err) {
     int threads = job->sim.def.runtime.threads;
-    sb_run_record record = {&job->sim.scene, threads > 0 ? threads : sb_runtime_threads(0, NULL), job->argc,
-                            job->argv};
+    sb_run_record record = {&job->sim.scene, threads > 0 ? threads : sb_runtime_threads(0, NULL), job->argc, job->argv};
     return sb_run_record_write(sb_output_dir_path(&job->out, "run.yaml"), &record, err);
 }
 
@@ -449,8 +451,9 @@ static int execute(run_job* job, sb_error* err) {
 }
 
 int sb_cli_run(int argc, char** argv) {
-    static const char* const accepted[] = {"--output",      "--threads",          "--budget-ms", "--max-error",
-                                           "--no-realtime", "--checkpoint-every", "--resume",    "--end-positions", NULL};
+    static const char* const accepted[] = {"--output",    "--threads",       "--budget-ms",
+                                           "--max-error", "--no-realtime",   "--checkpoint-every",
+                                           "--resume",    "--end-positions", NULL};
     run_job job = {.argc = argc, .argv = argv};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

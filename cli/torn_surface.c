@@ -7,7 +7,8 @@ sb_status sb_torn_surface_init(sb_torn_surface* s, const sb_solver* solver, sb_e
     const sb_model* model = sb_solver_model(solver);
     *s = (sb_torn_surface){.tears = sb_solver_vertex_capacity(solver) > sb_model_vertex_count(model)};
     if (!s->tears) return SB_OK;
-    s->mesh.triangles = malloc((3 * (size_t)sb_model_triangle_count(model) + 1) * sizeof *s->mesh.triangles);
+    s->room = sb_model_triangle_count(model);
+    s->mesh.triangles = malloc((3 * (size_t)s->room + 1) * sizeof *s->mesh.triangles);
     return s->mesh.triangles ? SB_OK : sb_error_set(err, SB_ERR_NOMEM, "out of memory for the torn surface");
 }
 
@@ -19,7 +20,13 @@ void sb_torn_surface_free(sb_torn_surface* s) {
 const sb_mesh* sb_torn_surface_update(sb_torn_surface* s, const sb_solver* solver, const sb_mesh* whole,
                                       double* positions) {
     if (!s->tears) return whole;
-    uint32_t count = 0, triangles = sb_model_triangle_count(sb_solver_model(solver));
+    uint32_t count = 0, triangles = sb_solver_triangle_count(solver);
+    if (triangles > s->room) {
+        uint32_t* grown = realloc(s->mesh.triangles, (3 * (size_t)triangles + 1) * sizeof *grown);
+        if (!grown) return NULL;
+        s->mesh.triangles = grown;
+        s->room = triangles;
+    }
     for (uint32_t t = 0; t < triangles; t++)
         if (sb_solver_triangle_alive(solver, t)) sb_solver_triangle(solver, t, s->mesh.triangles + 3 * (size_t)count++);
     s->mesh.triangle_count = count;

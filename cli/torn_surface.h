@@ -9,7 +9,8 @@
 
 typedef struct sb_torn_surface {
     sb_mesh mesh;
-    bool tears; /* the solver has spare vertices */
+    bool tears;    /* the solver has spare vertices */
+    uint32_t room; /* the triangles mesh.triangles holds (a cut through triangles adds some) */
 } sb_torn_surface;
 
 /* Room for the solver's triangles, when it tears. */
@@ -17,7 +18,8 @@ sb_status sb_torn_surface_init(sb_torn_surface* surface, const sb_solver* solver
 void sb_torn_surface_free(sb_torn_surface* surface);
 
 /* The surface to write now, at `positions` (3 per vertex): `whole` for a
- * solver that does not tear, the torn surface otherwise. */
+ * solver that does not tear, the torn surface otherwise; NULL when out of
+ * memory for the triangles a cut added. */
 const sb_mesh* sb_torn_surface_update(sb_torn_surface* surface, const sb_solver* solver, const sb_mesh* whole,
                                       double* positions);
 

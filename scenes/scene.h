@@ -102,9 +102,10 @@ typedef enum sb_scene_type {
     X(TISSUE_DENSITY, "tissue.density", NUMBER, "1060", "kg/m^3",                                                      \
       "tetrahedral meshes: density, kg/m^3; when set, wins over the material's")                                       \
     X(TISSUE_DAMPING, "tissue.damping", NUMBER, "1", "1",                                                              \
-      "tetrahedral meshes: factor on the papers' damping rule sqrt(k (mi + mj)) / l0 (springs only)")                 \
+      "tetrahedral meshes: factor on the papers' damping rule sqrt(k (mi + mj)) / l0 (springs only)")                  \
     X(TISSUE_STIFFNESS_DAMPING, "tissue.stiffness_damping", NUMBER, "0", "s",                                          \
-      "tetrahedral meshes: Rayleigh's stiffness-proportional damping beta, s (a mode of frequency w: ratio beta w / 2)") \
+      "tetrahedral meshes: Rayleigh's stiffness-proportional damping beta, s (a mode of frequency w: ratio beta w / "  \
+      "2)")                                                                                                            \
     X(TISSUE_MODEL, "tissue.model", STRING, "auto", "",                                                                \
       "tetrahedral meshes: springs (Lloyd's edge springs, the papers'), corotated (linear finite elements, E and nu; " \
       "stiff in bending), corotated_quadratic (10-node finite elements, a vertex added at each edge's middle) or "     \
@@ -131,6 +132,9 @@ typedef enum sb_scene_type {
     X(BLADES, "blades", LIST, "[]", "",                                                                                \
       "edges that cut the bonds they cross as they move: a list of maps {a, b: the ends, m; path, interpolation} "     \
       "(scenes/blades.c)")                                                                                             \
+    X(CUT_THROUGH, "cut_through", BOOL, "false", "",                                                                   \
+      "true: the blades split the triangles they pass through along their path (needs kernels: reference, an "         \
+      "explicit integrator, no break limits, no contact); false: they cut the bonds they cross")                       \
     X(TEARING_MAX_SPLITS, "tearing.max_splits", INTEGER, "0", "",                                                      \
       "vertex copies tearing may make over the run (spare vertices reserved); 0 = default, -1 = no splitting")         \
     X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \

@@ -341,6 +341,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.max_splits = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS);
     def.max_splits_per_step = (int32_t)sb_scene_integer(scene, SB_KEY_TEARING_MAX_SPLITS_PER_STEP);
     def.shatter = sb_scene_bool(scene, SB_KEY_TEARING_SHATTER);
+    def.cut_through = sb_scene_bool(scene, SB_KEY_CUT_THROUGH);
     def.vbd_iterations = (int)sb_scene_integer(scene, SB_KEY_VBD_ITERATIONS);
     def.vbd_chebyshev_rho = sb_scene_number(scene, SB_KEY_VBD_CHEBYSHEV_RHO);
     def.vbd_relaxation = sb_scene_number(scene, SB_KEY_VBD_RELAXATION);

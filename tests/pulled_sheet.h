@@ -67,7 +67,7 @@ static inline uint32_t ps_find(uint32_t* parent, uint32_t i) {
 
 /* parent[] of the vertices joined by the live triangles. */
 static inline uint32_t* ps_components(const sb_solver* s) {
-    uint32_t n = sb_solver_vertex_count(s), triangles = sb_model_triangle_count(sb_solver_model(s));
+    uint32_t n = sb_solver_vertex_count(s), triangles = sb_solver_triangle_count(s);
     uint32_t* parent = malloc(n * sizeof *parent);
     for (uint32_t i = 0; i < n; i++) parent[i] = i;
     for (uint32_t t = 0; t < triangles; t++) {

@@ -2,14 +2,17 @@
  * Blades: cutting. A blade is a kinematic edge, the segment
  * between two points, that moves along a keyframed path (sb_keyframe and
  * sb_interpolation, as a collider's; the pose turns about the edge's
- * midpoint). Each step it sweeps a surface, the edge at the step's start to
- * the edge at its end (two triangles); every bond whose segment, at the
- * step's end, crosses that surface is severed: it breaks as a bond past its
- * limits does (DESIGN.md, section Breakage: no stiffness or damping any more, the
- * triangles and hinges on its edge with it, the breakage callback, the
- * surface split where the cut runs, as tearing splits it). A blade that does
- * not move cuts nothing. Bonds are looked at in bond order, blades in
- * their order: the same cuts for any thread count. */
+ * midpoint). Over each step the edge and the tissue both move, continuously
+ * in time; every bond that meets the edge during the step is severed, so
+ * no bond slips past a blade however fast either moves: it breaks as a
+ * bond past its limits does (DESIGN.md, section Breakage: no stiffness or
+ * damping any more, the triangles and hinges on its edge with it, the
+ * breakage callback, the surface split where the cut runs, as tearing
+ * splits it). A blade held still cuts tissue pulled across it, and nothing
+ * in tissue at rest. With sb_solver_def.cut_through the blades split the
+ * triangles they pass through along their path instead (the incision lies
+ * where they went). Bonds are looked at in bond order, blades in their
+ * order: the same cuts for any thread count. */
 #ifndef SOFTBOND_BLADE_H
 #define SOFTBOND_BLADE_H
 

@@ -135,6 +135,17 @@ typedef struct sb_solver_def {
      * without break limits (max_splits' default then counts every bond). */
     const sb_blade_def* blades;
     uint32_t blade_count; /**< the entries of blades */
+    /** Cutting through triangles (docs/breakage.md, Cutting): the blades
+     * split the triangles they pass through along their path (new vertices
+     * where their edge crossed a bond, the triangles split there, the two
+     * sides separated), so the cut lies where the blades went, instead of
+     * severing the bonds they cross. Needs blades, a model with triangles
+     * and no break limits, the reference kernels, an explicit integrator
+     * (Verlet, velocity Verlet, explicit or symplectic Euler, position
+     * Verlet), no colliders and no self-contact; refused at creation
+     * otherwise. max_splits reserves the new vertices (each takes up to 4
+     * bonds and 2 triangles more). Default false. */
+    bool cut_through;
     /** implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has
      * fallen below implicit_tolerance times its first value (or to rounding
      * level), after at most implicit_newton_iterations; each linear solve is
@@ -265,6 +276,14 @@ SB_API uint32_t sb_solver_vertex_count(const sb_solver* solver);
 SB_API uint32_t sb_solver_vertex_capacity(const sb_solver* solver);
 /** The model vertex `vertex` is, or was split from. */
 SB_API uint32_t sb_solver_vertex_origin(const sb_solver* solver, uint32_t vertex);
+/** The vertices' masses now, kg, sb_solver_vertex_capacity of them (a
+ * split or a cut shares a vertex's mass among its copies). */
+SB_API void sb_solver_get_masses(const sb_solver* solver, double* out);
+/** The triangles now: the model's, then those a cut through triangles
+ * made (sb_solver_def.cut_through; the model's count otherwise). */
+SB_API uint32_t sb_solver_triangle_count(const sb_solver* solver);
+/** The bonds now: the model's, then those a cut through triangles made. */
+SB_API uint32_t sb_solver_bond_count(const sb_solver* solver);
 /** The triangle's current three vertices, in its corner order. */
 SB_API void sb_solver_triangle(const sb_solver* solver, uint32_t triangle, uint32_t vertices[3]);
 /** Whether the triangle still has all its bonds (none broken or cut). */

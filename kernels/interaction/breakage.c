@@ -104,6 +104,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
+#include "kernels/interaction/cut_mesh.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/self_contact.h"
 #include "softbond/reference.h"
@@ -168,7 +169,11 @@ struct sb_breakage {
     uint32_t* triangle_bonds; /* 3 per triangle: the bonds on its edges, UINT32_MAX for none */
     /* tearing: NULL without it */
     sb_topology* topology;
-    sb_cutting* cutting;   /* the blades; NULL without */
+    sb_cutting* cutting;      /* the blades; NULL without */
+    sb_cut_mesh* cut;         /* cutting through triangles (sb_solver_def.cut_through); NULL without */
+    uint32_t *met, met_count; /* the step's crossings with cut: bonds, and where along each (met_at) */
+    double* met_at;
+    uint32_t model_bonds, model_triangles;
     double* vertex_block;  /* live's vertex arrays, spare slots included */
     uint8_t* fixed;        /* live's */
     uint32_t* index_block; /* live's element indices */
@@ -367,6 +372,13 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
     b->forces = malloc(3 * (size_t)b->live.vertex_count * sizeof *b->forces);
     bool ok = b->forces != NULL;
     uint32_t per_step = def->max_splits_per_step > 0 ? (uint32_t)def->max_splits_per_step : SB_DEFAULT_SPLITS_PER_STEP;
+    if (ok && def->cut_through) {
+        b->cut = sb_cut_mesh_create(&b->live, m->vertex_count, &ok);
+        size_t room = (size_t)b->live.bond_count + 1; /* the model's bonds: the crossings of one step */
+        b->met = ok ? malloc(room * sizeof *b->met) : NULL;
+        b->met_at = ok ? malloc(room * sizeof *b->met_at) : NULL;
+        return ok && b->met && b->met_at;
+    }
     if (ok)
         b->topology =
             sb_topology_create(&b->live, m->vertex_count, per_step, b->broken, b->triangle_dead, b->hinge_dead, &ok);
@@ -384,8 +396,29 @@ static bool sb_correction_prepare(sb_breakage* b) {
     return b->x3 && b->v3 && b->removed_forces && b->touched && b->touched_mark;
 }
 
+/* What cutting through triangles needs (sb_solver_def.cut_through). */
+static sb_status sb_cut_through_check(const sb_model* m, const sb_solver_def* def, sb_error* err) {
+    const char* missing = def->blade_count == 0                             ? "blades"
+                          : m->triangle_count == 0                          ? "a model with triangles"
+                          : m->breakable                                    ? "a model without break limits"
+                          : def->kernels != SB_KERNELS_REFERENCE            ? "the reference kernels"
+                          : def->integrator > SB_INTEGRATOR_POSITION_VERLET ? "an explicit integrator"
+                          : def->collider_count > 0 || def->self_collision  ? "no contact"
+                          : def->max_splits < 0                             ? "max_splits >= 0"
+                                                                            : NULL;
+    if (missing)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "cut_through (cutting through triangles) needs %s; it is not built for the rest yet",
+                            missing);
+    return SB_OK;
+}
+
 sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_breakage** out, sb_error* err) {
     *out = NULL;
+    if (def->cut_through) {
+        sb_status status = sb_cut_through_check(m, def, err);
+        if (status != SB_OK) return status;
+    }
     if (!m->breakable && def->blade_count == 0) return SB_OK;
     sb_breakage* b = calloc(1, sizeof *b);
     sb_status status =
@@ -396,11 +429,14 @@ sb_status sb_breakage_create(const sb_model* m, const sb_solver_def* def, sb_bre
     }
     if (b) b->forces = malloc((3 * (size_t)m->vertex_count + 1) * sizeof *b->forces);
     if (!b || !b->forces || !sb_live_constants(b, m) || !sb_limits(b, m) || !sb_incidences(b, m) ||
-        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b)) {
+        !sb_tearing_prepare(b, m, def) || !sb_correction_prepare(b) ||
+        (b->cutting && !sb_cutting_room(b->cutting, b->live.vertex_count))) {
         sb_breakage_destroy(b);
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory preparing %u bonds for breakage", m->bond_count);
     }
     b->live.breakable = true; /* with blades too: per-slot constants in the fast model, zeroed as bonds go */
+    b->model_bonds = m->bond_count;
+    b->model_triangles = m->triangle_count;
     *out = b;
     return SB_OK;
 }
@@ -409,6 +445,9 @@ void sb_breakage_destroy(sb_breakage* b) {
     if (!b) return;
     sb_topology_destroy(b->topology);
     sb_cutting_destroy(b->cutting);
+    sb_cut_mesh_destroy(b->cut);
+    free(b->met);
+    free(b->met_at);
     void* arrays[] = {b->forces,
                       b->constants,
                       b->limited,
@@ -446,13 +485,12 @@ void sb_breakage_destroy(sb_breakage* b) {
 
 const sb_model* sb_breakage_model(const sb_breakage* b) { return &b->live; }
 uint32_t sb_breakage_count(const sb_breakage* b) { return b ? b->broken_count : 0; }
-bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) {
-    return b && bond < b->live.bond_count && b->broken[bond];
-}
+bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) { return b && bond < b->model_bonds && b->broken[bond]; }
 const sb_topology* sb_breakage_topology(const sb_breakage* b) { return b ? b->topology : NULL; }
+sb_cut_mesh* sb_breakage_cut_mesh(const sb_breakage* b) { return b ? b->cut : NULL; }
 sb_topology* sb_breakage_topology_to_load(sb_breakage* b) { return b ? b->topology : NULL; }
 bool sb_breakage_triangle_dead(const sb_breakage* b, uint32_t triangle) {
-    return b && triangle < b->live.triangle_count && b->triangle_dead[triangle];
+    return b && triangle < b->model_triangles && b->triangle_dead[triangle];
 }
 
 /* Limited bond k's squared length at the packed positions p, in double. */
@@ -722,7 +760,8 @@ static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool noti
     sb_drop_elements(s, b, bond, notify, cause);
 }
 
-static void sb_sever(void* solver, uint32_t bond) {
+static void sb_sever(void* solver, uint32_t bond, double along) {
+    (void)along;
     sb_solver* s = solver;
     sb_break_bond(s, s->breakage, bond, true, (sb_crack_cause){bond, bond});
 }
@@ -901,10 +940,37 @@ static sb_status sb_after_breaks(sb_solver* s, sb_breakage* b, bool broke, bool 
  * a blade crossed (kernels/interaction/cutting.c), splits where the surface
  * came apart, and when any of these happened evaluates the forces and
  * energies again. */
+/* A crossing of the step, when cutting through triangles. */
+static void sb_note_crossing(void* breakage, uint32_t bond, double along) {
+    sb_breakage* b = breakage;
+    b->met[b->met_count] = bond;
+    b->met_at[b->met_count++] = along;
+}
+
+/* The accept stage when cutting through triangles (kernels/interaction/cut_mesh.c):
+ * the step's crossings refine the mesh, the cut's edges and vertices come
+ * apart, and the forces and energies are evaluated again. */
+static sb_status sb_cut_accept(sb_solver* s, sb_breakage* b) {
+    b->met_count = 0;
+    sb_cutting_pass(b->cutting, &b->live, sb_packed_positions(s), sb_cut_mesh_skip(b->cut), s->time - s->step.dt,
+                    s->time, sb_note_crossing, b);
+    if (b->met_count == 0) return SB_OK;
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    for (uint32_t q = 0; q < b->met_count; q++) sb_cut_mesh_cross(s, b->cut, b->met[q], b->met_at[q], b->forces);
+    sb_cut_mesh_separate(s, b->cut, b->forces);
+    s->live_vertices = sb_cut_mesh_vertex_count(b->cut);
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s);
+    return SB_OK;
+}
+
 static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     (void)dt; /* the step's: s->step.dt */
     sb_breakage* b = s->breakage;
     if (!b) return SB_OK;
+    if (b->cut) return sb_cut_accept(s, b);
     const sb_real* p = sb_packed_positions(s);
     /* the fused step's kernels measured every bond at these positions and flag one near a limit */
     bool measured = sb_fused(s) && s->fast->limits_measured;
@@ -926,9 +992,16 @@ sb_status sb_breakage_update_contact(sb_solver* s, sb_error* err) {
     return s->breakage ? sb_self_contact_retopologize(s, s->breakage->triangle_dead, err) : SB_OK;
 }
 
+/* The begin stage: the blades' sweep starts from the vertices' positions now. */
+static void sb_breakage_begin(sb_solver* s, double t0, double dt) {
+    (void)t0, (void)dt;
+    sb_cutting* cutting = s->breakage->cutting;
+    if (cutting) sb_cutting_start(cutting, sb_packed_positions(s), s->model->vertex_count);
+}
+
 void sb_breakage_subscribe(sb_solver* s) {
     if (!s->breakage) return;
-    sb_add_feature(s, (sb_feature){.name = "breakage", .accept = sb_breakage_accept});
+    sb_add_feature(s, (sb_feature){.name = "breakage", .begin = sb_breakage_begin, .accept = sb_breakage_accept});
     sb_contact_set_dead_triangles(s, s->breakage->triangle_dead);
 }
 
@@ -938,7 +1011,7 @@ void sb_breakage_subscribe(sb_solver* s) {
  * their list and every model vertex's crack bond. */
 void sb_breakage_save(const sb_breakage* b, sb_sections_writer* w) {
     sb_sections_put(w, &b->broken_count, sizeof b->broken_count);
-    for (uint32_t e = 0; e < b->live.bond_count; e++)
+    for (uint32_t e = 0; e < b->model_bonds; e++)
         if (b->broken[e]) sb_sections_put(w, &e, sizeof e);
     sb_sections_put(w, &b->tip_count, sizeof b->tip_count);
     sb_sections_put(w, b->tips, b->tip_count * sizeof *b->tips);
@@ -979,7 +1052,7 @@ sb_status sb_breakage_check(const sb_breakage* b, sb_cursor r, sb_error* err) {
     sb_cursor_take(&r, &count, sizeof count);
     for (uint32_t q = 0; q < count; q++) {
         sb_cursor_take(&r, &bond, sizeof bond);
-        bool breakable = bond < b->live.bond_count && (b->cutting || sb_limited_index(b, bond) != UINT32_MAX);
+        bool breakable = bond < b->model_bonds && (b->cutting || sb_limited_index(b, bond) != UINT32_MAX);
         if (!breakable || (q > 0 && bond <= last))
             return sb_error_set(err, SB_ERR_PARSE, "broken bond %u is not a breakable bond of the model in order",
                                 bond);

@@ -331,6 +331,13 @@ uint32_t sb_solver_vertex_origin(const sb_solver* s, uint32_t vertex) {
     return t ? sb_topology_origin(t, vertex) : vertex;
 }
 
+void sb_solver_get_masses(const sb_solver* s, double* out) {
+    memcpy(out, s->model->mass, s->model->vertex_count * sizeof *out);
+}
+
+uint32_t sb_solver_triangle_count(const sb_solver* s) { return s->model->triangle_count; }
+uint32_t sb_solver_bond_count(const sb_solver* s) { return s->model->bond_count; }
+
 void sb_solver_triangle(const sb_solver* s, uint32_t triangle, uint32_t vertices[3]) {
     for (int c = 0; c < 3; c++) vertices[c] = triangle < s->model->triangle_count ? s->model->tri_v[c][triangle] : 0;
 }
