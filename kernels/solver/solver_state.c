@@ -50,7 +50,9 @@
 #include <string.h>
 
 #define SB_STATE_MAGIC "SBSOLVER"
-#define SB_STATE_VERSION 5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts' carries */
+#define SB_STATE_VERSION                                                                                               \
+    5 /* 2: the energies carry the corotated term; 3: and the membrane term; 4: the cracks' tips; 5: the drifts'       \
+         carries */
 
 /* A solver's clock and the scalars a step carries over. */
 static void sb_clock_save(const sb_solver* s, sb_sections_writer* w) {
@@ -330,6 +332,7 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->membrane_volume, 8 * nm);
         h = sb_hash(h, m->membrane_mu, 8 * nm);
         h = sb_hash(h, m->membrane_lambda, 8 * nm);
+        if (m->membrane_damped) h = sb_hash(h, m->membrane_beta, 8 * nm); /* as the tetrahedra's */
     }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {
