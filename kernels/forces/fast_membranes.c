@@ -67,9 +67,10 @@ int sb_fast_membranes_hessian(const sb_fast_model* m, const sb_fast_frame* base,
         uint32_t v[3];
         if (!sb_membrane_slot(m, base, s, v, p, dm_inv)) continue;
         if (!sb_membrane_stiffness(p, dm_inv, m->membrane_volume[s], m->membrane_mu[s], m->membrane_lambda[s], k))
-            continue;                                                                  /* the forces' pass reports it */
-        double weight = fr->scale * (1.0 + (double)fr->damping * m->membrane_beta[s]); /* K + damping D, D = β K */
-        if (base->velocities4) {                                                       /* the product */
+            continue; /* the forces' pass reports it */
+        /* K + damping D, D = β K */
+        double weight = fr->scale * (1.0 + (double)fr->damping * m->membrane_beta[s]);
+        if (base->velocities4) { /* the product */
             double d[9];
             for (int c = 0; c < 3; c++)
                 for (int q = 0; q < 3; q++) d[3 * c + q] = base->velocities4[4 * (size_t)v[c] + q];
