@@ -164,10 +164,6 @@ static sb_status sb_check_tet(const sb_builder* b, size_t index, sb_error* err) 
                             "tetrahedron %zu: Young's modulus and stiffness damping must be finite and >= 0, Poisson's "
                             "ratio in (-1, 0.5)",
                             index);
-    if (t->quadratic && t->stiffness_damping > 0.0)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "tetrahedron %zu: stiffness damping is built for linear elements only, not quadratic",
-                            index);
     double longest;
     double volume = sb_tet_signed_volume(b, t->v, &longest);
     if (!(fabs(volume) > 1e-12 * longest * longest * longest))

@@ -1,5 +1,5 @@
 /* sb_builder_compile's part for the membranes: each checked (indices, E ≥ 0,
- * ν in (−1, ½), thickness > 0, a proper triangle), then laid out with its
+ * ν in (−1, ½), thickness > 0, Rayleigh's β ≥ 0, a proper triangle), then laid out with its
  * rest edges in the triangle's own plane and the plane-stress constants
  * μ = E / 2(1 + ν), λ = E ν / (1 − ν²) (kernels/forces/membrane.c). */
 #include "mesh/builder_internal.h"
@@ -30,10 +30,11 @@ static sb_status sb_check_membrane(const sb_builder* b, size_t index, sb_error* 
             return sb_error_set(err, SB_ERR_INVALID, "membrane %zu: vertex %u repeated", index, d->v[a]);
     }
     if (!isfinite(d->young_modulus) || d->young_modulus < 0.0 || !(d->poisson_ratio > -1.0) ||
-        !(d->poisson_ratio < 0.5) || !isfinite(d->thickness) || !(d->thickness > 0.0))
+        !(d->poisson_ratio < 0.5) || !isfinite(d->thickness) || !(d->thickness > 0.0) ||
+        !isfinite(d->stiffness_damping) || d->stiffness_damping < 0.0)
         return sb_error_set(err, SB_ERR_INVALID,
-                            "membrane %zu: Young's modulus must be finite and >= 0, Poisson's ratio in (-1, 0.5), "
-                            "the thickness finite and > 0",
+                            "membrane %zu: Young's modulus and stiffness damping must be finite and >= 0, Poisson's "
+                            "ratio in (-1, 0.5), the thickness finite and > 0",
                             index);
     sb_vec3 e1, e2;
     double area = sb_rest_edges(b, d->v, &e1, &e2);
@@ -74,6 +75,7 @@ bool sb_fill_membranes(sb_model* m, const sb_builder* b) {
     m->membrane_volume = sb_membrane_array(count, sizeof(double), &ok);
     m->membrane_mu = sb_membrane_array(count, sizeof(double), &ok);
     m->membrane_lambda = sb_membrane_array(count, sizeof(double), &ok);
+    m->membrane_beta = sb_membrane_array(count, sizeof(double), &ok);
     if (!ok) return false;
     const sb_membrane_def* d = SB_ITEMS(b->membranes, sb_membrane_def);
     for (size_t t = 0; t < count; t++) {
@@ -86,6 +88,8 @@ bool sb_fill_membranes(sb_model* m, const sb_builder* b) {
         double e = d[t].young_modulus, nu = d[t].poisson_ratio;
         m->membrane_mu[t] = e / (2.0 * (1.0 + nu));
         m->membrane_lambda[t] = e * nu / (1.0 - nu * nu);
+        m->membrane_beta[t] = d[t].stiffness_damping;
+        m->membrane_damped |= e > 0.0 && d[t].stiffness_damping > 0.0;
         m->term_enabled[SB_TERM_MEMBRANE] |= d[t].young_modulus > 0.0;
     }
     return true;

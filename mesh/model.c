@@ -34,6 +34,7 @@ void sb_model_destroy(sb_model* m) {
     free(m->membrane_volume);
     free(m->membrane_mu);
     free(m->membrane_lambda);
+    free(m->membrane_beta);
     free(m->tet_beta);
     free(m);
 }

@@ -73,6 +73,8 @@ struct sb_model {
     double* membrane_volume; /* rest area × thickness, m³ */
     double* membrane_mu;     /* Lamé μ, Pa */
     double* membrane_lambda; /* plane-stress λ = E ν / (1 − ν²), Pa */
+    double* membrane_beta;   /* Rayleigh's stiffness-proportional damping β, s */
+    bool membrane_damped;    /* some β > 0: only then do the passes compute the damping */
 
     /* faces: triangles of the surface that carry no force, only contact
      * (kernels/contact/surface_triangles.c): a volume of springs's boundary */

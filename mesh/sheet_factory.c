@@ -26,7 +26,8 @@
 #include <math.h>
 
 sb_sheet_material_def sb_default_sheet_material_def(void) {
-    return (sb_sheet_material_def){.young_modulus = 30e3, .poisson_ratio = 0.45, .thickness = 1e-3, .density = 1060.0};
+    return (sb_sheet_material_def){
+        .young_modulus = 30e3, .poisson_ratio = 0.45, .thickness = 1e-3, .density = 1060.0, .stiffness_damping = 0.0};
 }
 
 static sb_status sb_check_sheet(const sb_sheet_material_def* d, sb_error* err) {
@@ -39,6 +40,9 @@ static sb_status sb_check_sheet(const sb_sheet_material_def* d, sb_error* err) {
         return sb_error_set(err, SB_ERR_INVALID, "sheet: thickness %g m must be finite and > 0", d->thickness);
     if (!isfinite(d->density) || !(d->density > 0.0))
         return sb_error_set(err, SB_ERR_INVALID, "sheet: density %g kg/m^3 must be finite and > 0", d->density);
+    if (!isfinite(d->stiffness_damping) || d->stiffness_damping < 0.0)
+        return sb_error_set(err, SB_ERR_INVALID, "sheet: stiffness damping %g s must be finite and >= 0",
+                            d->stiffness_damping);
     return SB_OK;
 }
 
@@ -64,8 +68,11 @@ static sb_status sb_add_membranes(sb_builder* b, uint32_t first, const sb_mesh* 
                                   sb_error* err) {
     for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         const uint32_t* tri = mesh->triangles + 3 * (size_t)t;
-        sb_membrane_def def = {
-            {first + tri[0], first + tri[1], first + tri[2]}, d->young_modulus, d->poisson_ratio, d->thickness};
+        sb_membrane_def def = {{first + tri[0], first + tri[1], first + tri[2]},
+                               d->young_modulus,
+                               d->poisson_ratio,
+                               d->thickness,
+                               d->stiffness_damping};
         if (sb_builder_add_membrane(b, &def) < 0)
             return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding membranes");
     }

@@ -169,10 +169,6 @@ sb_status sb_builder_add_tet_mesh(sb_builder* b, const sb_tet_mesh* m, const sb_
                             "finite and > 0");
     if (tissue->model != SB_TISSUE_SPRINGS && !sb_tissue_elements(tissue->model))
         return sb_error_set(err, SB_ERR_INVALID, "tissue: unknown model %d", (int)tissue->model);
-    if (tissue->model == SB_TISSUE_COROTATED_QUADRATIC && tissue->stiffness_damping > 0.0)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "tissue: stiffness damping (Rayleigh's beta) is not built for the quadratic elements; "
-                            "use model corotated or springs, or drag");
     if (sb_tissue_elements(tissue->model) && !(tissue->poisson_ratio > -1.0 && tissue->poisson_ratio < 0.5))
         return sb_error_set(err, SB_ERR_INVALID, "tissue: Poisson's ratio %g is not in (-1, 0.5)",
                             tissue->poisson_ratio);

@@ -84,6 +84,9 @@ typedef enum sb_scene_type {
     X(SHEET_THICKNESS, "sheet.thickness", NUMBER, "0.001", "m", "factory membrane: thickness, m")                      \
     X(SHEET_DENSITY, "sheet.density", NUMBER, "1060", "kg/m^3",                                                        \
       "factory membrane: density, kg/m^3 (a vertex gets a third of its triangles' density x thickness x area)")        \
+    X(SHEET_STIFFNESS_DAMPING, "sheet.stiffness_damping", NUMBER, "0", "s",                                            \
+      "factory membrane: the membranes' Rayleigh stiffness-proportional damping beta, s (an in-plane mode of "         \
+      "frequency w: ratio beta w / 2; the bending is undamped)")                                                       \
     X(SPRINGS_STRETCH_K, "springs.stretch.k", NUMBER, "100", "N/m", "springs: per edge, N/m")                          \
     X(SPRINGS_STRETCH_DAMPING, "springs.stretch.damping", NUMBER, "0.1", "N s/m", "springs: per edge, N s/m")          \
     X(SPRINGS_BEND_K, "springs.bend.k", NUMBER, "10", "N/m", "springs: across adjacent triangles, N/m")                \

@@ -156,6 +156,7 @@ sb_sheet_material_def sb_scene_sheet(const sb_scene* scene) {
     d.poisson_ratio = sb_scene_number(scene, SB_KEY_SHEET_POISSON_RATIO);
     d.thickness = sb_scene_number(scene, SB_KEY_SHEET_THICKNESS);
     d.density = sb_scene_number(scene, SB_KEY_SHEET_DENSITY);
+    d.stiffness_damping = sb_scene_number(scene, SB_KEY_SHEET_STIFFNESS_DAMPING);
     return d;
 }
 

@@ -64,6 +64,7 @@ static const number_rule number_rules[] = {
     {SB_KEY_SHEET_YOUNG_MODULUS, true},
     {SB_KEY_SHEET_THICKNESS, true},
     {SB_KEY_SHEET_DENSITY, true},
+    {SB_KEY_SHEET_STIFFNESS_DAMPING, false},
     {SB_KEY_TISSUE_STIFFNESS_DAMPING, false},
     {SB_KEY_MESH_TARGET_ERROR, false},
     {SB_KEY_CONTACT_THICKNESS, false},

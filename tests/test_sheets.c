@@ -490,6 +490,10 @@ static void test_sheet_masses_and_hinges(void** state) {
     material.poisson_ratio = 0.5;
     assert_int_equal(sb_builder_add_sheet(b, &mesh, &material, &err), SB_ERR_INVALID);
     TU_ASSERT_CONTAINS(err.message, "Poisson's ratio 0.5 must be in (-1, 0.5)");
+    material.poisson_ratio = 0.45;
+    material.stiffness_damping = -1e-3;
+    assert_int_equal(sb_builder_add_sheet(b, &mesh, &material, &err), SB_ERR_INVALID);
+    TU_ASSERT_CONTAINS(err.message, "sheet: stiffness damping -0.001 s must be finite and >= 0");
     assert_int_equal(sb_builder_vertex_count(b), 0);
     sb_builder_destroy(b);
 }
@@ -615,7 +619,7 @@ static sb_model* membranes_only(double young) {
     }
     for (uint32_t t = 0; t < mesh.triangle_count; t++) {
         const uint32_t* v = mesh.triangles + 3 * (size_t)t;
-        sb_membrane_def def = {{v[0], v[1], v[2]}, young, 0.45, 1e-3};
+        sb_membrane_def def = {{v[0], v[1], v[2]}, young, 0.45, 1e-3, 0.0};
         assert_true(sb_builder_add_membrane(b, &def) >= 0);
     }
     sb_model* m = tu_compile(b);
@@ -694,6 +698,9 @@ static void test_scene_keys(void** state) {
     assert_int_equal(sb_model_triangle_count(m), 12);
     assert_false(sb_model_term_enabled(m, SB_TERM_ANGLE));
     sb_model_destroy(m);
+    const char* const damped[1] = {"sheet.stiffness_damping=-1"};
+    assert_null(scene_model(damped, 1, &err));
+    TU_ASSERT_CONTAINS(err.message, "'sheet.stiffness_damping' must be >= 0, got -1");
     const char* const bad[1] = {"sheet.poisson_ratio=0.5"};
     assert_null(scene_model(bad, 1, &err));
     TU_ASSERT_CONTAINS(err.message, "'sheet.poisson_ratio' must be in (-1, 0.5), got 0.5");

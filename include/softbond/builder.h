@@ -95,8 +95,8 @@ typedef struct sb_hinge_def {
  * quadratic element does not lock in bending as the linear one does. The
  * vertex order may be either orientation; the volume must not be zero.
  * Damping: Rayleigh's stiffness-proportional f = −β R K0 Rᵀ v (v the
- * corners' velocities, R the rotation at the current positions; linear
- * elements only), zero for a translation and for a rotation of the
+ * nodes' velocities, R the rotation at the current positions; linear and
+ * quadratic elements), zero for a translation and for a rotation of the
  * unstrained element; a mode of angular frequency ω decays with damping
  * ratio β ω / 2. The solver's drag is the mass-proportional part. */
 typedef struct sb_tet_def {
@@ -114,13 +114,18 @@ typedef struct sb_tet_def {
  * elasticity of a constant-strain triangle (kernels/forces/membrane.c),
  * energy A t (μ ‖F − R‖² + ½ λ (tr RᵀF − 2)²) with μ = E / 2(1 + ν),
  * λ = E ν / (1 − ν²), F the map from the rest triangle's plane and R its
- * rotation; the rest shape from the vertices' positions. No damping: use
- * the solver's drag. */
+ * rotation; the rest shape from the vertices' positions. Damping:
+ * Rayleigh's stiffness-proportional −β K v (K the co-rotated stiffness, v
+ * the corners' velocities), zero for a translation and for a rotation of
+ * the unstrained triangle; an in-plane mode of angular frequency ω decays
+ * with damping ratio β ω / 2. The solver's drag is the mass-proportional
+ * part. */
 typedef struct sb_membrane_def {
-    uint32_t v[3];        /**< the corners, either orientation */
-    double young_modulus; /**< E, Pa (>= 0) */
-    double poisson_ratio; /**< ν, in (−1, 0.5) */
-    double thickness;     /**< t, m (> 0) */
+    uint32_t v[3];            /**< the corners, either orientation */
+    double young_modulus;     /**< E, Pa (>= 0) */
+    double poisson_ratio;     /**< ν, in (−1, 0.5) */
+    double thickness;         /**< t, m (> 0) */
+    double stiffness_damping; /**< Rayleigh's β, s (>= 0; 0 = undamped) */
 } sb_membrane_def;
 
 /** A free vertex of 1 kg at rest at the origin. */
@@ -241,13 +246,14 @@ SB_API sb_status sb_builder_add_spring_mesh(sb_builder* builder, const sb_mesh* 
 /** A thin sheet stated by its material (a cloth, a membrane of tissue):
  * Young's modulus, Poisson's ratio, thickness and density. */
 typedef struct sb_sheet_material_def {
-    double young_modulus; /**< E, Pa (> 0) */
-    double poisson_ratio; /**< ν, in (−1, 0.5) */
-    double thickness;     /**< t, m (> 0) */
-    double density;       /**< ρ, kg/m³ (> 0): each vertex gets a third of its triangles' ρ t A */
+    double young_modulus;     /**< E, Pa (> 0) */
+    double poisson_ratio;     /**< ν, in (−1, 0.5) */
+    double thickness;         /**< t, m (> 0) */
+    double density;           /**< ρ, kg/m³ (> 0): each vertex gets a third of its triangles' ρ t A */
+    double stiffness_damping; /**< the membranes' Rayleigh β, s (>= 0; 0 = undamped; the hinges are undamped) */
 } sb_sheet_material_def;
 
-/** E 30 kPa, ν 0.45, 1 mm, 1060 kg/m³: a soft tissue's membrane. */
+/** E 30 kPa, ν 0.45, 1 mm, 1060 kg/m³, undamped: a soft tissue's membrane. */
 SB_API sb_sheet_material_def sb_default_sheet_material_def(void);
 /** The sheet factory: the mesh's vertices after those already in the
  * builder (masses ρ t A / 3 from each triangle), a membrane per triangle

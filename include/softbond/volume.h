@@ -74,9 +74,9 @@ SB_API sb_status sb_tet_mesh_quadratic_surface(const sb_tet_mesh* mesh, sb_mesh*
 /** How a tissue's tetrahedra resist deformation. */
 typedef enum sb_tissue_model {
     SB_TISSUE_SPRINGS = 0, /**< Lloyd's damped edge springs (the papers'): E only, no ν; see sb_builder_add_tet_mesh */
-    SB_TISSUE_COROTATED,   /**< co-rotated linear finite elements (sb_tet_def): E and ν, undamped; lock in bending */
-    /** co-rotated quadratic finite elements (sb_tet_def, quadratic): a vertex added at each edge's middle; E and ν,
-     * undamped; right in bending */
+    SB_TISSUE_COROTATED,   /**< co-rotated linear finite elements (sb_tet_def): E and ν; lock in bending */
+    /** co-rotated quadratic finite elements (sb_tet_def, quadratic): a vertex added at each edge's middle; E and ν;
+     * right in bending */
     SB_TISSUE_COROTATED_QUADRATIC
 } sb_tissue_model;
 
@@ -85,12 +85,13 @@ typedef enum sb_tissue_model {
  * β, a material property that does not depend on the mesh); the model, and
  * Poisson's ratio for the corotated one. */
 typedef struct sb_tissue_def {
-    double young_modulus;     /**< Pa */
-    double density;           /**< kg/m³ */
-    double damping;           /**< dimensionless factor on the papers' rule (springs only) */
-    double stiffness_damping; /**< Rayleigh's β, s: damping β × stiffness (springs and linear corotated), 0 = none */
-    double poisson_ratio;     /**< ν (the finite elements only), in (−1, 0.5) */
-    sb_tissue_model model;    /**< springs (the default), corotated or corotated quadratic */
+    double young_modulus; /**< Pa */
+    double density;       /**< kg/m³ */
+    double damping;       /**< dimensionless factor on the papers' rule (springs only) */
+    double
+        stiffness_damping; /**< Rayleigh's β, s: damping β × stiffness (springs and both corotated orders), 0 = none */
+    double poisson_ratio;  /**< ν (the finite elements only), in (−1, 0.5) */
+    sb_tissue_model model; /**< springs (the default), corotated or corotated quadratic */
 } sb_tissue_def;
 
 /** Liver: E = 3.5 kPa, density 1060 kg/m³, damping factor 1. */
@@ -115,7 +116,7 @@ SB_API bool sb_tissue_from_name(const char* name, sb_tissue_def* out);
  * we use, a default and not physics: √(k m) is kg/s, so d_ij in N·s/m
  * depends on the length unit (SI here), and it damps strongly for short
  * springs — scale it with `damping`. `stiffness_damping` β adds β k_ij to
- * each spring's damping (the corotated model: β to each sb_tet_def), the
+ * each spring's damping (the corotated models: β to each sb_tet_def), the
  * stiffness-proportional damping D = β K, whose modes of angular frequency
  * ω decay with damping ratio ζ = β ω / 2 whatever the mesh.
  * Corotated: the same vertices and

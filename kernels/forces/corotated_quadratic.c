@@ -3,6 +3,7 @@
 #include "kernels/forces/corotated.h"
 
 #include <math.h>
+#include <stddef.h>
 
 static const int sb_quad_edges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
@@ -82,12 +83,11 @@ static void sb_quad_unrotated(const double p[SB_QUAD_NODES][3], const double dm_
     }
 }
 
-bool sb_corotated_quadratic_tet(const double p[SB_QUAD_NODES][3], const double dm_inv[9], double volume, double mu,
-                                double lambda, double f[SB_QUAD_NODES][3], double* energy) {
-    double R[9], g[4][3], u[SB_QUAD_NODES][3], fr[SB_QUAD_NODES][3] = {{0.0}};
-    if (!sb_quad_rotation(p, dm_inv, R)) return false;
-    sb_linear_gradients(dm_inv, g);
-    sb_quad_unrotated(p, dm_inv, R, u);
+/* Adds −K0 u to fr (u, fr in the element's unrotated frame): at each Gauss
+ * point the strain ε of u, the stress σ = 2μ ε + λ tr(ε) I, and
+ * fr_a −= w V σ ∇N_a; returns ½ uᵀ K0 u. */
+static double sb_quad_k0_apply(const double g[4][3], double volume, double mu, double lambda,
+                               const double u[SB_QUAD_NODES][3], double fr[SB_QUAD_NODES][3]) {
     double w = 0.25 * volume, e = 0.0;
     for (int point = 0; point < 4; point++) {
         double G[SB_QUAD_NODES][3], H[3][3] = {{0.0}}, eps[3][3], sigma[3][3];
@@ -108,10 +108,43 @@ bool sb_corotated_quadratic_tet(const double p[SB_QUAD_NODES][3], const double d
             for (int r = 0; r < 3; r++)
                 fr[a][r] -= w * (sigma[r][0] * G[a][0] + sigma[r][1] * G[a][1] + sigma[r][2] * G[a][2]);
     }
+    return e;
+}
+
+/* The forces −R K0 (Rᵀx − X) − β R K0 Rᵀ v (v NULL: no damping). */
+static bool sb_quad_forces(const double p[SB_QUAD_NODES][3], const double v[SB_QUAD_NODES][3], const double dm_inv[9],
+                           double volume, double mu, double lambda, double beta, double f[SB_QUAD_NODES][3],
+                           double* energy) {
+    double R[9], g[4][3], u[SB_QUAD_NODES][3], fr[SB_QUAD_NODES][3] = {{0.0}};
+    if (!sb_quad_rotation(p, dm_inv, R)) return false;
+    sb_linear_gradients(dm_inv, g);
+    sb_quad_unrotated(p, dm_inv, R, u);
+    double e = sb_quad_k0_apply(g, volume, mu, lambda, u, fr);
+    if (v) {
+        double rate[SB_QUAD_NODES][3]; /* β Rᵀ v */
+        for (int a = 0; a < SB_QUAD_NODES; a++)
+            for (int r = 0; r < 3; r++) rate[a][r] = beta * (R[r] * v[a][0] + R[3 + r] * v[a][1] + R[6 + r] * v[a][2]);
+        sb_quad_k0_apply(g, volume, mu, lambda, rate, fr);
+    }
+    bool finite = isfinite(e) != 0;
     for (int a = 0; a < SB_QUAD_NODES; a++)
-        for (int r = 0; r < 3; r++) f[a][r] = R[3 * r] * fr[a][0] + R[3 * r + 1] * fr[a][1] + R[3 * r + 2] * fr[a][2];
+        for (int r = 0; r < 3; r++) {
+            f[a][r] = R[3 * r] * fr[a][0] + R[3 * r + 1] * fr[a][1] + R[3 * r + 2] * fr[a][2];
+            finite &= isfinite(f[a][r]) != 0;
+        }
     *energy = e;
-    return isfinite(e);
+    return finite;
+}
+
+bool sb_corotated_quadratic_tet(const double p[SB_QUAD_NODES][3], const double dm_inv[9], double volume, double mu,
+                                double lambda, double f[SB_QUAD_NODES][3], double* energy) {
+    return sb_quad_forces(p, NULL, dm_inv, volume, mu, lambda, 0.0, f, energy);
+}
+
+bool sb_corotated_quadratic_tet_damped(const double p[SB_QUAD_NODES][3], const double v[SB_QUAD_NODES][3],
+                                       const double dm_inv[9], double volume, double mu, double lambda, double beta,
+                                       double f[SB_QUAD_NODES][3], double* energy) {
+    return sb_quad_forces(p, v, dm_inv, volume, mu, lambda, beta, f, energy);
 }
 
 bool sb_corotated_quadratic_stiffness(const double p[SB_QUAD_NODES][3], const double dm_inv[9], double volume,

@@ -38,6 +38,14 @@ enum { SB_QUAD_NODES = 10, SB_QUAD_DOFS = 30 };
 bool sb_corotated_quadratic_tet(const double p[SB_QUAD_NODES][3], const double dm_inv[9], double volume, double mu,
                                 double lambda, double f[SB_QUAD_NODES][3], double* energy);
 
+/* sb_corotated_quadratic_tet with Rayleigh's stiffness-proportional
+ * damping: adds −β R K0 Rᵀ v (v the nodes' velocities, R the rotation at
+ * p, the same as the elastic forces'), K0 applied matrix-free to β Rᵀ v
+ * as to the displacement. false when F or the forces are not finite. */
+bool sb_corotated_quadratic_tet_damped(const double p[SB_QUAD_NODES][3], const double v[SB_QUAD_NODES][3],
+                                       const double dm_inv[9], double volume, double mu, double lambda, double beta,
+                                       double f[SB_QUAD_NODES][3], double* energy);
+
 /* R K0 Rᵀ at p (30 × 30 row-major, node-major: row 3 a + i is node a's
  * axis i): the exact Jacobian −∂f/∂x of the forces above but for R's
  * derivative. Symmetric, positive semi-definite. false when not finite. */

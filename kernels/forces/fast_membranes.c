@@ -1,6 +1,7 @@
 /* Fast pass of a sheet's membranes: the reference's element
  * (kernels/forces/membrane.c, in double) one triangle at a time over a
- * color's slots, reading the packed sb_real positions and adding to the
+ * color's slots, reading the packed sb_real positions (and velocities, for
+ * a triangle with stiffness-proportional damping) and adding to the
  * packed forces, as the tetrahedra's pass does (kernels/forces/fast_tets.c).
  * Scalar: a lane-wise element over kernels/runtime/wide.h is not written.
  * The blocked coloring (kernels/forces/fast_model.h) keeps threads apart and
@@ -23,6 +24,19 @@ static bool sb_membrane_slot(const sb_fast_model* m, const sb_fast_frame* fr, ui
     return true;
 }
 
+/* The triangle's forces, damped where it has β > 0; false when not
+ * finite. */
+static bool sb_fast_membrane_forces(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t s, const uint32_t v[3],
+                                    const double p[3][3], const double dm_inv[4], double g[3][3], double* energy) {
+    double volume = m->membrane_volume[s], mu = m->membrane_mu[s], lambda = m->membrane_lambda[s];
+    double beta = m->membrane_beta[s];
+    if (!(m->membrane_damped && beta > 0.0)) return sb_membrane_triangle(p, dm_inv, volume, mu, lambda, g, energy);
+    double u[3][3];
+    for (int c = 0; c < 3; c++)
+        for (int k = 0; k < 3; k++) u[c][k] = fr->velocities4[4 * (size_t)v[c] + k];
+    return sb_membrane_triangle_damped(p, u, dm_inv, volume, mu, lambda, beta, g, energy);
+}
+
 int sb_fast_membranes(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,
                       double energy[1]) {
     (void)serial; /* one element at a time either way */
@@ -32,7 +46,7 @@ int sb_fast_membranes(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t 
         double p[3][3], dm_inv[4], g[3][3], e;
         uint32_t v[3];
         if (!sb_membrane_slot(m, fr, s, v, p, dm_inv)) continue;
-        if (!sb_membrane_triangle(p, dm_inv, m->membrane_volume[s], m->membrane_mu[s], m->membrane_lambda[s], g, &e)) {
+        if (!sb_fast_membrane_forces(m, fr, s, v, p, dm_inv, g, &e)) {
             bad = true; /* the reference names it (sb_report_collapse) */
             continue;
         }
@@ -53,7 +67,9 @@ int sb_fast_membranes_hessian(const sb_fast_model* m, const sb_fast_frame* base,
         uint32_t v[3];
         if (!sb_membrane_slot(m, base, s, v, p, dm_inv)) continue;
         if (!sb_membrane_stiffness(p, dm_inv, m->membrane_volume[s], m->membrane_mu[s], m->membrane_lambda[s], k))
-            continue;            /* the forces' pass reports it */
+            continue; /* the forces' pass reports it */
+        /* K + damping D, D = β K */
+        double weight = fr->scale * (1.0 + (double)fr->damping * m->membrane_beta[s]);
         if (base->velocities4) { /* the product */
             double d[9];
             for (int c = 0; c < 3; c++)
@@ -61,7 +77,7 @@ int sb_fast_membranes_hessian(const sb_fast_model* m, const sb_fast_frame* base,
             for (int r = 0; r < 9; r++) {
                 double sum = 0.0;
                 for (int c = 0; c < 9; c++) sum += k[9 * r + c] * d[c];
-                base->forces4[4 * (size_t)v[r / 3] + r % 3] += (sb_real)(fr->scale * sum);
+                base->forces4[4 * (size_t)v[r / 3] + r % 3] += (sb_real)(weight * sum);
             }
             continue;
         }
@@ -69,7 +85,7 @@ int sb_fast_membranes_hessian(const sb_fast_model* m, const sb_fast_frame* base,
             sb_real* block = fr->blocks + SB_BLOCK_STRIDE * (size_t)v[a];
             static const int rows[SB_BLOCK_SIZE] = {0, 0, 0, 1, 1, 2}, cols[SB_BLOCK_SIZE] = {0, 1, 2, 1, 2, 2};
             for (int q = 0; q < SB_BLOCK_SIZE; q++)
-                block[sb_block_offset[q]] += (sb_real)(fr->scale * k[(3 * a + rows[q]) * 9 + 3 * a + cols[q]]);
+                block[sb_block_offset[q]] += (sb_real)(weight * k[(3 * a + rows[q]) * 9 + 3 * a + cols[q]]);
         }
     }
     return 0;

@@ -485,6 +485,8 @@ static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
     f->membrane_volume = sb_gather_double(m->membrane_volume, &f->membranes, &ok);
     f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
     f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
+    f->membrane_beta = sb_gather_double(m->membrane_beta, &f->membranes, &ok);
+    f->membrane_damped = m->membrane_damped;
     f->has_membranes = m->membrane_count > 0 && m->term_enabled[SB_TERM_MEMBRANE];
     return ok;
 }
@@ -691,6 +693,7 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->membrane_volume,
                       f->membrane_mu,
                       f->membrane_lambda,
+                      f->membrane_beta,
                       f->tet_beta,
                       f->tet_nodes};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);

@@ -119,8 +119,8 @@ typedef struct sb_fast_model {
     sb_element_group membranes;
     uint32_t* membrane_v[3];
     double* membrane_dm_inv[4];
-    double *membrane_volume, *membrane_mu, *membrane_lambda;
-    bool has_membranes;
+    double *membrane_volume, *membrane_mu, *membrane_lambda, *membrane_beta;
+    bool has_membranes, membrane_damped; /* membrane_damped: some β > 0 */
 
     /* Breakage (kernels/interaction/breakage.c), only for a breakable model, whose
      * constants are then never folded to one value: where each model

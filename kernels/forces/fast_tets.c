@@ -1,9 +1,8 @@
 /* Fast pass of the co-rotated tetrahedra, linear and quadratic: the
  * reference's element (kernels/forces/tet_element.h, in double) one
  * tetrahedron at a time over a color's slots, reading the packed sb_real
- * positions (and velocities, for a linear element with stiffness-
- * proportional damping, kernels/forces/corotated.h) and adding to the
- * packed forces. Scalar: the polar
+ * positions (and velocities, for an element with stiffness-proportional
+ * damping, kernels/forces/tet_element.h) and adding to the packed forces. Scalar: the polar
  * decomposition's Jacobi sweeps branch per element, and a lane-wise version
  * over kernels/runtime/wide.h is not written yet. The blocked coloring
  * (kernels/forces/fast_model.h) keeps threads apart and the summation order
@@ -11,7 +10,6 @@
  * never run. */
 #include "kernels/forces/fast_tets.h"
 #include "kernels/forces/fast_hessian.h"
-#include "kernels/forces/corotated.h"
 #include "kernels/forces/tet_element.h"
 
 /* Slot s's nodes: their vertices, positions and material; the node count. */
@@ -27,17 +25,17 @@ static int sb_fast_tet_at(const sb_fast_model* m, const sb_fast_frame* fr, uint3
     return nodes;
 }
 
-/* The element's elastic forces, and its damping where it has β > 0 (only
- * a linear element can: sb_builder_add_tet); false when not finite. */
+/* The element's elastic forces, and its damping where it has β > 0; false
+ * when not finite. */
 static bool sb_fast_tet_forces(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t s, int nodes,
                                const uint32_t v[SB_TET_NODES], const double p[SB_TET_NODES][3],
                                const sb_tet_material* mat, double g[SB_TET_NODES][3], double* energy) {
     double beta = m->tet_beta[s];
     if (!(m->tet_damped && beta > 0.0)) return sb_tet_element_forces(nodes, p, mat, g, energy);
-    double u[4][3];
-    for (int c = 0; c < 4; c++)
+    double u[SB_TET_NODES][3];
+    for (int c = 0; c < nodes; c++)
         for (int k = 0; k < 3; k++) u[c][k] = fr->velocities4[4 * (size_t)v[c] + k];
-    return sb_corotated_tet_damped(p, u, mat->dm_inv, mat->volume, mat->mu, mat->lambda, beta, g, energy);
+    return sb_tet_element_damped_forces(nodes, p, u, mat, beta, g, energy);
 }
 
 int sb_fast_tets(const sb_fast_model* m, const sb_fast_frame* fr, uint32_t begin, uint32_t end, bool serial,

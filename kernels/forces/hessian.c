@@ -210,9 +210,9 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
     case SB_ELEMENT_HINGE: return sb_hinge_definite_blocks(m, e->index, local, scale, blocks);
     case SB_ELEMENT_TET: /* dt D + dt² K with D = β K, the element's Rayleigh damping */
         return sb_tet_jacobian_blocks(m, e->index, local, scale + dt * m->tet_beta[e->index], blocks);
-    case SB_ELEMENT_MEMBRANE:
+    case SB_ELEMENT_MEMBRANE: /* likewise dt D + dt² K */
         if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
-        sb_matrix_blocks(3, k, scale, blocks);
+        sb_matrix_blocks(3, k, scale + dt * m->membrane_beta[e->index], blocks);
         return true;
     case SB_ELEMENT_TRIANGLE: break;
     }

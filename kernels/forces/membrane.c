@@ -30,10 +30,19 @@
  * the plane element's K0 turned into the current plane (R Rᵀ the projector
  * on it: a flat triangle's corners moved out of its plane only turn it,
  * to first order). It is symmetric, positive semi-definite, and the
- * energy's exact Hessian at rest and at any rotation of it. */
+ * energy's exact Hessian at rest and at any rotation of it.
+ *
+ * Damping: Rayleigh's stiffness-proportional −β K v, as the tetrahedra's
+ * (kernels/forces/corotated.h): K v is the divergence of the plane
+ * viscous stress of the rotated strain rate M = Rᵀ Ḟ, so it costs one more
+ * 2 × 2 stress, not the 9 × 9 matrix; zero for a translation and for a
+ * rotation of the unstrained triangle. A mode of angular frequency ω
+ * decays with ζ = β ω / 2. It damps the membrane's (in-plane) modes only:
+ * the hinges' bending has no damping of its own. */
 #include "kernels/forces/membrane.h"
 
 #include <math.h>
+#include <stddef.h>
 
 /* F (3 × 2, row-major) and its rotation R: false when F has rank below 2. */
 static bool sb_membrane_rotation(const double p[3][3], const double dm_inv[4], double F[6], double R[6],
@@ -63,8 +72,30 @@ static bool sb_membrane_rotation(const double p[3][3], const double dm_inv[4], d
     return true;
 }
 
-bool sb_membrane_triangle(const double p[3][3], const double dm_inv[4], double volume, double mu, double lambda,
-                          double f[3][3], double* energy) {
+/* Adds to P (3 × 2) the viscous stress β R (μ (M + Mᵀ) + λ tr(M) I),
+ * M = Rᵀ Ḟ (2 × 2), Ḟ the corners' velocities v through D_m⁻¹: then
+ * −V P D_m⁻ᵀ carries −β K v, K the co-rotated stiffness below (its blocks
+ * summed against v). */
+static void sb_membrane_viscous(const double v[3][3], const double dm_inv[4], const double R[6], double mu,
+                                double lambda, double beta, double P[6]) {
+    double Fdot[6], M[2][2];
+    for (int i = 0; i < 3; i++) {
+        double e1 = v[1][i] - v[0][i], e2 = v[2][i] - v[0][i];
+        Fdot[2 * i] = e1 * dm_inv[0] + e2 * dm_inv[2];
+        Fdot[2 * i + 1] = e1 * dm_inv[1] + e2 * dm_inv[3];
+    }
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++) M[a][b] = R[a] * Fdot[b] + R[2 + a] * Fdot[2 + b] + R[4 + a] * Fdot[4 + b];
+    double trace = M[0][0] + M[1][1], S[2][2];
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++) S[a][b] = beta * (mu * (M[a][b] + M[b][a]) + (a == b ? lambda * trace : 0.0));
+    for (int i = 0; i < 3; i++)
+        for (int b = 0; b < 2; b++) P[2 * i + b] += R[2 * i] * S[0][b] + R[2 * i + 1] * S[1][b];
+}
+
+/* The forces −V P D_m⁻ᵀ, with the damping's stress when v is given. */
+static bool sb_membrane_forces(const double p[3][3], const double v[3][3], const double dm_inv[4], double volume,
+                               double mu, double lambda, double beta, double f[3][3], double* energy) {
     double F[6], R[6], trace_s;
     if (!sb_membrane_rotation(p, dm_inv, F, R, &trace_s)) return false;
     double dilation = trace_s - 2.0, norm2 = 0.0, P[6];
@@ -73,13 +104,26 @@ bool sb_membrane_triangle(const double p[3][3], const double dm_inv[4], double v
         norm2 += d * d;
         P[q] = 2.0 * mu * d + lambda * dilation * R[q];
     }
+    if (v) sb_membrane_viscous(v, dm_inv, R, mu, lambda, beta, P);
+    bool finite = true;
     for (int i = 0; i < 3; i++) {
         f[1][i] = -volume * (P[2 * i] * dm_inv[0] + P[2 * i + 1] * dm_inv[1]);
         f[2][i] = -volume * (P[2 * i] * dm_inv[2] + P[2 * i + 1] * dm_inv[3]);
         f[0][i] = -f[1][i] - f[2][i];
+        finite &= isfinite(f[0][i]) != 0;
     }
     *energy = volume * (mu * norm2 + 0.5 * lambda * dilation * dilation);
-    return true;
+    return finite;
+}
+
+bool sb_membrane_triangle(const double p[3][3], const double dm_inv[4], double volume, double mu, double lambda,
+                          double f[3][3], double* energy) {
+    return sb_membrane_forces(p, NULL, dm_inv, volume, mu, lambda, 0.0, f, energy);
+}
+
+bool sb_membrane_triangle_damped(const double p[3][3], const double v[3][3], const double dm_inv[4], double volume,
+                                 double mu, double lambda, double beta, double f[3][3], double* energy) {
+    return sb_membrane_forces(p, v, dm_inv, volume, mu, lambda, beta, f, energy);
 }
 
 bool sb_membrane_stiffness(const double p[3][3], const double dm_inv[4], double volume, double mu, double lambda,

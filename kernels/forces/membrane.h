@@ -15,6 +15,13 @@
 bool sb_membrane_triangle(const double p[3][3], const double dm_inv[4], double volume, double mu, double lambda,
                           double f[3][3], double* energy);
 
+/* sb_membrane_triangle with Rayleigh's stiffness-proportional damping:
+ * adds −β K v (v the corners' velocities, K the stiffness below at p) to
+ * the forces. false when the triangle collapsed or a force is not
+ * finite. */
+bool sb_membrane_triangle_damped(const double p[3][3], const double v[3][3], const double dm_inv[4], double volume,
+                                 double mu, double lambda, double beta, double f[3][3], double* energy);
+
 /* The co-rotated stiffness at the corners p (9 × 9 row-major,
  * corner-major: row 3 a + i is corner a's axis i); false when the triangle
  * collapsed. */

@@ -28,7 +28,7 @@ sb_status sb_reference_term(const sb_model* m, sb_term term, const double* x, co
     case SB_TERM_STRETCH_BEND: return sb_reference_corners(m, 0.0, 1.0, x, f, energy, err);
     case SB_TERM_BEND: return sb_reference_hinges(m, x, f, energy, err);
     case SB_TERM_COROTATED: return sb_reference_tets(m, x, v, f, energy, err);
-    case SB_TERM_MEMBRANE: return sb_reference_membranes(m, x, f, energy, err);
+    case SB_TERM_MEMBRANE: return sb_reference_membranes(m, x, v, f, energy, err);
     default: return sb_error_set(err, SB_ERR_INVALID, "unknown term %d", (int)term);
     }
 }

@@ -5,7 +5,9 @@
 #include "mesh/model_internal.h"
 
 /* Co-rotated linear plane-stress triangles (kernels/forces/membrane.c), in
- * membrane order. */
-sb_status sb_reference_membranes(const sb_model* m, const double* x, double* f, double* energy, sb_error* err);
+ * membrane order; v (may be NULL: no damping) the velocities for the
+ * damped ones. */
+sb_status sb_reference_membranes(const sb_model* m, const double* x, const double* v, double* f, double* energy,
+                                 sb_error* err);
 
 #endif

@@ -1,10 +1,8 @@
 /* Scalar reference for the co-rotated tetrahedra, linear and quadratic:
- * kernels/forces/tet_element.h per element, its elastic forces and, for a
- * linear element where the model has β > 0 and velocities are given, its
- * stiffness-proportional damping (kernels/forces/corotated.h), added in
- * tetrahedron order. */
+ * kernels/forces/tet_element.h per element, its elastic forces and, where
+ * the element has β > 0 and velocities are given, its stiffness-
+ * proportional damping −β R K0 Rᵀ v, added in tetrahedron order. */
 #include "kernels/forces/reference_tets.h"
-#include "kernels/forces/corotated.h"
 #include "kernels/forces/tet_element.h"
 #include "common/error.h"
 
@@ -20,14 +18,14 @@ static bool sb_reference_tet(const sb_model* m, uint32_t t, const double* x, con
     double p[SB_TET_NODES][3], dm_inv[9], g[SB_TET_NODES][3];
     sb_tet_nodes_at(m, t, nodes, x, p);
     for (int k = 0; k < 9; k++) dm_inv[k] = m->tet_dm_inv[k][t];
-    double volume = m->tet_volume[t], mu = m->tet_mu[t], lambda = m->tet_lambda[t], beta = m->tet_beta[t];
-    if (v && beta > 0.0 && nodes == 4) {
-        double u[4][3];
-        sb_tet_nodes_at(m, t, 4, v, u);
-        if (!sb_corotated_tet_damped(p, u, dm_inv, volume, mu, lambda, beta, g, e)) return false;
-    } else {
-        sb_tet_material mat = {dm_inv, volume, mu, lambda};
-        if (!sb_tet_element_forces(nodes, p, &mat, g, e)) return false;
+    sb_tet_material mat = {dm_inv, m->tet_volume[t], m->tet_mu[t], m->tet_lambda[t]};
+    double beta = m->tet_beta[t];
+    if (v && beta > 0.0) {
+        double u[SB_TET_NODES][3];
+        sb_tet_nodes_at(m, t, nodes, v, u);
+        if (!sb_tet_element_damped_forces(nodes, p, u, &mat, beta, g, e)) return false;
+    } else if (!sb_tet_element_forces(nodes, p, &mat, g, e)) {
+        return false;
     }
     for (int c = 0; c < nodes; c++)
         for (int k = 0; k < 3; k++) f[3 * (size_t)m->tet_v[c][t] + k] += g[c][k];

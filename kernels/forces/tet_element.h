@@ -16,6 +16,11 @@ typedef struct sb_tet_material {
  * deformation is not finite. */
 bool sb_tet_element_forces(int nodes, const double p[][3], const sb_tet_material* mat, double f[][3], double* energy);
 
+/* The forces as above plus Rayleigh's stiffness-proportional damping
+ * −β R K0 Rᵀ v (v the nodes' velocities); false when not finite. */
+bool sb_tet_element_damped_forces(int nodes, const double p[][3], const double v[][3], const sb_tet_material* mat,
+                                  double beta, double f[][3], double* energy);
+
 /* The co-rotated stiffness R K0 Rᵀ, 3 nodes × 3 nodes row-major,
  * node-major; false when not finite. */
 bool sb_tet_element_stiffness(int nodes, const double p[][3], const sb_tet_material* mat, double* k);

@@ -35,7 +35,9 @@
  * 3 on 57 × 57 instead of 6 and 4 (docs/integrators.md).
  *
  * Damping acts through v = (x − x⁰)/dt: a damped spring's force D (v_j − v_i)
- * with D = d u uᵀ adds D/dt to H_i; drag, −m c v, adds m c/dt. External
+ * with D = d u uᵀ adds D/dt to H_i; a co-rotated element's Rayleigh
+ * damping −β K v (a tetrahedron's or a membrane's) adds its row of β K/dt;
+ * drag, −m c v, adds m c/dt. External
  * forces and soft handles are taken at the start of the step (in y);
  * vertices a hard handle holds sit at their targets and are not moved.
  *
@@ -67,6 +69,7 @@
 #include "kernels/forces/vertex_elements.h"
 #include "kernels/forces/hessian_edges.h"
 #include "kernels/forces/hessian_tets.h"
+#include "kernels/forces/hessian_membranes.h"
 #include "kernels/integrators/fast_vbd.h"
 #include "common/sections.h"
 
@@ -223,23 +226,29 @@ static void sb_vbd_damping(const sb_model* m, uint32_t b, int place, const doubl
     }
 }
 
-/* A tetrahedron's Rayleigh damping −β K v on its corner `place`, v = (x − x⁰)/dt
- * (K = R K0 Rᵀ at x), and β K_pp / dt on the diagonal. */
-static void sb_vbd_tet_damping(const sb_model* m, uint32_t t, int place, const double* x, const double* x0, double dt,
-                               double* f, double* h) {
-    double beta = m->tet_beta[t], k[144], velocity[12];
+/* An element's Rayleigh damping −β K v on its vertex `place`, v = (x − x⁰)/dt
+ * (K its co-rotated stiffness at x: a tetrahedron's R K0 Rᵀ, 4 or 10
+ * nodes, or a membrane's), and β K_pp / dt on the diagonal. */
+static void sb_vbd_rayleigh(const sb_model* m, const sb_element* e, int place, const double* x, const double* x0,
+                            double dt, double* f, double* h) {
+    bool tet = e->kind == SB_ELEMENT_TET;
+    double beta = tet ? m->tet_beta[e->index] : m->membrane_beta[e->index], k[SB_ELEMENT_MATRIX],
+           velocity[3 * SB_ELEMENT_MAX];
     if (beta == 0.0) return;
-    sb_vec3 local[4];
-    for (int c = 0; c < 4; c++) {
-        const double *now = x + 3 * (size_t)m->tet_v[c][t], *before = x0 + 3 * (size_t)m->tet_v[c][t];
+    int size = 3 * e->count;
+    sb_vec3 local[SB_ELEMENT_MAX];
+    for (int c = 0; c < e->count; c++) {
+        const double *now = x + 3 * (size_t)e->vertex[c], *before = x0 + 3 * (size_t)e->vertex[c];
         local[c] = sb_v3(now);
         for (int a = 0; a < 3; a++) velocity[3 * c + a] = (now[a] - before[a]) / dt;
     }
-    if (!sb_tet_stiffness(m, t, local, NULL, k)) return;
+    if (!(tet ? sb_tet_stiffness(m, e->index, local, NULL, k)
+              : sb_membrane_element_stiffness(m, e->index, local, NULL, k)))
+        return;
     for (int r = 0; r < 3; r++) {
-        const double* row = k + (3 * place + r) * 12;
+        const double* row = k + (3 * place + r) * size;
         double sum = 0.0;
-        for (int c = 0; c < 12; c++) sum += row[c] * velocity[c];
+        for (int c = 0; c < size; c++) sum += row[c] * velocity[c];
         f[r] -= beta * sum;
         for (int c = 0; c < 3; c++) h[3 * r + c] += beta * row[3 * place + c] / dt;
     }
@@ -264,8 +273,8 @@ static void sb_vbd_vertex(const sb_vbd_job* job, uint32_t i) {
         sb_element_vertex_share(m, &e, x, sb_entry_place(v->elements->entry[k]), f, h);
         if (e.kind == SB_ELEMENT_BOND)
             sb_vbd_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
-        else if (e.kind == SB_ELEMENT_TET && m->tet_damped)
-            sb_vbd_tet_damping(m, e.index, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
+        else if ((e.kind == SB_ELEMENT_TET && m->tet_damped) || (e.kind == SB_ELEMENT_MEMBRANE && m->membrane_damped))
+            sb_vbd_rayleigh(m, &e, sb_entry_place(v->elements->entry[k]), x, v->x0, dt, f, h);
     }
     double step[3];
     if (!sb_solve3(h, f, step)) return; /* not finite (a collapsed element): this vertex waits */

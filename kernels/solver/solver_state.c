@@ -351,6 +351,7 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->membrane_volume, 8 * nm);
         h = sb_hash(h, m->membrane_mu, 8 * nm);
         h = sb_hash(h, m->membrane_lambda, 8 * nm);
+        if (m->membrane_damped) h = sb_hash(h, m->membrane_beta, 8 * nm); /* as the tetrahedra's */
     }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {

@@ -270,12 +270,13 @@ static sb_real sb_runaway_limit(const sb_solver* s) {
 }
 
 /* Whether anything between the drift and the kick reads the half-step
- * velocities: damping in the force kernels, the colliders' contact, the
+ * velocities: damping in the force kernels (the springs', the elements'
+ * Rayleigh β), the colliders' contact, the
  * self-contact, the handles, the external-force callback. */
 static bool sb_half_step_velocity_read(const sb_solver* s) {
     const sb_fast_model* f = s->fast;
-    return f->has_damping || f->fused_damping || s->def.collider_count || s->self || s->def.handle_count ||
-           s->hooks.post_force_packed || s->def.external_force;
+    return f->has_damping || f->fused_damping || f->tet_damped || f->membrane_damped || s->def.collider_count ||
+           s->self || s->def.handle_count || s->hooks.post_force_packed || s->def.external_force;
 }
 
 /* The Verlet constants of one step. */
