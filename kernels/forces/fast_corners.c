@@ -55,13 +55,24 @@ typedef struct sb_wtriangle {
 } sb_wtriangle;
 
 typedef struct sb_wtriangle_out {
-    sb_wvec3 force[3]; /* on vertices 0, 1, 2 */
+    sb_wvec3 force[4]; /* on vertices 0, 1, 2 (3: a pair's B2) */
     sb_wide energy[5]; /* angle, stretch-bend, bond, spring, bend */
 } sb_wtriangle_out;
 
+static inline sb_wtriangle_out sb_wtriangle_out_zero(void) {
+    const sb_wide zero = sb_w_set(0);
+    const sb_wvec3 none = {zero, zero, zero};
+    return (sb_wtriangle_out){{none, none, none, none}, {zero, zero, zero, zero, zero}};
+}
+
+/* Where corner c's force goes in the out: the same slot, or, for a pair's
+ * B = (A1, A0, B2) (`mirrored`), A's slot of the same vertex. Constant
+ * wherever the loops over corners are unrolled. */
+static inline int sb_slot_of(int c, bool mirrored) { return !mirrored ? c : c == 2 ? 3 : 1 - c; }
+
 /* Adds corner c's forces and energies to out. */
 static inline __attribute__((always_inline)) void sb_fast_corner(const sb_wtriangle* t, int c, sb_wide cos0, sb_wide ka,
-                                                                 sb_wide ksb, sb_wtriangle_out* out) {
+                                                                 sb_wide ksb, bool mirrored, sb_wtriangle_out* out) {
     int j = (c + 1) % 3, k = (c + 2) % 3;
     sb_wvec3 ua = t->unit[c], ub = sb_wv_neg(t->unit[k]);
     sb_wide cosine = sb_wv_dot(ua, ub), dc = sb_w_sub(cosine, cos0);
@@ -71,9 +82,10 @@ static inline __attribute__((always_inline)) void sb_fast_corner(const sb_wtrian
     sb_wide ga = sb_w_mul(g, t->inverse[c]), gb = sb_w_mul(g, t->inverse[k]);
     sb_wvec3 fj = sb_wv_add(sb_wv_scale(sb_wv_sub(ub, sb_wv_scale(ua, cosine)), ga), sb_wv_scale(ua, h));
     sb_wvec3 fk = sb_wv_add(sb_wv_scale(sb_wv_sub(ua, sb_wv_scale(ub, cosine)), gb), sb_wv_scale(ub, h));
-    out->force[j] = sb_wv_sub(out->force[j], fj);
-    out->force[k] = sb_wv_sub(out->force[k], fk);
-    out->force[c] = sb_wv_add(out->force[c], sb_wv_add(fj, fk));
+    int at_j = sb_slot_of(j, mirrored), at_k = sb_slot_of(k, mirrored), at_c = sb_slot_of(c, mirrored);
+    out->force[at_j] = sb_wv_sub(out->force[at_j], fj);
+    out->force[at_k] = sb_wv_sub(out->force[at_k], fk);
+    out->force[at_c] = sb_wv_add(out->force[at_c], sb_wv_add(fj, fk));
     out->energy[0] = sb_w_add(out->energy[0], sb_w_mul(sb_w_mul(sb_w_set((sb_real)0.5), ka), sb_w_mul(dc, dc)));
     out->energy[1] = sb_w_add(out->energy[1], sb_w_mul(sb_w_mul(ksb, dc), s));
 }
@@ -89,7 +101,8 @@ typedef struct sb_wfused {
  * otherwise): stretch, spring and damping along the edge. */
 static inline __attribute__((always_inline)) void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t,
                                                                      const sb_wfused* e, int c, sb_wide length,
-                                                                     uint32_t s, bool damping, sb_wtriangle_out* out) {
+                                                                     uint32_t s, bool damping, bool mirrored,
+                                                                     sb_wtriangle_out* out) {
     int j = (c + 1) % 3;
     sb_wide owned = sb_w_bit(m->tri_owned + s, c);
     sb_wide r0 = m->tri_edge_r0[c] ? sb_w_load(m->tri_edge_r0[c] + s) : e->rest[c];
@@ -103,8 +116,9 @@ static inline __attribute__((always_inline)) void sb_fast_owned_bond(const sb_fa
         magnitude = sb_w_add(magnitude, sb_w_mul(d, opening));
     }
     sb_wvec3 f = sb_wv_scale(t->unit[c], magnitude);
-    out->force[c] = sb_wv_add(out->force[c], f);
-    out->force[j] = sb_wv_sub(out->force[j], f);
+    int at_c = sb_slot_of(c, mirrored), at_j = sb_slot_of(j, mirrored);
+    out->force[at_c] = sb_wv_add(out->force[at_c], f);
+    out->force[at_j] = sb_wv_sub(out->force[at_j], f);
     sb_wide strain_energy = sb_w_mul(sb_w_set((sb_real)0.5), sb_w_mul(stretch, stretch));
     out->energy[2] = sb_w_add(out->energy[2], sb_w_mul(kb, strain_energy));
     out->energy[3] = sb_w_add(out->energy[3], sb_w_mul(ks, strain_energy));
@@ -162,7 +176,7 @@ static inline __attribute__((always_inline)) bool sb_fast_hinge_forces(const sb_
 static inline __attribute__((always_inline)) bool sb_fast_carried_hinge(const sb_fast_model* m, const sb_fast_frame* fr,
                                                                         const sb_wtriangle* t, const sb_wwing* w,
                                                                         sb_wide field, int j, uint32_t s, int count,
-                                                                        sb_wtriangle_out* out) {
+                                                                        bool mirrored, sb_wtriangle_out* out) {
     sb_windex other = sb_w_index(m->tri_hinge_other[j] + s);
     sb_wvec3 p[4] = {sb_wv_pick3(field, w->p[0], w->p[1], w->p[2]), sb_wv_pick3(field, w->p[1], w->p[2], w->p[0]),
                      sb_wv_pick3(field, w->p[2], w->p[0], w->p[1]), sb_wv_load4(fr->positions4, other)};
@@ -173,9 +187,10 @@ static inline __attribute__((always_inline)) bool sb_fast_carried_hinge(const sb
     bool collapsed =
         sb_fast_hinge_forces(w, p, unit, length, k, sb_w_load(m->tri_hinge_phi0[j] + s), count, f, &out->energy[4]);
     sb_wv_add4(fr->forces4, other, f[3], count);
-    out->force[0] = sb_wv_add(out->force[0], sb_wv_pick3(field, f[0], f[2], f[1]));
-    out->force[1] = sb_wv_add(out->force[1], sb_wv_pick3(field, f[1], f[0], f[2]));
-    out->force[2] = sb_wv_add(out->force[2], sb_wv_pick3(field, f[2], f[1], f[0]));
+    int at[3] = {sb_slot_of(0, mirrored), sb_slot_of(1, mirrored), sb_slot_of(2, mirrored)};
+    out->force[at[0]] = sb_wv_add(out->force[at[0]], sb_wv_pick3(field, f[0], f[2], f[1]));
+    out->force[at[1]] = sb_wv_add(out->force[at[1]], sb_wv_pick3(field, f[1], f[0], f[2]));
+    out->force[at[2]] = sb_wv_add(out->force[at[2]], sb_wv_pick3(field, f[2], f[1], f[0]));
     return collapsed;
 }
 
@@ -188,15 +203,17 @@ static inline __attribute__((always_inline)) void sb_fast_wing_normal(sb_wwing* 
 
 /* Adds the hinges the lanes' triangles carry; returns whether a wing
  * collapsed. The wing's normal is computed here unless `normal_ready`. */
-static inline __attribute__((always_inline)) bool
-sb_fast_carried_hinges(const sb_fast_model* m, const sb_fast_frame* fr, const sb_wtriangle* t, sb_wwing* w,
-                       const sb_wvec3 edge[3], bool normal_ready, uint32_t s, int count, sb_wtriangle_out* out) {
+static inline __attribute__((always_inline)) bool sb_fast_carried_hinges(const sb_fast_model* m,
+                                                                         const sb_fast_frame* fr, const sb_wtriangle* t,
+                                                                         sb_wwing* w, const sb_wvec3 edge[3],
+                                                                         bool normal_ready, uint32_t s, int count,
+                                                                         bool mirrored, sb_wtriangle_out* out) {
     bool collapsed = false;
     for (int j = 0; j < 3; j++) {
         sb_wide field = sb_w_field(m->tri_hinge_edges + s, 2 * j, 3u);
         if (!sb_w_any(sb_w_less(sb_w_set((sb_real)0.5), field), count)) break; /* nor in the next slots */
         if (j == 0 && !normal_ready) sb_fast_wing_normal(w, edge);
-        collapsed |= sb_fast_carried_hinge(m, fr, t, w, field, j, s, count, out);
+        collapsed |= sb_fast_carried_hinge(m, fr, t, w, field, j, s, count, mirrored, out);
     }
     return collapsed;
 }
@@ -230,14 +247,15 @@ static inline sb_fast_options sb_fast_options_of(const sb_fast_model* m, bool ex
                              m->fused_bonds && m->tri_edge_near_max2[0]};
 }
 
-/* Triangle slot s's block, its positions in wing->p: the corners, the owned
- * bonds and the carried hinges into out (zeroed here), its edges' unit
- * vectors into *t and lengths into the wing; the wing's normal too when
- * `normal` (a pair's shared hinge needs it). Returns SB_KERNEL_* flags. */
+/* Triangle slot s's block, its positions in wing->p: adds the corners,
+ * the owned bonds and the carried hinges to out (at sb_slot_of's slots),
+ * its edges' unit vectors into *t and lengths into the wing; the wing's
+ * normal too when `normal` (a pair's shared hinge needs it). Returns
+ * SB_KERNEL_* flags. */
 static inline __attribute__((always_inline)) int sb_fast_triangle(const sb_fast_model* m, const sb_fast_frame* fr,
-                                                                  sb_fast_options o, bool normal, uint32_t s, int count,
-                                                                  sb_wwing* wing, sb_wtriangle* t,
-                                                                  sb_wtriangle_out* out) {
+                                                                  sb_fast_options o, bool normal, bool mirrored,
+                                                                  uint32_t s, int count, sb_wwing* wing,
+                                                                  sb_wtriangle* t, sb_wtriangle_out* out) {
     const sb_wide ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO), zero = sb_w_set(0);
     bool collapsed = false, near = false;
     sb_wfused fused;
@@ -255,18 +273,16 @@ static inline __attribute__((always_inline)) int sb_fast_triangle(const sb_fast_
         if (o.limits) near |= sb_near_limit(m->tri_edge_near_max2[c], m->tri_edge_near_min2[c], s, squared, count);
     }
     sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
-    *out = (sb_wtriangle_out){{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}},
-                              {zero, zero, zero, zero, zero}};
 #pragma GCC unroll 3
-    for (int c = 0; c < 3; c++) sb_fast_corner(t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, out);
+    for (int c = 0; c < 3; c++) sb_fast_corner(t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, mirrored, out);
 #pragma GCC unroll 3
     for (int c = 0; c < 3; c++) /* read only with damping */
         fused.velocity[c] = o.damping ? sb_wv_load4_at(fr->velocities4, m->tri_v[c] + s) : (sb_wvec3){zero, zero, zero};
     if (m->fused_bonds)
 #pragma GCC unroll 3
-        for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, t, &fused, c, wing->length[c], s, o.damping, out);
+        for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, t, &fused, c, wing->length[c], s, o.damping, mirrored, out);
     if (normal) sb_fast_wing_normal(wing, edge);
-    if (o.hinges) collapsed |= sb_fast_carried_hinges(m, fr, t, wing, edge, normal, s, count, out);
+    if (o.hinges) collapsed |= sb_fast_carried_hinges(m, fr, t, wing, edge, normal, s, count, mirrored, out);
     return (collapsed ? SB_KERNEL_COLLAPSED : 0) | (near ? SB_KERNEL_NEAR_LIMIT : 0);
 }
 
@@ -286,8 +302,8 @@ static inline __attribute__((always_inline)) int sb_fast_corners_loop(const sb_f
 #pragma GCC unroll 3
         for (int c = 0; c < 3; c++) wing.p[c] = sb_wv_load4_at(fr->positions4, m->tri_v[c] + s);
         sb_wtriangle t;
-        sb_wtriangle_out out;
-        flags |= sb_fast_triangle(m, fr, o, false, s, count, &wing, &t, &out);
+        sb_wtriangle_out out = sb_wtriangle_out_zero();
+        flags |= sb_fast_triangle(m, fr, o, false, false, s, count, &wing, &t, &out);
 #pragma GCC unroll 3
         for (int c = 0; c < 3; c++) sb_wv_add4_at(fr->forces4, m->tri_v[c] + s, out.force[c], count);
 #pragma GCC unroll 5
@@ -317,20 +333,20 @@ static inline __attribute__((always_inline)) int sb_fast_pair(const sb_fast_mode
     wb.p[1] = wa.p[0];
     wb.p[2] = sb_wv_load4_at(fr->positions4, m->tri_v[2] + b);
     sb_wtriangle ta, tb;
-    sb_wtriangle_out a, bo;
-    int flags = sb_fast_triangle(m, fr, o, true, s, count, &wa, &ta, &a);
-    flags |= sb_fast_triangle(m, fr, o, false, b, count, &wb, &tb, &bo);
+    sb_wtriangle_out out = sb_wtriangle_out_zero(); /* on A0, A1, A2, B2 */
+    int flags = sb_fast_triangle(m, fr, o, true, false, s, count, &wa, &ta, &out);
+    flags |= sb_fast_triangle(m, fr, o, false, true, b, count, &wb, &tb, &out);
     const sb_wvec3 p[4] = {wa.p[0], wa.p[1], wa.p[2], wb.p[2]};
     sb_wvec3 f[4];
     if (sb_fast_hinge_forces(&wa, p, ta.unit[0], wa.length[0], sb_w_constant(m->pair_k, s), sb_w_load(m->pair_phi0 + s),
-                             count, f, &a.energy[4]))
+                             count, f, &out.energy[4]))
         flags |= SB_KERNEL_COLLAPSED;
-    sb_wv_add4_at(fr->forces4, m->tri_v[0] + s, sb_wv_add(sb_wv_add(a.force[0], bo.force[1]), f[0]), count);
-    sb_wv_add4_at(fr->forces4, m->tri_v[1] + s, sb_wv_add(sb_wv_add(a.force[1], bo.force[0]), f[1]), count);
-    sb_wv_add4_at(fr->forces4, m->tri_v[2] + s, sb_wv_add(a.force[2], f[2]), count);
-    sb_wv_add4_at(fr->forces4, m->tri_v[2] + b, sb_wv_add(bo.force[2], f[3]), count);
+    sb_wv_add4_at(fr->forces4, m->tri_v[0] + s, sb_wv_add(out.force[0], f[0]), count);
+    sb_wv_add4_at(fr->forces4, m->tri_v[1] + s, sb_wv_add(out.force[1], f[1]), count);
+    sb_wv_add4_at(fr->forces4, m->tri_v[2] + s, sb_wv_add(out.force[2], f[2]), count);
+    sb_wv_add4_at(fr->forces4, m->tri_v[2] + b, sb_wv_add(out.force[3], f[3]), count);
 #pragma GCC unroll 5
-    for (int e = 0; e < 5; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(sb_w_add(a.energy[e], bo.energy[e]), count));
+    for (int e = 0; e < 5; e++) sums[e] = sb_w_add(sums[e], sb_w_keep(out.energy[e], count));
     return flags;
 }
 
