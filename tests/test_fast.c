@@ -5,7 +5,6 @@
 #include <stdio.h>
 
 #include "kernels/forces/fast_model.h"
-#include "kernels/runtime/wide.h"
 
 /* Float carries ~7 digits; after a few dozen operations per element the
  * error stays below 1e-5 of the largest force. Double: 1e-12. */
@@ -506,109 +505,6 @@ static void test_coloring(void** state) {
         sb_model_destroy(model);
     }
     sb_mesh_free(&mesh);
-}
-
-/* A triangle as its sorted vertices, for comparing sets of triangles. */
-static uint64_t triangle_key(uint32_t a, uint32_t b, uint32_t c, uint32_t vertex_count) {
-    uint32_t lo = a < b ? (a < c ? a : c) : (b < c ? b : c), hi = a > b ? (a > c ? a : c) : (b > c ? b : c);
-    uint32_t mid = a + b + c - lo - hi;
-    return ((uint64_t)lo * vertex_count + mid) * vertex_count + hi;
-}
-
-static int compare_keys(const void* a, const void* b) {
-    uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
-    return (x > y) - (x < y);
-}
-
-/* The paired layout (sb_fast_model.paired): every triangle of the model in
- * exactly one slot (A or a B that is not inert), B = (A1, A0, B2), the
- * pair's lanes in a range sharing no vertex (its four and its carried
- * hinges' other tips), nor the blocks of one block color. Returns the
- * triangles left alone. */
-static uint32_t check_pairs(const sb_fast_model* fast, const sb_model* model, uint32_t vertex_count) {
-    const sb_fast_model* p = fast->paired;
-    const sb_element_group* g = &p->triangles;
-    uint32_t nt = sb_model_triangle_count(model), found = 0, alone = 0;
-    uint64_t *keys = malloc(nt * sizeof *keys), *expected = malloc(nt * sizeof *expected);
-    uint32_t *lane_owner = malloc(vertex_count * sizeof *lane_owner),
-             *block_owner = malloc(vertex_count * sizeof *block_owner);
-    for (uint32_t v = 0; v < vertex_count; v++) lane_owner[v] = block_owner[v] = UINT32_MAX;
-    for (uint32_t k = 0; k < g->block_colors && k != SB_OVERFLOW_COLOR; k++)
-        for (uint32_t b = g->color_first_block[k]; b < g->color_first_block[k + 1]; b++)
-            for (uint32_t r = g->blocks[b].first_range; r < g->blocks[b].first_range + g->blocks[b].range_count; r++) {
-                const sb_color_range* range = &g->ranges[r];
-                for (uint32_t s = range->begin; s < range->end; s += 2 * SB_WIDTH)
-                    for (uint32_t l = 0; l < SB_WIDTH && s + l < range->end; l++) {
-                        uint32_t a = s + l, q = a + SB_WIDTH;
-                        assert_int_equal(p->tri_v[0][q], p->tri_v[1][a]);
-                        assert_int_equal(p->tri_v[1][q], p->tri_v[0][a]);
-                        bool inert = p->tri_v[2][q] == p->tri_v[2][a];
-                        alone += inert;
-                        assert_true(found + 2 - inert <= nt);
-                        keys[found++] = triangle_key(p->tri_v[0][a], p->tri_v[1][a], p->tri_v[2][a], vertex_count);
-                        if (!inert)
-                            keys[found++] = triangle_key(p->tri_v[0][q], p->tri_v[1][q], p->tri_v[2][q], vertex_count);
-                        uint32_t ids[10] = {p->tri_v[0][a], p->tri_v[1][a], p->tri_v[2][a], p->tri_v[2][q]};
-                        for (int j = 0; j < 3; j++)
-                            ids[4 + j] = p->tri_hinge_other[j][a], ids[7 + j] = p->tri_hinge_other[j][q];
-                        for (int i = 0; i < 10; i++) {
-                            uint32_t v = ids[i], lane_mark = r * SB_WIDTH + l;
-                            if (!range->serial && lane_owner[v] != UINT32_MAX && lane_owner[v] / SB_WIDTH == r &&
-                                lane_owner[v] != lane_mark)
-                                fail_msg("range %u: lanes %u and %u share vertex %u", r, lane_owner[v] % SB_WIDTH, l,
-                                         v);
-                            lane_owner[v] = lane_mark;
-                            if (block_owner[v] != UINT32_MAX && block_owner[v] != b &&
-                                block_owner[v] >= g->color_first_block[k])
-                                fail_msg("block color %u: blocks %u and %u share vertex %u", k, block_owner[v], b, v);
-                            block_owner[v] = b;
-                        }
-                    }
-            }
-    assert_int_equal(found, nt);
-    for (uint32_t t = 0; t < nt; t++) {
-        uint32_t v[3];
-        sb_model_triangle(model, t, v);
-        expected[t] = triangle_key(v[0], v[1], v[2], vertex_count);
-    }
-    qsort(keys, nt, sizeof *keys, compare_keys);
-    qsort(expected, nt, sizeof *expected, compare_keys);
-    assert_memory_equal(keys, expected, nt * sizeof *keys);
-    free(keys);
-    free(expected);
-    free(lane_owner);
-    free(block_owner);
-    return alone;
-}
-
-/* Triangle pairs on a sheet (a quad's two triangles) and a closed surface:
- * the layout is valid (check_pairs) and few triangles are left alone (an
- * inert partner each, and all the icosphere's force tests run them); the
- * forces on it are the reference's in the tests above, which run the
- * paired step whenever the hinges are carried. */
-static void test_triangle_pairs(void** state) {
-    (void)state;
-    sb_mesh meshes[2] = {{0}};
-    sb_error err;
-    sb_sheet_def sheet = sb_default_sheet_def();
-    sheet.nx = sheet.ny = 60;
-    sheet.jitter = 0.15;
-    assert_int_equal(sb_mesh_generate_sheet(&sheet, &meshes[0], &err), SB_OK);
-    assert_int_equal(sb_mesh_generate_icosphere(4, 1.0, &meshes[1], &err), SB_OK);
-    for (int i = 0; i < 2; i++) {
-        sb_model* model = make_model(&meshes[i], BONDS_DAMPED);
-        sb_fast_model* fast = sb_fast_model_create(model, &err);
-        assert_non_null(fast);
-        assert_non_null(fast->paired);
-        uint32_t alone = check_pairs(fast, model, meshes[i].vertex_count);
-        print_message("%s: %u triangles, %u alone\n", i ? "icosphere" : "sheet", sb_model_triangle_count(model), alone);
-        /* the greedy pairing leaves a sheet's corners; a closed surface in
-         * its generator's order, about a tenth (512 of 5120) */
-        assert_true(alone * (i ? 8 : 100) < sb_model_triangle_count(model));
-        sb_fast_model_destroy(fast);
-        sb_model_destroy(model);
-        sb_mesh_free(&meshes[i]);
-    }
 }
 
 /* A sheet large enough for blocks above 2 048 elements, the cap before the
@@ -1197,7 +1093,6 @@ int main(void) {
         cmocka_unit_test(test_triangles_carrying_three_hinges),
         cmocka_unit_test(test_fused_hinges_on_meshes),
         cmocka_unit_test(test_coloring),
-        cmocka_unit_test(test_triangle_pairs),
         cmocka_unit_test(test_large_blocks),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_collapse_reported),

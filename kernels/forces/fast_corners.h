@@ -9,9 +9,4 @@
 int sb_fast_corners(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
                     double energy[5]);
 
-/* The same terms over the triangle pairs of sb_fast_model.paired (m is
- * that model), with each pair's shared hinge (its energy in energy[4]). */
-int sb_fast_pairs(const sb_fast_model* m, const sb_fast_frame* frame, uint32_t begin, uint32_t end, bool serial,
-                  double energy[5]);
-
 #endif

@@ -313,10 +313,8 @@ static bool sb_fast_fused_edges(sb_fast_model* f, const sb_model* m, const int64
  * vertex is one of the hinge's wing tips, or SB_NONE. Of a hinge's two
  * wings the one carrying fewer so far takes it. NULL when some hinge has
  * no wing among the triangles (or shares its edge with another hinge):
- * then the hinge pass computes them all. Triangles with inert[t] set are
- * no wing, and hinges with inner[h] set are carried by none (a pair's
- * shared hinge); either may be NULL. */
-static uint32_t* sb_hinge_carriers(const sb_model* m, const uint8_t* inert, const uint8_t* inner, bool* ok) {
+ * then the hinge pass computes them all. */
+static uint32_t* sb_hinge_carriers(const sb_model* m, bool* ok) {
     if (!m->hinge_count || !m->triangle_count || !m->term_enabled[SB_TERM_BEND]) return NULL;
     size_t nt = m->triangle_count, nh = m->hinge_count;
     uint32_t *carried = malloc(3 * nt * sizeof *carried), (*wings)[2] = malloc(nh * sizeof *wings);
@@ -333,11 +331,9 @@ static uint32_t* sb_hinge_carriers(const sb_model* m, const uint8_t* inert, cons
         uint32_t t = e / 3, c = e % 3, opposite = m->tri_v[(c + 2) % 3][t];
         uint32_t* h = sb_edge_map_find(&map, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t]);
         carried[e] = SB_NONE;
-        if (inert && inert[t]) continue;
         if (h && (opposite == m->hinge_o0[*h] || opposite == m->hinge_o1[*h])) wings[*h][wings[*h][0] != SB_NONE] = e;
     }
     for (uint32_t h = 0; fusable && h < nh; h++) {
-        if (inner && inner[h]) continue;
         uint32_t e = wings[h][0];
         if (wings[h][1] != SB_NONE && load[wings[h][1] / 3] < load[e / 3]) e = wings[h][1];
         fusable = e != SB_NONE;
@@ -420,65 +416,15 @@ static bool sb_fast_carried_hinges(sb_fast_model* f, const sb_model* m, const sb
     return ok;
 }
 
-/* The triangle group of a paired model (sb_fast_model.paired): m's
- * triangles 2p and 2p + 1 are pair p's A and B. The pairs are colored by
- * A's vertices, B's third and both triangles' carried hinges' other
- * vertices (ids: 3 corners and, when arity is 6, 3 others per triangle),
- * ranked by the most hinges either carries, laid out as any group; each
- * block of SB_WIDTH pair slots then becomes 2 SB_WIDTH triangle slots, A's
- * then B's. */
-static bool sb_pair_group_build(sb_element_group* g, const sb_model* m, int arity, const uint32_t* const* ids,
-                                const uint8_t* rank) {
-    uint32_t np = m->triangle_count / 2;
-    int pair_arity = arity == 6 ? 10 : 4;
-    uint32_t* pair_ids[10] = {0};
-    uint8_t* pair_rank = rank ? malloc(np ? np : 1) : NULL;
-    bool ok = !rank || pair_rank;
-    for (int a = 0; a < pair_arity; a++) ok = (pair_ids[a] = malloc((np ? np : 1) * sizeof(uint32_t))) != NULL && ok;
-    for (uint32_t q = 0; ok && q < np; q++) {
-        for (int c = 0; c < 3; c++) pair_ids[c][q] = ids[c][2 * q];
-        pair_ids[3][q] = ids[2][2 * q + 1];
-        for (int j = 0; pair_arity == 10 && j < 3; j++) {
-            pair_ids[4 + j][q] = ids[3 + j][2 * q];
-            pair_ids[7 + j][q] = ids[3 + j][2 * q + 1];
-        }
-        if (rank) pair_rank[q] = rank[2 * q] > rank[2 * q + 1] ? rank[2 * q] : rank[2 * q + 1];
-    }
-    sb_element_group pairs = {0};
-    ok = ok &&
-         sb_group_build(&pairs, m->vertex_count, np, pair_arity, (const uint32_t* const*)pair_ids, NULL, pair_rank);
-    for (int a = 0; a < pair_arity; a++) free(pair_ids[a]);
-    free(pair_rank);
-    *g = pairs;
-    g->source = NULL;
-    g->count = 2 * pairs.count;
-    g->capacity = 2 * pairs.capacity;
-    for (uint32_t r = 0; r < g->range_count; r++) {
-        uint32_t begin = pairs.ranges[r].begin, n = pairs.ranges[r].end - begin;
-        g->ranges[r].begin = 2 * begin;
-        g->ranges[r].end = 2 * begin + 2 * SB_WIDTH * (n / SB_WIDTH) + n % SB_WIDTH;
-    }
-    g->source = ok ? malloc((g->capacity ? g->capacity : 1) * sizeof *g->source) : NULL;
-    for (uint32_t q = 0; g->source && q < pairs.capacity; q++) {
-        uint32_t at = 2 * SB_WIDTH * (q / SB_WIDTH) + q % SB_WIDTH;
-        g->source[at] = 2 * pairs.source[q];
-        g->source[at + SB_WIDTH] = 2 * pairs.source[q] + 1;
-    }
-    free(pairs.source);
-    return g->source != NULL;
-}
-
 /* The triangle group: colored by the corners, and with fused hinges by
  * the hinges' other vertices too (so that a block's scatters stay apart
  * from other blocks' of its color, and a color's lanes from each other). */
-static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m, const uint32_t* carried, bool paired) {
+static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m, const uint32_t* carried) {
     sb_carried_values values = {0};
     bool ok = !carried || sb_carried_fill(&values, m, carried);
     const uint32_t* ids[6] = {m->tri_v[0], m->tri_v[1], m->tri_v[2], values.other[0], values.other[1], values.other[2]};
-    int arity = carried ? 6 : 3;
     ok = ok &&
-         (paired ? sb_pair_group_build(&f->triangles, m, arity, ids, values.count)
-                 : sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, arity, ids, NULL, values.count));
+         sb_group_build(&f->triangles, m->vertex_count, m->triangle_count, carried ? 6 : 3, ids, NULL, values.count);
     ok = ok && (!carried || sb_fast_carried_hinges(f, m, &values));
     sb_carried_free(&values);
     if (!ok) return false;
@@ -541,187 +487,6 @@ static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
     f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
     f->has_membranes = m->membrane_count > 0 && m->term_enabled[SB_TERM_MEMBRANE];
     return ok;
-}
-
-/* Triangle pairs (sb_fast_model.paired), chosen greedily in model order
- * (which follows the mesh's vertex order, so pairs stay local): a
- * triangle takes the first neighbour not yet taken across one of its
- * edges that has a hinge on it with the two triangles as wings and that
- * runs the other way in the neighbour (consistently oriented). A
- * triangle left with none is alone. */
-typedef struct sb_pairing {
-    uint32_t count;
-    uint32_t *a, *b;          /* model triangles; b SB_NONE when a is alone */
-    uint8_t *a_turn, *b_turn; /* the pair's corner c is the model's (c + turn) % 3 */
-    uint32_t* hinge;          /* on the shared edge; SB_NONE when alone */
-} sb_pairing;
-
-static void sb_pairing_free(sb_pairing* p) {
-    free(p->a);
-    free(p->b);
-    free(p->a_turn);
-    free(p->b_turn);
-    free(p->hinge);
-}
-
-/* The hinge on edge (a, b) whose wing tips are tip0 and tip1, or SB_NONE. */
-static uint32_t sb_hinge_between(const sb_model* m, const sb_edge_map* hinges, uint32_t a, uint32_t b, uint32_t tip0,
-                                 uint32_t tip1) {
-    const uint32_t* h = sb_edge_map_find(hinges, a, b);
-    if (!h) return SB_NONE;
-    uint32_t o0 = m->hinge_o0[*h], o1 = m->hinge_o1[*h];
-    return (o0 == tip0 && o1 == tip1) || (o0 == tip1 && o1 == tip0) ? *h : SB_NONE;
-}
-
-/* Pairs triangle t with a neighbour across one of its edges (see above);
- * returns whether it found one. */
-static bool sb_pair_one(const sb_model* m, const sb_edge_map* edges, const uint32_t* next, const sb_edge_map* hinges,
-                        const uint8_t* taken, uint32_t t, sb_pairing* p) {
-    uint32_t n = p->count;
-    for (int c = 0; c < 3; c++) {
-        uint32_t a = m->tri_v[c][t], b = m->tri_v[(c + 1) % 3][t];
-        for (uint32_t q = *sb_edge_map_find(edges, a, b); q != SB_NONE; q = next[q]) {
-            uint32_t u = q / 3, cu = q % 3;
-            if (u == t || taken[u] || m->tri_v[cu][u] != b || m->tri_v[(cu + 1) % 3][u] != a) continue;
-            uint32_t h = sb_hinge_between(m, hinges, a, b, m->tri_v[(c + 2) % 3][t], m->tri_v[(cu + 2) % 3][u]);
-            if (h == SB_NONE) continue;
-            p->a_turn[n] = (uint8_t)c;
-            p->b[n] = u;
-            p->b_turn[n] = (uint8_t)cu;
-            p->hinge[n] = h;
-            return true;
-        }
-    }
-    return false;
-}
-
-static bool sb_pair_triangles(const sb_model* m, sb_pairing* p) {
-    size_t nt = m->triangle_count;
-    *p = (sb_pairing){0};
-    uint32_t* next = malloc(3 * nt * sizeof *next);
-    uint8_t* taken = calloc(nt, 1);
-    sb_edge_map edges = {0}, hinges = {0};
-    bool ok = next && taken && sb_edge_map_init(&edges, 3 * nt) && sb_edge_map_init(&hinges, m->hinge_count);
-    ok = ok && (p->a = malloc(nt * sizeof *p->a)) && (p->b = malloc(nt * sizeof *p->b)) && (p->a_turn = malloc(nt)) &&
-         (p->b_turn = malloc(nt)) && (p->hinge = malloc(nt * sizeof *p->hinge));
-    bool inserted;
-    for (uint32_t h = 0; ok && h < m->hinge_count; h++)
-        sb_edge_map_upsert(&hinges, m->hinge_e0[h], m->hinge_e1[h], h, &inserted);
-    for (uint32_t e = 0; ok && e < 3 * nt; e++) { /* each edge's triangle edges, chained through next */
-        uint32_t t = e / 3, c = e % 3;
-        uint32_t* head = sb_edge_map_upsert(&edges, m->tri_v[c][t], m->tri_v[(c + 1) % 3][t], e, &inserted);
-        next[e] = inserted ? SB_NONE : *head;
-        *head = e;
-    }
-    for (uint32_t t = 0; ok && t < nt; t++) {
-        if (taken[t]) continue;
-        uint32_t n = p->count;
-        p->a[n] = t;
-        taken[t] = 1;
-        if (sb_pair_one(m, &edges, next, &hinges, taken, t, p)) {
-            taken[p->b[n]] = 1;
-        } else {
-            p->a_turn[n] = p->b_turn[n] = 0;
-            p->b[n] = p->hinge[n] = SB_NONE;
-        }
-        p->count++;
-    }
-    sb_edge_map_free(&edges);
-    sb_edge_map_free(&hinges);
-    free(next);
-    free(taken);
-    return ok;
-}
-
-/* The paired model's triangles (2 per pair, turned; an inert B for a
- * triangle alone), the flags that keep the carriers off the inert ones
- * and the shared hinges, and each pair's hinge constants at A and B. */
-typedef struct sb_pair_arrays {
-    uint32_t* v[3];
-    double *cos0[3], *len0[3], *angle_k, *stretch_bend_k, *phi0, *k;
-    uint8_t *inert, *inner;
-} sb_pair_arrays;
-
-static void sb_pair_arrays_free(sb_pair_arrays* a) {
-    for (int c = 0; c < 3; c++) {
-        free(a->v[c]);
-        free(a->cos0[c]);
-        free(a->len0[c]);
-    }
-    void* rest[] = {a->angle_k, a->stretch_bend_k, a->phi0, a->k, a->inert, a->inner};
-    for (size_t i = 0; i < sizeof rest / sizeof *rest; i++) free(rest[i]);
-}
-
-/* Model triangle t turned by `turn` into pair triangle at. */
-static void sb_pair_put(sb_pair_arrays* a, const sb_model* m, size_t at, uint32_t t, int turn) {
-    for (int c = 0; c < 3; c++) {
-        int from = (c + turn) % 3;
-        a->v[c][at] = m->tri_v[from][t];
-        a->cos0[c][at] = m->tri_cos0[from][t];
-        a->len0[c][at] = m->tri_len0[from][t];
-    }
-    a->angle_k[at] = m->angle_k[t];
-    a->stretch_bend_k[at] = m->stretch_bend_k[t];
-}
-
-static bool sb_pair_arrays_fill(sb_pair_arrays* a, const sb_model* m, const sb_pairing* p) {
-    size_t n = 2 * (size_t)p->count;
-    *a = (sb_pair_arrays){0};
-    bool ok = (a->inert = calloc(n, 1)) && (a->inner = calloc(m->hinge_count, 1));
-    for (int c = 0; c < 3; c++)
-        ok = ok && (a->v[c] = malloc(n * sizeof(uint32_t))) && (a->cos0[c] = calloc(n, sizeof(double))) &&
-             (a->len0[c] = calloc(n, sizeof(double)));
-    double** reals[4] = {&a->angle_k, &a->stretch_bend_k, &a->phi0, &a->k};
-    for (int r = 0; r < 4; r++) ok = ok && (*reals[r] = calloc(n, sizeof(double)));
-    for (uint32_t q = 0; ok && q < p->count; q++) {
-        sb_pair_put(a, m, 2 * (size_t)q, p->a[q], p->a_turn[q]);
-        size_t at = 2 * (size_t)q + 1;
-        if (p->b[q] == SB_NONE) { /* inert: (A1, A0, A2), its constants and rest lengths 0 */
-            a->v[0][at] = a->v[1][at - 1];
-            a->v[1][at] = a->v[0][at - 1];
-            a->v[2][at] = a->v[2][at - 1];
-            a->inert[at] = 1;
-            continue;
-        }
-        sb_pair_put(a, m, at, p->b[q], p->b_turn[q]);
-        uint32_t h = p->hinge[q];
-        a->inner[h] = 1;
-        bool same = (a->v[0][at - 1] == m->hinge_e0[h]) == (a->v[2][at - 1] == m->hinge_o0[h]);
-        a->phi0[at - 1] = a->phi0[at] = same ? m->hinge_phi0[h] : -m->hinge_phi0[h];
-        a->k[at - 1] = a->k[at] = m->hinge_k[h];
-    }
-    return ok;
-}
-
-/* The paired model (sb_fast_model.paired) of a model whose hinges are all
- * carried; NULL with *ok kept when its hinges cannot be carried so. */
-static sb_fast_model* sb_fast_paired(const sb_model* m, bool* ok) {
-    sb_pairing p;
-    sb_pair_arrays a = {0};
-    bool built = sb_pair_triangles(m, &p) && sb_pair_arrays_fill(&a, m, &p);
-    sb_model pm = *m; /* m with the pairs' triangles */
-    pm.triangle_count = 2 * p.count;
-    for (int c = 0; c < 3; c++) pm.tri_v[c] = a.v[c], pm.tri_cos0[c] = a.cos0[c], pm.tri_len0[c] = a.len0[c];
-    pm.angle_k = a.angle_k;
-    pm.stretch_bend_k = a.stretch_bend_k;
-    int64_t* owner = built ? sb_bond_owners(&pm, &built) : NULL;
-    uint32_t* carried = built ? sb_hinge_carriers(&pm, a.inert, a.inner, &built) : NULL;
-    sb_fast_model* f = built && carried ? calloc(1, sizeof *f) : NULL;
-    if (f) {
-        built = sb_fast_triangles(f, &pm, carried, true) && (!owner || sb_fast_fused_edges(f, &pm, owner));
-        f->pair_phi0 = sb_gather_real(a.phi0, &f->triangles, &built);
-        f->pair_k = sb_constant_from(a.k, pm.triangle_count, a.k, &f->triangles, true, &built);
-    }
-    free(owner);
-    free(carried);
-    sb_pair_arrays_free(&a);
-    sb_pairing_free(&p);
-    if (!built) {
-        sb_fast_model_destroy(f);
-        *ok = false;
-        return NULL;
-    }
-    return f;
 }
 
 /* slot_of[source[s]] = s for the real slots of every color of a group. */
@@ -870,12 +635,11 @@ sb_fast_model* sb_fast_model_create(const sb_model* m, sb_error* err) {
     sb_fast_model* f = calloc(1, sizeof *f);
     bool ok = f != NULL;
     int64_t* owner = ok ? sb_bond_owners(m, &ok) : NULL;
-    uint32_t* carried = ok ? sb_hinge_carriers(m, NULL, NULL, &ok) : NULL;
-    ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m, carried, false) &&
+    uint32_t* carried = ok ? sb_hinge_carriers(m, &ok) : NULL;
+    ok = ok && sb_fast_vertices(f, m) && sb_fast_bonds(f, m, owner) && sb_fast_triangles(f, m, carried) &&
          (!owner || sb_fast_fused_edges(f, m, owner)) && sb_fast_hinges(f, m) && sb_fast_tet_group(f, m) &&
          sb_fast_membrane_group(f, m) &&
          (!m->breakable || (sb_fast_places(f, m, owner, carried) && sb_fast_limits(f, m)));
-    if (ok && carried && !m->breakable) f->paired = sb_fast_paired(m, &ok);
     free(owner);
     free(carried);
     if (!ok) {
@@ -925,9 +689,7 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->membrane_mu,
                       f->membrane_lambda,
                       f->tet_beta,
-                      f->tet_nodes,
-                      f->pair_phi0,
-                      f->pair_k.values};
+                      f->tet_nodes};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -948,6 +710,5 @@ void sb_fast_model_destroy(sb_fast_model* f) {
     for (int k = 0; k < 9; k++) free(f->tet_dm_inv[k]);
     for (int a = 0; a < 3; a++) free(f->membrane_v[a]);
     for (int k = 0; k < 4; k++) free(f->membrane_dm_inv[k]);
-    sb_fast_model_destroy(f->paired);
     free(f);
 }

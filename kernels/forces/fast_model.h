@@ -95,22 +95,6 @@ typedef struct sb_fast_model {
     sb_real* tri_hinge_phi0[3];
     sb_fast_constant tri_hinge_k[3];
 
-    /* Triangle pairs, for the fused Verlet step (kernels/forces/fast_corners.c,
-     * sb_fast_pairs): when the hinges are fused and the model is not
-     * breakable, `paired` is a second model holding only the triangle
-     * fields above, its triangles laid out by pairs sharing an edge with a
-     * hinge on it: for a block of up to SB_WIDTH pairs starting at slot s,
-     * triangles A in slots s + lane, B in s + SB_WIDTH + lane, each turned
-     * so that A = (A0, A1, A2) and B = (A1, A0, B2) (a triangle left
-     * without a partner gets an inert B: (A1, A0, A2), all its constants
-     * 0). A range [begin, end) of its group covers pair blocks of
-     * 2 SB_WIDTH slots, end − s lanes in the last. The shared edge's hinge
-     * is the pair's (pair_phi0, pair_k at A's slot, in A's order), the
-     * others are carried by A or B as above. NULL otherwise. */
-    struct sb_fast_model* paired;
-    sb_real* pair_phi0;
-    sb_fast_constant pair_k;
-
     sb_element_group hinges;
     uint32_t* hinge_v[4]; /* e0, e1, o0, o1 */
     sb_real* hinge_phi0;

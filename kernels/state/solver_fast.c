@@ -84,25 +84,12 @@ typedef struct sb_partial_layout {
 
 static uint32_t sb_vertex_chunks(uint32_t n) { return sb_chunk_count(n); }
 
-/* The group the step's triangle pass runs over: the pairs' when the model
- * is paired (sb_fast_model.paired), else the triangles'. */
-static const sb_element_group* sb_triangle_pass_group(const sb_fast_model* f) {
-    return f->paired ? &f->paired->triangles : &f->triangles;
-}
-
-/* Blocks of triangle partials: enough for either triangle group (the
- * implicit passes run over the triangles', the step's over the pairs'). */
-static size_t sb_triangle_partial_blocks(const sb_fast_model* f) {
-    uint32_t pairs = f->paired ? f->paired->triangles.block_count : 0;
-    return pairs > f->triangles.block_count ? pairs : f->triangles.block_count;
-}
-
 static sb_partial_layout sb_partials_of(const sb_solver* s) {
     const sb_fast_model* f = s->fast;
     sb_partial_layout p;
     p.bonds = s->partials;
     p.triangles = p.bonds + 2 * (size_t)f->bonds.block_count;
-    p.hinges = p.triangles + 5 * sb_triangle_partial_blocks(f);
+    p.hinges = p.triangles + 5 * (size_t)f->triangles.block_count;
     p.tets = p.hinges + f->hinges.block_count;
     p.membranes = p.tets + f->tets.block_count;
     p.vertices = p.membranes + f->membranes.block_count;
@@ -114,7 +101,7 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
-    size_t count = 2 * (size_t)f->bonds.block_count + 5 * sb_triangle_partial_blocks(f) + f->hinges.block_count +
+    size_t count = 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
                    f->tets.block_count + f->membranes.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
@@ -184,9 +171,7 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
     const sb_fast_model* f = s->fast;
     sb_fast_frame frame = {s->positions4, s->velocities4, s->forces4};
     if (f->has_bond || f->has_spring) sb_group_pass(w, f, &f->bonds, sb_fast_bonds, 2, &frame, p->bonds, flags);
-    if (f->paired)
-        sb_group_pass(w, f->paired, &f->paired->triangles, sb_fast_pairs, 5, &frame, p->triangles, flags);
-    else if (f->has_corners || f->fused_bonds || f->fused_hinges)
+    if (f->has_corners || f->fused_bonds || f->fused_hinges)
         sb_group_pass(w, f, &f->triangles, sb_fast_corners, 5, &frame, p->triangles, flags);
     if (f->has_hinges && !f->fused_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
     if (f->has_tets) sb_group_pass(w, f, &f->tets, sb_fast_tets, 1, &frame, p->tets, flags);
@@ -535,7 +520,7 @@ static double sb_sum_strided(const double* values, uint32_t count, int stride, i
 static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool with_vertices) {
     const sb_fast_model* f = s->fast;
     sb_energies* e = &s->energies;
-    uint32_t bond_chunks = f->bonds.block_count, triangle_chunks = sb_triangle_pass_group(f)->block_count;
+    uint32_t bond_chunks = f->bonds.block_count, triangle_chunks = f->triangles.block_count;
     e->term[SB_TERM_BOND] =
         sb_sum_strided(p->bonds, bond_chunks, 2, 0) + sb_sum_strided(p->triangles, triangle_chunks, 5, 2);
     e->term[SB_TERM_SPRING] =
