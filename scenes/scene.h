@@ -206,6 +206,9 @@ typedef enum sb_scene_type {
     X(WAIT, "wait", STRING, "passive", "",                                                                             \
       "how solver threads wait at barriers: spin (a dedicated machine), yield, passive (cores shared)")                \
     X(PIN_THREADS, "pin_threads", BOOL, "false", "", "bind solver thread i to core i (hwloc)")                         \
+    X(ADAPTIVE_THREADS, "adaptive_threads", BOOL, "true", "",                                                          \
+      "let a step run on one thread while that measures faster than all threads (a busy machine); false: always "      \
+      "all threads")                                                                                                   \
     X(KERNELS, "kernels", STRING, "fast", "",                                                                          \
       "fast (SIMD, the solver's threads; tested against the reference) or reference (double scalar, for checking)")    \
     X(OUTPUT_FRAMES, "output.frames", BOOL, "true", "", "write frames (output.formats); false writes log.csv only")    \

@@ -331,6 +331,7 @@ sb_solver_def sb_scene_solver_def(const sb_scene* scene) {
     def.runtime.threads = (int)sb_scene_integer(scene, SB_KEY_THREADS);
     sb_wait_policy_from_name(sb_scene_string(scene, SB_KEY_WAIT), &def.runtime.wait);
     def.runtime.pin = sb_scene_bool(scene, SB_KEY_PIN_THREADS);
+    def.runtime.fixed_width = !sb_scene_bool(scene, SB_KEY_ADAPTIVE_THREADS);
     def.adaptive = sb_scene_bool(scene, SB_KEY_ADAPTIVE);
     def.min_dt = sb_scene_number(scene, SB_KEY_MIN_DT);
     def.implicit_tolerance = sb_scene_number(scene, SB_KEY_IMPLICIT_TOLERANCE);

@@ -104,6 +104,7 @@ static void test_team_runs_jobs_of_any_width(void** state) {
 typedef struct lopsided_job {
     bool slow_alone;
     atomic_llong covered;
+    atomic_int widest; /* the largest width a worker saw */
 } lopsided_job;
 
 static void lopsided_work(void* context, const sb_worker* w) {
@@ -112,6 +113,9 @@ static void lopsided_work(void* context, const sb_worker* w) {
     int64_t begin, end;
     sb_worker_range(w, 999, &begin, &end);
     atomic_fetch_add(&job->covered, end - begin);
+    int seen = atomic_load(&job->widest);
+    while (seen < w->width && !atomic_compare_exchange_weak(&job->widest, &seen, w->width)) {
+    }
     sb_worker_barrier(w);
 }
 
@@ -141,6 +145,27 @@ static void test_adaptive_runs_take_the_faster_width(void** state) {
             assert_in_range(alone, RUNS - SLOW_AT_MOST, RUNS - 1);
         sb_team_destroy(team);
     }
+}
+
+/* With fixed_width the team never narrows: every run of a job that is
+ * slow on two threads (the adaptive team would move it to the caller
+ * alone, as the test above checks) goes on the configured two. */
+static void test_fixed_width_never_narrows(void** state) {
+    (void)state;
+    sb_error err;
+    sb_runtime_def def = {.threads = 2, .wait = SB_WAIT_PASSIVE, .fixed_width = true};
+    sb_team* team = sb_team_create(&def, &err);
+    assert_non_null(team);
+    for (int run = 0; run < 8; run++) {
+        lopsided_job job = {.slow_alone = false};
+        sb_team_run_adaptive(team, 2, lopsided_work, &job);
+        assert_int_equal(atomic_load(&job.covered), 999);
+        assert_int_equal(atomic_load(&job.widest), 2);
+    }
+    uint64_t runs, alone;
+    sb_team_adaptive_counts(team, &runs, &alone);
+    assert_int_equal(alone, 0);
+    sb_team_destroy(team);
 }
 
 /* A pinned team binds the thread that creates it to core 0 and gives it its
@@ -498,6 +523,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_team_runs_jobs_of_any_width),
         cmocka_unit_test(test_adaptive_runs_take_the_faster_width),
+        cmocka_unit_test(test_fixed_width_never_narrows),
         cmocka_unit_test(test_pinning_gives_the_binding_back),
         cmocka_unit_test(test_default_runtime_shares_the_machine),
         cmocka_unit_test(test_wait_policy_names),

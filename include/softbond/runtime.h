@@ -46,9 +46,12 @@ typedef struct sb_runtime_def {
                           * given its own binding back when the solver is destroyed); off: the
                           * scheduler places them */
     sb_wait_policy wait; /**< see above */
+    bool fixed_width;    /**< run every step on all `threads`; off (the default): a step whose work does not
+                          * depend on the thread count runs on the calling thread alone while the team
+                          * measures that faster (another process holding a core) */
 } sb_runtime_def;
 
-/** threads 0, pin off, wait passive: a library user shares the machine. A
+/** threads 0, pin off, wait passive, fixed_width off: a library user shares the machine. A
  * team of 1 starts no thread and runs each step on the caller's thread. */
 SB_API sb_runtime_def sb_default_runtime_def(void);
 

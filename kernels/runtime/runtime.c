@@ -25,7 +25,7 @@ bool sb_wait_policy_from_name(const char* name, sb_wait_policy* out) {
 }
 
 sb_runtime_def sb_default_runtime_def(void) {
-    return (sb_runtime_def){.threads = 0, .pin = false, .wait = SB_WAIT_PASSIVE};
+    return (sb_runtime_def){.threads = 0, .pin = false, .wait = SB_WAIT_PASSIVE, .fixed_width = false};
 }
 
 /* The processors this process may run on. */

@@ -105,6 +105,7 @@ typedef struct sb_team_choice {
 struct sb_team {
     int size;
     sb_wait_policy policy;
+    bool fixed_width; /* sb_runtime_def.fixed_width: sb_team_run_adaptive never narrows */
     pthread_t* threads;
     sb_worker* workers;
     /* the job: written by worker 0 before the generation is bumped */
@@ -266,7 +267,7 @@ static int sb_team_choose(const sb_team_choice* c) {
 }
 
 void sb_team_run_adaptive(sb_team* t, int width, sb_team_job job, void* context) {
-    sb_team_choice* c = width > 1 && t->size > 1 ? sb_team_choice_of(t, job) : NULL;
+    sb_team_choice* c = width > 1 && t->size > 1 && !t->fixed_width ? sb_team_choice_of(t, job) : NULL;
     if (!c) {
         sb_team_run(t, width, job, context);
         return;
@@ -338,6 +339,7 @@ sb_team* sb_team_create(const sb_runtime_def* def, sb_error* err) {
     }
     t->size = size;
     t->policy = def->wait;
+    t->fixed_width = def->fixed_width;
     if (def->pin) t->topology = sb_load_topology(); /* unpinned when the topology cannot be read */
     if (t->topology && (t->caller_binding = hwloc_bitmap_alloc()) &&
         hwloc_get_cpubind(t->topology, t->caller_binding, HWLOC_CPUBIND_THREAD) != 0) {

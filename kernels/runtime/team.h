@@ -37,7 +37,8 @@ void sb_team_run(sb_team* team, int width, sb_team_job job, void* context);
  * `width` and on the caller alone, keeps a running estimate of each per job
  * function, runs the job at the faster and, every SB_TEAM_PROBE_EVERY runs,
  * once at the other, so that a machine whose load changes is followed
- * (team.c's design note says why). Never allocates. */
+ * (team.c's design note says why). With sb_runtime_def.fixed_width it is
+ * sb_team_run. Never allocates. */
 void sb_team_run_adaptive(sb_team* team, int width, sb_team_job job, void* context);
 
 /* Runs of sb_team_run_adaptive so far, and how many of them went on the

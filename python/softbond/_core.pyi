@@ -255,6 +255,7 @@ class Solver:
         threads: int = ...,
         pin_threads: bool = ...,
         wait: str = ...,
+        adaptive_threads: bool = ...,
         colliders: Optional[Sequence[Collider]] = ...,
         contact_thickness: float = ...,
         self_collision: bool = ...,

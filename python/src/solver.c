@@ -65,6 +65,7 @@ static void on_break(void* user, uint32_t bond, uint32_t i, uint32_t j, double t
 typedef struct solver_options {
     sb_solver_def def;
     const char *integrator, *kernels, *implicit_solver, *wait;
+    bool adaptive_threads; /* the scene key's sense: !def.runtime.fixed_width */
     PyObject *colliders, *handles, *blades, *external_force, *on_break;
 } solver_options;
 
@@ -78,6 +79,7 @@ static int read_options(solver_options* o, PyObject* kwargs) {
         {"threads", SBPY_INT, &d->runtime.threads, NULL},
         {"pin_threads", SBPY_BOOL, &d->runtime.pin, NULL},
         {"wait", SBPY_STRING, &o->wait, NULL},
+        {"adaptive_threads", SBPY_BOOL, &o->adaptive_threads, NULL},
         {"colliders", SBPY_OBJECT, &o->colliders, NULL},
         {"contact_thickness", SBPY_DOUBLE, &d->contact_thickness, NULL},
         {"self_collision", SBPY_BOOL, &d->self_collision, NULL},
@@ -101,6 +103,7 @@ static int read_options(solver_options* o, PyObject* kwargs) {
         {"adaptive_tolerance", SBPY_DOUBLE, &d->adaptive_tolerance, NULL},
     };
     if (sbpy_options("Solver()", kwargs, table, sizeof table / sizeof table[0]) < 0) return -1;
+    d->runtime.fixed_width = !o->adaptive_threads;
     if (o->integrator && !sb_integrator_from_name(o->integrator, &d->integrator)) {
         PyErr_Format(PyExc_ValueError, "Solver(): 'integrator' must be one of softbond.INTEGRATORS, not '%s'",
                      o->integrator);
@@ -255,6 +258,7 @@ static int solver_init(SbpySolver* self, PyObject* args, PyObject* kwargs) {
                      Py_TYPE(source)->tp_name);
         return -1;
     }
+    o.adaptive_threads = !o.def.runtime.fixed_width;
     if (read_options(&o, kwargs) < 0) return -1;
     if (from_scene) {
         /* the scene's own colliders and handles, unless the keywords replace them */
@@ -721,7 +725,8 @@ PyTypeObject SbpySolverType = {
               "integrator, gravity, colliders, handles, blades, point load; keywords override them).\n\n"
               "Options: integrator (softbond.INTEGRATORS, default 'verlet'), gravity (m/s^2, default (0, 0, -9.81)),\n"
               "drag (1/s), kernels ('fast' or 'reference'), threads (0 = SOFTBOND_THREADS or one per processor),\n"
-              "pin_threads, wait ('passive', 'yield' or 'spin': how idle team threads wait), colliders (Collider\n"
+              "pin_threads, wait ('passive', 'yield' or 'spin': how idle team threads wait), adaptive_threads\n"
+              "(default True: a step may run on one thread while that measures faster), colliders (Collider\n"
               "list), contact_thickness (m), self_collision, handles (Handle list),\n"
               "blades (Blade list), external_force (callable(vertex, time, position, velocity) -> force or None,\n"
               "called per free vertex per force evaluation), on_break (callable(bond, i, j, time)), max_splits,\n"

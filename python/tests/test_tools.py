@@ -190,3 +190,12 @@ def test_tearing_through_a_scene(source_dir):
     with buffer.acquire() as snapshot:
         assert snapshot.vertex_count == solver.vertex_count
         assert snapshot.positions.shape == (solver.vertex_count, 3)
+
+
+def test_adaptive_threads_can_be_turned_off(source_dir):
+    scene = softbond.Scene.load(source_dir / "scenes" / "default.yaml")
+    solver = softbond.Solver(scene, threads=2, adaptive_threads=False)
+    solver.advance(scene.dt, steps=20)
+    assert solver.step_count == 20
+    with pytest.raises(TypeError):
+        softbond.Solver(scene, adaptive_thread=False)  # a misspelt keyword is named, not ignored
