@@ -2,13 +2,21 @@
  * (issue 29), written to materials_chart.csv in the folder given (bench/
  * materials_chart.sh runs it and draws materials_chart.png).
  *
- * For each model (tissue.model springs, corotated, corotated_quadratic) and
- * the cantilever of bench/fem_static.h (100 × 20 × 20 mm clamped at x = 0,
- * E 3.5 kPa, ν 0.45, a shear traction on the tip face) at 1, 2 and 3 cells
- * across its thickness:
- *   - the error: softbond's static deflection of the tip's lower edge
- *     against CalculiX's C3D10 at 4 cells across (ccx run here, through
- *     bench/fem_oracle.h, on the same box meshes), in per cent;
+ * For each model (tissue.model springs, corotated, corotated_quadratic),
+ * two cases at three resolutions each:
+ *   - the cantilever of bench/fem_static.h (100 × 20 × 20 mm clamped at
+ *     x = 0, E 3.5 kPa, ν 0.45, a shear traction on the tip face) at 1, 2
+ *     and 3 cells across its thickness; the error: softbond's static
+ *     deflection of the tip's lower edge against CalculiX's C3D10 at 4
+ *     cells across (ccx run here, through bench/fem_oracle.h, on the same
+ *     box meshes), in per cent;
+ *   - the indentation of bench/fem_indent.h (a block 20 × 20 × 10 mm
+ *     clamped on its bottom, a rigid sphere of radius 5 mm pressed 1 mm
+ *     deep, E 3.5 kPa, ν 0.45) at 2, 3 and 4 cells across its thickness
+ *     for the quadratic element and 4, 6 and 8 for the others (the same
+ *     vertex counts: 405, about 1 200, 2 601); the error: the force on
+ *     softbond's sphere collider at rest against ccx's C3D10 with the
+ *     contact's active set on the quarter block at 10 cells across;
  *   - the cost: the wall time of a Verlet step on the fast kernels with 2
  *     threads at the model's stable step (stable_step: the largest of
  *     0.9 × 0.7^k × 2/ω_max that runs, ω_max by power iteration on M⁻¹K,
@@ -19,7 +27,7 @@
  * so that the meshes, clamps and loads are the oracle's very arrays and
  * the static answer is the one tests/test_fem.c checks. */
 #define _GNU_SOURCE
-#include "bench/fem_static.h"
+#include "bench/fem_indent.h"
 
 #include <stdio.h>
 #include <time.h>
@@ -27,6 +35,7 @@
 #define STEPS 300
 #define RUNS 3
 #define REFERENCE_CELLS 4
+#define INDENT_REFERENCE_CELLS 10
 #define THREADS 2
 #define PERTURBATION 1e-4 /* m: the free vertices' random start, exciting every mode */
 
@@ -110,6 +119,53 @@ static double stable_step(const fem_body* body, double scale, double* us) {
     return dt;
 }
 
+/* One row of the chart: the model's answer and error, its stable step and cost. */
+static int write_row(FILE* csv, const char* name, size_t m, int n, fem_body* body, double mine, double reference,
+                     double scale) {
+    if (isnan(mine)) {
+        fprintf(stderr, "sb_bench_materials: %s, %s at %d cells across failed\n", name, model_names[m], n);
+        return 1;
+    }
+    double us, dt = stable_step(body, scale, &us);
+    double error = 100.0 * (mine / reference - 1.0);
+    fprintf(csv, "%s,%s,%d,%u,%.6g,%.3f,%.4g,%.4g,%.4g\n", name, model_names[m], n, body->count, mine, error, dt, us,
+            1e-3 * us / dt);
+    printf("%-12s %-20s %d across %5u vertices: error %+7.2f %%, dt %.3g s, %.3g us a step\n", name, model_names[m], n,
+           body->count, error, dt, us);
+    fflush(stdout);
+    return isnan(us);
+}
+
+/* The cantilever's rows: the static deflection at 1, 2, 3 cells across. */
+static int cantilever_rows(FILE* csv, const fem_problem* pb, double reference) {
+    int status = 0;
+    for (size_t m = 0; m < sizeof models / sizeof *models; m++)
+        for (int n = 1; n <= 3; n++) {
+            fem_body body = fem_body_build(pb, n, models[m]);
+            double mine = fem_body_static(&body, pb);
+            status |= write_row(csv, "cantilever", m, n, &body, mine, reference, pb->lz);
+            fem_body_free(&body);
+        }
+    return status;
+}
+
+/* The indentation's rows: the sphere's force at rest, at the same vertex
+ * counts for every model. */
+static int indentation_rows(FILE* csv, const fem_indent* in, double reference) {
+    int status = 0;
+    fem_problem pb = fem_indent_problem(in);
+    pb.undamped = false; /* the cost with the papers' damping rule, as the cantilever's */
+    for (size_t m = 0; m < sizeof models / sizeof *models; m++)
+        for (int k = 2; k <= 4; k++) {
+            int n = models[m] == SB_TISSUE_COROTATED_QUADRATIC ? k : 2 * k;
+            double mine = fem_indent_softbond(in, n, models[m], NULL);
+            fem_body body = fem_body_build(&pb, n, models[m]);
+            status |= write_row(csv, "indentation", m, n, &body, mine, reference, in->lz);
+            fem_body_free(&body);
+        }
+    return status;
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         fprintf(stderr, "usage: sb_bench_materials RESULTS_DIR\n");
@@ -121,10 +177,13 @@ int main(int argc, char** argv) {
         return 1;
     }
     fem_problem pb = fem_cantilever_of(FEM_E, 0.45, false);
+    fem_indent in = fem_indent_case(FEM_E, 0.45, 1e-3);
     snprintf(dir, sizeof dir, "%s/reference", work);
     double reference = fem_oracle_probe(&pb, REFERENCE_CELLS, true, dir);
-    if (isnan(reference)) {
-        fprintf(stderr, "sb_bench_materials: ccx failed in %s (see ccx.log there)\n", dir);
+    snprintf(dir, sizeof dir, "%s/indentation", work);
+    double indent_reference = fem_indent_oracle(&in, INDENT_REFERENCE_CELLS, true, dir, NULL);
+    if (isnan(reference) || isnan(indent_reference)) {
+        fprintf(stderr, "sb_bench_materials: ccx failed in %s (see ccx.log there)\n", work);
         return 1;
     }
     snprintf(path, sizeof path, "%s/materials_chart.csv", argv[1]);
@@ -135,33 +194,16 @@ int main(int argc, char** argv) {
     }
     fprintf(csv,
             "# speed-accuracy of the tissue models (bench/bench_materials.c): cantilever 100 x 20 x 20 mm, E %g Pa, nu "
-            "%g, tip shear traction %g Pa; error of the tip's lower edge deflection against ccx C3D10 at %d cells "
-            "across (%.6g m); cost: Verlet, fast kernels, %d threads, best of %d x %d steps at the largest 0.9 x 0.7^k "
-            "x 2/omega_max that runs\n",
-            pb.c.young_modulus, pb.c.poisson_ratio, -pb.c.traction[2], REFERENCE_CELLS, reference, THREADS, RUNS,
+            "%g, tip shear traction %g Pa, the error of the tip's lower edge deflection against ccx C3D10 at %d cells "
+            "across (%.6g m); indentation of a block 20 x 20 x 10 mm clamped below by a rigid sphere of radius %g mm "
+            "%g mm deep, E %g Pa, nu %g, the error of the force at rest against ccx C3D10 with the contact's active "
+            "set at %d cells across (%.6g N); cost: Verlet, fast kernels, %d threads, best of %d x %d steps at the "
+            "largest 0.9 x 0.7^k x 2/omega_max that runs\n",
+            pb.c.young_modulus, pb.c.poisson_ratio, -pb.c.traction[2], REFERENCE_CELLS, reference, 1e3 * in.radius,
+            1e3 * in.depth, in.young_modulus, in.poisson_ratio, INDENT_REFERENCE_CELLS, indent_reference, THREADS, RUNS,
             STEPS);
-    fprintf(csv, "model,cells_across,vertices,deflection_m,error_percent,dt_s,us_per_step,ms_per_simulated_s\n");
-    int status = 0;
-    for (size_t m = 0; m < sizeof models / sizeof *models; m++)
-        for (int n = 1; n <= 3; n++) {
-            fem_body body = fem_body_build(&pb, n, models[m]);
-            double mine = fem_body_static(&body, &pb);
-            if (isnan(mine)) {
-                fprintf(stderr, "sb_bench_materials: %s at %d cells across failed\n", model_names[m], n);
-                fem_body_free(&body);
-                status = 1;
-                continue;
-            }
-            double us, dt = stable_step(&body, pb.lz, &us);
-            double error = 100.0 * (mine / reference - 1.0);
-            fprintf(csv, "%s,%d,%u,%.6g,%.3f,%.4g,%.4g,%.4g\n", model_names[m], n, body.count, mine, error, dt, us,
-                    1e-3 * us / dt);
-            printf("%-20s %d across %5u vertices: error %+7.2f %%, dt %.3g s, %.3g us a step\n", model_names[m], n,
-                   body.count, error, dt, us);
-            fflush(stdout);
-            status |= isnan(us);
-            fem_body_free(&body);
-        }
+    fprintf(csv, "case,model,cells_across,vertices,answer,error_percent,dt_s,us_per_step,ms_per_simulated_s\n");
+    int status = cantilever_rows(csv, &pb, reference) | indentation_rows(csv, &in, indent_reference);
     fclose(csv);
     snprintf(path, sizeof path, "rm -rf '%s'", work);
     if (system(path) != 0) fprintf(stderr, "sb_bench_materials: could not remove %s\n", work);

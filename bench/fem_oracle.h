@@ -146,35 +146,102 @@ static int fem_edge_cmp(const void* p, const void* q) {
     return x->b < y->b ? -1 : x->b > y->b;
 }
 
-/* Runs ccx on dir/fem.inp and reads the displacements of nodes 1 to
- * `count` (*NODE PRINT U) from dir/fem.dat into u (3 count): 0, or −2 when
- * ccx failed, −3 without a .dat, −4 when nodes are missing from it. */
-static inline int fem_ccx_solve(const char* dir, uint32_t count, double* u) {
-    char path[1200], command[2600];
-    snprintf(command, sizeof command, "cd '%s' && OMP_NUM_THREADS=2 ccx -i fem > ccx.log 2>&1", dir);
-    if (system(command) != 0) return -2;
+/* Reads the section of dir/fem.dat whose header names `section`
+ * ("displacements", "forces") into out (3 a node, nodes 1 to count); the
+ * number of nodes read, or −3 without a .dat. */
+static inline int fem_ccx_read(const char* dir, const char* section, uint32_t count, double* out) {
+    char path[1200];
     snprintf(path, sizeof path, "%s/fem.dat", dir);
     FILE* f = fopen(path, "r");
     if (!f) return -3;
     char line[512];
-    uint32_t read = 0;
+    int read = 0;
     bool in = false;
     while (fgets(line, sizeof line, f)) {
-        if (strstr(line, "displacements")) {
-            in = true;
+        if (strstr(line, " for set ")) {
+            in = strstr(line, section) != NULL;
             continue;
         }
         unsigned id;
         double a, b, d;
         if (in && sscanf(line, "%u %lf %lf %lf", &id, &a, &b, &d) == 4 && id >= 1 && id <= count) {
-            u[3 * (id - 1)] = a;
-            u[3 * (id - 1) + 1] = b;
-            u[3 * (id - 1) + 2] = d;
+            out[3 * (id - 1)] = a;
+            out[3 * (id - 1) + 1] = b;
+            out[3 * (id - 1) + 2] = d;
             read++;
         }
     }
     fclose(f);
-    return read == count ? 0 : -4;
+    return read;
+}
+
+/* Runs ccx on dir/fem.inp: 0, or −2 when it failed. */
+static inline int fem_ccx_run(const char* dir) {
+    char command[1300];
+    snprintf(command, sizeof command, "cd '%s' && OMP_NUM_THREADS=2 ccx -i fem > ccx.log 2>&1", dir);
+    return system(command) == 0 ? 0 : -2;
+}
+
+/* Runs ccx on dir/fem.inp and reads the displacements of nodes 1 to
+ * `count` (*NODE PRINT U) from dir/fem.dat into u (3 count): 0, or −2 when
+ * ccx failed, −3 without a .dat, −4 when nodes are missing from it. */
+static inline int fem_ccx_solve(const char* dir, uint32_t count, double* u) {
+    if (fem_ccx_run(dir) != 0) return -2;
+    int read = fem_ccx_read(dir, "displacements", count, u);
+    return read < 0 ? read : (uint32_t)read == count ? 0 : -4;
+}
+
+/* C3D10's nodes for the mesh: the corners, then a node at each unique
+ * edge's middle; *xs (3 a node) and *mid (6 a tetrahedron, C3D10's edge
+ * slots) allocated here. Returns the number of nodes. */
+static inline uint32_t fem_quadratic_nodes(const fem_mesh* m, double** xs, uint32_t** mid) {
+    fem_edge* edges = malloc(6 * sizeof(fem_edge) * m->tets);
+    static const int ends[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+    for (uint32_t t = 0; t < m->tets; t++)
+        for (int e = 0; e < 6; e++) {
+            uint32_t a = m->tet[4 * t + ends[e][0]], b = m->tet[4 * t + ends[e][1]];
+            edges[6 * t + e] = (fem_edge){a < b ? a : b, a < b ? b : a};
+        }
+    size_t n = 6 * (size_t)m->tets, unique = 0;
+    fem_edge* sorted = malloc(sizeof(fem_edge) * n);
+    memcpy(sorted, edges, sizeof(fem_edge) * n);
+    qsort(sorted, n, sizeof *sorted, fem_edge_cmp);
+    for (size_t k = 0; k < n; k++)
+        if (!unique || fem_edge_cmp(sorted + unique - 1, sorted + k)) sorted[unique++] = sorted[k];
+    uint32_t total = m->nodes + (uint32_t)unique;
+    *xs = malloc(3 * sizeof(double) * total);
+    memcpy(*xs, m->x, 3 * sizeof(double) * m->nodes);
+    for (size_t k = 0; k < unique; k++)
+        for (int q = 0; q < 3; q++)
+            (*xs)[3 * (m->nodes + k) + q] = 0.5 * (m->x[3 * sorted[k].a + q] + m->x[3 * sorted[k].b + q]);
+    *mid = malloc(6 * sizeof(uint32_t) * m->tets);
+    for (size_t k = 0; k < n; k++) {
+        fem_edge* hit = bsearch(edges + k, sorted, unique, sizeof *sorted, fem_edge_cmp);
+        (*mid)[k] = m->nodes + (uint32_t)(hit - sorted);
+    }
+    free(edges);
+    free(sorted);
+    return total;
+}
+
+/* The deck's nodes (x, total of them), elements (C3D10 with mid, else
+ * C3D4), material and section, up to the step's *BOUNDARY line. */
+static inline void fem_write_model(FILE* f, const fem_mesh* m, const double* x, uint32_t total, const uint32_t* mid,
+                                   const fem_case* c) {
+    fprintf(f, "*NODE, NSET=NALL\n");
+    for (uint32_t i = 0; i < total; i++)
+        fprintf(f, "%u, %.17g, %.17g, %.17g\n", i + 1, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    fprintf(f, "*ELEMENT, TYPE=%s, ELSET=EALL\n", mid ? "C3D10" : "C3D4");
+    for (uint32_t t = 0; t < m->tets; t++) {
+        const uint32_t* v = m->tet + 4 * t;
+        fprintf(f, "%u, %u, %u, %u, %u", t + 1, v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1);
+        if (mid) /* C3D10: 12 23 31 14 24 34, our slots 0 1 2 3 4 5 */
+            for (int e = 0; e < 6; e++) fprintf(f, ", %u", mid[6 * t + e] + 1);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "*MATERIAL, NAME=TISSUE\n*ELASTIC\n%.17g, %.17g\n*DENSITY\n%.17g\n", c->young_modulus, c->poisson_ratio,
+            c->density);
+    fprintf(f, "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n*STEP\n*STATIC\n*BOUNDARY\n");
 }
 
 /* Runs ccx in dir on the mesh (C3D10 when quadratic) and fills u (3 a
@@ -183,34 +250,7 @@ static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c,
     uint32_t total = m->nodes;
     uint32_t* mid = NULL;
     double* xs = NULL;
-    if (quadratic) { /* a node at each edge's middle, numbered after the corners */
-        fem_edge* edges = malloc(6 * sizeof(fem_edge) * m->tets);
-        static const int ends[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
-        for (uint32_t t = 0; t < m->tets; t++)
-            for (int e = 0; e < 6; e++) {
-                uint32_t a = m->tet[4 * t + ends[e][0]], b = m->tet[4 * t + ends[e][1]];
-                edges[6 * t + e] = (fem_edge){a < b ? a : b, a < b ? b : a};
-            }
-        size_t n = 6 * (size_t)m->tets, unique = 0;
-        fem_edge* sorted = malloc(sizeof(fem_edge) * n);
-        memcpy(sorted, edges, sizeof(fem_edge) * n);
-        qsort(sorted, n, sizeof *sorted, fem_edge_cmp);
-        for (size_t k = 0; k < n; k++)
-            if (!unique || fem_edge_cmp(sorted + unique - 1, sorted + k)) sorted[unique++] = sorted[k];
-        total = m->nodes + (uint32_t)unique;
-        xs = malloc(3 * sizeof(double) * total);
-        memcpy(xs, m->x, 3 * sizeof(double) * m->nodes);
-        for (size_t k = 0; k < unique; k++)
-            for (int q = 0; q < 3; q++)
-                xs[3 * (m->nodes + k) + q] = 0.5 * (m->x[3 * sorted[k].a + q] + m->x[3 * sorted[k].b + q]);
-        mid = malloc(6 * sizeof(uint32_t) * m->tets);
-        for (size_t k = 0; k < n; k++) {
-            fem_edge* hit = bsearch(edges + k, sorted, unique, sizeof *sorted, fem_edge_cmp);
-            mid[k] = m->nodes + (uint32_t)(hit - sorted);
-        }
-        free(edges);
-        free(sorted);
-    }
+    if (quadratic) total = fem_quadratic_nodes(m, &xs, &mid);
     const double* x = quadratic ? xs : m->x;
     double* load = calloc(3 * (size_t)total, sizeof(double));
     fem_traction_loads(m, c, mid, load);
@@ -218,20 +258,7 @@ static inline int fem_ccx(const char* dir, const fem_mesh* m, const fem_case* c,
     snprintf(path, sizeof path, "%s/fem.inp", dir);
     FILE* f = fopen(path, "w");
     if (!f) return -1;
-    fprintf(f, "*NODE, NSET=NALL\n");
-    for (uint32_t i = 0; i < total; i++)
-        fprintf(f, "%u, %.17g, %.17g, %.17g\n", i + 1, x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-    fprintf(f, "*ELEMENT, TYPE=%s, ELSET=EALL\n", quadratic ? "C3D10" : "C3D4");
-    for (uint32_t t = 0; t < m->tets; t++) {
-        const uint32_t* v = m->tet + 4 * t;
-        fprintf(f, "%u, %u, %u, %u, %u", t + 1, v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1);
-        if (quadratic) /* C3D10: 12 23 31 14 24 34, our slots 0 1 2 3 4 5 */
-            for (int e = 0; e < 6; e++) fprintf(f, ", %u", mid[6 * t + e] + 1);
-        fprintf(f, "\n");
-    }
-    fprintf(f, "*MATERIAL, NAME=TISSUE\n*ELASTIC\n%.17g, %.17g\n*DENSITY\n%.17g\n", c->young_modulus, c->poisson_ratio,
-            c->density);
-    fprintf(f, "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n*STEP\n*STATIC\n*BOUNDARY\n");
+    fem_write_model(f, m, x, total, mid, c);
     for (uint32_t i = 0; i < total; i++) {
         if (fem_on(x + 3 * i, c->clamp_axis, c->clamp_at)) fprintf(f, "%u, 1, 3, 0\n", i + 1);
         if (fem_on(x + 3 * i, c->move_axis, c->move_at))

@@ -23,6 +23,7 @@ typedef struct fem_problem {
     fem_case c;
     double probe[3];
     int probe_axis;
+    bool undamped; /* the springs without the papers' damping rule (a dynamic run to rest); else the rule */
 } fem_problem;
 
 /* The box mesh of the problem at n cells across its thickness (z). */
@@ -169,6 +170,7 @@ static inline fem_body fem_body_build(const fem_problem* pb, int n, sb_tissue_mo
     tissue.poisson_ratio = pb->c.poisson_ratio;
     tissue.density = pb->c.density;
     tissue.model = model;
+    if (pb->undamped) tissue.damping = 0.0;
     sb_builder* b = sb_builder_create();
     sb_error err = {0};
     if (sb_builder_add_tet_mesh(b, &tm, &tissue, &err) != SB_OK) goto done;
