@@ -191,12 +191,19 @@ typedef struct sb_fast_contact {
     sb_wide collider, restitution, friction, static_friction;
 } sb_fast_contact;
 
+static sb_fast_hit sb_fast_shape_hit(const sb_fast_wide_shape* s, const sb_fast_move* m) {
+    return s->kind == SB_FAST_SHAPE_PLANE ? sb_fast_plane(s, m) : sb_fast_sphere(s, m);
+}
+
 static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32_t count, const sb_fast_move* m) {
     const sb_wide zero = sb_w_set(0);
+    if (count == 1) /* one collider in reach (most blocks): nothing to compare */
+        return (sb_fast_contact){sb_fast_shape_hit(shapes, m), shapes->index, shapes->restitution, shapes->friction,
+                                 shapes->static_friction};
     sb_fast_contact best = {.hit = {zero, zero, zero, zero}, zero, zero, zero, zero};
     for (uint32_t c = 0; c < count; c++) {
         const sb_fast_wide_shape* s = &shapes[c];
-        sb_fast_hit h = s->kind == SB_FAST_SHAPE_PLANE ? sb_fast_plane(s, m) : sb_fast_sphere(s, m);
+        sb_fast_hit h = sb_fast_shape_hit(s, m);
         sb_wide take =
             sb_t_and(h.touches, sb_t_or(sb_t_not(best.hit.touches), sb_t_greater(best.hit.fraction, h.fraction)));
         best.hit.touches = sb_t_or(best.hit.touches, h.touches);
@@ -239,6 +246,10 @@ typedef struct sb_fast_run_state {
 } sb_fast_run_state;
 
 static void sb_fast_add_impulse(sb_fast_run_state* r, const sb_fast_contact* c, sb_wide impulse) {
+    if (r->count == 1) {
+        r->impulse[0] = sb_w_add(r->impulse[0], impulse);
+        return;
+    }
     for (uint32_t k = 0; k < r->count; k++) {
         sb_wide mine = sb_w_pick_greater(sb_w_abs(sb_w_sub(c->collider, r->shape[k].index)), sb_w_set((sb_real)0.5),
                                          sb_w_set(0), impulse);
@@ -266,7 +277,9 @@ uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t nea
     const sb_wide zero = sb_w_set(0), dt = sb_w_set((sb_real)step->dt), drag = sb_w_set((sb_real)step->drag);
     const sb_real gravity[4] = {(sb_real)step->gravity[0], (sb_real)step->gravity[1], (sb_real)step->gravity[2], 0};
     const sb_wide g = sb_w_repeat4(gravity);
-    sb_fast_run_state r = {.count = 0, .lanes = zero};
+    sb_fast_run_state r; /* not zeroed whole: only its first r.count shapes and sums are used */
+    r.count = 0;
+    r.lanes = zero;
     for (uint32_t c = 0; near >> c; c++)
         if (near >> c & 1) {
             r.impulse[r.count] = zero;
