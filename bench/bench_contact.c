@@ -1,22 +1,32 @@
 /* sb_bench_contact: what contact costs a step.
  *
  * The 100k-vertex sheet of sb_bench (bond, angle and stretch-bend terms,
- * fast kernels, Verlet, its dt, two corners pinned) falls for 0.05 s onto a
- * sphere of radius 0.1 m whose top touches the sheet's middle, above a
- * floor, in two scenes:
- *   draped  the floor 0.5 m down, out of reach: the vertices over the
- *           sphere touch it, the rest of the sheet is culled by the bounds;
- *   floor   the floor 2 mm down: after the warm-up every vertex lies on it
- *           (the worst case: the whole sheet answered every step).
+ * fast kernels, Verlet, its dt, two corners pinned, spacing 3.2 mm) falls
+ * for 0.05 s onto a sphere whose top touches the sheet's middle, above a
+ * floor, in three scenes:
+ *   draped  a sphere of radius 0.1 m, the floor 0.5 m down, out of reach:
+ *           the vertices over the sphere touch it, the rest of the sheet
+ *           is culled by the bounds;
+ *   floor   the same sphere, the floor 2 mm down: after the warm-up every
+ *           vertex lies on it (the worst case: the whole sheet answered
+ *           every step);
+ *   face    a sphere of radius 1 mm under the centre of a cell, between
+ *           four vertices, the floor out of reach: the sheet rests on it
+ *           by face contact alone (kernels/contact/surface.c).
  * From the warmed-up state, steps are timed without colliders, with the
- * plane and the sphere, and with them and self-contact (thickness 1 mm, a
- * third of the sheet's spacing), interleaved, on 1 and 2 threads
- * (spinning, pinned: the machine is the benchmark's); the contact passes'
- * cost is the difference. Prints a table and writes CSV and markdown.
+ * plane and the sphere, with the sphere answering vertices only (the
+ * built-in sphere's callback as a program's own collider, which the
+ * surface pass does not ask: the difference is the face-contact pass's
+ * share of the step), and with the plane, the sphere and self-contact
+ * (thickness 1 mm, a third of the sheet's spacing), interleaved, on 1 and
+ * 2 threads (spinning, pinned: the machine is the benchmark's); the contact
+ * passes' cost is the difference. Prints a table and writes CSV and
+ * markdown, with the load average at the start and at the end.
  *
  *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
 #include "bench/bench_cases.h"
 #include "common/clock.h"
+#include "kernels/contact/colliders/collider_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -29,26 +39,60 @@ typedef struct contact_options {
     const char *csv, *md;
 } contact_options;
 
-static sb_collider* make_collider(sb_collider_shape shape, double floor) {
+/* A scene: where the floor lies, the sphere's center height and radius. */
+typedef struct contact_scene {
+    const char* name;
+    double floor, radius;
+} contact_scene;
+
+static const contact_scene scenes[] = {{"draped", -0.5, 0.1}, {"floor", -0.002, 0.1}, {"face", -0.5, 0.001}};
+
+static sb_collider* checked(sb_collider* c, const sb_error* err) {
+    if (!c) {
+        fprintf(stderr, "sb_bench_contact: %s\n", err->message);
+        exit(1);
+    }
+    return c;
+}
+
+/* The scene's floor or sphere (its top at the sheet's middle, the centre
+ * of a cell: the sheet's vertices lie at multiples of 1/315 m). */
+static sb_collider* make_collider(sb_collider_shape shape, const contact_scene* scene) {
     sb_collider_def def = sb_default_collider_def();
     def.shape = shape;
     def.friction = def.static_friction = 0.3;
     if (shape == SB_COLLIDER_PLANE) {
         def.name = "floor";
-        def.point[2] = floor;
+        def.point[2] = scene->floor;
     } else {
         def.name = "ball";
         def.center[0] = def.center[1] = 0.5;
-        def.center[2] = -0.1;
-        def.radius = 0.1;
+        def.center[2] = -scene->radius;
+        def.radius = scene->radius;
     }
     sb_error err;
-    sb_collider* c = sb_collider_create(&def, &err);
-    if (!c) {
-        fprintf(stderr, "sb_bench_contact: %s\n", err.message);
-        exit(1);
-    }
+    return checked(sb_collider_create(&def, &err), &err);
+}
+
+/* The built-in sphere's callback and bounds as a program's own collider:
+ * it answers vertices only. */
+static sb_collider* vertices_only(sb_collider* sphere) {
+    sb_error err;
+    sb_collider* c =
+        checked(sb_collider_create_custom("ball vertices", sphere->collide, NULL, sphere->user, &err), &err);
+    sb_collider_set_bounds(c, sphere->bounds, sphere->bounds + 3);
     return c;
+}
+
+/* The 1-minute load average, or -1. */
+static double load_average(void) {
+    FILE* f = fopen("/proc/loadavg", "r");
+    double load = -1.0;
+    if (f) {
+        if (fscanf(f, "%lf", &load) != 1) load = -1.0;
+        fclose(f);
+    }
+    return load;
 }
 
 #define SB_BENCH_SELF_THICKNESS 1e-3
@@ -131,8 +175,6 @@ int main(int argc, char** argv) {
         fprintf(stderr, "sb_bench_contact: %s\n", err.message);
         return 1;
     }
-    const char* scenes[2] = {"draped", "floor"};
-    const double floors[2] = {-0.5, -0.002};
     uint32_t n = setup.mesh.vertex_count;
     double *x = malloc(3 * (size_t)n * sizeof *x), *v = malloc(3 * (size_t)n * sizeof *v);
     char machine[256];
@@ -142,49 +184,58 @@ int main(int argc, char** argv) {
         fprintf(stderr, "sb_bench_contact: cannot write %s or %s\n", o.csv, o.md);
         return 1;
     }
-    fprintf(csv, "scene,threads,run,ms_without,ms_with,ratio,contacts_per_step,ms_self,ratio_self,self_per_step\n");
+    double load_start = load_average();
+    fprintf(csv, "scene,threads,run,ms_without,ms_with,ratio,contacts_per_step,ms_vertices_only,face_share,ms_self,"
+                 "ratio_self,self_per_step\n");
     fprintf(md, "# Contact: the cost of a plane, a sphere and self-contact on the 100k sheet\n\n");
     fprintf(md,
             "Machine: `%s`. Written by `bench/contact.sh` (`sb_bench_contact`; the scenes and the method are at the "
             "top of bench/bench_contact.c). %d steps per timing, dt %.3g s, %u vertices, self-contact thickness "
-            "%g m; runs interleaved; the best of each configuration in bold.\n\n",
+            "%g m; runs interleaved; the best of each configuration in bold. Face share: the part of the step with "
+            "the plane and the sphere that the face-contact pass takes (1 − vertices only / with).\n\n",
             machine, o.steps, setup.dt, n, SB_BENCH_SELF_THICKNESS);
     fprintf(md, "| scene | threads | run | ms/step without | with plane + sphere | ratio | contacts/step | "
-                "with them + self-contact | ratio | self pairs/step |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-    printf("scene   threads run  ms_without  ms_with  ratio  contacts  ms_self  ratio  self_pairs\n");
-    for (int scene = 0; scene < 2; scene++) {
-        sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, floors[scene]),
-                                     make_collider(SB_COLLIDER_SPHERE, floors[scene])};
+                "sphere on vertices only | face share | with them + self-contact | ratio | self pairs/step |\n"
+                "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    printf("scene   threads run  ms_without  ms_with  ratio  contacts  ms_vertices  face_share  ms_self  ratio  "
+           "self_pairs\n");
+    for (size_t scene = 0; scene < sizeof scenes / sizeof *scenes; scene++) {
+        const contact_scene* sc = &scenes[scene];
+        sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, sc), make_collider(SB_COLLIDER_SPHERE, sc)};
+        sb_collider* vertex_colliders[2] = {colliders[0], vertices_only(colliders[1])};
         sb_solver* warm = make_solver(&setup, 2, colliders, 2, false); /* 0.05 s of falling onto the colliders */
         advance(warm, setup.dt, (int)(0.05 / setup.dt), NULL, NULL);
         sb_solver_get_positions(warm, x);
         sb_solver_get_velocities(warm, v);
         sb_solver_destroy(warm);
         for (int threads = 1; threads <= 2; threads++) {
-            double best[3] = {INFINITY, INFINITY, INFINITY};
+            double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
             for (int run = 1; run <= o.runs; run++) {
                 double counts[2], self_counts[2], ignored[2];
                 double without = time_steps(&setup, threads, NULL, 0, false, x, v, o.steps, ignored);
                 double with = time_steps(&setup, threads, colliders, 2, false, x, v, o.steps, counts);
+                double vertices = time_steps(&setup, threads, vertex_colliders, 2, false, x, v, o.steps, ignored);
                 double self = time_steps(&setup, threads, colliders, 2, true, x, v, o.steps, self_counts);
-                best[0] = fmin(best[0], without);
-                best[1] = fmin(best[1], with);
-                best[2] = fmin(best[2], self);
-                printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %8.0f  %7.3f  %5.3f  %.1f\n", scenes[scene], threads, run,
-                       1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
-                       self_counts[1]);
-                fprintf(csv, "%s,%d,%d,%.6f,%.6f,%.4f,%.0f,%.6f,%.4f,%.1f\n", scenes[scene], threads, run,
-                        1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
-                        self_counts[1]);
-                fprintf(md, "| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %.3f | %.3f | %.1f |\n", scenes[scene],
-                        threads, run, 1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * self, self / without,
-                        self_counts[1]);
+                double times[4] = {without, with, vertices, self};
+                for (int k = 0; k < 4; k++) best[k] = fmin(best[k], times[k]);
+                printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %8.0f  %11.3f  %10.3f  %7.3f  %5.3f  %.1f\n", sc->name,
+                       threads, run, 1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * vertices,
+                       1.0 - vertices / with, 1e3 * self, self / without, self_counts[1]);
+                fprintf(csv, "%s,%d,%d,%.6f,%.6f,%.4f,%.0f,%.6f,%.4f,%.6f,%.4f,%.1f\n", sc->name, threads, run,
+                        1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * vertices, 1.0 - vertices / with,
+                        1e3 * self, self / without, self_counts[1]);
+                fprintf(md, "| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %.3f | %.3f | %.3f | %.3f | %.1f |\n",
+                        sc->name, threads, run, 1e3 * without, 1e3 * with, with / without, counts[0], 1e3 * vertices,
+                        1.0 - vertices / with, 1e3 * self, self / without, self_counts[1]);
             }
-            fprintf(md, "| %s | %d | best | %.3f | %.3f | **%.3f** | | %.3f | **%.3f** | |\n", scenes[scene], threads,
-                    1e3 * best[0], 1e3 * best[1], best[1] / best[0], 1e3 * best[2], best[2] / best[0]);
+            fprintf(md, "| %s | %d | best | %.3f | %.3f | **%.3f** | | %.3f | **%.3f** | %.3f | **%.3f** | |\n",
+                    sc->name, threads, 1e3 * best[0], 1e3 * best[1], best[1] / best[0], 1e3 * best[2],
+                    1.0 - best[2] / best[1], 1e3 * best[3], best[3] / best[0]);
         }
+        sb_collider_destroy(vertex_colliders[1]);
         for (int c = 0; c < 2; c++) sb_collider_destroy(colliders[c]);
     }
+    fprintf(md, "\nLoad average (1 minute): %.2f at the start, %.2f at the end.\n", load_start, load_average());
     fclose(csv);
     fclose(md);
     free(x);

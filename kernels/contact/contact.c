@@ -61,6 +61,7 @@
 #include "kernels/contact/contact.h"
 #include "kernels/contact/surface.h"
 #include "kernels/contact/body_restitution.h"
+#include "kernels/contact/fast_contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/dynamic.h"
 #include "kernels/state/solver_fast.h"
@@ -80,6 +81,7 @@ typedef struct sb_contact_pass {
     bool corrects;               /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
     sb_surface* surface;         /* when a collider meets the surface (kernels/contact/surface.c) */
     sb_body_restitution* bodies; /* restitution per body (kernels/contact/body_restitution.c); NULL where off */
+    sb_fast_colliders fast;      /* the step's colliders as the SIMD answer sees them */
 } sb_contact_pass;
 
 static void sb_contact_subscribe(sb_solver* s);
@@ -298,37 +300,61 @@ static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_
     return sb_colliders_near(s, lo, hi);
 }
 
+/* Vertex i of the packed state (from = x − displacement) against the
+ * colliders of `near`: the scalar reference. */
+static void sb_contact_vertex_packed(const sb_solver* s, uint32_t chunk, uint64_t near, uint32_t i, double dt) {
+    if (s->model->fixed[i]) return;
+    sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
+    sb_real* d4 = s->displacements4 + 4 * (size_t)i;
+    double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3], point[3];
+    double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
+    uint64_t reached = sb_move_near(s, near, from, x);
+    int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
+    if (hit < 0) return;
+    sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
+    for (int k = 0; k < 3; k++) {
+        x4[k] = (sb_real)x[k];
+        v4[k] = (sb_real)v[k];
+        d4[k] = (sb_real)(v[k] * dt);
+        f4[k] = sb_fast_initial_force(s, i, k, v[k]);
+    }
+    sb_contact_record(s, chunk, hit, impulse);
+    sb_contact_record_torque(s, chunk, hit, point, impulse);
+}
+
+/* The vertices [first, last) of a block whose colliders in reach are all
+ * static planes and spheres, answered in SIMD (kernels/contact/fast_contact.c)
+ * into the chunk's sums; returns how many from the first (whole registers:
+ * the rest go to the scalar reference). */
+static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64_t near, uint32_t first, uint32_t last,
+                                      double dt) {
+    size_t at = 4 * (size_t)first;
+    sb_packed_run run = {.x = s->positions4 + at,
+                         .v = s->velocities4 + at,
+                         .d = s->displacements4 + at,
+                         .f = s->forces4 + at,
+                         .mass = s->fast->mass + first,
+                         .inv_mass = s->fast->inv_mass + first,
+                         .count = last - first};
+    sb_fast_contact_step step = {.dt = dt, .drag = s->def.drag};
+    memcpy(step.gravity, s->def.gravity, sizeof step.gravity);
+    double* partial = s->contact->partials + chunk * sb_contact_stride(s);
+    return sb_fast_contact_answer(&s->contact->fast, near, &run, &step, partial, partial + 3 * s->def.collider_count);
+}
+
 /* The fused path's pass over one chunk of the packed state, after its drift
- * (from = x − displacement): the drift_chunk hook. */
+ * (from = x − displacement): the drift_chunk hook. Block by block, the
+ * colliders in reach (none: the block is skipped); the static planes and
+ * spheres in SIMD, any other collider by the scalar reference. */
 static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     sb_contact_chunk_begin(s, chunk);
-    uint64_t near = 0;
-    for (uint32_t i = first; i < last; i++) {
-        if ((i - first) % SB_CONTACT_BLOCK == 0) {
-            near = sb_block_near_packed(s, i, i + SB_CONTACT_BLOCK < last ? i + SB_CONTACT_BLOCK : last);
-            if (!near) { /* the whole block is out of reach */
-                i += SB_CONTACT_BLOCK - 1;
-                continue;
-            }
-        }
-        if (s->model->fixed[i]) continue;
-        sb_real *x4 = s->positions4 + 4 * (size_t)i, *v4 = s->velocities4 + 4 * (size_t)i;
-        sb_real* d4 = s->displacements4 + 4 * (size_t)i;
-        double x[3] = {x4[0], x4[1], x4[2]}, v[3] = {v4[0], v4[1], v4[2]}, impulse[3], point[3];
-        double from[3] = {x[0] - d4[0], x[1] - d4[1], x[2] - d4[2]};
-        uint64_t reached = sb_move_near(s, near, from, x);
-        int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
-        if (hit < 0) continue;
-        sb_real* f4 = s->forces4 + 4 * (size_t)i; /* the drift set it to m g − drag m v */
-        for (int k = 0; k < 3; k++) {
-            x4[k] = (sb_real)x[k];
-            v4[k] = (sb_real)v[k];
-            d4[k] = (sb_real)(v[k] * dt);
-            f4[k] = sb_fast_initial_force(s, i, k, v[k]);
-        }
-        sb_contact_record(s, chunk, hit, impulse);
-        sb_contact_record_torque(s, chunk, hit, point, impulse);
+    for (uint32_t block = first; block < last; block += SB_CONTACT_BLOCK) {
+        uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last, i = block;
+        uint64_t near = sb_block_near_packed(s, block, end);
+        if (!near) continue;
+        if (!(near & ~s->contact->fast.simd)) i += sb_contact_block_fast(s, chunk, near, block, end, dt);
+        for (; i < end; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
     }
 }
 
@@ -427,6 +453,7 @@ static void sb_contact_surface_packed(sb_solver* s, double dt) {
 static void sb_contact_begin(sb_solver* s, double t0, double dt) {
     sb_contact_begin_step(s, t0, t0 + dt);
     if (s->contact->bodies) sb_body_restitution_begin(s->contact->bodies);
+    sb_fast_colliders_set(&s->contact->fast, s->def.colliders, s->def.collider_count, s->def.contact_thickness);
     if ((s->contact->corrects || s->contact->surface) && !sb_fused(s)) sb_contact_save_from(s);
 }
 

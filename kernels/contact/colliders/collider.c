@@ -364,6 +364,10 @@ static void sb_builtin_begin_step(void* user, double t0, double t1) {
     sb_collider_step_bounds(c);
 }
 
+bool sb_collider_is_static_builtin(const sb_collider* c) {
+    return c->collide == sb_builtin_collide && !c->path && !c->driven && !c->dynamic;
+}
+
 /* The shape's sweep in its rest frame. */
 static bool sb_shape_sweep(const sb_collider* c, const double from[3], const double to[3], double thickness,
                            double* fraction, double* depth, double normal[3]) {
@@ -397,7 +401,7 @@ static void sb_surface(const sb_collider* c, double fraction, double depth, sb_c
 static bool sb_builtin_collide(void* user, const sb_contact_query* q, sb_contact* contact) {
     const sb_collider* c = user;
     double from[3], to[3], normal[3], fraction, depth, thickness = c->def.thickness + q->thickness;
-    if (!c->path && !c->driven && !c->dynamic) { /* static: the rest frame is the world */
+    if (sb_collider_is_static_builtin(c)) { /* the rest frame is the world */
         if (!sb_shape_sweep(c, q->from, q->to, thickness, &fraction, &depth, contact->normal)) return false;
         memset(contact->velocity, 0, sizeof contact->velocity);
         for (int k = 0; k < 3; k++)

@@ -54,6 +54,11 @@ struct sb_collider {
 void sb_collider_save(const sb_collider* collider, sb_sections_writer* w);
 void sb_collider_load(sb_collider* collider, sb_cursor* r);
 
+/* Whether the collider is a built-in shape that stands still in the world
+ * through the current step (no path, not driven, not dynamic): its rest
+ * frame is the world, and it answers with zero velocity. */
+bool sb_collider_is_static_builtin(const sb_collider* collider);
+
 /* A shape's sweep in its rest frame (see above). */
 typedef bool (*sb_sweep_fn)(const sb_collider_def* def, const double from[3], const double to[3], double thickness,
                             double* fraction, double* depth, double normal[3]);
