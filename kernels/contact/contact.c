@@ -322,6 +322,11 @@ static void sb_contact_vertex_packed(const sb_solver* s, uint32_t chunk, uint64_
     sb_contact_record_torque(s, chunk, hit, point, impulse);
 }
 
+/* A vertex the SIMD answer answered, to body restitution. */
+static void sb_body_touch(void* user, uint32_t i, int collider, const sb_contact* c, const double impulse[3]) {
+    sb_body_restitution_touch(user, i, collider, c, impulse);
+}
+
 /* The vertices [first, last) of a block whose colliders in reach are all
  * static planes and spheres, answered in SIMD (kernels/contact/fast_contact.c)
  * into the chunk's sums; returns how many from the first (whole registers:
@@ -336,7 +341,8 @@ static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64
                          .mass = s->fast->mass + first,
                          .inv_mass = s->fast->inv_mass + first,
                          .count = last - first};
-    sb_fast_contact_step step = {.dt = dt, .drag = s->def.drag};
+    sb_fast_contact_step step = {.dt = dt, .drag = s->def.drag, .first = first};
+    if (s->contact->bodies) step.touch = sb_body_touch, step.user = s->contact->bodies;
     memcpy(step.gravity, s->def.gravity, sizeof step.gravity);
     double* partial = s->contact->partials + chunk * sb_contact_stride(s);
     return sb_fast_contact_answer(&s->contact->fast, near, &run, &step, partial, partial + 3 * s->def.collider_count);

@@ -271,6 +271,27 @@ static void sb_fast_reduce(const sb_fast_run_state* r, uint64_t near, double* ou
     *contacts += sb_w_sum(r->lanes, SB_WIDTH) / 3;
 }
 
+/* The register's answered vertices (vertex q / 4 on) to step->touch. */
+static void sb_fast_report(const sb_fast_contact_step* step, size_t q, const sb_fast_contact* c, sb_wide answered,
+                           sb_wide x_new, sb_wide impulse) {
+    sb_real lanes[5][SB_WIDTH];
+    const sb_wide from[5] = {answered, c->hit.normal, x_new, impulse, c->collider};
+    for (int a = 0; a < 5; a++) sb_w_store(lanes[a], from[a]);
+    sb_real restitution[SB_WIDTH];
+    sb_w_store(restitution, c->restitution);
+    for (int j = 0; j < SB_WIDTH; j += 4) {
+        if (!(lanes[0][j] > (sb_real)0.5)) continue;
+        sb_contact contact = {.restitution = restitution[j]};
+        double impulse_j[3];
+        for (int k = 0; k < 3; k++) {
+            contact.normal[k] = lanes[1][j + k];
+            contact.point[k] = lanes[2][j + k];
+            impulse_j[k] = lanes[3][j + k];
+        }
+        step->touch(step->user, step->first + (uint32_t)(q + (size_t)j) / 4, (int)lanes[4][j], &contact, impulse_j);
+    }
+}
+
 uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t near, const sb_packed_run* run,
                                 const sb_fast_contact_step* step, double* out, double* contacts) {
     const uint32_t granule = SB_WIDTH / 4, whole = run->count / granule * granule;
@@ -299,8 +320,10 @@ uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t nea
         sb_w_store(run->d + q, sb_t_pick(answered, sb_w_mul(v_new, dt), d));
         sb_wide f_new = sb_w_mul(mass, sb_w_sub(g, sb_w_mul(drag, v_new)));
         sb_w_store(run->f + q, sb_t_pick(answered, f_new, sb_w_load(run->f + q)));
-        sb_fast_add_impulse(&r, &c, sb_t_pick(answered, sb_w_mul(mass, sb_w_sub(v_new, v)), zero));
+        sb_wide impulse = sb_t_pick(answered, sb_w_mul(mass, sb_w_sub(v_new, v)), zero);
+        sb_fast_add_impulse(&r, &c, impulse);
         r.lanes = sb_w_add(r.lanes, answered);
+        if (step->touch) sb_fast_report(step, q, &c, answered, x_new, impulse);
     }
     sb_fast_reduce(&r, near, out, contacts);
     return whole;

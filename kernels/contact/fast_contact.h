@@ -44,9 +44,16 @@ typedef struct sb_packed_run {
 } sb_packed_run;
 
 /* The step's constants the answer needs: its dt, the drag and gravity of
- * a force's starting value m (g − drag v). */
+ * a force's starting value m (g − drag v); and, where a feature follows
+ * the contacts (body restitution), touch(user, i, collider, contact,
+ * impulse) for each vertex answered, i counted from the run's first vertex
+ * `first` (the contact's normal, restitution and point, the collider at
+ * rest; the impulse m Δv). */
 typedef struct sb_fast_contact_step {
     double dt, drag, gravity[3];
+    void (*touch)(void* user, uint32_t i, int collider, const sb_contact* contact, const double impulse[3]);
+    void* user;
+    uint32_t first;
 } sb_fast_contact_step;
 
 /* Vertices per register (SB_WIDTH / 4); 0 where no answer is in SIMD. */
