@@ -93,6 +93,10 @@ typedef struct sb_solver_def {
     sb_collider* const* colliders;
     uint32_t collider_count;  /**< the entries of colliders; 0 = no contact pass */
     double contact_thickness; /**< m, >= 0: added to every collider's own thickness */
+    /** The colliders meet the vertices only: face contact (the surface's
+     * triangles between the vertices, docs/contact.md) off — to compare
+     * with a model whose contact is by nodes, or to save its pass. */
+    bool vertex_contact_only;
     /** Self-contact (DESIGN.md, section Contact): after the collider pass of every
      * step, the model's triangles against each other — a body folding onto
      * itself and the bodies of a multi-object model. A vertex–triangle or

@@ -64,7 +64,7 @@ struct sb_surface {
 };
 
 bool sb_surface_active(const sb_solver* s) {
-    if (!sb_surface_triangles_exist(s->model)) return false;
+    if (s->def.vertex_contact_only || !sb_surface_triangles_exist(s->model)) return false;
     for (uint32_t c = 0; c < s->def.collider_count; c++)
         if (sb_collider_meets_surface(s->def.colliders[c])) return true;
     return false;
