@@ -136,3 +136,11 @@ bool sb_cursor_take(sb_cursor* c, void* out, size_t size) {
     c->left -= size;
     return true;
 }
+
+void sb_ranges_put(sb_sections_writer* w, const sb_range* ranges, int count) {
+    for (int k = 0; k < count; k++) sb_sections_put(w, ranges[k].at, ranges[k].bytes);
+}
+
+void sb_ranges_take(sb_cursor* c, const sb_range* ranges, int count) {
+    for (int k = 0; k < count; k++) sb_cursor_take(c, ranges[k].at, ranges[k].bytes);
+}

@@ -78,4 +78,14 @@ bool sb_sections_find(const sb_sections_reader* r, const char tag[4], sb_cursor*
 /* Copies the next size bytes to out; false (nothing copied) when fewer are left. */
 bool sb_cursor_take(sb_cursor* c, void* out, size_t size);
 
+/* A state written and read as a list of byte ranges: the same list
+ * writes (sb_ranges_put) and reads (sb_ranges_take). */
+typedef struct sb_range {
+    void* at;
+    size_t bytes;
+} sb_range;
+
+void sb_ranges_put(sb_sections_writer* w, const sb_range* ranges, int count);
+void sb_ranges_take(sb_cursor* c, const sb_range* ranges, int count);
+
 #endif

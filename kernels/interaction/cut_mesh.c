@@ -533,11 +533,6 @@ void sb_cut_mesh_separate(sb_solver* s, sb_cut_mesh* c, double* before) {
 
 /* ---- the saved state ---------------------------------------------------------------- */
 
-typedef struct sb_range {
-    void* at;
-    size_t bytes;
-} sb_range;
-
 enum { SB_CUT_RANGES = 38 };
 
 static int sb_cut_ranges(sb_cut_mesh* c, sb_range* out) {
@@ -587,14 +582,12 @@ static int sb_cut_ranges(sb_cut_mesh* c, sb_range* out) {
 
 void sb_cut_mesh_save(const sb_cut_mesh* c, sb_sections_writer* w) {
     sb_range ranges[SB_CUT_RANGES];
-    int n = sb_cut_ranges((sb_cut_mesh*)c, ranges); /* reads only */
-    for (int k = 0; k < n; k++) sb_sections_put(w, ranges[k].at, ranges[k].bytes);
+    sb_ranges_put(w, ranges, sb_cut_ranges((sb_cut_mesh*)c, ranges)); /* reads only */
 }
 
 void sb_cut_mesh_load(sb_solver* s, sb_cut_mesh* c, sb_cursor* r) {
     sb_range ranges[SB_CUT_RANGES];
-    int n = sb_cut_ranges(c, ranges);
-    for (int k = 0; k < n; k++) sb_cursor_take(r, ranges[k].at, ranges[k].bytes);
+    sb_ranges_take(r, ranges, sb_cut_ranges(c, ranges));
     const sb_model* m = c->live;
     for (uint32_t v = 0; v < c->vertex_capacity; v++) /* the handles pin theirs again after */
         if (s->pinned_inv_mass) s->pinned_inv_mass[v] = m->inv_mass[v];

@@ -418,11 +418,6 @@ uint32_t sb_topology_split(sb_solver* s, sb_topology* t, double* before) {
 /* Everything a split changes that a later step reads, as byte ranges: the
  * topology's counts, queue, origins and stars, and the working copy's
  * vertex arrays and element indices. The same list writes and reads. */
-typedef struct sb_range {
-    void* at;
-    size_t bytes;
-} sb_range;
-
 static int sb_topology_ranges(sb_topology* t, sb_range* out) {
     sb_model* m = t->live;
     size_t cap = t->capacity, nb = m->bond_count, nt = m->triangle_count, nh = m->hinge_count;
@@ -448,14 +443,12 @@ enum { SB_TOPOLOGY_RANGES = 25 + 3 * SB_STARS };
 
 void sb_topology_save(const sb_topology* t, sb_sections_writer* w) {
     sb_range ranges[SB_TOPOLOGY_RANGES];
-    int n = sb_topology_ranges((sb_topology*)t, ranges); /* reads only */
-    for (int k = 0; k < n; k++) sb_sections_put(w, ranges[k].at, ranges[k].bytes);
+    sb_ranges_put(w, ranges, sb_topology_ranges((sb_topology*)t, ranges)); /* reads only */
 }
 
 void sb_topology_load(sb_solver* s, sb_topology* t, sb_cursor* r) {
     sb_range ranges[SB_TOPOLOGY_RANGES];
-    int n = sb_topology_ranges(t, ranges);
-    for (int k = 0; k < n; k++) sb_cursor_take(r, ranges[k].at, ranges[k].bytes);
+    sb_ranges_take(r, ranges, sb_topology_ranges(t, ranges));
     const sb_model* m = t->live;
     for (uint32_t v = 0; v < t->capacity; v++) /* the handles pin theirs again after */
         sb_set_mass(s, t->live, v, m->mass[v], false);
