@@ -76,6 +76,7 @@
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/contact/colliders/dynamic.h"
 #include "common/error.h"
+#include "common/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -131,22 +132,6 @@ struct sb_body_restitution {
     uint64_t stamp;      /* the step being taken */
 };
 
-/* Union-find's root of vertex v, halving the path as it goes. */
-static uint32_t sb_root(uint32_t* parent, uint32_t v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
-/* Joins the parts of vertices a and b; the smaller index roots. */
-static void sb_join(uint32_t* parent, uint32_t a, uint32_t b) {
-    uint32_t ra = sb_root(parent, a), rb = sb_root(parent, b);
-    if (ra < rb) parent[rb] = ra;
-    if (rb < ra) parent[ra] = rb;
-}
-
 /* Joins the vertices of every element of the model. */
 static void sb_join_elements(const sb_model* m, uint32_t* parent) {
     for (uint32_t e = 0; e < m->bond_count; e++) sb_join(parent, m->bond_i[e], m->bond_j[e]);
@@ -170,12 +155,12 @@ static void sb_label_bodies(const sb_model* m, sb_body_restitution* b, uint32_t*
     memset(size, 0, ((size_t)n + 1) * sizeof *size);
     memset(held, 0, ((size_t)n + 1) * sizeof *held);
     for (uint32_t i = 0; i < n; i++) {
-        uint32_t r = sb_root(parent, i);
+        uint32_t r = sb_find(parent, i);
         size[r]++;
         held[r] |= m->fixed[i] != 0;
     }
     for (uint32_t i = 0; i < n; i++) { /* a root is its part's lowest vertex: labelled before the others */
-        uint32_t r = sb_root(parent, i);
+        uint32_t r = sb_find(parent, i);
         bool body = size[r] >= 2 && !held[r];
         if (body && r == i) b->body_of[i] = b->body_count++;
         b->body_of[i] = body ? b->body_of[r] : UINT32_MAX;

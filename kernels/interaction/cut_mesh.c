@@ -62,6 +62,7 @@
  * explicit integrator (refused at creation otherwise). */
 #include "kernels/interaction/cut_mesh.h"
 #include "kernels/state/solver_data.h"
+#include "common/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -414,11 +415,6 @@ static void sb_cut_edges(sb_cut_mesh* c) {
             !sb_sliver_base(c, i, j))
             sb_cut_edge(c, e);
     }
-}
-
-static uint32_t sb_find(uint32_t* parent, uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
 }
 
 /* Whether the edge (v, x) is cut: a bond on it is. */

@@ -55,6 +55,7 @@
 #include "kernels/state/vertex_state.h"
 #include "kernels/state/solver_forces.h"
 #include "kernels/state/solver_fast.h"
+#include "common/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -200,17 +201,6 @@ static bool sb_edge_whole(const sb_topology* t, uint32_t v, uint32_t x) {
         found = true;
     }
     return !found;
-}
-
-static uint32_t sb_find(uint32_t* parent, uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-}
-
-static void sb_join(uint32_t* parent, uint32_t i, uint32_t j) {
-    uint32_t a = sb_find(parent, i), b = sb_find(parent, j);
-    if (a < b) parent[b] = a;
-    if (b < a) parent[a] = b;
 }
 
 /* Labels v's triangle entries with their fans: 0, 1, ... in the order of
