@@ -122,6 +122,8 @@ static void test_ball_on_a_plane(void** state) {
         {SB_INTEGRATOR_SYMPLECTIC_EULER, SB_KERNELS_FAST, "symplectic euler"},
         {SB_INTEGRATOR_IMPLICIT_EULER, SB_KERNELS_FAST, "implicit euler"},
         {SB_INTEGRATOR_VBD, SB_KERNELS_FAST, "vbd"},
+        {SB_INTEGRATOR_PBD, SB_KERNELS_FAST, "pbd"},
+        {SB_INTEGRATOR_XPBD, SB_KERNELS_FAST, "xpbd"},
     };
     sb_model* m = stiff_ball(center);
     for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++)

@@ -181,7 +181,7 @@ static void sb_label_bodies(const sb_model* m, sb_body_restitution* b, uint32_t*
 
 sb_status sb_body_restitution_create(const sb_solver* s, sb_body_restitution** out, sb_error* err) {
     *out = NULL;
-    if (s->breakage || s->def.integrator == SB_INTEGRATOR_PBD || s->def.integrator == SB_INTEGRATOR_XPBD) return SB_OK;
+    if (s->breakage) return SB_OK;
     const sb_model* m = s->model;
     size_t n = m->vertex_count;
     sb_body_restitution* b = calloc(1, sizeof *b);

@@ -235,8 +235,12 @@ int sb_contact_vertex(const sb_solver* s, uint32_t i, uint64_t near, const doubl
     double m = s->model->mass[i];
     for (int k = 0; k < 3; k++) impulse[k] = m * (v[k] - before[k]);
     memcpy(point, c.point, sizeof c.point);
-    if (s->contact->bodies) sb_body_restitution_touch(s->contact->bodies, i, hit, &c, impulse);
+    sb_contact_touch(s, i, hit, &c, impulse);
     return hit;
+}
+
+void sb_contact_touch(const sb_solver* s, uint32_t i, int collider, const sb_contact* c, const double impulse[3]) {
+    if (s->contact->bodies) sb_body_restitution_touch(s->contact->bodies, i, collider, c, impulse);
 }
 
 void sb_contact_chunk_begin(const sb_solver* s, uint32_t chunk) {
@@ -438,14 +442,21 @@ static bool sb_contact_correct(sb_solver* s, double dt) {
 
 /* The correct stage of pbd and xpbd, whose sweeps answered the vertices:
  * the surface pass after the step, into the step's sums (the sweeps'
- * contacts already counted). */
-static bool sb_contact_correct_surface(sb_solver* s, double dt) {
-    sb_surface_view view = sb_surface_view_state(s, s->contact->from);
-    uint32_t contacts = sb_surface_pass(s, s->contact->surface, &view, false, dt);
-    if (contacts == 0) return false;
-    sb_contact_collect(s);
-    s->stats.contacts += contacts;
-    return true;
+ * contacts already counted), then restitution per body on what both
+ * answered. */
+static bool sb_contact_correct_swept(sb_solver* s, double dt) {
+    bool moved = false;
+    if (s->contact->surface) {
+        sb_surface_view view = sb_surface_view_state(s, s->contact->from);
+        uint32_t contacts = sb_surface_pass(s, s->contact->surface, &view, false, dt);
+        if (contacts > 0) {
+            sb_contact_collect(s);
+            s->stats.contacts += contacts;
+            moved = true;
+        }
+    }
+    if (s->contact->bodies) moved |= sb_body_restitution_apply(s, s->contact->bodies, false, dt, s->contact->step);
+    return moved;
 }
 
 /* The fused step's surface pass (the surface_packed hook). */
@@ -497,8 +508,8 @@ static void sb_contact_subscribe(sb_solver* s) {
                     .accept = sb_contact_accept};
     if (s->contact->corrects)
         f.correct = sb_contact_correct;
-    else if (s->contact->surface)
-        f.correct = sb_contact_correct_surface;
+    else if (s->contact->surface || s->contact->bodies)
+        f.correct = sb_contact_correct_swept;
     sb_add_feature(s, f);
     s->hooks.drift_chunk = sb_contact_chunk_packed;
     if (s->contact->surface) s->hooks.surface_packed = sb_contact_surface_packed;

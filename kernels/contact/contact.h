@@ -25,6 +25,10 @@ int sb_contact_vertex(const sb_solver* solver, uint32_t i, uint64_t near, const 
  * taken among the colliders whose bounds the move reaches: the collider and
  * *c, or -1. */
 int sb_contact_find(const sb_solver* solver, uint32_t i, const double from[3], const double to[3], sb_contact* c);
+/* Vertex i's answer to contact c with `collider` (impulse m Δv), told to
+ * restitution per body (kernels/contact/body_restitution.c) where it runs;
+ * for a pass that answers vertices itself (pbd's and xpbd's sweeps). */
+void sb_contact_touch(const sb_solver* solver, uint32_t i, int collider, const sb_contact* c, const double impulse[3]);
 /* The velocity answer of contact c for a vertex of velocity v (in place):
  * restitution and Coulomb friction relative to the collider's velocity
  * (the design note of kernels/contact/contact.c). */

@@ -195,6 +195,7 @@ static void sb_pbd_answer_chunk(sb_solver* s, const sb_pbd_contacts* c, uint32_t
         sb_pbd_answer(k, s->model->mass[i], dt, x0 + 3 * (size_t)i, x, v, impulse);
         st->x[i] = (sb_real)x[0], st->y[i] = (sb_real)x[1], st->z[i] = (sb_real)x[2];
         st->vx[i] = (sb_real)v[0], st->vy[i] = (sb_real)v[1], st->vz[i] = (sb_real)v[2];
+        sb_contact_touch(s, i, k->collider, &k->answer, impulse);
         sb_contact_record(s, chunk, k->collider, impulse);
         sb_contact_record_torque(s, chunk, k->collider, k->answer.point, impulse);
     }
