@@ -35,6 +35,7 @@ typedef struct fem_indent {
     double young_modulus; /* Pa */
     double poisson_ratio; /* ν */
     double density;       /* kg/m³ */
+    double grade;         /* 0: uniform cells; else graded toward the top's centre (fem_mesh_grade) */
 } fem_indent;
 
 /* The 20 × 20 × 10 mm block under a 5 mm sphere, 1 mm deep. */
@@ -53,7 +54,13 @@ static inline fem_indent fem_indent_case(double young, double nu, double depth) 
  * the load), the springs undamped: their dashpots (the papers' rule) do
  * not change the force at rest and would need a far smaller explicit step. */
 static inline fem_problem fem_indent_problem(const fem_indent* in) {
-    fem_problem pb = {.name = "indentation", .lx = in->lx, .ly = in->ly, .lz = in->lz, .undamped = true};
+    fem_problem pb = {.name = "indentation",
+                      .lx = in->lx,
+                      .ly = in->ly,
+                      .lz = in->lz,
+                      .undamped = true,
+                      .grade = in->grade,
+                      .focus = {0.5 * in->lx, 0.5 * in->ly, in->lz}};
     pb.c = (fem_case){.young_modulus = in->young_modulus,
                       .poisson_ratio = in->poisson_ratio,
                       .density = in->density,
@@ -81,10 +88,14 @@ static inline double fem_indent_hertz(const fem_indent* in) {
 
 /* The oracle's mesh: the quarter x, y <= l/2 of the block (the problem
  * is symmetric about x = lx/2 and y = ly/2), n cells across the
- * thickness. */
+ * thickness, graded as the whole block's is. */
 static inline fem_mesh fem_indent_quarter(const fem_indent* in, int n) {
-    return fem_box(0.5 * in->lx, 0.5 * in->ly, in->lz, (int)lround(n * 0.5 * in->lx / in->lz),
-                   (int)lround(n * 0.5 * in->ly / in->lz), n);
+    fem_mesh m = fem_box(0.5 * in->lx, 0.5 * in->ly, in->lz, (int)lround(n * 0.5 * in->lx / in->lz),
+                         (int)lround(n * 0.5 * in->ly / in->lz), n);
+    const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.5 * in->lx, 0.5 * in->ly, in->lz},
+                 focus[3] = {0.5 * in->lx, 0.5 * in->ly, in->lz};
+    if (in->grade > 0.0) fem_mesh_grade(&m, lo, hi, focus, in->grade);
+    return m;
 }
 
 /* Writes the active set's deck in dir: the bottom clamped, the planes of
@@ -156,7 +167,7 @@ static inline double fem_indent_wave_time(const fem_indent* in, int n, sb_tissue
     double nu = in->poisson_ratio;
     double wave = sqrt(in->young_modulus * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu) * in->density));
     double spacing = in->lz / n / (model == SB_TISSUE_COROTATED_QUADRATIC ? 2.0 : 1.0);
-    return spacing / wave;
+    return (in->grade > 0.0 ? in->grade : 1.0) * spacing / wave;
 }
 
 /* softbond's force on the sphere (N, positive) with the model at n cells

@@ -29,6 +29,23 @@ typedef struct fem_mesh {
     uint32_t* tet; /* 4 a tetrahedron, positive volume */
 } fem_mesh;
 
+/* Grades mesh m's cells toward the point focus, axis by axis: on each
+ * side of focus[k] within [lo[k], hi[k]] a coordinate at the fraction u
+ * of the way out moves to a u + (1 − a) u², so that the cells at the focus
+ * are a (0 < a <= 1) times as wide as before and those at the far end
+ * 2 − a times. Each axis's map is monotone, so a box mesh's cells stay
+ * boxes and its tetrahedra keep their orientation. */
+static inline void fem_mesh_grade(fem_mesh* m, const double lo[3], const double hi[3], const double focus[3],
+                                  double a) {
+    for (uint32_t i = 0; i < m->nodes; i++)
+        for (int k = 0; k < 3; k++) {
+            double *x = m->x + 3 * i + k, end = *x >= focus[k] ? hi[k] : lo[k];
+            if (end == focus[k]) continue;
+            double u = (*x - focus[k]) / (end - focus[k]);
+            *x = focus[k] + (end - focus[k]) * (a * u + (1.0 - a) * u * u);
+        }
+}
+
 /* A box [0, lx] × [0, ly] × [0, lz] of nx × ny × nz cubes, each cut into
  * the six tetrahedra around its diagonal (Freudenthal/Kuhn: conforming). */
 static inline fem_mesh fem_box(double lx, double ly, double lz, int nx, int ny, int nz) {

@@ -24,11 +24,16 @@ typedef struct fem_problem {
     double probe[3];
     int probe_axis;
     bool undamped; /* the springs without the papers' damping rule (a dynamic run to rest); else the rule */
+    double grade;  /* 0: uniform cells; else the cells at focus are grade times as wide (fem_mesh_grade) */
+    double focus[3];
 } fem_problem;
 
 /* The box mesh of the problem at n cells across its thickness (z). */
 static inline fem_mesh fem_problem_mesh(const fem_problem* pb, int n) {
-    return fem_box(pb->lx, pb->ly, pb->lz, n * (int)lround(pb->lx / pb->lz), n * (int)lround(pb->ly / pb->lz), n);
+    fem_mesh m = fem_box(pb->lx, pb->ly, pb->lz, n * (int)lround(pb->lx / pb->lz), n * (int)lround(pb->ly / pb->lz), n);
+    const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {pb->lx, pb->ly, pb->lz};
+    if (pb->grade > 0.0) fem_mesh_grade(&m, lo, hi, pb->focus, pb->grade);
+    return m;
 }
 
 /* The point among count (3 a point) at p, or UINT32_MAX. */
