@@ -1,19 +1,23 @@
 /* The haptic tool on the surface, not only on its vertices: a 5 mm probe
  * (radius 2.5 mm) driven by a scripted device into the tissue of
- * tests/test_haptics_tissue.c made coarser, 11 x 11 vertices over 10 cm (1
- * cm spacing, held along its four sides), between its vertices, then slid
- * 3 cm along the middle row of vertices at constant depth (across three
- * vertices and the edges between them), on a virtual clock: ten solver
- * steps of 0.1 ms per servo tick of 1 ms, one thread.
+ * tests/test_haptics_tissue.c made 21 x 21 vertices over 10 cm (5 mm
+ * spacing, held along its four sides), between its vertices, then slid 3 cm
+ * along the middle row at constant depth (across six vertices and the
+ * edges between them), on a virtual clock: ten solver steps of 0.1 ms per
+ * servo tick of 1 ms, one thread.
  * - Pressed in at a cell's centre the hand feels the sheet (a vertex-only
  *   contact let the probe through the cell: 0 N).
  * - While it slides the felt force changes by at most 10 % from one tick
- *   to the next and stays within 30 % of its mean: no hole between the
- *   vertices (where a vertex-only contact felt nothing), no spike at them.
- *   What varies is the sheet's own stiffness: a tool over a vertex holds
- *   one vertex down, between two it holds both, and the force dips by up
- *   to a fifth over each vertex of this coarse mesh (its linear triangles
- *   cannot bend between vertices; a finer mesh dips less). */
+ *   to the next (measured 3.2 %) and stays within 20 % of its mean (it is
+ *   softest at the sheet's centre): no hole between the vertices, where a
+ *   vertex-only contact felt nothing.
+ * - Over each vertex it is within 15 % of its mean halfway to the two
+ *   neighbouring vertices (measured: 9 to 12 % lower). That dip is the
+ *   sheet's own: a tool over a vertex holds one vertex down, between two it
+ *   holds both, and a spring net is softer under a load on one vertex (on
+ *   11 x 11 vertices, 1 cm apart, it was about 20 %). The issue's "no bump
+ *   at vertices" asks for less; a contact that spreads the tool's load
+ *   over the surface around it (a smoothed surface) would be the way. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 #include "test_files.h"
@@ -22,7 +26,7 @@
 #define T 1e-3
 #define DT 1e-4
 #define STEPS_PER_TICK 10
-#define SIDE 11
+#define SIDE 21
 #define WIDTH 0.1
 #define RADIUS 0.0025
 #define SLIDE_FROM 2500 /* ticks: pressed in by 2 s, settled by 2.5 s */
@@ -74,9 +78,18 @@ static void run_script(const char* name, const char* csv, double x, double y, lo
     held_sheet_close(&p);
 }
 
+/* The felt force at the first tick in the slide at which the proxy reaches
+ * x; fails when it never does. */
+static double felt_over(const double* felt, const double* proxy_x, double x) {
+    for (long i = SLIDE_FROM + 1; i < SLIDE_TO; i++)
+        if ((proxy_x[i - 1] - x) * (proxy_x[i] - x) <= 0.0) return felt[i];
+    fail_msg("the proxy never passed x = %.4f m", x);
+    return NAN;
+}
+
 static void test_probe_slides_smoothly_across_vertices(void** state) {
     (void)state;
-    const double spacing = WIDTH / (SIDE - 1), x0 = 3.5 * spacing, y0 = 5 * spacing;
+    const double spacing = WIDTH / (SIDE - 1), x0 = 0.035, y0 = 0.05;
     double *felt = malloc(SLIDE_TO * sizeof *felt), *proxy_x = malloc(SLIDE_TO * sizeof *proxy_x);
     /* 14.5 mm down in 2 s (the bottom 7.5 mm below the sheet's plane), held, then 3 cm along x */
     run_script("slide.csv", "time,x,y,z\n0,0,0,0\n2,0,0,-0.0145\n2.5,0,0,-0.0145\n5.5,0.03,0,-0.0145\n", x0, y0,
@@ -90,18 +103,19 @@ static void test_probe_slides_smoothly_across_vertices(void** state) {
     TU_ASSERT_LE(jump, 0.1);
     double low = INFINITY, high = 0.0;
     for (long i = SLIDE_FROM; i < SLIDE_TO; i++) low = fmin(low, felt[i]), high = fmax(high, felt[i]);
-    int vertices = 0;
-    for (int col = 4; col <= 6; col++) /* the ticks where the proxy passes over a vertex of the row */
-        for (long i = SLIDE_FROM + 1; i < SLIDE_TO; i++) {
-            if ((proxy_x[i - 1] - col * spacing) * (proxy_x[i] - col * spacing) > 0.0) continue;
-            print_message("over vertex %d: %.4f N\n", col, felt[i]);
-            vertices++;
-            break;
-        }
     print_message("sliding: from %.4f to %.4f N\n", low, high);
-    assert_int_equal(vertices, 3);
-    TU_ASSERT_LE(0.7 * mean, low); /* no hole between the vertices, no bump over them */
-    TU_ASSERT_LE(high, 1.3 * mean);
+    TU_ASSERT_LE(0.8 * mean, low); /* no hole between the vertices */
+    TU_ASSERT_LE(high, 1.2 * mean);
+    /* over each vertex of the row against halfway to its neighbours: no bump */
+    double bump = 0.0;
+    for (int col = 8; col <= 12; col++) {
+        double over = felt_over(felt, proxy_x, col * spacing), before = felt_over(felt, proxy_x, (col - 0.5) * spacing),
+               after = felt_over(felt, proxy_x, (col + 0.5) * spacing), between = 0.5 * (before + after);
+        print_message("over vertex %d: %.4f N, halfway to its neighbours %.4f and %.4f N\n", col, over, before, after);
+        bump = fmax(bump, fabs(over / between - 1.0));
+    }
+    print_message("largest bump over a vertex: %.1f %%\n", 100.0 * bump);
+    TU_ASSERT_LE(bump, 0.15);
     free(felt);
     free(proxy_x);
 }
