@@ -23,25 +23,45 @@
  *    is no crossing;
  *  - within SB_CUT_SNAP of the mean bond length of an end puts that end on
  *    the cut (no sliver);
- *  - else refines the bond: a vertex P on it at f, on the cut. P takes a
- *    share w of the two ends' mass in the lever ratio, (1 − f) w from the
- *    first end and f w from the second, w a quarter of theirs, at most a
- *    quarter of either's (an end crossed again keeps most of its mass, so
- *    the stable step shrinks little): with P's position, velocity and displacement interpolated
- *    at f, the mass, momentum and centre of mass of the three are those of
- *    the two before (to rounding); the forces (for the Verlet re-kick) go
- *    with the mass. The bond becomes its first part and a new bond its
- *    second, each with its constants and a share f or 1 − f of its rest
- *    length. Each triangle (a, b, x) on the bond becomes (a, P, x) and a
- *    new (P, b, x), in the same orientation, with the rest lengths of its
- *    edges interpolated (P x by Stewart's theorem from the triangle's own
- *    rest lengths, so the rest state is the old one's, cut) and the rest
- *    cosines from them; the angle and stretch-bend constants shared by
- *    area (f and 1 − f of the old: a sliver is weak, not stiff); a new
+ *  - else refines the bond: a vertex P on it at f, on the cut, its
+ *    position, velocity and displacement interpolated at f. The bond
+ *    becomes its first part and a new bond its second, each with its
+ *    constants and a share f or 1 − f of its rest length. Each triangle
+ *    (a, b, x) on the bond becomes (a, P, x) and a new (P, b, x), in the
+ *    same orientation, with the rest lengths of its edges interpolated (P x
+ *    by Stewart's theorem from the triangle's own rest lengths, so the rest
+ *    state is the old one's, cut) and the rest cosines from them; a new
  *    bond P x takes the refined bond's constants. A hinge across the bond
  *    now runs across its first part; a hinge whose wing was the triangle
  *    takes P for the wing's far vertex (P lies in the triangle's plane at
  *    rest: the rest dihedrals hold). The new inner edges get no hinge.
+ * The stable step. An explicit step is stable while ω dt < 2, ω² about a
+ * vertex's stiffness over its mass; the cut must not raise that anywhere
+ * or the sheet runs away at its own step (a new vertex with a lever share
+ * of its ends' mass but four full bonds did, at the first cut). So:
+ *  - the ratio limit is the largest bond stiffness over mass of a free
+ *    vertex of the model (its step is stable for it);
+ *  - P takes the mass its bonds need at that ratio, from its ends in the
+ *    lever ratio, (1 − f) from the first and f from the second (mass,
+ *    momentum and centre of mass of the three those of the two before, to
+ *    rounding; the forces, for the Verlet re-kick, go with the mass), as
+ *    far as each end can spare it and stay at the limit itself (a tenth of
+ *    its mass at least; half of a fixed one's); where they cannot, P's new
+ *    bonds are softer in proportion;
+ *  - a far corner x gains the bond P x but no mass: the bond is no stiffer
+ *    than x can take at the limit;
+ *  - the angle and stretch-bend constants of (a, P, x) and (P, b, x) are
+ *    g² and (1 − g)² of the old (g: P's fraction from a; such a term's
+ *    stiffness goes as its constant over its shorter edge squared), a
+ *    hinge whose wing's far vertex became P takes g² (or (1 − g)²: P is
+ *    that much lower over its edge) and a hinge across the bond f²: a
+ *    sliver is soft, never stiff (these terms' energy only drops; a new
+ *    bond P x adds a little where its triangle is strained);
+ *  - a vertex on a bond between two fixed vertices is fixed (the pin holds
+ *    the edge);
+ *  - a split vertex's copies share its mass by the stiffness of the bonds
+ *    each takes (by their fans' areas a sliver fan's copy was light on
+ *    full bonds), so each keeps its ratio.
  * Then every edge whose two ends are on the cut (the cut is where the
  * blade went, so such an edge lies along it) is cut: an inner edge's bond
  * gets a twin, each with half the constants (the pair pulls as the bond
@@ -49,8 +69,8 @@
  * its constant. Last, each vertex on the cut whose triangles fall into
  * several fans (joined through edges that are not cut) is split, one
  * vertex per fan, as tearing splits (kernels/interaction/topology.c): the
- * copies take the vertex's state, the mass by the fans' rest areas, and
- * its bonds, triangles and hinges go with their fans.
+ * copies take the vertex's state, the mass by their bonds' stiffness (above),
+ * and its bonds, triangles and hinges go with their fans.
  *
  * Everything runs on the advancing thread in bond order, blades in their
  * order: the same cut for any thread count. The element lists it needs
