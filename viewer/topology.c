@@ -13,10 +13,14 @@ static bool tears(const sb_solver* solver) {
     return sb_solver_vertex_capacity(solver) > sb_model_vertex_count(sb_solver_model(solver));
 }
 
+/* Room for the surface as it can grow: a cut through triangles
+ * (sb_solver_def.cut_through) reserves 2 triangles and 4 bonds for each
+ * vertex it may make (kernels/interaction/cut_mesh.c). */
 static room room_of(const sb_solver* solver, const sb_mesh* mesh) {
     const sb_model* m = sb_solver_model(solver);
-    size_t triangles = tears(solver) ? sb_model_triangle_count(m) : mesh->triangle_count;
-    return (room){sb_solver_vertex_capacity(solver) + 1, triangles + 1, sb_model_bond_count(m) + 1};
+    size_t spare = sb_solver_vertex_capacity(solver) - sb_model_vertex_count(m);
+    size_t triangles = tears(solver) ? sb_model_triangle_count(m) + 2 * spare : mesh->triangle_count;
+    return (room){sb_solver_vertex_capacity(solver) + 1, triangles + 1, sb_model_bond_count(m) + 4 * spare + 1};
 }
 
 sb_status sb_view_topology_create(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh, sb_error* err) {
@@ -40,27 +44,26 @@ void sb_view_topology_free(sb_view_topology* t) {
 }
 
 /* The surface: the mesh's triangles (a model of springs has no triangle
- * elements), or a tearing solver's live ones with their current vertices. */
+ * elements), or a tearing solver's live ones with their current vertices,
+ * those a cut through triangles made included. */
 static void read_triangles(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh) {
-    const sb_model* m = sb_solver_model(solver);
     t->triangle_count = 0;
     if (!tears(solver)) {
         t->triangle_count = mesh->triangle_count;
         memcpy(t->triangles, mesh->triangles, 3 * (size_t)mesh->triangle_count * sizeof *t->triangles);
         return;
     }
-    for (uint32_t k = 0; k < sb_model_triangle_count(m); k++)
+    for (uint32_t k = 0; k < sb_solver_triangle_count(solver); k++)
         if (sb_solver_triangle_alive(solver, k))
             sb_solver_triangle(solver, k, t->triangles + 3 * (size_t)t->triangle_count++);
 }
 
 void sb_view_topology_read(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh) {
-    const sb_model* m = sb_solver_model(solver);
     t->vertex_count = sb_solver_vertex_count(solver);
     for (uint32_t i = 0; i < t->vertex_count; i++) t->origins[i] = sb_solver_vertex_origin(solver, i);
     read_triangles(t, solver, mesh);
     t->edge_count = 0;
-    for (uint32_t b = 0; b < sb_model_bond_count(m); b++) {
+    for (uint32_t b = 0; b < sb_solver_bond_count(solver); b++) {
         if (sb_solver_bond_broken(solver, b)) continue;
         sb_solver_bond(solver, b, t->edges + 2 * (size_t)t->edge_count);
         t->bonds[t->edge_count++] = b;

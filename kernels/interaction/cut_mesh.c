@@ -23,25 +23,45 @@
  *    is no crossing;
  *  - within SB_CUT_SNAP of the mean bond length of an end puts that end on
  *    the cut (no sliver);
- *  - else refines the bond: a vertex P on it at f, on the cut. P takes a
- *    share w of the two ends' mass in the lever ratio, (1 − f) w from the
- *    first end and f w from the second, w a quarter of theirs, at most a
- *    quarter of either's (an end crossed again keeps most of its mass, so
- *    the stable step shrinks little): with P's position, velocity and displacement interpolated
- *    at f, the mass, momentum and centre of mass of the three are those of
- *    the two before (to rounding); the forces (for the Verlet re-kick) go
- *    with the mass. The bond becomes its first part and a new bond its
- *    second, each with its constants and a share f or 1 − f of its rest
- *    length. Each triangle (a, b, x) on the bond becomes (a, P, x) and a
- *    new (P, b, x), in the same orientation, with the rest lengths of its
- *    edges interpolated (P x by Stewart's theorem from the triangle's own
- *    rest lengths, so the rest state is the old one's, cut) and the rest
- *    cosines from them; the angle and stretch-bend constants shared by
- *    area (f and 1 − f of the old: a sliver is weak, not stiff); a new
+ *  - else refines the bond: a vertex P on it at f, on the cut, its
+ *    position, velocity and displacement interpolated at f. The bond
+ *    becomes its first part and a new bond its second, each with its
+ *    constants and a share f or 1 − f of its rest length. Each triangle
+ *    (a, b, x) on the bond becomes (a, P, x) and a new (P, b, x), in the
+ *    same orientation, with the rest lengths of its edges interpolated (P x
+ *    by Stewart's theorem from the triangle's own rest lengths, so the rest
+ *    state is the old one's, cut) and the rest cosines from them; a new
  *    bond P x takes the refined bond's constants. A hinge across the bond
  *    now runs across its first part; a hinge whose wing was the triangle
  *    takes P for the wing's far vertex (P lies in the triangle's plane at
  *    rest: the rest dihedrals hold). The new inner edges get no hinge.
+ * The stable step. An explicit step is stable while ω dt < 2, ω² about a
+ * vertex's stiffness over its mass; the cut must not raise that anywhere
+ * or the sheet runs away at its own step (a new vertex with a lever share
+ * of its ends' mass but four full bonds did, at the first cut). So:
+ *  - the ratio limit is the largest bond stiffness over mass of a free
+ *    vertex of the model (its step is stable for it);
+ *  - P takes the mass its bonds need at that ratio, from its ends in the
+ *    lever ratio, (1 − f) from the first and f from the second (mass,
+ *    momentum and centre of mass of the three those of the two before, to
+ *    rounding; the forces, for the Verlet re-kick, go with the mass), as
+ *    far as each end can spare it and stay at the limit itself (a tenth of
+ *    its mass at least; half of a fixed one's); where they cannot, P's new
+ *    bonds are softer in proportion;
+ *  - a far corner x gains the bond P x but no mass: the bond is no stiffer
+ *    than x can take at the limit;
+ *  - the angle and stretch-bend constants of (a, P, x) and (P, b, x) are
+ *    g² and (1 − g)² of the old (g: P's fraction from a; such a term's
+ *    stiffness goes as its constant over its shorter edge squared), a
+ *    hinge whose wing's far vertex became P takes g² (or (1 − g)²: P is
+ *    that much lower over its edge) and a hinge across the bond f²: a
+ *    sliver is soft, never stiff (these terms' energy only drops; a new
+ *    bond P x adds a little where its triangle is strained);
+ *  - a vertex on a bond between two fixed vertices is fixed (the pin holds
+ *    the edge);
+ *  - a split vertex's copies share its mass by the stiffness of the bonds
+ *    each takes (by their fans' areas a sliver fan's copy was light on
+ *    full bonds), so each keeps its ratio.
  * Then every edge whose two ends are on the cut (the cut is where the
  * blade went, so such an edge lies along it) is cut: an inner edge's bond
  * gets a twin, each with half the constants (the pair pulls as the bond
@@ -49,8 +69,8 @@
  * its constant. Last, each vertex on the cut whose triangles fall into
  * several fans (joined through edges that are not cut) is split, one
  * vertex per fan, as tearing splits (kernels/interaction/topology.c): the
- * copies take the vertex's state, the mass by the fans' rest areas, and
- * its bonds, triangles and hinges go with their fans.
+ * copies take the vertex's state, the mass by their bonds' stiffness (above),
+ * and its bonds, triangles and hinges go with their fans.
  *
  * Everything runs on the advancing thread in bond order, blades in their
  * order: the same cut for any thread count. The element lists it needs
@@ -79,6 +99,7 @@ struct sb_cut_mesh {
     uint32_t vertices, vertex_capacity; /* in use, reserved (live->vertex_count) */
     uint32_t bond_capacity, triangle_capacity, refused;
     double snap;            /* m: SB_CUT_SNAP of the model's mean bond rest length */
+    double ratio_limit;     /* 1/s²: the largest bond stiffness over mass of a free model vertex */
     uint8_t *on_cut, *skip; /* per vertex: on the cut; per bond: cut, or severed */
     uint32_t* side;         /* per bond: for a cut one, the triangle it belongs to */
     double* block;          /* the element arrays with room */
@@ -88,6 +109,33 @@ struct sb_cut_mesh {
 };
 
 static double sb_sq(double a) { return a * a; }
+
+/* Bond e's stiffness (its harmonic and spring constants), N/m. */
+static double sb_bond_stiffness(const sb_model* m, uint32_t e) { return m->bond_k[e] + m->spring_k[e]; }
+
+/* The bonds' stiffness at vertex v, N/m. */
+static double sb_vertex_stiffness(const sb_model* m, uint32_t v) {
+    double sum = 0.0;
+    for (uint32_t e = 0; e < m->bond_count; e++)
+        if (m->bond_i[e] == v || m->bond_j[e] == v) sum += sb_bond_stiffness(m, e);
+    return sum;
+}
+
+/* The largest stiffness over mass of a free vertex: the model's stable
+ * step is about 2 / √ of it (a lattice's fastest mode), so the cut keeps
+ * every vertex it makes or lightens at or below it. */
+static double sb_ratio_limit(const sb_model* m) {
+    double *stiffness = calloc((size_t)m->vertex_count + 1, sizeof *stiffness), limit = 0.0;
+    if (!stiffness) return 0.0;
+    for (uint32_t e = 0; e < m->bond_count; e++) {
+        stiffness[m->bond_i[e]] += sb_bond_stiffness(m, e);
+        stiffness[m->bond_j[e]] += sb_bond_stiffness(m, e);
+    }
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (m->inv_mass[v] > 0.0) limit = fmax(limit, stiffness[v] * m->inv_mass[v]);
+    free(stiffness);
+    return limit;
+}
 
 /* live's bond and triangle arrays again, with room for the new ones. */
 static bool sb_room(sb_cut_mesh* c) {
@@ -157,6 +205,7 @@ sb_cut_mesh* sb_cut_mesh_create(sb_model* live, uint32_t model_vertices, bool* o
     double sum = 0.0;
     for (uint32_t e = 0; e < live->bond_count; e++) sum += live->bond_r0[e];
     c->snap = live->bond_count ? SB_CUT_SNAP * sum / live->bond_count : 0.0;
+    c->ratio_limit = sb_ratio_limit(live);
     return c;
 }
 
@@ -203,7 +252,7 @@ static void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint
     for (int a = 0; a < 6; a++) rest[a][w] = (1.0 - f) * rest[a][u] + f * rest[a][v];
     for (int a = 0; a < 12; a++) state[a][w] = (sb_real)((1.0 - f) * state[a][u] + f * state[a][v]);
     uint8_t* fixed = ((sb_model*)s->model)->fixed;
-    fixed[w] = u == v && fixed[u]; /* a copy of a fixed vertex is fixed; a vertex on a bond is free */
+    fixed[w] = fixed[u] && fixed[v]; /* a copy of a fixed vertex, or a vertex on a bond between two, is fixed */
 }
 
 /* Moves `share` of vertex u's mass (and the same part of its force before the
@@ -241,6 +290,14 @@ static int sb_corner(const sb_model* m, uint32_t t, uint32_t v) {
     return -1;
 }
 
+/* The triangles on edge (i, j), at most two found: returns the count. */
+static int sb_edge_triangles(const sb_model* m, uint32_t i, uint32_t j, uint32_t out[2]) {
+    int count = 0;
+    for (uint32_t t = 0; t < m->triangle_count && count < 2; t++)
+        if (sb_corner(m, t, i) >= 0 && sb_corner(m, t, j) >= 0) out[count++] = t;
+    return count;
+}
+
 /* Triangle t's rest cosines from its rest lengths (law of cosines). */
 static void sb_rest_cosines(sb_model* m, uint32_t t) {
     for (int k = 0; k < 3; k++) {
@@ -274,17 +331,43 @@ static bool sb_hinge_edge(const sb_model* m, uint32_t h, uint32_t a, uint32_t b)
     return (m->hinge_e0[h] == a && m->hinge_e1[h] == b) || (m->hinge_e0[h] == b && m->hinge_e1[h] == a);
 }
 
-/* The hinges after triangle (a, b, x) became (a, P, x) and (P, b, x). */
-static void sb_refine_hinges(sb_model* m, uint32_t a, uint32_t b, uint32_t x, uint32_t p) {
+/* The hinges after triangle (a, b, x) became (a, P, x) and (P, b, x), P at
+ * g from a: a wing's far vertex b (a) becomes P, g (1 − g) as high over
+ * the hinge's edge, and the hinge's constant takes the square of that (its
+ * stiffness against P's motion goes as the constant over the height squared). */
+static void sb_refine_hinges(sb_model* m, uint32_t a, uint32_t b, uint32_t x, uint32_t p, double g) {
     for (uint32_t h = 0; h < m->hinge_count; h++) {
-        if (sb_hinge_edge(m, h, a, x)) sb_hinge_swap(m, h, 2, 4, b, p); /* wing (a, b, x): now (a, P, x) */
-        if (sb_hinge_edge(m, h, b, x)) sb_hinge_swap(m, h, 2, 4, a, p); /* wing (a, b, x): now (P, b, x) */
+        bool on_ax = sb_hinge_edge(m, h, a, x), on_bx = sb_hinge_edge(m, h, b, x);
+        if (!on_ax && !on_bx) continue;
+        uint32_t far = on_ax ? b : a;
+        if (m->hinge_o0[h] != far && m->hinge_o1[h] != far) continue;
+        sb_hinge_swap(m, h, 2, 4, far, p);
+        m->hinge_k[h] *= sb_sq(on_ax ? g : 1.0 - g);
     }
 }
 
-/* Triangle t, with the bond (u, w) on its edge, split at P (fraction f from u). */
-static void sb_refine_triangle(sb_cut_mesh* c, uint32_t t, uint32_t u, uint32_t w, double f, uint32_t p,
-                               uint32_t bond) {
+/* How much mass vertex v can give a new vertex and stay at or below the
+ * ratio limit (a tenth of its mass at least); half of a fixed or held
+ * vertex's (it does not move: no step limit). */
+static double sb_spare_mass(const sb_solver* s, const sb_cut_mesh* c, uint32_t v) {
+    const sb_model* m = c->live;
+    if (sb_inv_mass(s)[v] == 0.0) return 0.5 * m->mass[v];
+    return fmax(m->mass[v] - sb_vertex_stiffness(m, v) / c->ratio_limit, 0.1 * m->mass[v]);
+}
+
+/* How much stiffness vertex v can take on and stay at or below the ratio
+ * limit, N/m (no limit for a fixed or held vertex). */
+static double sb_spare_stiffness(const sb_solver* s, const sb_cut_mesh* c, uint32_t v) {
+    const sb_model* m = c->live;
+    if (sb_inv_mass(s)[v] == 0.0) return INFINITY;
+    return fmax(0.0, c->ratio_limit * m->mass[v] - sb_vertex_stiffness(m, v));
+}
+
+/* Triangle t, with the bond (u, w) on its edge, split at P (fraction f from
+ * u); the new bond P x takes `bond`'s constants times `scale`, less where x
+ * cannot take them on (x gains a bond, not mass). */
+static void sb_refine_triangle(sb_solver* s, sb_cut_mesh* c, uint32_t t, uint32_t u, uint32_t w, double f, uint32_t p,
+                               uint32_t bond, double scale) {
     sb_model* m = c->live;
     int cu = sb_corner(m, t, u), cw = sb_corner(m, t, w);
     /* (a, b, x) in t's order: the edge runs a → b at corner ca */
@@ -299,12 +382,15 @@ static void sb_refine_triangle(sb_cut_mesh* c, uint32_t t, uint32_t u, uint32_t 
     m->tri_v[ca][n] = p; /* n: (P, b, x) */
     m->tri_len0[ca][t] = g * ab, m->tri_len0[cb][t] = px;
     m->tri_len0[ca][n] = (1.0 - g) * ab, m->tri_len0[cb][n] = bx, m->tri_len0[cx][n] = px;
-    m->angle_k[n] = (1.0 - g) * m->angle_k[t], m->angle_k[t] *= g;
-    m->stretch_bend_k[n] = (1.0 - g) * m->stretch_bend_k[t], m->stretch_bend_k[t] *= g;
+    /* the angle terms' stiffness goes as the constant over the shorter edge
+     * squared: the constants by the square of the part, a sliver stays soft */
+    m->angle_k[n] = sb_sq(1.0 - g) * m->angle_k[t], m->angle_k[t] *= sb_sq(g);
+    m->stretch_bend_k[n] = sb_sq(1.0 - g) * m->stretch_bend_k[t], m->stretch_bend_k[t] *= sb_sq(g);
     sb_rest_cosines(m, t);
     sb_rest_cosines(m, n);
-    sb_refine_hinges(m, a, b, x, p);
-    sb_add_bond(c, p, x, bond, 1.0, px);
+    sb_refine_hinges(m, a, b, x, p, g);
+    double stiffness = sb_bond_stiffness(m, bond);
+    sb_add_bond(c, p, x, bond, stiffness > 0.0 ? fmin(scale, sb_spare_stiffness(s, c, x) / stiffness) : scale, px);
 }
 
 /* Refines bond e at fraction f: a vertex on it, the cut's. */
@@ -313,20 +399,27 @@ static void sb_refine(sb_solver* s, sb_cut_mesh* c, uint32_t e, double f, double
     uint32_t u = m->bond_i[e], w = m->bond_j[e], p = sb_new_vertex(c, before);
     if (p == SB_NONE) return;
     sb_blend_vertex(s, u, w, f, p);
-    double mu = m->mass[u], mw = m->mass[w];
-    double share = fmin(0.25 * (mu + mw), fmin(0.25 * mu / (1.0 - f), 0.25 * mw / f));
+    uint32_t sides[2], wings = (uint32_t)sb_edge_triangles(m, u, w, sides);
+    /* P's bonds: the bond's two parts and one to each triangle's far corner */
+    double stiffness = (2.0 + wings) * sb_bond_stiffness(m, e), need = stiffness / c->ratio_limit;
+    double share = fmin(need, fmin(sb_spare_mass(s, c, u) / (1.0 - f), sb_spare_mass(s, c, w) / f));
+    double scale = share < need ? share / need : 1.0; /* P's bonds softer where its ends cannot spare the mass */
     sb_give_mass(s, u, p, (1.0 - f) * share, before);
     sb_give_mass(s, w, p, f * share, before);
     c->on_cut[p] = 1;
     uint32_t triangles = m->triangle_count;
     for (uint32_t t = 0; t < triangles; t++)
-        if (sb_corner(m, t, u) >= 0 && sb_corner(m, t, w) >= 0) sb_refine_triangle(c, t, u, w, f, p, e);
+        if (sb_corner(m, t, u) >= 0 && sb_corner(m, t, w) >= 0) sb_refine_triangle(s, c, t, u, w, f, p, e, scale);
     for (uint32_t h = 0; h < m->hinge_count; h++)
-        if (sb_hinge_edge(m, h, u, w)) sb_hinge_swap(m, h, 0, 2, w, p);
+        if (sb_hinge_edge(m, h, u, w)) {
+            sb_hinge_swap(m, h, 0, 2, w, p);
+            m->hinge_k[h] *= sb_sq(f); /* across the bond's first part, f as long */
+        }
     double r0 = m->bond_r0[e];
-    sb_add_bond(c, p, w, e, 1.0, (1.0 - f) * r0);
+    sb_add_bond(c, p, w, e, scale, (1.0 - f) * r0);
     m->bond_j[e] = p;
     m->bond_r0[e] = f * r0;
+    m->bond_k[e] *= scale, m->spring_k[e] *= scale, m->spring_damping[e] *= scale;
 }
 
 /* Whether the cut's new elements fit: a refinement takes one vertex, at
@@ -361,14 +454,6 @@ void sb_cut_mesh_cross(sb_solver* s, sb_cut_mesh* c, uint32_t bond, double f, do
 }
 
 /* ---- cut edges and splits ------------------------------------------------------------ */
-
-/* The triangles on edge (i, j), at most two found: returns the count. */
-static int sb_edge_triangles(const sb_model* m, uint32_t i, uint32_t j, uint32_t out[2]) {
-    int count = 0;
-    for (uint32_t t = 0; t < m->triangle_count && count < 2; t++)
-        if (sb_corner(m, t, i) >= 0 && sb_corner(m, t, j) >= 0) out[count++] = t;
-    return count;
-}
 
 /* Bond e's edge, its two ends on the cut, is cut: an inner one gets a twin
  * for its second triangle, each with half the constants; the hinges across
@@ -469,12 +554,17 @@ static uint32_t sb_fan_of(const sb_cut_mesh* c, uint32_t t, uint32_t d) {
     return 0;
 }
 
-static double sb_rest_area(const sb_model* m, uint32_t t) {
-    double a = m->tri_len0[0][t], b = m->tri_len0[1][t], e = m->tri_len0[2][t], p = 0.5 * (a + b + e);
-    return sqrt(fmax(0.0, p * (p - a) * (p - b) * (p - e)));
+/* The fan of v's bond e (v one of its ends). */
+static uint32_t sb_bond_fan(const sb_cut_mesh* c, uint32_t e, uint32_t v, uint32_t d) {
+    const sb_model* m = c->live;
+    uint32_t x = m->bond_i[e] == v ? m->bond_j[e] : m->bond_i[e];
+    return c->side[e] != SB_NONE ? sb_fan_of(c, c->side[e], d) : sb_fan_with(c, x, SB_NONE, d);
 }
 
-/* Splits v into one vertex per fan (first, first + 1, … for fans 1, …). */
+/* Splits v into one vertex per fan (first, first + 1, … for fans 1, …).
+ * Each copy's mass is v's in proportion to the stiffness of the bonds it
+ * takes, so each keeps v's stiffness over mass (a fan's rest area would
+ * leave a sliver fan's copy light on full bonds: a step too long for it). */
 static void sb_split(sb_solver* s, sb_cut_mesh* c, uint32_t v, uint32_t fans, uint32_t d, double* before) {
     sb_model* m = c->live;
     if (c->vertices + fans - 1 > c->vertex_capacity) {
@@ -483,26 +573,26 @@ static void sb_split(sb_solver* s, sb_cut_mesh* c, uint32_t v, uint32_t fans, ui
     }
     uint32_t first = c->vertices;
     c->vertices += fans - 1;
-    double area[64] = {0}, total = 0.0;
-    for (uint32_t i = 0; i < d; i++) {
-        double a = sb_rest_area(m, c->star[i]);
-        area[c->fan[i] < 64 ? c->fan[i] : 63] += a;
-        total += a;
-    }
+    double stiffness[64] = {0}, total = 0.0;
+    for (uint32_t e = 0; e < m->bond_count; e++)
+        if (m->bond_i[e] == v || m->bond_j[e] == v) {
+            uint32_t f = sb_bond_fan(c, e, v, d);
+            stiffness[f < 64 ? f : 63] += sb_bond_stiffness(m, e);
+            total += sb_bond_stiffness(m, e);
+        }
     double mass = m->mass[v];
     for (uint32_t f = 1; f < fans; f++) {
         uint32_t w = first + f - 1;
         sb_blend_vertex(s, v, v, 0.0, w);
         for (int a = 0; a < 3; a++) before[3 * (size_t)w + a] = 0.0;
         m->mass[w] = 0.0;
-        sb_give_mass(s, v, w, total > 0.0 ? mass * area[f < 64 ? f : 63] / total : mass / fans, before);
+        sb_give_mass(s, v, w, total > 0.0 ? mass * stiffness[f < 64 ? f : 63] / total : mass / fans, before);
         c->on_cut[w] = 1;
     }
     for (uint32_t e = 0; e < m->bond_count; e++) { /* bonds first: they look at the triangles' fans */
         int end = m->bond_i[e] == v ? 0 : m->bond_j[e] == v ? 1 : -1;
         if (end < 0) continue;
-        uint32_t x = end ? m->bond_i[e] : m->bond_j[e];
-        uint32_t f = c->side[e] != SB_NONE ? sb_fan_of(c, c->side[e], d) : sb_fan_with(c, x, SB_NONE, d);
+        uint32_t f = sb_bond_fan(c, e, v, d);
         if (f) *(end ? &m->bond_j[e] : &m->bond_i[e]) = first + f - 1;
     }
     for (uint32_t h = 0; h < m->hinge_count; h++) {

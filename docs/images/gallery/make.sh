@@ -13,7 +13,7 @@ trap 'rm -rf "$out"' EXIT
 what() { # one line on what each scene shows
     case $1 in
     ball_net) echo "a ball thrown into a net held at its edges: the net catches it and throws it back (dynamic collider)" ;;
-    blade_cut) echo "a hanging sheet cut up its middle by a moving blade" ;;
+    blade_cut) echo "a sheet hanging from its top corners cut through up its middle by a moving blade: a straight incision that gapes" ;;
     bouncing_ball) echo "a soft icosphere dropped onto a floor, bouncing (Spring Systems tutorial)" ;;
     box_table) echo "a tablecloth dropped onto a turned box: it settles on the top and hangs over the edges" ;;
     capsule_hook) echo "a cloth dropped across a capsule rail folds over it like a towel on a hook" ;;
