@@ -313,14 +313,13 @@ static bool sb_incidences(sb_breakage* b, const sb_model* m) {
  * 256) but no more than the vertices on them; none when max_splits < 0 or
  * the model has no triangles. */
 static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
-    uint32_t breakable = def->blade_count ? m->bond_count : b->limited_count;
-    if (def->cut_through && m->tet_count) breakable = 6 * m->tet_count; /* cutting through tetrahedra: their edges */
-    if (def->max_splits < 0 || (m->triangle_count == 0 && !(def->cut_through && m->tet_count)) || breakable == 0)
-        return 0;
+    bool volume = def->cut_through && m->tet_count > 0; /* cutting through tetrahedra: their edges, every vertex */
+    uint32_t breakable = volume ? 6 * m->tet_count : def->blade_count ? m->bond_count : b->limited_count;
+    if (def->max_splits < 0 || (m->triangle_count == 0 && !volume) || breakable == 0) return 0;
     uint32_t room = UINT32_MAX / 8 - m->vertex_count;
     if (def->max_splits > 0) return (uint32_t)def->max_splits < room ? (uint32_t)def->max_splits : room;
-    uint8_t* seen = calloc(m->vertex_count, 1);
-    uint32_t on = 0;
+    uint8_t* seen = volume ? NULL : calloc(m->vertex_count, 1);
+    uint32_t on = volume ? m->vertex_count : 0;
     for (uint32_t k = 0; seen && k < breakable; k++) {
         uint32_t bond = def->blade_count ? k : b->limited[k], ends[2] = {m->bond_i[bond], m->bond_j[bond]};
         for (int e = 0; e < 2; e++) {

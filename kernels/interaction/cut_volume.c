@@ -14,13 +14,16 @@
  * edges are swept against the tetrahedra's unique edges
  * (kernels/interaction/cutting.c, continuous in time: no edge slips past
  * a blade), and each crossing, at fraction f from the edge's first end,
- *  - puts each end that lies within the snap distance of the step's swept
+ *  - puts each end that lies within its snap distance of the step's swept
  *    plane on the cut instead of making a sliver: SB_CUT_VOLUME_SNAP (4 %)
- *    of the shortest rest edge of the model, so a snapped vertex lies at
- *    most 4 % of the smallest cell off the blade's surface (the target is
- *    5 %), and a bisection is at least that distance from both ends, so
- *    no element made is thinner than that fraction of its parent (a
- *    bisection at f gives two of volume f V and (1 − f) V). The test is
+ *    of the shortest rest edge at the vertex (the local cell: a mesh's
+ *    shortest edge anywhere would leave slivers where its cells are
+ *    large), so a snapped vertex lies at most 4 % of its cell off the
+ *    blade's surface (the target is 5 %), and a bisection is at least
+ *    that distance from both ends, so no element made is thinner than
+ *    about that fraction of its parent (a bisection at f gives two of
+ *    volume f V and (1 − f) V). A new vertex takes the smaller of its
+ *    ends' snap distances, a split's copies their vertex's. The test is
  *    the vertex's own distance from the plane, not the meeting point's
  *    from the end along the edge, so that every edge at a vertex judges it
  *    alike: a vertex either is on the cut or is not, and no bisection
@@ -90,7 +93,7 @@ static const int sb_edge_ends[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {
 struct sb_cut_volume {
     sb_model* live;
     uint32_t vertices, vertex_capacity, tet_capacity, face_capacity, refused;
-    double snap; /* m */
+    double* snap; /* per vertex slot, m: SB_CUT_VOLUME_SNAP of its shortest rest edge */
     const sb_cutting* cutting;
     double* planes; /* the step's swept planes, 4 numbers each (sb_cutting_planes) */
     uint32_t plane_count;
@@ -171,17 +174,22 @@ static bool sb_densities(sb_cut_volume* c) {
     return true;
 }
 
-/* The shortest rest edge of the tetrahedra. */
-static double sb_shortest_edge(const sb_model* m) {
-    double shortest = INFINITY;
+/* Each model vertex's snap distance: SB_CUT_VOLUME_SNAP of its shortest rest edge. */
+static void sb_snap_distances(sb_cut_volume* c) {
+    const sb_model* m = c->live;
+    for (uint32_t v = 0; v < c->vertex_capacity; v++) c->snap[v] = INFINITY;
     for (uint32_t t = 0; t < m->tet_count; t++)
         for (int e = 0; e < 6; e++) {
+            uint32_t u = m->tet_v[sb_edge_ends[e][0]][t], w = m->tet_v[sb_edge_ends[e][1]][t];
             double a[3], b[3];
-            sb_rest_of(m, m->tet_v[sb_edge_ends[e][0]][t], a);
-            sb_rest_of(m, m->tet_v[sb_edge_ends[e][1]][t], b);
-            shortest = fmin(shortest, sqrt(sb_sq(b[0] - a[0]) + sb_sq(b[1] - a[1]) + sb_sq(b[2] - a[2])));
+            sb_rest_of(m, u, a);
+            sb_rest_of(m, w, b);
+            double snap = SB_CUT_VOLUME_SNAP * sqrt(sb_sq(b[0] - a[0]) + sb_sq(b[1] - a[1]) + sb_sq(b[2] - a[2]));
+            c->snap[u] = fmin(c->snap[u], snap);
+            c->snap[w] = fmin(c->snap[w], snap);
         }
-    return isfinite(shortest) ? shortest : 0.0;
+    for (uint32_t v = 0; v < c->vertex_capacity; v++)
+        if (!isfinite(c->snap[v])) c->snap[v] = 0.0; /* in no tetrahedron, or a spare slot */
 }
 
 /* The tetrahedra's unique edges again, in order of first appearance. */
@@ -255,6 +263,7 @@ sb_cut_volume* sb_cut_volume_create(sb_model* live, uint32_t model_vertices, con
     c->face_capacity = 4 * c->tet_capacity;
     size_t nv = c->vertex_capacity + 1, nt = c->tet_capacity + 1, ne = 6 * (size_t)c->tet_capacity + 1;
     c->on_cut = calloc(nv, 1);
+    c->snap = malloc(nv * sizeof *c->snap);
     c->skip = calloc(ne, 1);
     c->edges.bond_i = malloc(ne * sizeof(uint32_t));
     c->edges.bond_j = malloc(ne * sizeof(uint32_t));
@@ -262,13 +271,13 @@ sb_cut_volume* sb_cut_volume_create(sb_model* live, uint32_t model_vertices, con
     c->parent = malloc(nt * sizeof *c->parent);
     c->group = malloc(nt * sizeof *c->group);
     c->group_volume = malloc(nt * sizeof *c->group_volume);
-    *ok = c->planes && c->on_cut && c->skip && c->edges.bond_i && c->edges.bond_j && c->star && c->parent && c->group &&
-          c->group_volume && sb_room(c) && sb_densities(c);
+    *ok = c->planes && c->on_cut && c->snap && c->skip && c->edges.bond_i && c->edges.bond_j && c->star && c->parent &&
+          c->group && c->group_volume && sb_room(c) && sb_densities(c);
     if (!*ok) {
         sb_cut_volume_destroy(c);
         return NULL;
     }
-    c->snap = SB_CUT_VOLUME_SNAP * sb_shortest_edge(live);
+    sb_snap_distances(c);
     sb_edges_find(c);
     *ok = c->refused == 0;
     if (!*ok) {
@@ -280,8 +289,8 @@ sb_cut_volume* sb_cut_volume_create(sb_model* live, uint32_t model_vertices, con
 
 void sb_cut_volume_destroy(sb_cut_volume* c) {
     if (!c) return;
-    void* arrays[] = {c->planes, c->on_cut, c->skip,  c->edges.bond_i, c->edges.bond_j, c->star,
-                      c->parent, c->group,  c->reals, c->indices,      c->nodes,        c->group_volume};
+    void* arrays[] = {c->planes, c->snap,  c->on_cut, c->skip,    c->edges.bond_i, c->edges.bond_j, c->star,
+                      c->parent, c->group, c->reals,  c->indices, c->nodes,        c->group_volume};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     free(c);
 }
@@ -340,6 +349,7 @@ static void sb_bisect(sb_solver* s, sb_cut_volume* c, uint32_t u, uint32_t w, do
     sb_give_mass(s, u, p, (1.0 - f) * share, before);
     sb_give_mass(s, w, p, f * share, before);
     c->on_cut[p] = 1;
+    c->snap[p] = fmin(c->snap[u], c->snap[w]);
     for (uint32_t i = 0; i < d; i++) {
         uint32_t t = c->star[i], n = m->tet_count++;
         sb_copy_tet(c, t, n);
@@ -374,12 +384,12 @@ static double sb_sweep_distance(const sb_solver* s, const sb_cut_volume* c, uint
  * meeting point within it of the end). */
 static void sb_near_ends(const sb_solver* s, const sb_cut_volume* c, uint32_t u, uint32_t w, double f, bool near[2]) {
     if (c->plane_count) {
-        near[0] = sb_sweep_distance(s, c, u) < c->snap;
-        near[1] = sb_sweep_distance(s, c, w) < c->snap;
+        near[0] = sb_sweep_distance(s, c, u) < c->snap[u];
+        near[1] = sb_sweep_distance(s, c, w) < c->snap[w];
     } else {
         double length = sb_rest_distance(c->live, u, w);
-        near[0] = f * length < c->snap;
-        near[1] = (1.0 - f) * length < c->snap;
+        near[0] = f * length < c->snap[u];
+        near[1] = (1.0 - f) * length < c->snap[w];
     }
 }
 
@@ -480,6 +490,7 @@ static void sb_split(sb_solver* s, sb_cut_volume* c, uint32_t v, uint32_t groups
         m->mass[w] = 0.0;
         sb_give_mass(s, v, w, mass * c->group_volume[g] / total, before);
         c->on_cut[w] = 1;
+        c->snap[w] = c->snap[v];
     }
     for (uint32_t i = 0; i < d; i++)
         if (c->group[i]) {
@@ -502,7 +513,7 @@ void sb_cut_volume_separate(sb_solver* s, sb_cut_volume* c, double* before) {
 
 /* ---- the saved state ---------------------------------------------------------------- */
 
-enum { SB_CUT_VOLUME_RANGES = 17 };
+enum { SB_CUT_VOLUME_RANGES = 18 };
 
 static int sb_cut_volume_ranges(sb_cut_volume* c, sb_range* out) {
     sb_model* m = c->live;
@@ -512,6 +523,7 @@ static int sb_cut_volume_ranges(sb_cut_volume* c, sb_range* out) {
                                            {&m->tet_count, 4},
                                            {&m->face_count, 4},
                                            {c->on_cut, nv},
+                                           {c->snap, 8 * nv},
                                            {m->rest_x, 8 * nv},
                                            {m->rest_y, 8 * nv},
                                            {m->rest_z, 8 * nv},

@@ -346,6 +346,12 @@ bool sb_solver_triangle_alive(const sb_solver* s, uint32_t triangle) {
     return triangle < s->model->triangle_count && !sb_breakage_triangle_dead(s->breakage, triangle);
 }
 
+uint32_t sb_solver_face_count(const sb_solver* s) { return s->model->face_count; }
+
+void sb_solver_face(const sb_solver* s, uint32_t face, uint32_t vertices[3]) {
+    for (int c = 0; c < 3; c++) vertices[c] = face < s->model->face_count ? s->model->face_v[c][face] : 0;
+}
+
 void sb_solver_bond(const sb_solver* s, uint32_t bond, uint32_t ends[2]) {
     bool in = bond < s->model->bond_count;
     ends[0] = in ? s->model->bond_i[bond] : 0;
