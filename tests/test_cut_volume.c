@@ -173,8 +173,9 @@ static void check_plane_cut(int cells, double degrees) {
     assert_true(side_sum[0] * side_sum[1] < 0.0); /* the pieces on either side */
     assert_true(worst <= 0.05 * cell);
     assert_true(fabs(cut_area - 2.0 * through) < 1e-3 * through); /* the cut runs the whole plane, both sides */
-    /* the snap distance δ (4 % of a cell) bounds what a cut makes: a corner
-     * cut off δ from its vertex, δ³ of a cell's sixth, and the needle on a
+    /* the snap distance δ (2.5 % of a vertex's longest edge, the cube's
+     * diagonal: 4.3 % of a cell) bounds what a cut makes: a corner cut off
+     * δ from its vertex, about δ³ of a cell's sixth, and the needle on a
      * prism's cap δ across, of shape about δ² */
     assert_true(smallest > 0.5 * pow(0.04, 3) * cell_tet);
     assert_true(flattest > 0.5 * pow(0.04, 2));

@@ -15,15 +15,21 @@
  * (kernels/interaction/cutting.c, continuous in time: no edge slips past
  * a blade), and each crossing, at fraction f from the edge's first end,
  *  - puts each end that lies within its snap distance of the step's swept
- *    plane on the cut instead of making a sliver: SB_CUT_VOLUME_SNAP (4 %)
- *    of the shortest rest edge at the vertex (the local cell: a mesh's
- *    shortest edge anywhere would leave slivers where its cells are
- *    large), so a snapped vertex lies at most 4 % of its cell off the
- *    blade's surface (the target is 5 %), and a bisection is at least
- *    that distance from both ends, so no element made is thinner than
- *    about that fraction of its parent (a bisection at f gives two of
- *    volume f V and (1 − f) V). A new vertex takes the smaller of its
- *    ends' snap distances, a split's copies their vertex's. The test is
+ *    plane on the cut instead of making a sliver: SB_CUT_VOLUME_SNAP
+ *    (2.5 %) of the longest rest edge at the vertex. An edge is at least
+ *    as long along as its end is from the plane, so a bisection lands at
+ *    least 2.5 % of the edge from either end (f in [0.025, 0.975]): no
+ *    element made is thinner than that fraction of its parent (a bisection
+ *    at f gives two of volume f V and (1 − f) V) and the stable step
+ *    shrinks at most by about √0.025; a snapped vertex lies at most 2.5 %
+ *    of its longest edge off the blade's surface, 4.3 % of a cell in a
+ *    mesh of cubes cut into six (the longest edge the cube's diagonal; the
+ *    target is 5 %). A bound by the shortest edge instead would let a long
+ *    edge be bisected a hair from its end: on scenes/syringe_body's
+ *    irregular tetrahedra (edges 1.7 to 67 mm) that made elements 1e-5 of
+ *    a regular one's shape, and the body blew up at the first cut. A new
+ *    vertex takes the larger of its ends' snap distances, a split's
+ *    copies their vertex's. The test is
  *    the vertex's own distance from the plane, not the meeting point's
  *    from the end along the edge, so that every edge at a vertex judges it
  *    alike: a vertex either is on the cut or is not, and no bisection
@@ -77,9 +83,9 @@
 #include <string.h>
 
 #define SB_NONE UINT32_MAX
-/* A crossing this close to an edge's end (a fraction of the model's
- * shortest rest edge) puts the end on the cut instead of a new vertex. */
-#define SB_CUT_VOLUME_SNAP 0.04
+/* A vertex this close to the blade's plane (a fraction of its longest
+ * rest edge) is put on the cut instead of a new vertex beside it. */
+#define SB_CUT_VOLUME_SNAP 0.025
 /* Room for new tetrahedra: this many a spare vertex (a bisection adds one
  * a tetrahedron on the edge; a Kuhn mesh's edges have up to 6, refined
  * ones near the cut more). */
@@ -93,7 +99,7 @@ static const int sb_edge_ends[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {
 struct sb_cut_volume {
     sb_model* live;
     uint32_t vertices, vertex_capacity, tet_capacity, face_capacity, refused;
-    double* snap; /* per vertex slot, m: SB_CUT_VOLUME_SNAP of its shortest rest edge */
+    double* snap; /* per vertex slot, m: SB_CUT_VOLUME_SNAP of its longest rest edge */
     const sb_cutting* cutting;
     double* planes; /* the step's swept planes, 4 numbers each (sb_cutting_planes) */
     uint32_t plane_count;
@@ -174,10 +180,10 @@ static bool sb_densities(sb_cut_volume* c) {
     return true;
 }
 
-/* Each model vertex's snap distance: SB_CUT_VOLUME_SNAP of its shortest rest edge. */
+/* Each model vertex's snap distance: SB_CUT_VOLUME_SNAP of its longest rest edge. */
 static void sb_snap_distances(sb_cut_volume* c) {
     const sb_model* m = c->live;
-    for (uint32_t v = 0; v < c->vertex_capacity; v++) c->snap[v] = INFINITY;
+    for (uint32_t v = 0; v < c->vertex_capacity; v++) c->snap[v] = 0.0; /* in no tetrahedron, or a spare slot */
     for (uint32_t t = 0; t < m->tet_count; t++)
         for (int e = 0; e < 6; e++) {
             uint32_t u = m->tet_v[sb_edge_ends[e][0]][t], w = m->tet_v[sb_edge_ends[e][1]][t];
@@ -185,11 +191,9 @@ static void sb_snap_distances(sb_cut_volume* c) {
             sb_rest_of(m, u, a);
             sb_rest_of(m, w, b);
             double snap = SB_CUT_VOLUME_SNAP * sqrt(sb_sq(b[0] - a[0]) + sb_sq(b[1] - a[1]) + sb_sq(b[2] - a[2]));
-            c->snap[u] = fmin(c->snap[u], snap);
-            c->snap[w] = fmin(c->snap[w], snap);
+            c->snap[u] = fmax(c->snap[u], snap);
+            c->snap[w] = fmax(c->snap[w], snap);
         }
-    for (uint32_t v = 0; v < c->vertex_capacity; v++)
-        if (!isfinite(c->snap[v])) c->snap[v] = 0.0; /* in no tetrahedron, or a spare slot */
 }
 
 /* The tetrahedra's unique edges again, in order of first appearance. */
@@ -349,7 +353,7 @@ static void sb_bisect(sb_solver* s, sb_cut_volume* c, uint32_t u, uint32_t w, do
     sb_give_mass(s, u, p, (1.0 - f) * share, before);
     sb_give_mass(s, w, p, f * share, before);
     c->on_cut[p] = 1;
-    c->snap[p] = fmin(c->snap[u], c->snap[w]);
+    c->snap[p] = fmax(c->snap[u], c->snap[w]);
     for (uint32_t i = 0; i < d; i++) {
         uint32_t t = c->star[i], n = m->tet_count++;
         sb_copy_tet(c, t, n);
