@@ -300,6 +300,9 @@ SB_API void sb_solver_bond(const sb_solver* solver, uint32_t bond, uint32_t ends
 SB_API uint32_t sb_solver_face_count(const sb_solver* solver);
 /** The face's current three vertices, facing out of its body. */
 SB_API void sb_solver_face(const sb_solver* solver, uint32_t face, uint32_t vertices[3]);
+/** The most faces sb_solver_face_count can reach: the room a cut through
+ * tetrahedra reserved at creation, or the model's count. */
+SB_API uint32_t sb_solver_face_capacity(const sb_solver* solver);
 
 /** The simulated time, s: 0 at creation, each advance adds its dt (a loaded
  * checkpoint sets it). */

@@ -304,6 +304,7 @@ const uint8_t* sb_cut_volume_skip(const sb_cut_volume* c) { return c->skip; }
 uint32_t sb_cut_volume_vertex_count(const sb_cut_volume* c) { return c->vertices; }
 uint32_t sb_cut_volume_refused(const sb_cut_volume* c) { return c->refused; }
 uint32_t sb_cut_volume_capacity(const sb_cut_volume* c) { return c->tet_capacity; }
+uint32_t sb_cut_volume_face_capacity(const sb_cut_volume* c) { return c->face_capacity; }
 
 /* ---- crossings ------------------------------------------------------------------- */
 

@@ -46,6 +46,8 @@ void sb_cut_volume_separate(struct sb_solver* solver, sb_cut_volume* cut, double
 uint32_t sb_cut_volume_vertex_count(const sb_cut_volume* cut);
 /* The tetrahedron slots (in use and reserved). */
 uint32_t sb_cut_volume_capacity(const sb_cut_volume* cut);
+/* The face slots (in use and reserved). */
+uint32_t sb_cut_volume_face_capacity(const sb_cut_volume* cut);
 /* Refinements and splits not made for want of room. */
 uint32_t sb_cut_volume_refused(const sb_cut_volume* cut);
 
