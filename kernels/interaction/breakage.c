@@ -380,9 +380,10 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
             b->volume_cut = sb_cut_volume_create(&b->live, m->vertex_count, b->cutting, &ok);
         else
             b->cut = sb_cut_mesh_create(&b->live, m->vertex_count, &ok);
-        /* the crossings of one step: at most the model's bonds, or 6 a tetrahedron slot */
-        size_t room =
-            (size_t)b->live.bond_count + (b->volume_cut ? 6 * (size_t)sb_cut_volume_capacity(b->volume_cut) : 0) + 1;
+        /* the crossings of one step: each blade's, at most the model's bonds, or 6 a tetrahedron slot */
+        size_t edges =
+            (size_t)b->live.bond_count + (b->volume_cut ? 6 * (size_t)sb_cut_volume_capacity(b->volume_cut) : 0);
+        size_t room = edges * sb_cutting_count(b->cutting) + 1;
         b->met = ok ? malloc(room * sizeof *b->met) : NULL;
         b->met_at = ok ? malloc(room * sizeof *b->met_at) : NULL;
         return ok && b->met && b->met_at;
