@@ -20,7 +20,8 @@ void sb_torn_surface_free(sb_torn_surface* s) {
 const sb_mesh* sb_torn_surface_update(sb_torn_surface* s, const sb_solver* solver, const sb_mesh* whole,
                                       double* positions) {
     if (!s->tears) return whole;
-    uint32_t count = 0, triangles = sb_solver_triangle_count(solver);
+    bool faces = sb_model_triangle_count(sb_solver_model(solver)) == 0; /* a volume: its boundary faces */
+    uint32_t count = 0, triangles = faces ? sb_solver_face_count(solver) : sb_solver_triangle_count(solver);
     if (triangles > s->room) {
         uint32_t* grown = realloc(s->mesh.triangles, (3 * (size_t)triangles + 1) * sizeof *grown);
         if (!grown) return NULL;
@@ -28,7 +29,10 @@ const sb_mesh* sb_torn_surface_update(sb_torn_surface* s, const sb_solver* solve
         s->room = triangles;
     }
     for (uint32_t t = 0; t < triangles; t++)
-        if (sb_solver_triangle_alive(solver, t)) sb_solver_triangle(solver, t, s->mesh.triangles + 3 * (size_t)count++);
+        if (faces)
+            sb_solver_face(solver, t, s->mesh.triangles + 3 * (size_t)count++);
+        else if (sb_solver_triangle_alive(solver, t))
+            sb_solver_triangle(solver, t, s->mesh.triangles + 3 * (size_t)count++);
     s->mesh.triangle_count = count;
     s->mesh.vertex_count = sb_solver_vertex_count(solver);
     s->mesh.positions = positions;

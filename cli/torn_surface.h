@@ -1,7 +1,8 @@
 /* The surface a frame shows of a solver that tears (kernels/interaction/topology.c):
  * the solver's vertices now (the model's, then the copies splits made) and
  * its live triangles with their current vertices, so that a torn sheet's
- * frames show the hole and the separate halves. */
+ * frames show the hole and the separate halves; for a volume cut through
+ * its tetrahedra, its boundary faces now. */
 #ifndef SB_TORN_SURFACE_H
 #define SB_TORN_SURFACE_H
 

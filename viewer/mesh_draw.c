@@ -100,7 +100,7 @@ static void make_buffers(sb_mesh_draw* d, const sb_model* model) {
 }
 
 sb_status sb_mesh_draw_create(sb_mesh_draw* d, const sb_model* model, uint32_t capacity, sb_error* err) {
-    *d = (sb_mesh_draw){.capacity = capacity};
+    *d = (sb_mesh_draw){.capacity = capacity, .model_vertices = sb_model_vertex_count(model)};
     d->model_uv = texture_coordinates(model);
     if (!d->model_uv || !allocate(d, model)) {
         sb_mesh_draw_free(d);
@@ -132,8 +132,10 @@ void sb_mesh_draw_topology(sb_mesh_draw* d, const sb_view_topology* t) {
     d->topology = t;
     d->triangle_count = t->triangle_count;
     d->edge_count = t->edge_count;
-    for (uint32_t i = 0; i < t->vertex_count; i++)
-        memcpy(d->uv + 2 * i, d->model_uv + 2 * t->origins[i], 2 * sizeof *d->uv);
+    for (uint32_t i = 0; i < t->vertex_count; i++) { /* a vertex a cut made has no model vertex: the first's */
+        uint32_t origin = t->origins[i] < d->model_vertices ? t->origins[i] : 0;
+        memcpy(d->uv + 2 * i, d->model_uv + 2 * origin, 2 * sizeof *d->uv);
+    }
     glBindBuffer(GL_ARRAY_BUFFER, d->uv_vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(2 * (size_t)t->vertex_count * sizeof(float)), d->uv);
     glBindVertexArray(d->vao);

@@ -21,6 +21,7 @@ typedef struct sb_mesh_draw {
     const sb_view_topology* topology; /* the last given (its arrays are read while drawing) */
     float* rest;                      /* rest length per bond of the model, m */
     float* model_uv;                  /* 2 per model vertex: the texture's coordinates */
+    uint32_t model_vertices;          /* in model_uv */
     float* uv;                        /* 2 per vertex: its origin's */
     float* positions;
     float* normals;

@@ -19,7 +19,9 @@ static bool tears(const sb_solver* solver) {
 static room room_of(const sb_solver* solver, const sb_mesh* mesh) {
     const sb_model* m = sb_solver_model(solver);
     size_t spare = sb_solver_vertex_capacity(solver) - sb_model_vertex_count(m);
-    size_t triangles = tears(solver) ? sb_model_triangle_count(m) + 2 * spare : mesh->triangle_count;
+    size_t triangles = !tears(solver)                   ? mesh->triangle_count
+                       : sb_model_triangle_count(m) > 0 ? sb_model_triangle_count(m) + 2 * spare
+                                                        : sb_solver_face_capacity(solver); /* a volume cut through */
     return (room){sb_solver_vertex_capacity(solver) + 1, triangles + 1, sb_model_bond_count(m) + 4 * spare + 1};
 }
 
@@ -45,12 +47,18 @@ void sb_view_topology_free(sb_view_topology* t) {
 
 /* The surface: the mesh's triangles (a model of springs has no triangle
  * elements), or a tearing solver's live ones with their current vertices,
- * those a cut through triangles made included. */
+ * those a cut through triangles made included, or a volume's boundary
+ * faces now when it is cut through its tetrahedra. */
 static void read_triangles(sb_view_topology* t, const sb_solver* solver, const sb_mesh* mesh) {
     t->triangle_count = 0;
     if (!tears(solver)) {
         t->triangle_count = mesh->triangle_count;
         memcpy(t->triangles, mesh->triangles, 3 * (size_t)mesh->triangle_count * sizeof *t->triangles);
+        return;
+    }
+    if (sb_model_triangle_count(sb_solver_model(solver)) == 0) {
+        for (uint32_t k = 0; k < sb_solver_face_count(solver); k++)
+            sb_solver_face(solver, k, t->triangles + 3 * (size_t)t->triangle_count++);
         return;
     }
     for (uint32_t k = 0; k < sb_solver_triangle_count(solver); k++)

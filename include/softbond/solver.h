@@ -294,6 +294,15 @@ SB_API void sb_solver_triangle(const sb_solver* solver, uint32_t triangle, uint3
 SB_API bool sb_solver_triangle_alive(const sb_solver* solver, uint32_t triangle);
 /** The bond's current two vertices. */
 SB_API void sb_solver_bond(const sb_solver* solver, uint32_t bond, uint32_t ends[2]);
+/** The boundary faces now (a volume's surface, for contact and frames): the
+ * model's, or after a cut through tetrahedra (sb_solver_def.cut_through)
+ * the pieces', the cut's faces included. */
+SB_API uint32_t sb_solver_face_count(const sb_solver* solver);
+/** The face's current three vertices, facing out of its body. */
+SB_API void sb_solver_face(const sb_solver* solver, uint32_t face, uint32_t vertices[3]);
+/** The most faces sb_solver_face_count can reach: the room a cut through
+ * tetrahedra reserved at creation, or the model's count. */
+SB_API uint32_t sb_solver_face_capacity(const sb_solver* solver);
 
 /** The simulated time, s: 0 at creation, each advance adds its dt (a loaded
  * checkpoint sets it). */

@@ -105,6 +105,7 @@
 #include "kernels/interaction/topology.h"
 #include "kernels/interaction/cutting.h"
 #include "kernels/interaction/cut_mesh.h"
+#include "kernels/interaction/cut_volume.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/self_contact.h"
 #include "softbond/reference.h"
@@ -169,9 +170,10 @@ struct sb_breakage {
     uint32_t* triangle_bonds; /* 3 per triangle: the bonds on its edges, UINT32_MAX for none */
     /* tearing: NULL without it */
     sb_topology* topology;
-    sb_cutting* cutting;      /* the blades; NULL without */
-    sb_cut_mesh* cut;         /* cutting through triangles (sb_solver_def.cut_through); NULL without */
-    uint32_t *met, met_count; /* the step's crossings with cut: bonds, and where along each (met_at) */
+    sb_cutting* cutting;       /* the blades; NULL without */
+    sb_cut_mesh* cut;          /* cutting through triangles (sb_solver_def.cut_through); NULL without */
+    sb_cut_volume* volume_cut; /* cutting through tetrahedra; NULL without */
+    uint32_t *met, met_count;  /* the step's crossings with cut: bonds, and where along each (met_at) */
     double* met_at;
     uint32_t model_bonds, model_triangles;
     double* vertex_block;  /* live's vertex arrays, spare slots included */
@@ -311,12 +313,13 @@ static bool sb_incidences(sb_breakage* b, const sb_model* m) {
  * 256) but no more than the vertices on them; none when max_splits < 0 or
  * the model has no triangles. */
 static uint32_t sb_spare_vertices(const sb_breakage* b, const sb_model* m, const sb_solver_def* def) {
-    uint32_t breakable = def->blade_count ? m->bond_count : b->limited_count;
-    if (def->max_splits < 0 || m->triangle_count == 0 || breakable == 0) return 0;
+    bool volume = def->cut_through && m->tet_count > 0; /* cutting through tetrahedra: their edges, every vertex */
+    uint32_t breakable = volume ? 6 * m->tet_count : def->blade_count ? m->bond_count : b->limited_count;
+    if (def->max_splits < 0 || (m->triangle_count == 0 && !volume) || breakable == 0) return 0;
     uint32_t room = UINT32_MAX / 8 - m->vertex_count;
     if (def->max_splits > 0) return (uint32_t)def->max_splits < room ? (uint32_t)def->max_splits : room;
-    uint8_t* seen = calloc(m->vertex_count, 1);
-    uint32_t on = 0;
+    uint8_t* seen = volume ? NULL : calloc(m->vertex_count, 1);
+    uint32_t on = volume ? m->vertex_count : 0;
     for (uint32_t k = 0; seen && k < breakable; k++) {
         uint32_t bond = def->blade_count ? k : b->limited[k], ends[2] = {m->bond_i[bond], m->bond_j[bond]};
         for (int e = 0; e < 2; e++) {
@@ -373,8 +376,14 @@ static bool sb_tearing_prepare(sb_breakage* b, const sb_model* m, const sb_solve
     bool ok = b->forces != NULL;
     uint32_t per_step = def->max_splits_per_step > 0 ? (uint32_t)def->max_splits_per_step : SB_DEFAULT_SPLITS_PER_STEP;
     if (ok && def->cut_through) {
-        b->cut = sb_cut_mesh_create(&b->live, m->vertex_count, &ok);
-        size_t room = (size_t)b->live.bond_count + 1; /* the model's bonds: the crossings of one step */
+        if (m->tet_count) /* cutting through tetrahedra (kernels/interaction/cut_volume.c) */
+            b->volume_cut = sb_cut_volume_create(&b->live, m->vertex_count, b->cutting, &ok);
+        else
+            b->cut = sb_cut_mesh_create(&b->live, m->vertex_count, &ok);
+        /* the crossings of one step: each blade's, at most the model's bonds, or 6 a tetrahedron slot */
+        size_t edges =
+            (size_t)b->live.bond_count + (b->volume_cut ? 6 * (size_t)sb_cut_volume_capacity(b->volume_cut) : 0);
+        size_t room = edges * sb_cutting_count(b->cutting) + 1;
         b->met = ok ? malloc(room * sizeof *b->met) : NULL;
         b->met_at = ok ? malloc(room * sizeof *b->met_at) : NULL;
         return ok && b->met && b->met_at;
@@ -399,7 +408,7 @@ static bool sb_correction_prepare(sb_breakage* b) {
 /* What cutting through triangles needs (sb_solver_def.cut_through). */
 static sb_status sb_cut_through_check(const sb_model* m, const sb_solver_def* def, sb_error* err) {
     const char* missing = def->blade_count == 0                             ? "blades"
-                          : m->triangle_count == 0                          ? "a model with triangles"
+                          : m->triangle_count == 0                          ? sb_cut_volume_missing(m)
                           : m->breakable                                    ? "a model without break limits"
                           : def->kernels != SB_KERNELS_REFERENCE            ? "the reference kernels"
                           : def->integrator > SB_INTEGRATOR_POSITION_VERLET ? "an explicit integrator"
@@ -407,9 +416,10 @@ static sb_status sb_cut_through_check(const sb_model* m, const sb_solver_def* de
                           : def->max_splits < 0                             ? "max_splits >= 0"
                                                                             : NULL;
     if (missing)
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "cut_through (cutting through triangles) needs %s; it is not built for the rest yet",
-                            missing);
+        return sb_error_set(
+            err, SB_ERR_INVALID,
+            "cut_through (cutting through triangles and tetrahedra) needs %s; it is not built for the rest yet",
+            missing);
     return SB_OK;
 }
 
@@ -446,6 +456,7 @@ void sb_breakage_destroy(sb_breakage* b) {
     sb_topology_destroy(b->topology);
     sb_cutting_destroy(b->cutting);
     sb_cut_mesh_destroy(b->cut);
+    sb_cut_volume_destroy(b->volume_cut);
     free(b->met);
     free(b->met_at);
     void* arrays[] = {b->forces,
@@ -488,6 +499,7 @@ uint32_t sb_breakage_count(const sb_breakage* b) { return b ? b->broken_count : 
 bool sb_breakage_broken(const sb_breakage* b, uint32_t bond) { return b && bond < b->model_bonds && b->broken[bond]; }
 const sb_topology* sb_breakage_topology(const sb_breakage* b) { return b ? b->topology : NULL; }
 sb_cut_mesh* sb_breakage_cut_mesh(const sb_breakage* b) { return b ? b->cut : NULL; }
+sb_cut_volume* sb_breakage_cut_volume(const sb_breakage* b) { return b ? b->volume_cut : NULL; }
 sb_topology* sb_breakage_topology_to_load(sb_breakage* b) { return b ? b->topology : NULL; }
 bool sb_breakage_triangle_dead(const sb_breakage* b, uint32_t triangle) {
     return b && triangle < b->model_triangles && b->triangle_dead[triangle];
@@ -966,11 +978,32 @@ static sb_status sb_cut_accept(sb_solver* s, sb_breakage* b) {
     return SB_OK;
 }
 
+/* The accept stage when cutting through tetrahedra (kernels/interaction/cut_volume.c):
+ * as sb_cut_accept, on the tetrahedra's edges. */
+static sb_status sb_cut_volume_accept(sb_solver* s, sb_breakage* b) {
+    b->met_count = 0;
+    sb_cut_volume* cut = b->volume_cut;
+    sb_cutting_pass(b->cutting, sb_cut_volume_edges(cut), sb_packed_positions(s), sb_cut_volume_skip(cut),
+                    s->time - s->step.dt, s->time, sb_note_crossing, b);
+    if (b->met_count == 0) return SB_OK;
+    sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
+    sb_cut_volume_sweeps(cut, s->time - s->step.dt, s->time);
+    for (uint32_t q = 0; q < b->met_count; q++) sb_cut_volume_cross(s, cut, b->met[q], b->met_at[q], b->forces);
+    sb_cut_volume_separate(s, cut, b->forces);
+    s->live_vertices = sb_cut_volume_vertex_count(cut);
+    sb_status status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s);
+    return SB_OK;
+}
+
 static sb_status sb_breakage_accept(sb_solver* s, double dt) {
     (void)dt; /* the step's: s->step.dt */
     sb_breakage* b = s->breakage;
     if (!b) return SB_OK;
     if (b->cut) return sb_cut_accept(s, b);
+    if (b->volume_cut) return sb_cut_volume_accept(s, b);
     const sb_real* p = sb_packed_positions(s);
     /* the fused step's kernels measured every bond at these positions and flag one near a limit */
     bool measured = sb_fused(s) && s->fast->limits_measured;

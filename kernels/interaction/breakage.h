@@ -43,6 +43,8 @@ const sb_topology* sb_breakage_topology(const sb_breakage* breakage);
 sb_topology* sb_breakage_topology_to_load(sb_breakage* breakage);
 /* Cutting through triangles' mesh, NULL without (sb_solver_def.cut_through). */
 struct sb_cut_mesh* sb_breakage_cut_mesh(const sb_breakage* breakage);
+/* Cutting through tetrahedra's mesh, NULL without (sb_solver_def.cut_through on a model of tetrahedra). */
+struct sb_cut_volume* sb_breakage_cut_volume(const sb_breakage* breakage);
 /* Whether a triangle lost its constants to a broken bond on its edge. */
 bool sb_breakage_triangle_dead(const sb_breakage* breakage, uint32_t triangle);
 /* Self-contact after the surface changed (bonds broken, vertices split: an

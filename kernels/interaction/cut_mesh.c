@@ -245,7 +245,7 @@ static void sb_vertex_arrays(sb_solver* s, double* rest[6], sb_real* state[12]) 
 }
 
 /* Vertex w gets (1 − f) of u's values plus f of v's (f = 0: a copy of u). */
-static void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint32_t w) {
+void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint32_t w) {
     double* rest[6];
     sb_real* state[12];
     sb_vertex_arrays(s, rest, state);
@@ -257,7 +257,7 @@ static void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint
 
 /* Moves `share` of vertex u's mass (and the same part of its force before the
  * step's end, for the re-kick) to w, a new vertex (free: no handle holds it). */
-static void sb_give_mass(sb_solver* s, uint32_t u, uint32_t w, double share, double* before) {
+void sb_give_mass(sb_solver* s, uint32_t u, uint32_t w, double share, double* before) {
     sb_model* m = (sb_model*)s->model;
     double mass = m->mass[u], part = mass > 0.0 ? share / mass : 0.0;
     bool held = s->pinned_inv_mass && s->pinned_inv_mass[u] == 0.0 && !m->fixed[u];

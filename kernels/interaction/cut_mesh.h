@@ -38,4 +38,11 @@ const uint8_t* sb_cut_mesh_skip(const sb_cut_mesh* cut);
 void sb_cut_mesh_save(const sb_cut_mesh* cut, sb_sections_writer* w);
 void sb_cut_mesh_load(struct sb_solver* solver, sb_cut_mesh* cut, sb_cursor* r);
 
+/* Shared with cutting through tetrahedra (kernels/interaction/cut_volume.c).
+ * Vertex w gets (1 − f) of u's values plus f of v's: rest, initial
+ * velocity, state, Verlet displacement and compensation (f = 0: a copy of u). */
+void sb_blend_vertex(struct sb_solver* solver, uint32_t u, uint32_t v, double f, uint32_t w);
+/* Moves `share` kg of u's mass (and that part of its force in `before`) to w. */
+void sb_give_mass(struct sb_solver* solver, uint32_t u, uint32_t w, double share, double* before);
+
 #endif

@@ -249,3 +249,22 @@ uint32_t sb_cutting_pass(const sb_cutting* c, const sb_model* m, const sb_real* 
     }
     return severed;
 }
+
+uint32_t sb_cutting_planes(const sb_cutting* c, double t0, double t1, double* planes) {
+    uint32_t count = 0;
+    for (uint32_t k = 0; k < c->count; k++) {
+        double ends[4][3];
+        sb_edge_poses(&c->blades[k], t0, t1, ends);
+        sb_vec3 a = sb_v3(ends[0]), along = sb_v3_sub(sb_v3(ends[1]), a);
+        sb_vec3 motion = sb_v3_sub(sb_v3_add(sb_v3(ends[2]), sb_v3(ends[3])), sb_v3_add(a, sb_v3(ends[1])));
+        sb_vec3 n = sb_v3_cross(along, motion);
+        double length = sb_v3_length(n);
+        if (!(length > 1e-9 * sb_v3_length(along) * sb_v3_length(motion))) continue;
+        n = sb_v3_scale(n, 1.0 / length);
+        double* plane = planes + 4 * (size_t)count++;
+        plane[0] = n.x, plane[1] = n.y, plane[2] = n.z, plane[3] = -sb_v3_dot(n, a);
+    }
+    return count;
+}
+
+uint32_t sb_cutting_count(const sb_cutting* c) { return c->count; }

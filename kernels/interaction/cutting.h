@@ -28,4 +28,13 @@ void sb_cutting_start(sb_cutting* cutting, const sb_real* p, uint32_t vertex_cou
 uint32_t sb_cutting_pass(const sb_cutting* cutting, const sb_model* model, const sb_real* p, const uint8_t* skip,
                          double t0, double t1, void (*meet)(void* user, uint32_t bond, double along), void* user);
 
+/* The planes the blades' edges sweep over the step from t0 to t1 (exact
+ * for a blade that translates), 4 numbers each into planes: the unit
+ * normal n and −n · (a point on it), so that n · x + that is the signed
+ * distance of x. A blade whose edge stands still or moves along itself
+ * sweeps no plane and is left out. Returns the planes written. */
+uint32_t sb_cutting_planes(const sb_cutting* cutting, double t0, double t1, double* planes);
+/* The blades. */
+uint32_t sb_cutting_count(const sb_cutting* cutting);
+
 #endif

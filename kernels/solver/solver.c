@@ -13,6 +13,7 @@
 #include "kernels/contact/self_contact.h"
 #include "kernels/interaction/handle_internal.h"
 #include "kernels/interaction/breakage.h"
+#include "kernels/interaction/cut_volume.h"
 #include "kernels/integrators/implicit_euler.h"
 #include "kernels/integrators/pbd.h"
 #include "kernels/integrators/vbd.h"
@@ -344,6 +345,17 @@ void sb_solver_triangle(const sb_solver* s, uint32_t triangle, uint32_t vertices
 
 bool sb_solver_triangle_alive(const sb_solver* s, uint32_t triangle) {
     return triangle < s->model->triangle_count && !sb_breakage_triangle_dead(s->breakage, triangle);
+}
+
+uint32_t sb_solver_face_count(const sb_solver* s) { return s->model->face_count; }
+
+uint32_t sb_solver_face_capacity(const sb_solver* s) {
+    const sb_cut_volume* cut = sb_breakage_cut_volume(s->breakage);
+    return cut ? sb_cut_volume_face_capacity(cut) : s->model->face_count;
+}
+
+void sb_solver_face(const sb_solver* s, uint32_t face, uint32_t vertices[3]) {
+    for (int c = 0; c < 3; c++) vertices[c] = face < s->model->face_count ? s->model->face_v[c][face] : 0;
 }
 
 void sb_solver_bond(const sb_solver* s, uint32_t bond, uint32_t ends[2]) {

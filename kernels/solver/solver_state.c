@@ -39,6 +39,7 @@
 #include "kernels/solver/adaptive.h"
 #include "kernels/interaction/breakage.h"
 #include "kernels/interaction/cut_mesh.h"
+#include "kernels/interaction/cut_volume.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/interaction/handle_internal.h"
@@ -233,6 +234,15 @@ static void sb_cut_part_load(sb_solver* s, sb_cursor* r) {
     s->live_vertices = sb_cut_mesh_vertex_count(cut);
 }
 
+static void sb_cut_volume_part_save(const sb_solver* s, sb_sections_writer* w) {
+    sb_cut_volume_save(sb_breakage_cut_volume(s->breakage), w);
+}
+static void sb_cut_volume_part_load(sb_solver* s, sb_cursor* r) {
+    sb_cut_volume* cut = sb_breakage_cut_volume(s->breakage);
+    sb_cut_volume_load(s, cut, r);
+    s->live_vertices = sb_cut_volume_vertex_count(cut);
+}
+
 static bool sb_always(const sb_solver* s) {
     (void)s;
     return true;
@@ -244,6 +254,7 @@ static bool sb_has_handles(const sb_solver* s) { return s->def.handle_count > 0;
 static bool sb_has_breakage(const sb_solver* s) { return s->breakage != NULL; }
 static bool sb_has_topology(const sb_solver* s) { return sb_breakage_topology(s->breakage) != NULL; }
 static bool sb_has_cut_mesh(const sb_solver* s) { return sb_breakage_cut_mesh(s->breakage) != NULL; }
+static bool sb_has_cut_volume(const sb_solver* s) { return sb_breakage_cut_volume(s->breakage) != NULL; }
 static bool sb_has_vbd(const sb_solver* s) { return s->vbd != NULL; }
 static bool sb_has_implicit_fast(const sb_solver* s) { return sb_implicit_fast_of(s) != NULL; }
 
@@ -267,6 +278,7 @@ static const sb_state_part sb_parts[] = {
     {{'B', 'R', 'K', 'N'}, "broken bonds", sb_has_breakage, sb_broken_save, sb_broken_check, sb_breakage_load},
     {{'T', 'O', 'P', 'O'}, "tearing's topology", sb_has_topology, sb_topology_part_save, NULL, sb_topology_part_load},
     {{'C', 'U', 'T', 'M'}, "the cut mesh", sb_has_cut_mesh, sb_cut_part_save, NULL, sb_cut_part_load},
+    {{'C', 'U', 'T', 'V'}, "the cut volume", sb_has_cut_volume, sb_cut_volume_part_save, NULL, sb_cut_volume_part_load},
     {{'H', 'N', 'D', 'L'}, "handles", sb_has_handles, sb_handles_save, NULL, sb_handles_load},
     {{'C', 'O', 'L', 'L'}, "colliders", sb_has_colliders, sb_colliders_save, NULL, sb_colliders_load},
     {{'I', 'M', 'P', 'S'}, "contact impulses", sb_has_impulses, sb_contact_save, NULL, sb_contact_load},
