@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
         sb_step_from(m, def, ks[k], state, size, dt, x);
         double off = 0.0;
         for (size_t q = 0; q < n3; q++) off += (x[q] - best[q]) * (x[q] - best[q]);
-        printf("%d,%.4g\n", ks[k], sqrt(off / move));
+        printf("%d,%.6g\n", ks[k], sqrt(off / move));
     }
     free(state), free(start), free(best), free(x);
     sb_scene_file_destroy(scene);

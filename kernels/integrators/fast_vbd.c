@@ -119,6 +119,7 @@ typedef struct sb_vbd_done {
 struct sb_fast_vbd {
     uint32_t vertex_count, color_count, block_count;
     uint32_t* color_block; /* color_count + 1: each color's first block */
+    uint8_t* color_part;   /* per color: its part of vbd.c's partition, the worker that runs it in a team of 2 */
     sb_vbd_block* blocks;
     uint32_t *need_first, *need; /* block b reads the vertices of blocks need[need_first[b] … need_first[b + 1]) */
     int width;                   /* the workers the split below is for */
@@ -330,11 +331,24 @@ static void sb_vbd_take_need(uint32_t v, void* context) {
     n->count++;
 }
 
-/* Block b's worker in a team of `width`: its color's blocks split as
- * sb_worker_range splits them. */
+/* Color c's blocks [*begin, *end) that worker w runs: in a team of 2 (vbd.c's
+ * parts) the whole color on its part's worker, none on the other; in other
+ * teams each color split as sb_worker_range splits it. */
+static void sb_vbd_color_range(const sb_fast_vbd* f, uint32_t c, const sb_worker* w, int64_t* begin, int64_t* end) {
+    int64_t count = f->color_block[c + 1] - f->color_block[c];
+    if (w->width == SB_VBD_PARTS) {
+        bool mine = f->color_part[c] == w->index;
+        *begin = 0, *end = mine ? count : 0;
+        return;
+    }
+    sb_worker_range(w, count, begin, end);
+}
+
+/* Block b's worker in a team of `width` (sb_vbd_color_range). */
 static int sb_vbd_owner(const sb_fast_vbd* f, uint32_t b, int width) {
     uint32_t c = 0;
     while (f->color_block[c + 1] <= b) c++;
+    if (width == SB_VBD_PARTS) return f->color_part[c];
     int64_t count = f->color_block[c + 1] - f->color_block[c], at = b - f->color_block[c];
     for (int i = 0; i + 1 < width; i++) {
         sb_worker w = {NULL, i, width};
@@ -447,7 +461,8 @@ static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
 
 void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     if (!f) return;
-    free(f->color_block), free(f->blocks), free(f->lane), free(f->need_first), free(f->need), free(f->done);
+    free(f->color_block), free(f->color_part), free(f->blocks), free(f->lane), free(f->need_first), free(f->need),
+        free(f->done);
     free(f->across);
     free(f->bonds.other), free(f->bonds.r0), free(f->bonds.k), free(f->bonds.damping);
     free(f->triangles.q), free(f->triangles.r), free(f->triangles.k_angle), free(f->triangles.k_sb);
@@ -460,7 +475,8 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
 }
 
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width) {
+                                uint32_t color_count, const uint8_t* color_part, const uint32_t* order, bool chebyshev,
+                                int width) {
     sb_fast_vbd* f = calloc(1, sizeof *f);
     if (!f) return NULL;
     f->width = width > 1 ? width : 1;
@@ -470,6 +486,8 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
         f->block_count += (color_start[c + 1] - color_start[c] + SB_WIDTH - 1) / SB_WIDTH;
     size_t packed = 4 * (size_t)m->vertex_count;
     f->color_block = malloc(((size_t)color_count + 1) * sizeof *f->color_block);
+    f->color_part = malloc((size_t)color_count + 1);
+    if (f->color_part) memcpy(f->color_part, color_part, color_count);
     f->blocks = malloc(((size_t)f->block_count + 1) * sizeof *f->blocks);
     f->lane = sb_vbd_alloc(((size_t)f->block_count + 1) * SB_WIDTH, sizeof *f->lane);
     f->x4 = sb_vbd_alloc(packed, sizeof(sb_real));
@@ -477,8 +495,8 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
     f->y4 = sb_vbd_alloc(packed, sizeof(sb_real));
     if (chebyshev) f->last4 = sb_vbd_alloc(packed, sizeof(sb_real)), f->before4 = sb_vbd_alloc(packed, sizeof(sb_real));
     sb_vbd_counts total;
-    bool ok =
-        f->color_block && f->blocks && f->lane && f->x4 && f->x04 && f->y4 && (!chebyshev || (f->last4 && f->before4));
+    bool ok = f->color_block && f->color_part && f->blocks && f->lane && f->x4 && f->x04 && f->y4 &&
+              (!chebyshev || (f->last4 && f->before4));
     if (ok) sb_vbd_plan(f, m, at, color_start, order, &total);
     if (!ok || !sb_vbd_alloc_entries(f, total)) {
         sb_fast_vbd_destroy(f);
@@ -772,21 +790,6 @@ static bool sb_vbd_block_in_turn(sb_fast_vbd* f, uint32_t b, unsigned sweep, con
     return collapsed;
 }
 
-/* This worker's share [begin, end) of color c's blocks in sweep `sweep`:
- * in the team the waits are planned for, first the blocks that other
- * workers' blocks read (along the seams between shares), then the rest, so
- * that the others find them done in the next color; both in block order. */
-static bool sb_vbd_color_share(sb_fast_vbd* f, uint32_t c, int64_t begin, int64_t end, unsigned sweep,
-                               const sb_vbd_rates* rates, const sb_worker* w) {
-    bool collapsed = false, planned = w->width == f->width && w->width > 1;
-    for (int seam = planned; seam >= 0; seam--)
-        for (int64_t k = begin; k < end; k++) {
-            uint32_t b = f->color_block[c] + (uint32_t)k;
-            if (!planned || (f->across[b] > 0) == (seam == 1)) collapsed |= sb_vbd_block_in_turn(f, b, sweep, rates, w);
-        }
-    return collapsed;
-}
-
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker* w) {
     int64_t begin, end;
     sb_worker_range(w, f->vertex_count, &begin, &end);
@@ -806,8 +809,9 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     double weight = 1.0;
     for (int it = 0; it < st->sweeps; it++) {
         for (uint32_t c = 0; c < f->color_count; c++) {
-            sb_worker_range(w, f->color_block[c + 1] - f->color_block[c], &begin, &end);
-            collapsed |= sb_vbd_color_share(f, c, begin, end, (unsigned)it, &rates, w);
+            sb_vbd_color_range(f, c, w, &begin, &end);
+            for (int64_t k = begin; k < end; k++)
+                collapsed |= sb_vbd_block_in_turn(f, f->color_block[c] + (uint32_t)k, (unsigned)it, &rates, w);
         }
         /* every block's sweep done before the acceleration, or before the unpacking */
         if (st->chebyshev_rho > 0.0 || it + 1 == st->sweeps) sb_worker_barrier(w);
