@@ -59,22 +59,24 @@
  * being these blocks). Each pair of blocks that share an element is then
  * ordered as in the colors' Gauss-Seidel order, and the rest run in any
  * order. A block's finished sweeps are a counter on its own cache line.
- * Each worker runs its share of each color's blocks (sb_worker_range, as a
- * barrier per color split them); the vertices of a color are in vertex
- * order, so on a sheet the two workers' shares touch only along a seam.
- * Only the needs of another worker's blocks are waited for (a worker's own
- * run in order), and only the blocks that another worker's read post
- * (the needs are split so at creation, for the team's size). Each worker
- * runs those seam blocks of a color first, then the rest, so that the
- * other finds them done in the next color: a worker waits only where it
- * overtook the other by about a color. (Running each share straight up,
- * the second worker began each color waiting for the blocks the first ran
- * last, a barrier in all but name; running the first worker's share down
- * instead cost a third more CPU time on the 100 × 100 sheet, the slots
- * being laid out up.) A step has 2
- * barriers (after the packing, before the unpacking), where one after each
- * color made 29 at 4 sweeps on the 100 × 100 sheet (7 colors): with
- * passive waits each was a futex sleep and wake-up, about half the step.
+ * The colors are vbd.c's, refined by its two-part partition and ordered so
+ * that part 1's interface comes first in part 1's sweep and part 0's in the
+ * middle of part 0's. In a team of 2 (SB_VBD_PARTS) each worker runs its
+ * part's colors whole, so only the interface blocks wait across, and each
+ * finds what it waits for done about half a part's sweep earlier: a worker
+ * waits only when the other fell that far behind (taken off its core). In
+ * other teams each color's blocks are split as sb_worker_range splits
+ * them, and each worker runs its seam blocks of a color first (those that
+ * another worker's read), then the rest, so that the others find them
+ * done in the next color. Only the needs of another worker's blocks are
+ * waited for (a worker's own run in order), and only the blocks that
+ * another worker's read post (the needs are split so at creation, for the
+ * team's size).
+ * Before the partition, each worker ran half of each of the 7 colors and
+ * met the other at a seam in every color: on the 100 × 100 sheet at 4
+ * sweeps, 2 threads, 26 futex sleeps a step against 9 with it (a loaded
+ * machine, bench/results/vbd_sweeps.md). A step has 2 barriers (after the
+ * packing, before the unpacking), where one after each color made 29.
  * With Chebyshev acceleration a barrier before and after each sweep's
  * acceleration stays. With Chebyshev acceleration the packed
  * positions of the last two sweeps are kept and each worker accelerates
@@ -331,32 +333,41 @@ static void sb_vbd_take_need(uint32_t v, void* context) {
     n->count++;
 }
 
-/* Color c's blocks [*begin, *end) that worker w runs: in a team of 2 (vbd.c's
- * parts) the whole color on its part's worker, none on the other; in other
- * teams each color split as sb_worker_range splits it. */
-static void sb_vbd_color_range(const sb_fast_vbd* f, uint32_t c, const sb_worker* w, int64_t* begin, int64_t* end) {
+/* The workers of a team of `width` (2 or more) that run part p's colors:
+ * the first half (rounded up) part 0's, the others part 1's; *group is
+ * the view of worker `index` within them (index -1 when it is not one). */
+static void sb_vbd_part_group(int width, int part, int index, sb_worker* group) {
+    int zero = (width + 1) / 2, first = part ? zero : 0, count = part ? width - zero : zero;
+    bool member = index >= first && index < first + count;
+    *group = (sb_worker){NULL, member ? index - first : -1, count};
+}
+
+/* Color c's blocks [*begin, *end) that worker `index` of a team of `width`
+ * runs: all of them alone; else its share (sb_worker_range) of the colors
+ * of its part's group, nothing of the other part's. In a team of 2 each
+ * worker runs one part's colors whole. */
+static void sb_vbd_color_range(const sb_fast_vbd* f, uint32_t c, int index, int width, int64_t* begin, int64_t* end) {
     int64_t count = f->color_block[c + 1] - f->color_block[c];
-    if (w->width == SB_VBD_PARTS) {
-        bool mine = f->color_part[c] == w->index;
-        *begin = 0, *end = mine ? count : 0;
-        return;
-    }
-    sb_worker_range(w, count, begin, end);
+    *begin = 0, *end = count;
+    if (width == 1) return;
+    sb_worker group;
+    sb_vbd_part_group(width, f->color_part[c], index, &group);
+    if (group.index < 0)
+        *end = 0;
+    else
+        sb_worker_range(&group, count, begin, end);
 }
 
 /* Block b's worker in a team of `width` (sb_vbd_color_range). */
 static int sb_vbd_owner(const sb_fast_vbd* f, uint32_t b, int width) {
     uint32_t c = 0;
     while (f->color_block[c + 1] <= b) c++;
-    if (width == SB_VBD_PARTS) return f->color_part[c];
-    int64_t count = f->color_block[c + 1] - f->color_block[c], at = b - f->color_block[c];
-    for (int i = 0; i + 1 < width; i++) {
-        sb_worker w = {NULL, i, width};
+    for (int i = 0; i < width; i++) {
         int64_t begin, end;
-        sb_worker_range(&w, count, &begin, &end);
-        if (at < end) return i;
+        sb_vbd_color_range(f, c, i, width, &begin, &end);
+        if (b - f->color_block[c] >= begin && b - f->color_block[c] < end) return i;
     }
-    return width - 1;
+    return 0;
 }
 
 /* Each block's needs of other workers' blocks (in a team of f->width)
@@ -790,6 +801,22 @@ static bool sb_vbd_block_in_turn(sb_fast_vbd* f, uint32_t b, unsigned sweep, con
     return collapsed;
 }
 
+/* This worker's blocks [begin, end) of color c in sweep `sweep`, in block
+ * order. In a team whose part groups split each color (more than
+ * SB_VBD_PARTS workers, the waits planned for it), first the blocks that
+ * other workers' blocks read (along the seams between shares), then the
+ * rest, so that the others find them done in the next color. */
+static bool sb_vbd_color_share(sb_fast_vbd* f, uint32_t c, int64_t begin, int64_t end, unsigned sweep,
+                               const sb_vbd_rates* rates, const sb_worker* w) {
+    bool collapsed = false, seams = w->width == f->width && w->width > SB_VBD_PARTS;
+    for (int seam = seams; seam >= 0; seam--)
+        for (int64_t k = begin; k < end; k++) {
+            uint32_t b = f->color_block[c] + (uint32_t)k;
+            if (!seams || (f->across[b] > 0) == (seam == 1)) collapsed |= sb_vbd_block_in_turn(f, b, sweep, rates, w);
+        }
+    return collapsed;
+}
+
 void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker* w) {
     int64_t begin, end;
     sb_worker_range(w, f->vertex_count, &begin, &end);
@@ -809,9 +836,8 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     double weight = 1.0;
     for (int it = 0; it < st->sweeps; it++) {
         for (uint32_t c = 0; c < f->color_count; c++) {
-            sb_vbd_color_range(f, c, w, &begin, &end);
-            for (int64_t k = begin; k < end; k++)
-                collapsed |= sb_vbd_block_in_turn(f, f->color_block[c] + (uint32_t)k, (unsigned)it, &rates, w);
+            sb_vbd_color_range(f, c, w->index, w->width, &begin, &end);
+            collapsed |= sb_vbd_color_share(f, c, begin, end, (unsigned)it, &rates, w);
         }
         /* every block's sweep done before the acceleration, or before the unpacking */
         if (st->chebyshev_rho > 0.0 || it + 1 == st->sweeps) sb_worker_barrier(w);

@@ -46,7 +46,18 @@
  * color depend only on other colors, so they are updated at once, split
  * over the team, with a barrier between colors. Each update reads and
  * writes the same values whatever the split: the state is bitwise the same
- * for any thread count. Tearing: a vertex split off keeps its origin's
+ * for any thread count. The greedy colors are refined by a partition fixed
+ * by the model, never by the team: two parts (vertex indices below and
+ * above n/2), each part's interface (its vertices that share an element
+ * with the other part) and the rest of part 0 cut at n/4, swept as part
+ * 0's far band, part 1's interface, part 1's rest, part 0's interface,
+ * part 0's near band, each band by color (sb_vbd_refine). It is another
+ * Gauss-Seidel order of the same vertex steps (on the 100 × 100 sheet the
+ * 7 colors become 34, and 4 sweeps leave the same part of the step
+ * undone: bench/results/vbd_sweeps.md); the fast sweeps run each part on
+ * its own worker of a team of 2, the interfaces the only meeting points,
+ * each met about half a part's sweep after the other worker passed it
+ * (fast_vbd.c). Tearing: a vertex split off keeps its origin's
  * color (it shares elements only with vertices its origin shared them
  * with), and the elements at each vertex and the color lists are rebuilt in
  * place when the vertex count changed.
