@@ -65,16 +65,19 @@
  * part's colors whole, so only the interface blocks wait across, and each
  * finds what it waits for done about half a part's sweep earlier: a worker
  * waits only when the other fell that far behind (taken off its core). In
- * other teams each color's blocks are split as sb_worker_range splits
- * them, and each worker runs its seam blocks of a color first (those that
- * another worker's read), then the rest, so that the others find them
- * done in the next color. Only the needs of another worker's blocks are
+ * larger teams the workers form two groups, one per part (the first half,
+ * rounded up, part 0's), each splitting its part's colors as
+ * sb_worker_range splits them; each worker runs its seam blocks of a color
+ * first (those that another worker's read), then the rest, so that the
+ * others find them done in the next color (on the 100 × 100 sheet at 3
+ * threads this still meets more seams than the 7 colors did: 82 futex
+ * sleeps a step against 48, on 2 oversubscribed cores). Only the needs of another worker's blocks are
  * waited for (a worker's own run in order), and only the blocks that
  * another worker's read post (the needs are split so at creation, for the
  * team's size).
  * Before the partition, each worker ran half of each of the 7 colors and
  * met the other at a seam in every color: on the 100 × 100 sheet at 4
- * sweeps, 2 threads, 26 futex sleeps a step against 9 with it (a loaded
+ * sweeps, 2 threads, 31 futex sleeps a step against 9 with it (a loaded
  * machine, bench/results/vbd_sweeps.md). A step has 2 barriers (after the
  * packing, before the unpacking), where one after each color made 29.
  * With Chebyshev acceleration a barrier before and after each sweep's
