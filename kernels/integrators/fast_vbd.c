@@ -59,22 +59,27 @@
  * being these blocks). Each pair of blocks that share an element is then
  * ordered as in the colors' Gauss-Seidel order, and the rest run in any
  * order. A block's finished sweeps are a counter on its own cache line.
- * Each worker runs its share of each color's blocks (sb_worker_range, as a
- * barrier per color split them); the vertices of a color are in vertex
- * order, so on a sheet the two workers' shares touch only along a seam.
- * Only the needs of another worker's blocks are waited for (a worker's own
- * run in order), and only the blocks that another worker's read post
- * (the needs are split so at creation, for the team's size). Each worker
- * runs those seam blocks of a color first, then the rest, so that the
- * other finds them done in the next color: a worker waits only where it
- * overtook the other by about a color. (Running each share straight up,
- * the second worker began each color waiting for the blocks the first ran
- * last, a barrier in all but name; running the first worker's share down
- * instead cost a third more CPU time on the 100 × 100 sheet, the slots
- * being laid out up.) A step has 2
- * barriers (after the packing, before the unpacking), where one after each
- * color made 29 at 4 sweeps on the 100 × 100 sheet (7 colors): with
- * passive waits each was a futex sleep and wake-up, about half the step.
+ * The colors are vbd.c's, refined by its two-part partition and ordered so
+ * that part 1's interface comes first in part 1's sweep and part 0's in the
+ * middle of part 0's. In a team of 2 (SB_VBD_PARTS) each worker runs its
+ * part's colors whole, so only the interface blocks wait across, and each
+ * finds what it waits for done about half a part's sweep earlier: a worker
+ * waits only when the other fell that far behind (taken off its core). In
+ * larger teams the workers form two groups, one per part (the first half,
+ * rounded up, part 0's), each splitting its part's colors as
+ * sb_worker_range splits them; each worker runs its seam blocks of a color
+ * first (those that another worker's read), then the rest, so that the
+ * others find them done in the next color (on the 100 × 100 sheet at 3
+ * threads this still meets more seams than the 7 colors did: 82 futex
+ * sleeps a step against 48, on 2 oversubscribed cores). Only the needs of another worker's blocks are
+ * waited for (a worker's own run in order), and only the blocks that
+ * another worker's read post (the needs are split so at creation, for the
+ * team's size).
+ * Before the partition, each worker ran half of each of the 7 colors and
+ * met the other at a seam in every color: on the 100 × 100 sheet at 4
+ * sweeps, 2 threads, 31 futex sleeps a step against 9 with it (a loaded
+ * machine, bench/results/vbd_sweeps.md). A step has 2 barriers (after the
+ * packing, before the unpacking), where one after each color made 29.
  * With Chebyshev acceleration a barrier before and after each sweep's
  * acceleration stays. With Chebyshev acceleration the packed
  * positions of the last two sweeps are kept and each worker accelerates
@@ -119,6 +124,7 @@ typedef struct sb_vbd_done {
 struct sb_fast_vbd {
     uint32_t vertex_count, color_count, block_count;
     uint32_t* color_block; /* color_count + 1: each color's first block */
+    uint8_t* color_part;   /* per color: its part of vbd.c's partition, the worker that runs it in a team of 2 */
     sb_vbd_block* blocks;
     uint32_t *need_first, *need; /* block b reads the vertices of blocks need[need_first[b] … need_first[b + 1]) */
     int width;                   /* the workers the split below is for */
@@ -330,19 +336,41 @@ static void sb_vbd_take_need(uint32_t v, void* context) {
     n->count++;
 }
 
-/* Block b's worker in a team of `width`: its color's blocks split as
- * sb_worker_range splits them. */
+/* The workers of a team of `width` (2 or more) that run part p's colors:
+ * the first half (rounded up) part 0's, the others part 1's; *group is
+ * the view of worker `index` within them (index -1 when it is not one). */
+static void sb_vbd_part_group(int width, int part, int index, sb_worker* group) {
+    int zero = (width + 1) / 2, first = part ? zero : 0, count = part ? width - zero : zero;
+    bool member = index >= first && index < first + count;
+    *group = (sb_worker){NULL, member ? index - first : -1, count};
+}
+
+/* Color c's blocks [*begin, *end) that worker `index` of a team of `width`
+ * runs: all of them alone; else its share (sb_worker_range) of the colors
+ * of its part's group, nothing of the other part's. In a team of 2 each
+ * worker runs one part's colors whole. */
+static void sb_vbd_color_range(const sb_fast_vbd* f, uint32_t c, int index, int width, int64_t* begin, int64_t* end) {
+    int64_t count = f->color_block[c + 1] - f->color_block[c];
+    *begin = 0, *end = count;
+    if (width == 1) return;
+    sb_worker group;
+    sb_vbd_part_group(width, f->color_part[c], index, &group);
+    if (group.index < 0)
+        *end = 0;
+    else
+        sb_worker_range(&group, count, begin, end);
+}
+
+/* Block b's worker in a team of `width` (sb_vbd_color_range). */
 static int sb_vbd_owner(const sb_fast_vbd* f, uint32_t b, int width) {
     uint32_t c = 0;
     while (f->color_block[c + 1] <= b) c++;
-    int64_t count = f->color_block[c + 1] - f->color_block[c], at = b - f->color_block[c];
-    for (int i = 0; i + 1 < width; i++) {
-        sb_worker w = {NULL, i, width};
+    for (int i = 0; i < width; i++) {
         int64_t begin, end;
-        sb_worker_range(&w, count, &begin, &end);
-        if (at < end) return i;
+        sb_vbd_color_range(f, c, i, width, &begin, &end);
+        if (b - f->color_block[c] >= begin && b - f->color_block[c] < end) return i;
     }
-    return width - 1;
+    return 0;
 }
 
 /* Each block's needs of other workers' blocks (in a team of f->width)
@@ -447,7 +475,8 @@ static bool sb_vbd_alloc_entries(sb_fast_vbd* f, sb_vbd_counts total) {
 
 void sb_fast_vbd_destroy(sb_fast_vbd* f) {
     if (!f) return;
-    free(f->color_block), free(f->blocks), free(f->lane), free(f->need_first), free(f->need), free(f->done);
+    free(f->color_block), free(f->color_part), free(f->blocks), free(f->lane), free(f->need_first), free(f->need),
+        free(f->done);
     free(f->across);
     free(f->bonds.other), free(f->bonds.r0), free(f->bonds.k), free(f->bonds.damping);
     free(f->triangles.q), free(f->triangles.r), free(f->triangles.k_angle), free(f->triangles.k_sb);
@@ -460,7 +489,8 @@ void sb_fast_vbd_destroy(sb_fast_vbd* f) {
 }
 
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width) {
+                                uint32_t color_count, const uint8_t* color_part, const uint32_t* order, bool chebyshev,
+                                int width) {
     sb_fast_vbd* f = calloc(1, sizeof *f);
     if (!f) return NULL;
     f->width = width > 1 ? width : 1;
@@ -470,6 +500,8 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
         f->block_count += (color_start[c + 1] - color_start[c] + SB_WIDTH - 1) / SB_WIDTH;
     size_t packed = 4 * (size_t)m->vertex_count;
     f->color_block = malloc(((size_t)color_count + 1) * sizeof *f->color_block);
+    f->color_part = malloc((size_t)color_count + 1);
+    if (f->color_part) memcpy(f->color_part, color_part, color_count);
     f->blocks = malloc(((size_t)f->block_count + 1) * sizeof *f->blocks);
     f->lane = sb_vbd_alloc(((size_t)f->block_count + 1) * SB_WIDTH, sizeof *f->lane);
     f->x4 = sb_vbd_alloc(packed, sizeof(sb_real));
@@ -477,8 +509,8 @@ sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at,
     f->y4 = sb_vbd_alloc(packed, sizeof(sb_real));
     if (chebyshev) f->last4 = sb_vbd_alloc(packed, sizeof(sb_real)), f->before4 = sb_vbd_alloc(packed, sizeof(sb_real));
     sb_vbd_counts total;
-    bool ok =
-        f->color_block && f->blocks && f->lane && f->x4 && f->x04 && f->y4 && (!chebyshev || (f->last4 && f->before4));
+    bool ok = f->color_block && f->color_part && f->blocks && f->lane && f->x4 && f->x04 && f->y4 &&
+              (!chebyshev || (f->last4 && f->before4));
     if (ok) sb_vbd_plan(f, m, at, color_start, order, &total);
     if (!ok || !sb_vbd_alloc_entries(f, total)) {
         sb_fast_vbd_destroy(f);
@@ -772,17 +804,18 @@ static bool sb_vbd_block_in_turn(sb_fast_vbd* f, uint32_t b, unsigned sweep, con
     return collapsed;
 }
 
-/* This worker's share [begin, end) of color c's blocks in sweep `sweep`:
- * in the team the waits are planned for, first the blocks that other
- * workers' blocks read (along the seams between shares), then the rest, so
- * that the others find them done in the next color; both in block order. */
+/* This worker's blocks [begin, end) of color c in sweep `sweep`, in block
+ * order. In a team whose part groups split each color (more than
+ * SB_VBD_PARTS workers, the waits planned for it), first the blocks that
+ * other workers' blocks read (along the seams between shares), then the
+ * rest, so that the others find them done in the next color. */
 static bool sb_vbd_color_share(sb_fast_vbd* f, uint32_t c, int64_t begin, int64_t end, unsigned sweep,
                                const sb_vbd_rates* rates, const sb_worker* w) {
-    bool collapsed = false, planned = w->width == f->width && w->width > 1;
-    for (int seam = planned; seam >= 0; seam--)
+    bool collapsed = false, seams = w->width == f->width && w->width > SB_VBD_PARTS;
+    for (int seam = seams; seam >= 0; seam--)
         for (int64_t k = begin; k < end; k++) {
             uint32_t b = f->color_block[c] + (uint32_t)k;
-            if (!planned || (f->across[b] > 0) == (seam == 1)) collapsed |= sb_vbd_block_in_turn(f, b, sweep, rates, w);
+            if (!seams || (f->across[b] > 0) == (seam == 1)) collapsed |= sb_vbd_block_in_turn(f, b, sweep, rates, w);
         }
     return collapsed;
 }
@@ -806,7 +839,7 @@ void sb_fast_vbd_run(sb_fast_vbd* f, const sb_fast_vbd_step* st, const sb_worker
     double weight = 1.0;
     for (int it = 0; it < st->sweeps; it++) {
         for (uint32_t c = 0; c < f->color_count; c++) {
-            sb_worker_range(w, f->color_block[c + 1] - f->color_block[c], &begin, &end);
+            sb_vbd_color_range(f, c, w->index, w->width, &begin, &end);
             collapsed |= sb_vbd_color_share(f, c, begin, end, (unsigned)it, &rates, w);
         }
         /* every block's sweep done before the acceleration, or before the unpacking */

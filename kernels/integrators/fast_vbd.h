@@ -8,13 +8,20 @@
 
 typedef struct sb_fast_vbd sb_fast_vbd;
 
+/* The parts of vbd.c's partition of the vertices: in a team of this many
+ * workers, worker p runs the colors of part p (in any other team each color
+ * is split over the workers). */
+enum { SB_VBD_PARTS = 2 };
+
 /* The layout for vbd's colors: color_start (color_count + 1 entries) cuts
- * order, the moving vertices by color; the sweeps' waits planned for a
- * team of `width` (other widths run too, waiting on every need). Built
- * once; NULL when out of memory. The model must not change afterwards (no
+ * order, the moving vertices by color (in the sweep's order), color_part
+ * gives each color's part (0 or 1); the sweeps' waits planned for a team
+ * of `width` (other widths run too, waiting on every need). Built once;
+ * NULL when out of memory. The model must not change afterwards (no
  * breakage, no tearing). */
 sb_fast_vbd* sb_fast_vbd_create(const sb_model* m, const sb_vertex_elements* at, const uint32_t* color_start,
-                                uint32_t color_count, const uint32_t* order, bool chebyshev, int width);
+                                uint32_t color_count, const uint8_t* color_part, const uint32_t* order, bool chebyshev,
+                                int width);
 void sb_fast_vbd_destroy(sb_fast_vbd* f);
 
 /* Chebyshev acceleration across a step's sweeps (as the VBD paper uses

@@ -46,7 +46,18 @@
  * color depend only on other colors, so they are updated at once, split
  * over the team, with a barrier between colors. Each update reads and
  * writes the same values whatever the split: the state is bitwise the same
- * for any thread count. Tearing: a vertex split off keeps its origin's
+ * for any thread count. The greedy colors are refined by a partition fixed
+ * by the model, never by the team: two parts (vertex indices below and
+ * above n/2), each part's interface (its vertices that share an element
+ * with the other part) and the rest of part 0 cut at n/4, swept as part
+ * 0's far band, part 1's interface, part 1's rest, part 0's interface,
+ * part 0's near band, each band by color (sb_vbd_refine). It is another
+ * Gauss-Seidel order of the same vertex steps (on the 100 × 100 sheet the
+ * 7 colors become 34, and 4 sweeps leave the same part of the step
+ * undone: bench/results/vbd_sweeps.md); the fast sweeps run each part on
+ * its own worker of a team of 2, the interfaces the only meeting points,
+ * each met about half a part's sweep after the other worker passed it
+ * (fast_vbd.c). Tearing: a vertex split off keeps its origin's
  * color (it shares elements only with vertices its origin shared them
  * with), and the elements at each vertex and the color lists are rebuilt in
  * place when the vertex count changed.
@@ -80,11 +91,12 @@
 struct sb_vbd {
     sb_vertex_elements* elements;
     uint32_t *color, *color_start, *order; /* per vertex; colors + 1; vertices by color */
-    uint32_t color_count;
-    uint32_t built_vertices; /* live_vertices when the lists were built */
-    double *x, *x0, *y;      /* 3n each */
-    double *last, *before;   /* 3n each, with Chebyshev: the iterates one and two sweeps back */
-    double* previous_v;      /* 3n: the velocities at the start of the last step */
+    uint32_t color_count;                  /* the sweep's colors (sb_vbd_refine) */
+    uint8_t* color_part;                   /* per color: the part of the partition it lies in */
+    uint32_t built_vertices;               /* live_vertices when the lists were built */
+    double *x, *x0, *y;                    /* 3n each */
+    double *last, *before;                 /* 3n each, with Chebyshev: the iterates one and two sweeps back */
+    double* previous_v;                    /* 3n: the velocities at the start of the last step */
     bool has_previous;
     sb_fast_vbd* fast; /* the fast sweep (kernels/integrators/fast_vbd.c); NULL: the reference's */
 };
@@ -120,6 +132,43 @@ static void sb_vbd_color(struct sb_vbd* v, const sb_model* m, uint32_t* used) {
     }
 }
 
+/* The sweep's bands, in the order a sweep visits them: part 0 is the
+ * vertices [0, n/2), part 1 the rest; a part's interface is its vertices
+ * that share an element with the other part. Part 0's far vertices (below
+ * n/4) come first, then part 1's interface, part 1's rest, part 0's
+ * interface, part 0's near vertices (the design note says why). */
+enum { SB_VBD_FAR0, SB_VBD_INTERFACE1, SB_VBD_REST1, SB_VBD_INTERFACE0, SB_VBD_NEAR0, SB_VBD_BANDS };
+
+static int sb_vbd_band(const sb_model* m, const sb_vertex_elements* at, uint32_t i) {
+    uint32_t half = m->vertex_count / 2;
+    bool part1 = i >= half, interface = false;
+    for (uint32_t k = at->start[i]; k < at->start[i + 1] && !interface; k++) {
+        sb_element e = sb_element_at(m, sb_entry_element(at->entry[k]));
+        for (int b = 0; b < e.count; b++) interface |= (e.vertex[b] >= half) != part1;
+    }
+    if (part1) return interface ? SB_VBD_INTERFACE1 : SB_VBD_REST1;
+    return interface ? SB_VBD_INTERFACE0 : i < m->vertex_count / 4 ? SB_VBD_FAR0 : SB_VBD_NEAR0;
+}
+
+/* The sweep's colors: each greedy color split by band, ordered by band,
+ * then color; the empty ones dropped. Still a coloring (no two vertices of
+ * one share an element), numbered in the sweep's order, with each color's
+ * part in color_part; `slot` has SB_VBD_BANDS × color_count entries. */
+static void sb_vbd_refine(struct sb_vbd* v, const sb_model* m, uint32_t* slot) {
+    uint32_t colors = v->color_count, slots = SB_VBD_BANDS * colors;
+    for (uint32_t q = 0; q < slots; q++) slot[q] = UINT32_MAX;
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        v->color[i] += (uint32_t)sb_vbd_band(m, v->elements, i) * colors, slot[v->color[i]] = 0;
+    v->color_count = 0;
+    for (uint32_t q = 0; q < slots; q++)
+        if (slot[q] == 0) {
+            int band = (int)(q / colors);
+            v->color_part[v->color_count] = band == SB_VBD_INTERFACE1 || band == SB_VBD_REST1;
+            slot[q] = v->color_count++;
+        }
+    for (uint32_t i = 0; i < m->vertex_count; i++) v->color[i] = slot[v->color[i]];
+}
+
 /* The vertices that move (not fixed, not dormant), by color, in vertex order
  * within a color: a counting sort. */
 static void sb_vbd_order(struct sb_vbd* v, const sb_model* m) {
@@ -138,7 +187,7 @@ void sb_vbd_destroy(struct sb_vbd* v) {
     sb_vertex_elements_destroy(v->elements);
     sb_fast_vbd_destroy(v->fast);
     free(v->color), free(v->color_start), free(v->order), free(v->x), free(v->x0), free(v->y), free(v->previous_v);
-    free(v->last), free(v->before);
+    free(v->last), free(v->before), free(v->color_part);
     free(v);
 }
 
@@ -160,10 +209,12 @@ bool sb_vbd_prepare(sb_solver* s) {
     for (size_t i = 0; v->elements && i < n; i++)
         if (4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1 > widest)
             widest = 4 * (size_t)(v->elements->start[i + 1] - v->elements->start[i]) + 1;
-    uint32_t* used = calloc(widest + 1, sizeof *used);
-    bool ok = v->elements && v->color && v->order && v->x && v->x0 && v->y && v->previous_v && used &&
+    /* the greedy colors, then their refinement by band: SB_VBD_BANDS slots per color at most */
+    uint32_t* used = calloc(SB_VBD_BANDS * widest + 1, sizeof *used);
+    v->color_part = malloc(SB_VBD_BANDS * widest + 1);
+    bool ok = v->elements && v->color && v->order && v->x && v->x0 && v->y && v->previous_v && used && v->color_part &&
               (!chebyshev || (v->last && v->before));
-    if (ok) sb_vbd_color(v, m, used);
+    if (ok) sb_vbd_color(v, m, used), sb_vbd_refine(v, m, used);
     free(used);
     ok = ok && (v->color_start = malloc(((size_t)v->color_count + 1) * sizeof *v->color_start)) != NULL;
     if (ok) sb_vbd_order(v, m);
@@ -172,8 +223,8 @@ bool sb_vbd_prepare(sb_solver* s) {
      * the fast sweep has no share for the co-rotated tetrahedra or the membranes */
     if (ok && s->fast && !s->breakage && !m->tet_count && !m->membrane_count) {
         int width = sb_runtime_threads(s->def.runtime.threads, NULL); /* the team's size (made after this) */
-        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->order, chebyshev,
-                                           width)) != NULL;
+        ok = (v->fast = sb_fast_vbd_create(m, v->elements, v->color_start, v->color_count, v->color_part, v->order,
+                                           chebyshev, width)) != NULL;
     }
     return ok;
 }
