@@ -23,7 +23,10 @@
  * passes' cost is the difference. Prints a table and writes CSV and
  * markdown, with the load average at the start and at the end.
  *
- *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
+ *   sb_bench_contact [--steps N] [--runs N] [--scene NAME] [--csv FILE] [--md FILE]
+ *
+ * --scene times one scene only (draped, floor or face): a before/after pair
+ * of binaries run interleaved on it. */
 #include "bench/bench_cases.h"
 #include "common/clock.h"
 #include "kernels/contact/colliders/collider_internal.h"
@@ -36,7 +39,7 @@
 
 typedef struct contact_options {
     int steps, runs;
-    const char *csv, *md;
+    const char *csv, *md, *scene; /* scene: NULL for every scene */
 } contact_options;
 
 /* A scene: where the floor lies, the sphere's center height and radius. */
@@ -154,10 +157,18 @@ static void parse(int argc, char** argv, contact_options* o) {
             o->csv = argv[++i];
         else if (i + 1 < argc && !strcmp(a, "--md"))
             o->md = argv[++i];
+        else if (i + 1 < argc && !strcmp(a, "--scene"))
+            o->scene = argv[++i];
         else {
-            fprintf(stderr, "usage: sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE]\n");
+            fprintf(stderr, "usage: sb_bench_contact [--steps N] [--runs N] [--scene NAME] [--csv FILE] [--md FILE]\n");
             exit(2);
         }
+    }
+    bool known = o->scene == NULL;
+    for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) known |= o->scene && !strcmp(o->scene, scenes[k].name);
+    if (!known) {
+        fprintf(stderr, "sb_bench_contact: --scene %s: not a scene (draped, floor or face)\n", o->scene);
+        exit(2);
     }
     if (o->steps < 1 || o->runs < 1) {
         fprintf(stderr, "sb_bench_contact: --steps and --runs must be positive\n");
@@ -166,7 +177,8 @@ static void parse(int argc, char** argv, contact_options* o) {
 }
 
 int main(int argc, char** argv) {
-    contact_options o = {.steps = 400, .runs = 3, .csv = "bench/results/contact.csv", .md = "bench/results/contact.md"};
+    contact_options o = {
+        .steps = 400, .runs = 3, .csv = "bench/results/contact.csv", .md = "bench/results/contact.md", .scene = NULL};
     parse(argc, argv, &o);
     sb_bench_setup setup;
     sb_error err;
@@ -201,6 +213,7 @@ int main(int argc, char** argv) {
            "self_pairs\n");
     for (size_t scene = 0; scene < sizeof scenes / sizeof *scenes; scene++) {
         const contact_scene* sc = &scenes[scene];
+        if (o.scene && strcmp(o.scene, sc->name)) continue;
         sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, sc), make_collider(SB_COLLIDER_SPHERE, sc)};
         sb_collider* vertex_colliders[2] = {colliders[0], vertices_only(colliders[1])};
         sb_solver* warm = make_solver(&setup, 2, colliders, 2, false); /* 0.05 s of falling onto the colliders */
