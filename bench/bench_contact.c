@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
             "top of bench/bench_contact.c). %s; %d steps per timing, dt %.3g s, %u vertices, self-contact thickness "
             "%g m; runs interleaved; the best of each configuration in bold. Face share: the part of the step with "
             "the plane and the sphere that the face-contact pass takes (1 − vertices only / with).\n\n",
-            machine, o.cpu ? "timed by the process's CPU time (--cpu)" : "timed by the wall clock", o.steps, setup.dt,
+            machine, o.cpu ? "Timed by the process's CPU time (--cpu)" : "Timed by the wall clock", o.steps, setup.dt,
             n, SB_BENCH_SELF_THICKNESS);
     fprintf(md, "| scene | threads | run | ms/step without | with plane + sphere | ratio | contacts/step | "
                 "sphere on vertices only | face share | with them + self-contact | ratio | self pairs/step |\n"
