@@ -23,7 +23,13 @@
  * passes' cost is the difference. Prints a table and writes CSV and
  * markdown, with the load average at the start and at the end.
  *
- *   sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE] */
+ *   sb_bench_contact [--steps N] [--runs N] [--scene NAME] [--cpu] [--csv FILE] [--md FILE]
+ *
+ * --scene times one scene only (draped, floor or face): a before/after pair
+ * of binaries run interleaved on it. --cpu times by the process's CPU time
+ * instead of the wall clock: on 1 thread it does not count the time spent
+ * waiting for a core on a loaded machine (on 2 it counts the workers'
+ * spinning too). */
 #include "bench/bench_cases.h"
 #include "common/clock.h"
 #include "kernels/contact/colliders/collider_internal.h"
@@ -36,8 +42,19 @@
 
 typedef struct contact_options {
     int steps, runs;
-    const char *csv, *md;
+    const char *csv, *md, *scene; /* scene: NULL for every scene */
+    bool cpu;                     /* time by the process's CPU time */
 } contact_options;
+
+/* The process's CPU time, s. */
+static double cpu_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The clock the steps are timed by (sb_wall_seconds, or cpu_seconds with --cpu). */
+static double (*timer)(void) = sb_wall_seconds;
 
 /* A scene: where the floor lies, the sphere's center height and radius. */
 typedef struct contact_scene {
@@ -134,9 +151,9 @@ static double time_steps(const sb_bench_setup* setup, int threads, sb_collider**
     sb_solver_set_state(s, x, v);
     advance(s, setup->dt, 20, NULL, NULL); /* caches and the team warm */
     uint64_t contacts = 0, self_contacts = 0;
-    double t0 = sb_wall_seconds();
+    double t0 = timer();
     advance(s, setup->dt, steps, &contacts, &self_contacts);
-    double seconds = (sb_wall_seconds() - t0) / steps;
+    double seconds = (timer() - t0) / steps;
     per_step[0] = (double)contacts / steps;
     per_step[1] = (double)self_contacts / steps;
     sb_solver_destroy(s);
@@ -154,11 +171,23 @@ static void parse(int argc, char** argv, contact_options* o) {
             o->csv = argv[++i];
         else if (i + 1 < argc && !strcmp(a, "--md"))
             o->md = argv[++i];
+        else if (i + 1 < argc && !strcmp(a, "--scene"))
+            o->scene = argv[++i];
+        else if (!strcmp(a, "--cpu"))
+            o->cpu = true;
         else {
-            fprintf(stderr, "usage: sb_bench_contact [--steps N] [--runs N] [--csv FILE] [--md FILE]\n");
+            fprintf(stderr,
+                    "usage: sb_bench_contact [--steps N] [--runs N] [--scene NAME] [--cpu] [--csv FILE] [--md FILE]\n");
             exit(2);
         }
     }
+    bool known = o->scene == NULL;
+    for (size_t k = 0; k < sizeof scenes / sizeof *scenes; k++) known |= o->scene && !strcmp(o->scene, scenes[k].name);
+    if (!known) {
+        fprintf(stderr, "sb_bench_contact: --scene %s: not a scene (draped, floor or face)\n", o->scene);
+        exit(2);
+    }
+    if (o->cpu) timer = cpu_seconds;
     if (o->steps < 1 || o->runs < 1) {
         fprintf(stderr, "sb_bench_contact: --steps and --runs must be positive\n");
         exit(2);
@@ -166,7 +195,12 @@ static void parse(int argc, char** argv, contact_options* o) {
 }
 
 int main(int argc, char** argv) {
-    contact_options o = {.steps = 400, .runs = 3, .csv = "bench/results/contact.csv", .md = "bench/results/contact.md"};
+    contact_options o = {.steps = 400,
+                         .runs = 3,
+                         .csv = "bench/results/contact.csv",
+                         .md = "bench/results/contact.md",
+                         .scene = NULL,
+                         .cpu = false};
     parse(argc, argv, &o);
     sb_bench_setup setup;
     sb_error err;
@@ -190,10 +224,11 @@ int main(int argc, char** argv) {
     fprintf(md, "# Contact: the cost of a plane, a sphere and self-contact on the 100k sheet\n\n");
     fprintf(md,
             "Machine: `%s`. Written by `bench/contact.sh` (`sb_bench_contact`; the scenes and the method are at the "
-            "top of bench/bench_contact.c). %d steps per timing, dt %.3g s, %u vertices, self-contact thickness "
+            "top of bench/bench_contact.c). %s; %d steps per timing, dt %.3g s, %u vertices, self-contact thickness "
             "%g m; runs interleaved; the best of each configuration in bold. Face share: the part of the step with "
             "the plane and the sphere that the face-contact pass takes (1 − vertices only / with).\n\n",
-            machine, o.steps, setup.dt, n, SB_BENCH_SELF_THICKNESS);
+            machine, o.cpu ? "Timed by the process's CPU time (--cpu)" : "Timed by the wall clock", o.steps, setup.dt,
+            n, SB_BENCH_SELF_THICKNESS);
     fprintf(md, "| scene | threads | run | ms/step without | with plane + sphere | ratio | contacts/step | "
                 "sphere on vertices only | face share | with them + self-contact | ratio | self pairs/step |\n"
                 "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
@@ -201,6 +236,7 @@ int main(int argc, char** argv) {
            "self_pairs\n");
     for (size_t scene = 0; scene < sizeof scenes / sizeof *scenes; scene++) {
         const contact_scene* sc = &scenes[scene];
+        if (o.scene && strcmp(o.scene, sc->name)) continue;
         sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, sc), make_collider(SB_COLLIDER_SPHERE, sc)};
         sb_collider* vertex_colliders[2] = {colliders[0], vertices_only(colliders[1])};
         sb_solver* warm = make_solver(&setup, 2, colliders, 2, false); /* 0.05 s of falling onto the colliders */

@@ -123,6 +123,7 @@ struct sb_body_restitution {
     double* mass;         /* per body, kg */
     sb_vertex_hit* hits;  /* per vertex */
     uint8_t* chunk_hit;   /* per chunk: a vertex of it was answered this step */
+    uint8_t* chunk_body;  /* per chunk: a vertex of it belongs to a body */
     sb_body_hits* sums;   /* per body */
     sb_episode* episodes; /* per body, as of the last accepted step */
     sb_episode* next;     /* per body, as this step leaves them (valid for the bodies in `changed`) */
@@ -194,8 +195,10 @@ sb_status sb_body_restitution_create(const sb_solver* s, sb_body_restitution** o
         b->mass = calloc(n + 1, sizeof *b->mass);
         b->hits = calloc(n + 1, sizeof *b->hits);
         b->chunk_hit = calloc(sb_chunk_count(m->vertex_count) + 1, 1);
+        b->chunk_body = calloc(sb_chunk_count(m->vertex_count) + 1, 1);
     }
-    if (!b || !parent || !b->body_of || !b->first || !b->vertices || !b->mass || !b->hits || !b->chunk_hit) {
+    if (!b || !parent || !b->body_of || !b->first || !b->vertices || !b->mass || !b->hits || !b->chunk_hit ||
+        !b->chunk_body) {
         free(parent);
         sb_body_restitution_destroy(b);
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for body restitution");
@@ -204,6 +207,7 @@ sb_status sb_body_restitution_create(const sb_solver* s, sb_body_restitution** o
     sb_join_elements(m, parent);
     sb_label_bodies(m, b, parent);
     free(parent);
+    for (uint32_t i = 0; i < m->vertex_count; i++) b->chunk_body[i / SB_CHUNK] |= b->body_of[i] != UINT32_MAX;
     size_t bodies = (size_t)b->body_count + 1;
     b->sums = calloc(bodies, sizeof *b->sums);
     b->episodes = calloc(bodies, sizeof *b->episodes);
@@ -225,6 +229,7 @@ void sb_body_restitution_destroy(sb_body_restitution* b) {
     free(b->mass);
     free(b->hits);
     free(b->chunk_hit);
+    free(b->chunk_body);
     free(b->sums);
     free(b->episodes);
     free(b->next);
@@ -236,6 +241,8 @@ void sb_body_restitution_begin(sb_body_restitution* b) {
     b->stamp++;
     b->changed_count = 0;
 }
+
+bool sb_body_restitution_follows(const sb_body_restitution* b, uint32_t chunk) { return b->chunk_body[chunk]; }
 
 void sb_body_restitution_touch(sb_body_restitution* b, uint32_t i, int collider, const sb_contact* c,
                                const double impulse[3]) {

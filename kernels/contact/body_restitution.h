@@ -19,6 +19,10 @@ void sb_body_restitution_destroy(sb_body_restitution* bodies);
 /* A step (or an adaptive sub-step) starts: the contacts reported from now
  * on are its own. */
 void sb_body_restitution_begin(sb_body_restitution* bodies);
+/* Whether a vertex of the chunk belongs to a body: the touches of the
+ * others are ignored (a lone vertex, a body with a fixed vertex), so a pass
+ * need not report them. */
+bool sb_body_restitution_follows(const sb_body_restitution* bodies, uint32_t chunk);
 /* Vertex i was answered by contact c of collider `collider`, taking the
  * impulse m Δv at c's point; called by the pass that owns i's chunk (a
  * vertex answered twice in a step keeps its first contact and the sum of

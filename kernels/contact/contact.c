@@ -346,7 +346,8 @@ static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64
                          .inv_mass = s->fast->inv_mass + first,
                          .count = last - first};
     sb_fast_contact_step step = {.dt = dt, .drag = s->def.drag, .first = first};
-    if (s->contact->bodies) step.touch = sb_body_touch, step.user = s->contact->bodies;
+    if (s->contact->bodies && sb_body_restitution_follows(s->contact->bodies, chunk))
+        step.touch = sb_body_touch, step.user = s->contact->bodies;
     memcpy(step.gravity, s->def.gravity, sizeof step.gravity);
     double* partial = s->contact->partials + chunk * sb_contact_stride(s);
     return sb_fast_contact_answer(&s->contact->fast, near, &run, &step, partial, partial + 3 * s->def.collider_count);

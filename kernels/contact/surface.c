@@ -186,16 +186,53 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
     }
 }
 
+/* The balls that hold the colliders meeting the surface through the step,
+ * grown by the contact thickness: a triangle whose box lies outside a
+ * collider's ball cannot touch it. */
+typedef struct sb_surface_balls {
+    uint64_t meets; /* a bit per collider that meets the surface */
+    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS];
+} sb_surface_balls;
+
+static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
+    balls->meets = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        if (!sb_collider_meets_surface(s->def.colliders[c])) continue;
+        double radius;
+        sb_collider_surface_ball(s->def.colliders[c], balls->center[c], &radius);
+        radius += s->def.contact_thickness;
+        balls->radius2[c] = radius * radius;
+        balls->meets |= (uint64_t)1 << c;
+    }
+}
+
+/* Whether the box [lo, hi] reaches into collider c's ball. */
+static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const double lo[3], const double hi[3]) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double x = balls->center[c][k], out = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0.0;
+        d2 += out * out;
+    }
+    return d2 <= balls->radius2[c];
+}
+
 /* Whether the join of the boxes of the blocks block b's triangles reach
- * reaches a collider of `meets`. */
-static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, uint64_t meets) {
+ * reaches a collider meeting the surface: its bounds and its ball (a
+ * block of a sheet lying inside a large sphere's bounds but far from its
+ * ball, as a floor around the sphere, skips its triangles). Plain
+ * comparisons: fmin would be a call per value. */
+static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, const sb_surface_balls* balls) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t k = f->reach_first[b]; k < f->reach_first[b + 1]; k++) {
         const double* box = f->boxes + 6 * (size_t)f->reach[k];
-        for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], box[a]), hi[a] = fmax(hi[a], box[3 + a]);
+        for (int a = 0; a < 3; a++) {
+            lo[a] = box[a] < lo[a] ? box[a] : lo[a];
+            hi[a] = box[3 + a] > hi[a] ? box[3 + a] : hi[a];
+        }
     }
     for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if ((meets >> c & 1) && sb_contact_reaches(s, c, lo, hi)) return true;
+        if ((balls->meets >> c & 1) && sb_contact_reaches(s, c, lo, hi) && sb_box_meets_ball(balls, c, lo, hi))
+            return true;
     return false;
 }
 
@@ -344,36 +381,6 @@ static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, c
     return true;
 }
 
-/* The balls that hold the colliders meeting the surface through the step,
- * grown by the contact thickness: a triangle whose box lies outside a
- * collider's ball cannot touch it. */
-typedef struct sb_surface_balls {
-    uint64_t meets; /* a bit per collider that meets the surface */
-    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS];
-} sb_surface_balls;
-
-static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
-    balls->meets = 0;
-    for (uint32_t c = 0; c < s->def.collider_count; c++) {
-        if (!sb_collider_meets_surface(s->def.colliders[c])) continue;
-        double radius;
-        sb_collider_surface_ball(s->def.colliders[c], balls->center[c], &radius);
-        radius += s->def.contact_thickness;
-        balls->radius2[c] = radius * radius;
-        balls->meets |= (uint64_t)1 << c;
-    }
-}
-
-/* Whether the box [lo, hi] reaches into collider c's ball. */
-static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const double lo[3], const double hi[3]) {
-    double d2 = 0.0;
-    for (int k = 0; k < 3; k++) {
-        double x = balls->center[c][k], out = x < lo[k] ? lo[k] - x : x > hi[k] ? x - hi[k] : 0.0;
-        d2 += out * out;
-    }
-    return d2 <= balls->radius2[c];
-}
-
 /* Triangle t against the colliders that meet the surface; returns the contacts. */
 static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t t,
                                     const sb_surface_balls* balls, double dt) {
@@ -397,7 +404,7 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
     for (uint32_t b = 0; b < f->blocks; b++) {
-        if (f->by_block && !sb_block_reaches(f, s, b, balls.meets)) continue;
+        if (f->by_block && !sb_block_reaches(f, s, b, &balls)) continue;
         for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
             if (!(f->dead && f->dead[f->owned[k]]))
                 contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);

@@ -560,6 +560,11 @@ void sb_collider_surface_ball(const sb_collider* c, double center[3], double* ra
     sb_ball_around((const double(*)[3])at, 2 * count, (rounded ? d->radius : 0.0) + d->thickness, center, radius);
 }
 
+/* Not a plane: a flat triangle's points against a plane are the blend of
+ * its corners' (the signed distance is linear across it), so its deepest
+ * point is a corner, which the vertex pass answers; the face pass would
+ * find nothing to do for it (and a floor under a whole body would make it
+ * visit every triangle). */
 bool sb_collider_meets_surface(const sb_collider* c) {
     sb_collider_shape shape = c->def.shape;
     if (c->begin_step != sb_builtin_begin_step) return c->triangle_point != NULL;
