@@ -1,42 +1,41 @@
-/* The syringe of the interaction issue (scenes/syringe.yaml: a 6 mm needle
- * pushed down at 3.5 cm/s into a tetrahedral body of 1892 vertices) with
- * its needle moved two ways, each run from the scene file itself:
+/* The syringe of the interaction issue (scenes/syringe.yaml: a 2 mm needle
+ * pushed down at 3.5 cm/s into a tetrahedral body of 1892 vertices, linear
+ * co-rotated elements of E 20 kPa) with its needle moved two ways, each
+ * run from the scene file itself:
  * - on its kinematic path, as the scene says;
  * - as the haptic tool of a scripted device replaying that path (a CSV row
  *   per keyframe of the scene's path, time and translate: the device and
  *   the path both interpolate linearly between them), the servo on a
- *   virtual clock at the default 1 kHz, 20 solver steps a tick, default
+ *   virtual clock at the default 1 kHz, 10 solver steps a tick, default
  *   coupling (700 N/m, 0.7 N s/m); it starts from the kinematic run's
- *   saved state when the needle starts moving at 0.5 s (until then both
+ *   saved state when the needle starts moving at 0.3 s (until then both
  *   are the same: the body settling, the needle at rest).
- * Compared over 0.05 s windows while the needle goes in, 7 to 18 mm
- * (0.75 to 1.1 s):
+ * Compared over 0.05 s windows while the needle goes in, 0.75 to 0.90 s
+ * (the path 29 to 34 mm below its rest, its tip 5 to 10 mm past the
+ * settled surface it touches at 0.61 s), while the push stays under the
+ * device's peak force (3.3 N, haptics.max_force), to which the felt force
+ * is clamped (deeper it does not: at 1 s the body pushes the proxy 4.1 N,
+ * the kinematic needle 6.6 N):
  * - the body's push on the needle in the haptic run against the kinematic
  *   run's at the same needle depth (interpolated between its windows),
- *   within 15 % of it (measured: at most 11 % in float): the
- *   proxy stops short of the device by F / K (1 to 2 mm here), where the
- *   body pushes less, so the two are compared at the depth the tissue saw;
- *   what remains is that the proxy also stands F / K aside along the push,
- *   which leans 20 to 50° off the needle's axis (0.5 to 0.9 mm sideways),
- *   so the needle's round tip meets the body's top vertex elsewhere, and
- *   the window averages of per-vertex contact impulses (a few %);
- * - the force felt after the coupling against that push, within 20 %
- *   (measured: 7 to 15 % under it in float, 7 to 11 % in double, in
- *   every window, the gap growing with depth): the servo puts the proxy
- *   where the coupling balances the body's push averaged over sense_time
- *   (2 ms) at a stiffness estimated from the steps' secants, both noisy
- *   where the needle presses a few faces of a coarse surface (8 mm
- *   between vertices). Before face contact the needle held one vertex and
- *   the felt force read within 9 %; the systematic shortfall since is
- *   not yet explained (a secant stiffness estimated low would put the
- *   proxy too deep, where the body pushes more than the coupling says);
+ *   within 15 % of it (measured: at most 2.7 % in float, 10.4 % in
+ *   double; the window before, 0.70 to 0.75 s, where the needle first
+ *   presses the faces, 11 and 14 %): the proxy stops short of the device
+ *   by F / K (2.5 to 4 mm here), where the body pushes less, so the two are compared
+ *   at the depth the tissue saw; what remains is that the proxy also
+ *   stands aside along the push where it leans off the needle's axis, so
+ *   the needle's round tip meets the body's faces elsewhere, and the
+ *   window averages of per-vertex contact impulses;
+ * - the force felt after the coupling against that push, within 10 %
+ *   (measured: 1 to 3.4 % in float, 0 to 2.6 % in double): the servo
+ *   puts the proxy where the coupling balances the body's push averaged
+ *   over sense_time (2 ms) at a stiffness estimated from the steps'
+ *   secants. On the papers' springs (2.3 times softer than the E they are
+ *   given, docs/materials.md) the felt force read 7 to 15 % under the push;
  * - the proxy stops short of the device: at most the path's depth, and
  *   not more than 2 F / K above it;
  * - neither is trivial: both forces above half the kinematic push, which
- *   exceeds 1 N.
- * Not compared deeper: the haptic needle, held sideways only by the
- * 700 N/m coupling, slides off the dent's ridge further in, where the
- * kinematic needle, infinitely stiff sideways, holds it to the full 35 mm. */
+ *   exceeds 1 N. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 #include "test_files.h"
@@ -46,8 +45,8 @@
 #define T 1e-3      /* s: the servo's period (the scene's haptics.rate default) */
 #define K 700.0     /* N/m: the coupling's stiffness (the default) */
 #define WINDOW 0.05 /* s */
-#define WINDOWS 22  /* to 1.1 s */
-#define FIRST 15    /* the window ending at 0.8 s: the needle 7 mm in */
+#define WINDOWS 18  /* to 0.9 s */
+#define FIRST 15    /* the window ending at 0.8 s: the needle 5 mm past the surface */
 
 typedef struct run {
     sb_simulation sim;
@@ -178,7 +177,7 @@ static run* haptic_run(const char* script, const run* settled) {
 
 /* The kinematic run's push at a depth, linear between its windows' (depth, push). */
 static double push_at_depth(const run* r, double depth) {
-    int w = FIRST - 1;
+    int w = 0;
     while (w + 2 < WINDOWS && r->depth[w + 1] < depth) w++;
     double along = (depth - r->depth[w]) / (r->depth[w + 1] - r->depth[w]);
     return r->reaction[w] + along * (r->reaction[w + 1] - r->reaction[w]);
@@ -197,7 +196,7 @@ static void test_scripted_needle_meets_the_paths_reaction(void** state) {
                       1e3 * held->depth[w], push, expected, held->felt[w]);
         TU_ASSERT_NEAR(held->device_depth[w], path->depth[w], 3.5e-5); /* the script is the path (1 ms of it) */
         TU_ASSERT_NEAR(push, expected, 0.15 * expected);
-        TU_ASSERT_NEAR(held->felt[w], push, 0.2 * push);
+        TU_ASSERT_NEAR(held->felt[w], push, 0.1 * push);
         TU_ASSERT_LE(held->depth[w], path->depth[w]);
         TU_ASSERT_LE(path->depth[w] - held->depth[w], 2 * held->felt[w] / K);
         TU_ASSERT_LE(0.5 * path->reaction[w], fmin(push, held->felt[w]));
