@@ -98,43 +98,54 @@ static sb_status sb_add_membranes(sb_builder* b, uint32_t first, const sb_mesh* 
     return SB_OK;
 }
 
-/* Each membrane from `first_membrane` on (one per mesh triangle, in its
- * order) gets its triangle's plate, of bending stiffness d. */
-static sb_status sb_add_plates(sb_builder* b, uint32_t first, size_t first_membrane, const sb_mesh* mesh,
-                               double bending_stiffness, double nu, sb_error* err) {
-    sb_plate_stencil* stencils = malloc((mesh->triangle_count ? mesh->triangle_count : 1) * sizeof *stencils);
-    if (!stencils) return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding a sheet's plates");
-    if (!sb_plate_stencils(mesh, stencils)) {
+/* The plates' stencils of a mesh they suit (sb_plate_suits; each
+ * triangle's neighbourhood fixing a quadratic, which a mesh of fewer than
+ * six vertices does not), else NULL: the sheet then gets the hinges. A
+ * triangle index out of range gives NULL too, for sb_builder_add_mesh to
+ * name. */
+static sb_plate_stencil* sb_sheet_stencils(const sb_mesh* mesh) {
+    for (size_t k = 0; k < 3 * (size_t)mesh->triangle_count; k++)
+        if (mesh->triangles[k] >= mesh->vertex_count) return NULL;
+    if (!sb_plate_suits(mesh)) return NULL;
+    sb_plate_stencil* stencils = malloc(mesh->triangle_count * sizeof *stencils);
+    if (stencils && !sb_plate_stencils(mesh, stencils)) {
         free(stencils);
-        return sb_error_set(err, SB_ERR_INVALID,
-                            "sheet: its bending needs each triangle's neighbourhood to fix a quadratic (a mesh of "
-                            "at least six vertices, not all on two lines)");
+        return NULL;
     }
-    sb_status status = SB_OK;
-    for (uint32_t t = 0; t < mesh->triangle_count && status == SB_OK; t++) {
+    return stencils;
+}
+
+/* Each membrane from `first_membrane` on (one per mesh triangle, in its
+ * order) gets its triangle's plate, of bending stiffness D. */
+static sb_status sb_add_plates(sb_builder* b, uint32_t first, size_t first_membrane, const sb_mesh* mesh,
+                               const sb_plate_stencil* stencils, double bending_stiffness, double nu, sb_error* err) {
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
         sb_plate_def def = {(uint32_t)first_membrane + t, stencils[t],
                             stencils[t].area * bending_stiffness * (1.0 - nu),
                             stencils[t].area * bending_stiffness * nu};
         for (int a = 0; a < def.stencil.count; a++) def.stencil.v[a] += first;
-        if (sb_builder_add_plate(b, &def) < 0) status = sb_error_set(err, SB_ERR_NOMEM, "out of memory adding plates");
+        if (sb_builder_add_plate(b, &def) < 0)
+            return sb_error_set(err, SB_ERR_NOMEM, "out of memory adding a sheet's plates");
     }
-    free(stencils);
-    return status;
+    return SB_OK;
 }
 
 sb_status sb_builder_add_sheet(sb_builder* b, const sb_mesh* mesh, const sb_sheet_material_def* d, sb_error* err) {
     sb_status status = sb_check_sheet(d, err);
     if (status != SB_OK) return status;
-    bool plates = sb_plate_suits(mesh);
-    sb_material_def vertices = {.bend_k = plates ? 0.0 : 1.0, .density = d->density * d->thickness};
+    sb_plate_stencil* stencils = sb_sheet_stencils(mesh);
+    sb_material_def vertices = {.bend_k = stencils ? 0.0 : 1.0, .density = d->density * d->thickness};
     uint32_t first = sb_builder_vertex_count(b);
     size_t first_hinge = b->hinges.count, first_membrane = b->membranes.count;
     status = sb_builder_add_mesh(b, mesh, &vertices, err);
-    if (status != SB_OK) return status;
     double nu = d->poisson_ratio,
            bending_stiffness = d->young_modulus * pow(d->thickness, 3) / (12.0 * (1.0 - nu * nu));
-    sb_set_hinge_constants(b, first_hinge, bending_stiffness);
-    status = sb_add_membranes(b, first, mesh, d, err);
-    if (status != SB_OK || !plates) return status;
-    return sb_add_plates(b, first, first_membrane, mesh, bending_stiffness, nu, err);
+    if (status == SB_OK) {
+        sb_set_hinge_constants(b, first_hinge, bending_stiffness);
+        status = sb_add_membranes(b, first, mesh, d, err);
+    }
+    if (status == SB_OK && stencils)
+        status = sb_add_plates(b, first, first_membrane, mesh, stencils, bending_stiffness, nu, err);
+    free(stencils);
+    return status;
 }

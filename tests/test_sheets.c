@@ -627,6 +627,35 @@ static void test_sheet_masses_and_hinges(void** state) {
     sb_builder_destroy(b);
 }
 
+/* The factory's bending: plates for a flat grid cut along one diagonal
+ * (one per triangle, no hinges); hinges for the same grid rolled onto a
+ * cylinder (the plate form holds about a flat rest), for the generator's
+ * alternating diagonals (interior vertices of four neighbours), and for a
+ * strip two vertices wide (no quadratic fits its two lines). */
+static void test_bending_model_choice(void** state) {
+    (void)state;
+    sb_sheet_material_def material = tissue_sheet(0.45);
+    sb_mesh meshes[4] = {same_diagonal_mesh(7, 5, 0.06, 0.04, 0.0), same_diagonal_mesh(7, 5, 0.06, 0.04, 0.0),
+                         sheet_mesh(7, 5, 0.06, 0.04, 0.0, 0.0), same_diagonal_mesh(7, 2, 0.06, 0.01, 0.0)};
+    for (uint32_t i = 0; i < meshes[1].vertex_count; i++) { /* rolled: radius 0.05 m about the x axis */
+        double* p = meshes[1].positions + 3 * (size_t)i;
+        double angle = p[1] / 0.05;
+        p[1] = 0.05 * sin(angle), p[2] = 0.05 * (1.0 - cos(angle));
+    }
+    const bool plates[4] = {true, false, false, false};
+    for (int k = 0; k < 4; k++) {
+        sb_model* m = sheet_model(&meshes[k], &material, NULL);
+        uint64_t plate_elements = 0;
+        for (uint64_t id = 0; id < sb_element_count(m); id++)
+            plate_elements += sb_element_at(m, id).kind == SB_ELEMENT_PLATE;
+        assert_int_equal(plate_elements, plates[k] ? meshes[k].triangle_count : 0);
+        assert_int_equal(sb_model_hinge_count(m) == 0, plates[k]);
+        assert_true(sb_model_term_enabled(m, SB_TERM_BEND));
+        sb_model_destroy(m);
+        sb_mesh_free(&meshes[k]);
+    }
+}
+
 /* ---- the solvers ------------------------------------------------------------------- */
 
 #define FAST_TOLERANCE (sizeof(sb_real) == sizeof(float) ? 1e-4 : 1e-9)
@@ -874,6 +903,7 @@ int main(void) {
         cmocka_unit_test(test_clamped_plate_alternating_diagonals),
         cmocka_unit_test(test_clamped_plate_equilateral),
         cmocka_unit_test(test_sheet_masses_and_hinges),
+        cmocka_unit_test(test_bending_model_choice),
         cmocka_unit_test(test_fast_matches_reference),
         cmocka_unit_test(test_solvers),
         cmocka_unit_test(test_state_round_trip),
