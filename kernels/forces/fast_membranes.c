@@ -1,13 +1,13 @@
 /* Fast pass of a sheet's membranes and a flat sheet's plates: the
  * reference's elements (kernels/forces/membrane.c and plate.c, in double)
- * one triangle at a time over a color's slots (a slot runs its membrane,
- * then its plate: the coloring saw the plate's stencil), reading the packed sb_real positions (and velocities, for
- * a triangle with stiffness-proportional damping) and adding to the
- * packed forces, as the tetrahedra's pass does (kernels/forces/fast_tets.c).
- * Scalar: a lane-wise element over kernels/runtime/wide.h is not written.
- * The blocked coloring (kernels/forces/fast_model.h) keeps threads apart and
- * the summation order fixed; the padding slots past a color's end are
- * never run. */
+ * one triangle at a time over a color's slots (a slot runs its plate and
+ * its membrane: the coloring saw the plate's stencil), reading the packed
+ * sb_real positions (and velocities, for a triangle with
+ * stiffness-proportional damping) and adding to the packed forces, as the
+ * tetrahedra's pass does (kernels/forces/fast_tets.c). Scalar: a lane-wise
+ * element over kernels/runtime/wide.h is not written. The blocked coloring
+ * (kernels/forces/fast_model.h) keeps threads apart and the summation
+ * order fixed; the padding slots past a color's end are never run. */
 #include "kernels/forces/fast_membranes.h"
 #include "kernels/forces/fast_hessian.h"
 #include "kernels/forces/membrane.h"

@@ -497,9 +497,7 @@ static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
     for (int a = 0; a < SB_PLATE_NODES; a++) free(stencil[a]);
     if (!ok) return false;
     f->plate_model = plates ? m : NULL;
-    const uint32_t* corners[3] = {m->membrane_v[0], m->membrane_v[1], m->membrane_v[2]};
-    ids[0] = corners[0], ids[1] = corners[1], ids[2] = corners[2];
-    for (int a = 0; a < 3; a++) f->membrane_v[a] = sb_gather_index(ids[a], &f->membranes, &ok);
+    for (int a = 0; a < 3; a++) f->membrane_v[a] = sb_gather_index(m->membrane_v[a], &f->membranes, &ok);
     for (int k = 0; k < 4; k++) f->membrane_dm_inv[k] = sb_gather_double(m->membrane_dm_inv[k], &f->membranes, &ok);
     f->membrane_volume = sb_gather_double(m->membrane_volume, &f->membranes, &ok);
     f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
