@@ -29,6 +29,7 @@ void sb_builder_destroy(sb_builder* builder) {
     free(builder->hinges.items);
     free(builder->tets.items);
     free(builder->membranes.items);
+    free(builder->plates.items);
     free(builder->faces.items);
     free(builder);
 }
@@ -70,6 +71,10 @@ int64_t sb_builder_add_face(sb_builder* builder, const uint32_t corners[3]) {
 
 int64_t sb_builder_add_tet(sb_builder* builder, const sb_tet_def* def) {
     return sb_array_push(&builder->tets, def, sizeof *def);
+}
+
+int64_t sb_builder_add_plate(sb_builder* builder, const sb_plate_def* def) {
+    return sb_array_push(&builder->plates, def, sizeof *def);
 }
 
 int64_t sb_builder_add_membrane(sb_builder* builder, const sb_membrane_def* def) {

@@ -183,6 +183,7 @@ static sb_status sb_validate(const sb_builder* b, sb_error* err) {
     for (size_t i = 0; i < b->faces.count && status == SB_OK; i++)
         status = sb_check_indices("face", i, SB_ITEMS(b->faces, uint32_t) + 3 * i, 3, (uint32_t)b->vertices.count, err);
     if (status == SB_OK) status = sb_check_membranes(b, err);
+    if (status == SB_OK) status = sb_check_plates(b, err);
     return status;
 }
 
@@ -366,7 +367,7 @@ sb_model* sb_builder_compile(const sb_builder* builder, sb_error* err) {
     m->hinge_count = (uint32_t)builder->hinges.count;
     m->tet_count = (uint32_t)builder->tets.count;
     m->face_count = (uint32_t)builder->faces.count;
-    if (!sb_model_allocate(m) || !sb_fill_membranes(m, builder)) {
+    if (!sb_model_allocate(m) || !sb_fill_membranes(m, builder) || !sb_fill_plates(m, builder)) {
         sb_model_destroy(m);
         sb_error_set(err, SB_ERR_NOMEM, "out of memory compiling a model of %u vertices", m->vertex_count);
         return NULL;

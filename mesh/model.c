@@ -35,6 +35,11 @@ void sb_model_destroy(sb_model* m) {
     free(m->membrane_mu);
     free(m->membrane_lambda);
     free(m->membrane_beta);
+    free(m->plate_nodes);
+    free(m->plate_v);
+    free(m->plate_c);
+    free(m->plate_a);
+    free(m->plate_b);
     free(m->tet_beta);
     free(m);
 }

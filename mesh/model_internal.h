@@ -11,6 +11,8 @@
 
 /* A quadratic tetrahedron's nodes: its corners, then its edges' middles. */
 enum { SB_TET_NODES = 10 };
+/* The most vertices a plate's stencil takes (mesh/plate_stencils.c). */
+enum { SB_PLATE_NODES = 10 };
 
 struct sb_model {
     /* vertices */
@@ -75,6 +77,20 @@ struct sb_model {
     double* membrane_lambda; /* plane-stress λ = E ν / (1 − ν²), Pa */
     double* membrane_beta;   /* Rayleigh's stiffness-proportional damping β, s */
     bool membrane_damped;    /* some β > 0: only then do the passes compute the damping */
+
+    /* plates: a flat sheet's bending (kernels/forces/plate.c), one per
+     * membrane when some membrane carries one (plate_count is then
+     * membrane_count, else 0). Plate t, of membrane t's triangle, has
+     * plate_nodes[t] vertices (0: none) plate_v[SB_PLATE_NODES t + a] and
+     * the stencil of the second derivatives x_,11, x_,12, x_,22 at the
+     * triangle, plate_c[SB_PLATE_NODES (3 t + ij) + a]; its energy is
+     * ½ [a (|x_,11|² + |x_,22|² + 2 |x_,12|²) + b |x_,11 + x_,22|²] of
+     * x − rest, a = A D (1 − ν) and b = A D ν (J·m²). */
+    uint32_t plate_count;
+    uint8_t* plate_nodes;
+    uint32_t* plate_v;
+    double* plate_c;
+    double *plate_a, *plate_b;
 
     /* faces: triangles of the surface that carry no force, only contact
      * (kernels/contact/surface_triangles.c): a volume of springs's boundary */

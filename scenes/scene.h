@@ -76,7 +76,8 @@ typedef enum sb_scene_type {
     X(FACTORY, "factory", STRING, "molecular", "",                                                                     \
       "surface model: molecular (bonds, angles, hinges), springs (stretch, bend and vicinity "                         \
       "springs), net (a sheet's rows and columns as bonds only) or membrane (a thin sheet of the sheet.* "             \
-      "material: co-rotated triangles and discrete-shell hinges); a tetrahedral mesh.file always "                     \
+      "material: co-rotated triangles, plate bending when flat and suited, else discrete-shell hinges); a "            \
+      "tetrahedral mesh.file always "                                                                                  \
       "builds the tissue model, a .pov one springs with each object's spring_system_* locals")                         \
     X(SHEET_YOUNG_MODULUS, "sheet.young_modulus", NUMBER, "30000", "Pa", "factory membrane: Young's modulus, Pa")      \
     X(SHEET_POISSON_RATIO, "sheet.poisson_ratio", NUMBER, "0.45", "1",                                                 \

@@ -259,6 +259,51 @@ static void test_membranes(void** state) {
     check_diagonal_blocks(membrane_model(), 0.001);
 }
 
+/* A flat 8 × 6 sheet of 0.1 × 0.08 m, every quad cut along the same
+ * diagonal and its inner vertices jittered in the plane: the factory gives
+ * it the plate bending (kernels/forces/plate.c, run in the membranes'
+ * slots) in place of the hinges. */
+static sb_model* plate_model(void) {
+    const uint32_t nx = 8, ny = 6;
+    sb_mesh mesh = {nx * ny, malloc(3 * (size_t)nx * ny * sizeof(double)), 2 * (nx - 1) * (ny - 1),
+                    malloc(6 * (size_t)(nx - 1) * (ny - 1) * sizeof(uint32_t))};
+    tu_rng rng = {29};
+    for (uint32_t j = 0; j < ny; j++)
+        for (uint32_t i = 0; i < nx; i++) {
+            double* p = mesh.positions + 3 * ((size_t)j * nx + i);
+            bool inner = i > 0 && j > 0 && i + 1 < nx && j + 1 < ny;
+            p[0] = 0.1 * i / (nx - 1) + (inner ? tu_uniform(&rng, -0.002, 0.002) : 0.0);
+            p[1] = 0.08 * j / (ny - 1) + (inner ? tu_uniform(&rng, -0.002, 0.002) : 0.0);
+            p[2] = 0.0;
+        }
+    uint32_t* t = mesh.triangles;
+    for (uint32_t j = 0; j + 1 < ny; j++)
+        for (uint32_t i = 0; i + 1 < nx; i++) {
+            uint32_t a = j * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
+            const uint32_t two[6] = {a, b, c, a, c, d};
+            memcpy(t, two, sizeof two);
+            t += 6;
+        }
+    sb_builder* builder = sb_builder_create();
+    sb_sheet_material_def material = sb_default_sheet_material_def();
+    sb_error err;
+    assert_int_equal(sb_builder_add_sheet(builder, &mesh, &material, &err), SB_OK);
+    sb_model* m = tu_compile(builder);
+    sb_builder_destroy(builder);
+    sb_mesh_free(&mesh);
+    assert_int_equal(sb_model_hinge_count(m), 0);
+    return m;
+}
+
+/* The membranes' pass with the plates': K p and the diagonal blocks
+ * against the element matrices, strained by up to 1 mm a coordinate;
+ * bitwise on 1, 2, 3 threads. */
+static void test_plates(void** state) {
+    (void)state;
+    check_product(plate_model(), 0.001);
+    check_diagonal_blocks(plate_model(), 0.001);
+}
+
 /* The same for the quadratic tetrahedra (the same block, a vertex at each
  * edge's middle: 30 × 30 element matrices). */
 static void test_quadratic_tets(void** state) {
@@ -586,6 +631,7 @@ int main(void) {
         cmocka_unit_test(test_diagonal_blocks),
         cmocka_unit_test(test_tets),
         cmocka_unit_test(test_membranes),
+        cmocka_unit_test(test_plates),
         cmocka_unit_test(test_quadratic_tets),
         cmocka_unit_test(test_symmetry),
         cmocka_unit_test(test_implicit_fast),

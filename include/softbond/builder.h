@@ -250,18 +250,23 @@ typedef struct sb_sheet_material_def {
     double poisson_ratio;     /**< ν, in (−1, 0.5) */
     double thickness;         /**< t, m (> 0) */
     double density;           /**< ρ, kg/m³ (> 0): each vertex gets a third of its triangles' ρ t A */
-    double stiffness_damping; /**< the membranes' Rayleigh β, s (>= 0; 0 = undamped; the hinges are undamped) */
+    double stiffness_damping; /**< the membranes' Rayleigh β, s (>= 0; 0 = undamped; the bending is undamped) */
 } sb_sheet_material_def;
 
 /** E 30 kPa, ν 0.45, 1 mm, 1060 kg/m³, undamped: a soft tissue's membrane. */
 SB_API sb_sheet_material_def sb_default_sheet_material_def(void);
 /** The sheet factory: the mesh's vertices after those already in the
  * builder (masses ρ t A / 3 from each triangle), a membrane per triangle
- * (sb_membrane_def: in-plane stiffness E t / (1 − ν²)) and a hinge per edge
- * shared by exactly two triangles, the discrete shell's bending (Grinspun
- * et al. 2003) with its own constant k = D |e|² / (A0 + A1) from the
- * bending stiffness D = E t³ / 12 (1 − ν²), the edge's length |e| and its
- * two triangles' areas (mesh/sheet_factory.c says why this constant).
+ * (sb_membrane_def: in-plane stiffness E t / (1 − ν²)) and the bending of
+ * stiffness D = E t³ / 12 (1 − ν²). A flat mesh without interior vertices
+ * of four neighbours bends by the plate's energy
+ * ½ D [(1 − ν)(κ11² + κ22² + 2 κ12²) + ν (κ11 + κ22)²], its curvatures
+ * from a stencil per triangle (the `bend` term; mesh/sheet_factory.c says
+ * why); any other (curved, the sheet generator's alternating diagonals,
+ * fewer than six vertices) by a hinge per edge shared by exactly two
+ * triangles, the discrete shell's bending (Grinspun et al. 2003) with its
+ * own constant k = D |e|² / (A0 + A1) from the edge's length |e| and its
+ * two triangles' areas.
  * SB_ERR_INVALID, with nothing added, for a constant out of range, a
  * triangle index out of range or an edge shared by more than two
  * triangles; SB_ERR_NOMEM when out of memory. */

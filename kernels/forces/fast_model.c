@@ -476,18 +476,35 @@ static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
     return ok;
 }
 
+/* The vertices of each membrane's plate, by place (a place past a plate's
+ * count repeats its membrane's corner 0, as a linear tetrahedron's). */
+static uint32_t* sb_plate_ids(const sb_model* m, int place, bool* ok) {
+    uint32_t* ids = malloc((m->membrane_count ? m->membrane_count : 1) * sizeof *ids);
+    if (!ids) *ok = false;
+    for (uint32_t t = 0; ids && t < m->membrane_count; t++)
+        ids[t] =
+            place < m->plate_nodes[t] ? m->plate_v[SB_PLATE_NODES * (size_t)t + (size_t)place] : m->membrane_v[0][t];
+    return ids;
+}
+
 static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
-    const uint32_t* ids[3] = {m->membrane_v[0], m->membrane_v[1], m->membrane_v[2]};
-    if (!sb_group_build(&f->membranes, m->vertex_count, m->membrane_count, 3, ids, NULL, NULL)) return false;
-    bool ok = true;
-    for (int a = 0; a < 3; a++) f->membrane_v[a] = sb_gather_index(ids[a], &f->membranes, &ok);
+    bool plates = m->plate_count > 0 && m->term_enabled[SB_TERM_BEND], ok = true;
+    const uint32_t* ids[SB_PLATE_NODES] = {m->membrane_v[0], m->membrane_v[1], m->membrane_v[2]};
+    uint32_t* stencil[SB_PLATE_NODES] = {NULL};
+    for (int a = 0; plates && a < SB_PLATE_NODES; a++) ids[a] = stencil[a] = sb_plate_ids(m, a, &ok);
+    ok = ok && sb_group_build(&f->membranes, m->vertex_count, m->membrane_count, plates ? SB_PLATE_NODES : 3, ids, NULL,
+                              NULL);
+    for (int a = 0; a < SB_PLATE_NODES; a++) free(stencil[a]);
+    if (!ok) return false;
+    f->plate_model = plates ? m : NULL;
+    for (int a = 0; a < 3; a++) f->membrane_v[a] = sb_gather_index(m->membrane_v[a], &f->membranes, &ok);
     for (int k = 0; k < 4; k++) f->membrane_dm_inv[k] = sb_gather_double(m->membrane_dm_inv[k], &f->membranes, &ok);
     f->membrane_volume = sb_gather_double(m->membrane_volume, &f->membranes, &ok);
     f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
     f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
     f->membrane_beta = sb_gather_double(m->membrane_beta, &f->membranes, &ok);
     f->membrane_damped = m->membrane_damped;
-    f->has_membranes = m->membrane_count > 0 && m->term_enabled[SB_TERM_MEMBRANE];
+    f->has_membranes = m->membrane_count > 0 && (m->term_enabled[SB_TERM_MEMBRANE] || plates);
     return ok;
 }
 

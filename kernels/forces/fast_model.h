@@ -115,8 +115,12 @@ typedef struct sb_fast_model {
     bool has_tets, tet_damped; /* tet_damped: some β > 0 */
 
     /* A sheet's membranes (kernels/forces/fast_membranes.c), colored by
-     * their three corners, constants in double like the tetrahedra's. */
+     * their three corners (and, for a flat sheet, by their plates' stencils:
+     * a slot runs its membrane's plate too), constants in double like the
+     * tetrahedra's; the plates' are read from plate_model (not owned, NULL
+     * when the model has none) by the slot's source. */
     sb_element_group membranes;
+    const sb_model* plate_model;
     uint32_t* membrane_v[3];
     double* membrane_dm_inv[4];
     double *membrane_volume, *membrane_mu, *membrane_lambda, *membrane_beta;

@@ -6,11 +6,13 @@
 #include "kernels/forces/hessian_hinges.h"
 #include "kernels/forces/hessian_tets.h"
 #include "kernels/forces/hessian_membranes.h"
+#include "kernels/forces/plate.h"
 
 #include <string.h>
 
 uint64_t sb_element_count(const sb_model* m) {
-    return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count + m->tet_count + m->membrane_count;
+    return (uint64_t)m->bond_count + m->triangle_count + m->hinge_count + m->tet_count + m->membrane_count +
+           m->plate_count;
 }
 
 sb_element sb_element_at(const sb_model* m, uint64_t e) {
@@ -29,8 +31,19 @@ sb_element sb_element_at(const sb_model* m, uint64_t e) {
         return tet;
     }
     e -= m->tet_count;
-    return (sb_element){
-        SB_ELEMENT_MEMBRANE, (uint32_t)e, 3, {m->membrane_v[0][e], m->membrane_v[1][e], m->membrane_v[2][e]}};
+    if (e < m->membrane_count)
+        return (sb_element){
+            SB_ELEMENT_MEMBRANE, (uint32_t)e, 3, {m->membrane_v[0][e], m->membrane_v[1][e], m->membrane_v[2][e]}};
+    e -= m->membrane_count;
+    sb_element plate = {SB_ELEMENT_PLATE, (uint32_t)e, m->plate_nodes[e], {0}};
+    for (int a = 0; a < plate.count; a++) plate.vertex[a] = m->plate_v[SB_PLATE_NODES * e + (size_t)a];
+    return plate;
+}
+
+/* A plate's forces and its constant matrix (kernels/forces/plate.c). */
+static bool sb_plate_matrix(const sb_model* m, uint32_t t, const sb_vec3* x, double* forces, double* k) {
+    sb_plate_element(m, t, x, forces, k);
+    return true;
 }
 
 /* A membrane's exact forces and K as sb_tet_forces_dual's; false when it
@@ -75,6 +88,14 @@ bool sb_element_forces_dual(const sb_model* m, const sb_element* e, const sb_dve
     case SB_ELEMENT_HINGE: sb_hinge_forces_dual(m, e->index, x, f, &collapsed); break;
     case SB_ELEMENT_TET: return sb_tet_forces_dual(m, e->index, x, f);
     case SB_ELEMENT_MEMBRANE: return sb_membrane_forces_dual(m, e->index, x, f);
+    case SB_ELEMENT_PLATE: {
+        sb_vec3 at[SB_ELEMENT_MAX];
+        double forces[3 * SB_ELEMENT_MAX], k[SB_ELEMENT_MATRIX];
+        for (int a = 0; a < e->count; a++) at[a] = x[a].v;
+        sb_plate_matrix(m, e->index, at, forces, k);
+        sb_matrix_forces_dual(e->count, forces, k, x, f);
+        return true;
+    }
     }
     return !collapsed;
 }
@@ -113,6 +134,7 @@ bool sb_element_stiffness(const sb_model* m, const sb_element* e, const double* 
     case SB_ELEMENT_TRIANGLE: return sb_triangle_stiffness(m, e->index, local, k);
     case SB_ELEMENT_TET: return sb_tet_stiffness(m, e->index, local, NULL, k);
     case SB_ELEMENT_MEMBRANE: return sb_membrane_element_stiffness(m, e->index, local, NULL, k);
+    case SB_ELEMENT_PLATE: return sb_plate_matrix(m, e->index, local, NULL, k);
     case SB_ELEMENT_HINGE: break;
     }
     return sb_element_stiffness_dual(m, e, x, k);
@@ -145,6 +167,12 @@ bool sb_element_vertex_share(const sb_model* m, const sb_element* e, const doubl
         double forces[9], k[81];
         if (!sb_membrane_element_stiffness(m, e->index, local, forces, k)) return false;
         sb_matrix_vertex_share(3, forces, k, place, f, block);
+        return true;
+    }
+    case SB_ELEMENT_PLATE: {
+        double forces[3 * SB_ELEMENT_MAX], k[SB_ELEMENT_MATRIX];
+        sb_plate_matrix(m, e->index, local, forces, k);
+        sb_matrix_vertex_share(e->count, forces, k, place, f, block);
         return true;
     }
     case SB_ELEMENT_HINGE: break;
@@ -181,6 +209,7 @@ bool sb_element_stiffness_definite(const sb_model* m, const sb_element* e, const
     case SB_ELEMENT_MEMBRANE:
         if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
         break;
+    case SB_ELEMENT_PLATE: sb_plate_matrix(m, e->index, local, NULL, k); break; /* positive semi-definite */
     }
     for (int r = 0; r < 9 * e->count * e->count; r++)
         if (!isfinite(k[r])) return false;
@@ -214,6 +243,12 @@ bool sb_element_jacobian_blocks(const sb_model* m, const sb_element* e, const do
         if (!sb_membrane_element_stiffness(m, e->index, local, NULL, k)) return false;
         sb_matrix_blocks(3, k, scale + dt * m->membrane_beta[e->index], blocks);
         return true;
+    case SB_ELEMENT_PLATE: {
+        double plate[SB_ELEMENT_MATRIX];
+        sb_plate_matrix(m, e->index, local, NULL, plate);
+        sb_matrix_blocks(e->count, plate, scale, blocks);
+        return true;
+    }
     case SB_ELEMENT_TRIANGLE: break;
     }
     if (!definite) return sb_triangle_stiffness_blocks(m, e->index, local, scale, blocks);

@@ -43,7 +43,8 @@ typedef enum sb_element_kind {
     SB_ELEMENT_TRIANGLE,
     SB_ELEMENT_HINGE,
     SB_ELEMENT_TET,
-    SB_ELEMENT_MEMBRANE
+    SB_ELEMENT_MEMBRANE,
+    SB_ELEMENT_PLATE
 } sb_element_kind;
 
 enum { SB_ELEMENT_MAX = SB_TET_NODES };                           /* a quadratic tetrahedron's 10 */
@@ -51,14 +52,17 @@ enum { SB_ELEMENT_MATRIX = 9 * SB_ELEMENT_MAX * SB_ELEMENT_MAX }; /* the largest
 
 typedef struct sb_element {
     sb_element_kind kind;
-    uint32_t index; /* bond, triangle, hinge, tetrahedron or membrane index in the model */
+    uint32_t index; /* bond, triangle, hinge, tetrahedron, membrane or plate index in the model */
     int count;      /* vertices */
     uint32_t vertex[SB_ELEMENT_MAX];
 } sb_element;
 
 /* Elements are numbered bonds, then triangles, then hinges, then
  * tetrahedra, then membranes (a sheet's triangles, 3 vertices: like a
- * tetrahedron, one co-rotated matrix, kernels/forces/hessian_membranes.c). */
+ * tetrahedron, one co-rotated matrix, kernels/forces/hessian_membranes.c),
+ * then plates (a flat sheet's bending, one per membrane, up to
+ * SB_PLATE_NODES vertices, none where the membrane has no plate: one
+ * constant matrix, kernels/forces/plate.c). */
 uint64_t sb_element_count(const sb_model* m);
 sb_element sb_element_at(const sb_model* m, uint64_t e);
 

@@ -5,6 +5,7 @@
 #include "kernels/forces/reference_hinges.h"
 #include "kernels/forces/reference_tets.h"
 #include "kernels/forces/reference_membranes.h"
+#include "kernels/forces/plate.h"
 #include "common/error.h"
 
 #include <string.h>
@@ -26,7 +27,11 @@ sb_status sb_reference_term(const sb_model* m, sb_term term, const double* x, co
     case SB_TERM_SPRING: return sb_reference_edges(m, true, x, v, f, energy, err);
     case SB_TERM_ANGLE: return sb_reference_corners(m, 1.0, 0.0, x, f, energy, err);
     case SB_TERM_STRETCH_BEND: return sb_reference_corners(m, 0.0, 1.0, x, f, energy, err);
-    case SB_TERM_BEND: return sb_reference_hinges(m, x, f, energy, err);
+    case SB_TERM_BEND: { /* a curved sheet's hinges and a flat sheet's plates */
+        sb_status status = sb_reference_hinges(m, x, f, energy, err);
+        *energy += sb_reference_plates(m, x, f);
+        return status;
+    }
     case SB_TERM_COROTATED: return sb_reference_tets(m, x, v, f, energy, err);
     case SB_TERM_MEMBRANE: return sb_reference_membranes(m, x, v, f, energy, err);
     default: return sb_error_set(err, SB_ERR_INVALID, "unknown term %d", (int)term);

@@ -6,9 +6,10 @@
 #include <string.h>
 
 static uint64_t sb_entry_count(const sb_model* m) {
-    uint64_t tet_entries = 0;
-    for (uint32_t t = 0; t < m->tet_count; t++) tet_entries += m->tet_nodes[t];
-    return 2 * (uint64_t)m->bond_count + 3 * (uint64_t)m->triangle_count + 4 * (uint64_t)m->hinge_count + tet_entries +
+    uint64_t node_entries = 0;
+    for (uint32_t t = 0; t < m->tet_count; t++) node_entries += m->tet_nodes[t];
+    for (uint32_t t = 0; t < m->plate_count; t++) node_entries += m->plate_nodes[t];
+    return 2 * (uint64_t)m->bond_count + 3 * (uint64_t)m->triangle_count + 4 * (uint64_t)m->hinge_count + node_entries +
            3 * (uint64_t)m->membrane_count;
 }
 

@@ -168,7 +168,8 @@ static bool sb_vbd_counts_element(const sb_model* m, const sb_element* e) {
     case SB_ELEMENT_TRIANGLE: return sb_vbd_angle_k(m, e->index) != 0.0 || sb_vbd_stretch_bend_k(m, e->index) != 0.0;
     case SB_ELEMENT_HINGE: return sb_vbd_hinge_k(m, e->index) != 0.0;
     case SB_ELEMENT_TET:
-    case SB_ELEMENT_MEMBRANE: return false; /* no fast sweep for them (kernels/solver/solver.c) */
+    case SB_ELEMENT_MEMBRANE:
+    case SB_ELEMENT_PLATE: return false; /* no fast sweep for them (kernels/solver/solver.c) */
     }
     return false;
 }

@@ -365,6 +365,14 @@ static uint64_t sb_state_hash(const sb_solver* s) {
         h = sb_hash(h, m->membrane_lambda, 8 * nm);
         if (m->membrane_damped) h = sb_hash(h, m->membrane_beta, 8 * nm); /* as the tetrahedra's */
     }
+    if (m->plate_count) { /* a flat sheet's bending; models without it hash as they did */
+        size_t np = m->plate_count;
+        h = sb_hash(h, m->plate_nodes, np);
+        h = sb_hash(h, m->plate_v, 4 * SB_PLATE_NODES * np);
+        h = sb_hash(h, m->plate_c, 8 * 3 * SB_PLATE_NODES * np);
+        h = sb_hash(h, m->plate_a, 8 * np);
+        h = sb_hash(h, m->plate_b, 8 * np);
+    }
     const sb_solver_def* d = &s->def;
     int32_t choices[6] = {
         d->integrator,           d->kernels, d->adaptive, d->self_collision, (int32_t)d->collider_count,

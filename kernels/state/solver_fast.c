@@ -77,7 +77,7 @@ typedef struct sb_partial_layout {
     double* triangles; /* 5 per block: angle, stretch-bend, fused bond, fused spring, fused bend */
     double* hinges;    /* 1 per block */
     double* tets;      /* 1 per block: corotated */
-    double* membranes; /* 1 per block: membrane */
+    double* membranes; /* 2 per block: membrane, a flat sheet's plate bending */
     double* vertices;  /* 2 per vertex chunk: kinetic, gravity */
     uint32_t vertex_chunks;
 } sb_partial_layout;
@@ -92,7 +92,7 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     p.hinges = p.triangles + 5 * (size_t)f->triangles.block_count;
     p.tets = p.hinges + f->hinges.block_count;
     p.membranes = p.tets + f->tets.block_count;
-    p.vertices = p.membranes + f->membranes.block_count;
+    p.vertices = p.membranes + 2 * (size_t)f->membranes.block_count;
     p.vertex_chunks = sb_vertex_chunks(f->vertex_count);
     return p;
 }
@@ -102,7 +102,8 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     if (!s->fast) return SB_ERR_NOMEM;
     const sb_fast_model* f = s->fast;
     size_t count = 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
-                   f->tets.block_count + f->membranes.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
+                   f->tets.block_count + 2 * (size_t)f->membranes.block_count +
+                   2 * (size_t)sb_vertex_chunks(f->vertex_count);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
     size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
     sb_real** arrays[5] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4, &s->carry4};
@@ -175,7 +176,7 @@ static void sb_force_passes(const sb_worker* w, const sb_solver* s, const sb_par
         sb_group_pass(w, f, &f->triangles, sb_fast_corners, 5, &frame, p->triangles, flags);
     if (f->has_hinges && !f->fused_hinges) sb_group_pass(w, f, &f->hinges, sb_fast_hinges, 1, &frame, p->hinges, flags);
     if (f->has_tets) sb_group_pass(w, f, &f->tets, sb_fast_tets, 1, &frame, p->tets, flags);
-    if (f->has_membranes) sb_group_pass(w, f, &f->membranes, sb_fast_membranes, 1, &frame, p->membranes, flags);
+    if (f->has_membranes) sb_group_pass(w, f, &f->membranes, sb_fast_membranes, 2, &frame, p->membranes, flags);
 }
 
 /* Serial, on one thread: the callback need not be thread-safe; then the
@@ -528,10 +529,11 @@ static void sb_collect_energies(sb_solver* s, const sb_partial_layout* p, bool w
         sb_sum_strided(p->bonds, bond_chunks, 2, 1) + sb_sum_strided(p->triangles, triangle_chunks, 5, 3);
     e->term[SB_TERM_ANGLE] = sb_sum_strided(p->triangles, triangle_chunks, 5, 0);
     e->term[SB_TERM_STRETCH_BEND] = sb_sum_strided(p->triangles, triangle_chunks, 5, 1);
-    e->term[SB_TERM_BEND] =
-        sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0) + sb_sum_strided(p->triangles, triangle_chunks, 5, 4);
+    e->term[SB_TERM_BEND] = sb_sum_strided(p->hinges, f->hinges.block_count, 1, 0) +
+                            sb_sum_strided(p->triangles, triangle_chunks, 5, 4) +
+                            sb_sum_strided(p->membranes, f->membranes.block_count, 2, 1);
     e->term[SB_TERM_COROTATED] = sb_sum_strided(p->tets, f->tets.block_count, 1, 0);
-    e->term[SB_TERM_MEMBRANE] = sb_sum_strided(p->membranes, f->membranes.block_count, 1, 0);
+    e->term[SB_TERM_MEMBRANE] = sb_sum_strided(p->membranes, f->membranes.block_count, 2, 0);
     if (with_vertices) {
         e->kinetic = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 0);
         e->gravity = sb_sum_strided(p->vertices, p->vertex_chunks, 2, 1);
