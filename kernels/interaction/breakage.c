@@ -63,7 +63,9 @@
  * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
  * after a step that met a bond near a limit (measured at 100k vertices: a
  * quiet step of a breakable sheet went from 1.5x the unbreakable one's
- * time to 1.1-1.3x, bench/results/tearing.md). Once a crack runs (not
+ * time to 1.1-1.3x; with its constants folded and one limit ratio per
+ * material it reads no more than the unbreakable one's,
+ * bench/results/tearing.md). Once a crack runs (not
  * shattering), the margins the kernels compare with are the limits past
  * by SB_CRACK_MARGIN, the only ones a bond away from the tips breaks at:
  * the bonds around a running crack sit past their plain limits at every
