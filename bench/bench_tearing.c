@@ -10,8 +10,8 @@
  * simulated times, every step timed on its own. Reported:
  *   - steps per second of each while the first tears (from the first step
  *     that broke a bond to the last), their ratio (target >= 0.8), and the
- *     same before any break (what the breakable model's per-slot constants
- *     and spare vertices cost by themselves);
+ *     same before any break (what the breakable model costs by itself:
+ *     its break-limit test, its spare vertices' memory);
  *   - the cost of one topology update: the time of a step that split
  *     vertices minus the median time of the tearing solver's quiet steps
  *     (no break, no split) of the same run, median and max in ms, and the

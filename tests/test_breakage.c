@@ -7,13 +7,15 @@
  * handles breaks, and its energies are then those of a model holding only
  * the bonds, triangles and hinges left whole (built independently from the
  * broken set); 1 and 2 threads break the same bonds at the same times and
- * end bitwise equal; bad limits are refused. The program: the committed
+ * end bitwise equal; a breakable sheet's fast model folds its constants
+ * and break limits as a plain one's; bad limits are refused. The program: the committed
  * scenes/tearing_sheet.yaml and scenes/blade_cut.yaml break bonds
  * (log.csv's broken column counts up, the same for 1 and 2 threads), and
  * bad break strains, tearing caps and blades exit 2 naming the line. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
 #include "tests/test_files.h"
+#include "kernels/forces/fast_model.h"
 
 /* What the breakage callback saw. */
 typedef struct break_log {
@@ -321,6 +323,46 @@ static void test_unbreakable_sheet_never_breaks(void** state) {
     sb_model_destroy(m);
 }
 
+/* A breakable sheet's fast model reads what a plain one's does
+ * (kernels/forces/fast_model.h): its triangles' and fused bonds' constants
+ * folded to the plain model's values, the bonds' rest lengths the
+ * triangles', and one break limit for all, the material's (1 + strain)²
+ * relative to the squared rest length, less the margin (a jittered mesh:
+ * the limit lengths differ from bond to bond); widened by the crack
+ * rule's margin, that times its square. */
+static void test_breakable_sheet_folds_like_a_plain_one(void** state) {
+    (void)state;
+    const double strain = 0.25, wider = 1.25;
+    sb_model *plain = ps_sheet_model(SIDE, 0.2, 0.0), *breakable = ps_sheet_model(SIDE, 0.2, strain);
+    sb_error err;
+    sb_fast_model *p = sb_fast_model_create(plain, &err), *b = sb_fast_model_create(breakable, &err);
+    assert_non_null(p);
+    assert_non_null(b);
+    assert_true(b->fused_bonds && b->mortal_triangles && b->fused_limits && b->bonds.count == 0);
+    const sb_fast_constant* folded[][2] = {{&p->angle_k, &b->angle_k}, {&p->stretch_bend_k, &b->stretch_bend_k}};
+    for (int k = 0; k < 2; k++) {
+        assert_null(folded[k][1]->values);
+        assert_true(folded[k][1]->uniform == folded[k][0]->uniform);
+    }
+    double limit = (1.0 + strain) * (1.0 + strain) * (1.0 - SB_LIMIT_MARGIN);
+    for (int c = 0; c < 3; c++) {
+        assert_null(b->tri_edge_r0[c]);
+        assert_null(b->tri_edge_bond_k[c].values);
+        assert_true(b->tri_edge_bond_k[c].uniform == p->tri_edge_bond_k[c].uniform);
+        assert_null(b->tri_edge_max_ratio2[c].values);
+        assert_null(b->tri_edge_min_ratio2[c].values);
+        assert_true(b->tri_edge_min_ratio2[c].uniform == 0);
+        TU_ASSERT_NEAR(b->tri_edge_max_ratio2[c].uniform, limit, 4 * FLT_EPSILON * limit);
+    }
+    sb_fast_widen_limits(b, wider);
+    for (int c = 0; c < 3; c++)
+        TU_ASSERT_NEAR(b->tri_edge_max_ratio2[c].uniform, limit * wider * wider, 8 * FLT_EPSILON * limit);
+    sb_fast_model_destroy(p);
+    sb_fast_model_destroy(b);
+    sb_model_destroy(plain);
+    sb_model_destroy(breakable);
+}
+
 static void test_bad_limits_refused(void** state) {
     (void)state;
     double limits[][2] = {{0.0, 0.9}, {1.1, INFINITY}, {-0.1, INFINITY}, {NAN, INFINITY}, {0.0, NAN}, {INFINITY, 0}};
@@ -446,6 +488,7 @@ int main(void) {
         cmocka_unit_test(test_sheet_tears_and_dead_elements_vanish),
         cmocka_unit_test(test_threads_break_the_same),
         cmocka_unit_test(test_unbreakable_sheet_never_breaks),
+        cmocka_unit_test(test_breakable_sheet_folds_like_a_plain_one),
         cmocka_unit_test(test_bad_limits_refused),
         cmocka_unit_test(test_tearing_scene),
         cmocka_unit_test(test_bad_scene_strains),

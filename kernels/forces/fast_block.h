@@ -72,10 +72,6 @@ static inline bool sb_near_limit(const sb_real* max2, const sb_real* min2, uint3
            (min2 && sb_w_any(sb_w_less(squared, sb_w_load(min2 + s)), count));
 }
 
-static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
-    return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
-}
-
 /* The bits (flag >> shift) & mask of each lane's flag byte (flags padded
  * like the slots), as a real: the compiler turns the loop into a byte load
  * and a widening. */
@@ -85,8 +81,23 @@ static inline sb_wide sb_w_field(const uint8_t* flags, int shift, unsigned mask)
     return sb_w_load(lanes);
 }
 
+static inline sb_wide sb_w_constant(sb_fast_constant c, uint32_t s) {
+    return c.values ? sb_w_load(c.values + s) : sb_w_set(c.uniform);
+}
+
 /* Bit `bit` of each lane's flag byte, as 1 or 0. */
 static inline sb_wide sb_w_bit(const uint8_t* flags, int bit) { return sb_w_field(flags, bit, 1u); }
+
+/* A triangle slot's angle and stretch-bend constants: zero for a triangle
+ * a breakable model dropped (sb_fast_model.mortal_triangles). */
+static inline void sb_w_corner_constants(const sb_fast_model* m, uint32_t s, sb_wide* ka, sb_wide* ksb) {
+    *ka = sb_w_constant(m->angle_k, s);
+    *ksb = sb_w_constant(m->stretch_bend_k, s);
+    if (!m->mortal_triangles) return;
+    sb_wide live = sb_w_bit(m->tri_owned + s, SB_TRIANGLE_LIVE);
+    *ka = sb_w_mul(live, *ka);
+    *ksb = sb_w_mul(live, *ksb);
+}
 
 /* φ − φ0 per lane, wrapped into (−π, π] as sb_angle_difference does
  * (the hinge kernel, the fused hinges, vbd's fast sweep, the hinges' second

@@ -17,9 +17,18 @@
  * when the model has damping, the spring's damping from the edge's
  * relative velocity (the same half-step velocity the bond kernel and the
  * reference read, gathered for the triangle's three vertices only then).
- * Uniform constants are one value; non-uniform ones (or a breakable
- * model's) are carried per triangle slot and edge. The bond's rest length
- * is the triangle's own where they agree (no stream of its own).
+ * Uniform constants are one value; non-uniform ones are carried per
+ * triangle slot and edge. The bond's rest length is the triangle's own
+ * where they agree (no stream of its own).
+ *
+ * A breakable model costs the same streams: its triangles' and fused
+ * bonds' constants are folded as a plain model's are, and what breaks is
+ * a bit of the slot's byte (a bond's edge bit, the triangle's live bit,
+ * which masks the corners' constants and, with the edge bit, the collapse
+ * checks). Its break limits are tested on the squared lengths in hand
+ * against (limit / r0)² times the squared rest length, one value for a
+ * material's strain (sb_fused_near_limit): the quiet step of a breakable
+ * sheet loads nothing a plain one does not (bench/results/tearing.md).
  *
  * Fused hinges, for the same reason: a hinge on a triangle's edge needs
  * the edge's two vertices and the triangle's opposite vertex, which the
@@ -72,15 +81,32 @@ static inline __attribute__((always_inline)) void sb_fast_corner(const sb_wtrian
 /* What the fused bonds of a block of triangles need besides the shared
  * edge geometry: the edge rest lengths and, with damping, the velocities. */
 typedef struct sb_wfused {
-    sb_wide rest[3]; /* the triangle's edge rest lengths tri_len0 */
+    sb_wide rest[3];    /* the triangle's edge rest lengths tri_len0 */
+    sb_wide squared[3]; /* the edges' squared lengths */
     sb_wvec3 velocity[3];
 } sb_wfused;
 
+/* Whether a lane's owned bond (owned 1, else 0) is at or past the margins
+ * of its limits, relative to its rest length r0: no load but the margins'
+ * where they differ from bond to bond. */
+static inline bool sb_fused_near_limit(const sb_fast_model* m, uint32_t s, int c, sb_wide owned, sb_wide r0,
+                                       sb_wide squared, int count) {
+    sb_wide rest2 = sb_w_mul(r0, r0);
+    bool near = sb_w_any(
+        sb_w_less(sb_w_mul(sb_w_constant(m->tri_edge_max_ratio2[c], s), rest2), sb_w_mul(owned, squared)), count);
+    if (sb_constant_on(m->tri_edge_min_ratio2[c]))
+        near |= sb_w_any(
+            sb_w_less(squared, sb_w_mul(owned, sb_w_mul(sb_w_constant(m->tri_edge_min_ratio2[c], s), rest2))), count);
+    return near;
+}
+
 /* Adds the bond edge c owns (if it does; a lane's constants are zero
- * otherwise): stretch, spring and damping along the edge. */
-static inline __attribute__((always_inline)) void sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t,
+ * otherwise): stretch, spring and damping along the edge. With `limits`,
+ * returns whether it is near its break limits. */
+static inline __attribute__((always_inline)) bool sb_fast_owned_bond(const sb_fast_model* m, const sb_wtriangle* t,
                                                                      const sb_wfused* e, int c, sb_wide length,
-                                                                     uint32_t s, bool damping, sb_wtriangle_out* out) {
+                                                                     uint32_t s, bool damping, bool limits, int count,
+                                                                     sb_wtriangle_out* out) {
     int j = (c + 1) % 3;
     sb_wide owned = sb_w_bit(m->tri_owned + s, c);
     sb_wide r0 = m->tri_edge_r0[c] ? sb_w_load(m->tri_edge_r0[c] + s) : e->rest[c];
@@ -99,6 +125,15 @@ static inline __attribute__((always_inline)) void sb_fast_owned_bond(const sb_fa
     sb_wide strain_energy = sb_w_mul(sb_w_set((sb_real)0.5), sb_w_mul(stretch, stretch));
     out->energy[2] = sb_w_add(out->energy[2], sb_w_mul(kb, strain_energy));
     out->energy[3] = sb_w_add(out->energy[3], sb_w_mul(ks, strain_energy));
+    return limits && sb_fused_near_limit(m, s, c, owned, r0, e->squared[c], count);
+}
+
+/* Edge c's rest length for its collapse check: the triangle's, or 0 (no
+ * check) where a breakable model dropped the triangle and broke the edge's
+ * own bond (a bond owned by the other triangle on it is checked there). */
+static inline sb_wide sb_collapse_rest(const sb_fast_model* m, uint32_t s, int c, sb_wide rest) {
+    if (!m->mortal_triangles) return rest;
+    return sb_w_mul(rest, sb_w_max(sb_w_bit(m->tri_owned + s, SB_TRIANGLE_LIVE), sb_w_bit(m->tri_owned + s, c)));
 }
 
 /* What a triangle's hinges share: its vertices, its edges' lengths and
@@ -201,7 +236,7 @@ static inline __attribute__((always_inline)) int sb_fast_corners_loop(const sb_f
     uint32_t step = sb_block_step(serial);
     const sb_wide ratio = sb_w_set((sb_real)SB_COLLAPSE_RATIO), zero = sb_w_set(0);
     sb_wide sums[5] = {zero, zero, zero, zero, zero};
-    bool collapsed = false, near = false, limits = m->fused_bonds && m->tri_edge_near_max2[0];
+    bool collapsed = false, near = false, limits = m->fused_limits;
     bool damping = extras && m->fused_damping, hinges = extras && m->fused_hinges;
     for (uint32_t s = begin; s < end; s += step) {
         int count = sb_block_count(s, end, step);
@@ -223,10 +258,11 @@ static inline __attribute__((always_inline)) int sb_fast_corners_loop(const sb_f
             t.unit[c] = sb_wv_scale(edge[c], t.inverse[c]);
             t.strain[c] = sb_w_sub(wing.length[c], rest);
             fused.rest[c] = rest;
-            collapsed |= sb_w_any(sb_w_less(wing.length[c], sb_w_mul(ratio, rest)), count);
-            if (limits) near |= sb_near_limit(m->tri_edge_near_max2[c], m->tri_edge_near_min2[c], s, squared, count);
+            fused.squared[c] = squared;
+            collapsed |= sb_w_any(sb_w_less(wing.length[c], sb_w_mul(ratio, sb_collapse_rest(m, s, c, rest))), count);
         }
-        sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
+        sb_wide ka, ksb;
+        sb_w_corner_constants(m, s, &ka, &ksb);
         sb_wtriangle_out out = {{{zero, zero, zero}, {zero, zero, zero}, {zero, zero, zero}},
                                 {zero, zero, zero, zero, zero}};
 #pragma GCC unroll 3
@@ -237,7 +273,8 @@ static inline __attribute__((always_inline)) int sb_fast_corners_loop(const sb_f
                 damping ? sb_wv_load4_at(fr->velocities4, m->tri_v[c] + s) : (sb_wvec3){zero, zero, zero};
         if (m->fused_bonds)
 #pragma GCC unroll 3
-            for (int c = 0; c < 3; c++) sb_fast_owned_bond(m, &t, &fused, c, wing.length[c], s, damping, &out);
+            for (int c = 0; c < 3; c++)
+                near |= sb_fast_owned_bond(m, &t, &fused, c, wing.length[c], s, damping, limits, count, &out);
         if (hinges) collapsed |= sb_fast_carried_hinges(m, fr, &t, &wing, edge, s, count, &out);
 #pragma GCC unroll 3
         for (int c = 0; c < 3; c++) sb_wv_add4_at(fr->forces4, m->tri_v[c] + s, out.force[c], count);

@@ -145,7 +145,8 @@ void sb_fast_corner_blocks(const sb_fast_model* m, const sb_hessian_frame* fr, u
         for (int c = 0; c < 3; c++)
             for (int e = 0; e < SB_BLOCK_SIZE; e++) block[c].m[e] = zero;
         if (m->has_corners) {
-            sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
+            sb_wide ka, ksb;
+            sb_w_corner_constants(m, s, &ka, &ksb);
             for (int c = 0; c < 3; c++)
                 sb_corner_blocks(&t, c, sb_w_load(m->tri_cos0[c] + s), sb_w_load(m->tri_len0[c] + s),
                                  sb_w_load(m->tri_len0[(c + 2) % 3] + s), ka, ksb, block);

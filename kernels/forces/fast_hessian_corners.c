@@ -56,7 +56,8 @@ static void sb_wdual_triangle(const sb_fast_model* m, uint32_t s, sb_wide dampin
             t.unit[c] = sb_wdv_scale(e, t.inverse[c]);
             t.strain[c] = (sb_wdual){sb_w_sub(length.v, sb_w_load(m->tri_len0[c] + s)), length.d};
         }
-        sb_wide ka = sb_w_constant(m->angle_k, s), ksb = sb_w_constant(m->stretch_bend_k, s);
+        sb_wide ka, ksb;
+        sb_w_corner_constants(m, s, &ka, &ksb);
         for (int c = 0; c < 3; c++) sb_wdual_corner(&t, c, sb_w_load(m->tri_cos0[c] + s), ka, ksb, f);
     }
     if (m->fused_bonds)

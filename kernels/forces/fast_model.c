@@ -158,9 +158,10 @@ static sb_real* sb_gather_real(const double* in, const sb_element_group* g, bool
     return out;
 }
 
-/* Folds a uniform constant to one value, except in a breakable model (its
- * elements' constants are zeroed one by one as they break): then the
- * values are kept per slot and the uniform value beside them. The
+/* Folds a uniform constant to one value when `fold` (not for a breakable
+ * model's bond group and hinges, whose elements' constants are zeroed one
+ * by one as they break: then the values are kept per slot and the uniform
+ * value beside them). The
  * uniformity is that of `in` (count values); the slots take their values
  * from `slots_from`, indexed like the group's source. */
 static sb_fast_constant sb_constant_from(const double* in, uint32_t count, const double* slots_from,
@@ -175,8 +176,6 @@ static sb_fast_constant sb_gather_constant(const double* in, uint32_t count, con
                                            bool* ok) {
     return sb_constant_from(in, count, in, g, fold, ok);
 }
-
-static bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
 
 static bool sb_all_zero(const double* values, uint32_t count) {
     for (uint32_t e = 0; e < count; e++)
@@ -276,7 +275,6 @@ static void sb_edge_values_free(sb_edge_values* e) {
 /* Whether every owned bond of edge c has the triangle's own rest length
  * there (in sb_real), so that the kernel can reuse tri_len0[c]. */
 static bool sb_edge_rest_shared(const sb_model* m, const sb_edge_values* e, int c) {
-    if (m->breakable) return false;
     for (uint32_t t = 0; t < m->triangle_count; t++)
         if ((e->owned[t] >> c & 1u) && (sb_real)e->r0[c * (size_t)m->triangle_count + t] != (sb_real)m->tri_len0[c][t])
             return false;
@@ -288,19 +286,15 @@ static bool sb_fast_fused_edges(sb_fast_model* f, const sb_model* m, const int64
     size_t nt = m->triangle_count;
     sb_edge_values e = {0};
     bool ok = sb_edge_values_fill(&e, m, owner);
-    f->tri_owned = ok ? malloc(f->triangles.capacity + SB_WIDTH) : NULL;
-    ok = ok && f->tri_owned;
-    for (uint32_t s = 0; ok && s < f->triangles.capacity + SB_WIDTH; s++)
-        f->tri_owned[s] = s < f->triangles.capacity ? e.owned[f->triangles.source[s]] : 0;
+    for (uint32_t s = 0; ok && s < f->triangles.capacity; s++) f->tri_owned[s] |= e.owned[f->triangles.source[s]];
     for (int c = 0; ok && c < 3; c++) {
         size_t at = c * nt;
         if (!sb_edge_rest_shared(m, &e, c)) f->tri_edge_r0[c] = sb_gather_real(e.r0 + at, &f->triangles, &ok);
-        bool fold = !m->breakable;
-        f->tri_edge_bond_k[c] = sb_constant_from(m->bond_k, m->bond_count, e.bond_k + at, &f->triangles, fold, &ok);
+        f->tri_edge_bond_k[c] = sb_constant_from(m->bond_k, m->bond_count, e.bond_k + at, &f->triangles, true, &ok);
         f->tri_edge_spring_k[c] =
-            sb_constant_from(m->spring_k, m->bond_count, e.spring_k + at, &f->triangles, fold, &ok);
+            sb_constant_from(m->spring_k, m->bond_count, e.spring_k + at, &f->triangles, true, &ok);
         f->tri_edge_damping[c] =
-            sb_constant_from(m->spring_damping, m->bond_count, e.damping + at, &f->triangles, fold, &ok);
+            sb_constant_from(m->spring_damping, m->bond_count, e.damping + at, &f->triangles, true, &ok);
     }
     for (size_t k = 0; ok && k < 3 * nt; k++) f->fused_damping |= e.damping[k] != 0.0;
     sb_edge_values_free(&e);
@@ -433,8 +427,13 @@ static bool sb_fast_triangles(sb_fast_model* f, const sb_model* m, const uint32_
         f->tri_cos0[c] = sb_gather_real(m->tri_cos0[c], &f->triangles, &ok);
         f->tri_len0[c] = sb_gather_real(m->tri_len0[c], &f->triangles, &ok);
     }
-    f->angle_k = sb_gather_constant(m->angle_k, m->triangle_count, &f->triangles, !m->breakable, &ok);
-    f->stretch_bend_k = sb_gather_constant(m->stretch_bend_k, m->triangle_count, &f->triangles, !m->breakable, &ok);
+    /* every slot live, no bond owned yet; the padding past the slots none */
+    f->tri_owned = calloc((size_t)f->triangles.capacity + SB_WIDTH, 1);
+    ok = ok && f->tri_owned;
+    for (uint32_t s = 0; ok && s < f->triangles.capacity; s++) f->tri_owned[s] = 1u << SB_TRIANGLE_LIVE;
+    f->mortal_triangles = m->breakable;
+    f->angle_k = sb_gather_constant(m->angle_k, m->triangle_count, &f->triangles, true, &ok);
+    f->stretch_bend_k = sb_gather_constant(m->stretch_bend_k, m->triangle_count, &f->triangles, true, &ok);
     f->has_corners = m->term_enabled[SB_TERM_ANGLE] || m->term_enabled[SB_TERM_STRETCH_BEND];
     return ok;
 }
@@ -548,15 +547,31 @@ static bool sb_fast_places(sb_fast_model* f, const sb_model* m, const int64_t* o
     return ok;
 }
 
-/* Where bond b's margins are: its bond slot's or its fused edge's. */
-static void sb_limit_slots(const sb_fast_model* f, uint32_t bond, sb_real** max2, sb_real** min2) {
-    int64_t place = f->bond_place[bond];
-    uint32_t slot = place >= 0 ? (uint32_t)place : (uint32_t)((-1 - place) / 3);
-    int c = place >= 0 ? 0 : (int)((-1 - place) % 3);
-    sb_real* maxima = place >= 0 ? f->bond_near_max2 : f->tri_edge_near_max2[c];
-    sb_real* minima = place >= 0 ? f->bond_near_min2 : f->tri_edge_near_min2[c];
-    *max2 = maxima + slot;
-    *min2 = minima ? minima + slot : NULL;
+/* Fused bonds whose limits relative to their rest lengths lie within this
+ * of each other share one value: one material's break strain, the break
+ * length and the rest length rounded apart. */
+#define SB_RATIO_SPREAD 1e-9
+
+/* The fused bonds' limits relative to their rest lengths (ratio2 per
+ * bond: (max / r0)² or (min / r0)²) times `margin`, per fused edge
+ * (sb_fast_model.tri_edge_max_ratio2): one value, the loosest (the
+ * lowest max, or with `low` the highest min), when they all lie within
+ * SB_RATIO_SPREAD; else per slot, 0 where an edge owns no bond (masked). */
+static void sb_fused_ratios(sb_fast_model* f, const sb_model* m, const double* ratio2, double margin, bool low,
+                            sb_fast_constant out[3], bool* ok) {
+    double least = INFINITY, most = -INFINITY;
+    for (uint32_t b = 0; b < m->bond_count; b++)
+        if (f->bond_place[b] < 0) least = fmin(least, ratio2[b]), most = fmax(most, ratio2[b]);
+    if (least == most || most <= least * (1.0 + SB_RATIO_SPREAD)) {
+        for (int c = 0; c < 3; c++) out[c] = (sb_fast_constant){NULL, (sb_real)((low ? most : least) * margin)};
+        return;
+    }
+    for (int c = 0; c < 3 && *ok; c++)
+        *ok = (out[c].values = calloc((size_t)f->triangles.capacity + 1, sizeof(sb_real))) != NULL;
+    for (uint32_t b = 0; *ok && b < m->bond_count; b++) {
+        int64_t place = f->bond_place[b];
+        if (place < 0) out[(-1 - place) % 3].values[(-1 - place) / 3] = (sb_real)(ratio2[b] * margin);
+    }
 }
 
 /* The margins of the limits (sb_fast_model.bond_near_max2), for a model
@@ -569,35 +584,54 @@ static bool sb_fast_limits(sb_fast_model* f, const sb_model* m) {
     }
     if (!limited) return true;
     f->limits_measured = f->has_bond || f->has_spring || f->bonds.count == 0;
-    size_t slots[2] = {f->bonds.capacity + 1, f->triangles.capacity + 1};
-    sb_real** arrays[8] = {&f->bond_near_max2,        &f->tri_edge_near_max2[0], &f->tri_edge_near_max2[1],
-                           &f->tri_edge_near_max2[2], &f->bond_near_min2,        &f->tri_edge_near_min2[0],
-                           &f->tri_edge_near_min2[1], &f->tri_edge_near_min2[2]};
-    for (int a = 0; a < (any_min ? 8 : 4); a++) {
-        size_t n = slots[a % 4 != 0];
-        ok = ok && (*arrays[a] = malloc(n * sizeof **arrays[a])) != NULL;
-        for (size_t s = 0; ok && s < n; s++) (*arrays[a])[s] = a < 4 ? (sb_real)INFINITY : 0;
+    size_t slots = (size_t)f->bonds.capacity + 1;
+    ok = (f->bond_near_max2 = malloc(slots * sizeof *f->bond_near_max2)) != NULL;
+    ok = ok && (!any_min || (f->bond_near_min2 = calloc(slots, sizeof *f->bond_near_min2)) != NULL);
+    for (size_t s = 0; ok && s < slots; s++) f->bond_near_max2[s] = (sb_real)INFINITY;
+    double* ratio2 = ok ? malloc(2 * ((size_t)m->bond_count + 1) * sizeof *ratio2) : NULL;
+    ok = ok && ratio2;
+    for (uint32_t b = 0; ok && b < m->bond_count; b++) {
+        double lo = m->bond_break_min[b], hi = m->bond_break_max[b], r0 = m->bond_r0[b];
+        int64_t place = f->bond_place[b];
+        ratio2[b] = hi * hi / (r0 * r0);
+        ratio2[m->bond_count + b] = lo * lo / (r0 * r0);
+        f->fused_limits |= place < 0 && (isfinite(hi) || lo > 0.0);
+        if (place < 0) continue;
+        f->bond_near_max2[place] = (sb_real)(hi * hi * (1.0 - SB_LIMIT_MARGIN));
+        if (any_min) f->bond_near_min2[place] = (sb_real)(lo * lo * (1.0 + SB_LIMIT_MARGIN));
     }
-    for (uint32_t b = 0; ok && b < m->bond_count; b++)
-        sb_fast_set_limits(f, b, m->bond_break_min[b], m->bond_break_max[b]);
+    if (ok && f->fused_limits) {
+        sb_fused_ratios(f, m, ratio2, 1.0 - SB_LIMIT_MARGIN, false, f->tri_edge_max_ratio2, &ok);
+        sb_fused_ratios(f, m, ratio2 + m->bond_count, 1.0 + SB_LIMIT_MARGIN, true, f->tri_edge_min_ratio2, &ok);
+    }
+    free(ratio2);
     return ok;
 }
 
-void sb_fast_set_limits(sb_fast_model* f, uint32_t bond, double lo, double hi) {
-    if (!f->bond_near_max2) return;
-    sb_real *max2, *min2;
-    sb_limit_slots(f, bond, &max2, &min2);
-    *max2 = (sb_real)(hi * hi * (1.0 - SB_LIMIT_MARGIN));
-    if (min2) *min2 = (sb_real)(lo * lo * (1.0 + SB_LIMIT_MARGIN));
+/* A margin (or each of a per-slot one's slots) times factor. */
+static void sb_scale_margin(sb_real* values, size_t count, double factor) {
+    for (size_t s = 0; values && s < count; s++) values[s] = (sb_real)(values[s] * factor);
+}
+static void sb_scale_constant(sb_fast_constant* c, size_t slots, double factor) {
+    c->uniform = (sb_real)(c->uniform * factor);
+    sb_scale_margin(c->values, slots, factor);
 }
 
-void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
-    if (f->bond_near_max2) { /* never near again */
-        sb_real *max2, *min2;
-        sb_limit_slots(f, bond, &max2, &min2);
-        *max2 = (sb_real)INFINITY;
-        if (min2) *min2 = 0;
+void sb_fast_widen_limits(sb_fast_model* f, double factor) {
+    if (!f->bond_near_max2) return;
+    double wider = factor * factor;
+    size_t bonds = (size_t)f->bonds.capacity + 1, triangles = (size_t)f->triangles.capacity + 1;
+    sb_scale_margin(f->bond_near_max2, bonds, wider); /* a broken bond's +inf and 0 stay */
+    sb_scale_margin(f->bond_near_min2, bonds, 1.0 / wider);
+    for (int c = 0; f->fused_limits && c < 3; c++) {
+        sb_scale_constant(&f->tri_edge_max_ratio2[c], triangles, wider);
+        sb_scale_constant(&f->tri_edge_min_ratio2[c], triangles, 1.0 / wider);
     }
+}
+
+/* A fused bond goes with its edge's bit (its margins with it); one of the
+ * bond group with its slot's constants and margins. */
+void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
     int64_t place = f->bond_place[bond];
     if (place < 0) {
         uint32_t slot = (uint32_t)((-1 - place) / 3);
@@ -605,14 +639,14 @@ void sb_fast_break_bond(sb_fast_model* f, uint32_t bond) {
         f->tri_owned[slot] &= (uint8_t) ~(1u << c);
         return;
     }
+    if (f->bond_near_max2) f->bond_near_max2[place] = (sb_real)INFINITY; /* never near again */
+    if (f->bond_near_min2) f->bond_near_min2[place] = 0;
     f->bond_k.values[place] = f->spring_k.values[place] = f->spring_damping.values[place] = 0;
     f->bond_r0[place] = 0;
 }
 
 void sb_fast_drop_triangle(sb_fast_model* f, uint32_t triangle) {
-    uint32_t slot = f->triangle_slot[triangle];
-    f->angle_k.values[slot] = f->stretch_bend_k.values[slot] = 0;
-    for (int c = 0; c < 3; c++) f->tri_len0[c][slot] = 0;
+    f->tri_owned[f->triangle_slot[triangle]] &= (uint8_t) ~(1u << SB_TRIANGLE_LIVE);
 }
 
 void sb_fast_drop_hinge(sb_fast_model* f, uint32_t hinge) {
@@ -722,8 +756,8 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tri_edge_bond_k[c].values);
         free(f->tri_edge_spring_k[c].values);
         free(f->tri_edge_damping[c].values);
-        free(f->tri_edge_near_max2[c]);
-        free(f->tri_edge_near_min2[c]);
+        free(f->tri_edge_max_ratio2[c].values);
+        free(f->tri_edge_min_ratio2[c].values);
         free(f->tri_hinge_other[c]);
         free(f->tri_hinge_phi0[c]);
         free(f->tri_hinge_k[c].values);

@@ -13,6 +13,9 @@ typedef struct sb_fast_constant {
     sb_real uniform;
 } sb_fast_constant;
 
+/* Whether a constant is nonzero somewhere. */
+static inline bool sb_constant_on(sb_fast_constant c) { return c.values || c.uniform != 0; }
+
 /* Blocked coloring. The elements (in model order, which follows the mesh's
  * vertex order and so space) are cut into blocks of consecutive elements.
  * Within a block, elements are colored so that no two of a color share a
@@ -69,9 +72,14 @@ typedef struct sb_fast_model {
      * carries the bond it owns when bit c of tri_owned is set, with that
      * bond's constants (one value when uniform, else per slot) and rest
      * length: tri_edge_r0[c], or, when NULL, the triangle's own tri_len0[c]
-     * (every owned bond's rest length is its edge's, and the model is not
-     * breakable, whose triangles' rest lengths are zeroed on their own). */
-    bool fused_bonds, fused_damping;
+     * (every owned bond's rest length is its edge's). Bit SB_TRIANGLE_LIVE
+     * of tri_owned (every triangle slot has one byte, bonds or not) is set
+     * while the triangle's corners are on: a breakable model's dying
+     * triangle clears it (mortal_triangles: the kernels then mask the
+     * corners' constants and collapse checks with it), and a breaking
+     * fused bond its edge's bit, so that a breakable model's constants are
+     * folded to one value as a plain model's are. */
+    bool fused_bonds, fused_damping, mortal_triangles;
     uint8_t* tri_owned;
     sb_real* tri_edge_r0[3];
     sb_fast_constant tri_edge_bond_k[3], tri_edge_spring_k[3], tri_edge_damping[3];
@@ -126,23 +134,32 @@ typedef struct sb_fast_model {
     double *membrane_volume, *membrane_mu, *membrane_lambda, *membrane_beta;
     bool has_membranes, membrane_damped; /* membrane_damped: some β > 0 */
 
-    /* Breakage (kernels/interaction/breakage.c), only for a breakable model, whose
-     * constants are then never folded to one value: where each model
-     * element sits. bond_place[b] >= 0 is a slot of the bond group, else
-     * −1 − (3 slot + c) for edge c of a triangle slot (a fused bond). */
+    /* Breakage (kernels/interaction/breakage.c), only for a breakable model,
+     * whose bond group's and hinges' constants are then never folded to one
+     * value (the triangles' and fused bonds' are: tri_owned's bits say
+     * which are on): where each model element sits. bond_place[b] >= 0 is a
+     * slot of the bond group, else −1 − (3 slot + c) for edge c of a
+     * triangle slot (a fused bond). */
     int64_t* bond_place;
     uint32_t *triangle_slot, *hinge_slot;
     /* With fused hinges: 2 (3 slot + j) + r for hinge slot j of a triangle
      * slot, r = 1 when tri_hinge_other is the model's o1, 0 when o0. */
     uint32_t* hinge_fused_at;
-    /* The break limits' margins (a model with limits only; NULL
-     * otherwise): per bond slot and per fused edge, the squared max length
-     * shrunk by SB_LIMIT_MARGIN (+inf for none) and, when some bond has a
-     * min length, the squared min grown by it. A bond inside them is not
-     * past its limits, which the kernels tell breakage (SB_KERNEL_NEAR_LIMIT),
-     * so that the fused step needs no pass of its own over the bonds. */
+    /* The break limits' margins (a model with limits only), which the
+     * kernels compare every bond's squared length with, so that the fused
+     * step needs no pass of its own over the bonds: a bond inside them is
+     * not past its limits, one outside is flagged to breakage
+     * (SB_KERNEL_NEAR_LIMIT). Per bond slot: the squared max length shrunk
+     * by SB_LIMIT_MARGIN (+inf for none; NULL without limits) and, when
+     * some bond has a min length, the squared min grown by it. Per fused
+     * edge, relative to the squared rest length the kernel has in hand:
+     * (max / r0)² shrunk and (min / r0)² grown by the margin, one value
+     * when every fused bond's are the same (a material's break strain),
+     * the max's +inf and the min's 0 for none; fused_limits says whether
+     * any fused bond has a limit. */
     sb_real *bond_near_max2, *bond_near_min2;
-    sb_real *tri_edge_near_max2[3], *tri_edge_near_min2[3];
+    sb_fast_constant tri_edge_max_ratio2[3], tri_edge_min_ratio2[3];
+    bool fused_limits;
     bool limits_measured; /* every bond with a limit is in a pass that runs (the bond pass may not) */
 } sb_fast_model;
 
@@ -152,14 +169,18 @@ typedef struct sb_fast_model {
 sb_fast_model* sb_fast_model_create(const sb_model* model, sb_error* err);
 void sb_fast_model_destroy(sb_fast_model* fast);
 
+/* The bit of a triangle slot's tri_owned byte set while its corners are on. */
+#define SB_TRIANGLE_LIVE 3
+
 /* Breakage, in place (a breakable model only): bond `bond` loses its
- * stiffness, damping and rest length (so no collapse check either); a
- * triangle its corners' constants and rest lengths; a hinge its constant. */
-void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond); /* its limits' margins too */
-/* The lengths (lo, hi: the model's break_min and break_max, or any others)
- * near which the kernels flag bond `bond` (SB_KERNEL_NEAR_LIMIT): the
- * margins' limits. Nothing for a model without limits. */
-void sb_fast_set_limits(sb_fast_model* fast, uint32_t bond, double lo, double hi);
+ * stiffness, damping and rest length (so no collapse check either) and
+ * its limits' margins; a triangle its corners (their constants and
+ * collapse checks); a hinge its constant. */
+void sb_fast_break_bond(sb_fast_model* fast, uint32_t bond);
+/* Every bond's limits' margins widened by `factor` (> 0): break_max times
+ * it, break_min over it; a broken bond's stay off. Nothing for a model
+ * without limits. */
+void sb_fast_widen_limits(sb_fast_model* fast, double factor);
 void sb_fast_drop_triangle(sb_fast_model* fast, uint32_t triangle);
 void sb_fast_drop_hinge(sb_fast_model* fast, uint32_t hinge);
 

@@ -10,11 +10,13 @@
  * stretch-bend constants and rest lengths; the hinges' constants). Every
  * kernel of that solver reads the copy: the scalar reference, implicit
  * Euler, pbd and xpbd through solver->model, the fast kernels through the
- * fast model, which is per solver too and was built from the copy with its
- * constants never folded to one value, so each element's can be zeroed in
- * place. A bond fused into a triangle (kernels/forces/fast_corners.c) is carried
- * by an ownership bit of its triangle's slot: breaking it clears that bit,
- * so the fused kernel runs as before, with no branch per element. A model without
+ * fast model, which is per solver too and was built from the copy. There
+ * the bond group's and the hinges' constants are kept per slot, so each
+ * element's can be zeroed in place; a triangle and the bonds fused into it
+ * (kernels/forces/fast_corners.c) keep the plain model's folded constants
+ * and go by the bits of the triangle slot's byte (its live bit, a bond's
+ * edge bit): the fused kernel runs as before, with no branch per element
+ * and no stream a plain model's step does not read. A model without
  * limits gets none of this: the same fast model, the same step.
  *
  * Cracks. A break limit with a crack-tip rule, not an energy release
@@ -61,7 +63,9 @@
  * SB_LIMIT_MARGIN, far above sb_real's rounding), so the pass runs only
  * after a step that met a bond near a limit (measured at 100k vertices: a
  * quiet step of a breakable sheet went from 1.5x the unbreakable one's
- * time to 1.1-1.3x, bench/results/tearing.md). Once a crack runs (not
+ * time to 1.1-1.3x; with its constants folded and one limit ratio per
+ * material it reads no more than the unbreakable one's,
+ * bench/results/tearing.md). Once a crack runs (not
  * shattering), the margins the kernels compare with are the limits past
  * by SB_CRACK_MARGIN, the only ones a bond away from the tips breaks at:
  * the bonds around a running crack sit past their plain limits at every
@@ -693,14 +697,8 @@ static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool noti
  * by the margin (SB_CRACK_MARGIN): the fast kernels flag a bond near those
  * instead, so that the serial pass over the limited bonds runs only when
  * one may break alone (the tips' bonds are looked at after every step). */
-static void sb_alone_margins(sb_solver* s, const sb_breakage* b) {
-    if (!s->fast) return;
-    const sb_model* m = &b->live;
-    for (uint32_t k = 0; k < b->limited_count; k++) {
-        uint32_t bond = b->limited[k];
-        sb_fast_set_limits(s->fast, bond, m->bond_break_min[bond] / (1.0 + SB_CRACK_MARGIN),
-                           m->bond_break_max[bond] * (1.0 + SB_CRACK_MARGIN));
-    }
+static void sb_alone_margins(sb_solver* s) {
+    if (s->fast) sb_fast_widen_limits(s->fast, 1.0 + SB_CRACK_MARGIN);
 }
 
 /* Whether bond is a ligament: an interior bond (two triangles or more on
@@ -757,7 +755,7 @@ static void sb_break_bond(sb_solver* s, sb_breakage* b, uint32_t bond, bool noti
     sb_model* m = &b->live;
     if (b->broken[bond]) return;
     b->broken[bond] = 1;
-    if (b->broken_count++ == 0 && !s->def.shatter) sb_alone_margins(s, b);
+    if (b->broken_count++ == 0 && !s->def.shatter) sb_alone_margins(s);
     uint32_t k = sb_limited_index(b, bond);
     if (k != SB_NONE) { /* its limits never match again */
         b->min2[k] = b->tip_min2[k] = -1.0;
