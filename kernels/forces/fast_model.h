@@ -112,6 +112,8 @@ typedef struct sb_fast_model {
     uint8_t* tet_nodes;
     double* tet_dm_inv[9];
     double *tet_volume, *tet_mu, *tet_lambda, *tet_beta;
+    /* The same constants in sb_real, which the lane-wise pass loads. */
+    sb_real *tet_lane_dm_inv[9], *tet_lane_volume, *tet_lane_mu, *tet_lane_lambda, *tet_lane_beta;
     bool has_tets, tet_damped; /* tet_damped: some β > 0 */
 
     /* A sheet's membranes (kernels/forces/fast_membranes.c), colored by
