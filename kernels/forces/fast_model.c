@@ -491,6 +491,11 @@ static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
     f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
     f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
     f->membrane_beta = sb_gather_double(m->membrane_beta, &f->membranes, &ok);
+    for (int k = 0; k < 4; k++) f->membrane_lane_dm_inv[k] = sb_gather_real(m->membrane_dm_inv[k], &f->membranes, &ok);
+    f->membrane_lane_volume = sb_gather_real(m->membrane_volume, &f->membranes, &ok);
+    f->membrane_lane_mu = sb_gather_real(m->membrane_mu, &f->membranes, &ok);
+    f->membrane_lane_lambda = sb_gather_real(m->membrane_lambda, &f->membranes, &ok);
+    f->membrane_lane_beta = sb_gather_real(m->membrane_beta, &f->membranes, &ok);
     f->membrane_damped = m->membrane_damped;
     f->has_membranes = m->membrane_count > 0 && m->term_enabled[SB_TERM_MEMBRANE];
     return ok;
@@ -704,7 +709,11 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->tet_lane_volume,
                       f->tet_lane_mu,
                       f->tet_lane_lambda,
-                      f->tet_lane_beta};
+                      f->tet_lane_beta,
+                      f->membrane_lane_volume,
+                      f->membrane_lane_mu,
+                      f->membrane_lane_lambda,
+                      f->membrane_lane_beta};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -727,6 +736,9 @@ void sb_fast_model_destroy(sb_fast_model* f) {
         free(f->tet_lane_dm_inv[k]);
     }
     for (int a = 0; a < 3; a++) free(f->membrane_v[a]);
-    for (int k = 0; k < 4; k++) free(f->membrane_dm_inv[k]);
+    for (int k = 0; k < 4; k++) {
+        free(f->membrane_dm_inv[k]);
+        free(f->membrane_lane_dm_inv[k]);
+    }
     free(f);
 }

@@ -122,6 +122,9 @@ typedef struct sb_fast_model {
     uint32_t* membrane_v[3];
     double* membrane_dm_inv[4];
     double *membrane_volume, *membrane_mu, *membrane_lambda, *membrane_beta;
+    /* The same constants in sb_real, which the lane-wise pass loads. */
+    sb_real *membrane_lane_dm_inv[4], *membrane_lane_volume, *membrane_lane_mu, *membrane_lane_lambda,
+        *membrane_lane_beta;
     bool has_membranes, membrane_damped; /* membrane_damped: some β > 0 */
 
     /* Breakage (kernels/interaction/breakage.c), only for a breakable model, whose

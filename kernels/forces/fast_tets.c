@@ -157,13 +157,6 @@ static void sb_w_stress_forces(const sb_wide X[9], const sb_wtet* t, sb_wvec3 f[
     }
 }
 
-/* The lanes where a stress entry is not finite. */
-static sb_wmask sb_w_not_finite(const sb_wide X[9]) {
-    sb_wide sum = sb_w_set(0);
-    for (int k = 0; k < 9; k++) sum = sb_w_add(sum, sb_w_abs(X[k])); /* keeps a NaN or an infinity */
-    return sb_w_less(sb_w_set(SB_DOUBLE ? (sb_real)DBL_MAX : (sb_real)FLT_MAX), sum);
-}
-
 /* Whether the `count` slots from s are all linear elements. */
 static bool sb_linear_block(const sb_fast_model* m, uint32_t s, int count) {
     for (int l = 0; l < count; l++)
@@ -192,7 +185,7 @@ static bool sb_fast_tets_wide(const sb_fast_model* m, const sb_fast_frame* fr, u
         sb_w_deformation(v, t.dm_inv, Fdot);
         sb_w_viscous_stress(Fdot, R, &t, X);
     }
-    if (sb_w_any(sb_w_not_finite(X), count)) return false;
+    if (sb_w_any(sb_w_not_finite(X, 9), count)) return false;
     sb_wvec3 f[4];
     sb_w_stress_forces(X, &t, f);
     for (int c = 0; c < 4; c++) sb_wv_add4_at(fr->forces4, m->tet_v[c] + s, f[c], count);
