@@ -115,6 +115,14 @@ static inline sb_wide sb_w_angle_delta(sb_wide sine, sb_wide cosine, sb_wide phi
 #define SB_REAL_MIN FLT_MIN
 #endif
 
+/* The lanes where one of the n values is not finite: their absolute values'
+ * sum keeps a NaN or an infinity (a max would drop a NaN). */
+static inline sb_wmask sb_w_not_finite(const sb_wide* values, int n) {
+    sb_wide sum = sb_w_set(0);
+    for (int k = 0; k < n; k++) sum = sb_w_add(sum, sb_w_abs(values[k]));
+    return sb_w_less(sb_w_set(SB_DOUBLE ? (sb_real)DBL_MAX : (sb_real)FLT_MAX), sum);
+}
+
 /* A hinge's wing has collapsed when its height is below SB_MIN_WING_RATIO
  * of the edge (common/geometry.h): |n|² below this, from the squared edge
  * length; the smallest normal number keeps a zero-length edge caught. */

@@ -470,6 +470,11 @@ static bool sb_fast_tet_group(sb_fast_model* f, const sb_model* m) {
     f->tet_mu = sb_gather_double(m->tet_mu, &f->tets, &ok);
     f->tet_lambda = sb_gather_double(m->tet_lambda, &f->tets, &ok);
     f->tet_beta = sb_gather_double(m->tet_beta, &f->tets, &ok);
+    for (int k = 0; k < 9; k++) f->tet_lane_dm_inv[k] = sb_gather_real(m->tet_dm_inv[k], &f->tets, &ok);
+    f->tet_lane_volume = sb_gather_real(m->tet_volume, &f->tets, &ok);
+    f->tet_lane_mu = sb_gather_real(m->tet_mu, &f->tets, &ok);
+    f->tet_lane_lambda = sb_gather_real(m->tet_lambda, &f->tets, &ok);
+    f->tet_lane_beta = sb_gather_real(m->tet_beta, &f->tets, &ok);
     f->tet_damped = m->tet_damped;
     f->has_tets = m->tet_count > 0 && m->term_enabled[SB_TERM_COROTATED];
     return ok;
@@ -502,6 +507,11 @@ static bool sb_fast_membrane_group(sb_fast_model* f, const sb_model* m) {
     f->membrane_mu = sb_gather_double(m->membrane_mu, &f->membranes, &ok);
     f->membrane_lambda = sb_gather_double(m->membrane_lambda, &f->membranes, &ok);
     f->membrane_beta = sb_gather_double(m->membrane_beta, &f->membranes, &ok);
+    for (int k = 0; k < 4; k++) f->membrane_lane_dm_inv[k] = sb_gather_real(m->membrane_dm_inv[k], &f->membranes, &ok);
+    f->membrane_lane_volume = sb_gather_real(m->membrane_volume, &f->membranes, &ok);
+    f->membrane_lane_mu = sb_gather_real(m->membrane_mu, &f->membranes, &ok);
+    f->membrane_lane_lambda = sb_gather_real(m->membrane_lambda, &f->membranes, &ok);
+    f->membrane_lane_beta = sb_gather_real(m->membrane_beta, &f->membranes, &ok);
     f->membrane_damped = m->membrane_damped;
     f->has_membranes = m->membrane_count > 0 && (m->term_enabled[SB_TERM_MEMBRANE] || plates);
     return ok;
@@ -746,7 +756,15 @@ void sb_fast_model_destroy(sb_fast_model* f) {
                       f->membrane_lambda,
                       f->membrane_beta,
                       f->tet_beta,
-                      f->tet_nodes};
+                      f->tet_nodes,
+                      f->tet_lane_volume,
+                      f->tet_lane_mu,
+                      f->tet_lane_lambda,
+                      f->tet_lane_beta,
+                      f->membrane_lane_volume,
+                      f->membrane_lane_mu,
+                      f->membrane_lane_lambda,
+                      f->membrane_lane_beta};
     for (size_t a = 0; a < sizeof arrays / sizeof *arrays; a++) free(arrays[a]);
     for (int c = 0; c < 3; c++) {
         free(f->tri_v[c]);
@@ -764,8 +782,14 @@ void sb_fast_model_destroy(sb_fast_model* f) {
     }
     for (int a = 0; a < 4; a++) free(f->hinge_v[a]);
     for (int a = 0; a < SB_TET_NODES; a++) free(f->tet_v[a]);
-    for (int k = 0; k < 9; k++) free(f->tet_dm_inv[k]);
+    for (int k = 0; k < 9; k++) {
+        free(f->tet_dm_inv[k]);
+        free(f->tet_lane_dm_inv[k]);
+    }
     for (int a = 0; a < 3; a++) free(f->membrane_v[a]);
-    for (int k = 0; k < 4; k++) free(f->membrane_dm_inv[k]);
+    for (int k = 0; k < 4; k++) {
+        free(f->membrane_dm_inv[k]);
+        free(f->membrane_lane_dm_inv[k]);
+    }
     free(f);
 }

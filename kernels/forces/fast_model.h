@@ -120,6 +120,8 @@ typedef struct sb_fast_model {
     uint8_t* tet_nodes;
     double* tet_dm_inv[9];
     double *tet_volume, *tet_mu, *tet_lambda, *tet_beta;
+    /* The same constants in sb_real, which the lane-wise pass loads. */
+    sb_real *tet_lane_dm_inv[9], *tet_lane_volume, *tet_lane_mu, *tet_lane_lambda, *tet_lane_beta;
     bool has_tets, tet_damped; /* tet_damped: some β > 0 */
 
     /* A sheet's membranes (kernels/forces/fast_membranes.c), colored by
@@ -132,6 +134,9 @@ typedef struct sb_fast_model {
     uint32_t* membrane_v[3];
     double* membrane_dm_inv[4];
     double *membrane_volume, *membrane_mu, *membrane_lambda, *membrane_beta;
+    /* The same constants in sb_real, which the lane-wise pass loads. */
+    sb_real *membrane_lane_dm_inv[4], *membrane_lane_volume, *membrane_lane_mu, *membrane_lane_lambda,
+        *membrane_lane_beta;
     bool has_membranes, membrane_damped; /* membrane_damped: some β > 0 */
 
     /* Breakage (kernels/interaction/breakage.c), only for a breakable model,

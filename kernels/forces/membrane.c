@@ -58,7 +58,10 @@ static bool sb_membrane_rotation(const double p[3][3], const double dm_inv[4], d
         c01 += F[2 * i] * F[2 * i + 1];
         c11 += F[2 * i + 1] * F[2 * i + 1];
     }
-    double det = c00 * c11 - c01 * c01;
+    /* det C = |F₀ × F₁|² (F's columns): c00 c11 − c01² would square a thin
+     * triangle's rounding */
+    double n[3] = {F[2] * F[5] - F[4] * F[3], F[4] * F[1] - F[0] * F[5], F[0] * F[3] - F[2] * F[1]};
+    double det = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
     if (!isfinite(det) || !(det > 1e-24 * (c00 + c11) * (c00 + c11))) return false;
     double root = sqrt(det), scale = 1.0 / sqrt(c00 + c11 + 2.0 * root);
     double s00 = (c00 + root) * scale, s01 = c01 * scale, s11 = (c11 + root) * scale;
