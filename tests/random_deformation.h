@@ -55,4 +55,42 @@ static inline void singular_values(tu_rng* rng, double lo, double hi, bool inver
     if (inverted) s[2] = -s[2];
 }
 
+/* The fast kernels' forces and energy term at (x, v) (v may be NULL)
+ * against the reference's on the free vertices of m: each vertex's error
+ * within `tolerance` ε times scale[i], the energy's within tolerance ε
+ * times energy_scale; `what` names the case. */
+static inline void expect_fast_matches_reference(const sb_model* m, const double* x, const double* v,
+                                                 const double* scale, double energy_scale, sb_term term,
+                                                 double tolerance, const char* what) {
+    uint32_t n = sb_model_vertex_count(m);
+    double *f = malloc(3 * n * sizeof *f), *fast = malloc(3 * n * sizeof *fast);
+    sb_energies reference;
+    sb_error err;
+    assert_int_equal(sb_reference_forces(m, x, v, f, &reference, &err), SB_OK);
+    sb_solver_def def = sb_default_solver_def();
+    def.kernels = SB_KERNELS_FAST;
+    def.runtime.threads = 2;
+    def.gravity[2] = 0.0;
+    sb_solver* solver = sb_solver_create(m, &def, &err);
+    if (!solver) fail_msg("%s", err.message);
+    assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
+    sb_solver_get_forces(solver, fast);
+    double worst = 0.0, largest = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (sb_model_is_fixed(m, i)) continue; /* a solver's forces there are not the reference's */
+        double d[3] = {fast[3 * i] - f[3 * i], fast[3 * i + 1] - f[3 * i + 1], fast[3 * i + 2] - f[3 * i + 2]};
+        worst = fmax(worst, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (TU_REAL_EPS * scale[i]));
+        largest = fmax(largest, fabs(f[3 * i]) + fabs(f[3 * i + 1]) + fabs(f[3 * i + 2]));
+    }
+    double e = sb_solver_energies(solver).term[term], e_ref = reference.term[term];
+    print_message("%s: largest force error %.3g eps of its scale, energy %.6g J against %.6g J (%.3g eps)\n", what,
+                  worst, e, e_ref, fabs(e - e_ref) / (TU_REAL_EPS * energy_scale));
+    assert_true(largest > 0.0 && e_ref > 0.0);
+    TU_ASSERT_LE(worst, tolerance);
+    TU_ASSERT_NEAR(e, e_ref, tolerance * TU_REAL_EPS * energy_scale);
+    sb_solver_destroy(solver);
+    free(f);
+    free(fast);
+}
+
 #endif

@@ -145,38 +145,6 @@ static void test_straight_cut_follows_the_line(void** state) {
     }
 }
 
-/* Total mass and momentum of the vertices in use. */
-static void totals(const sb_solver* s, double* mass, double momentum[3]) {
-    uint32_t n = sb_solver_vertex_count(s);
-    double* v = malloc(3 * (size_t)sb_solver_vertex_capacity(s) * sizeof *v);
-    double* w = malloc((size_t)sb_solver_vertex_capacity(s) * sizeof *w);
-    sb_solver_get_velocities(s, v);
-    sb_solver_get_masses(s, w);
-    *mass = momentum[0] = momentum[1] = momentum[2] = 0.0;
-    for (uint32_t i = 0; i < n; i++) {
-        *mass += w[i];
-        for (int a = 0; a < 3; a++) momentum[a] += w[i] * v[3 * i + a];
-    }
-    free(v);
-    free(w);
-}
-
-/* The sheet drifts and spins (about z) while the blade cuts it. */
-static void set_spin(sb_solver* s) {
-    uint32_t n = sb_solver_vertex_capacity(s);
-    double* x = calloc(3 * (size_t)n, sizeof *x);
-    double* v = calloc(3 * (size_t)n, sizeof *v);
-    sb_solver_get_positions(s, x);
-    for (uint32_t i = 0; i < sb_solver_vertex_count(s); i++) {
-        v[3 * i] = 0.3 - 2.0 * (x[3 * i + 1] - 0.05);
-        v[3 * i + 1] = 2.0 * (x[3 * i] - 0.05);
-        v[3 * i + 2] = 0.1 * sin(60.0 * x[3 * i]);
-    }
-    assert_int_equal(sb_solver_set_state(s, x, v), SB_OK);
-    free(x);
-    free(v);
-}
-
 static void test_cut_keeps_mass_and_momentum(void** state) {
     (void)state;
     sb_model* m = ps_sheet_model(24, 0.2, 0.0);
@@ -185,16 +153,16 @@ static void test_cut_keeps_mass_and_momentum(void** state) {
     sb_blade_def blade = line_blade(&l, path);
     sb_solver_def def = cut_def(&blade, 2);
     sb_solver* s = tu_solver(m, &def);
-    set_spin(s);
+    tu_set_spin(s, 0.05, 0.05, 0.3, 0.1, 60.0);
     double mass0, p0[3], scale = 0.0;
-    totals(s, &mass0, p0);
+    tu_mass_momentum(s, &mass0, p0);
     scale = mass0 * 0.4; /* kg m/s: the mass times the fastest speed */
     uint32_t made = 0;
     double worst_mass = 0.0, worst_momentum = 0.0;
     for (int step = 0; step < 600; step++) {
         double mass, p[3];
         tu_advance(s, 1e-4, 1);
-        totals(s, &mass, p);
+        tu_mass_momentum(s, &mass, p);
         made = sb_solver_vertex_count(s) - sb_model_vertex_count(m);
         worst_mass = fmax(worst_mass, fabs(mass - mass0) / mass0);
         for (int a = 0; a < 3; a++) worst_momentum = fmax(worst_momentum, fabs(p[a] - p0[a]) / scale);
@@ -217,7 +185,7 @@ static double* cut_run(int threads, int save_at) {
     sb_blade_def blade = line_blade(&l, path);
     sb_solver_def def = cut_def(&blade, threads);
     sb_solver* s = tu_solver(m, &def);
-    set_spin(s);
+    tu_set_spin(s, 0.05, 0.05, 0.3, 0.1, 60.0);
     if (save_at > 0) {
         tu_advance(s, 1e-4, (uint64_t)save_at);
         size_t size = sb_solver_state_size(s);

@@ -193,38 +193,6 @@ static void test_cut_follows_the_blades_plane(void** state) {
     }
 }
 
-/* Total mass and momentum of the vertices in use. */
-static void totals(const sb_solver* s, double* mass, double momentum[3]) {
-    uint32_t n = sb_solver_vertex_count(s);
-    double* v = malloc(3 * (size_t)sb_solver_vertex_capacity(s) * sizeof *v);
-    double* w = malloc((size_t)sb_solver_vertex_capacity(s) * sizeof *w);
-    sb_solver_get_velocities(s, v);
-    sb_solver_get_masses(s, w);
-    *mass = momentum[0] = momentum[1] = momentum[2] = 0.0;
-    for (uint32_t i = 0; i < n; i++) {
-        *mass += w[i];
-        for (int a = 0; a < 3; a++) momentum[a] += w[i] * v[3 * i + a];
-    }
-    free(v);
-    free(w);
-}
-
-/* The block drifts, spins about z and shears a little while the blade cuts it. */
-static void set_spin(sb_solver* s) {
-    uint32_t n = sb_solver_vertex_capacity(s);
-    double* x = calloc(3 * (size_t)n, sizeof *x);
-    double* v = calloc(3 * (size_t)n, sizeof *v);
-    sb_solver_get_positions(s, x);
-    for (uint32_t i = 0; i < sb_solver_vertex_count(s); i++) {
-        v[3 * i] = 0.2 - 2.0 * (x[3 * i + 1] - 0.03);
-        v[3 * i + 1] = 2.0 * (x[3 * i] - 0.03);
-        v[3 * i + 2] = 0.05 * sin(100.0 * x[3 * i]);
-    }
-    assert_int_equal(sb_solver_set_state(s, x, v), SB_OK);
-    free(x);
-    free(v);
-}
-
 static void test_cut_keeps_mass_and_momentum(void** state) {
     (void)state;
     sb_model* m = block(3, SB_TISSUE_COROTATED);
@@ -233,16 +201,16 @@ static void test_cut_keeps_mass_and_momentum(void** state) {
     sb_blade_def blade = plane_blade(&l, path);
     sb_solver_def def = cut_def(&blade, 2);
     sb_solver* s = tu_solver(m, &def);
-    set_spin(s);
+    tu_set_spin(s, 0.03, 0.03, 0.2, 0.05, 100.0);
     double mass0, p0[3], dt = step_for(3);
-    totals(s, &mass0, p0);
+    tu_mass_momentum(s, &mass0, p0);
     double scale = mass0 * 0.3; /* kg m/s: the mass times the fastest speed */
     double worst_mass = 0.0, worst_momentum = 0.0;
     int steps = (int)ceil(0.022 / dt);
     for (int step = 0; step < steps; step++) {
         double mass, p[3];
         tu_advance(s, dt, 1);
-        totals(s, &mass, p);
+        tu_mass_momentum(s, &mass, p);
         worst_mass = fmax(worst_mass, fabs(mass - mass0) / mass0);
         for (int a = 0; a < 3; a++) worst_momentum = fmax(worst_momentum, fabs(p[a] - p0[a]) / scale);
     }
@@ -266,7 +234,7 @@ static double* cut_run(int threads, int save_at, size_t* bytes) {
     sb_blade_def blade = plane_blade(&l, path);
     sb_solver_def def = cut_def(&blade, threads);
     sb_solver* s = tu_solver(m, &def);
-    set_spin(s);
+    tu_set_spin(s, 0.03, 0.03, 0.2, 0.05, 100.0);
     double dt = step_for(3);
     int steps = (int)ceil(0.022 / dt);
     if (save_at > 0) {

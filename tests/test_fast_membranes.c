@@ -46,7 +46,7 @@ static double smallest_singular_value(const double F[6]) {
  * file's bound, on the free vertices; `what` names the case. */
 static void assert_membranes_match_reference(const sb_model* m, const double* x, const double* v, const char* what) {
     uint32_t n = sb_model_vertex_count(m);
-    double *f = malloc(3 * n * sizeof *f), *fast = malloc(3 * n * sizeof *fast), *scale = calloc(n, sizeof *scale);
+    double* scale = calloc(n, sizeof *scale);
     double energy_scale = 0.0;
     for (uint32_t t = 0; t < m->membrane_count; t++) {
         double F[6], Fdot[6] = {0}, dm = 0.0, far = 0.0;
@@ -62,33 +62,7 @@ static void assert_membranes_match_reference(const sb_model* m, const double* x,
                 stiffness * sqrt(dm) * (stress + m->membrane_beta[t] * norm6(Fdot)) * condition;
         energy_scale += stiffness * stress * stress * condition;
     }
-    sb_energies reference;
-    sb_error err;
-    assert_int_equal(sb_reference_forces(m, x, v, f, &reference, &err), SB_OK);
-    sb_solver_def def = sb_default_solver_def();
-    def.kernels = SB_KERNELS_FAST;
-    def.runtime.threads = 2;
-    def.gravity[2] = 0.0;
-    sb_solver* solver = sb_solver_create(m, &def, &err);
-    if (!solver) fail_msg("%s", err.message);
-    assert_int_equal(sb_solver_set_state(solver, x, v), SB_OK);
-    sb_solver_get_forces(solver, fast);
-    double worst = 0.0, largest = 0.0;
-    for (uint32_t i = 0; i < n; i++) {
-        if (sb_model_is_fixed(m, i)) continue; /* a solver's forces there are not the reference's */
-        double d[3] = {fast[3 * i] - f[3 * i], fast[3 * i + 1] - f[3 * i + 1], fast[3 * i + 2] - f[3 * i + 2]};
-        worst = fmax(worst, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (TU_REAL_EPS * scale[i]));
-        largest = fmax(largest, fabs(f[3 * i]) + fabs(f[3 * i + 1]) + fabs(f[3 * i + 2]));
-    }
-    double e = sb_solver_energies(solver).term[SB_TERM_MEMBRANE], e_ref = reference.term[SB_TERM_MEMBRANE];
-    print_message("%s: largest force error %.3g eps of its scale, energy %.6g J against %.6g J (%.3g eps)\n", what,
-                  worst, e, e_ref, fabs(e - e_ref) / (TU_REAL_EPS * energy_scale));
-    assert_true(largest > 0.0 && e_ref > 0.0);
-    TU_ASSERT_LE(worst, TOLERANCE);
-    TU_ASSERT_NEAR(e, e_ref, TOLERANCE * TU_REAL_EPS * energy_scale);
-    sb_solver_destroy(solver);
-    free(f);
-    free(fast);
+    expect_fast_matches_reference(m, x, v, scale, energy_scale, SB_TERM_MEMBRANE, TOLERANCE, what);
     free(scale);
 }
 

@@ -351,4 +351,38 @@ static inline uint64_t tu_state_hash(const sb_solver* solver) {
     return h;
 }
 
+/* The total mass and momentum of a solver's vertices in use. */
+static inline void tu_mass_momentum(const sb_solver* s, double* mass, double momentum[3]) {
+    uint32_t n = sb_solver_vertex_count(s);
+    double* v = malloc(3 * (size_t)sb_solver_vertex_capacity(s) * sizeof *v);
+    double* w = malloc((size_t)sb_solver_vertex_capacity(s) * sizeof *w);
+    sb_solver_get_velocities(s, v);
+    sb_solver_get_masses(s, w);
+    *mass = momentum[0] = momentum[1] = momentum[2] = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        *mass += w[i];
+        for (int a = 0; a < 3; a++) momentum[a] += w[i] * v[3 * i + a];
+    }
+    free(v);
+    free(w);
+}
+
+/* Sets every vertex in use moving: a drift along x, a spin of 2 rad/s
+ * about the vertical through (cx, cy), and a vertical wobble of amplitude
+ * `wobble` (m/s) and wavenumber k (1/m) along x. */
+static inline void tu_set_spin(sb_solver* s, double cx, double cy, double drift, double wobble, double k) {
+    uint32_t n = sb_solver_vertex_capacity(s);
+    double* x = calloc(3 * (size_t)n, sizeof *x);
+    double* v = calloc(3 * (size_t)n, sizeof *v);
+    sb_solver_get_positions(s, x);
+    for (uint32_t i = 0; i < sb_solver_vertex_count(s); i++) {
+        v[3 * i] = drift - 2.0 * (x[3 * i + 1] - cy);
+        v[3 * i + 1] = 2.0 * (x[3 * i] - cx);
+        v[3 * i + 2] = wobble * sin(k * x[3 * i]);
+    }
+    assert_int_equal(sb_solver_set_state(s, x, v), SB_OK);
+    free(x);
+    free(v);
+}
+
 #endif
