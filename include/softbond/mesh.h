@@ -42,6 +42,11 @@ typedef struct sb_sheet_def {
     double width, height;
     double jitter; /**< in [0, 0.5), a fraction of the spacing along each axis; 0 = a regular grid */
     uint64_t seed; /**< the jitter's generator: the same seed, the same sheet */
+    /** false (the default): the cells cut along alternating diagonals, a
+     * checkerboard; true: every cell along the same diagonal, so that a
+     * flat sheet of factory membrane gets the plate bending, which honours
+     * ν (docs/materials.md, "Sheets") */
+    bool parallel_diagonals;
 } sb_sheet_def;
 
 /** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1. */
