@@ -49,7 +49,7 @@ typedef struct sb_sheet_def {
     bool parallel_diagonals;
 } sb_sheet_def;
 
-/** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1. */
+/** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1, alternating diagonals. */
 SB_API sb_sheet_def sb_default_sheet_def(void);
 /** Generates the sheet into *out (the caller frees it with sb_mesh_free).
  * SB_ERR_INVALID for nx or ny below 2, a width or height not positive and
