@@ -5,7 +5,10 @@
  * y = row * height / (ny - 1), z = 0. Quad (row, col) is split along the
  * diagonal (row, col)-(row+1, col+1) when row + col is even and along the
  * other one when it is odd, a checkerboard, so the sheet has no preferred
- * shear direction. Every triangle is counter-clockwise seen from +z. Jitter
+ * shear direction; with parallel_diagonals every quad along (row, col)-
+ * (row+1, col+1), which the plate bending's stencils suit (every interior
+ * vertex has six neighbours; at the checkerboard's four-neighbour vertices
+ * they feel an oscillation, mesh/plate_stencils.h). Every triangle is counter-clockwise seen from +z. Jitter
  * moves each interior vertex by independent uniform offsets in
  * [-jitter * dx, jitter * dx] and [-jitter * dy, jitter * dy] (dx, dy the
  * spacings), drawn from splitmix64 seeded with `seed`, two draws per
@@ -35,7 +38,8 @@
 /* ---- sheet --------------------------------------------------------------- */
 
 sb_sheet_def sb_default_sheet_def(void) {
-    sb_sheet_def def = {.nx = 10, .ny = 10, .width = 1.0, .height = 1.0, .jitter = 0.0, .seed = 1};
+    sb_sheet_def def = {
+        .nx = 10, .ny = 10, .width = 1.0, .height = 1.0, .jitter = 0.0, .seed = 1, .parallel_diagonals = false};
     return def;
 }
 
@@ -92,7 +96,7 @@ static void sheet_positions(const sb_sheet_def* def, double* positions) {
     }
 }
 
-static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles) {
+static void sheet_triangles(uint32_t nx, uint32_t ny, bool parallel_diagonals, uint32_t* triangles) {
     uint32_t* t = triangles;
     for (uint32_t row = 0; row + 1 < ny; row++) {
         for (uint32_t col = 0; col + 1 < nx; col++) {
@@ -101,7 +105,7 @@ static void sheet_triangles(uint32_t nx, uint32_t ny, uint32_t* triangles) {
             uint32_t c = a + nx;         /* (col, row+1) */
             uint32_t d = c + 1;          /* (col+1, row+1) */
             uint32_t quad[6];
-            if ((row + col) % 2 == 0) { /* diagonal a-d */
+            if (parallel_diagonals || (row + col) % 2 == 0) { /* diagonal a-d */
                 uint32_t q[6] = {a, b, d, a, d, c};
                 memcpy(quad, q, sizeof q);
             } else { /* diagonal b-c */
@@ -136,7 +140,7 @@ sb_status sb_mesh_generate_sheet(const sb_sheet_def* def, sb_mesh* out, sb_error
         return sb_error_set(err, SB_ERR_NOMEM, "sheet: out of memory");
     }
     sheet_positions(def, positions);
-    sheet_triangles(def->nx, def->ny, indices);
+    sheet_triangles(def->nx, def->ny, def->parallel_diagonals, indices);
     out->vertex_count = (uint32_t)vertices;
     out->positions = positions;
     out->triangle_count = (uint32_t)triangles;

@@ -16,6 +16,7 @@ static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) 
     def.height = sb_scene_number(scene, SB_KEY_MESH_HEIGHT);
     def.jitter = sb_scene_number(scene, SB_KEY_MESH_JITTER);
     def.seed = (uint64_t)sb_scene_integer(scene, SB_KEY_MESH_SEED);
+    def.parallel_diagonals = strcmp(sb_scene_string(scene, SB_KEY_MESH_DIAGONALS), "parallel") == 0;
     return sb_mesh_generate_sheet(&def, out, err);
 }
 

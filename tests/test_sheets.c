@@ -29,9 +29,11 @@
 
 /* A regular nx × ny sheet of width × height in the x-y plane starting at
  * (x0, 0), jittered by `jitter` of a spacing. */
-static sb_mesh sheet_mesh(uint32_t nx, uint32_t ny, double width, double height, double x0, double jitter) {
+static sb_mesh generated_sheet(uint32_t nx, uint32_t ny, double width, double height, double x0, double jitter,
+                               bool parallel_diagonals) {
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = nx, def.ny = ny, def.width = width, def.height = height, def.jitter = jitter;
+    def.parallel_diagonals = parallel_diagonals;
     sb_mesh mesh = {0};
     sb_error err;
     assert_int_equal(sb_mesh_generate_sheet(&def, &mesh, &err), SB_OK);
@@ -39,25 +41,16 @@ static sb_mesh sheet_mesh(uint32_t nx, uint32_t ny, double width, double height,
     return mesh;
 }
 
-/* nx × ny vertices over width × height from (x0, 0), every quad cut along
- * the same diagonal (the generator's sheet alternates them). */
+/* The generator's sheet: nx × ny vertices over width × height from
+ * (x0, 0), its quads cut along alternating diagonals. */
+static sb_mesh sheet_mesh(uint32_t nx, uint32_t ny, double width, double height, double x0, double jitter) {
+    return generated_sheet(nx, ny, width, height, x0, jitter, false);
+}
+
+/* The same with every quad cut along the same diagonal (mesh.diagonals:
+ * parallel), the mesh the plates suit. */
 static sb_mesh same_diagonal_mesh(uint32_t nx, uint32_t ny, double width, double height, double x0) {
-    sb_mesh mesh = {nx * ny, malloc(3 * (size_t)nx * ny * sizeof(double)), 2 * (nx - 1) * (ny - 1),
-                    malloc(6 * (size_t)(nx - 1) * (ny - 1) * sizeof(uint32_t))};
-    for (uint32_t j = 0; j < ny; j++)
-        for (uint32_t i = 0; i < nx; i++) {
-            double* p = mesh.positions + 3 * ((size_t)j * nx + i);
-            p[0] = x0 + width * i / (nx - 1), p[1] = height * j / (ny - 1), p[2] = 0.0;
-        }
-    uint32_t* t = mesh.triangles;
-    for (uint32_t j = 0; j + 1 < ny; j++)
-        for (uint32_t i = 0; i + 1 < nx; i++) {
-            uint32_t a = j * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
-            const uint32_t two[6] = {a, b, c, a, c, d};
-            memcpy(t, two, sizeof two);
-            t += 6;
-        }
-    return mesh;
+    return generated_sheet(nx, ny, width, height, x0, 0.0, true);
 }
 
 static sb_sheet_material_def tissue_sheet(double nu) {
@@ -850,7 +843,8 @@ static sb_model* scene_model(const char* const* sets, int count, sb_error* err) 
 
 /* factory: membrane builds a membrane per triangle, with the sheet.* keys'
  * material (its mass ρ t A), no terms' triangles unless self_collision
- * asks for the surface; a Poisson's ratio out of range is named. */
+ * asks for the surface; mesh.diagonals: parallel gives the plates; a
+ * Poisson's ratio out of range and a misspelt mesh.diagonals are named. */
 static void test_scene_keys(void** state) {
     (void)state;
     sb_error err;
@@ -869,6 +863,20 @@ static void test_scene_keys(void** state) {
     assert_int_equal(sb_model_triangle_count(m), 12);
     assert_false(sb_model_term_enabled(m, SB_TERM_ANGLE));
     sb_model_destroy(m);
+    const char* const diagonals[2] = {"mesh.diagonals=alternating", "mesh.diagonals=parallel"};
+    for (int k = 0; k < 2; k++) { /* the plates on the parallel diagonals, the hinges on the checkerboard */
+        m = scene_model(diagonals + k, 1, &err);
+        assert_non_null(m);
+        uint64_t plate_elements = 0;
+        for (uint64_t id = 0; id < sb_element_count(m); id++)
+            plate_elements += sb_element_at(m, id).kind == SB_ELEMENT_PLATE;
+        assert_int_equal(plate_elements, k ? 12 : 0);
+        assert_int_equal(sb_model_hinge_count(m) == 0, k == 1);
+        sb_model_destroy(m);
+    }
+    const char* const misspelt[1] = {"mesh.diagonals=paralel"};
+    assert_null(scene_model(misspelt, 1, &err));
+    TU_ASSERT_CONTAINS(err.message, "'mesh.diagonals' must be alternating or parallel, got 'paralel'");
     const char* const damped[1] = {"sheet.stiffness_damping=-1"};
     assert_null(scene_model(damped, 1, &err));
     TU_ASSERT_CONTAINS(err.message, "'sheet.stiffness_damping' must be >= 0, got -1");

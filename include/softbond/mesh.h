@@ -42,9 +42,14 @@ typedef struct sb_sheet_def {
     double width, height;
     double jitter; /**< in [0, 0.5), a fraction of the spacing along each axis; 0 = a regular grid */
     uint64_t seed; /**< the jitter's generator: the same seed, the same sheet */
+    /** false (the default): the cells cut along alternating diagonals, a
+     * checkerboard; true: every cell along the same diagonal, so that a
+     * flat sheet of factory membrane gets the plate bending, which honours
+     * ν (docs/materials.md, "Sheets") */
+    bool parallel_diagonals;
 } sb_sheet_def;
 
-/** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1. */
+/** 10 × 10 vertices on 1 m × 1 m, no jitter, seed 1, alternating diagonals. */
 SB_API sb_sheet_def sb_default_sheet_def(void);
 /** Generates the sheet into *out (the caller frees it with sb_mesh_free).
  * SB_ERR_INVALID for nx or ny below 2, a width or height not positive and
