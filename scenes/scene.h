@@ -41,9 +41,10 @@ typedef enum sb_scene_type {
     X(MESH_JITTER, "mesh.jitter", NUMBER, "0", "1",                                                                    \
       "sheet: interior vertices moved by up to jitter x spacing, in [0, 0.5)")                                         \
     X(MESH_SEED, "mesh.seed", INTEGER, "1", "", "sheet: seed of the jitter")                                           \
-    X(MESH_DIAGONALS, "mesh.diagonals", STRING, "alternating", "",                                                     \
+    X(MESH_DIAGONALS, "mesh.diagonals", STRING, "auto", "",                                                            \
       "sheet: the cells cut along alternating diagonals (a checkerboard) or parallel ones (all the same way: a flat "  \
-      "sheet of factory membrane then gets the plate bending, which honours sheet.poisson_ratio)")                     \
+      "sheet of factory membrane then gets the plate bending, which honours sheet.poisson_ratio); auto: parallel "     \
+      "for factory membrane, else alternating")                                                                        \
     X(MESH_SUBDIVISIONS, "mesh.subdivisions", INTEGER, "2", "", "icosphere: subdivisions of the icosahedron (0 to 8)") \
     X(MESH_RADIUS, "mesh.radius", NUMBER, "1", "m", "icosphere: radius, m")                                            \
     X(MESH_REORDER, "mesh.reorder", BOOL, "false", "",                                                                 \

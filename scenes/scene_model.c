@@ -8,6 +8,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Whether the generated sheet's cells are cut all the same way: asked for,
+ * or by default for a sheet stated by its material (factory membrane),
+ * whose plate bending needs such a mesh (mesh/plate_stencils.c). */
+static bool parallel_diagonals(const sb_scene* scene) {
+    const char* diagonals = sb_scene_string(scene, SB_KEY_MESH_DIAGONALS);
+    if (strcmp(diagonals, "auto") != 0) return strcmp(diagonals, "parallel") == 0;
+    return strcmp(sb_scene_string(scene, SB_KEY_FACTORY), "membrane") == 0;
+}
+
 static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) {
     sb_sheet_def def = sb_default_sheet_def();
     def.nx = (uint32_t)sb_scene_integer(scene, SB_KEY_MESH_NX);
@@ -16,7 +25,7 @@ static sb_status make_sheet(const sb_scene* scene, sb_mesh* out, sb_error* err) 
     def.height = sb_scene_number(scene, SB_KEY_MESH_HEIGHT);
     def.jitter = sb_scene_number(scene, SB_KEY_MESH_JITTER);
     def.seed = (uint64_t)sb_scene_integer(scene, SB_KEY_MESH_SEED);
-    def.parallel_diagonals = strcmp(sb_scene_string(scene, SB_KEY_MESH_DIAGONALS), "parallel") == 0;
+    def.parallel_diagonals = parallel_diagonals(scene);
     return sb_mesh_generate_sheet(&def, out, err);
 }
 

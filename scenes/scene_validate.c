@@ -154,11 +154,12 @@ static sb_status check_names(const sb_scene* scene, sb_error* err) {
                              "'mesh.generator' must be sheet, icosphere or file, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_MESH_GENERATOR),
                              hint(scene, SB_KEY_MESH_GENERATOR, "sheet, icosphere, file"));
-    static const char* const diagonals[] = {"alternating", "parallel", NULL};
+    static const char* const diagonals[] = {"auto", "alternating", "parallel", NULL};
     if (!one_of(sb_scene_string(scene, SB_KEY_MESH_DIAGONALS), diagonals))
-        return sb_scene_fail(
-            scene, SB_KEY_MESH_DIAGONALS, err, "'mesh.diagonals' must be alternating or parallel, got '%s'%s",
-            sb_scene_string(scene, SB_KEY_MESH_DIAGONALS), hint(scene, SB_KEY_MESH_DIAGONALS, "alternating, parallel"));
+        return sb_scene_fail(scene, SB_KEY_MESH_DIAGONALS, err,
+                             "'mesh.diagonals' must be auto, alternating or parallel, got '%s'%s",
+                             sb_scene_string(scene, SB_KEY_MESH_DIAGONALS),
+                             hint(scene, SB_KEY_MESH_DIAGONALS, "auto, alternating, parallel"));
     if (!one_of(sb_scene_string(scene, SB_KEY_KERNELS), kernels))
         return sb_scene_fail(scene, SB_KEY_KERNELS, err, "'kernels' must be reference or fast, got '%s'%s",
                              sb_scene_string(scene, SB_KEY_KERNELS), hint(scene, SB_KEY_KERNELS, "reference, fast"));

@@ -863,20 +863,22 @@ static void test_scene_keys(void** state) {
     assert_int_equal(sb_model_triangle_count(m), 12);
     assert_false(sb_model_term_enabled(m, SB_TERM_ANGLE));
     sb_model_destroy(m);
-    const char* const diagonals[2] = {"mesh.diagonals=alternating", "mesh.diagonals=parallel"};
-    for (int k = 0; k < 2; k++) { /* the plates on the parallel diagonals, the hinges on the checkerboard */
+    /* the plates on parallel diagonals (a membrane sheet's by default), the hinges on the checkerboard */
+    const char* const diagonals[3] = {"mesh.diagonals=auto", "mesh.diagonals=alternating", "mesh.diagonals=parallel"};
+    for (int k = 0; k < 3; k++) {
+        bool plates = k != 1;
         m = scene_model(diagonals + k, 1, &err);
         assert_non_null(m);
         uint64_t plate_elements = 0;
         for (uint64_t id = 0; id < sb_element_count(m); id++)
             plate_elements += sb_element_at(m, id).kind == SB_ELEMENT_PLATE;
-        assert_int_equal(plate_elements, k ? 12 : 0);
-        assert_int_equal(sb_model_hinge_count(m) == 0, k == 1);
+        assert_int_equal(plate_elements, plates ? 12 : 0);
+        assert_int_equal(sb_model_hinge_count(m) == 0, plates);
         sb_model_destroy(m);
     }
     const char* const misspelt[1] = {"mesh.diagonals=paralel"};
     assert_null(scene_model(misspelt, 1, &err));
-    TU_ASSERT_CONTAINS(err.message, "'mesh.diagonals' must be alternating or parallel, got 'paralel'");
+    TU_ASSERT_CONTAINS(err.message, "'mesh.diagonals' must be auto, alternating or parallel, got 'paralel'");
     const char* const damped[1] = {"sheet.stiffness_damping=-1"};
     assert_null(scene_model(damped, 1, &err));
     TU_ASSERT_CONTAINS(err.message, "'sheet.stiffness_damping' must be >= 0, got -1");
