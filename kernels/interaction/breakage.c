@@ -411,13 +411,13 @@ static bool sb_correction_prepare(sb_breakage* b) {
 
 /* What cutting through triangles needs (sb_solver_def.cut_through). */
 static sb_status sb_cut_through_check(const sb_model* m, const sb_solver_def* def, sb_error* err) {
-    const char* missing = def->blade_count == 0                             ? "blades"
-                          : m->triangle_count == 0                          ? sb_cut_volume_missing(m)
-                          : m->breakable                                    ? "a model without break limits"
-                          : def->integrator > SB_INTEGRATOR_POSITION_VERLET ? "an explicit integrator"
-                          : def->collider_count > 0 || def->self_collision  ? "no contact"
-                          : def->max_splits < 0                             ? "max_splits >= 0"
-                                                                            : NULL;
+    const char* missing = def->blade_count == 0                            ? "blades"
+                          : m->triangle_count == 0                         ? sb_cut_volume_missing(m)
+                          : m->breakable                                   ? "a model without break limits"
+                          : def->integrator > SB_INTEGRATOR_IMPLICIT_EULER ? "an explicit integrator or implicit Euler"
+                          : def->collider_count > 0 || def->self_collision ? "no contact"
+                          : def->max_splits < 0                            ? "max_splits >= 0"
+                                                                           : NULL;
     if (missing)
         return sb_error_set(
             err, SB_ERR_INVALID,
