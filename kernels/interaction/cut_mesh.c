@@ -80,9 +80,11 @@
  * The fast kernels' element layout (colors, blocks, padded slots) is
  * built at creation from the elements there are, so after a step that
  * cut, the fast model is built again from the working copy
- * (sb_fast_rebuild; a cost only of the steps that cut); implicit Euler,
- * pbd, xpbd and vbd keep structures of their own built for the first
- * elements and are refused at creation. */
+ * (sb_fast_rebuild; a cost only of the steps that cut), and implicit
+ * Euler builds its matrix anew when the element count changed
+ * (kernels/integrators/implicit_euler.c); pbd, xpbd and vbd keep
+ * structures of their own built for the first elements and are refused
+ * at creation. */
 #include "kernels/interaction/cut_mesh.h"
 #include "kernels/state/solver_data.h"
 #include "common/union_find.h"
