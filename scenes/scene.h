@@ -141,8 +141,8 @@ typedef enum sb_scene_type {
       "edges that cut the bonds they cross as they move: a list of maps {a, b: the ends, m; path, interpolation} "     \
       "(scenes/blades.c)")                                                                                             \
     X(CUT_THROUGH, "cut_through", BOOL, "false", "",                                                                   \
-      "true: the blades split the triangles they pass through along their path (needs kernels: reference, an "         \
-      "explicit integrator, no break limits, no contact); false: they cut the bonds they cross")                       \
+      "true: the blades split the triangles (or tetrahedra) they pass through along their path (needs an "             \
+      "explicit integrator or implicit_euler, no break limits, no contact); false: they cut the bonds they cross")     \
     X(TEARING_MAX_SPLITS, "tearing.max_splits", INTEGER, "0", "",                                                      \
       "vertex copies tearing may make over the run (spare vertices reserved); 0 = default, -1 = no splitting")         \
     X(TEARING_MAX_SPLITS_PER_STEP, "tearing.max_splits_per_step", INTEGER, "0", "",                                    \

@@ -144,10 +144,10 @@ typedef struct sb_solver_def {
      * where their edge crossed a bond, the triangles split there, the two
      * sides separated), so the cut lies where the blades went, instead of
      * severing the bonds they cross. Needs blades, a model with triangles
-     * and no break limits, the reference kernels, an explicit integrator
+     * (or linear tetrahedra) and no break limits, an explicit integrator
      * (Verlet, velocity Verlet, explicit or symplectic Euler, position
-     * Verlet), no colliders and no self-contact; refused at creation
-     * otherwise. max_splits reserves the new vertices (each takes up to 4
+     * Verlet) or implicit Euler, on either kernels, no colliders and no
+     * self-contact; refused at creation otherwise. max_splits reserves the new vertices (each takes up to 4
      * bonds and 2 triangles more). Default false. */
     bool cut_through;
     /** implicit_euler: Newton stops when the residual M Δv − dt f(x⁺, v⁺) has

@@ -127,6 +127,7 @@ struct sb_implicit {
     sb_block_matrix* matrix;       /* J */
     sb_sparse_cholesky* cholesky;  /* its factorization; NULL when CG solves */
     uint32_t pattern_vertices;     /* live_vertices when its pattern was built */
+    uint64_t pattern_elements;     /* the model's elements then (a cut adds some) */
     struct sb_implicit_fast* fast; /* kernels: fast, solved by CG: kernels/integrators/implicit_fast.c, nothing above */
 };
 
@@ -519,6 +520,7 @@ bool sb_implicit_prepare(sb_solver* s) {
         malloc((size_t)sb_team_size(s->team) * SB_ASSEMBLY_CHUNK * SB_ELEMENT_MATRIX * sizeof(double));
     im->matrix = sb_block_matrix_create(s->model, s->model->vertex_count - s->live_vertices);
     im->pattern_vertices = s->live_vertices;
+    im->pattern_elements = sb_element_count(s->model);
     if (!im->work || !im->term_forces || !im->inverse_blocks || !im->matrix || !im->element_matrices) return false;
     if (!sb_implicit_factors(s)) return true;
     im->cholesky = sb_sparse_cholesky_create(im->matrix);
@@ -581,20 +583,54 @@ sb_newton_limits sb_newton_limits_of(const sb_solver* s) {
                               .cg_cap = d->implicit_cg_iterations > 0 ? d->implicit_cg_iterations : 200};
 }
 
-sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
-    struct sb_implicit* im = s->implicit;
-    if (im->fast) return sb_implicit_fast_step(s, im->fast, dt);
-    if (im->pattern_vertices != s->live_vertices) { /* tearing split vertices */
+/* J and its factorization built anew after a cut added elements
+ * (kernels/interaction/cut_mesh.c, cut_volume.c): the matrix's per-element
+ * arrays are sized by the element count at creation. */
+static sb_status sb_renew_pattern(sb_solver* s, struct sb_implicit* im) {
+    sb_block_matrix* matrix = sb_block_matrix_create(s->model, s->model->vertex_count - s->live_vertices);
+    sb_sparse_cholesky* cholesky = matrix && im->cholesky ? sb_sparse_cholesky_create(matrix) : NULL;
+    if (!matrix || (im->cholesky && !cholesky)) {
+        sb_block_matrix_destroy(matrix);
+        return sb_error_set(&s->error, SB_ERR_NOMEM, "implicit_euler: out of memory for the cut mesh's matrix");
+    }
+    sb_block_matrix_destroy(im->matrix);
+    im->matrix = matrix;
+    if (cholesky) {
+        sb_sparse_cholesky_destroy(im->cholesky);
+        im->cholesky = cholesky;
+    }
+    return SB_OK;
+}
+
+/* J's pattern after the model changed: re-pointed in place where tearing
+ * split vertices (its elements the same), built anew where a cut added
+ * elements. */
+static sb_status sb_refresh_pattern(sb_solver* s, struct sb_implicit* im) {
+    uint64_t elements = sb_element_count(s->model);
+    if (im->pattern_vertices == s->live_vertices && im->pattern_elements == elements) return SB_OK;
+    if (elements != im->pattern_elements) {
+        sb_status status = sb_renew_pattern(s, im);
+        if (status != SB_OK) return status;
+    } else {
         if (!sb_block_matrix_rebuild(im->matrix, s->model))
             return sb_error_set(&s->error, SB_ERR_NOMEM,
                                 "implicit_euler: the torn surface's matrix outgrew its reserve");
         if (im->cholesky && !sb_sparse_cholesky_analyze(im->cholesky, im->matrix))
             return sb_error_set(&s->error, SB_ERR_NOMEM, "implicit_euler: out of memory factoring the torn surface");
-        im->pattern_vertices = s->live_vertices;
     }
+    im->pattern_vertices = s->live_vertices;
+    im->pattern_elements = elements;
+    return SB_OK;
+}
+
+sb_status sb_integrate_implicit_euler(sb_solver* s, double dt) {
+    struct sb_implicit* im = s->implicit;
+    if (im->fast) return sb_implicit_fast_step(s, im->fast, dt);
+    sb_status status = sb_refresh_pattern(s, im);
+    if (status != SB_OK) return status;
     sb_newton w = sb_newton_init(s, dt);
     const sb_newton_limits limits = sb_newton_limits_of(s);
-    sb_status status = sb_newton_point(&w);
+    status = sb_newton_point(&w);
     if (status != SB_OK) return status;
     double first = sqrt(sb_dot(w.a[W_RHS], w.a[W_RHS], w.n3)), norm = first;
     bool converged = false, stale = true;

@@ -411,14 +411,13 @@ static bool sb_correction_prepare(sb_breakage* b) {
 
 /* What cutting through triangles needs (sb_solver_def.cut_through). */
 static sb_status sb_cut_through_check(const sb_model* m, const sb_solver_def* def, sb_error* err) {
-    const char* missing = def->blade_count == 0                             ? "blades"
-                          : m->triangle_count == 0                          ? sb_cut_volume_missing(m)
-                          : m->breakable                                    ? "a model without break limits"
-                          : def->kernels != SB_KERNELS_REFERENCE            ? "the reference kernels"
-                          : def->integrator > SB_INTEGRATOR_POSITION_VERLET ? "an explicit integrator"
-                          : def->collider_count > 0 || def->self_collision  ? "no contact"
-                          : def->max_splits < 0                             ? "max_splits >= 0"
-                                                                            : NULL;
+    const char* missing = def->blade_count == 0                            ? "blades"
+                          : m->triangle_count == 0                         ? sb_cut_volume_missing(m)
+                          : m->breakable                                   ? "a model without break limits"
+                          : def->integrator > SB_INTEGRATOR_IMPLICIT_EULER ? "an explicit integrator or implicit Euler"
+                          : def->collider_count > 0 || def->self_collision ? "no contact"
+                          : def->max_splits < 0                            ? "max_splits >= 0"
+                                                                           : NULL;
     if (missing)
         return sb_error_set(
             err, SB_ERR_INVALID,
@@ -957,6 +956,18 @@ static void sb_note_crossing(void* breakage, uint32_t bond, double along) {
     b->met_at[b->met_count++] = along;
 }
 
+/* The forces and energies after a cut: the fast model built again from the
+ * working copy (a cut adds elements, where tearing only moves them within
+ * their slots), everything evaluated again, the velocities re-kicked. */
+static sb_status sb_cut_refresh(sb_solver* s, sb_breakage* b) {
+    sb_status status = s->fast ? sb_fast_rebuild(s, &s->error) : SB_OK;
+    if (status == SB_OK) status = sb_solver_compute_forces(s);
+    if (status != SB_OK) return status;
+    sb_rekick(s, b->forces);
+    sb_update_energies(s);
+    return SB_OK;
+}
+
 /* The accept stage when cutting through triangles (kernels/interaction/cut_mesh.c):
  * the step's crossings refine the mesh, the cut's edges and vertices come
  * apart, and the forces and energies are evaluated again. */
@@ -965,15 +976,12 @@ static sb_status sb_cut_accept(sb_solver* s, sb_breakage* b) {
     sb_cutting_pass(b->cutting, &b->live, sb_packed_positions(s), sb_cut_mesh_skip(b->cut), s->time - s->step.dt,
                     s->time, sb_note_crossing, b);
     if (b->met_count == 0) return SB_OK;
+    sb_fast_publish(s); /* the cut reads and writes the state's arrays */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     for (uint32_t q = 0; q < b->met_count; q++) sb_cut_mesh_cross(s, b->cut, b->met[q], b->met_at[q], b->forces);
     sb_cut_mesh_separate(s, b->cut, b->forces);
     s->live_vertices = sb_cut_mesh_vertex_count(b->cut);
-    sb_status status = sb_solver_compute_forces(s);
-    if (status != SB_OK) return status;
-    sb_rekick(s, b->forces);
-    sb_update_energies(s);
-    return SB_OK;
+    return sb_cut_refresh(s, b);
 }
 
 /* The accept stage when cutting through tetrahedra (kernels/interaction/cut_volume.c):
@@ -984,16 +992,13 @@ static sb_status sb_cut_volume_accept(sb_solver* s, sb_breakage* b) {
     sb_cutting_pass(b->cutting, sb_cut_volume_edges(cut), sb_packed_positions(s), sb_cut_volume_skip(cut),
                     s->time - s->step.dt, s->time, sb_note_crossing, b);
     if (b->met_count == 0) return SB_OK;
+    sb_fast_publish(s); /* the cut reads and writes the state's arrays */
     sb_interleave(b->forces, s->state.fx, s->state.fy, s->state.fz, s->state.vertex_count);
     sb_cut_volume_sweeps(cut, s->time - s->step.dt, s->time);
     for (uint32_t q = 0; q < b->met_count; q++) sb_cut_volume_cross(s, cut, b->met[q], b->met_at[q], b->forces);
     sb_cut_volume_separate(s, cut, b->forces);
     s->live_vertices = sb_cut_volume_vertex_count(cut);
-    sb_status status = sb_solver_compute_forces(s);
-    if (status != SB_OK) return status;
-    sb_rekick(s, b->forces);
-    sb_update_energies(s);
-    return SB_OK;
+    return sb_cut_refresh(s, b);
 }
 
 static sb_status sb_breakage_accept(sb_solver* s, double dt) {
@@ -1021,6 +1026,13 @@ static sb_status sb_breakage_accept(sb_solver* s, double dt) {
 
 sb_status sb_breakage_update_contact(sb_solver* s, sb_error* err) {
     return s->breakage ? sb_self_contact_retopologize(s, s->breakage->triangle_dead, err) : SB_OK;
+}
+
+sb_status sb_breakage_loaded(sb_solver* s, sb_error* err) {
+    sb_breakage* b = s->breakage;
+    bool cut = b && (b->cut || b->volume_cut);
+    sb_status status = cut && s->fast ? sb_fast_rebuild(s, err) : SB_OK;
+    return status == SB_OK ? sb_breakage_update_contact(s, err) : status;
 }
 
 /* The begin stage: the blades' sweep starts from the vertices' positions now. */

@@ -51,5 +51,9 @@ bool sb_breakage_triangle_dead(const sb_breakage* breakage, uint32_t triangle);
  * accept stage's, a loaded state's): its features and hierarchy from the
  * working copy again, the dead triangles out of it. */
 sb_status sb_breakage_update_contact(sb_solver* solver, sb_error* err);
+/* After a state was loaded: the fast model built again from the working
+ * copy when a cut changed its elements (sb_fast_rebuild), then self-contact
+ * as sb_breakage_update_contact. */
+sb_status sb_breakage_loaded(sb_solver* solver, sb_error* err);
 
 #endif

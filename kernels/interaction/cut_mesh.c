@@ -77,9 +77,14 @@
  * (the triangles and bonds at a vertex) are found by a scan of the
  * elements at each refinement and split, a cost only of the steps that
  * cut (fine for the sheets a trainer cuts; a large mesh would want stars).
- * The fast kernels' element layout is fixed at creation, so a solver
- * that cuts through triangles runs on the scalar reference kernels and an
- * explicit integrator (refused at creation otherwise). */
+ * The fast kernels' element layout (colors, blocks, padded slots) is
+ * built at creation from the elements there are, so after a step that
+ * cut, the fast model is built again from the working copy
+ * (sb_fast_rebuild; a cost only of the steps that cut), and implicit
+ * Euler builds its matrix anew when the element count changed
+ * (kernels/integrators/implicit_euler.c); pbd, xpbd and vbd keep
+ * structures of their own built for the first elements and are refused
+ * at creation. */
 #include "kernels/interaction/cut_mesh.h"
 #include "kernels/state/solver_data.h"
 #include "common/union_find.h"
@@ -251,6 +256,9 @@ void sb_blend_vertex(sb_solver* s, uint32_t u, uint32_t v, double f, uint32_t w)
     sb_vertex_arrays(s, rest, state);
     for (int a = 0; a < 6; a++) rest[a][w] = (1.0 - f) * rest[a][u] + f * rest[a][v];
     for (int a = 0; a < 12; a++) state[a][w] = (sb_real)((1.0 - f) * state[a][u] + f * state[a][v]);
+    for (int a = 0; s->fast && a < 3; a++) /* the fast path's compensation lives packed only */
+        s->carry4[4 * (size_t)w + a] =
+            (sb_real)((1.0 - f) * s->carry4[4 * (size_t)u + a] + f * s->carry4[4 * (size_t)v + a]);
     uint8_t* fixed = ((sb_model*)s->model)->fixed;
     fixed[w] = fixed[u] && fixed[v]; /* a copy of a fixed vertex, or a vertex on a bond between two, is fixed */
 }

@@ -475,5 +475,5 @@ sb_status sb_solver_load_state(sb_solver* s, const void* buffer, size_t size, sb
     for (int p = 0; p < SB_PART_COUNT; p++)
         if (sb_parts[p].present(s)) sb_parts[p].load(s, &found[p]);
     s->forces_stale = false; /* saved settled */
-    return sb_breakage_update_contact(s, err);
+    return sb_breakage_loaded(s, err);
 }

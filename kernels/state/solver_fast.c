@@ -97,15 +97,18 @@ static sb_partial_layout sb_partials_of(const sb_solver* s) {
     return p;
 }
 
+/* The partial sums' count: per block of each group, per chunk of vertices. */
+static size_t sb_partial_count(const sb_fast_model* f) {
+    return 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
+           f->tets.block_count + 2 * (size_t)f->membranes.block_count + 2 * (size_t)sb_vertex_chunks(f->vertex_count);
+}
+
 sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
     s->fast = sb_fast_model_create(s->model, err);
     if (!s->fast) return SB_ERR_NOMEM;
-    const sb_fast_model* f = s->fast;
-    size_t count = 2 * (size_t)f->bonds.block_count + 5 * (size_t)f->triangles.block_count + f->hinges.block_count +
-                   f->tets.block_count + 2 * (size_t)f->membranes.block_count +
-                   2 * (size_t)sb_vertex_chunks(f->vertex_count);
+    size_t count = sb_partial_count(s->fast);
     s->partials = calloc(count ? count : 1, sizeof *s->partials);
-    size_t packed = ((4 * (size_t)f->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
+    size_t packed = ((4 * (size_t)s->fast->vertex_count * sizeof(sb_real)) / 64 + 1) * 64;
     sb_real** arrays[5] = {&s->positions4, &s->velocities4, &s->displacements4, &s->forces4, &s->carry4};
     bool ok = s->partials != NULL;
     for (int a = 0; a < 5; a++) {
@@ -114,6 +117,25 @@ sb_status sb_fast_prepare(sb_solver* s, sb_error* err) {
         if (*arrays[a]) memset(*arrays[a], 0, packed);
     }
     if (!ok) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the fast solver");
+    return SB_OK;
+}
+
+sb_status sb_fast_rebuild(sb_solver* s, sb_error* err) {
+    sb_fast_model* fast = sb_fast_model_create(s->model, err);
+    if (!fast) return SB_ERR_NOMEM;
+    size_t count = sb_partial_count(fast);
+    double* partials = calloc(count ? count : 1, sizeof *partials);
+    if (!partials) {
+        sb_fast_model_destroy(fast);
+        free(partials);
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory rebuilding the fast model");
+    }
+    const double* moving = sb_inv_mass(s); /* 0 where a hard handle holds */
+    for (uint32_t i = 0; i < fast->vertex_count; i++) fast->inv_mass[i] = (sb_real)moving[i];
+    sb_fast_model_destroy(s->fast);
+    free(s->partials);
+    s->fast = fast;
+    s->partials = partials;
     return SB_OK;
 }
 

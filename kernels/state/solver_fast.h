@@ -9,6 +9,13 @@
 
 /* The fast model, the packed arrays and the passes' partial sums. */
 sb_status sb_fast_prepare(sb_solver* solver, sb_error* err);
+/* The fast model built again from the solver's model, whose elements
+ * changed (a cut through them, kernels/interaction/cut_mesh.c), with the
+ * partial sums' room for its blocks; the packed state stays (the vertex
+ * slots are the same), the inverse masses are those the integrators move
+ * the vertices with (0 where a hard handle holds). On failure the old
+ * fast model stays. */
+sb_status sb_fast_rebuild(sb_solver* solver, sb_error* err);
 /* sb_solver_compute_forces on the fast kernels: packs the state, runs the
  * force passes and the hooks, publishes. */
 sb_status sb_fast_compute_forces(sb_solver* solver);
