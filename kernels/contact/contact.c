@@ -332,8 +332,8 @@ static void sb_body_touch(void* user, uint32_t i, int collider, const sb_contact
 }
 
 /* The vertices [first, last) of a block whose colliders in reach are all
- * static planes and spheres, answered in SIMD (kernels/contact/fast_contact.c)
- * into the chunk's sums; returns how many from the first (whole registers:
+ * static planes, spheres and boxes, answered in SIMD
+ * (kernels/contact/fast_contact.c) into the chunk's sums; returns how many from the first (whole registers:
  * the rest go to the scalar reference). */
 static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64_t near, uint32_t first, uint32_t last,
                                       double dt) {
@@ -355,8 +355,8 @@ static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64
 
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement): the drift_chunk hook. Block by block, the
- * colliders in reach (none: the block is skipped); the static planes and
- * spheres in SIMD, any other collider by the scalar reference. */
+ * colliders in reach (none: the block is skipped); the static planes,
+ * spheres and boxes in SIMD, any other collider by the scalar reference. */
 static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     sb_contact_chunk_begin(s, chunk);

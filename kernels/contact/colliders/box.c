@@ -96,3 +96,9 @@ bool sb_box_sweep(const sb_collider_def* def, const double from[3], const double
     sb_collider_rotation(def->rotate, rotation);
     return sb_box_sweep_rotated(def, rotation, from, to, thickness, fraction, depth, normal);
 }
+
+int sb_box_axes_facing(const double rotation[9], int a, int b) {
+    const double* r = rotation;
+    double dot = r[b] * r[a] + r[3 + b] * r[3 + a] + r[6 + b] * r[6 + a];
+    return dot > 0.0 ? 1 : dot < 0.0 ? -1 : 0;
+}
