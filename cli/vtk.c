@@ -86,8 +86,7 @@ static void append_array(vtk_out* o, const void* bytes, size_t n) {
 
 /* The DataArray's start tag; for the appended encodings a whole element
  * whose data is `bytes`. true: text follows (ascii), then array_end. */
-static bool array_start(vtk_out* o, const char* type, const char* name, int components, const void* bytes,
-                        size_t n) {
+static bool array_start(vtk_out* o, const char* type, const char* name, int components, const void* bytes, size_t n) {
     fprintf(o->f, "        <DataArray type=\"%s\"", type);
     if (name) fprintf(o->f, " Name=\"%s\"", name);
     if (components > 1) fprintf(o->f, " NumberOfComponents=\"%d\"", components);
@@ -121,8 +120,7 @@ static void write_integers(vtk_out* o, const char* type, const char* name, const
     bool text = array_start(o, type, name, 1, bytes ? (const void*)packed : (const void*)values, size);
     free(packed);
     if (!text) return;
-    for (uint32_t i = 0; i < n; i++)
-        fprintf(o->f, "%s%lld", i % per_line ? " " : "\n          ", (long long)values[i]);
+    for (uint32_t i = 0; i < n; i++) fprintf(o->f, "%s%lld", i % per_line ? " " : "\n          ", (long long)values[i]);
     fprintf(o->f, "\n        </DataArray>\n");
 }
 
@@ -136,9 +134,9 @@ static void write_point_data(vtk_out* o, const sb_vtk_frame* frame) {
         o->failed = true;
         return;
     }
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < n; i++) { /* a vertex a cut made has no model vertex: written free */
         uint32_t origin = frame->solver ? sb_solver_vertex_origin(frame->solver, i) : i;
-        fixed[i] = sb_model_is_fixed(frame->model, origin);
+        fixed[i] = origin < sb_model_vertex_count(frame->model) && sb_model_is_fixed(frame->model, origin);
     }
     write_integers(o, "UInt8", "fixed", fixed, n, 32);
     free(fixed);
