@@ -353,20 +353,36 @@ static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64
     return sb_fast_contact_answer(&s->contact->fast, near, &run, &step, partial, partial + 3 * s->def.collider_count);
 }
 
+/* The vertices [first, last) against the colliders of `near`: in SIMD
+ * when they are all static planes, spheres and boxes, the rest (and any
+ * other collider) by the scalar reference. */
+static void sb_contact_run_packed(const sb_solver* s, uint32_t chunk, uint64_t near, uint32_t first, uint32_t last,
+                                  double dt) {
+    uint32_t i = first;
+    if (!near) return;
+    if (!(near & ~s->contact->fast.simd)) i += sb_contact_block_fast(s, chunk, near, first, last, dt);
+    for (; i < last; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
+}
+
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement): the drift_chunk hook. Block by block, the
- * colliders in reach (none: the block is skipped); the static planes,
- * spheres and boxes in SIMD, any other collider by the scalar reference. */
+ * colliders in reach (none: the block is skipped); consecutive blocks with
+ * the same colliders are answered as one run (a body lying on a floor is
+ * one run a chunk: the SIMD answer's per-run constants and sums are made
+ * once). */
 static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
+    uint32_t run = first;
+    uint64_t run_near = 0;
     sb_contact_chunk_begin(s, chunk);
     for (uint32_t block = first; block < last; block += SB_CONTACT_BLOCK) {
-        uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last, i = block;
+        uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last;
         uint64_t near = sb_block_near_packed(s, block, end);
-        if (!near) continue;
-        if (!(near & ~s->contact->fast.simd)) i += sb_contact_block_fast(s, chunk, near, block, end, dt);
-        for (; i < end; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
+        if (near == run_near) continue;
+        sb_contact_run_packed(s, chunk, run_near, run, block, dt);
+        run = block, run_near = near;
     }
+    sb_contact_run_packed(s, chunk, run_near, run, last, dt);
 }
 
 /* The state's arrays, from the positions saved before the step. */

@@ -61,6 +61,10 @@
 #include <math.h>
 #include <string.h>
 
+/* A register must hold a run of several vertices for the answer to pay:
+ * the scalar variant (one lane) leaves them to the reference. */
+#define SB_FAST_CONTACT (SB_WIDTH > 1)
+
 static void sb_fast_copy3(sb_real out[4], const double v[3]) {
     for (int k = 0; k < 3; k++) out[k] = (sb_real)v[k];
     out[3] = 0;
@@ -92,7 +96,7 @@ static sb_fast_shape sb_fast_shape_of(const sb_collider* c, double contact_thick
     const sb_collider_def* d = &c->def;
     sb_fast_shape s;
     memset(&s, 0, sizeof s);
-    if (!SB_W_HAS_SUM4 || !sb_collider_is_static_builtin(c)) return s;
+    if (!SB_FAST_CONTACT || !sb_collider_is_static_builtin(c)) return s;
     double thickness = d->thickness + contact_thickness;
     if (d->shape == SB_COLLIDER_PLANE) {
         double length = sqrt(d->normal[0] * d->normal[0] + d->normal[1] * d->normal[1] + d->normal[2] * d->normal[2]);
@@ -125,13 +129,16 @@ void sb_fast_colliders_set(sb_fast_colliders* out, sb_collider* const* colliders
     }
 }
 
-uint32_t sb_fast_contact_granule(void) { return SB_W_HAS_SUM4 ? SB_WIDTH / 4 : 0; }
+uint32_t sb_fast_contact_granule(void) { return SB_FAST_CONTACT ? SB_WIDTH : 0; }
 
-#if SB_W_HAS_SUM4
+#if SB_FAST_CONTACT
 
 /* Truths: 0 or 1 in every lane. */
 static inline sb_wide sb_t_pick(sb_wide truth, sb_wide x, sb_wide y) {
     return sb_w_pick_greater(truth, sb_w_set((sb_real)0.5), x, y);
+}
+static inline sb_wvec3 sb_tv_pick(sb_wide truth, sb_wvec3 x, sb_wvec3 y) {
+    return (sb_wvec3){sb_t_pick(truth, x.x, y.x), sb_t_pick(truth, x.y, y.y), sb_t_pick(truth, x.z, y.z)};
 }
 static inline sb_wide sb_t_greater(sb_wide a, sb_wide b) { return sb_w_pick_greater(a, b, sb_w_set(1), sb_w_set(0)); }
 static inline sb_wide sb_t_at_most(sb_wide a, sb_wide b) { return sb_w_pick_greater(a, b, sb_w_set(0), sb_w_set(1)); }
@@ -139,30 +146,28 @@ static inline sb_wide sb_t_not(sb_wide a) { return sb_w_sub(sb_w_set(1), a); }
 static inline sb_wide sb_t_or(sb_wide a, sb_wide b) { return sb_w_max(a, b); }
 static inline sb_wide sb_t_and(sb_wide a, sb_wide b) { return sb_w_mul(a, b); }
 
-static inline sb_wide sb_w_dot4(sb_wide a, sb_wide b) { return sb_w_sum4(sb_w_mul(a, b)); }
-/* a packed 3-vector (x y z 0, its w already 0) repeated over the
- * register: whole copies of its four lanes, which the compiler makes one
- * broadcast (picking lanes by index made it a gather, a twentieth of the
- * answer's time) */
-static inline sb_wide sb_w_repeat4(const sb_real v[4]) {
-    sb_real lanes[SB_WIDTH];
-    for (int l = 0; l < SB_WIDTH; l += 4) memcpy(lanes + l, v, 4 * sizeof *v);
-    return sb_w_load(lanes);
+static inline sb_wvec3 sb_wv_set(const sb_real v[4]) {
+    return (sb_wvec3){sb_w_set(v[0]), sb_w_set(v[1]), sb_w_set(v[2])};
+}
+static inline sb_wvec3 sb_wv_zero(void) { return (sb_wvec3){sb_w_set(0), sb_w_set(0), sb_w_set(0)}; }
+static inline sb_wvec3 sb_wv_div(sb_wvec3 v, sb_wide s) {
+    return (sb_wvec3){sb_w_div(v.x, s), sb_w_div(v.y, s), sb_w_div(v.z, s)};
 }
 
-/* A collider's constants spread over a register, made once per run. */
+/* A collider's constants spread over the lanes, made once per run. */
 typedef struct sb_fast_wide_shape {
     sb_fast_shape_kind kind;
-    sb_wide origin, normal, axis[3], extent[3], facing[3], reach, restitution, friction, static_friction, index;
+    sb_wvec3 origin, normal, axis[3];
+    sb_wide extent[3], facing[3], reach, restitution, friction, static_friction, index;
 } sb_fast_wide_shape;
 
 static sb_fast_wide_shape sb_fast_widen(const sb_fast_shape* s, uint32_t index) {
     return (sb_fast_wide_shape){.kind = s->kind,
-                                .axis = {sb_w_repeat4(s->axis[0]), sb_w_repeat4(s->axis[1]), sb_w_repeat4(s->axis[2])},
+                                .axis = {sb_wv_set(s->axis[0]), sb_wv_set(s->axis[1]), sb_wv_set(s->axis[2])},
                                 .extent = {sb_w_set(s->extent[0]), sb_w_set(s->extent[1]), sb_w_set(s->extent[2])},
                                 .facing = {sb_w_set(s->facing[0]), sb_w_set(s->facing[1]), sb_w_set(s->facing[2])},
-                                .origin = sb_w_repeat4(s->origin),
-                                .normal = sb_w_repeat4(s->normal),
+                                .origin = sb_wv_set(s->origin),
+                                .normal = sb_wv_set(s->normal),
                                 .reach = sb_w_set(s->reach),
                                 .restitution = sb_w_set(s->restitution),
                                 .friction = sb_w_set(s->friction),
@@ -170,24 +175,24 @@ static sb_fast_wide_shape sb_fast_widen(const sb_fast_shape* s, uint32_t index) 
                                 .index = sb_w_set((sb_real)index)};
 }
 
-/* One collider's answer for the vertices of a register: whether each
- * touches it, at which fraction of its move, how deep and along which
- * normal. */
+/* One collider's answer for the lanes' vertices: whether each touches it,
+ * at which fraction of its move, how deep and along which normal. */
 typedef struct sb_fast_hit {
-    sb_wide touches, fraction, depth, normal;
+    sb_wide touches, fraction, depth;
+    sb_wvec3 normal;
 } sb_fast_hit;
 
 /* The vertices' moves: start, end, displacement. */
 typedef struct sb_fast_move {
-    sb_wide from, to, d;
+    sb_wvec3 from, to, d;
 } sb_fast_move;
 
 static sb_fast_hit sb_fast_plane(const sb_fast_wide_shape* s, const sb_fast_move* m) {
-    const sb_wide zero = sb_w_set(0), one = sb_w_set(1), p = s->origin, t = s->reach;
+    const sb_wide zero = sb_w_set(0), one = sb_w_set(1), t = s->reach;
     sb_fast_hit h;
     h.normal = s->normal;
-    sb_wide f0 = sb_w_sub(sb_w_dot4(sb_w_sub(m->from, p), h.normal), t);
-    sb_wide f1 = sb_w_sub(sb_w_dot4(sb_w_sub(m->to, p), h.normal), t);
+    sb_wide f0 = sb_w_sub(sb_wv_dot(sb_wv_sub(m->from, s->origin), h.normal), t);
+    sb_wide f1 = sb_w_sub(sb_wv_dot(sb_wv_sub(m->to, s->origin), h.normal), t);
     sb_wide from_inside = sb_t_at_most(f0, zero);
     h.touches = sb_t_at_most(f1, zero);
     h.fraction = sb_t_pick(from_inside, one, sb_w_div(f0, sb_w_sub(f0, f1)));
@@ -198,13 +203,15 @@ static sb_fast_hit sb_fast_plane(const sb_fast_wide_shape* s, const sb_fast_move
 /* One end of the move against a shape (sb_sweep_end): in the solid or
  * not, how deep, the outward normal of least penetration. */
 typedef struct sb_fast_end {
-    sb_wide inside, depth, normal;
+    sb_wide inside, depth;
+    sb_wvec3 normal;
 } sb_fast_end;
 
 /* The move's line against a shape: whether it enters, the interval
  * [lo, hi] of it in the solid, the outward normal at lo. */
 typedef struct sb_fast_line {
-    sb_wide entered, lo, hi, normal;
+    sb_wide entered, lo, hi;
+    sb_wvec3 normal;
 } sb_fast_line;
 
 /* The answer every shape's sweep gives (sb_sweep_from_inside and
@@ -215,62 +222,60 @@ static sb_fast_hit sb_fast_sweep(const sb_fast_end* e0, const sb_fast_end* e1, s
     const sb_wide zero = sb_w_set(0), one = sb_w_set(1);
     /* from inside: resting, or stopped at the start */
     sb_wide resting = sb_t_and(e1->inside, sb_t_not(sb_t_greater(zero, flip)));
-    sb_wide heading_in = sb_t_greater(zero, sb_w_dot4(m->d, e0->normal));
+    sb_wide heading_in = sb_t_greater(zero, sb_wv_dot(m->d, e0->normal));
     sb_fast_hit inside = {.touches = sb_t_or(e1->inside, heading_in),
                           .fraction = sb_t_pick(resting, one, zero),
                           .depth = sb_t_pick(resting, e1->depth, e0->depth),
-                          .normal = sb_t_pick(resting, e1->normal, e0->normal)};
+                          .normal = sb_tv_pick(resting, e1->normal, e0->normal)};
     /* from outside: where the line enters, if within the move */
     sb_wide within = sb_t_and(sb_t_and(sb_t_at_most(line->lo, one), sb_t_not(sb_t_greater(zero, line->hi))),
                               sb_t_greater(line->hi, line->lo));
     sb_fast_hit outside = {.touches = sb_t_or(e1->inside, sb_t_and(line->entered, within)),
                            .fraction = sb_t_pick(line->entered, sb_w_min(sb_w_max(line->lo, zero), one), one),
                            .depth = zero,
-                           .normal = sb_t_pick(line->entered, line->normal, e1->normal)};
+                           .normal = sb_tv_pick(line->entered, line->normal, e1->normal)};
     sb_fast_hit h;
     h.touches = sb_t_pick(e0->inside, inside.touches, outside.touches);
     h.fraction = sb_t_pick(e0->inside, inside.fraction, outside.fraction);
     h.depth = sb_t_pick(e0->inside, inside.depth, outside.depth);
-    h.normal = sb_t_pick(e0->inside, inside.normal, outside.normal);
+    h.normal = sb_tv_pick(e0->inside, inside.normal, outside.normal);
     return h;
 }
 
 /* The end at offset v from the nearest point of the shape's core (a
  * point, a segment) within r: `fallback` where v is 0. */
-static sb_fast_end sb_fast_round_end(sb_wide v, sb_wide r, sb_wide fallback) {
-    sb_wide distance = sb_w_sqrt(sb_w_dot4(v, v));
+static sb_fast_end sb_fast_round_end(sb_wvec3 v, sb_wide r, sb_wvec3 fallback) {
+    sb_wide distance = sb_w_sqrt(sb_wv_dot(v, v));
+    sb_wide outward = sb_t_greater(distance, sb_w_set(0));
     return (sb_fast_end){.inside = sb_t_at_most(distance, r),
                          .depth = sb_w_sub(r, distance),
-                         .normal = sb_w_pick_greater(distance, sb_w_set(0), sb_w_div(v, distance), fallback)};
+                         .normal = sb_tv_pick(outward, sb_wv_div(v, distance), fallback)};
 }
 
-static sb_wide sb_fast_up(void) {
-    static const sb_real up[4] = {0, 0, 1, 0};
-    return sb_w_repeat4(up);
-}
+static sb_wvec3 sb_fast_up(void) { return (sb_wvec3){sb_w_set(0), sb_w_set(0), sb_w_set(1)}; }
 
 /* The line of the move in the ball of radius r about center
  * (sb_ball_line, sphere.c): it enters heading to the center (b < 0) with a
  * positive discriminant, at c / (−b + √(b² − a c)). */
-static sb_fast_line sb_fast_ball_line(sb_wide center, sb_wide r, const sb_fast_move* mv) {
+static sb_fast_line sb_fast_ball_line(sb_wvec3 center, sb_wide r, const sb_fast_move* mv) {
     const sb_wide zero = sb_w_set(0);
-    sb_wide m0 = sb_w_sub(mv->from, center);
-    sb_wide a = sb_w_dot4(mv->d, mv->d), b = sb_w_dot4(m0, mv->d), c = sb_w_sub(sb_w_dot4(m0, m0), sb_w_mul(r, r));
+    sb_wvec3 m0 = sb_wv_sub(mv->from, center);
+    sb_wide a = sb_wv_dot(mv->d, mv->d), b = sb_wv_dot(m0, mv->d), c = sb_w_sub(sb_wv_dot(m0, m0), sb_w_mul(r, r));
     sb_wide disc = sb_w_sub(sb_w_mul(b, b), sb_w_mul(a, c));
     sb_wide q = sb_w_add(sb_w_sub(zero, b), sb_w_sqrt(sb_w_max(disc, zero)));
     sb_fast_line line = {.entered = sb_t_and(sb_t_greater(zero, b), sb_t_greater(disc, zero)),
                          .lo = sb_w_div(c, q),
                          .hi = sb_w_div(q, a)};
-    sb_wide at = sb_w_add(m0, sb_w_mul(line.lo, mv->d));
-    line.normal = sb_w_div(at, sb_w_sqrt(sb_w_dot4(at, at)));
+    sb_wvec3 at = sb_wv_add(m0, sb_wv_scale(mv->d, line.lo));
+    line.normal = sb_wv_div(at, sb_w_sqrt(sb_wv_dot(at, at)));
     return line;
 }
 
 static sb_fast_hit sb_fast_sphere(const sb_fast_wide_shape* s, const sb_fast_move* m) {
-    sb_fast_end e0 = sb_fast_round_end(sb_w_sub(m->from, s->origin), s->reach, sb_fast_up());
-    sb_fast_end e1 = sb_fast_round_end(sb_w_sub(m->to, s->origin), s->reach, sb_fast_up());
+    sb_fast_end e0 = sb_fast_round_end(sb_wv_sub(m->from, s->origin), s->reach, sb_fast_up());
+    sb_fast_end e1 = sb_fast_round_end(sb_wv_sub(m->to, s->origin), s->reach, sb_fast_up());
     sb_fast_line line = sb_fast_ball_line(s->origin, s->reach, m);
-    return sb_fast_sweep(&e0, &e1, sb_w_dot4(e1.normal, e0.normal), &line, m);
+    return sb_fast_sweep(&e0, &e1, sb_wv_dot(e1.normal, e0.normal), &line, m);
 }
 
 /* The box's frame at the move's ends: x' = Rᵀ (x − center), its axes
@@ -288,10 +293,11 @@ static sb_fast_end sb_fast_box_end(const sb_fast_wide_shape* s, const sb_wide x[
     for (int k = 0; k < 3; k++) {
         sb_wide room = sb_w_sub(s->extent[k], sb_w_abs(x[k]));
         sb_wide negative = sb_t_greater(zero, x[k]), sign = sb_t_pick(negative, sb_w_set(-1), one);
+        sb_wvec3 face = sb_wv_scale(s->axis[k], sign);
         e.inside = sb_t_and(e.inside, sb_t_at_most(zero, room));
         sb_wide least = k == 0 ? one : sb_t_greater(e.depth, room);
         e.depth = k == 0 ? room : sb_t_pick(least, room, e.depth);
-        e.normal = k == 0 ? sb_w_mul(sign, s->axis[k]) : sb_t_pick(least, sb_w_mul(sign, s->axis[k]), e.normal);
+        e.normal = k == 0 ? face : sb_tv_pick(least, face, e.normal);
         *axis = k == 0 ? zero : sb_t_pick(least, sb_w_set((sb_real)k), *axis);
         *side = k == 0 ? sign : sb_t_pick(least, sign, *side);
     }
@@ -317,7 +323,7 @@ static sb_wide sb_fast_box_flip(const sb_fast_wide_shape* s, sb_wide axis0, sb_w
 static sb_fast_line sb_fast_box_line(const sb_fast_wide_shape* s, const sb_fast_box_frame* b) {
     const sb_wide zero = sb_w_set(0);
     sb_fast_line line = {
-        .entered = zero, .lo = sb_w_set(-(sb_real)INFINITY), .hi = sb_w_set((sb_real)INFINITY), .normal = zero};
+        .entered = zero, .lo = sb_w_set(-(sb_real)INFINITY), .hi = sb_w_set((sb_real)INFINITY), .normal = sb_wv_zero()};
     sb_wide inside_parallels = sb_w_set(1);
     for (int k = 0; k < 3; k++) {
         sb_wide h = s->extent[k], m = b->from[k], d = b->d[k];
@@ -327,7 +333,7 @@ static sb_fast_line sb_fast_box_line(const sb_fast_wide_shape* s, const sb_fast_
         sb_wide later = sb_t_and(moving, sb_t_greater(enter, line.lo));
         sb_wide sooner = sb_t_and(moving, sb_t_greater(line.hi, leave));
         line.lo = sb_t_pick(later, enter, line.lo);
-        line.normal = sb_t_pick(later, sb_t_pick(forward, sb_w_sub(zero, s->axis[k]), s->axis[k]), line.normal);
+        line.normal = sb_tv_pick(later, sb_tv_pick(forward, sb_wv_neg(s->axis[k]), s->axis[k]), line.normal);
         line.hi = sb_t_pick(sooner, leave, line.hi);
         line.entered = sb_t_or(line.entered, moving);
         inside_parallels = sb_t_and(inside_parallels, sb_t_or(moving, sb_t_at_most(sb_w_abs(m), h)));
@@ -340,10 +346,10 @@ static sb_fast_line sb_fast_box_line(const sb_fast_wide_shape* s, const sb_fast_
  * displacement the difference of the ends' coordinates as there. */
 static sb_fast_hit sb_fast_box(const sb_fast_wide_shape* s, const sb_fast_move* m) {
     sb_fast_box_frame b;
-    sb_wide from = sb_w_sub(m->from, s->origin), to = sb_w_sub(m->to, s->origin);
+    sb_wvec3 from = sb_wv_sub(m->from, s->origin), to = sb_wv_sub(m->to, s->origin);
     for (int k = 0; k < 3; k++) {
-        b.from[k] = sb_w_dot4(from, s->axis[k]);
-        b.to[k] = sb_w_dot4(to, s->axis[k]);
+        b.from[k] = sb_wv_dot(from, s->axis[k]);
+        b.to[k] = sb_wv_dot(to, s->axis[k]);
         b.d[k] = sb_w_sub(b.to[k], b.from[k]);
     }
     sb_wide axis0, side0, axis1, side1;
@@ -352,7 +358,7 @@ static sb_fast_hit sb_fast_box(const sb_fast_wide_shape* s, const sb_fast_move* 
     return sb_fast_sweep(&e0, &e1, sb_fast_box_flip(s, axis0, side0, axis1, side1), &line, m);
 }
 
-/* The earliest contact of a register's vertices among the colliders of
+/* The earliest contact of the lanes' vertices among the colliders of
  * `near`, with the collider's index and surface constants per vertex. */
 typedef struct sb_fast_contact {
     sb_fast_hit hit;
@@ -372,7 +378,7 @@ static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32
     if (count == 1) /* one collider in reach (most blocks): nothing to compare */
         return (sb_fast_contact){sb_fast_shape_hit(shapes, m), shapes->index, shapes->restitution, shapes->friction,
                                  shapes->static_friction};
-    sb_fast_contact best = {.hit = {zero, zero, zero, zero}, zero, zero, zero, zero};
+    sb_fast_contact best = {.hit = {zero, zero, zero, sb_wv_zero()}, zero, zero, zero, zero};
     for (uint32_t c = 0; c < count; c++) {
         const sb_fast_wide_shape* s = &shapes[c];
         sb_fast_hit h = sb_fast_shape_hit(s, m);
@@ -381,7 +387,7 @@ static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32
         best.hit.touches = sb_t_or(best.hit.touches, h.touches);
         best.hit.fraction = sb_t_pick(take, h.fraction, best.hit.fraction);
         best.hit.depth = sb_t_pick(take, h.depth, best.hit.depth);
-        best.hit.normal = sb_t_pick(take, h.normal, best.hit.normal);
+        best.hit.normal = sb_tv_pick(take, h.normal, best.hit.normal);
         best.collider = sb_t_pick(take, s->index, best.collider);
         best.restitution = sb_t_pick(take, s->restitution, best.restitution);
         best.friction = sb_t_pick(take, s->friction, best.friction);
@@ -391,117 +397,125 @@ static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32
 }
 
 /* The velocity answer (sb_contact_velocity, the collider at rest). */
-static sb_wide sb_fast_velocity(const sb_fast_contact* c, sb_wide v) {
-    const sb_wide zero = sb_w_set(0), n = c->hit.normal;
-    sb_wide vn = sb_w_dot4(v, n), jn = sb_w_mul(sb_w_sub(zero, sb_w_add(sb_w_set(1), c->restitution)), vn);
-    sb_wide vt = sb_w_sub(v, sb_w_mul(vn, n)), vt_length = sb_w_sqrt(sb_w_dot4(vt, vt));
+static sb_wvec3 sb_fast_velocity(const sb_fast_contact* c, sb_wvec3 v) {
+    const sb_wide zero = sb_w_set(0);
+    const sb_wvec3 n = c->hit.normal;
+    sb_wide vn = sb_wv_dot(v, n), jn = sb_w_mul(sb_w_sub(zero, sb_w_add(sb_w_set(1), c->restitution)), vn);
+    sb_wvec3 vt = sb_wv_sub(v, sb_wv_scale(n, vn));
+    sb_wide vt_length = sb_w_sqrt(sb_wv_dot(vt, vt));
     sb_wide slide = sb_w_max(sb_w_sub(sb_w_set(1), sb_w_div(sb_w_mul(c->friction, jn), vt_length)), zero);
     sb_wide keep = sb_w_pick_greater(vt_length, sb_w_mul(c->static_friction, jn), slide, zero);
-    sb_wide answered = sb_w_add(sb_w_mul(sb_w_mul(sb_w_sub(zero, c->restitution), vn), n), sb_w_mul(keep, vt));
-    return sb_w_pick_greater(zero, vn, answered, v);
+    sb_wvec3 answered = sb_wv_add(sb_wv_scale(n, sb_w_mul(sb_w_sub(zero, c->restitution), vn)), sb_wv_scale(vt, keep));
+    return sb_tv_pick(sb_t_greater(zero, vn), answered, v);
 }
 
 /* The position after the contact (sb_contact_position). */
-static sb_wide sb_fast_position(const sb_fast_contact* c, const sb_fast_move* m, sb_wide v, sb_wide dt) {
-    const sb_wide n = c->hit.normal, vn = sb_w_dot4(v, n);
-    sb_wide normal_move = sb_w_add(sb_w_add(sb_w_mul(c->hit.fraction, sb_w_dot4(m->d, n)), c->hit.depth),
+static sb_wvec3 sb_fast_position(const sb_fast_contact* c, const sb_fast_move* m, sb_wvec3 v, sb_wide dt) {
+    const sb_wvec3 n = c->hit.normal;
+    const sb_wide vn = sb_wv_dot(v, n);
+    sb_wide normal_move = sb_w_add(sb_w_add(sb_w_mul(c->hit.fraction, sb_wv_dot(m->d, n)), c->hit.depth),
                                    sb_w_mul(sb_w_mul(sb_w_sub(sb_w_set(1), c->hit.fraction), dt), vn));
-    return sb_w_add(sb_w_add(m->from, sb_w_mul(dt, sb_w_sub(v, sb_w_mul(vn, n)))), sb_w_mul(normal_move, n));
+    return sb_wv_add(sb_wv_add(m->from, sb_wv_scale(sb_wv_sub(v, sb_wv_scale(n, vn)), dt)),
+                     sb_wv_scale(n, normal_move));
 }
 
 /* The colliders of a run and its lane-wise sums: the impulses m Δv per
- * collider, the vertices answered (their x y z lanes: three each). */
+ * collider, the vertices answered. */
 typedef struct sb_fast_run_state {
     uint32_t count;
     sb_fast_wide_shape shape[SB_MAX_COLLIDERS];
-    sb_wide impulse[SB_MAX_COLLIDERS], lanes;
+    sb_wvec3 impulse[SB_MAX_COLLIDERS];
+    sb_wide answered;
 } sb_fast_run_state;
 
-static void sb_fast_add_impulse(sb_fast_run_state* r, const sb_fast_contact* c, sb_wide impulse) {
+static void sb_fast_add_impulse(sb_fast_run_state* r, const sb_fast_contact* c, sb_wvec3 impulse) {
     if (r->count == 1) {
-        r->impulse[0] = sb_w_add(r->impulse[0], impulse);
+        r->impulse[0] = sb_wv_add(r->impulse[0], impulse);
         return;
     }
     for (uint32_t k = 0; k < r->count; k++) {
-        sb_wide mine = sb_w_pick_greater(sb_w_abs(sb_w_sub(c->collider, r->shape[k].index)), sb_w_set((sb_real)0.5),
-                                         sb_w_set(0), impulse);
-        r->impulse[k] = sb_w_add(r->impulse[k], mine);
+        sb_wide mine = sb_t_greater(sb_w_set((sb_real)0.5), sb_w_abs(sb_w_sub(c->collider, r->shape[k].index)));
+        r->impulse[k] = sb_wv_add(r->impulse[k], sb_wv_scale(impulse, mine));
     }
 }
 
-/* Into the colliders' sums: lane l of a register belongs to axis l % 4
- * (the w lanes hold 0). */
+/* Into the colliders' sums, each lane-wise sum reduced in lane order. */
 static void sb_fast_reduce(const sb_fast_run_state* r, uint64_t near, double* out, double* contacts) {
-    sb_real lanes[SB_WIDTH];
     uint32_t k = 0;
     for (uint32_t c = 0; near >> c; c++)
         if (near >> c & 1) {
-            sb_w_store(lanes, r->impulse[k++]);
-            for (int l = 0; l < SB_WIDTH; l++)
-                if ((l & 3) < 3) out[3 * c + (l & 3)] -= lanes[l];
+            const sb_wvec3* sum = &r->impulse[k++];
+            out[3 * c + 0] -= sb_w_sum(sum->x, SB_WIDTH);
+            out[3 * c + 1] -= sb_w_sum(sum->y, SB_WIDTH);
+            out[3 * c + 2] -= sb_w_sum(sum->z, SB_WIDTH);
         }
-    *contacts += sb_w_sum(r->lanes, SB_WIDTH) / 3;
+    *contacts += sb_w_sum(r->answered, SB_WIDTH);
 }
 
-/* The register's answered vertices (vertex q / 4 on) to step->touch. */
-static void sb_fast_report(const sb_fast_contact_step* step, size_t q, const sb_fast_contact* c, sb_wide answered,
-                           sb_wide x_new, sb_wide impulse) {
-    sb_real lanes[5][SB_WIDTH];
-    const sb_wide from[5] = {answered, c->hit.normal, x_new, impulse, c->collider};
-    for (int a = 0; a < 5; a++) sb_w_store(lanes[a], from[a]);
-    sb_real restitution[SB_WIDTH];
-    sb_w_store(restitution, c->restitution);
-    for (int j = 0; j < SB_WIDTH; j += 4) {
-        if (!(lanes[0][j] > (sb_real)0.5)) continue;
-        sb_contact contact = {.restitution = restitution[j]};
-        double impulse_j[3];
+/* The lanes' answered vertices (the run's vertex i on) to step->touch. */
+static void sb_fast_report(const sb_fast_contact_step* step, uint32_t i, const sb_fast_contact* c, sb_wide answered,
+                           sb_wvec3 x_new, sb_wvec3 impulse) {
+    enum { ANSWERED, RESTITUTION, COLLIDER, NORMAL, POINT = NORMAL + 3, IMPULSE = POINT + 3, VALUES = IMPULSE + 3 };
+    const sb_wide from[VALUES] = {answered,        c->restitution,  c->collider, c->hit.normal.x,
+                                  c->hit.normal.y, c->hit.normal.z, x_new.x,     x_new.y,
+                                  x_new.z,         impulse.x,       impulse.y,   impulse.z};
+    sb_real lanes[VALUES][SB_WIDTH];
+    for (int a = 0; a < VALUES; a++) sb_w_store(lanes[a], from[a]);
+    for (int l = 0; l < SB_WIDTH; l++) {
+        if (!(lanes[ANSWERED][l] > (sb_real)0.5)) continue;
+        sb_contact contact = {.restitution = lanes[RESTITUTION][l]};
+        double impulse_l[3];
         for (int k = 0; k < 3; k++) {
-            contact.normal[k] = lanes[1][j + k];
-            contact.point[k] = lanes[2][j + k];
-            impulse_j[k] = lanes[3][j + k];
+            contact.normal[k] = lanes[NORMAL + k][l];
+            contact.point[k] = lanes[POINT + k][l];
+            impulse_l[k] = lanes[IMPULSE + k][l];
         }
-        step->touch(step->user, step->first + (uint32_t)(q + (size_t)j) / 4, (int)lanes[4][j], &contact, impulse_j);
+        step->touch(step->user, step->first + i + (uint32_t)sb_w_run_vertex(l), (int)lanes[COLLIDER][l], &contact,
+                    impulse_l);
     }
 }
 
 uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t near, const sb_packed_run* run,
                                 const sb_fast_contact_step* step, double* out, double* contacts) {
-    const uint32_t granule = SB_WIDTH / 4, whole = run->count / granule * granule;
-    const sb_wide zero = sb_w_set(0), dt = sb_w_set((sb_real)step->dt), drag = sb_w_set((sb_real)step->drag);
+    const uint32_t whole = run->count / SB_WIDTH * SB_WIDTH;
+    const sb_wide zero = sb_w_set(0), half = sb_w_set((sb_real)0.5), dt = sb_w_set((sb_real)step->dt);
+    const sb_wide drag = sb_w_set((sb_real)step->drag);
     const sb_real gravity[4] = {(sb_real)step->gravity[0], (sb_real)step->gravity[1], (sb_real)step->gravity[2], 0};
-    const sb_wide g = sb_w_repeat4(gravity);
+    const sb_wvec3 g = sb_wv_set(gravity);
     sb_fast_run_state r; /* not zeroed whole: only its first r.count shapes and sums are used */
     r.count = 0;
-    r.lanes = zero;
+    r.answered = zero;
     for (uint32_t c = 0; near >> c; c++)
         if (near >> c & 1) {
-            r.impulse[r.count] = zero;
+            r.impulse[r.count] = sb_wv_zero();
             r.shape[r.count++] = sb_fast_widen(&colliders->shape[c], c);
         }
-    for (size_t q = 0; q < 4 * (size_t)whole; q += SB_WIDTH) {
-        sb_wide x = sb_w_load(run->x + q), v = sb_w_load(run->v + q), d = sb_w_load(run->d + q);
-        sb_fast_move m = {sb_w_sub(x, d), x, d};
+    for (uint32_t i = 0; i < whole; i += SB_WIDTH) {
+        sb_real *x4 = run->x + 4 * (size_t)i, *v4 = run->v + 4 * (size_t)i, *d4 = run->d + 4 * (size_t)i;
+        sb_wide x_w, v_w, d_w, f_w;
+        sb_wvec3 x = sb_wv_load4_run(x4, &x_w), v = sb_wv_load4_run(v4, &v_w), d = sb_wv_load4_run(d4, &d_w);
+        sb_fast_move m = {sb_wv_sub(x, d), x, d};
         sb_fast_contact c = sb_fast_earliest(r.shape, r.count, &m);
-        sb_wide free = sb_t_greater(sb_w_spread4(run->inv_mass, q), zero); /* x y z lanes of the free vertices */
-        sb_wide answered = sb_t_and(c.hit.touches, free);
-        if (!sb_w_any(sb_w_less(sb_w_set((sb_real)0.5), answered), SB_WIDTH)) continue;
-        sb_wide mass = sb_w_spread4(run->mass, q), v_new = sb_fast_velocity(&c, v);
-        sb_wide x_new = sb_fast_position(&c, &m, v_new, dt);
-        sb_w_store(run->x + q, sb_t_pick(answered, x_new, x));
-        sb_w_store(run->v + q, sb_t_pick(answered, v_new, v));
-        sb_w_store(run->d + q, sb_t_pick(answered, sb_w_mul(v_new, dt), d));
-        sb_wide f_new = sb_w_mul(mass, sb_w_sub(g, sb_w_mul(drag, v_new)));
-        sb_w_store(run->f + q, sb_t_pick(answered, f_new, sb_w_load(run->f + q)));
-        sb_wide impulse = sb_t_pick(answered, sb_w_mul(mass, sb_w_sub(v_new, v)), zero);
+        sb_wide answered = sb_t_and(c.hit.touches, sb_t_greater(sb_w_load_run(run->inv_mass + i), zero));
+        if (!sb_w_any(sb_w_less(half, answered), SB_WIDTH)) continue;
+        sb_wide mass = sb_w_load_run(run->mass + i);
+        sb_wvec3 v_new = sb_fast_velocity(&c, v), x_new = sb_fast_position(&c, &m, v_new, dt);
+        sb_wv_store4_run(x4, sb_tv_pick(answered, x_new, x), x_w);
+        sb_wv_store4_run(v4, sb_tv_pick(answered, v_new, v), v_w);
+        sb_wv_store4_run(d4, sb_tv_pick(answered, sb_wv_scale(v_new, dt), d), d_w);
+        sb_real* f4 = run->f + 4 * (size_t)i;
+        sb_wvec3 f = sb_wv_load4_run(f4, &f_w), f_new = sb_wv_scale(sb_wv_sub(g, sb_wv_scale(v_new, drag)), mass);
+        sb_wv_store4_run(f4, sb_tv_pick(answered, f_new, f), f_w);
+        sb_wvec3 impulse = sb_tv_pick(answered, sb_wv_scale(sb_wv_sub(v_new, v), mass), sb_wv_zero());
         sb_fast_add_impulse(&r, &c, impulse);
-        r.lanes = sb_w_add(r.lanes, answered);
-        if (step->touch) sb_fast_report(step, q, &c, answered, x_new, impulse);
+        r.answered = sb_w_add(r.answered, answered);
+        if (step->touch) sb_fast_report(step, i, &c, answered, x_new, impulse);
     }
     sb_fast_reduce(&r, near, out, contacts);
     return whole;
 }
 
-#else /* no register holds whole packed vertices: the scalar reference answers */
+#else /* one lane: the scalar reference answers */
 
 uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t near, const sb_packed_run* run,
                                 const sb_fast_contact_step* step, double* out, double* contacts) {

@@ -38,7 +38,9 @@
  * from the topology); the box of a block's moves (the fused vertex pass
  * computes it anyway) joined over those blocks holds every move of its
  * triangles, so a block whose join reaches no such collider's step bounds
- * skips its triangles; a triangle whose move's box lies outside a ball
+ * and ball skips its triangles, and the same test on a group of 16 blocks
+ * first skips the group (a sheet lying on a floor around a small sphere
+ * costs a join a group, not one a block); a triangle whose move's box lies outside a ball
  * holding the collider through the step (sb_collider_surface_ball) costs
  * the box. A tearing solver's corners change blocks as it splits vertices, so
  * there every block's triangles are tested. */
@@ -53,11 +55,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Blocks of vertices grouped for the first level of the broad phase: a
+ * body lying far from every collider that meets the surface (a sheet on a
+ * floor, away from a small sphere) is skipped a group at a time. */
+#define SB_SURFACE_GROUP 16
+
+/* For each unit (a block, or a group of SB_SURFACE_GROUP blocks), the
+ * blocks holding the corners of the triangles it owns (CSR). */
+typedef struct sb_surface_reach {
+    uint32_t *first, *block;
+} sb_surface_reach;
+
 struct sb_surface {
     sb_surface_triangles triangles;
-    uint32_t blocks;
+    uint32_t blocks, groups;
     uint32_t *owned_first, *owned; /* CSR: the triangles each block owns, in triangle order */
-    uint32_t *reach_first, *reach; /* CSR: the blocks holding their corners, the block itself among them */
+    sb_surface_reach blocks_reach; /* the blocks each block's triangles reach, the block itself among them */
+    sb_surface_reach groups_reach; /* the blocks each group's triangles reach */
     double* boxes;                 /* 6 a block: the box of its moves this step */
     bool by_block;                 /* the topology is fixed: blocks may be skipped */
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
@@ -92,41 +106,56 @@ static bool sb_surface_own(sb_surface* f) {
     return true;
 }
 
-/* The blocks a block's triangles reach (itself first, then each other
- * once), into reach[] from reach_first[b] on when `reach` is not NULL;
- * returns how many. `seen` is the last block that marked each block. */
-static uint32_t sb_surface_reached(const sb_surface* f, uint32_t b, uint32_t* seen, uint32_t* reach) {
+/* The blocks the triangles of blocks [first, last) reach (those blocks
+ * first, then each other once), into reach[] when it is not NULL; returns
+ * how many. `seen` is the last unit that marked each block. */
+static uint32_t sb_surface_reached(const sb_surface* f, uint32_t first, uint32_t last, uint32_t unit, uint32_t* seen,
+                                   uint32_t* reach) {
     uint32_t count = 0;
-    seen[b] = b;
-    if (reach) reach[count] = b;
-    count++;
-    for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+    for (uint32_t b = first; b < last; b++) {
+        seen[b] = unit;
+        if (reach) reach[count] = b;
+        count++;
+    }
+    for (uint32_t k = f->owned_first[first]; k < f->owned_first[last]; k++)
         for (int c = 0; c < 3; c++) {
             uint32_t other = f->triangles.v[c][f->owned[k]] / SB_SURFACE_BLOCK;
-            if (seen[other] == b) continue;
-            seen[other] = b;
+            if (seen[other] == unit) continue;
+            seen[other] = unit;
             if (reach) reach[count] = other;
             count++;
         }
     return count;
 }
 
-static bool sb_surface_reach(sb_surface* f) {
+/* The reach of every unit of `size` blocks. */
+static bool sb_surface_reach_of(const sb_surface* f, uint32_t size, sb_surface_reach* r) {
+    uint32_t units = (f->blocks + size - 1) / size;
     uint32_t* seen = malloc((size_t)f->blocks * sizeof *seen);
-    if (!seen) return false;
+    r->first = calloc((size_t)units + 1, sizeof *r->first);
+    if (!seen || !r->first) {
+        free(seen);
+        return false;
+    }
     for (int pass = 0; pass < 2; pass++) { /* count, then fill */
         for (uint32_t b = 0; b < f->blocks; b++) seen[b] = UINT32_MAX;
-        for (uint32_t b = 0; b < f->blocks; b++) {
-            uint32_t count = sb_surface_reached(f, b, seen, pass ? f->reach + f->reach_first[b] : NULL);
-            if (!pass) f->reach_first[b + 1] = count;
+        for (uint32_t u = 0; u < units; u++) {
+            uint32_t first = u * size, last = first + size < f->blocks ? first + size : f->blocks;
+            uint32_t count = sb_surface_reached(f, first, last, u, seen, pass ? r->block + r->first[u] : NULL);
+            if (!pass) r->first[u + 1] = count;
         }
         if (pass) break;
-        sb_prefix(f->reach_first, f->blocks);
-        f->reach = malloc(((size_t)f->reach_first[f->blocks] + 1) * sizeof *f->reach);
-        if (!f->reach) break;
+        sb_prefix(r->first, units);
+        r->block = malloc(((size_t)r->first[units] + 1) * sizeof *r->block);
+        if (!r->block) break;
     }
     free(seen);
-    return f->reach != NULL;
+    return r->block != NULL;
+}
+
+static void sb_surface_reach_free(sb_surface_reach* r) {
+    free(r->first);
+    free(r->block);
 }
 
 sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
@@ -139,12 +168,13 @@ sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
     bool ok = f != NULL;
     if (ok) {
         f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
+        f->groups = (f->blocks + SB_SURFACE_GROUP - 1) / SB_SURFACE_GROUP;
         f->by_block = s->def.max_splits <= 0;
         f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
         f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
-        f->reach_first = calloc((size_t)f->blocks + 1, sizeof *f->reach_first);
         f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
-        ok = f->owned_first && f->owned && f->reach_first && f->boxes && sb_surface_own(f) && sb_surface_reach(f);
+        ok = f->owned_first && f->owned && f->boxes && sb_surface_own(f) &&
+             sb_surface_reach_of(f, 1, &f->blocks_reach) && sb_surface_reach_of(f, SB_SURFACE_GROUP, &f->groups_reach);
     }
     if (ok) return f;
     sb_surface_destroy(f);
@@ -157,8 +187,8 @@ void sb_surface_destroy(sb_surface* f) {
     sb_surface_triangles_free(&f->triangles);
     free(f->owned_first);
     free(f->owned);
-    free(f->reach_first);
-    free(f->reach);
+    sb_surface_reach_free(&f->blocks_reach);
+    sb_surface_reach_free(&f->groups_reach);
     free(f->boxes);
     free(f);
 }
@@ -216,22 +246,23 @@ static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const d
     return d2 <= balls->radius2[c];
 }
 
-/* Whether the join of the boxes of the blocks block b's triangles reach
+/* Whether the join of the boxes of the blocks unit u's triangles reach
  * reaches a collider meeting the surface: its bounds and its ball (a
  * block of a sheet lying inside a large sphere's bounds but far from its
  * ball, as a floor around the sphere, skips its triangles). Plain
  * comparisons: fmin would be a call per value. */
-static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, const sb_surface_balls* balls) {
+static bool sb_unit_reaches(const sb_surface* f, const sb_surface_reach* r, const sb_solver* s, uint32_t u,
+                            const sb_surface_balls* balls) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t k = f->reach_first[b]; k < f->reach_first[b + 1]; k++) {
-        const double* box = f->boxes + 6 * (size_t)f->reach[k];
+    for (uint32_t k = r->first[u]; k < r->first[u + 1]; k++) {
+        const double* box = f->boxes + 6 * (size_t)r->block[k];
         for (int a = 0; a < 3; a++) {
             lo[a] = box[a] < lo[a] ? box[a] : lo[a];
             hi[a] = box[3 + a] > hi[a] ? box[3 + a] : hi[a];
         }
     }
     for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if ((balls->meets >> c & 1) && sb_contact_reaches(s, c, lo, hi) && sb_box_meets_ball(balls, c, lo, hi))
+        if ((balls->meets >> c & 1) && sb_box_meets_ball(balls, c, lo, hi) && sb_contact_reaches(s, c, lo, hi))
             return true;
     return false;
 }
@@ -403,11 +434,15 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     sb_surface_balls_of(s, &balls);
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
-    for (uint32_t b = 0; b < f->blocks; b++) {
-        if (f->by_block && !sb_block_reaches(f, s, b, &balls)) continue;
-        for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
-            if (!(f->dead && f->dead[f->owned[k]]))
-                contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
+    for (uint32_t g = 0; g < f->groups; g++) {
+        if (f->by_block && !sb_unit_reaches(f, &f->groups_reach, s, g, &balls)) continue;
+        uint32_t last = (g + 1) * SB_SURFACE_GROUP < f->blocks ? (g + 1) * SB_SURFACE_GROUP : f->blocks;
+        for (uint32_t b = g * SB_SURFACE_GROUP; b < last; b++) {
+            if (f->by_block && !sb_unit_reaches(f, &f->blocks_reach, s, b, &balls)) continue;
+            for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
+                if (!(f->dead && f->dead[f->owned[k]]))
+                    contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
+        }
     }
     return contacts;
 }

@@ -308,6 +308,26 @@ static inline sb_wvec3 sb_wv_gather(const sb_real* x, const sb_real* y, const sb
  * indices in memory saves moving them out of a vector lane by lane (a few
  * % of pbd's triangle sweep: bench/results/notes/xpbd.md). */
 #if defined(__AVX512F__) && !SB_DOUBLE
+/* The 4x4 transpose inside each 128-bit lane: four registers of packed
+ * vertices (x y z w) in, x, y, z and w out (lane 4 L + j of the output is
+ * 128-bit lane L of register j), and back. */
+static inline sb_wvec3 sb_w_lanes_of_packed(const __m512 r[4], sb_wide* w) {
+    __m512 t0 = _mm512_unpacklo_ps(r[0], r[1]), t1 = _mm512_unpackhi_ps(r[0], r[1]);
+    __m512 t2 = _mm512_unpacklo_ps(r[2], r[3]), t3 = _mm512_unpackhi_ps(r[2], r[3]);
+    __m512d d0 = _mm512_castps_pd(t0), d1 = _mm512_castps_pd(t1), d2 = _mm512_castps_pd(t2), d3 = _mm512_castps_pd(t3);
+    *w = _mm512_castpd_ps(_mm512_unpackhi_pd(d1, d3));
+    return (sb_wvec3){_mm512_castpd_ps(_mm512_unpacklo_pd(d0, d2)), _mm512_castpd_ps(_mm512_unpackhi_pd(d0, d2)),
+                      _mm512_castpd_ps(_mm512_unpacklo_pd(d1, d3))};
+}
+static inline void sb_w_packed_of_lanes(sb_wvec3 v, sb_wide w, __m512 r[4]) {
+    __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(v.x, v.y)), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(v.x, v.y));
+    __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(v.z, w)), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(v.z, w));
+    r[0] = _mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2));
+    r[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2));
+    r[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3));
+    r[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3));
+}
+
 /* Lanes are loaded four per register in the order (0,4,8,12), (1,5,9,13),
  * (2,6,10,14), (3,7,11,15), so that a 4x4 transpose inside each 128-bit
  * lane leaves x, y, z and w in natural lane order. */
@@ -319,12 +339,7 @@ static inline sb_wvec3 sb_wv_load4w_at(const sb_real* p4, const uint32_t* id, sb
         r[j] = _mm512_insertf32x4(r[j], _mm_load_ps(p4 + 4 * (size_t)id[8 + j]), 2);
         r[j] = _mm512_insertf32x4(r[j], _mm_load_ps(p4 + 4 * (size_t)id[12 + j]), 3);
     }
-    __m512 t0 = _mm512_unpacklo_ps(r[0], r[1]), t1 = _mm512_unpackhi_ps(r[0], r[1]);
-    __m512 t2 = _mm512_unpacklo_ps(r[2], r[3]), t3 = _mm512_unpackhi_ps(r[2], r[3]);
-    __m512d d0 = _mm512_castps_pd(t0), d1 = _mm512_castps_pd(t1), d2 = _mm512_castps_pd(t2), d3 = _mm512_castps_pd(t3);
-    *w = _mm512_castpd_ps(_mm512_unpackhi_pd(d1, d3));
-    return (sb_wvec3){_mm512_castpd_ps(_mm512_unpacklo_pd(d0, d2)), _mm512_castpd_ps(_mm512_unpackhi_pd(d0, d2)),
-                      _mm512_castpd_ps(_mm512_unpacklo_pd(d1, d3))};
+    return sb_w_lanes_of_packed(r, w);
 }
 
 static inline sb_wvec3 sb_wv_load4w(const sb_real* p4, sb_windex i, sb_wide* w) {
@@ -341,11 +356,8 @@ static inline void sb_add_packed(sb_real* p4, uint32_t id, __m128 v) {
 /* The inverse transpose; then each of the first `count` lanes adds its
  * packed vector to its vertex (lanes of a block never share one). */
 static inline void sb_wv_add4_at(sb_real* p4, const uint32_t* id, sb_wvec3 v, int count) {
-    __m512 zero = _mm512_setzero_ps();
-    __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(v.x, v.y)), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(v.x, v.y));
-    __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(v.z, zero)), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(v.z, zero));
-    __m512 r[4] = {_mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2)), _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2)),
-                   _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3)), _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3))};
+    __m512 r[4];
+    sb_w_packed_of_lanes(v, _mm512_setzero_ps(), r);
     if (count == 16) { /* a full block: no lane tests */
         for (int j = 0; j < 4; j++) {
             sb_add_packed(p4, id[j], _mm512_castps512_ps128(r[j]));
@@ -372,10 +384,8 @@ static inline void sb_wv_add4(sb_real* p4, sb_windex i, sb_wvec3 v, int count) {
 /* The inverse of sb_wv_load4w: the first `count` lanes store x y z w to
  * their vertices (no read: for a kernel that loaded them and owns them). */
 static inline void sb_wv_store4w_at(sb_real* p4, const uint32_t* id, sb_wvec3 v, sb_wide w, int count) {
-    __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(v.x, v.y)), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(v.x, v.y));
-    __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(v.z, w)), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(v.z, w));
-    __m512 r[4] = {_mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2)), _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2)),
-                   _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3)), _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3))};
+    __m512 r[4];
+    sb_w_packed_of_lanes(v, w, r);
     for (int j = 0; j < 4; j++) {
         if (j < count) _mm_store_ps(p4 + 4 * (size_t)id[j], _mm512_castps512_ps128(r[j]));
         if (4 + j < count) _mm_store_ps(p4 + 4 * (size_t)id[4 + j], _mm512_extractf32x4_ps(r[j], 1));
@@ -388,6 +398,26 @@ static inline void sb_wv_store4w(sb_real* p4, sb_windex i, sb_wvec3 v, sb_wide w
     uint32_t id[16];
     _mm512_storeu_si512((void*)id, i);
     sb_wv_store4w_at(p4, id, v, w, count);
+}
+
+/* A run of SB_WIDTH consecutive packed vertices, one a lane: four whole
+ * registers transposed in their 128-bit lanes, which leaves lane l holding
+ * vertex sb_w_run_vertex(l) of the run; sb_w_load_run reads one real a
+ * vertex into the same lanes. */
+static inline int sb_w_run_vertex(int l) { return 4 * (l & 3) + (l >> 2); }
+static inline sb_wvec3 sb_wv_load4_run(const sb_real* p4, sb_wide* w) {
+    const __m512 r[4] = {_mm512_loadu_ps(p4), _mm512_loadu_ps(p4 + 16), _mm512_loadu_ps(p4 + 32),
+                         _mm512_loadu_ps(p4 + 48)};
+    return sb_w_lanes_of_packed(r, w);
+}
+static inline void sb_wv_store4_run(sb_real* p4, sb_wvec3 v, sb_wide w) {
+    __m512 r[4];
+    sb_w_packed_of_lanes(v, w, r);
+    for (int j = 0; j < 4; j++) _mm512_storeu_ps(p4 + 16 * j, r[j]);
+}
+static inline sb_wide sb_w_load_run(const sb_real* per_vertex) {
+    const __m512i order = _mm512_set_epi32(15, 11, 7, 3, 14, 10, 6, 2, 13, 9, 5, 1, 12, 8, 4, 0);
+    return _mm512_permutexvar_ps(order, _mm512_loadu_ps(per_vertex));
 }
 #else
 /* Elsewhere: the components of each lane's vertex, one lane at a time. */
@@ -453,6 +483,20 @@ static inline void sb_wv_store4w(sb_real* p4, sb_windex i, sb_wvec3 v, sb_wide w
     memcpy(id, &i, sizeof id);
     sb_wv_store4w_at(p4, id, v, w, count);
 }
+
+/* A run of SB_WIDTH consecutive packed vertices, vertex l in lane l. */
+static inline int sb_w_run_vertex(int l) { return l; }
+static inline sb_wvec3 sb_wv_load4_run(const sb_real* p4, sb_wide* w) {
+    uint32_t id[SB_WIDTH];
+    for (int l = 0; l < SB_WIDTH; l++) id[l] = (uint32_t)l;
+    return sb_wv_load4w_at(p4, id, w);
+}
+static inline void sb_wv_store4_run(sb_real* p4, sb_wvec3 v, sb_wide w) {
+    uint32_t id[SB_WIDTH];
+    for (int l = 0; l < SB_WIDTH; l++) id[l] = (uint32_t)l;
+    sb_wv_store4w_at(p4, id, v, w, SB_WIDTH);
+}
+static inline sb_wide sb_w_load_run(const sb_real* per_vertex) { return sb_w_load(per_vertex); }
 #endif
 
 /* The x y z of each lane's packed vertex (sb_wv_load4w also gives w: a
