@@ -4,15 +4,20 @@
  *
  * Design. The scalar reference (sb_contact_vertex, kernels/contact/contact.c)
  * asks each collider's callback in double and answers one vertex at a time,
- * about 80 ns a vertex. Here a register holds SB_WIDTH / 4 whole packed
- * vertices (x y z w) and works on them as they lie: a dot product of two
- * packed 3-vectors is their lane-wise product summed over each vertex's
- * four lanes (sb_w_sum4), which leaves the vertex's value in all four, so
- * every per-vertex quantity (a distance, a normal velocity, whether it
- * touches) is a register like the vectors, and a choice is a lane-wise pick
- * of two computed values (no branch, no gather or scatter: each array is
- * read and written once, whole registers). Truths are reals 0 or 1 (and:
- * product, or: maximum), picked with sb_w_pick_greater against one half.
+ * about 80 ns a vertex. Here a run of SB_WIDTH consecutive packed
+ * vertices (x y z w) is read as four whole registers and transposed in
+ * their 128-bit lanes (sb_wv_load4_run), so that each lane holds one
+ * vertex's x, y and z: every per-vertex quantity (a distance, a normal
+ * velocity, whether it touches, a division or a square root) is computed
+ * once for SB_WIDTH vertices, and written back by the inverse transpose
+ * (the vertices' order in the lanes is the transpose's, sb_w_run_vertex;
+ * per-vertex masses are read into the same order). The packed form, a
+ * vertex's four lanes summed for a dot product, computed each such value
+ * four times and took 2.1 times as long on the floor. A choice is a
+ * lane-wise pick of two computed values (no branch, no gather or scatter:
+ * each array is read and written once, whole registers). Truths are reals
+ * 0 or 1 (and: product, or: maximum), picked with sb_w_pick_greater
+ * against one half.
  *
  * The arithmetic is the reference's, in sb_real instead of double, the
  * sweeps' cases written out for a shape standing still in the world
@@ -46,8 +51,9 @@
  * kernel does not answer goes to the scalar reference whole, so one
  * vertex's colliders are always compared by one of the two. The impulses a
  * collider receives are summed lane-wise over a run and reduced in lane
- * order: the same for any thread count, since a run is a fixed block of a
- * fixed chunk. tests/test_fast_contact.c compares the two on random moves.
+ * order: the same for any thread count, since a run (the consecutive
+ * blocks of a chunk with the same colliders in reach) depends on the
+ * positions only. tests/test_fast_contact.c compares the two on random moves.
  * A capsule (a ≠ b) goes to the scalar reference: the lane-wise union of
  * its balls and cylinder matched it on random moves, but let one vertex of
  * a sheet dropped across a thin capsule through in the double build

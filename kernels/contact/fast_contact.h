@@ -61,7 +61,7 @@ typedef struct sb_fast_contact_step {
     uint32_t first;
 } sb_fast_contact_step;
 
-/* Vertices per register (SB_WIDTH / 4); 0 where no answer is in SIMD. */
+/* Vertices per register (SB_WIDTH, one a lane); 0 where no answer is in SIMD. */
 uint32_t sb_fast_contact_granule(void);
 
 /* Answers the moves (from x − d to x) of the first vertices of the run,

@@ -257,39 +257,6 @@ static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) {
 static inline sb_wide sb_w_spread4(const sb_real* per_vertex, size_t q) { return sb_packed_lane(per_vertex, q); }
 #endif
 
-/* Each packed vertex's four lanes (x y z w) summed, the sum in all four:
- * a dot product of packed 3-vectors whose w lanes are 0, broadcast to the
- * vertex's lanes. Summed as (x + y) + (z + w) in every lane, so the four
- * copies are bitwise equal. Only where a register holds whole vertices
- * (SB_W_HAS_SUM4: not the scalar variant). */
-#if defined(__AVX512F__) && !SB_DOUBLE
-#define SB_W_HAS_SUM4 1
-static inline sb_wide sb_w_sum4(sb_wide v) {
-    sb_wide pairs = _mm512_add_ps(v, _mm512_permute_ps(v, 0xB1)); /* (y x w z) */
-    return _mm512_add_ps(pairs, _mm512_permute_ps(pairs, 0x4E));  /* (z w x y) */
-}
-#elif defined(__AVX512F__) && SB_DOUBLE
-#define SB_W_HAS_SUM4 1
-static inline sb_wide sb_w_sum4(sb_wide v) {
-    sb_wide pairs = _mm512_add_pd(v, _mm512_permute_pd(v, 0x55));
-    return _mm512_add_pd(pairs, _mm512_permutex_pd(pairs, 0x4E));
-}
-#elif defined(__AVX2__) && SB_DOUBLE
-#define SB_W_HAS_SUM4 1
-static inline sb_wide sb_w_sum4(sb_wide v) {
-    sb_wide pairs = _mm256_add_pd(v, _mm256_permute_pd(v, 0x5));
-    return _mm256_add_pd(pairs, _mm256_permute2f128_pd(pairs, pairs, 0x01));
-}
-#elif defined(__AVX2__)
-#define SB_W_HAS_SUM4 1
-static inline sb_wide sb_w_sum4(sb_wide v) {
-    sb_wide pairs = _mm256_add_ps(v, _mm256_permute_ps(v, 0xB1));
-    return _mm256_add_ps(pairs, _mm256_permute_ps(pairs, 0x4E));
-}
-#else
-#define SB_W_HAS_SUM4 0
-#endif
-
 /* A 3-vector of wide reals: one lane per element. */
 typedef struct sb_wvec3 {
     sb_wide x, y, z;
