@@ -310,12 +310,15 @@ static void sb_read_corners(const sb_solver* s, const sb_surface* f, const sb_su
     }
 }
 
-/* The box around the corners' moves. */
-static void sb_corners_box(const sb_corners* c, double lo[3], double hi[3]) {
-    for (int k = 0; k < 3; k++) {
-        lo[k] = hi[k] = c->to[0][k];
-        for (int j = 0; j < 3; j++) {
-            double a = c->from[j][k], b = c->to[j][k];
+/* The box around triangle t's corners' moves, read from the view (most
+ * triangles a pass looks at end here: their corners are not read whole). */
+static void sb_triangle_box(const sb_surface* f, const sb_surface_view* view, uint32_t t, double lo[3], double hi[3]) {
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int j = 0; j < 3; j++) {
+        uint32_t i = f->triangles.v[j][t];
+        size_t at = view->stride * i;
+        for (int k = 0; k < 3; k++) {
+            double b = view->x[k][at], a = view->from ? view->from[3 * (size_t)i + k] : b - view->d[k][at];
             lo[k] = a < lo[k] ? a : lo[k], lo[k] = b < lo[k] ? b : lo[k];
             hi[k] = a > hi[k] ? a : hi[k], hi[k] = b > hi[k] ? b : hi[k];
         }
@@ -418,10 +421,11 @@ static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, con
     sb_corners corners;
     double lo[3], hi[3];
     uint32_t contacts = 0;
-    sb_read_corners(s, f, view, t, &corners);
-    sb_corners_box(&corners, lo, hi);
+    bool read = false;
+    sb_triangle_box(f, view, t, lo, hi);
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
         if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
+        if (!read) sb_read_corners(s, f, view, t, &corners), read = true;
         if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
         contacts++;
         sb_read_corners(s, f, view, t, &corners); /* the next collider sees the answer */
