@@ -193,7 +193,8 @@ typedef struct sb_fast_move {
     sb_wvec3 from, to, d;
 } sb_fast_move;
 
-static sb_fast_hit sb_fast_plane(const sb_fast_wide_shape* s, const sb_fast_move* m) {
+static inline __attribute__((always_inline)) sb_fast_hit sb_fast_plane(const sb_fast_wide_shape* s,
+                                                                       const sb_fast_move* m) {
     const sb_wide zero = sb_w_set(0), one = sb_w_set(1), t = s->reach;
     sb_fast_hit h;
     h.normal = s->normal;
@@ -381,9 +382,10 @@ static sb_fast_hit sb_fast_shape_hit(const sb_fast_wide_shape* s, const sb_fast_
 
 static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32_t count, const sb_fast_move* m) {
     const sb_wide zero = sb_w_set(0);
-    if (count == 1) /* one collider in reach (most blocks): nothing to compare */
-        return (sb_fast_contact){sb_fast_shape_hit(shapes, m), shapes->index, shapes->restitution, shapes->friction,
-                                 shapes->static_friction};
+    if (count == 1) { /* one collider in reach (most blocks): nothing to compare; a plane (a floor) inline */
+        sb_fast_hit h = shapes->kind == SB_FAST_SHAPE_PLANE ? sb_fast_plane(shapes, m) : sb_fast_shape_hit(shapes, m);
+        return (sb_fast_contact){h, shapes->index, shapes->restitution, shapes->friction, shapes->static_friction};
+    }
     sb_fast_contact best = {.hit = {zero, zero, zero, sb_wv_zero()}, zero, zero, zero, zero};
     for (uint32_t c = 0; c < count; c++) {
         const sb_fast_wide_shape* s = &shapes[c];
