@@ -1,6 +1,7 @@
-/* The contact of the static built-in planes, spheres (a capsule whose ends
- * coincide among them) and boxes in SIMD over the packed state: the fused Verlet step's answer for resting contact,
- * where every vertex of a body lying on a floor is answered every step.
+/* The contact of the static built-in planes, spheres, capsules and boxes
+ * in SIMD over the packed state: the fused Verlet step's answer for
+ * resting contact, where every vertex of a body lying on a floor is
+ * answered every step.
  *
  * Design. The scalar reference (sb_contact_vertex, kernels/contact/contact.c)
  * asks each collider's callback in double and answers one vertex at a time,
@@ -34,8 +35,17 @@
  *   and normal when the move ends in or heads in; from outside, where the
  *   line enters if that lies within the move, else at the end when the
  *   end is in. The shapes' queries:
- *   sphere  the ball of r = radius + t about c; the line enters at
+ *   sphere  the ball of r = radius + t about c (a capsule whose ends
+ *           coincide, as capsule.c decides); the line enters at
  *           c / (−b + √(b² − a c)), the form without cancellation;
+ *   capsule from the nearest point of the segment a–b, a clamp of the
+ *           place along it (on the axis itself, the normal to it that
+ *           capsule.c takes, made once in double); the line the union of
+ *           the balls about a and b and the cylinder between them, in
+ *           capsule.c's order (a, b, cylinder; an entry no earlier keeps
+ *           the normal): the cylinder's roots of A s² + 2 B s + C clipped
+ *           to the slab between the ends, all of the line or none of it
+ *           along the axis (A = 0), every s of the slab or none across it;
  *   box     in its frame (x' = Rᵀ (x − c), a dot product with each axis):
  *           inside when no room h_k − |x'_k| is negative, the face of
  *           least room; the line by the slab test, the face of the slab
@@ -53,12 +63,9 @@
  * collider receives are summed lane-wise over a run and reduced in lane
  * order: the same for any thread count, since a run (the consecutive
  * blocks of a chunk with the same colliders in reach) depends on the
- * positions only. tests/test_fast_contact.c compares the two on random moves.
- * A capsule (a ≠ b) goes to the scalar reference: the lane-wise union of
- * its balls and cylinder matched it on random moves, but let one vertex of
- * a sheet dropped across a thin capsule through in the double build
- * (test_contact's test_fast_sheet_does_not_pass_a_capsule), not yet
- * understood. */
+ * positions only. tests/test_fast_contact.c compares the two on random moves
+ * (a capsule's ends and cylinder, moves along and across its axis among
+ * them). */
 #include "kernels/contact/fast_contact.h"
 #include "kernels/contact/colliders/box.h"
 #include "kernels/contact/colliders/collider_internal.h"
@@ -74,6 +81,30 @@
 static void sb_fast_copy3(sb_real out[4], const double v[3]) {
     for (int k = 0; k < 3; k++) out[k] = (sb_real)v[k];
     out[3] = 0;
+}
+
+/* The capsule a–b (|b − a| > 0): a, b − a, its unit axis, b, length and
+ * squared length, and the unit normal to the axis that its end query takes
+ * on the axis itself (sb_capsule_end, capsule.c), all made in double as
+ * there. */
+static void sb_fast_capsule_of(const sb_collider_def* d, double thickness, sb_fast_shape* s) {
+    double ab[3] = {d->b[0] - d->a[0], d->b[1] - d->a[1], d->b[2] - d->a[2]};
+    double ab2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], length = sqrt(ab2), u[3], n[3] = {0, 0, 0};
+    int e = fabs(ab[0]) <= fabs(ab[1]) && fabs(ab[0]) <= fabs(ab[2]) ? 0 : fabs(ab[1]) <= fabs(ab[2]) ? 1 : 2;
+    n[e] = 1.0;
+    double along = n[e] * ab[e] / ab2;
+    for (int k = 0; k < 3; k++) n[k] -= along * ab[k], u[k] = ab[k] / length;
+    double n_length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) n[k] /= n_length;
+    s->kind = SB_FAST_SHAPE_CAPSULE;
+    sb_fast_copy3(s->origin, d->a);
+    sb_fast_copy3(s->normal, n);
+    sb_fast_copy3(s->axis[0], ab);
+    sb_fast_copy3(s->axis[1], u);
+    sb_fast_copy3(s->axis[2], d->b);
+    s->extent[0] = (sb_real)length;
+    s->extent[1] = (sb_real)ab2;
+    s->reach = (sb_real)(d->radius + thickness);
 }
 
 /* a == b: the ball about a (as capsule.c decides) */
@@ -115,6 +146,8 @@ static sb_fast_shape sb_fast_shape_of(const sb_collider* c, double contact_thick
         s.kind = SB_FAST_SHAPE_SPHERE;
         sb_fast_copy3(s.origin, d->shape == SB_COLLIDER_SPHERE ? d->center : d->a);
         s.reach = (sb_real)(d->radius + thickness);
+    } else if (d->shape == SB_COLLIDER_CAPSULE) {
+        sb_fast_capsule_of(d, thickness, &s);
     } else if (d->shape == SB_COLLIDER_BOX) {
         sb_fast_box_of(c, thickness, &s);
     } else {
@@ -285,6 +318,67 @@ static sb_fast_hit sb_fast_sphere(const sb_fast_wide_shape* s, const sb_fast_mov
     return sb_fast_sweep(&e0, &e1, sb_wv_dot(e1.normal, e0.normal), &line, m);
 }
 
+/* The capsule at x (sb_capsule_end): from the nearest point of the
+ * segment, a clamp of x's place along it. */
+static sb_fast_end sb_fast_capsule_end(const sb_fast_wide_shape* s, sb_wvec3 x) {
+    const sb_wvec3 ab = s->axis[0], ax = sb_wv_sub(x, s->origin);
+    sb_wide tau = sb_w_min(sb_w_max(sb_w_div(sb_wv_dot(ax, ab), s->extent[1]), sb_w_set(0)), sb_w_set(1));
+    return sb_fast_round_end(sb_wv_sub(ax, sb_wv_scale(ab, tau)), s->reach, s->normal);
+}
+
+/* The line of the move in the cylinder piece (sb_cylinder_line,
+ * capsule.c): the roots of A s² + 2 B s + C, clipped to the slab between
+ * the ends; all of the line or none of it when the move is along the axis
+ * (A = 0), every s of the slab or none when it is across (d·u = 0). */
+static sb_fast_line sb_fast_cylinder_line(const sb_fast_wide_shape* s, const sb_fast_move* mv) {
+    const sb_wide zero = sb_w_set(0), length = s->extent[0], r = s->reach;
+    const sb_wide below = sb_w_set(-(sb_real)INFINITY), above = sb_w_set((sb_real)INFINITY);
+    const sb_wvec3 u = s->axis[1], m = sb_wv_sub(mv->from, s->origin);
+    sb_wide mu = sb_wv_dot(m, u), du = sb_wv_dot(mv->d, u);
+    sb_wvec3 mp = sb_wv_sub(m, sb_wv_scale(u, mu)), dp = sb_wv_sub(mv->d, sb_wv_scale(u, du));
+    sb_wide A = sb_wv_dot(dp, dp), B = sb_wv_dot(mp, dp), C = sb_w_sub(sb_wv_dot(mp, mp), sb_w_mul(r, r));
+    sb_wide disc = sb_w_sub(sb_w_mul(B, B), sb_w_mul(A, C)), root = sb_w_sqrt(sb_w_max(disc, zero));
+    sb_wide falling = sb_t_at_most(B, zero), q = sb_w_sub(sb_t_pick(falling, root, sb_w_sub(zero, root)), B);
+    sb_wide along = sb_t_not(sb_t_greater(A, zero));
+    sb_wide s1 = sb_t_pick(along, below, sb_t_pick(falling, sb_w_div(C, q), sb_w_div(q, A)));
+    sb_wide s2 = sb_t_pick(along, above, sb_t_pick(falling, sb_w_div(q, A), sb_w_div(C, q)));
+    sb_wide entered = sb_t_pick(along, sb_t_at_most(C, zero), sb_t_greater(disc, zero));
+    sb_wide across = sb_t_not(sb_t_greater(sb_w_abs(du), zero));
+    sb_wide sa = sb_w_div(sb_w_sub(zero, mu), du), sb = sb_w_div(sb_w_sub(length, mu), du);
+    s1 = sb_t_pick(across, s1, sb_w_max(s1, sb_w_min(sa, sb)));
+    s2 = sb_t_pick(across, s2, sb_w_min(s2, sb_w_max(sa, sb)));
+    sb_wide in_slab = sb_t_and(sb_t_at_most(zero, mu), sb_t_at_most(mu, length));
+    entered = sb_t_and(entered, sb_t_or(sb_t_not(across), in_slab));
+    entered = sb_t_and(entered, sb_t_at_most(s1, s2));
+    sb_wide at = sb_w_pick_greater(s1, below, s1, zero); /* -inf: a zero move on the axis */
+    sb_fast_end there = sb_fast_capsule_end(s, sb_wv_add(mv->from, sb_wv_scale(mv->d, at)));
+    return (sb_fast_line){.entered = entered, .lo = s1, .hi = s2, .normal = there.normal};
+}
+
+/* Adds a piece's interval to the union (sb_capsule_union_add): an entry no
+ * earlier than the current keeps its normal. */
+static void sb_fast_union_add(sb_fast_line* line, const sb_fast_line* piece) {
+    sb_wide first = sb_t_not(line->entered);
+    sb_wide earlier = sb_t_and(piece->entered, sb_t_or(first, sb_t_greater(line->lo, piece->lo)));
+    sb_wide later = sb_t_and(piece->entered, sb_t_or(first, sb_t_greater(piece->hi, line->hi)));
+    line->lo = sb_t_pick(earlier, piece->lo, line->lo);
+    line->normal = sb_tv_pick(earlier, piece->normal, line->normal);
+    line->hi = sb_t_pick(later, piece->hi, line->hi);
+    line->entered = sb_t_or(line->entered, piece->entered);
+}
+
+/* The capsule: the union of the balls about a and b and the cylinder
+ * between them (sb_capsule_line), in that order. */
+static sb_fast_hit sb_fast_capsule(const sb_fast_wide_shape* s, const sb_fast_move* m) {
+    sb_fast_end e0 = sb_fast_capsule_end(s, m->from), e1 = sb_fast_capsule_end(s, m->to);
+    sb_fast_line line = sb_fast_ball_line(s->origin, s->reach, m);
+    sb_fast_line ball_b = sb_fast_ball_line(s->axis[2], s->reach, m);
+    sb_fast_line cylinder = sb_fast_cylinder_line(s, m);
+    sb_fast_union_add(&line, &ball_b);
+    sb_fast_union_add(&line, &cylinder);
+    return sb_fast_sweep(&e0, &e1, sb_wv_dot(e1.normal, e0.normal), &line, m);
+}
+
 /* The box's frame at the move's ends: x' = Rᵀ (x − center), its axes
  * one by one, and the face normals ±R e_k. */
 typedef struct sb_fast_box_frame {
@@ -376,6 +470,7 @@ static sb_fast_hit sb_fast_shape_hit(const sb_fast_wide_shape* s, const sb_fast_
     switch (s->kind) {
     case SB_FAST_SHAPE_PLANE: return sb_fast_plane(s, m);
     case SB_FAST_SHAPE_SPHERE: return sb_fast_sphere(s, m);
+    case SB_FAST_SHAPE_CAPSULE: return sb_fast_capsule(s, m);
     default: return sb_fast_box(s, m);
     }
 }

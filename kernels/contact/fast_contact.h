@@ -1,7 +1,7 @@
-/* Private: the contact of the static built-in planes, spheres and boxes
- * answered
- * in SIMD over the packed state (kernels/contact/fast_contact.c), beside
- * the scalar reference of kernels/contact/contact.c. */
+/* Private: the contact of the static built-in planes, spheres, capsules
+ * and boxes answered in SIMD over the packed state
+ * (kernels/contact/fast_contact.c), beside the scalar reference of
+ * kernels/contact/contact.c. */
 #ifndef SB_FAST_CONTACT_H
 #define SB_FAST_CONTACT_H
 
@@ -12,17 +12,18 @@ typedef enum sb_fast_shape_kind {
     SB_FAST_SHAPE_NONE = 0, /* answered by the scalar reference */
     SB_FAST_SHAPE_PLANE,
     SB_FAST_SHAPE_SPHERE,
+    SB_FAST_SHAPE_CAPSULE,
     SB_FAST_SHAPE_BOX
 } sb_fast_shape_kind;
 
 typedef struct sb_fast_shape {
     sb_fast_shape_kind kind;
-    sb_real origin[4];  /* plane: its point; sphere, box: the center (w 0) */
-    sb_real normal[4];  /* plane: its unit normal (w 0) */
-    sb_real axis[3][4]; /* box: its axes (w 0) */
-    sb_real extent[3];  /* box: half extents + thickness */
+    sb_real origin[4];  /* plane: its point; sphere, box: the center; capsule: a (w 0) */
+    sb_real normal[4];  /* plane: its unit normal; capsule: the normal on its axis (w 0) */
+    sb_real axis[3][4]; /* box: its axes; capsule: b − a, the unit axis, b (w 0) */
+    sb_real extent[3];  /* box: half extents + thickness; capsule: |b − a|, |b − a|² */
     sb_real facing[3];  /* box: the signs (1, 0, −1) of its axes' dot products 01 02 12 in double */
-    sb_real reach;      /* plane: the thickness; sphere: radius + thickness */
+    sb_real reach;      /* plane: the thickness; sphere, capsule: radius + thickness */
     sb_real restitution, friction, static_friction;
 } sb_fast_shape;
 
@@ -33,9 +34,10 @@ typedef struct sb_fast_colliders {
 } sb_fast_colliders;
 
 /* The kernel's view of the colliders for the current step: the static
- * built-in planes, spheres (a capsule with a = b) and boxes (sb_collider_is_static_builtin), the solver's
- * contact thickness added to their own. None where a register does not
- * hold whole packed vertices (the scalar SIMD variant). */
+ * built-in planes, spheres, capsules (a = b: the ball about a) and boxes
+ * (sb_collider_is_static_builtin), the solver's contact thickness added to
+ * their own. None where a register does not hold whole packed vertices
+ * (the scalar SIMD variant). */
 void sb_fast_colliders_set(sb_fast_colliders* out, sb_collider* const* colliders, uint32_t count,
                            double contact_thickness);
 

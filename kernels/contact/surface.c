@@ -209,7 +209,7 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
         for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
             for (int k = 0; k < 3; k++) {
                 size_t at = view->stride * i;
-                double x = view->x[k][at], from = view->from ? view->from[3 * (size_t)i + k] : x - view->d[k][at];
+                double x = view->x[k][at], from = view->from[3 * (size_t)i + k];
                 box[k] = fmin(box[k], fmin(x, from));
                 box[3 + k] = fmax(box[3 + k], fmax(x, from));
             }
@@ -267,8 +267,8 @@ static bool sb_unit_reaches(const sb_surface* f, const sb_surface_reach* r, cons
     return false;
 }
 
-sb_surface_view sb_surface_view_packed(sb_solver* s) {
-    sb_surface_view view = {.stride = 4, .from = NULL};
+sb_surface_view sb_surface_view_packed(sb_solver* s, const double* from) {
+    sb_surface_view view = {.stride = 4, .from = from};
     for (int k = 0; k < 3; k++) {
         view.x[k] = s->positions4 + k;
         view.v[k] = s->velocities4 + k;
@@ -304,7 +304,7 @@ static void sb_read_corners(const sb_solver* s, const sb_surface* f, const sb_su
         for (int k = 0; k < 3; k++) {
             c->to[j][k] = view->x[k][at];
             c->v[j][k] = view->v[k][at];
-            c->from[j][k] = view->from ? view->from[3 * (size_t)i + k] : c->to[j][k] - view->d[k][at];
+            c->from[j][k] = view->from[3 * (size_t)i + k];
         }
         c->inv_mass[j] = inv_mass[i];
     }
@@ -351,7 +351,7 @@ static void sb_answer_corner(const sb_solver* s, const sb_surface_view* view, ui
     double x[3], v[3], from[3], impulse[3], point[3];
     for (int k = 0; k < 3; k++) {
         x[k] = view->x[k][at], v[k] = view->v[k][at];
-        from[k] = view->from ? view->from[3 * (size_t)i + k] : x[k] - view->d[k][at];
+        from[k] = view->from[3 * (size_t)i + k];
     }
     if (sb_contact_vertex(s, i, (uint64_t)1 << index, from, x, v, impulse, point) < 0) return;
     for (int k = 0; k < 3; k++) {
