@@ -80,6 +80,8 @@ typedef struct sb_contact_pass {
     double* impulse;             /* 3 per collider: summed over the accepted steps of this advance */
     bool corrects;               /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
     sb_surface* surface;         /* when a collider meets the surface (kernels/contact/surface.c) */
+    uint64_t meets_surface;      /* with a surface: a bit per collider that meets it */
+    uint32_t *kept, stamp;       /* the fused step: from[i] is vertex i's start where kept[i] == stamp */
     sb_body_restitution* bodies; /* restitution per body (kernels/contact/body_restitution.c); NULL where off */
     sb_fast_colliders fast;      /* the step's colliders as the SIMD answer sees them */
 } sb_contact_pass;
@@ -110,6 +112,10 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
     if (sb_surface_active(s) && !(c->surface = sb_surface_create(s, err))) return SB_ERR_NOMEM;
+    if (c->surface && !(c->kept = calloc((size_t)s->model->vertex_count + 1, sizeof *c->kept)))
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
+    for (uint32_t k = 0; c->surface && k < s->def.collider_count; k++)
+        if (sb_collider_meets_surface(s->def.colliders[k])) c->meets_surface |= (uint64_t)1 << k;
     sb_status status = sb_body_restitution_create(s, &c->bodies, err);
     if (status != SB_OK) return status;
     sb_contact_subscribe(s);
@@ -120,6 +126,7 @@ void sb_contact_destroy(sb_solver* s) {
     sb_contact_pass* c = s->contact;
     if (!c) return;
     free(c->from);
+    free(c->kept);
     free(c->partials);
     free(c->impulse);
     free(c->step);
@@ -364,15 +371,19 @@ static void sb_contact_run_packed(const sb_solver* s, uint32_t chunk, uint64_t n
     for (; i < last; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
 }
 
-/* The starts x − d of the moves of vertices [first, last) of the packed
- * state, before any answer, for the surface pass: an answer sets a
+/* Keeps the starts x − d of the moves of vertices [first, last) of the
+ * packed state before any answer, for the surface pass: an answer sets a
  * vertex's d to v dt, after which x − d is no start of its move (a corner
  * the pass re-answers from there could start inside, or past, a thin
- * capsule and be pushed out on its far side). */
+ * capsule and be pushed out on its far side). Only the blocks a collider
+ * meeting the surface reaches: the others' answers (a floor's) do not
+ * move a vertex the pass answers against such a collider. */
 static void sb_contact_keep_from_packed(const sb_solver* s, uint32_t first, uint32_t last) {
     const sb_real *x4 = s->positions4, *d4 = s->displacements4;
-    for (size_t i = first; i < last; i++)
+    for (size_t i = first; i < last; i++) {
         for (int k = 0; k < 3; k++) s->contact->from[3 * i + k] = (double)x4[4 * i + k] - (double)d4[4 * i + k];
+        s->contact->kept[i] = s->contact->stamp;
+    }
 }
 
 /* The fused path's pass over one chunk of the packed state, after its drift
@@ -385,11 +396,11 @@ static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double d
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     uint32_t run = first;
     uint64_t run_near = 0;
-    if (s->contact->surface) sb_contact_keep_from_packed(s, first, last);
     sb_contact_chunk_begin(s, chunk);
     for (uint32_t block = first; block < last; block += SB_CONTACT_BLOCK) {
         uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last;
         uint64_t near = sb_block_near_packed(s, block, end);
+        if (near & s->contact->meets_surface) sb_contact_keep_from_packed(s, block, end);
         if (near == run_near) continue;
         sb_contact_run_packed(s, chunk, run_near, run, block, dt);
         run = block, run_near = near;
@@ -490,7 +501,7 @@ static bool sb_contact_correct_swept(sb_solver* s, double dt) {
 
 /* The fused step's surface pass (the surface_packed hook). */
 static void sb_contact_surface_packed(sb_solver* s, double dt) {
-    sb_surface_view view = sb_surface_view_packed(s, s->contact->from);
+    sb_surface_view view = sb_surface_view_packed(s, s->contact->from, s->contact->kept, s->contact->stamp);
     sb_surface_pass(s, s->contact->surface, &view, true, dt);
 }
 
@@ -502,6 +513,10 @@ static void sb_contact_begin(sb_solver* s, double t0, double dt) {
     if (s->contact->bodies) sb_body_restitution_begin(s->contact->bodies);
     sb_fast_colliders_set(&s->contact->fast, s->def.colliders, s->def.collider_count, s->def.contact_thickness);
     if ((s->contact->corrects || s->contact->surface) && !sb_fused(s)) sb_contact_save_from(s);
+    if (s->contact->kept && ++s->contact->stamp == 0) { /* a new step's stamp; on wrapping, none kept */
+        memset(s->contact->kept, 0, (size_t)s->model->vertex_count * sizeof *s->contact->kept);
+        s->contact->stamp = 1;
+    }
 }
 
 /* The collect stage: the fused step's chunk sums, then restitution per

@@ -200,6 +200,20 @@ void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const
     for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
 }
 
+/* Axis k of vertex i's start this step (the view's note). */
+static double sb_view_from(const sb_surface_view* view, uint32_t i, int k) {
+    size_t at = view->stride * i;
+    if (!view->kept || view->kept[i] == view->stamp) return view->from[3 * (size_t)i + k];
+    return (double)view->x[k][at] - (double)view->d[k][at];
+}
+
+/* Keeps vertex i's start `from` before the pass moves it. */
+static void sb_view_keep_from(const sb_surface_view* view, uint32_t i, const double from[3]) {
+    if (!view->kept || view->kept[i] == view->stamp) return;
+    memcpy(view->from + 3 * (size_t)i, from, 3 * sizeof *from);
+    view->kept[i] = view->stamp;
+}
+
 /* Every block's box from the view (the passes that do not set them). */
 static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_surface_view* view) {
     uint32_t n = s->model->vertex_count;
@@ -209,7 +223,7 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
         for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
             for (int k = 0; k < 3; k++) {
                 size_t at = view->stride * i;
-                double x = view->x[k][at], from = view->from[3 * (size_t)i + k];
+                double x = view->x[k][at], from = sb_view_from(view, i, k);
                 box[k] = fmin(box[k], fmin(x, from));
                 box[3 + k] = fmax(box[3 + k], fmax(x, from));
             }
@@ -267,8 +281,8 @@ static bool sb_unit_reaches(const sb_surface* f, const sb_surface_reach* r, cons
     return false;
 }
 
-sb_surface_view sb_surface_view_packed(sb_solver* s, const double* from) {
-    sb_surface_view view = {.stride = 4, .from = from};
+sb_surface_view sb_surface_view_packed(sb_solver* s, double* from, uint32_t* kept, uint32_t stamp) {
+    sb_surface_view view = {.stride = 4, .from = from, .kept = kept, .stamp = stamp};
     for (int k = 0; k < 3; k++) {
         view.x[k] = s->positions4 + k;
         view.v[k] = s->velocities4 + k;
@@ -278,7 +292,7 @@ sb_surface_view sb_surface_view_packed(sb_solver* s, const double* from) {
     return view;
 }
 
-sb_surface_view sb_surface_view_state(sb_solver* s, const double* from) {
+sb_surface_view sb_surface_view_state(sb_solver* s, double* from) {
     sb_state* st = &s->state;
     return (sb_surface_view){.x = {st->x, st->y, st->z},
                              .v = {st->vx, st->vy, st->vz},
@@ -304,7 +318,7 @@ static void sb_read_corners(const sb_solver* s, const sb_surface* f, const sb_su
         for (int k = 0; k < 3; k++) {
             c->to[j][k] = view->x[k][at];
             c->v[j][k] = view->v[k][at];
-            c->from[j][k] = view->from[3 * (size_t)i + k];
+            c->from[j][k] = sb_view_from(view, i, k);
         }
         c->inv_mass[j] = inv_mass[i];
     }
@@ -318,7 +332,7 @@ static void sb_triangle_box(const sb_surface* f, const sb_surface_view* view, ui
         uint32_t i = f->triangles.v[j][t];
         size_t at = view->stride * i;
         for (int k = 0; k < 3; k++) {
-            double b = view->x[k][at], a = view->from ? view->from[3 * (size_t)i + k] : b - view->d[k][at];
+            double b = view->x[k][at], a = sb_view_from(view, i, k);
             lo[k] = a < lo[k] ? a : lo[k], lo[k] = b < lo[k] ? b : lo[k];
             hi[k] = a > hi[k] ? a : hi[k], hi[k] = b > hi[k] ? b : hi[k];
         }
@@ -334,6 +348,7 @@ static void sb_blend(const double w[3], const double p[3][3], double out[3]) {
 static void sb_move_corner(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, int j, double share,
                            const double dx[3], const double dv[3], double dt) {
     size_t at = view->stride * c->vertex[j];
+    sb_view_keep_from(view, c->vertex[j], c->from[j]);
     for (int k = 0; k < 3; k++) {
         double v = c->v[j][k] + share * dv[k];
         view->x[k][at] = (sb_real)(c->to[j][k] + share * dx[k]);
@@ -351,9 +366,10 @@ static void sb_answer_corner(const sb_solver* s, const sb_surface_view* view, ui
     double x[3], v[3], from[3], impulse[3], point[3];
     for (int k = 0; k < 3; k++) {
         x[k] = view->x[k][at], v[k] = view->v[k][at];
-        from[k] = view->from[3 * (size_t)i + k];
+        from[k] = sb_view_from(view, i, k);
     }
     if (sb_contact_vertex(s, i, (uint64_t)1 << index, from, x, v, impulse, point) < 0) return;
+    sb_view_keep_from(view, i, from);
     for (int k = 0; k < 3; k++) {
         view->x[k][at] = (sb_real)x[k];
         view->v[k][at] = (sb_real)v[k];

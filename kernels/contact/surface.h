@@ -11,11 +11,16 @@
  * drift set, which a corrected vertex gets again for its new velocity;
  * NULL elsewhere), axis k of vertex i at [k][stride i]; `from`, 3 doubles a
  * vertex, the positions at the start of the step (not x − d: an answer
- * resets d to v dt). */
+ * resets d to v dt). With `kept` (the fused step), from[i] holds vertex i's
+ * start only where kept[i] == stamp: the vertex pass keeps the starts of
+ * the blocks a collider meeting the surface reaches, the pass those of the
+ * corners it moves before it moves them; any other vertex was not moved by
+ * an answer that could matter here, and starts at x − d. */
 typedef struct sb_surface_view {
     sb_real *x[3], *v[3], *d[3], *f[3];
     size_t stride;
-    const double* from;
+    double* from;
+    uint32_t *kept, stamp;
 } sb_surface_view;
 
 /* Vertices per block of the pass's broad phase (the vertex pass's blocks:
@@ -38,8 +43,8 @@ void sb_surface_set_box(sb_surface* surface, uint32_t block, const double lo[3],
  * place; the surface must be the model's triangles); NULL: none. */
 void sb_surface_set_dead(sb_surface* surface, const uint8_t* dead);
 /* The fused step's packed state, and the state's arrays, with `from`. */
-sb_surface_view sb_surface_view_packed(sb_solver* solver, const double* from);
-sb_surface_view sb_surface_view_state(sb_solver* solver, const double* from);
+sb_surface_view sb_surface_view_packed(sb_solver* solver, double* from, uint32_t* kept, uint32_t stamp);
+sb_surface_view sb_surface_view_state(sb_solver* solver, double* from);
 /* The pass, on one thread, after the vertex pass of the step: the
  * triangles block by block, in order, each against each collider that
  * meets the surface, in order; the impulses into the partial sums of chunk
