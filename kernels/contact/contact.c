@@ -364,17 +364,6 @@ static void sb_contact_run_packed(const sb_solver* s, uint32_t chunk, uint64_t n
     for (; i < last; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
 }
 
-/* The starts x − d of the moves of vertices [first, last) of the packed
- * state, before any answer, for the surface pass: an answer sets a
- * vertex's d to v dt, after which x − d is no start of its move (a corner
- * the pass re-answers from there could start inside, or past, a thin
- * capsule and be pushed out on its far side). */
-static void sb_contact_keep_from_packed(const sb_solver* s, uint32_t first, uint32_t last) {
-    const sb_real *x4 = s->positions4, *d4 = s->displacements4;
-    for (size_t i = first; i < last; i++)
-        for (int k = 0; k < 3; k++) s->contact->from[3 * i + k] = (double)x4[4 * i + k] - (double)d4[4 * i + k];
-}
-
 /* The fused path's pass over one chunk of the packed state, after its drift
  * (from = x − displacement): the drift_chunk hook. Block by block, the
  * colliders in reach (none: the block is skipped); consecutive blocks with
@@ -385,7 +374,6 @@ static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double d
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     uint32_t run = first;
     uint64_t run_near = 0;
-    if (s->contact->surface) sb_contact_keep_from_packed(s, first, last);
     sb_contact_chunk_begin(s, chunk);
     for (uint32_t block = first; block < last; block += SB_CONTACT_BLOCK) {
         uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last;
@@ -490,13 +478,12 @@ static bool sb_contact_correct_swept(sb_solver* s, double dt) {
 
 /* The fused step's surface pass (the surface_packed hook). */
 static void sb_contact_surface_packed(sb_solver* s, double dt) {
-    sb_surface_view view = sb_surface_view_packed(s, s->contact->from);
+    sb_surface_view view = sb_surface_view_packed(s);
     sb_surface_pass(s, s->contact->surface, &view, true, dt);
 }
 
 /* The begin stage: the colliders' callbacks, and the positions the moves
- * start from where the correct stage will run (the fused step keeps them in
- * its drift hook, for its surface pass). */
+ * start from where the correct stage will run. */
 static void sb_contact_begin(sb_solver* s, double t0, double dt) {
     sb_contact_begin_step(s, t0, t0 + dt);
     if (s->contact->bodies) sb_body_restitution_begin(s->contact->bodies);

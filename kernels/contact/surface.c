@@ -25,7 +25,12 @@
  * answer's push; along the surface, dt times the change of velocity (the
  * rest of the step at the answered velocity), so a corner is not dragged
  * along the surface by the point's reset. A corrected corner takes d = v dt
- * as its Verlet displacement, as in the vertex pass. A corner the push
+ * as its Verlet displacement, as in the vertex pass; where the pass reads
+ * the start of a move as x − d (the fused step's packed state), it keeps a
+ * corner's start before its first correction in the pass and reads that
+ * one after it (x − d is then no start: a corner answered again from there
+ * could start inside, or past, a thin capsule and be pushed out on its far
+ * side). A corner the push
  * carried into the collider (a sheet wrapped round a thin capsule: the
  * normal at the point of contact is not the way out at the corner) is then
  * answered as a vertex, by the same collider.
@@ -75,6 +80,8 @@ struct sb_surface {
     double* boxes;                 /* 6 a block: the box of its moves this step */
     bool by_block;                 /* the topology is fixed: blocks may be skipped */
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
+    double* start;                 /* 3 a vertex: its move's start, kept before the pass first moved it */
+    uint32_t *moved, pass;         /* moved[i] == pass: vertex i was moved in this pass (its start kept) */
 };
 
 bool sb_surface_active(const sb_solver* s) {
@@ -173,7 +180,9 @@ sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
         f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
         f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
         f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
-        ok = f->owned_first && f->owned && f->boxes && sb_surface_own(f) &&
+        f->start = malloc(3 * ((size_t)m->vertex_count + 1) * sizeof *f->start);
+        f->moved = calloc((size_t)m->vertex_count + 1, sizeof *f->moved);
+        ok = f->owned_first && f->owned && f->boxes && f->start && f->moved && sb_surface_own(f) &&
              sb_surface_reach_of(f, 1, &f->blocks_reach) && sb_surface_reach_of(f, SB_SURFACE_GROUP, &f->groups_reach);
     }
     if (ok) return f;
@@ -190,6 +199,8 @@ void sb_surface_destroy(sb_surface* f) {
     sb_surface_reach_free(&f->blocks_reach);
     sb_surface_reach_free(&f->groups_reach);
     free(f->boxes);
+    free(f->start);
+    free(f->moved);
     free(f);
 }
 
@@ -198,6 +209,21 @@ void sb_surface_set_dead(sb_surface* f, const uint8_t* dead) { f->dead = dead; }
 void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
     double* box = f->boxes + 6 * (size_t)block;
     for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
+}
+
+/* The start of vertex i's move, axis k: `from`, or x − d, or where the
+ * pass kept it before it first moved the vertex. */
+static double sb_move_start(const sb_surface* f, const sb_surface_view* view, uint32_t i, int k) {
+    size_t at = view->stride * i;
+    if (view->from) return view->from[3 * (size_t)i + k];
+    return f->moved[i] == f->pass ? f->start[3 * (size_t)i + k] : view->x[k][at] - view->d[k][at];
+}
+
+/* Before the pass moves vertex i: its start kept, where it is x − d. */
+static void sb_keep_start(sb_surface* f, const sb_surface_view* view, uint32_t i) {
+    if (view->from || f->moved[i] == f->pass) return;
+    for (int k = 0; k < 3; k++) f->start[3 * (size_t)i + k] = sb_move_start(f, view, i, k);
+    f->moved[i] = f->pass;
 }
 
 /* Every block's box from the view (the passes that do not set them). */
@@ -209,7 +235,7 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
         for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
             for (int k = 0; k < 3; k++) {
                 size_t at = view->stride * i;
-                double x = view->x[k][at], from = view->from[3 * (size_t)i + k];
+                double x = view->x[k][at], from = sb_move_start(f, view, i, k);
                 box[k] = fmin(box[k], fmin(x, from));
                 box[3 + k] = fmax(box[3 + k], fmax(x, from));
             }
@@ -267,8 +293,8 @@ static bool sb_unit_reaches(const sb_surface* f, const sb_surface_reach* r, cons
     return false;
 }
 
-sb_surface_view sb_surface_view_packed(sb_solver* s, const double* from) {
-    sb_surface_view view = {.stride = 4, .from = from};
+sb_surface_view sb_surface_view_packed(sb_solver* s) {
+    sb_surface_view view = {.stride = 4, .from = NULL};
     for (int k = 0; k < 3; k++) {
         view.x[k] = s->positions4 + k;
         view.v[k] = s->velocities4 + k;
@@ -304,7 +330,7 @@ static void sb_read_corners(const sb_solver* s, const sb_surface* f, const sb_su
         for (int k = 0; k < 3; k++) {
             c->to[j][k] = view->x[k][at];
             c->v[j][k] = view->v[k][at];
-            c->from[j][k] = view->from[3 * (size_t)i + k];
+            c->from[j][k] = sb_move_start(f, view, i, k);
         }
         c->inv_mass[j] = inv_mass[i];
     }
@@ -328,9 +354,10 @@ static void sb_blend(const double w[3], const double p[3][3], double out[3]) {
 }
 
 /* Corner j's new state: the share `share` of the point's Δx and Δv. */
-static void sb_move_corner(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, int j, double share,
-                           const double dx[3], const double dv[3], double dt) {
+static void sb_move_corner(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c, int j,
+                           double share, const double dx[3], const double dv[3], double dt) {
     size_t at = view->stride * c->vertex[j];
+    sb_keep_start(f, view, c->vertex[j]);
     for (int k = 0; k < 3; k++) {
         double v = c->v[j][k] + share * dv[k];
         view->x[k][at] = (sb_real)(c->to[j][k] + share * dx[k]);
@@ -343,12 +370,13 @@ static void sb_move_corner(const sb_solver* s, const sb_surface_view* view, cons
 /* A corner the spread carried into the collider (a sheet wrapped round a
  * capsule: the push along the normal at the point of contact is not the
  * way out at the corner) is answered as the vertex pass answers a vertex. */
-static void sb_answer_corner(const sb_solver* s, const sb_surface_view* view, uint32_t i, uint32_t index, double dt) {
+static void sb_answer_corner(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t i,
+                             uint32_t index, double dt) {
     size_t at = view->stride * i;
     double x[3], v[3], from[3], impulse[3], point[3];
     for (int k = 0; k < 3; k++) {
         x[k] = view->x[k][at], v[k] = view->v[k][at];
-        from[k] = view->from[3 * (size_t)i + k];
+        from[k] = sb_move_start(f, view, i, k);
     }
     if (sb_contact_vertex(s, i, (uint64_t)1 << index, from, x, v, impulse, point) < 0) return;
     for (int k = 0; k < 3; k++) {
@@ -374,8 +402,8 @@ static void sb_point_move(const sb_contact* contact, const double answered[3], c
 }
 
 /* The triangle against collider `index`: whether its point of contact was answered. */
-static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, uint32_t index,
-                              double dt) {
+static bool sb_surface_answer(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                              uint32_t index, double dt) {
     const sb_collider* collider = s->def.colliders[index];
     double w[3];
     if (!sb_collider_triangle_point(collider, c->from, c->to, w)) return false;
@@ -401,19 +429,19 @@ static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, c
     sb_point_move(&contact, x, q.to, dv, dt, dx);
     for (int j = 0; j < 3; j++) {
         double share = w[j] * c->inv_mass[j] / W;
-        if (share > 0.0) sb_move_corner(s, view, c, j, share, dx, dv, dt);
+        if (share > 0.0) sb_move_corner(s, f, view, c, j, share, dx, dv, dt);
         if (c->inv_mass[j] > 0.0) taken += w[j];
     }
     for (int k = 0; k < 3; k++) impulse[k] = dv[k] * taken / W;
     sb_contact_record(s, 0, (int)index, impulse);
     sb_contact_record_torque(s, 0, (int)index, contact.point, impulse);
     for (int j = 0; j < 3; j++)
-        if (c->inv_mass[j] > 0.0) sb_answer_corner(s, view, c->vertex[j], index, dt);
+        if (c->inv_mass[j] > 0.0) sb_answer_corner(s, f, view, c->vertex[j], index, dt);
     return true;
 }
 
 /* Triangle t against the colliders that meet the surface; returns the contacts. */
-static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t t,
+static uint32_t sb_surface_triangle(const sb_solver* s, sb_surface* f, const sb_surface_view* view, uint32_t t,
                                     const sb_surface_balls* balls, double dt) {
     sb_corners corners;
     double lo[3], hi[3];
@@ -422,7 +450,7 @@ static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, con
     sb_corners_box(&corners, lo, hi);
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
         if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
-        if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
+        if (!sb_surface_answer(s, f, view, &corners, c, dt)) continue;
         contacts++;
         sb_read_corners(s, f, view, t, &corners); /* the next collider sees the answer */
     }
@@ -432,6 +460,10 @@ static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, con
 uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_view* view, bool boxes_set, double dt) {
     sb_surface_balls balls;
     sb_surface_balls_of(s, &balls);
+    if (++f->pass == 0) { /* wrapped: no vertex was moved in this pass */
+        memset(f->moved, 0, ((size_t)s->model->vertex_count + 1) * sizeof *f->moved);
+        f->pass = 1;
+    }
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
     for (uint32_t g = 0; g < f->groups; g++) {

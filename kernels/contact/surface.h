@@ -10,8 +10,8 @@
  * displacements (and, on the fused step's packed state, the forces the
  * drift set, which a corrected vertex gets again for its new velocity;
  * NULL elsewhere), axis k of vertex i at [k][stride i]; `from`, 3 doubles a
- * vertex, the positions at the start of the step (not x − d: an answer
- * resets d to v dt). */
+ * vertex, the positions at the start of the step, or NULL for x − d (as
+ * the pass first sees it: a vertex it moves keeps that start). */
 typedef struct sb_surface_view {
     sb_real *x[3], *v[3], *d[3], *f[3];
     size_t stride;
@@ -37,8 +37,8 @@ void sb_surface_set_box(sb_surface* surface, uint32_t block, const double lo[3],
 /* Triangles whose dead[t] is 1 are out of the pass (tearing's, read in
  * place; the surface must be the model's triangles); NULL: none. */
 void sb_surface_set_dead(sb_surface* surface, const uint8_t* dead);
-/* The fused step's packed state, and the state's arrays, with `from`. */
-sb_surface_view sb_surface_view_packed(sb_solver* solver, const double* from);
+/* The fused step's packed state, and the state's arrays with `from`. */
+sb_surface_view sb_surface_view_packed(sb_solver* solver);
 sb_surface_view sb_surface_view_state(sb_solver* solver, const double* from);
 /* The pass, on one thread, after the vertex pass of the step: the
  * triangles block by block, in order, each against each collider that
