@@ -25,7 +25,10 @@
  * answer's push; along the surface, dt times the change of velocity (the
  * rest of the step at the answered velocity), so a corner is not dragged
  * along the surface by the point's reset. A corrected corner takes d = v dt
- * as its Verlet displacement, as in the vertex pass. A corner the push
+ * as its Verlet displacement, as in the vertex pass; every move starts where
+ * the step started (the view's `from`, kept where an answer reset d: a
+ * corner answered again from x − d could start inside, or past, a thin
+ * capsule and be pushed out on its far side). A corner the push
  * carried into the collider (a sheet wrapped round a thin capsule: the
  * normal at the point of contact is not the way out at the corner) is then
  * answered as a vertex, by the same collider.
