@@ -56,10 +56,16 @@ static void sb_half_kick(sb_solver* s, double dt) {
     }
 }
 
+/* *x += d, compensated (the carry in *carry). */
+static void sb_drift_compensated(sb_real* x, sb_real d, sb_real* carry) {
+    sb_compensated next = sb_compensated_add(*x, d, *carry);
+    *x = next.sum, *carry = next.carry;
+}
+
 static void sb_stormer_update(sb_real* x, sb_real* displacement, sb_real* v, sb_real* carry, double displacement_scale,
                               double accel_term, double dt) {
     *displacement = (sb_real)(displacement_scale * *displacement + accel_term);
-    *x = sb_compensated_add(*x, *displacement, carry);
+    sb_drift_compensated(x, *displacement, carry);
     *v = (sb_real)(*displacement / dt);
 }
 
@@ -87,9 +93,9 @@ sb_status sb_integrate_velocity_verlet(sb_solver* s, double dt) {
         s->disp_x[i] = (sb_real)(dt * st->vx[i]);
         s->disp_y[i] = (sb_real)(dt * st->vy[i]);
         s->disp_z[i] = (sb_real)(dt * st->vz[i]);
-        st->x[i] = sb_compensated_add(st->x[i], s->disp_x[i], &s->carry_x[i]);
-        st->y[i] = sb_compensated_add(st->y[i], s->disp_y[i], &s->carry_y[i]);
-        st->z[i] = sb_compensated_add(st->z[i], s->disp_z[i], &s->carry_z[i]);
+        sb_drift_compensated(&st->x[i], s->disp_x[i], &s->carry_x[i]);
+        sb_drift_compensated(&st->y[i], s->disp_y[i], &s->carry_y[i]);
+        sb_drift_compensated(&st->z[i], s->disp_z[i], &s->carry_z[i]);
     }
     s->has_displacement = true;
     s->prev_dt = dt;

@@ -388,8 +388,10 @@ static inline __attribute__((always_inline)) int sb_drift_loop(const sb_real* re
         }
         if (SB_DOUBLE) /* 53 bits: no carry (kernels/state/vertex_state.h) */
             x[q] = x[q] + d[q];
-        else
-            x[q] = sb_compensated_add(x[q], d[q], &carry[q]);
+        else {
+            sb_compensated next = sb_compensated_add(x[q], d[q], carry[q]);
+            x[q] = next.sum, carry[q] = next.carry;
+        }
         f[q] = m4[q] * (g[q & 3] - drag * v[q]);
         if (check) outside |= !((x[q] <= limit) & (x[q] >= -limit));
     }
