@@ -14,6 +14,7 @@
  * what it needs. */
 #define _POSIX_C_SOURCE 200809L
 #include "pulled_sheet.h"
+#include "cut_setups.h"
 
 #define WIDTH 0.1 /* ps_sheet_model's sheet: 0.1 m square, in the xy plane */
 
@@ -44,36 +45,8 @@ static sb_blade_def line_blade(const cut_line* l, sb_keyframe path[2]) {
     return blade;
 }
 
-/* What each test runs on: velocity Verlet on the scalar reference kernels
- * and on the fast ones (whose model is built again after each step that
- * cut), and implicit Euler, matrix-free on the fast kernels and with the
- * assembled matrix and its factorization (both built again after a cut)
- * on the reference ones. */
-enum { SETUPS = 4 };
-static const struct {
-    sb_kernels kernels;
-    sb_integrator integrator;
-    sb_linear_solver linear;
-    const char* name;
-} setups[SETUPS] = {
-    {SB_KERNELS_REFERENCE, SB_INTEGRATOR_VELOCITY_VERLET, SB_LINEAR_AUTO, "reference kernels"},
-    {SB_KERNELS_FAST, SB_INTEGRATOR_VELOCITY_VERLET, SB_LINEAR_AUTO, "fast kernels"},
-    {SB_KERNELS_FAST, SB_INTEGRATOR_IMPLICIT_EULER, SB_LINEAR_CG, "implicit Euler, fast kernels, CG"},
-    {SB_KERNELS_REFERENCE, SB_INTEGRATOR_IMPLICIT_EULER, SB_LINEAR_CHOLESKY, "implicit Euler, reference, Cholesky"}};
-
 static sb_solver_def cut_def(const sb_blade_def* blade, int threads, int k) {
-    sb_solver_def def = sb_default_solver_def();
-    def.kernels = setups[k].kernels;
-    def.integrator = setups[k].integrator;
-    def.implicit_solver = setups[k].linear;
-    def.runtime.threads = threads;
-    def.gravity[1] = 0.0;
-    def.gravity[2] = 0.0;
-    def.blades = blade;
-    def.blade_count = 1;
-    def.cut_through = true;
-    def.max_splits = 2000;
-    return def;
+    return cut_setup_def(blade, threads, k, 2000);
 }
 
 static bool on_outline(double x, double y) {

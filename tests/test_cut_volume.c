@@ -15,6 +15,7 @@
  * through are refused naming what it needs. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
+#include "cut_setups.h"
 #include "kernels/state/solver_data.h"
 #include "kernels/interaction/breakage.h"
 #include "kernels/interaction/cut_volume.h"
@@ -50,36 +51,8 @@ static sb_blade_def plane_blade(const cut_plane* l, sb_keyframe path[2]) {
     return blade;
 }
 
-/* What each check runs on: velocity Verlet on the scalar reference kernels
- * and on the fast ones (whose model is built again after each step that
- * cut), and implicit Euler, matrix-free on the fast kernels and with the
- * assembled matrix and its factorization (both built again after a cut)
- * on the reference ones. */
-enum { SETUPS = 4 };
-static const struct {
-    sb_kernels kernels;
-    sb_integrator integrator;
-    sb_linear_solver linear;
-    const char* name;
-} setups[SETUPS] = {
-    {SB_KERNELS_REFERENCE, SB_INTEGRATOR_VELOCITY_VERLET, SB_LINEAR_AUTO, "reference kernels"},
-    {SB_KERNELS_FAST, SB_INTEGRATOR_VELOCITY_VERLET, SB_LINEAR_AUTO, "fast kernels"},
-    {SB_KERNELS_FAST, SB_INTEGRATOR_IMPLICIT_EULER, SB_LINEAR_CG, "implicit Euler, fast kernels, CG"},
-    {SB_KERNELS_REFERENCE, SB_INTEGRATOR_IMPLICIT_EULER, SB_LINEAR_CHOLESKY, "implicit Euler, reference, Cholesky"}};
-
 static sb_solver_def cut_def(const sb_blade_def* blade, int threads, int k) {
-    sb_solver_def def = sb_default_solver_def();
-    def.kernels = setups[k].kernels;
-    def.integrator = setups[k].integrator;
-    def.implicit_solver = setups[k].linear;
-    def.runtime.threads = threads;
-    def.gravity[1] = 0.0;
-    def.gravity[2] = 0.0;
-    def.blades = blade;
-    def.blade_count = 1;
-    def.cut_through = true;
-    def.max_splits = 4000;
-    return def;
+    return cut_setup_def(blade, threads, k, 4000);
 }
 
 /* The block at `cells` per 0.03 m (3 or 6), liver-like (E 3500 Pa, ν 0.45). */
