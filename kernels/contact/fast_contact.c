@@ -68,6 +68,7 @@
  * them). */
 #include "kernels/contact/fast_contact.h"
 #include "kernels/contact/colliders/box.h"
+#include "kernels/contact/colliders/capsule.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/runtime/wide.h"
 
@@ -85,17 +86,13 @@ static void sb_fast_copy3(sb_real out[4], const double v[3]) {
 
 /* The capsule a–b (|b − a| > 0): a, b − a, its unit axis, b, length and
  * squared length, and the unit normal to the axis that its end query takes
- * on the axis itself (sb_capsule_end, capsule.c), all made in double as
- * there. */
+ * on the axis itself (sb_capsule_axis_normal, capsule.c's own), all made
+ * in double. */
 static void sb_fast_capsule_of(const sb_collider_def* d, double thickness, sb_fast_shape* s) {
     double ab[3] = {d->b[0] - d->a[0], d->b[1] - d->a[1], d->b[2] - d->a[2]};
-    double ab2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], length = sqrt(ab2), u[3], n[3] = {0, 0, 0};
-    int e = fabs(ab[0]) <= fabs(ab[1]) && fabs(ab[0]) <= fabs(ab[2]) ? 0 : fabs(ab[1]) <= fabs(ab[2]) ? 1 : 2;
-    n[e] = 1.0;
-    double along = n[e] * ab[e] / ab2;
-    for (int k = 0; k < 3; k++) n[k] -= along * ab[k], u[k] = ab[k] / length;
-    double n_length = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int k = 0; k < 3; k++) n[k] /= n_length;
+    double ab2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], length = sqrt(ab2), u[3], n[3];
+    sb_capsule_axis_normal(ab, ab2, n);
+    for (int k = 0; k < 3; k++) u[k] = ab[k] / length;
     s->kind = SB_FAST_SHAPE_CAPSULE;
     sb_fast_copy3(s->origin, d->a);
     sb_fast_copy3(s->normal, n);

@@ -23,6 +23,16 @@
 
 static double sb_dot3(const double x[3], const double y[3]) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
 
+void sb_capsule_axis_normal(const double ab[3], double ab2, double normal[3]) {
+    int e = fabs(ab[0]) <= fabs(ab[1]) && fabs(ab[0]) <= fabs(ab[2]) ? 0 : fabs(ab[1]) <= fabs(ab[2]) ? 1 : 2;
+    double n[3] = {0.0, 0.0, 0.0};
+    n[e] = 1.0;
+    double along = n[e] * ab[e] / ab2;
+    for (int k = 0; k < 3; k++) n[k] -= along * ab[k];
+    double length = sqrt(sb_dot3(n, n));
+    for (int k = 0; k < 3; k++) normal[k] = n[k] / length;
+}
+
 /* The capsule at x; ab = b − a, ab2 = |ab|² > 0. */
 static void sb_capsule_end(const double a[3], const double ab[3], double ab2, double r, const double x[3],
                            sb_sweep_end* end) {
@@ -37,14 +47,7 @@ static void sb_capsule_end(const double a[3], const double ab[3], double ab2, do
         for (int k = 0; k < 3; k++) end->normal[k] = v[k] / distance;
         return;
     }
-    /* on the axis: the unit normal to ab nearest the axis ab is least along */
-    int e = fabs(ab[0]) <= fabs(ab[1]) && fabs(ab[0]) <= fabs(ab[2]) ? 0 : fabs(ab[1]) <= fabs(ab[2]) ? 1 : 2;
-    double n[3] = {0.0, 0.0, 0.0};
-    n[e] = 1.0;
-    double along = n[e] * ab[e] / ab2, length = 0.0;
-    for (int k = 0; k < 3; k++) n[k] -= along * ab[k];
-    length = sqrt(sb_dot3(n, n));
-    for (int k = 0; k < 3; k++) end->normal[k] = n[k] / length;
+    sb_capsule_axis_normal(ab, ab2, end->normal);
 }
 
 /* The roots s1 <= s2 of A s² + 2 B s + C (A > 0); false when they are not

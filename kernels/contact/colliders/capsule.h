@@ -17,4 +17,10 @@ bool sb_capsule_sweep(const sb_collider_def* def, const double from[3], const do
 bool sb_capsule_line(const double a[3], const double b[3], double r, const double from[3], const double to[3],
                      double* lo, double* hi, double normal[3]);
 
+/* The outward normal a point on the axis takes (ab = b − a, ab2 = |ab|² >
+ * 0): the unit normal to ab nearest the axis ab is least along. The SIMD
+ * answer (kernels/contact/fast_contact.c) takes it from here, so both
+ * round it alike. */
+void sb_capsule_axis_normal(const double ab[3], double ab2, double normal[3]);
+
 #endif
