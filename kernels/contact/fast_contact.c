@@ -592,7 +592,7 @@ uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t nea
         }
     for (uint32_t i = 0; i < whole; i += SB_WIDTH) {
         sb_real *x4 = run->x + 4 * (size_t)i, *v4 = run->v + 4 * (size_t)i, *d4 = run->d + 4 * (size_t)i;
-        sb_wide x_w, v_w, d_w, f_w;
+        sb_wide x_w, v_w, d_w;
         sb_wvec3 x = sb_wv_load4_run(x4, &x_w), v = sb_wv_load4_run(v4, &v_w), d = sb_wv_load4_run(d4, &d_w);
         sb_fast_move m = {sb_wv_sub(x, d), x, d};
         sb_fast_contact c = sb_fast_earliest(r.shape, r.count, &m);
@@ -603,9 +603,12 @@ uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t nea
         sb_wv_store4_run(x4, sb_tv_pick(answered, x_new, x), x_w);
         sb_wv_store4_run(v4, sb_tv_pick(answered, v_new, v), v_w);
         sb_wv_store4_run(d4, sb_tv_pick(answered, sb_wv_scale(v_new, dt), d), d_w);
-        sb_real* f4 = run->f + 4 * (size_t)i;
-        sb_wvec3 f = sb_wv_load4_run(f4, &f_w), f_new = sb_wv_scale(sb_wv_sub(g, sb_wv_scale(v_new, drag)), mass);
-        sb_wv_store4_run(f4, sb_tv_pick(answered, f_new, f), f_w);
+        if (step->drag != 0.0) { /* without drag the drift's m g is the new velocity's starting force too */
+            sb_real* f4 = run->f + 4 * (size_t)i;
+            sb_wide f_w;
+            sb_wvec3 f = sb_wv_load4_run(f4, &f_w), f_new = sb_wv_scale(sb_wv_sub(g, sb_wv_scale(v_new, drag)), mass);
+            sb_wv_store4_run(f4, sb_tv_pick(answered, f_new, f), f_w);
+        }
         sb_wvec3 impulse = sb_tv_pick(answered, sb_wv_scale(sb_wv_sub(v_new, v), mass), sb_wv_zero());
         sb_fast_add_impulse(&r, &c, impulse);
         r.answered = sb_w_add(r.answered, answered);
