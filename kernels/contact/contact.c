@@ -387,16 +387,28 @@ static void sb_contact_keep_from_packed(const sb_solver* s, uint32_t first, uint
 }
 
 /* The fused path's pass over one chunk of the packed state, after its drift
- * (from = x − displacement): the drift_chunk hook. Block by block, the
- * colliders in reach (none: the block is skipped); consecutive blocks with
- * the same colliders are answered as one run (a body lying on a floor is
- * one run a chunk: the SIMD answer's per-run constants and sums are made
- * once). */
+ * (from = x − displacement): the drift_chunk hook. First the chunk's box:
+ * when no collider meeting the surface is in its reach, the chunk is one
+ * run against the colliders it reaches (none: skipped) and its blocks keep
+ * its box for the surface pass (a box of a block's moves need only hold
+ * them; a body lying on a floor costs a box a chunk, not one a block).
+ * Otherwise block by block, the colliders in reach (none: the block is
+ * skipped); consecutive blocks with the same colliders are answered as one
+ * run (the SIMD answer's per-run constants and sums are made once). */
 static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double dt) {
     uint32_t n = s->model->vertex_count, first = chunk * SB_CHUNK, last = first + SB_CHUNK < n ? first + SB_CHUNK : n;
     uint32_t run = first;
     uint64_t run_near = 0;
     sb_contact_chunk_begin(s, chunk);
+    double lo[3], hi[3];
+    sb_block_box_packed(s, first, last, lo, hi);
+    uint64_t chunk_near = sb_colliders_near(s, lo, hi);
+    if (!(chunk_near & s->contact->meets_surface)) {
+        for (uint32_t block = first; s->contact->surface && block < last; block += SB_CONTACT_BLOCK)
+            sb_surface_set_box(s->contact->surface, block / SB_SURFACE_BLOCK, lo, hi);
+        sb_contact_run_packed(s, chunk, chunk_near, first, last, dt);
+        return;
+    }
     for (uint32_t block = first; block < last; block += SB_CONTACT_BLOCK) {
         uint32_t end = block + SB_CONTACT_BLOCK < last ? block + SB_CONTACT_BLOCK : last;
         uint64_t near = sb_block_near_packed(s, block, end);
