@@ -472,14 +472,12 @@ static sb_fast_hit sb_fast_shape_hit(const sb_fast_wide_shape* s, const sb_fast_
     }
 }
 
-/* Collider s's hit with its index and surface constants. */
-static inline sb_fast_contact sb_fast_contact_of(const sb_fast_wide_shape* s, sb_fast_hit h) {
-    return (sb_fast_contact){h, s->index, s->restitution, s->friction, s->static_friction};
-}
-
 static sb_fast_contact sb_fast_earliest(const sb_fast_wide_shape* shapes, uint32_t count, const sb_fast_move* m) {
     const sb_wide zero = sb_w_set(0);
-    if (count == 1) return sb_fast_contact_of(shapes, sb_fast_shape_hit(shapes, m)); /* nothing to compare */
+    if (count == 1) { /* one collider in reach (most blocks): nothing to compare; a plane (a floor) inline */
+        sb_fast_hit h = shapes->kind == SB_FAST_SHAPE_PLANE ? sb_fast_plane(shapes, m) : sb_fast_shape_hit(shapes, m);
+        return (sb_fast_contact){h, shapes->index, shapes->restitution, shapes->friction, shapes->static_friction};
+    }
     sb_fast_contact best = {.hit = {zero, zero, zero, sb_wv_zero()}, zero, zero, zero, zero};
     for (uint32_t c = 0; c < count; c++) {
         const sb_fast_wide_shape* s = &shapes[c];
@@ -577,26 +575,27 @@ static void sb_fast_report(const sb_fast_contact_step* step, uint32_t i, const s
     }
 }
 
-/* The run's whole registers against r's colliders. Inlined twice: for a
- * run whose one collider is a plane (a body on a floor), that plane's
- * constants and its sum are locals the compiler keeps in registers;
- * otherwise they are read from r. */
-static inline __attribute__((always_inline)) void sb_fast_answer_run(sb_fast_run_state* r, const sb_packed_run* run,
-                                                                     const sb_fast_contact_step* step, bool one_plane) {
+uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t near, const sb_packed_run* run,
+                                const sb_fast_contact_step* step, double* out, double* contacts) {
     const uint32_t whole = run->count / SB_WIDTH * SB_WIDTH;
     const sb_wide zero = sb_w_set(0), half = sb_w_set((sb_real)0.5), dt = sb_w_set((sb_real)step->dt);
     const sb_wide drag = sb_w_set((sb_real)step->drag);
     const sb_real gravity[4] = {(sb_real)step->gravity[0], (sb_real)step->gravity[1], (sb_real)step->gravity[2], 0};
     const sb_wvec3 g = sb_wv_set(gravity);
-    const sb_fast_wide_shape plane = r->shape[0];
-    sb_wvec3 plane_sum = r->impulse[0];
+    sb_fast_run_state r; /* not zeroed whole: only its first r.count shapes and sums are used */
+    r.count = 0;
+    r.answered = zero;
+    for (uint32_t c = 0; near >> c; c++)
+        if (near >> c & 1) {
+            r.impulse[r.count] = sb_wv_zero();
+            r.shape[r.count++] = sb_fast_widen(&colliders->shape[c], c);
+        }
     for (uint32_t i = 0; i < whole; i += SB_WIDTH) {
         sb_real *x4 = run->x + 4 * (size_t)i, *v4 = run->v + 4 * (size_t)i, *d4 = run->d + 4 * (size_t)i;
         sb_wide x_w, v_w, d_w;
         sb_wvec3 x = sb_wv_load4_run(x4, &x_w), v = sb_wv_load4_run(v4, &v_w), d = sb_wv_load4_run(d4, &d_w);
         sb_fast_move m = {sb_wv_sub(x, d), x, d};
-        sb_fast_contact c = one_plane ? sb_fast_contact_of(&plane, sb_fast_plane(&plane, &m))
-                                      : sb_fast_earliest(r->shape, r->count, &m);
+        sb_fast_contact c = sb_fast_earliest(r.shape, r.count, &m);
         sb_wide answered = sb_t_and(c.hit.touches, sb_t_greater(sb_w_load_run(run->inv_mass + i), zero));
         if (!sb_w_any(sb_w_less(half, answered), SB_WIDTH)) continue;
         sb_wide mass = sb_w_load_run(run->mass + i);
@@ -611,32 +610,12 @@ static inline __attribute__((always_inline)) void sb_fast_answer_run(sb_fast_run
             sb_wv_store4_run(f4, sb_tv_pick(answered, f_new, f), f_w);
         }
         sb_wvec3 impulse = sb_tv_pick(answered, sb_wv_scale(sb_wv_sub(v_new, v), mass), sb_wv_zero());
-        if (one_plane)
-            plane_sum = sb_wv_add(plane_sum, impulse);
-        else
-            sb_fast_add_impulse(r, &c, impulse);
-        r->answered = sb_w_add(r->answered, answered);
+        sb_fast_add_impulse(&r, &c, impulse);
+        r.answered = sb_w_add(r.answered, answered);
         if (step->touch) sb_fast_report(step, i, &c, answered, x_new, impulse);
     }
-    if (one_plane) r->impulse[0] = plane_sum;
-}
-
-uint32_t sb_fast_contact_answer(const sb_fast_colliders* colliders, uint64_t near, const sb_packed_run* run,
-                                const sb_fast_contact_step* step, double* out, double* contacts) {
-    sb_fast_run_state r; /* not zeroed whole: only its first r.count shapes and sums are used */
-    r.count = 0;
-    r.answered = sb_w_set(0);
-    for (uint32_t c = 0; near >> c; c++)
-        if (near >> c & 1) {
-            r.impulse[r.count] = sb_wv_zero();
-            r.shape[r.count++] = sb_fast_widen(&colliders->shape[c], c);
-        }
-    if (r.count == 1 && r.shape[0].kind == SB_FAST_SHAPE_PLANE)
-        sb_fast_answer_run(&r, run, step, true);
-    else
-        sb_fast_answer_run(&r, run, step, false);
     sb_fast_reduce(&r, near, out, contacts);
-    return run->count / SB_WIDTH * SB_WIDTH;
+    return whole;
 }
 
 #else /* one lane: the scalar reference answers */
