@@ -26,11 +26,15 @@
  *   damping      (--all-terms) the drift writes the half-step velocities
  *                and the force pass reads them (the kick reads them instead
  *                of Δ): 8 s per vertex
+ *   carries      (float only: kernels/state/vertex_state.h) the positions'
+ *                rounding carries, packed like them: the drift reads and
+ *                writes them, the force pass reads them (3 packed arrays):
+ *                12 s per vertex
  * Uniform constants are one value, not an array, and cost nothing.
- * Float, default terms: 208 B per vertex, 37 B per triangle; a 1M-vertex
- * sheet (2M triangles) moves about 282 MB per step (362 MB when the kick
- * read the positions and the drift wrote the velocities every step, 330 MB
- * when the masses were packed like the positions, 4 reals a vertex).
+ * Float, default terms: 256 B per vertex (208 without the carries), 37 B
+ * per triangle; a 1M-vertex sheet (2M triangles) moves about 330 MB per
+ * step (282 MB without the carries, 362 MB when the kick read the positions
+ * and the drift wrote the velocities every step).
  * Writes are counted once (no write-allocate), as STREAM counts them.
  *
  * Flop model: add, subtract, multiply, divide and square root each count 1
@@ -69,7 +73,7 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
     c.triangles = sb_model_triangle_count(model);
     c.hinges = sb_model_hinge_count(model);
     c.elements = c.bonds + 3 * c.triangles + c.hinges;
-    double vertex_bytes = (52.0 + (all_terms ? 8.0 : 0.0)) * s;
+    double vertex_bytes = (52.0 + (SB_DOUBLE ? 0.0 : 12.0) + (all_terms ? 8.0 : 0.0)) * s;
     double triangle_bytes = 12.0 + 6.0 * s + (all_terms ? 2.0 : 1.0), hinge_bytes = 4.0 + s;
     c.bytes_per_step = vertex_bytes * c.vertices + triangle_bytes * c.triangles + hinge_bytes * c.hinges;
     double bond_flops = SB_FLOPS_BOND + (all_terms ? SB_FLOPS_SPRING : 0.0);
@@ -80,7 +84,8 @@ sb_bench_counts sb_bench_count(const sb_model* model, bool all_terms) {
 
 const char* sb_bench_byte_model_text(void) {
     return "bytes/step = 52s per vertex (12 packed x y z w streams and 4 of one real, mass and inverse mass,"
-           " over drift, forces, kick) + (13+6s) per"
+           " over drift, forces, kick; in float +12s, the positions' carries read and written by the drift and read"
+           " by the forces) + (13+6s) per"
            " triangle (indices, rest cosines and lengths, a byte of owned-bond flags; every bond fused) [with"
            " --all-terms: +8s per vertex (half-step velocities written and read for damping), (4+s) per hinge fused "
            "into a triangle and a byte per"

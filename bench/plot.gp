@@ -1,7 +1,9 @@
 # Steps per second against vertex count, log-log: softbond's fast kernels
 # with 1 and 2 threads, the scalar reference, and LAMMPS with 1 and 2 MPI
 # workers, from bench/results/throughput.csv and bench/results/lammps.csv.
-# Sheets are solid lines with filled points, icospheres dashed with open ones.
+# Sheets are solid lines with filled points, icospheres dashed with open ones
+# (the numbering variants of the 655k icosphere, unordered and shuffled, left
+# out: one point per mesh size).
 #
 #
 #   gnuplot bench/plot.gp                       (from the repository root)
@@ -35,7 +37,7 @@ set key outside right top box opaque
 set xrange [5e3:2e6]
 
 # Rows of a CSV as "vertices steps_per_s", filtered with awk.
-rows(mesh, kernels, threads, file) = sprintf("< awk -F, '!/^#/ && $1 !~ /unordered/ && $2 == \"%s\" && $10 == \"%s\" && $11 == %d && $15 != \"\" { print $3, $15 }' %s", mesh, kernels, threads, file)
+rows(mesh, kernels, threads, file) = sprintf("< awk -F, '!/^#/ && $1 !~ /unordered|shuffled/ && $2 == \"%s\" && $10 == \"%s\" && $11 == %d && $15 != \"\" { print $3, $15 }' %s", mesh, kernels, threads, file)
 ours(mesh, kernels, threads) = rows(mesh, kernels, threads, throughput)
 theirs(mesh, workers) = sprintf("< awk -F, '!/^#/ && $1 ~ /^%s_/ && $3 == %d && $7 != \"\" { print $2, $7 }' %s", mesh, workers, lammps)
 
