@@ -14,10 +14,9 @@
  *           four vertices, the floor out of reach: the sheet rests on it
  *           by face contact alone (kernels/contact/surface.c).
  * From the warmed-up state, steps are timed without colliders, with the
- * plane and the sphere, with the sphere answering vertices only (the
- * built-in sphere's callback as a program's own collider, which the
- * surface pass does not ask: the difference is the face-contact pass's
- * share of the step), and with the plane, the sphere and self-contact
+ * plane and the sphere, with them answering vertices only (the solver's
+ * vertex_contact_only: no face-contact pass; the difference is that
+ * pass's share of the step), and with the plane, the sphere and self-contact
  * (thickness 1 mm, a third of the sheet's spacing), interleaved, on 1 and
  * 2 threads (spinning, pinned: the machine is the benchmark's); the contact
  * passes' cost is the difference. Prints a table and writes CSV and
@@ -32,7 +31,6 @@
  * spinning too). */
 #include "bench/bench_cases.h"
 #include "common/clock.h"
-#include "kernels/contact/colliders/collider_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -91,16 +89,6 @@ static sb_collider* make_collider(sb_collider_shape shape, const contact_scene* 
     return checked(sb_collider_create(&def, &err), &err);
 }
 
-/* The built-in sphere's callback and bounds as a program's own collider:
- * it answers vertices only. */
-static sb_collider* vertices_only(sb_collider* sphere) {
-    sb_error err;
-    sb_collider* c =
-        checked(sb_collider_create_custom("ball vertices", sphere->collide, NULL, sphere->user, &err), &err);
-    sb_collider_set_bounds(c, sphere->bounds, sphere->bounds + 3);
-    return c;
-}
-
 /* The 1-minute load average, or -1. */
 static double load_average(void) {
     FILE* f = fopen("/proc/loadavg", "r");
@@ -114,8 +102,12 @@ static double load_average(void) {
 
 #define SB_BENCH_SELF_THICKNESS 1e-3
 
+/* What a timing's solver answers besides its colliders' vertices. */
+typedef enum contact_mode { FACES, VERTICES_ONLY, SELF } contact_mode;
+
 static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count,
-                              bool self) {
+                              contact_mode mode) {
+    bool self = mode == SELF;
     sb_solver_def def = sb_default_solver_def();
     def.gravity[2] = -SB_BENCH_GRAVITY;
     def.runtime = (sb_runtime_def){.threads = threads, .pin = threads > 1, .wait = SB_WAIT_SPIN};
@@ -123,6 +115,7 @@ static sb_solver* make_solver(const sb_bench_setup* setup, int threads, sb_colli
     def.collider_count = count;
     def.self_collision = self;
     def.contact_thickness = self ? SB_BENCH_SELF_THICKNESS : 0.0;
+    def.vertex_contact_only = mode == VERTICES_ONLY;
     sb_error err;
     sb_solver* s = sb_solver_create(setup->model, &def, &err);
     if (!s) {
@@ -143,11 +136,12 @@ static void advance(sb_solver* s, double dt, int steps, uint64_t* contacts, uint
     }
 }
 
-/* Seconds per step from the warmed-up state, with or without colliders
- * and self-contact; the contacts answered per step (vertices, pairs). */
-static double time_steps(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count, bool self,
-                         const double* x, const double* v, int steps, double per_step[2]) {
-    sb_solver* s = make_solver(setup, threads, colliders, count, self);
+/* Seconds per step from the warmed-up state, with or without colliders,
+ * face contact and self-contact; the contacts answered per step (vertices,
+ * pairs). */
+static double time_steps(const sb_bench_setup* setup, int threads, sb_collider** colliders, uint32_t count,
+                         contact_mode mode, const double* x, const double* v, int steps, double per_step[2]) {
+    sb_solver* s = make_solver(setup, threads, colliders, count, mode);
     sb_solver_set_state(s, x, v);
     advance(s, setup->dt, 20, NULL, NULL); /* caches and the team warm */
     uint64_t contacts = 0, self_contacts = 0;
@@ -230,7 +224,7 @@ int main(int argc, char** argv) {
             machine, o.cpu ? "Timed by the process's CPU time (--cpu)" : "Timed by the wall clock", o.steps, setup.dt,
             n, SB_BENCH_SELF_THICKNESS);
     fprintf(md, "| scene | threads | run | ms/step without | with plane + sphere | ratio | contacts/step | "
-                "sphere on vertices only | face share | with them + self-contact | ratio | self pairs/step |\n"
+                "vertices only (no face pass) | face share | with them + self-contact | ratio | self pairs/step |\n"
                 "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     printf("scene   threads run  ms_without  ms_with  ratio  contacts  ms_vertices  face_share  ms_self  ratio  "
            "self_pairs\n");
@@ -238,8 +232,7 @@ int main(int argc, char** argv) {
         const contact_scene* sc = &scenes[scene];
         if (o.scene && strcmp(o.scene, sc->name)) continue;
         sb_collider* colliders[2] = {make_collider(SB_COLLIDER_PLANE, sc), make_collider(SB_COLLIDER_SPHERE, sc)};
-        sb_collider* vertex_colliders[2] = {colliders[0], vertices_only(colliders[1])};
-        sb_solver* warm = make_solver(&setup, 2, colliders, 2, false); /* 0.05 s of falling onto the colliders */
+        sb_solver* warm = make_solver(&setup, 2, colliders, 2, FACES); /* 0.05 s of falling onto the colliders */
         advance(warm, setup.dt, (int)(0.05 / setup.dt), NULL, NULL);
         sb_solver_get_positions(warm, x);
         sb_solver_get_velocities(warm, v);
@@ -248,10 +241,10 @@ int main(int argc, char** argv) {
             double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
             for (int run = 1; run <= o.runs; run++) {
                 double counts[2], self_counts[2], ignored[2];
-                double without = time_steps(&setup, threads, NULL, 0, false, x, v, o.steps, ignored);
-                double with = time_steps(&setup, threads, colliders, 2, false, x, v, o.steps, counts);
-                double vertices = time_steps(&setup, threads, vertex_colliders, 2, false, x, v, o.steps, ignored);
-                double self = time_steps(&setup, threads, colliders, 2, true, x, v, o.steps, self_counts);
+                double without = time_steps(&setup, threads, NULL, 0, FACES, x, v, o.steps, ignored);
+                double with = time_steps(&setup, threads, colliders, 2, FACES, x, v, o.steps, counts);
+                double vertices = time_steps(&setup, threads, colliders, 2, VERTICES_ONLY, x, v, o.steps, ignored);
+                double self = time_steps(&setup, threads, colliders, 2, SELF, x, v, o.steps, self_counts);
                 double times[4] = {without, with, vertices, self};
                 for (int k = 0; k < 4; k++) best[k] = fmin(best[k], times[k]);
                 printf("%-7s %7d %3d  %10.3f  %7.3f  %5.3f  %8.0f  %11.3f  %10.3f  %7.3f  %5.3f  %.1f\n", sc->name,
@@ -268,7 +261,6 @@ int main(int argc, char** argv) {
                     sc->name, threads, 1e3 * best[0], 1e3 * best[1], best[1] / best[0], 1e3 * best[2],
                     1.0 - best[2] / best[1], 1e3 * best[3], best[3] / best[0]);
         }
-        sb_collider_destroy(vertex_colliders[1]);
         for (int c = 0; c < 2; c++) sb_collider_destroy(colliders[c]);
     }
     fprintf(md, "\nLoad average (1 minute): %.2f at the start, %.2f at the end.\n", load_start, load_average());

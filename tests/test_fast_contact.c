@@ -343,9 +343,29 @@ static void test_fast_contact_on_one_plane_matches_reference(void** state) {
     check_against_reference(0.0, 1);
 }
 
+/* A program's own collider that wraps a built-in one's callback (its user
+ * that collider) is answered through the callback, not taken for a
+ * built-in shape: its own def is the default's, a plane through the
+ * origin, which the SIMD answer would have answered instead. */
+static void test_wrapped_builtin_is_not_answered_in_simd(void** state) {
+    (void)state;
+    sb_collider* c[COLLIDERS];
+    make_colliders(c);
+    sb_error err;
+    sb_collider* wrapped = sb_collider_create_custom("wrapped sphere", c[1]->collide, NULL, c[1]->user, &err);
+    assert_non_null(wrapped);
+    sb_collider* both[2] = {c[1], wrapped};
+    sb_fast_colliders fast;
+    sb_fast_colliders_set(&fast, both, 2, THICKNESS);
+    assert_int_equal(fast.simd, sb_fast_contact_granule() ? 1 : 0); /* the built-in sphere only */
+    sb_collider_destroy(wrapped);
+    for (int h = 0; h < COLLIDERS; h++) sb_collider_destroy(c[h]);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_fast_contact_matches_reference),
                                        cmocka_unit_test(test_fast_contact_without_drag_matches_reference),
-                                       cmocka_unit_test(test_fast_contact_on_one_plane_matches_reference)};
+                                       cmocka_unit_test(test_fast_contact_on_one_plane_matches_reference),
+                                       cmocka_unit_test(test_wrapped_builtin_is_not_answered_in_simd)};
     return TU_RUN_TESTS(tests);
 }

@@ -365,7 +365,10 @@ static void sb_builtin_begin_step(void* user, double t0, double t1) {
 }
 
 bool sb_collider_is_static_builtin(const sb_collider* c) {
-    return c->collide == sb_builtin_collide && !c->path && !c->driven && !c->dynamic;
+    /* its own user: a program's collider that wraps a built-in one's
+     * callback (user: that collider) is answered through the callback, not
+     * by its own def, which is the default's */
+    return c->collide == sb_builtin_collide && c->user == c && !c->path && !c->driven && !c->dynamic;
 }
 
 /* The shape's sweep in its rest frame. */
