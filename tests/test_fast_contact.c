@@ -83,8 +83,8 @@ typedef struct answer {
 } answer;
 
 /* The colliders in reach of the answer and of the reference (a bit each):
- * all five, or the plane alone (a run on a floor, the kernel's one-plane
- * loop). */
+ * all five, or the plane alone (a run on a floor, which the kernel answers
+ * by its inline plane). */
 static uint64_t in_reach = 31;
 
 static answer reference(sb_collider* const c[COLLIDERS], const move* m) {

@@ -203,16 +203,21 @@ void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const
     for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
 }
 
-/* Axis k of vertex i's start this step (the view's note). */
+/* Whether the view's `from` holds vertex i's start this step (the view's note). */
+static bool sb_view_holds_from(const sb_surface_view* view, uint32_t i) {
+    return !view->kept || view->kept[i] == view->stamp;
+}
+
+/* Axis k of vertex i's start this step. */
 static double sb_view_from(const sb_surface_view* view, uint32_t i, int k) {
     size_t at = view->stride * i;
-    if (!view->kept || view->kept[i] == view->stamp) return view->from[3 * (size_t)i + k];
+    if (sb_view_holds_from(view, i)) return view->from[3 * (size_t)i + k];
     return (double)view->x[k][at] - (double)view->d[k][at];
 }
 
 /* Keeps vertex i's start `from` before the pass moves it. */
 static void sb_view_keep_from(const sb_surface_view* view, uint32_t i, const double from[3]) {
-    if (!view->kept || view->kept[i] == view->stamp) return;
+    if (sb_view_holds_from(view, i)) return;
     memcpy(view->from + 3 * (size_t)i, from, 3 * sizeof *from);
     view->kept[i] = view->stamp;
 }
