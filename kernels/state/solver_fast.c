@@ -409,31 +409,46 @@ static int sb_drift_range(const sb_real* restrict m4, const sb_real* restrict im
                              : sb_drift_loop(m4, im4, x, carry, d, v, f, k, n, false, false);
 }
 
-/* The gravitational energy of packed reals [begin, end) into *gravity;
- * returns whether a position is not finite or outside the runaway box. m4
- * and im4 start at begin.
- * Lane-wise sums in SIMD registers, reduced once (see sb_kick_range). */
-static int sb_positions_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
-                              const sb_step_constants* k, size_t begin, size_t end, double* gravity) {
+/* Returns whether a position of packed reals [begin, end) is not finite
+ * or outside the runaway box; with sum_gravity, their gravitational energy
+ * into *gravity (a step that sums no energy only checks). m4 and im4 start
+ * at begin.
+ * Lane-wise sums in SIMD registers, reduced once (see sb_kick_range).
+ * Inlined into two copies, with and without the sum. */
+static inline __attribute__((always_inline)) int
+sb_positions_range_of(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
+                      const sb_step_constants* k, size_t begin, size_t end, bool sum_gravity, double* gravity) {
     sb_real g[4 + SB_WIDTH]; /* g[i] = gravity[i % 4]: lanes from q on load g + q % 4 */
-    for (int i = 0; i < 4 + SB_WIDTH; i++) g[i] = k->gravity[i & 3];
+    if (sum_gravity)
+        for (int i = 0; i < 4 + SB_WIDTH; i++) g[i] = k->gravity[i & 3];
     const sb_wide zero = sb_w_set(0), one = sb_w_set(1), bound = sb_w_set(k->limit);
     sb_wide sum = zero;
     sb_wmask outside = 0;
     size_t q = begin;
     for (; q + SB_WIDTH <= end; q += SB_WIDTH) {
-        sb_wide xq = sb_w_load(x + q), free = sb_w_pick_greater(sb_w_load(im4 + (q - begin)), zero, one, zero);
-        sum =
-            sb_w_sub(sum, sb_w_mul(sb_w_mul(free, sb_w_load(m4 + (q - begin))), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
+        sb_wide xq = sb_w_load(x + q);
+        if (sum_gravity) {
+            sb_wide free = sb_w_pick_greater(sb_w_load(im4 + (q - begin)), zero, one, zero);
+            sum = sb_w_sub(sum,
+                           sb_w_mul(sb_w_mul(free, sb_w_load(m4 + (q - begin))), sb_w_mul(sb_w_load(g + (q & 3)), xq)));
+        }
         outside |= sb_w_less(bound, sb_w_abs(xq)); /* NaN fails the comparison and counts as outside */
     }
-    *gravity = sb_w_sum(sum, SB_WIDTH);
+    if (sum_gravity) *gravity = sb_w_sum(sum, SB_WIDTH);
     int bad = sb_w_any(outside, SB_WIDTH);
     for (; q < end; q++) {
-        *gravity -= (im4[q - begin] > 0 ? m4[q - begin] : 0) * g[q & 3] * x[q];
+        if (sum_gravity) *gravity -= (im4[q - begin] > 0 ? m4[q - begin] : 0) * g[q & 3] * x[q];
         bad |= !((x[q] <= k->limit) & (x[q] >= -k->limit));
     }
     return bad;
+}
+
+/* sb_positions_range_of, summing the energy when the step sums (k->sums)
+ * or `always` is set. */
+static int sb_positions_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
+                              const sb_step_constants* k, size_t begin, size_t end, bool always, double* gravity) {
+    return always || k->sums ? sb_positions_range_of(m4, im4, x, k, begin, end, true, gravity)
+                             : sb_positions_range_of(m4, im4, x, k, begin, end, false, gravity);
 }
 
 /* The drift of this worker's chunks, each followed by its contact pass
@@ -454,7 +469,7 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
             sb_worker_raise(bad);
         if (s->hooks.drift_chunk) s->hooks.drift_chunk(s, (uint32_t)c, dt);
         if (k->positions_final_in_drift && !k->check_in_drift &&
-            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, false, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
     }
     sb_worker_barrier(w);
@@ -534,7 +549,7 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
                 : sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, false, kinetic);
         if (raised) sb_worker_raise(bad);
         if (!k->positions_final_in_drift &&
-            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, false, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
         if (s->step.publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
             sb_unpack_xyz(s->positions4, s->step.publish_positions, begin / 4, end / 4);
@@ -618,7 +633,8 @@ static void sb_vertex_energies_job(void* context, const sb_worker* w) {
         size_t begin = it.begin, end = it.end;
         sb_spread_masses(s->fast, begin, end, true, &masses);
         sb_kinetic_range(masses.m4, s->velocities4, begin, end, p->vertices + 2 * c);
-        sb_positions_range(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, p->vertices + 2 * c + 1);
+        sb_positions_range(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, true,
+                           p->vertices + 2 * c + 1);
     }
 }
 
