@@ -299,15 +299,32 @@ static void sb_block_box_packed(const sb_solver* s, uint32_t first, uint32_t las
 }
 
 /* Vertices per block of the broad phase inside a chunk: a chunk of a mesh
- * row spans most of its width; a block of 32 is a small patch. */
-#define SB_CONTACT_BLOCK SB_SURFACE_BLOCK
+ * row spans most of its width; a block of 32 is a small patch. The surface
+ * pass's blocks are finer (a block of 32 is a strip of a sheet's row, most
+ * of whose triangles lie away from a small sphere under it): their boxes,
+ * per vertex the same work, are made here, and joined for the block's. */
+#define SB_CONTACT_BLOCK 32
+_Static_assert(SB_CONTACT_BLOCK % SB_SURFACE_BLOCK == 0 && SB_CHUNK % SB_CONTACT_BLOCK == 0,
+               "a contact block is whole surface blocks, a chunk whole contact blocks");
 
-/* The colliders the moves of block [first, last) reach; the block's box
- * kept for the surface pass. */
+/* The colliders the moves of block [first, last) reach; with a surface
+ * pass, the boxes of its surface blocks kept for it. */
 static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
     double lo[3], hi[3];
-    sb_block_box_packed(s, first, last, lo, hi);
-    if (s->contact->surface) sb_surface_set_box(s->contact->surface, first / SB_SURFACE_BLOCK, lo, hi);
+    if (!s->contact->surface) {
+        sb_block_box_packed(s, first, last, lo, hi);
+        return sb_colliders_near(s, lo, hi);
+    }
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (uint32_t block = first; block < last; block += SB_SURFACE_BLOCK) {
+        double blo[3], bhi[3];
+        sb_block_box_packed(s, block, block + SB_SURFACE_BLOCK < last ? block + SB_SURFACE_BLOCK : last, blo, bhi);
+        sb_surface_set_box(s->contact->surface, block / SB_SURFACE_BLOCK, blo, bhi);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = blo[k] < lo[k] ? blo[k] : lo[k];
+            hi[k] = bhi[k] > hi[k] ? bhi[k] : hi[k];
+        }
+    }
     return sb_colliders_near(s, lo, hi);
 }
 
@@ -403,9 +420,9 @@ static void sb_contact_chunk_packed(const sb_solver* s, uint32_t chunk, double d
     double lo[3], hi[3];
     sb_block_box_packed(s, first, last, lo, hi);
     uint64_t chunk_near = sb_colliders_near(s, lo, hi);
-    if (!(chunk_near & s->contact->meets_surface)) {
-        for (uint32_t block = first; s->contact->surface && block < last; block += SB_CONTACT_BLOCK)
-            sb_surface_set_box(s->contact->surface, block / SB_SURFACE_BLOCK, lo, hi);
+    bool fine = chunk_near & s->contact->meets_surface;
+    if (s->contact->surface) sb_surface_set_group_box(s->contact->surface, chunk, lo, hi, fine);
+    if (!fine) {
         sb_contact_run_packed(s, chunk, chunk_near, first, last, dt);
         return;
     }

@@ -36,17 +36,24 @@
  * One thread, triangles in a fixed order and each triangle's colliders in
  * order, each answer seen by the next (Gauss-Seidel): the same for any
  * thread count. A broad phase keeps it cheap on a large body: each
- * triangle belongs to the block of 32 vertices of its lowest corner, and
+ * triangle belongs to the block of 8 vertices of its lowest corner, and
  * each block knows the blocks its triangles' corners lie in (made once,
  * from the topology); the box of a block's moves (the fused vertex pass
  * computes it anyway) joined over those blocks holds every move of its
  * triangles, so a block whose join reaches no such collider's step bounds
- * and ball skips its triangles, and the same test on a group of 16 blocks
- * first skips the group (a sheet lying on a floor around a small sphere
- * costs a join a group, not one a block); a triangle whose move's box lies outside a ball
- * holding the collider through the step (sb_collider_surface_ball) costs
- * the box. A tearing solver's corners change blocks as it splits vertices, so
- * there every block's triangles are tested. */
+ * and ball skips its triangles. The same test on a group first skips the
+ * group: a group is the vertex pass's chunk of 256 vertices, whose box it
+ * computes first, and knows the groups its triangles reach (a sheet lying
+ * on a floor around a small sphere costs a join of a few boxes a group).
+ * Where no collider meeting the surface reaches a chunk, the vertex pass
+ * makes no block boxes and the group's box stands for its blocks'. A
+ * triangle whose move's box lies outside a ball holding the collider
+ * through the step (sb_collider_surface_ball) costs the box. Blocks of 8:
+ * with 32 (a tenth of a row of the 100k sheet), a sheet on a floor around a
+ * sphere had 4 260 triangles' boxes made a step, 178 of which met the
+ * sphere's ball (bench/results/contact.md). A tearing solver's corners
+ * change blocks as it splits vertices, so there every block's triangles
+ * are tested. */
 #include "kernels/contact/surface.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/surface_triangles.h"
@@ -58,24 +65,21 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Blocks of vertices grouped for the first level of the broad phase: a
- * body lying far from every collider that meets the surface (a sheet on a
- * floor, away from a small sphere) is skipped a group at a time. */
-#define SB_SURFACE_GROUP 16
-
-/* For each unit (a block, or a group of SB_SURFACE_GROUP blocks), the
- * blocks holding the corners of the triangles it owns (CSR). */
+/* For each unit (a block or a group), the units of the same kind holding
+ * the corners of the triangles it owns, itself first (CSR). */
 typedef struct sb_surface_reach {
-    uint32_t *first, *block;
+    uint32_t *first, *unit;
 } sb_surface_reach;
 
 struct sb_surface {
     sb_surface_triangles triangles;
     uint32_t blocks, groups;
     uint32_t *owned_first, *owned; /* CSR: the triangles each block owns, in triangle order */
-    sb_surface_reach blocks_reach; /* the blocks each block's triangles reach, the block itself among them */
-    sb_surface_reach groups_reach; /* the blocks each group's triangles reach */
+    sb_surface_reach blocks_reach; /* the blocks each block's triangles reach */
+    sb_surface_reach groups_reach; /* the groups each group's triangles reach */
     double* boxes;                 /* 6 a block: the box of its moves this step */
+    double* group_boxes;           /* 6 a group: the box of its moves this step */
+    uint8_t* fine;                 /* per group: its blocks' boxes were set this step (else its box stands for them) */
     bool by_block;                 /* the topology is fixed: blocks may be skipped */
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
 };
@@ -109,22 +113,18 @@ static bool sb_surface_own(sb_surface* f) {
     return true;
 }
 
-/* The blocks the triangles of blocks [first, last) reach (those blocks
+/* The units of `size` blocks that the triangles of unit u reach (u
  * first, then each other once), into reach[] when it is not NULL; returns
- * how many. `seen` is the last unit that marked each block. */
-static uint32_t sb_surface_reached(const sb_surface* f, uint32_t first, uint32_t last, uint32_t unit, uint32_t* seen,
-                                   uint32_t* reach) {
-    uint32_t count = 0;
-    for (uint32_t b = first; b < last; b++) {
-        seen[b] = unit;
-        if (reach) reach[count] = b;
-        count++;
-    }
+ * how many. `seen` is the last unit that marked each unit. */
+static uint32_t sb_surface_reached(const sb_surface* f, uint32_t size, uint32_t u, uint32_t* seen, uint32_t* reach) {
+    uint32_t first = u * size, last = first + size < f->blocks ? first + size : f->blocks, count = 1;
+    seen[u] = u;
+    if (reach) reach[0] = u;
     for (uint32_t k = f->owned_first[first]; k < f->owned_first[last]; k++)
         for (int c = 0; c < 3; c++) {
-            uint32_t other = f->triangles.v[c][f->owned[k]] / SB_SURFACE_BLOCK;
-            if (seen[other] == unit) continue;
-            seen[other] = unit;
+            uint32_t other = f->triangles.v[c][f->owned[k]] / (SB_SURFACE_BLOCK * size);
+            if (seen[other] == u) continue;
+            seen[other] = u;
             if (reach) reach[count] = other;
             count++;
         }
@@ -134,31 +134,30 @@ static uint32_t sb_surface_reached(const sb_surface* f, uint32_t first, uint32_t
 /* The reach of every unit of `size` blocks. */
 static bool sb_surface_reach_of(const sb_surface* f, uint32_t size, sb_surface_reach* r) {
     uint32_t units = (f->blocks + size - 1) / size;
-    uint32_t* seen = malloc((size_t)f->blocks * sizeof *seen);
+    uint32_t* seen = malloc((size_t)units * sizeof *seen);
     r->first = calloc((size_t)units + 1, sizeof *r->first);
     if (!seen || !r->first) {
         free(seen);
         return false;
     }
     for (int pass = 0; pass < 2; pass++) { /* count, then fill */
-        for (uint32_t b = 0; b < f->blocks; b++) seen[b] = UINT32_MAX;
+        for (uint32_t u = 0; u < units; u++) seen[u] = UINT32_MAX;
         for (uint32_t u = 0; u < units; u++) {
-            uint32_t first = u * size, last = first + size < f->blocks ? first + size : f->blocks;
-            uint32_t count = sb_surface_reached(f, first, last, u, seen, pass ? r->block + r->first[u] : NULL);
+            uint32_t count = sb_surface_reached(f, size, u, seen, pass ? r->unit + r->first[u] : NULL);
             if (!pass) r->first[u + 1] = count;
         }
         if (pass) break;
         sb_prefix(r->first, units);
-        r->block = malloc(((size_t)r->first[units] + 1) * sizeof *r->block);
-        if (!r->block) break;
+        r->unit = malloc(((size_t)r->first[units] + 1) * sizeof *r->unit);
+        if (!r->unit) break;
     }
     free(seen);
-    return r->block != NULL;
+    return r->unit != NULL;
 }
 
 static void sb_surface_reach_free(sb_surface_reach* r) {
     free(r->first);
-    free(r->block);
+    free(r->unit);
 }
 
 sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
@@ -176,7 +175,9 @@ sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
         f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
         f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
         f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
-        ok = f->owned_first && f->owned && f->boxes && sb_surface_own(f) &&
+        f->group_boxes = malloc(6 * ((size_t)f->groups + 1) * sizeof *f->group_boxes);
+        f->fine = calloc((size_t)f->groups + 1, sizeof *f->fine);
+        ok = f->owned_first && f->owned && f->boxes && f->group_boxes && f->fine && sb_surface_own(f) &&
              sb_surface_reach_of(f, 1, &f->blocks_reach) && sb_surface_reach_of(f, SB_SURFACE_GROUP, &f->groups_reach);
     }
     if (ok) return f;
@@ -193,14 +194,43 @@ void sb_surface_destroy(sb_surface* f) {
     sb_surface_reach_free(&f->blocks_reach);
     sb_surface_reach_free(&f->groups_reach);
     free(f->boxes);
+    free(f->group_boxes);
+    free(f->fine);
     free(f);
 }
 
 void sb_surface_set_dead(sb_surface* f, const uint8_t* dead) { f->dead = dead; }
 
-void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
-    double* box = f->boxes + 6 * (size_t)block;
+static void sb_box_set(double* box, const double lo[3], const double hi[3]) {
     for (int k = 0; k < 3; k++) box[k] = lo[k], box[3 + k] = hi[k];
+}
+
+void sb_surface_set_box(sb_surface* f, uint32_t block, const double lo[3], const double hi[3]) {
+    sb_box_set(f->boxes + 6 * (size_t)block, lo, hi);
+}
+
+void sb_surface_set_group_box(sb_surface* f, uint32_t group, const double lo[3], const double hi[3], bool fine) {
+    sb_box_set(f->group_boxes + 6 * (size_t)group, lo, hi);
+    f->fine[group] = fine;
+}
+
+/* Block b's box: its own when its group's were set, else its group's,
+ * which holds it. */
+static const double* sb_block_box(const sb_surface* f, uint32_t b) {
+    uint32_t g = b / SB_SURFACE_GROUP;
+    return f->fine[g] ? f->boxes + 6 * (size_t)b : f->group_boxes + 6 * (size_t)g;
+}
+
+/* box ∪= other (plain comparisons: fmin would be a call per value) */
+static void sb_box_join(double* box, const double* other) {
+    for (int k = 0; k < 3; k++) {
+        box[k] = other[k] < box[k] ? other[k] : box[k];
+        box[3 + k] = other[3 + k] > box[3 + k] ? other[3 + k] : box[3 + k];
+    }
+}
+
+static void sb_box_empty(double* box) {
+    for (int k = 0; k < 3; k++) box[k] = INFINITY, box[3 + k] = -INFINITY;
 }
 
 /* Whether the view's `from` holds vertex i's start this step (the view's note). */
@@ -222,12 +252,14 @@ static void sb_view_keep_from(const sb_surface_view* view, uint32_t i, const dou
     view->kept[i] = view->stamp;
 }
 
-/* Every block's box from the view (the passes that do not set them). */
+/* Every block's and group's box from the view (the passes that do not set
+ * them). */
 static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_surface_view* view) {
     uint32_t n = s->model->vertex_count;
+    for (uint32_t g = 0; g < f->groups; g++) sb_box_empty(f->group_boxes + 6 * (size_t)g), f->fine[g] = 1;
     for (uint32_t b = 0; b < f->blocks; b++) {
         double* box = f->boxes + 6 * (size_t)b;
-        for (int k = 0; k < 3; k++) box[k] = INFINITY, box[3 + k] = -INFINITY;
+        sb_box_empty(box);
         for (uint32_t i = b * SB_SURFACE_BLOCK; i < n && i < (b + 1) * SB_SURFACE_BLOCK; i++)
             for (int k = 0; k < 3; k++) {
                 size_t at = view->stride * i;
@@ -235,6 +267,7 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
                 box[k] = fmin(box[k], fmin(x, from));
                 box[3 + k] = fmax(box[3 + k], fmax(x, from));
             }
+        sb_box_join(f->group_boxes + 6 * (size_t)(b / SB_SURFACE_GROUP), box);
     }
 }
 
@@ -268,25 +301,34 @@ static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const d
     return d2 <= balls->radius2[c];
 }
 
-/* Whether the join of the boxes of the blocks unit u's triangles reach
- * reaches a collider meeting the surface: its bounds and its ball (a
- * block of a sheet lying inside a large sphere's bounds but far from its
- * ball, as a floor around the sphere, skips its triangles). Plain
- * comparisons: fmin would be a call per value. */
-static bool sb_unit_reaches(const sb_surface* f, const sb_surface_reach* r, const sb_solver* s, uint32_t u,
-                            const sb_surface_balls* balls) {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t k = r->first[u]; k < r->first[u + 1]; k++) {
-        const double* box = f->boxes + 6 * (size_t)r->block[k];
-        for (int a = 0; a < 3; a++) {
-            lo[a] = box[a] < lo[a] ? box[a] : lo[a];
-            hi[a] = box[3 + a] > hi[a] ? box[3 + a] : hi[a];
-        }
-    }
+/* Whether the box reaches a collider meeting the surface: its bounds and
+ * its ball (a block of a sheet lying inside a large sphere's bounds but
+ * far from its ball, as a floor around the sphere, skips its triangles). */
+static bool sb_box_reaches(const sb_solver* s, const double box[6], const sb_surface_balls* balls) {
     for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if ((balls->meets >> c & 1) && sb_box_meets_ball(balls, c, lo, hi) && sb_contact_reaches(s, c, lo, hi))
+        if ((balls->meets >> c & 1) && sb_box_meets_ball(balls, c, box, box + 3) &&
+            sb_contact_reaches(s, c, box, box + 3))
             return true;
     return false;
+}
+
+/* Whether the join of the boxes of the groups group g's triangles reach
+ * reaches a collider meeting the surface. */
+static bool sb_group_reaches(const sb_surface* f, const sb_solver* s, uint32_t g, const sb_surface_balls* balls) {
+    double box[6];
+    sb_box_empty(box);
+    for (uint32_t k = f->groups_reach.first[g]; k < f->groups_reach.first[g + 1]; k++)
+        sb_box_join(box, f->group_boxes + 6 * (size_t)f->groups_reach.unit[k]);
+    return sb_box_reaches(s, box, balls);
+}
+
+/* The same for the blocks block b's triangles reach. */
+static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, const sb_surface_balls* balls) {
+    double box[6];
+    sb_box_empty(box);
+    for (uint32_t k = f->blocks_reach.first[b]; k < f->blocks_reach.first[b + 1]; k++)
+        sb_box_join(box, sb_block_box(f, f->blocks_reach.unit[k]));
+    return sb_box_reaches(s, box, balls);
 }
 
 sb_surface_view sb_surface_view_packed(sb_solver* s, double* from, uint32_t* kept, uint32_t stamp) {
@@ -463,10 +505,10 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
     for (uint32_t g = 0; g < f->groups; g++) {
-        if (f->by_block && !sb_unit_reaches(f, &f->groups_reach, s, g, &balls)) continue;
+        if (f->by_block && !sb_group_reaches(f, s, g, &balls)) continue;
         uint32_t last = (g + 1) * SB_SURFACE_GROUP < f->blocks ? (g + 1) * SB_SURFACE_GROUP : f->blocks;
         for (uint32_t b = g * SB_SURFACE_GROUP; b < last; b++) {
-            if (f->by_block && !sb_unit_reaches(f, &f->blocks_reach, s, b, &balls)) continue;
+            if (f->by_block && !sb_block_reaches(f, s, b, &balls)) continue;
             for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
                 if (!(f->dead && f->dead[f->owned[k]]))
                     contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);

@@ -23,9 +23,11 @@ typedef struct sb_surface_view {
     uint32_t *kept, stamp;
 } sb_surface_view;
 
-/* Vertices per block of the pass's broad phase (the vertex pass's blocks:
- * kernels/contact/contact.c). */
-#define SB_SURFACE_BLOCK 32
+/* Vertices per block of the pass's broad phase, and blocks per group: a
+ * group is a chunk of the vertex pass (kernels/contact/contact.c), which
+ * computes the boxes of both. */
+#define SB_SURFACE_BLOCK 8
+#define SB_SURFACE_GROUP (SB_CHUNK / SB_SURFACE_BLOCK)
 
 typedef struct sb_surface sb_surface;
 
@@ -39,6 +41,9 @@ void sb_surface_destroy(sb_surface* surface);
 /* The box of block b's moves this step (lo x y z, hi x y z), from the
  * fused vertex pass, which computes it anyway. */
 void sb_surface_set_box(sb_surface* surface, uint32_t block, const double lo[3], const double hi[3]);
+/* The box of group g's moves this step; `fine`: its blocks' boxes were set
+ * too (otherwise the group's box stands for each of them). */
+void sb_surface_set_group_box(sb_surface* surface, uint32_t group, const double lo[3], const double hi[3], bool fine);
 /* Triangles whose dead[t] is 1 are out of the pass (tearing's, read in
  * place; the surface must be the model's triangles); NULL: none. */
 void sb_surface_set_dead(sb_surface* surface, const uint8_t* dead);
@@ -48,9 +53,10 @@ sb_surface_view sb_surface_view_state(sb_solver* solver, double* from);
 /* The pass, on one thread, after the vertex pass of the step: the
  * triangles block by block, in order, each against each collider that
  * meets the surface, in order; the impulses into the partial sums of chunk
- * 0 (which the vertex pass began). `boxes_set`: every block's box was set
- * this step (sb_surface_set_box); otherwise the pass makes them from the
- * view. Returns the contacts. */
+ * 0 (which the vertex pass began). `boxes_set`: every group's box was set
+ * this step, and the boxes of the blocks of each group set `fine`
+ * (sb_surface_set_group_box, sb_surface_set_box); otherwise the pass makes
+ * them from the view. Returns the contacts. */
 uint32_t sb_surface_pass(const sb_solver* solver, sb_surface* surface, const sb_surface_view* view, bool boxes_set,
                          double dt);
 
