@@ -308,18 +308,16 @@ _Static_assert(SB_CONTACT_BLOCK % SB_SURFACE_BLOCK == 0 && SB_CHUNK % SB_CONTACT
                "a contact block is whole surface blocks, a chunk whole contact blocks");
 
 /* The colliders the moves of block [first, last) reach; with a surface
- * pass, the boxes of its surface blocks kept for it. */
+ * pass, the boxes of its surface blocks kept for it (the block's box their
+ * join), else one box. */
 static uint64_t sb_block_near_packed(const sb_solver* s, uint32_t first, uint32_t last) {
+    const uint32_t part = s->contact->surface ? SB_SURFACE_BLOCK : last - first;
     double lo[3], hi[3];
-    if (!s->contact->surface) {
-        sb_block_box_packed(s, first, last, lo, hi);
-        return sb_colliders_near(s, lo, hi);
-    }
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (uint32_t block = first; block < last; block += SB_SURFACE_BLOCK) {
+    for (uint32_t block = first; block < last; block += part) {
         double blo[3], bhi[3];
-        sb_block_box_packed(s, block, block + SB_SURFACE_BLOCK < last ? block + SB_SURFACE_BLOCK : last, blo, bhi);
-        sb_surface_set_box(s->contact->surface, block / SB_SURFACE_BLOCK, blo, bhi);
+        sb_block_box_packed(s, block, block + part < last ? block + part : last, blo, bhi);
+        if (s->contact->surface) sb_surface_set_box(s->contact->surface, block / SB_SURFACE_BLOCK, blo, bhi);
         for (int k = 0; k < 3; k++) {
             lo[k] = blo[k] < lo[k] ? blo[k] : lo[k];
             hi[k] = bhi[k] > hi[k] ? bhi[k] : hi[k];

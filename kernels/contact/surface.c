@@ -312,22 +312,15 @@ static bool sb_box_reaches(const sb_solver* s, const double box[6], const sb_sur
     return false;
 }
 
-/* Whether the join of the boxes of the groups group g's triangles reach
- * reaches a collider meeting the surface. */
-static bool sb_group_reaches(const sb_surface* f, const sb_solver* s, uint32_t g, const sb_surface_balls* balls) {
+/* Whether the join of the boxes of the units unit u's triangles reach
+ * (groups, or blocks) reaches a collider meeting the surface. */
+static bool sb_unit_reaches(const sb_surface* f, bool groups, const sb_solver* s, uint32_t u,
+                            const sb_surface_balls* balls) {
+    const sb_surface_reach* r = groups ? &f->groups_reach : &f->blocks_reach;
     double box[6];
     sb_box_empty(box);
-    for (uint32_t k = f->groups_reach.first[g]; k < f->groups_reach.first[g + 1]; k++)
-        sb_box_join(box, f->group_boxes + 6 * (size_t)f->groups_reach.unit[k]);
-    return sb_box_reaches(s, box, balls);
-}
-
-/* The same for the blocks block b's triangles reach. */
-static bool sb_block_reaches(const sb_surface* f, const sb_solver* s, uint32_t b, const sb_surface_balls* balls) {
-    double box[6];
-    sb_box_empty(box);
-    for (uint32_t k = f->blocks_reach.first[b]; k < f->blocks_reach.first[b + 1]; k++)
-        sb_box_join(box, sb_block_box(f, f->blocks_reach.unit[k]));
+    for (uint32_t k = r->first[u]; k < r->first[u + 1]; k++)
+        sb_box_join(box, groups ? f->group_boxes + 6 * (size_t)r->unit[k] : sb_block_box(f, r->unit[k]));
     return sb_box_reaches(s, box, balls);
 }
 
@@ -505,10 +498,10 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
     if (f->by_block && !boxes_set) sb_surface_make_boxes(f, s, view);
     uint32_t contacts = 0;
     for (uint32_t g = 0; g < f->groups; g++) {
-        if (f->by_block && !sb_group_reaches(f, s, g, &balls)) continue;
+        if (f->by_block && !sb_unit_reaches(f, true, s, g, &balls)) continue;
         uint32_t last = (g + 1) * SB_SURFACE_GROUP < f->blocks ? (g + 1) * SB_SURFACE_GROUP : f->blocks;
         for (uint32_t b = g * SB_SURFACE_GROUP; b < last; b++) {
-            if (f->by_block && !sb_block_reaches(f, s, b, &balls)) continue;
+            if (f->by_block && !sb_unit_reaches(f, false, s, b, &balls)) continue;
             for (uint32_t k = f->owned_first[b]; k < f->owned_first[b + 1]; k++)
                 if (!(f->dead && f->dead[f->owned[k]]))
                     contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);

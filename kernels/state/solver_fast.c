@@ -443,12 +443,12 @@ sb_positions_range_of(const sb_real* restrict m4, const sb_real* restrict im4, c
     return bad;
 }
 
-/* sb_positions_range_of, summing the energy when the step sums (k->sums)
- * or `always` is set. */
+/* sb_positions_range_of in a step: summing the energy when the step sums
+ * (k->sums). */
 static int sb_positions_range(const sb_real* restrict m4, const sb_real* restrict im4, const sb_real* restrict x,
-                              const sb_step_constants* k, size_t begin, size_t end, bool always, double* gravity) {
-    return always || k->sums ? sb_positions_range_of(m4, im4, x, k, begin, end, true, gravity)
-                             : sb_positions_range_of(m4, im4, x, k, begin, end, false, gravity);
+                              const sb_step_constants* k, size_t begin, size_t end, double* gravity) {
+    return k->sums ? sb_positions_range_of(m4, im4, x, k, begin, end, true, gravity)
+                   : sb_positions_range_of(m4, im4, x, k, begin, end, false, gravity);
 }
 
 /* The drift of this worker's chunks, each followed by its contact pass
@@ -469,7 +469,7 @@ static void sb_drift_pass(const sb_worker* w, sb_solver* s, const sb_partial_lay
             sb_worker_raise(bad);
         if (s->hooks.drift_chunk) s->hooks.drift_chunk(s, (uint32_t)c, dt);
         if (k->positions_final_in_drift && !k->check_in_drift &&
-            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, false, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
     }
     sb_worker_barrier(w);
@@ -549,7 +549,7 @@ static void sb_kick_pass(const sb_worker* w, sb_solver* s, const sb_partial_layo
                 : sb_kick_range(masses.m4, masses.im4, u, s->velocities4, s->forces4, k, begin, end, false, kinetic);
         if (raised) sb_worker_raise(bad);
         if (!k->positions_final_in_drift &&
-            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, false, p->vertices + 2 * c + 1))
+            sb_positions_range(masses.m4, masses.im4, s->positions4, k, begin, end, p->vertices + 2 * c + 1))
             sb_worker_raise(bad);
         if (s->step.publish_positions) { /* sb_solver_advance_into: the snapshot from the chunk still in cache */
             sb_unpack_xyz(s->positions4, s->step.publish_positions, begin / 4, end / 4);
@@ -633,8 +633,8 @@ static void sb_vertex_energies_job(void* context, const sb_worker* w) {
         size_t begin = it.begin, end = it.end;
         sb_spread_masses(s->fast, begin, end, true, &masses);
         sb_kinetic_range(masses.m4, s->velocities4, begin, end, p->vertices + 2 * c);
-        sb_positions_range(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, true,
-                           p->vertices + 2 * c + 1);
+        sb_positions_range_of(masses.m4, masses.im4, s->positions4, &job->constants, begin, end, true,
+                              p->vertices + 2 * c + 1);
     }
 }
 
