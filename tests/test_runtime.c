@@ -10,6 +10,7 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <stdatomic.h>
+#include <string.h>
 #include <time.h>
 
 /* Under the thread sanitizer every memory access is checked: smaller runs. */
@@ -95,6 +96,61 @@ static void test_team_runs_jobs_of_any_width(void** state) {
         }
         sb_team_destroy(team);
     }
+}
+
+/* Claimed passes (sb_worker_claim) of several sizes, one after another
+ * between barriers: every item is run once, and worker 0, which waits
+ * after its first claim of the last pass until another worker has taken
+ * an item of its share (at most 5 s), is relieved of the rest of it. */
+enum { CLAIM_PASSES = 4 };
+static const int64_t claim_counts[CLAIM_PASSES] = {0, 1, 7, 999};
+
+typedef struct claim_job {
+    atomic_int runs[CLAIM_PASSES][999];
+    atomic_int taken_from_first; /* items of worker 0's share of the last pass run by another */
+} claim_job;
+
+static void claim_work(void* context, const sb_worker* w) {
+    claim_job* job = context;
+    sb_worker first_worker = {w->team, 0, w->width};
+    for (int pass = 0; pass < CLAIM_PASSES; pass++) {
+        int64_t share_begin, share_end, begin, end;
+        sb_worker_range(&first_worker, claim_counts[pass], &share_begin, &share_end);
+        sb_claims claims = sb_worker_claims(claim_counts[pass]);
+        for (int claim = 0; sb_worker_claim(w, &claims, &begin, &end); claim++) {
+            for (int64_t i = begin; i < end; i++) {
+                atomic_fetch_add(&job->runs[pass][i], 1);
+                if (w->index != 0 && i >= share_begin && i < share_end) atomic_fetch_add(&job->taken_from_first, 1);
+            }
+            bool last_pass = pass == CLAIM_PASSES - 1;
+            for (int waited = 0; last_pass && w->width > 1 && w->index == 0 && claim == 0 &&
+                                 atomic_load(&job->taken_from_first) == 0 && waited < 5000;
+                 waited++)
+                nanosleep(&(struct timespec){0, 1000000}, NULL);
+        }
+        sb_worker_barrier(w);
+    }
+}
+
+static void test_claims_run_every_item_once(void** state) {
+    (void)state;
+    sb_error err;
+    sb_runtime_def def = {.threads = 3, .wait = SB_WAIT_PASSIVE};
+    sb_team* team = sb_team_create(&def, &err);
+    assert_non_null(team);
+    for (int round = 0; round < 30; round++) {
+        int width = 1 + round % 3;
+        static claim_job job;
+        memset(&job, 0, sizeof job);
+        sb_team_run(team, width, claim_work, &job);
+        for (int pass = 0; pass < CLAIM_PASSES; pass++)
+            for (int64_t i = 0; i < 999; i++)
+                if (atomic_load(&job.runs[pass][i]) != (i < claim_counts[pass]))
+                    fail_msg("width %d, pass of %lld items: item %lld ran %d times", width,
+                             (long long)claim_counts[pass], (long long)i, atomic_load(&job.runs[pass][i]));
+        if (width > 1) assert_true(atomic_load(&job.taken_from_first) > 0);
+    }
+    sb_team_destroy(team);
 }
 
 /* A job that is slow on the worker named by its context's `slow_alone`
@@ -522,6 +578,7 @@ static void test_buffer_checks_its_arguments(void** state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_team_runs_jobs_of_any_width),
+        cmocka_unit_test(test_claims_run_every_item_once),
         cmocka_unit_test(test_adaptive_runs_take_the_faster_width),
         cmocka_unit_test(test_fixed_width_never_narrows),
         cmocka_unit_test(test_pinning_gives_the_binding_back),

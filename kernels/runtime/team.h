@@ -5,6 +5,7 @@
 #include "softbond/runtime.h"
 
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 typedef struct sb_team sb_team;
@@ -61,6 +62,24 @@ void sb_worker_post(const sb_worker* worker, atomic_uint* word, unsigned value);
 /* This worker's share [begin, end) of count items split into contiguous
  * equal parts, the first ones one longer (OpenMP's schedule(static)). */
 void sb_worker_range(const sb_worker* worker, int64_t count, int64_t* begin, int64_t* end);
+
+/* A pass whose items any worker of the job may take: each call of
+ * sb_worker_claim hands this worker the next run [begin, end) of the
+ * count items (false when none is left): from its own share of them (the
+ * one sb_worker_range gives it) while that lasts, then from the others',
+ * so that a worker that runs slower (another process on its core, a late
+ * wake-up) is relieved of the end of its share. For a pass whose items'
+ * results do not depend on which worker ran them. The shares' counters
+ * are reset by every barrier and at the start of every job: such a pass
+ * begins after a barrier or at its job's start, ends at a barrier or at
+ * the job's end, and is the only one between them. Alone (a width of 1)
+ * the one claim is every item. */
+typedef struct sb_claims {
+    int64_t count;
+    bool taken; /* alone: the one claim was made */
+} sb_claims;
+static inline sb_claims sb_worker_claims(int64_t count) { return (sb_claims){count, false}; }
+bool sb_worker_claim(const sb_worker* worker, sb_claims* claims, int64_t* begin, int64_t* end);
 
 /* Sets *flag to 1 (for a flag any worker may raise). */
 static inline void sb_worker_raise(atomic_int* flag) { atomic_store_explicit(flag, 1, memory_order_relaxed); }

@@ -161,20 +161,24 @@ static void sb_run_block(const sb_fast_model* f, const sb_element_group* g, uint
 }
 
 /* Runs one kernel over a whole group. Called by all workers of the job;
- * returns with all of them past the last block color's barrier. The
- * overflow block color, whose blocks may share vertices, runs on worker 0. */
+ * returns with all of them past the last block color's barrier. A color's
+ * blocks share no vertex and each sums into its own partials, so they are
+ * claimed (sb_worker_claim): whichever worker runs a block, the result is
+ * the same. The overflow block color, whose blocks may share vertices,
+ * runs on worker 0. */
 static void sb_group_pass(const sb_worker* w, const sb_fast_model* f, const sb_element_group* g, sb_fast_kernel kernel,
                           int terms, const sb_fast_frame* frame, double* partials, sb_pass_flags* flags) {
     for (uint32_t k = 0; k < g->block_colors; k++) {
-        int64_t first = g->color_first_block[k], last = g->color_first_block[k + 1], begin = first, end = last;
-        if (k != SB_OVERFLOW_COLOR) {
-            sb_worker_range(w, last - first, &begin, &end);
-            begin += first;
-            end += first;
-        } else if (w->index != 0) {
-            begin = end; /* worker 0 alone */
+        int64_t first = g->color_first_block[k], last = g->color_first_block[k + 1], begin, end;
+        if (k == SB_OVERFLOW_COLOR) { /* worker 0 alone */
+            for (int64_t b = w->index == 0 ? first : last; b < last; b++)
+                sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, flags);
+        } else {
+            sb_claims claims = sb_worker_claims(last - first);
+            while (sb_worker_claim(w, &claims, &begin, &end))
+                for (int64_t b = first + begin; b < first + end; b++)
+                    sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, flags);
         }
-        for (int64_t b = begin; b < end; b++) sb_run_block(f, g, (uint32_t)b, kernel, terms, frame, partials, flags);
         sb_worker_barrier(w);
     }
 }
@@ -226,26 +230,29 @@ static void sb_external_step(const sb_worker* w, sb_solver* s) {
     sb_worker_barrier(w);
 }
 
-/* This worker's vertex chunks of the first n vertices, one at a time, each
- * with its packed range [begin, end) (4 reals a vertex):
+/* The vertex chunks of the first n vertices this worker claims
+ * (sb_worker_claim: each chunk sums into its own partials, so whichever
+ * worker runs it the result is the same), one at a time, each with its
+ * packed range [begin, end) (4 reals a vertex):
  *     for (sb_chunks it = sb_my_chunks(w, p, n); sb_next_chunk(&it);) ...
  * A chunk past n is not visited: its chunk sums keep the zeros they were
  * allocated with. */
 typedef struct sb_chunks {
-    int chunk, last;
+    const sb_worker* worker;
+    sb_claims claims;
+    int64_t chunk, last; /* the claim's chunks [chunk + 1, last) are left */
     uint32_t vertex_count;
     size_t begin, end;
 } sb_chunks;
 
 static inline sb_chunks sb_my_chunks(const sb_worker* w, const sb_partial_layout* p, uint32_t vertex_count) {
-    int64_t first, last;
-    sb_worker_range(w, p->vertex_chunks, &first, &last);
-    return (sb_chunks){.chunk = (int)first - 1, .last = (int)last, .vertex_count = vertex_count};
+    return (sb_chunks){.worker = w, .claims = sb_worker_claims(p->vertex_chunks), .vertex_count = vertex_count};
 }
 
 static inline bool sb_next_chunk(sb_chunks* it) {
-    size_t first = (size_t)(it->chunk + 1) * SB_CHUNK, n = it->vertex_count;
-    if (++it->chunk >= it->last || first >= n) return false;
+    if (++it->chunk >= it->last && !sb_worker_claim(it->worker, &it->claims, &it->chunk, &it->last)) return false;
+    size_t first = (size_t)it->chunk * SB_CHUNK, n = it->vertex_count;
+    if (first >= n) return false; /* so are the chunks after it */
     it->begin = 4 * first;
     it->end = 4 * (first + SB_CHUNK < n ? first + SB_CHUNK : n);
     return true;
