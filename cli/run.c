@@ -22,6 +22,7 @@
 #include "cli/run_record.h"
 #include "scenes/simulation.h"
 #include "cli/stop.h"
+#include "cli/study_case.h"
 #include "cli/torn_surface.h"
 #include "cli/vtk.h"
 
@@ -454,6 +455,7 @@ int sb_cli_run(int argc, char** argv) {
     static const char* const accepted[] = {"--output",    "--threads",       "--budget-ms",
                                            "--max-error", "--no-realtime",   "--checkpoint-every",
                                            "--resume",    "--end-positions", NULL};
+    sb_study_end_with_parent();
     run_job job = {.argc = argc, .argv = argv};
     sb_error err;
     if (sb_cli_parse(argc, argv, accepted, &job.args, &err) != SB_OK)

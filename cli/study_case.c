@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -43,21 +44,44 @@ static char** make_argv(const sb_study_run* run, char* positions) {
     return argv;
 }
 
+/* This process's environment with SB_STUDY_PARENT_ENV=<this pid> in place
+ * of any it had; its strings are environ's but the last, `own`. NULL when
+ * out of memory. */
+static char** make_envp(char* own, size_t size) {
+    size_t n = 0, prefix = strlen(SB_STUDY_PARENT_ENV "=");
+    while (environ[n]) n++;
+    char** envp = calloc(n + 2, sizeof *envp);
+    if (!envp) return NULL;
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++)
+        if (strncmp(environ[i], SB_STUDY_PARENT_ENV "=", prefix) != 0) envp[k++] = environ[i];
+    snprintf(own, size, SB_STUDY_PARENT_ENV "=%ld", (long)getpid());
+    envp[k] = own;
+    return envp;
+}
+
 static sb_status spawn_in(const sb_study_run* run, sb_output_dir* out, pid_t* pid, sb_error* err) {
     char stdout_path[sizeof out->path], positions[sizeof out->path];
     snprintf(stdout_path, sizeof stdout_path, "%s", sb_output_dir_path(out, "stdout.txt"));
     snprintf(positions, sizeof positions, "%s", sb_output_dir_path(out, "end_positions.csv"));
     unlink(positions); /* a resumed case's old one */
     char** argv = make_argv(run, positions);
-    if (!argv) return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    char own[64];
+    char** envp = make_envp(own, sizeof own);
+    if (!argv || !envp) {
+        free(argv);
+        free(envp);
+        return sb_error_set(err, SB_ERR_NOMEM, "out of memory");
+    }
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, stdout_path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
     posix_spawn_file_actions_addopen(&actions, 2, sb_output_dir_path(out, "stderr.txt"), O_WRONLY | O_CREAT | O_TRUNC,
                                      0666);
-    int code = posix_spawn(pid, "/proc/self/exe", &actions, NULL, argv, environ);
+    int code = posix_spawn(pid, "/proc/self/exe", &actions, NULL, argv, envp);
     posix_spawn_file_actions_destroy(&actions);
     free(argv);
+    free(envp);
     return code == 0 ? SB_OK : sb_error_set(err, SB_ERR_IO, "cannot start softbond run: %s", strerror(code));
 }
 
@@ -110,6 +134,13 @@ sb_status sb_study_run_wait(const sb_study_run* run, sb_study_outcome* out, sb_e
         if (errno != EINTR) return sb_error_set(err, SB_ERR_IO, "waitpid: %s", strerror(errno));
     sb_study_outcome_read(wait_status, run->dir, out);
     return SB_OK;
+}
+
+void sb_study_end_with_parent(void) {
+    const char* study = getenv(SB_STUDY_PARENT_ENV);
+    if (!study) return;
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != (pid_t)strtol(study, NULL, 10)) _exit(128 + SIGKILL); /* it ended before the request */
 }
 
 static int remove_entry(const char* path, const struct stat* info, int type, struct FTW* where) {

@@ -30,12 +30,26 @@ typedef struct sb_study_outcome {
     char message[512];
 } sb_study_outcome;
 
-/* Starts the run; its pid in *pid. */
+/* The environment variable by which a run knows the study that started
+ * it: the study's pid. */
+#define SB_STUDY_PARENT_ENV "SOFTBOND_STUDY_PARENT"
+
+/* Starts the run; its pid in *pid. The run ends with the study (see
+ * sb_study_end_with_parent). */
 sb_status sb_study_spawn(const sb_study_run* run, pid_t* pid, sb_error* err);
 /* The outcome of a run that waitpid reported with wait_status. */
 void sb_study_outcome_read(int wait_status, const char* dir, sb_study_outcome* out);
 /* Starts the run and waits for it. */
 sb_status sb_study_run_wait(const sb_study_run* run, sb_study_outcome* out, sb_error* err);
+
+/* In a run a study started (SB_STUDY_PARENT_ENV set): asks the kernel to
+ * end this process when the study ends, and ends it at once if the study
+ * already has. A study killed midway (a sweep stopped by SIGKILL, to be
+ * resumed) would otherwise leave its runs writing into their cases'
+ * folders, where the resumed study runs the same cases again: two runs
+ * in one folder, one of them failing on the other's files. Nothing
+ * outside a study's runs. */
+void sb_study_end_with_parent(void);
 
 /* Removes the folder and the files in it (a run's folder has no subfolders
  * unless frames were written in one). */

@@ -12,6 +12,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tests/test_files.h"
 
+#include <dirent.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -216,6 +217,69 @@ static void test_killed_sweep_resumes(void** state) {
         TU_ASSERT_NEAR(number(&t, c, 2), z, 1e-4 * fabs(z));
     }
     free_table(&t);
+}
+
+/* The pid of a child of `parent` that is not a zombie, or 0 (a scan of
+ * /proc). */
+static pid_t live_child_of(pid_t parent) {
+    DIR* proc = opendir("/proc");
+    assert_non_null(proc);
+    pid_t found = 0;
+    for (struct dirent* e; !found && (e = readdir(proc));) {
+        char path[64], state;
+        int ppid;
+        snprintf(path, sizeof path, "/proc/%.20s/stat", e->d_name);
+        FILE* f = fopen(path, "r");
+        if (!f) continue;
+        /* pid (comm) state ppid: comm is "softbond" here, no spaces */
+        if (fscanf(f, "%*d %*s %c %d", &state, &ppid) == 2 && ppid == parent && state != 'Z')
+            found = (pid_t)strtol(e->d_name, NULL, 10);
+        fclose(f);
+    }
+    closedir(proc);
+    return found;
+}
+
+/* Whether process pid has ended (gone, or a zombie nobody reaped). */
+static bool ended(pid_t pid) {
+    char path[64], state = 'Z';
+    snprintf(path, sizeof path, "/proc/%ld/stat", (long)pid);
+    FILE* f = fopen(path, "r");
+    if (!f) return true;
+    bool read = fscanf(f, "%*d %*s %c", &state) == 1;
+    fclose(f);
+    return !read || state == 'Z';
+}
+
+/* A sweep killed while a case runs (a run of about 10 s here) leaves no
+ * run behind: within 2 s its run has ended too. A run left going would
+ * write into its case's folder while --resume ran the case again there
+ * (and one of the two failed on the other's files). */
+static void test_killed_sweep_ends_its_runs(void** state) {
+    (void)state;
+    tu_write_file("slow.yaml", "scene: " DATA "/free_fall.yaml\n"
+                               "set: [dt=0.000001, duration=4]\n"
+                               "vary: [{key: gravity, format: '[0, 0, %g]', range: {from: -1, to: -2, count: 2}}]\n"
+                               "metrics: [{name: z0, vertex: 0, axis: z}]\n");
+    pid_t sweep = fork();
+    assert_true(sweep >= 0);
+    if (sweep == 0) {
+        bool ok = chdir(tu_tmp_dir) == 0 && freopen("/dev/null", "w", stdout) && freopen("/dev/null", "w", stderr);
+        if (ok) execl(SB_PROGRAM, SB_PROGRAM, "sweep", "slow.yaml", "--output", "slow", "--workers", "1", (char*)NULL);
+        _exit(127);
+    }
+    pid_t run = 0;
+    for (int waited = 0; !(run = live_child_of(sweep)) && waited < 10000; waited++)
+        nanosleep(&(struct timespec){0, 1000000}, NULL);
+    assert_true(run > 0); /* the sweep started its first case within 10 s */
+    kill(sweep, SIGKILL);
+    int status;
+    waitpid(sweep, &status, 0);
+    for (int waited = 0; !ended(run) && waited < 2000; waited++) nanosleep(&(struct timespec){0, 1000000}, NULL);
+    if (!ended(run)) {
+        kill(run, SIGKILL);
+        fail_msg("the run %ld of a killed sweep was still going 2 s after it", (long)run);
+    }
 }
 
 /* The same 3 x 3 grid under mpirun with 3 ranks (rank 0 hands out, two
@@ -565,6 +629,7 @@ int main(void) {
         cmocka_unit_test(test_grid_follows_free_fall),
         cmocka_unit_test(test_blowup_is_a_row),
         cmocka_unit_test(test_killed_sweep_resumes),
+        cmocka_unit_test(test_killed_sweep_ends_its_runs),
         cmocka_unit_test(test_mpi_farm_matches_serial),
         cmocka_unit_test(test_fit_recovers_spring_and_mass),
         cmocka_unit_test(test_fit_recovers_bond_and_angle),
