@@ -289,12 +289,13 @@ static void sb_block_box_packed(const sb_solver* s, uint32_t first, uint32_t las
         lo[q & 3] = small < lo[q & 3] ? small : lo[q & 3];
         hi[q & 3] = large > hi[q & 3] ? large : hi[q & 3];
     }
-    for (int c = 0; c < 3; c++) {
-        dlo[c] = lo[c], dhi[c] = hi[c];
+    for (int c = 0; c < 3; c++) { /* folded in locals: stores through dlo and dhi were a third of the function */
+        sb_real small = lo[c], large = hi[c];
         for (int v = 1; v < 4; v++) {
-            dlo[c] = lo[4 * v + c] < dlo[c] ? lo[4 * v + c] : dlo[c];
-            dhi[c] = hi[4 * v + c] > dhi[c] ? hi[4 * v + c] : dhi[c];
+            small = lo[4 * v + c] < small ? lo[4 * v + c] : small;
+            large = hi[4 * v + c] > large ? hi[4 * v + c] : large;
         }
+        dlo[c] = small, dhi[c] = large;
     }
 }
 
