@@ -62,6 +62,10 @@ enum {
       "in [0, 1]: the normal velocity after a contact is -restitution x the one before")                               \
     X(THICKNESS, "thickness", NUMBER, "0", "m", ALL,                                                                   \
       "the surface is inflated by it (and by contact.thickness), >= 0; over the body's whole extent is refused")       \
+    X(FOOTPRINT, "footprint", NUMBER, "0", "m", SPHERE | CAPSULE | BOX | MESH,                                         \
+      ">= 0; > 0: the radius of the patch of the body's surface (at rest) each contact presses, its load spread "      \
+      "smoothly over it, no vertex answered alone: a tool smaller than the mesh's spacing then feels no bump at "      \
+      "the vertices (about 2.5 spacings); at least the surface's longest edge, not with tearing")                      \
     X(PATH, "path", LIST, "[]", "", ALL,                                                                               \
       "keyframes {time (s, increasing), translate (m), rotate (deg)} of a moving (kinematic) collider, rotate about "  \
       "its reference point (the plane's point, the centre, the capsule's midpoint, the placed mesh's bounding box's "  \
@@ -143,11 +147,10 @@ static sb_status read_shape(const sb_map_reader* r, sb_collider_shape* shape) {
     const char* type = "";
     sb_status status = sb_map_read_text(r, KEY_TYPE, &type);
     if (status != SB_OK) return status;
-    if (!sb_collider_shape_from_name(type, shape))
-    {
+    if (!sb_collider_shape_from_name(type, shape)) {
         char near[96];
-        return sb_map_fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'%s",
-                           name, type, sb_suggest_hint(type, "plane, sphere, capsule, box, mesh", near, sizeof near));
+        return sb_map_fail(r, r->values[KEY_TYPE], "'%s' must be plane, sphere, capsule, box or mesh, got '%s'%s", name,
+                           type, sb_suggest_hint(type, "plane, sphere, capsule, box, mesh", near, sizeof near));
     }
     return SB_OK;
 }
@@ -256,6 +259,7 @@ static sb_status read_value(const sb_map_reader* r, int key, sb_scene_collider* 
     case KEY_STATIC_FRICTION: return sb_map_read_range(r, key, false, INFINITY, &def->static_friction);
     case KEY_RESTITUTION: return sb_map_read_range(r, key, false, 1.0, &def->restitution);
     case KEY_THICKNESS: return sb_map_read_range(r, key, false, INFINITY, &def->thickness);
+    case KEY_FOOTPRINT: return sb_map_read_range(r, key, false, INFINITY, &def->footprint);
     case KEY_MASS: return sb_map_read_range(r, key, false, INFINITY, &def->mass);
     case KEY_PATH: return read_path(r, out);
     case KEY_INTERPOLATION: return sb_map_read_interpolation(r, key, &def->interpolation);

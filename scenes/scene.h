@@ -133,7 +133,7 @@ typedef enum sb_scene_type {
       "where load.force acts: the vertex nearest this point of the placed rest shape, m")                              \
     X(COLLIDERS, "colliders", LIST, "[]", "",                                                                          \
       "what the bodies touch: a list of maps {type: plane, sphere, capsule, box or mesh; name; the shape's keys; "     \
-      "friction, static_friction, restitution, thickness; path, interpolation} (scenes/colliders.c)")                  \
+      "friction, static_friction, restitution, thickness, footprint; path, interpolation} (scenes/colliders.c)")       \
     X(HANDLES, "handles", LIST, "[]", "",                                                                              \
       "vertices driven to a moving pose: a list of maps {name; vertices: [indices] or at: [x, y, z] with radius; "     \
       "stiffness, damping (soft when stiffness > 0); path, interpolation; release_at} (scenes/handles.c)")             \

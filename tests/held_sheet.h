@@ -15,9 +15,9 @@ typedef struct held_sheet {
 } held_sheet;
 
 /* side × side vertices over width metres; the tool a sphere of `radius` at
- * `centre`, on `path` (NULL: driven or still). */
+ * `centre` with `footprint` (m; 0: none), on `path` (NULL: driven or still). */
 static inline void held_sheet_open(held_sheet* s, uint32_t side, double width, const double centre[3], double radius,
-                                   const sb_keyframe* path, uint32_t path_count) {
+                                   double footprint, const sb_keyframe* path, uint32_t path_count) {
     sb_sheet_def sheet = sb_default_sheet_def();
     sheet.nx = sheet.ny = side;
     sheet.width = sheet.height = width;
@@ -40,6 +40,7 @@ static inline void held_sheet_open(held_sheet* s, uint32_t side, double width, c
     c.shape = SB_COLLIDER_SPHERE;
     memcpy(c.center, centre, sizeof c.center);
     c.radius = radius;
+    c.footprint = footprint;
     c.path = path;
     c.path_count = path_count;
     s->tool = sb_collider_create(&c, &err);

@@ -38,7 +38,7 @@ static void record_reaction(tissue* t) {
 /* The sheet, and a sphere at rest above its middle, on the path given (NULL: driven). */
 static void tissue_open(tissue* t, const sb_keyframe* path, uint32_t path_count) {
     const double centre[3] = {0.05, 0.05, REST_Z};
-    held_sheet_open(&t->sheet, SIDE, 0.1, centre, 0.005, path, path_count);
+    held_sheet_open(&t->sheet, SIDE, 0.1, centre, 0.005, 0.0, path, path_count);
 }
 
 /* One servo tick of the whole loop: the simulation's steps during the

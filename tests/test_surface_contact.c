@@ -143,7 +143,7 @@ static sb_collider* make_collider(const sb_collider_def* def) {
  * (N, upwards) at each depth, averaged over the last 50 ms of its hold.
  * Fails if the sphere ever passes: its center below the sheet under it, or
  * a point of the sheet inside it. */
-static void press(double px, double py, double force[PRESS_DEPTHS]) {
+static void press(double px, double py, double footprint, double force[PRESS_DEPTHS]) {
     sb_model* m = sheet(PRESS_SIDE, 1.0, 0.0, true);
     const double dt = 1e-4, start = PRESS_RADIUS + 0.01, stage = 0.1 + PRESS_HOLD;
     sb_keyframe path[1 + 2 * PRESS_DEPTHS] = {{.time = 0.0}};
@@ -157,6 +157,7 @@ static void press(double px, double py, double force[PRESS_DEPTHS]) {
     def.shape = SB_COLLIDER_SPHERE;
     def.center[0] = px, def.center[1] = py, def.center[2] = start;
     def.radius = PRESS_RADIUS;
+    def.footprint = footprint;
     def.path = path;
     def.path_count = 1 + 2 * PRESS_DEPTHS;
     sb_collider* tool = make_collider(&def);
@@ -195,31 +196,46 @@ static void press(double px, double py, double force[PRESS_DEPTHS]) {
     sb_model_destroy(m);
 }
 
-static void test_sphere_between_vertices_feels_the_sheet(void** state) {
-    (void)state;
+/* The sphere with `footprint` pressed in over a vertex, at an edge's
+ * midpoint and at a cell's centre: the reactions at each depth within
+ * `spread` of their mean. */
+static void press_three_places(double footprint, double spread) {
     const double spacing = 1.0 / (PRESS_SIDE - 1), mid = PRESS_SIDE / 2 * spacing;
     const char* names[3] = {"over a vertex", "at an edge's midpoint", "at a cell's centre"};
     const double places[3][2] = {{mid, mid}, {mid + 0.5 * spacing, mid}, {mid + 0.5 * spacing, mid + 0.5 * spacing}};
     double force[3][PRESS_DEPTHS];
+    print_message("footprint %.4f m:\n", footprint);
     for (int p = 0; p < 3; p++) {
-        press(places[p][0], places[p][1], force[p]);
+        press(places[p][0], places[p][1], footprint, force[p]);
         print_message("%-22s reaction at 2, 3, 4, 5 cm: %.4f %.4f %.4f %.4f N\n", names[p], force[p][0], force[p][1],
                       force[p][2], force[p][3]);
     }
     for (int d = 0; d < PRESS_DEPTHS; d++) {
         double mean = (force[0][d] + force[1][d] + force[2][d]) / 3.0;
         assert_true(mean > 0.1); /* it pressed the sheet */
-        for (int p = 0; p < 3; p++) TU_ASSERT_NEAR(force[p][d], mean, 0.1 * mean);
+        for (int p = 0; p < 3; p++) TU_ASSERT_NEAR(force[p][d], mean, spread * mean);
     }
+}
+
+static void test_sphere_between_vertices_feels_the_sheet(void** state) {
+    (void)state;
+    press_three_places(0.0, 0.1);
+}
+
+/* With a footprint of 2.5 spacings the sheet answers the same wherever
+ * the sphere presses (kernels/contact/footprint.c). */
+static void test_sphere_with_a_footprint_feels_the_same_everywhere(void** state) {
+    (void)state;
+    press_three_places(2.5 / (PRESS_SIDE - 1), 0.05);
 }
 
 /* ---- tunnelling ------------------------------------------------------------ */
 
 /* A 2 mm sphere (radius 1 mm) at 20 m/s down through the middle of a cell
  * of a pinned 21 x 21 sheet of 20 cm (1 cm spacing): 2.5 ms steps of 5 mm,
- * two and a half diameters; 2 ms of travel, 4 cm. */
-static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
-    (void)state;
+ * two and a half diameters; 2 ms of travel, 4 cm. The sphere without and
+ * with a footprint of 2.5 spacings. */
+static void small_sphere_does_not_pass_a_sheet(double footprint) {
     const sb_integrator integrators[] = {
         SB_INTEGRATOR_VERLET,
         SB_INTEGRATOR_VELOCITY_VERLET,
@@ -242,6 +258,7 @@ static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
             def.shape = SB_COLLIDER_SPHERE;
             def.center[0] = px, def.center[1] = py, def.center[2] = z0;
             def.radius = r;
+            def.footprint = footprint;
             def.path = path;
             def.path_count = 2;
             sb_collider* tool = make_collider(&def);
@@ -269,8 +286,8 @@ static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
                              sb_integrator_name(integrators[g]), kernels ? "fast" : "reference", step, under,
                              center[2]);
             }
-            print_message("%-16s %-9s: %3llu contacts, the sheet under the sphere down to z %.4f m\n",
-                          sb_integrator_name(integrators[g]), kernels ? "fast" : "reference",
+            print_message("footprint %.3f m, %-16s %-9s: %3llu contacts, the sheet under the sphere down to z %.4f m\n",
+                          footprint, sb_integrator_name(integrators[g]), kernels ? "fast" : "reference",
                           (unsigned long long)contacts, lowest);
             assert_true(lowest < -0.02); /* carried down in front of it */
             sb_solver_destroy(s);
@@ -278,6 +295,12 @@ static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
         }
     free(x);
     sb_model_destroy(m);
+}
+
+static void test_fast_small_sphere_does_not_pass_a_sheet(void** state) {
+    (void)state;
+    small_sphere_does_not_pass_a_sheet(0.0);
+    small_sphere_does_not_pass_a_sheet(0.025);
 }
 
 /* ---- a volume's surface ---------------------------------------------------- */
@@ -365,9 +388,8 @@ static void total_momentum(const sb_solver* s, const sb_model* m, const sb_colli
  * a free 21 x 21 sheet of 20 cm (4.4 kg), no gravity, 10 ms: it carries the
  * sheet along without passing it, slowing down, and the total momentum
  * after equals the ball's before to rounding; 1 and 2 threads bitwise
- * alike. */
-static void test_ball_on_a_free_sheet_conserves_momentum(void** state) {
-    (void)state;
+ * alike. The ball without and with a footprint of 2.5 spacings. */
+static void ball_on_a_free_sheet_conserves_momentum(double footprint) {
     const double mass = 0.5, r = 0.003;
     sb_model* m = sheet(21, 0.2, 0.0, false);
     uint64_t hashes[2];
@@ -378,6 +400,7 @@ static void test_ball_on_a_free_sheet_conserves_momentum(void** state) {
         def.center[2] = r + 0.002;
         def.radius = r;
         def.mass = mass;
+        def.footprint = footprint;
         def.velocity[2] = -2.0;
         sb_collider* ball = make_collider(&def);
         sb_solver_def sd = sb_default_solver_def();
@@ -397,9 +420,10 @@ static void test_ball_on_a_free_sheet_conserves_momentum(void** state) {
         free(x);
         double error = 0.0;
         for (int k = 0; k < 3; k++) error = fmax(error, fabs(after[k] - before[k]));
-        print_message("%d thread(s): the ball 2 -> %.4f m/s down, the sheet %.2f mm under its centre; momentum %.6g -> "
-                      "%.6g kg m/s, error %.3g\n",
-                      threads, -v[2], 1e3 * (p[2] - under), before[2], after[2], error);
+        print_message(
+            "footprint %.3f m, %d thread(s): the ball 2 -> %.4f m/s down, the sheet %.2f mm under its centre; "
+            "momentum %.6g -> %.6g kg m/s, error %.3g\n",
+            footprint, threads, -v[2], 1e3 * (p[2] - under), before[2], after[2], error);
         assert_true(v[2] > -1.9);  /* the sheet slowed it */
         assert_true(under < p[2]); /* under it, not passed */
         TU_ASSERT_LE(error, 1e3 * TU_REAL_EPS * fabs(before[2]));
@@ -409,6 +433,12 @@ static void test_ball_on_a_free_sheet_conserves_momentum(void** state) {
     }
     assert_true(hashes[0] == hashes[1]);
     sb_model_destroy(m);
+}
+
+static void test_ball_on_a_free_sheet_conserves_momentum(void** state) {
+    (void)state;
+    ball_on_a_free_sheet_conserves_momentum(0.0);
+    ball_on_a_free_sheet_conserves_momentum(0.025);
 }
 
 /* ---- resting on a thin capsule and a box's edge ---------------------------- */
@@ -601,9 +631,58 @@ static void test_own_collider_meets_the_surface(void** state) {
     }
 }
 
+/* ---- refused footprints -------------------------------------------------- */
+
+/* The solver's message for `tool` on the 1 cm sheet (longest edge √2 cm),
+ * or fails when the solver is made. */
+static void solver_refuses(sb_collider* tool, int32_t max_splits, const char* says) {
+    sb_model* m = sheet(21, 0.2, 0.0, true);
+    sb_solver_def sd = sb_default_solver_def();
+    sd.colliders = &tool;
+    sd.collider_count = 1;
+    sd.max_splits = max_splits;
+    sb_error err = {{0}};
+    sb_solver* s = sb_solver_create(m, &sd, &err);
+    if (s) fail_msg("a solver was made; it should say \"%s\"", says);
+    print_message("refused: %s\n", err.message);
+    assert_non_null(strstr(err.message, says));
+    assert_non_null(strstr(err.message, "'tool'"));
+    sb_model_destroy(m);
+}
+
+/* A footprint on a plane, negative or not finite is refused by the
+ * collider; one shorter than the surface's longest edge, or with tearing,
+ * by the solver, each with a message naming the collider. */
+static void test_footprint_refusals(void** state) {
+    (void)state;
+    sb_collider_def def = sb_default_collider_def();
+    def.name = "tool";
+    sb_error err = {{0}};
+    const double bad[] = {-0.01, NAN, INFINITY};
+    def.footprint = 0.02; /* the default shape: a plane */
+    assert_null(sb_collider_create(&def, &err));
+    assert_non_null(strstr(err.message, "plane"));
+    def.shape = SB_COLLIDER_SPHERE;
+    def.radius = 0.001;
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        def.footprint = bad[k];
+        assert_null(sb_collider_create(&def, &err));
+        assert_non_null(strstr(err.message, "footprint must be >= 0"));
+    }
+    def.footprint = 0.01;
+    sb_collider* tool = make_collider(&def);
+    solver_refuses(tool, 0, "shorter than the longest edge");
+    sb_collider_destroy(tool);
+    def.footprint = 0.025;
+    tool = make_collider(&def);
+    solver_refuses(tool, 100, "tearing");
+    sb_collider_destroy(tool);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_between_vertices_feels_the_sheet),
+        cmocka_unit_test(test_sphere_with_a_footprint_feels_the_same_everywhere),
         cmocka_unit_test(test_fast_small_sphere_does_not_pass_a_sheet),
         cmocka_unit_test(test_small_sphere_stops_at_a_volume_surface),
         cmocka_unit_test(test_ball_on_a_free_sheet_conserves_momentum),
@@ -611,6 +690,7 @@ int main(void) {
         cmocka_unit_test(test_sheet_rests_on_a_box_edge),
         cmocka_unit_test(test_sheet_rests_on_a_mesh_ridge),
         cmocka_unit_test(test_own_collider_meets_the_surface),
+        cmocka_unit_test(test_footprint_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -143,10 +143,28 @@ typedef struct sb_collider_def {
      * is a shell of the points within the thickness of its surface, so its
      * thickness must be > 0. A triangle of zero area is refused. */
     const sb_mesh* mesh;
-    double friction;                /**< Coulomb, sliding (>= 0) */
-    double static_friction;         /**< sticking (>= friction; default: friction) */
-    double restitution;             /**< [0, 1] */
-    double thickness;               /**< m, >= 0: the surface is inflated by it */
+    double friction;        /**< Coulomb, sliding (>= 0) */
+    double static_friction; /**< sticking (>= friction; default: friction) */
+    double restitution;     /**< [0, 1] */
+    double thickness;       /**< m, >= 0: the surface is inflated by it */
+    /** sphere, capsule, box, mesh: m, >= 0. 0 (the default): the collider
+     * stops the body's vertices and, between them, the points of its
+     * triangles, each contact's load spread over the triangle's corners by
+     * their barycentric weights. > 0: the radius of the patch of the
+     * body's surface (measured at rest) that each contact presses: the
+     * collider stops the patch's weighted mean position, its load spread
+     * over the patch's vertices by the same weights, which fall smoothly
+     * from the point of contact to 0 at this distance (no vertex is
+     * answered on its own). A tool smaller than the mesh's spacing then
+     * feels nearly the same stiffness over a vertex as between vertices,
+     * where a load held by one vertex of a spring net meets a softer net
+     * than one shared; in exchange the body deforms as under a tool of
+     * this radius, and its vertices may lie inside the collider by what
+     * the patch's mean rounds off a sharp dent. It must be at least the
+     * longest edge of the body's surface at rest, and cannot be used with
+     * tearing (max_splits > 0). About twice the spacing removes the bump
+     * (docs/contact.md). */
+    double footprint;
     const sb_keyframe* path;        /**< kinematic: keyframes in increasing time (copied); NULL = static */
     uint32_t path_count;            /**< the keyframes in path; 0 = static */
     sb_interpolation interpolation; /**< between keyframes; before the first and after the last the pose holds */

@@ -81,6 +81,7 @@ typedef struct sb_contact_pass {
     bool corrects;               /* the pass corrects the state after the step (not pbd, xpbd: their sweeps project) */
     sb_surface* surface;         /* when a collider meets the surface (kernels/contact/surface.c) */
     uint64_t meets_surface;      /* with a surface: a bit per collider that meets it */
+    uint64_t by_vertex;          /* a bit per collider the vertices are answered against (not one with a footprint) */
     uint32_t *kept, stamp;       /* the fused step: from[i] is vertex i's start where kept[i] == stamp */
     sb_body_restitution* bodies; /* restitution per body (kernels/contact/body_restitution.c); NULL where off */
     sb_fast_colliders fast;      /* the step's colliders as the SIMD answer sees them */
@@ -111,11 +112,17 @@ sb_status sb_contact_prepare(sb_solver* s, sb_error* err) {
     if (!c->from || !c->partials || !c->impulse || !c->step)
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
     c->corrects = s->def.integrator != SB_INTEGRATOR_PBD && s->def.integrator != SB_INTEGRATOR_XPBD;
-    if (sb_surface_active(s) && !(c->surface = sb_surface_create(s, err))) return SB_ERR_NOMEM;
+    if (sb_surface_active(s)) {
+        sb_status status = sb_surface_create(s, &c->surface, err);
+        if (status != SB_OK) return status;
+    }
     if (c->surface && !(c->kept = calloc((size_t)s->model->vertex_count + 1, sizeof *c->kept)))
         return sb_error_set(err, SB_ERR_NOMEM, "out of memory for contact");
-    for (uint32_t k = 0; c->surface && k < s->def.collider_count; k++)
+    c->by_vertex = ~(uint64_t)0;
+    for (uint32_t k = 0; c->surface && k < s->def.collider_count; k++) {
         if (sb_collider_meets_surface(s->def.colliders[k])) c->meets_surface |= (uint64_t)1 << k;
+        if (sb_collider_footprint(s->def.colliders[k]) > 0.0) c->by_vertex &= ~((uint64_t)1 << k);
+    }
     sb_status status = sb_body_restitution_create(s, &c->bodies, err);
     if (status != SB_OK) return status;
     sb_contact_subscribe(s);
@@ -224,7 +231,7 @@ static sb_contact_query sb_contact_query_of(const sb_solver* s, uint32_t i, cons
 }
 
 int sb_contact_find(const sb_solver* s, uint32_t i, const double from[3], const double to[3], sb_contact* c) {
-    uint64_t near = sb_move_near(s, ~(uint64_t)0, from, to);
+    uint64_t near = sb_move_near(s, s->contact->by_vertex, from, to);
     if (!near) return -1;
     sb_contact_query q = sb_contact_query_of(s, i, from, to);
     return sb_first_contact(s, &q, near, c);
@@ -382,6 +389,7 @@ static uint32_t sb_contact_block_fast(const sb_solver* s, uint32_t chunk, uint64
 static void sb_contact_run_packed(const sb_solver* s, uint32_t chunk, uint64_t near, uint32_t first, uint32_t last,
                                   double dt) {
     uint32_t i = first;
+    near &= s->contact->by_vertex;
     if (!near) return;
     if (!(near & ~s->contact->fast.simd)) i += sb_contact_block_fast(s, chunk, near, first, last, dt);
     for (; i < last; i++) sb_contact_vertex_packed(s, chunk, near, i, dt);
@@ -448,7 +456,7 @@ static void sb_contact_chunk_state(sb_solver* s, uint32_t chunk, double dt) {
         sb_real* ds[3] = {&s->disp_x[i], &s->disp_y[i], &s->disp_z[i]};
         double x[3] = {*xs[0], *xs[1], *xs[2]}, v[3] = {*vs[0], *vs[1], *vs[2]}, impulse[3], point[3];
         const double* from = s->contact->from + 3 * (size_t)i;
-        uint64_t reached = sb_move_near(s, ~(uint64_t)0, from, x);
+        uint64_t reached = sb_move_near(s, s->contact->by_vertex, from, x);
         int hit = reached ? sb_contact_vertex(s, i, reached, from, x, v, impulse, point) : -1;
         if (hit < 0) continue;
         for (int k = 0; k < 3; k++) {

@@ -57,6 +57,7 @@
 #include "kernels/contact/surface.h"
 #include "kernels/contact/contact.h"
 #include "kernels/contact/surface_triangles.h"
+#include "kernels/contact/footprint.h"
 #include "kernels/contact/colliders/collider_internal.h"
 #include "kernels/state/solver_fast.h"
 #include "common/error.h"
@@ -71,6 +72,22 @@ typedef struct sb_surface_reach {
     uint32_t *first, *unit;
 } sb_surface_reach;
 
+/* One vertex of the point a collider answers: its weight, its move, its
+ * velocity and inverse mass. */
+typedef struct sb_patch_vertex {
+    uint32_t vertex;
+    double weight, from[3], to[3], v[3], inv_mass;
+} sb_patch_vertex;
+
+/* The point a collider answers, Σ weight_j x_j (the weights sum to 1): a
+ * triangle's corners, or the patch a collider with a footprint presses
+ * (kernels/contact/footprint.c). */
+typedef struct sb_patch {
+    uint32_t count, *vertex; /* vertex: the footprint's patch, room for it */
+    double* weight;
+    sb_patch_vertex* at; /* room for 3, or the footprint's patch */
+} sb_patch;
+
 struct sb_surface {
     sb_surface_triangles triangles;
     uint32_t blocks, groups;
@@ -82,7 +99,18 @@ struct sb_surface {
     uint8_t* fine;                 /* per group: its blocks' boxes were set this step (else its box stands for them) */
     bool by_block;                 /* the topology is fixed: blocks may be skipped */
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
+    sb_footprint footprint;        /* where a collider has a footprint */
+    sb_patch patch;                /* the pass's own, for the point it answers */
+    struct sb_pressed* pressed;    /* where a collider has a footprint: room for a candidate a triangle */
+    uint32_t pressed_count;
 };
+
+/* A triangle whose patch a collider with a footprint touches this step,
+ * waiting to be answered in order (sb_press_order). */
+typedef struct sb_pressed {
+    uint32_t triangle, collider;
+    double fraction, depth;
+} sb_pressed;
 
 bool sb_surface_active(const sb_solver* s) {
     if (s->def.vertex_contact_only || !sb_surface_triangles_exist(s->model)) return false;
@@ -160,30 +188,75 @@ static void sb_surface_reach_free(sb_surface_reach* r) {
     free(r->unit);
 }
 
-sb_surface* sb_surface_create(const sb_solver* s, sb_error* err) {
+/* The largest footprint of the solver's colliders (0: none). */
+static double sb_largest_footprint(const sb_solver* s) {
+    double largest = 0.0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++)
+        largest = fmax(largest, sb_collider_footprint(s->def.colliders[c]));
+    return largest;
+}
+
+/* A footprint needs the surface's neighbours to stay and a corner of every
+ * triangle within it. */
+static sb_status sb_check_footprints(const sb_solver* s, const sb_surface* f, sb_error* err) {
+    double longest = -1.0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        const sb_collider* collider = s->def.colliders[c];
+        double footprint = sb_collider_footprint(collider);
+        if (footprint == 0.0) continue;
+        if (s->def.max_splits > 0)
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "collider '%s': a footprint (%g m) cannot be used with tearing (max_splits %d): the "
+                                "surface's neighbours change as it tears",
+                                collider->name, footprint, (int)s->def.max_splits);
+        if (longest < 0.0) longest = sb_footprint_longest_edge(s->model, &f->triangles);
+        if (footprint < longest)
+            return sb_error_set(err, SB_ERR_INVALID,
+                                "collider '%s': footprint %g m is shorter than the longest edge of the body's surface "
+                                "at rest (%g m); it must be 0 or at least that",
+                                collider->name, footprint, longest);
+    }
+    return SB_OK;
+}
+
+/* The patch's room: 3 corners, or the largest footprint's patch. */
+static bool sb_surface_patch_room(sb_surface* f, const sb_solver* s) {
+    double largest = sb_largest_footprint(s);
+    if (largest > 0.0 && !sb_footprint_make(s->model, &f->triangles, largest, &f->footprint)) return false;
+    size_t room = f->footprint.room > 3 ? f->footprint.room : 3;
+    f->patch.at = malloc(room * sizeof *f->patch.at);
+    f->patch.vertex = malloc(room * sizeof *f->patch.vertex);
+    f->patch.weight = malloc(room * sizeof *f->patch.weight);
+    if (largest > 0.0 && !(f->pressed = malloc(((size_t)f->triangles.count + 1) * sizeof *f->pressed))) return false;
+    return f->patch.at && f->patch.vertex && f->patch.weight;
+}
+
+sb_status sb_surface_create(const sb_solver* s, sb_surface** out, sb_error* err) {
     const sb_model* m = s->model;
-    sb_surface* f = calloc(1, sizeof *f);
-    if (f && sb_surface_triangles_make(m, &f->triangles, err) != SB_OK) {
-        free(f);
-        return NULL;
+    sb_surface* f = *out = calloc(1, sizeof *f);
+    if (!f) return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the surface contact");
+    sb_status status = sb_surface_triangles_make(m, &f->triangles, err);
+    if (status == SB_OK) status = sb_check_footprints(s, f, err);
+    if (status != SB_OK) {
+        sb_surface_destroy(f);
+        *out = NULL;
+        return status;
     }
-    bool ok = f != NULL;
-    if (ok) {
-        f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
-        f->groups = (f->blocks + SB_SURFACE_GROUP - 1) / SB_SURFACE_GROUP;
-        f->by_block = s->def.max_splits <= 0;
-        f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
-        f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
-        f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
-        f->group_boxes = malloc(6 * ((size_t)f->groups + 1) * sizeof *f->group_boxes);
-        f->fine = calloc((size_t)f->groups + 1, sizeof *f->fine);
-        ok = f->owned_first && f->owned && f->boxes && f->group_boxes && f->fine && sb_surface_own(f) &&
-             sb_surface_reach_of(f, 1, &f->blocks_reach) && sb_surface_reach_of(f, SB_SURFACE_GROUP, &f->groups_reach);
-    }
-    if (ok) return f;
+    f->blocks = (m->vertex_count + SB_SURFACE_BLOCK - 1) / SB_SURFACE_BLOCK;
+    f->groups = (f->blocks + SB_SURFACE_GROUP - 1) / SB_SURFACE_GROUP;
+    f->by_block = s->def.max_splits <= 0;
+    f->owned_first = calloc((size_t)f->blocks + 1, sizeof *f->owned_first);
+    f->owned = malloc(((size_t)f->triangles.count + 1) * sizeof *f->owned);
+    f->boxes = malloc(6 * ((size_t)f->blocks + 1) * sizeof *f->boxes);
+    f->group_boxes = malloc(6 * ((size_t)f->groups + 1) * sizeof *f->group_boxes);
+    f->fine = calloc((size_t)f->groups + 1, sizeof *f->fine);
+    if (f->owned_first && f->owned && f->boxes && f->group_boxes && f->fine && sb_surface_own(f) &&
+        sb_surface_patch_room(f, s) && sb_surface_reach_of(f, 1, &f->blocks_reach) &&
+        sb_surface_reach_of(f, SB_SURFACE_GROUP, &f->groups_reach))
+        return SB_OK;
     sb_surface_destroy(f);
-    sb_error_set(err, SB_ERR_NOMEM, "out of memory for the surface contact");
-    return NULL;
+    *out = NULL;
+    return sb_error_set(err, SB_ERR_NOMEM, "out of memory for the surface contact");
 }
 
 void sb_surface_destroy(sb_surface* f) {
@@ -193,6 +266,11 @@ void sb_surface_destroy(sb_surface* f) {
     free(f->owned);
     sb_surface_reach_free(&f->blocks_reach);
     sb_surface_reach_free(&f->groups_reach);
+    sb_footprint_free(&f->footprint);
+    free(f->pressed);
+    free(f->patch.at);
+    free(f->patch.vertex);
+    free(f->patch.weight);
     free(f->boxes);
     free(f->group_boxes);
     free(f->fine);
@@ -272,11 +350,13 @@ static void sb_surface_make_boxes(sb_surface* f, const sb_solver* s, const sb_su
 }
 
 /* The balls that hold the colliders meeting the surface through the step,
- * grown by the contact thickness: a triangle whose box lies outside a
- * collider's ball cannot touch it. */
+ * grown by the contact thickness and the collider's footprint: a triangle
+ * whose box lies outside a collider's ball cannot touch it. (The point a
+ * footprint's patch answers is a mean of vertices within the footprint of
+ * the triangle at rest: near it, unless the body is stretched beyond it.) */
 typedef struct sb_surface_balls {
     uint64_t meets; /* a bit per collider that meets the surface */
-    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS];
+    double center[SB_MAX_COLLIDERS][3], radius2[SB_MAX_COLLIDERS], footprint[SB_MAX_COLLIDERS];
 } sb_surface_balls;
 
 static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
@@ -285,7 +365,8 @@ static void sb_surface_balls_of(const sb_solver* s, sb_surface_balls* balls) {
         if (!sb_collider_meets_surface(s->def.colliders[c])) continue;
         double radius;
         sb_collider_surface_ball(s->def.colliders[c], balls->center[c], &radius);
-        radius += s->def.contact_thickness;
+        balls->footprint[c] = sb_collider_footprint(s->def.colliders[c]);
+        radius += s->def.contact_thickness + balls->footprint[c];
         balls->radius2[c] = radius * radius;
         balls->meets |= (uint64_t)1 << c;
     }
@@ -305,10 +386,12 @@ static bool sb_box_meets_ball(const sb_surface_balls* balls, uint32_t c, const d
  * its ball (a block of a sheet lying inside a large sphere's bounds but
  * far from its ball, as a floor around the sphere, skips its triangles). */
 static bool sb_box_reaches(const sb_solver* s, const double box[6], const sb_surface_balls* balls) {
-    for (uint32_t c = 0; c < s->def.collider_count; c++)
-        if ((balls->meets >> c & 1) && sb_box_meets_ball(balls, c, box, box + 3) &&
-            sb_contact_reaches(s, c, box, box + 3))
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        double lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = box[k] - balls->footprint[c], hi[k] = box[3 + k] + balls->footprint[c];
+        if ((balls->meets >> c & 1) && sb_box_meets_ball(balls, c, box, box + 3) && sb_contact_reaches(s, c, lo, hi))
             return true;
+    }
     return false;
 }
 
@@ -382,22 +465,59 @@ static void sb_triangle_box(const sb_surface* f, const sb_surface_view* view, ui
     }
 }
 
-/* Σ w_j p_j */
-static void sb_blend(const double w[3], const double p[3][3], double out[3]) {
-    for (int k = 0; k < 3; k++) out[k] = w[0] * p[0][k] + w[1] * p[1][k] + w[2] * p[2][k];
+/* The point of the triangle with corners c at weights w that collider
+ * `index` answers: the corners at those weights (a corner at weight 0 left
+ * out), or the patch its footprint presses; then the vertices' states
+ * from the view. */
+static void sb_patch_of(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                        const double w[3], uint32_t index, sb_patch* p) {
+    double footprint = sb_collider_footprint(s->def.colliders[index]);
+    p->count = 0;
+    if (footprint > 0.0) {
+        p->count = sb_footprint_patch(&f->footprint, s->model, c->vertex, w, footprint, p->vertex, p->weight);
+        for (uint32_t j = 0; j < p->count; j++)
+            p->at[j] = (sb_patch_vertex){.vertex = p->vertex[j], .weight = p->weight[j]};
+    } else
+        for (int j = 0; j < 3; j++)
+            if (w[j] != 0.0) p->at[p->count++] = (sb_patch_vertex){.vertex = c->vertex[j], .weight = w[j]};
+    const double* inv_mass = sb_inv_mass(s);
+    for (uint32_t j = 0; j < p->count; j++) {
+        sb_patch_vertex* pv = &p->at[j];
+        size_t at = view->stride * pv->vertex;
+        for (int k = 0; k < 3; k++) {
+            pv->to[k] = view->x[k][at];
+            pv->v[k] = view->v[k][at];
+            pv->from[k] = sb_view_from(view, pv->vertex, k);
+        }
+        pv->inv_mass = inv_mass[pv->vertex];
+    }
 }
 
-/* Corner j's new state: the share `share` of the point's Δx and Δv. */
-static void sb_move_corner(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, int j, double share,
-                           const double dx[3], const double dv[3], double dt) {
-    size_t at = view->stride * c->vertex[j];
-    sb_view_keep_from(view, c->vertex[j], c->from[j]);
+/* Σ weight_j from_j, Σ weight_j to_j, Σ weight_j v_j */
+static void sb_patch_blend(const sb_patch* p, double from[3], double to[3], double v[3]) {
     for (int k = 0; k < 3; k++) {
-        double v = c->v[j][k] + share * dv[k];
-        view->x[k][at] = (sb_real)(c->to[j][k] + share * dx[k]);
+        from[k] = p->at[0].weight * p->at[0].from[k];
+        to[k] = p->at[0].weight * p->at[0].to[k];
+        v[k] = p->at[0].weight * p->at[0].v[k];
+        for (uint32_t j = 1; j < p->count; j++) {
+            from[k] += p->at[j].weight * p->at[j].from[k];
+            to[k] += p->at[j].weight * p->at[j].to[k];
+            v[k] += p->at[j].weight * p->at[j].v[k];
+        }
+    }
+}
+
+/* A vertex's new state: the share `share` of the point's Δx and Δv. */
+static void sb_move_vertex(const sb_solver* s, const sb_surface_view* view, const sb_patch_vertex* pv, double share,
+                           const double dx[3], const double dv[3], double dt) {
+    size_t at = view->stride * pv->vertex;
+    sb_view_keep_from(view, pv->vertex, pv->from);
+    for (int k = 0; k < 3; k++) {
+        double v = pv->v[k] + share * dv[k];
+        view->x[k][at] = (sb_real)(pv->to[k] + share * dx[k]);
         view->v[k][at] = (sb_real)v;
         view->d[k][at] = (sb_real)(v * dt);
-        if (view->f[k]) view->f[k][at] = sb_fast_initial_force(s, c->vertex[j], k, v);
+        if (view->f[k]) view->f[k][at] = sb_fast_initial_force(s, pv->vertex, k, v);
     }
 }
 
@@ -435,47 +555,109 @@ static void sb_point_move(const sb_contact* contact, const double answered[3], c
     for (int k = 0; k < 3; k++) dx[k] = push * contact->normal[k] + dt * (dv[k] - slip * contact->normal[k]);
 }
 
-/* The triangle against collider `index`: whether its point of contact was answered. */
-static bool sb_surface_answer(const sb_solver* s, const sb_surface_view* view, const sb_corners* c, uint32_t index,
-                              double dt) {
+/* The contact of the triangle's point that collider `index` answers,
+ * into the pass's patch, q and contact; whether it touches. A collider with
+ * a footprint answers its patch's point, at a corner too: the vertex pass
+ * leaves it out. */
+static bool sb_surface_contact(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                               uint32_t index, sb_contact_query* q, sb_contact* contact) {
     const sb_collider* collider = s->def.colliders[index];
     double w[3];
     if (!sb_collider_triangle_point(collider, c->from, c->to, w)) return false;
-    double W = 0.0, largest = 0.0;
-    int nearest = 0;
-    for (int j = 0; j < 3; j++) {
-        W += w[j] * w[j] * c->inv_mass[j];
-        if (w[j] > largest) largest = w[j], nearest = j;
+    if (sb_collider_footprint(collider) == 0.0 && (w[0] >= 1.0 || w[1] >= 1.0 || w[2] >= 1.0))
+        return false; /* a vertex: the vertex pass's */
+    sb_patch* p = &f->patch;
+    sb_patch_of(s, f, view, c, w, index, p);
+    double largest = 0.0, free_weight = 0.0;
+    uint32_t nearest = 0;
+    for (uint32_t j = 0; j < p->count; j++) {
+        if (p->at[j].inv_mass > 0.0) free_weight += p->at[j].weight;
+        if (p->at[j].weight > largest) largest = p->at[j].weight, nearest = j;
     }
-    if (largest >= 1.0 || !(W > 0.0)) return false; /* a vertex (the vertex pass), or held */
-    sb_contact_query q = {
-        .vertex = c->vertex[nearest], .t0 = s->time - s->step.dt, .t1 = s->time, .thickness = s->def.contact_thickness};
-    sb_blend(w, c->from, q.from);
-    sb_blend(w, c->to, q.to);
-    sb_contact contact;
-    if (!collider->collide(collider->user, &q, &contact)) return false;
-    double v[3], before[3], x[3], dx[3], dv[3], taken = 0.0, impulse[3];
-    sb_blend(w, c->v, v);
+    if (!(free_weight > 0.0)) return false; /* held */
+    *q = (sb_contact_query){.vertex = p->at[nearest].vertex,
+                            .t0 = s->time - s->step.dt,
+                            .t1 = s->time,
+                            .thickness = s->def.contact_thickness};
+    double v[3];
+    sb_patch_blend(p, q->from, q->to, v);
+    return collider->collide(collider->user, q, contact);
+}
+
+/* The answer of the contact of the pass's patch (sb_surface_contact): the
+ * point's change of velocity and position spread over the patch. */
+static void sb_surface_apply(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                             uint32_t index, const sb_contact_query* q, const sb_contact* contact, double dt) {
+    const sb_patch* p = &f->patch;
+    double v[3], from[3], to[3], before[3], x[3], dx[3], dv[3], W = 0.0, taken = 0.0, impulse[3];
+    sb_patch_blend(p, from, to, v);
+    for (uint32_t j = 0; j < p->count; j++) W += p->at[j].weight * p->at[j].weight * p->at[j].inv_mass;
     memcpy(before, v, sizeof v);
-    sb_contact_velocity(&contact, v);
-    sb_contact_position(&contact, s->step.dt, q.from, q.to, v, x);
+    sb_contact_velocity(contact, v);
+    sb_contact_position(contact, s->step.dt, q->from, q->to, v, x);
     for (int k = 0; k < 3; k++) dv[k] = v[k] - before[k];
-    sb_point_move(&contact, x, q.to, dv, dt, dx);
-    for (int j = 0; j < 3; j++) {
-        double share = w[j] * c->inv_mass[j] / W;
-        if (share > 0.0) sb_move_corner(s, view, c, j, share, dx, dv, dt);
-        if (c->inv_mass[j] > 0.0) taken += w[j];
+    sb_point_move(contact, x, q->to, dv, dt, dx);
+    for (uint32_t j = 0; j < p->count; j++) {
+        double share = p->at[j].weight * p->at[j].inv_mass / W;
+        if (share > 0.0) sb_move_vertex(s, view, &p->at[j], share, dx, dv, dt);
+        if (p->at[j].inv_mass > 0.0) taken += p->at[j].weight;
     }
     for (int k = 0; k < 3; k++) impulse[k] = dv[k] * taken / W;
     sb_contact_record(s, 0, (int)index, impulse);
-    sb_contact_record_torque(s, 0, (int)index, contact.point, impulse);
-    for (int j = 0; j < 3; j++)
+    sb_contact_record_torque(s, 0, (int)index, contact->point, impulse);
+    for (int j = 0; j < 3 && sb_collider_footprint(s->def.colliders[index]) == 0.0; j++)
         if (c->inv_mass[j] > 0.0) sb_answer_corner(s, view, c->vertex[j], index, dt);
+}
+
+/* The triangle against collider `index`: whether its point of contact was answered. */
+static bool sb_surface_answer(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                              uint32_t index, double dt) {
+    sb_contact_query q;
+    sb_contact contact;
+    if (!sb_surface_contact(s, f, view, c, index, &q, &contact)) return false;
+    sb_surface_apply(s, f, view, c, index, &q, &contact, dt);
     return true;
 }
 
+/* Triangle t's patch against collider `index` with a footprint: a
+ * candidate when it touches. */
+static void sb_surface_candidate(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
+                                 uint32_t t, uint32_t index) {
+    sb_contact_query q;
+    sb_contact contact;
+    if (!sb_surface_contact(s, f, view, c, index, &q, &contact)) return;
+    f->pressed[f->pressed_count++] =
+        (sb_pressed){.triangle = t, .collider = index, .fraction = contact.fraction, .depth = contact.depth};
+}
+
+/* By collider, then the earliest contact, then the deepest, then the triangle. */
+static int sb_press_order(const void* a, const void* b) {
+    const sb_pressed *x = a, *y = b;
+    if (x->collider != y->collider) return x->collider < y->collider ? -1 : 1;
+    if (x->fraction != y->fraction) return x->fraction < y->fraction ? -1 : 1;
+    if (x->depth != y->depth) return x->depth > y->depth ? -1 : 1;
+    return x->triangle < y->triangle ? -1 : x->triangle > y->triangle;
+}
+
+/* The candidates of the colliders with a footprint, in order, each
+ * answered when it still touches: the first pushes its patch out, and the
+ * patches of its neighbours, which overlap it, mostly with it. Answering
+ * them in the triangles' order instead pushed each out in turn from wherever
+ * the last left it, and the force a tool felt jumped from tick to tick. */
+static uint32_t sb_surface_press(const sb_solver* s, sb_surface* f, const sb_surface_view* view, double dt) {
+    uint32_t contacts = 0;
+    qsort(f->pressed, f->pressed_count, sizeof *f->pressed, sb_press_order);
+    for (uint32_t k = 0; k < f->pressed_count; k++) {
+        sb_corners corners;
+        sb_read_corners(s, f, view, f->pressed[k].triangle, &corners);
+        contacts += sb_surface_answer(s, f, view, &corners, f->pressed[k].collider, dt);
+    }
+    f->pressed_count = 0;
+    return contacts;
+}
+
 /* Triangle t against the colliders that meet the surface; returns the contacts. */
-static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, const sb_surface_view* view, uint32_t t,
+static uint32_t sb_surface_triangle(const sb_solver* s, sb_surface* f, const sb_surface_view* view, uint32_t t,
                                     const sb_surface_balls* balls, double dt) {
     sb_corners corners;
     double lo[3], hi[3];
@@ -485,7 +667,11 @@ static uint32_t sb_surface_triangle(const sb_solver* s, const sb_surface* f, con
     for (uint32_t c = 0; c < s->def.collider_count; c++) {
         if (!(balls->meets >> c & 1) || !sb_box_meets_ball(balls, c, lo, hi)) continue;
         if (!read) sb_read_corners(s, f, view, t, &corners), read = true;
-        if (!sb_surface_answer(s, view, &corners, c, dt)) continue;
+        if (balls->footprint[c] > 0.0) {
+            sb_surface_candidate(s, f, view, &corners, t, c);
+            continue;
+        }
+        if (!sb_surface_answer(s, f, view, &corners, c, dt)) continue;
         contacts++;
         sb_read_corners(s, f, view, t, &corners); /* the next collider sees the answer */
     }
@@ -507,5 +693,5 @@ uint32_t sb_surface_pass(const sb_solver* s, sb_surface* f, const sb_surface_vie
                     contacts += sb_surface_triangle(s, f, view, f->owned[k], &balls, dt);
         }
     }
-    return contacts;
+    return contacts + sb_surface_press(s, f, view, dt);
 }

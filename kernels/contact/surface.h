@@ -35,8 +35,10 @@ typedef struct sb_surface sb_surface;
  * and the model has triangles: the pass has work. */
 bool sb_surface_active(const sb_solver* solver);
 /* The pass's broad phase: the triangles each block of vertices owns and
- * the blocks they reach; NULL (and err) when out of memory. */
-sb_surface* sb_surface_create(const sb_solver* solver, sb_error* err);
+ * the blocks they reach, and where a collider has a footprint, each
+ * vertex's neighbours; refuses a footprint shorter than the surface's
+ * longest edge at rest, or with tearing. */
+sb_status sb_surface_create(const sb_solver* solver, sb_surface** out, sb_error* err);
 void sb_surface_destroy(sb_surface* surface);
 /* The box of block b's moves this step (lo x y z, hi x y z), from the
  * fused vertex pass, which computes it anyway. */

@@ -68,6 +68,7 @@ static int collider_init(SbpyCollider* self, PyObject* args, PyObject* kwargs) {
         {"static_friction", SBPY_DOUBLE, &def.static_friction, NULL},
         {"restitution", SBPY_DOUBLE, &def.restitution, NULL},
         {"thickness", SBPY_DOUBLE, &def.thickness, NULL},
+        {"footprint", SBPY_DOUBLE, &def.footprint, NULL},
         {"path", SBPY_OBJECT, &path, NULL},
         {"interpolation", SBPY_STRING, &interpolation, NULL},
         {"mass", SBPY_DOUBLE, &def.mass, NULL},
@@ -315,9 +316,9 @@ PyTypeObject SbpyColliderType = {
     .tp_doc = "Collider(shape, /, **fields)\n--\n\n"
               "A built-in collider: shape 'plane' (point, normal), 'sphere' (center, radius), 'capsule' (a, b,\n"
               "radius), 'box' (center, half_extents, rotate degrees) or 'mesh' (vertices (n, 3), triangles (t, 3)).\n"
-              "Common fields: name, friction, static_friction, restitution, thickness (m); kinematic: path, a list\n"
-              "of (time, translate, rotate) keyframes with interpolation 'linear' or 'smooth', or set_pose() every\n"
-              "step; dynamic (sphere, box): mass (kg), velocity, angular_velocity. Collider.custom() makes a\n"
+              "Common fields: name, friction, static_friction, restitution, thickness (m), footprint (m, not a\n"
+              "plane); kinematic: path, a list of (time, translate, rotate) keyframes with interpolation 'linear'\n"
+              "or 'smooth', or set_pose() every step; dynamic (sphere, box): mass (kg), velocity, angular_velocity. Collider.custom() makes a\n"
               "program's own. Attach it to one solver at a time.",
     .tp_methods = collider_methods,
     .tp_getset = collider_getset,

@@ -118,7 +118,7 @@ static sb_status sb_check_geometry(const char* label, const sb_collider_def* d, 
                         (int)d->shape);
 }
 
-/* friction, static_friction (after the default), restitution, thickness. */
+/* friction, static_friction (after the default), restitution, thickness, footprint. */
 static sb_status sb_check_surface(const char* label, const sb_collider_def* d, double static_friction, sb_error* err) {
     if (!(isfinite(d->friction) && d->friction >= 0.0))
         return sb_error_set(err, SB_ERR_INVALID, "collider '%s': friction must be >= 0 and finite (got %g)", label,
@@ -133,6 +133,13 @@ static sb_status sb_check_surface(const char* label, const sb_collider_def* d, d
     if (!(isfinite(d->thickness) && d->thickness >= 0.0))
         return sb_error_set(err, SB_ERR_INVALID, "collider '%s': thickness must be >= 0 and finite (got %g)", label,
                             d->thickness);
+    if (!(isfinite(d->footprint) && d->footprint >= 0.0))
+        return sb_error_set(err, SB_ERR_INVALID, "collider '%s': footprint must be >= 0 and finite (got %g)", label,
+                            d->footprint);
+    if (d->footprint > 0.0 && d->shape == SB_COLLIDER_PLANE)
+        return sb_error_set(err, SB_ERR_INVALID,
+                            "collider '%s': a plane stops the vertices only and has no footprint (got %g m)", label,
+                            d->footprint);
     return SB_OK;
 }
 
@@ -568,6 +575,8 @@ void sb_collider_surface_ball(const sb_collider* c, double center[3], double* ra
  * point is a corner, which the vertex pass answers; the face pass would
  * find nothing to do for it (and a floor under a whole body would make it
  * visit every triangle). */
+double sb_collider_footprint(const sb_collider* c) { return c->def.footprint; }
+
 bool sb_collider_meets_surface(const sb_collider* c) {
     sb_collider_shape shape = c->def.shape;
     if (c->begin_step != sb_builtin_begin_step) return c->triangle_point != NULL;

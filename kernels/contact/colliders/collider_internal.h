@@ -54,6 +54,11 @@ struct sb_collider {
 void sb_collider_save(const sb_collider* collider, sb_sections_writer* w);
 void sb_collider_load(sb_collider* collider, sb_cursor* r);
 
+/* def.footprint, m: > 0 where the collider presses patches of the body's
+ * surface (kernels/contact/surface.c) and no vertex on its own; 0 for a
+ * program's own collider. */
+double sb_collider_footprint(const sb_collider* collider);
+
 /* Whether the collider is a built-in shape that stands still in the world
  * through the current step (no path, not driven, not dynamic): its rest
  * frame is the world, and it answers with zero velocity. */
