@@ -672,10 +672,11 @@ static void test_run_bad_colliders(void** state) {
     assert_colliders_fail("  - type: plane\n    radius: 1\n",
                           "4: 'colliders[0].radius' does not apply to a plane (its shape's keys: point, normal)");
     assert_colliders_fail("  - {type: sphere, center: [0, 0, 0], radius: 1, rotate: [0, 0, 1]}\n",
-                          "3: 'colliders[0].rotate' does not apply to a sphere (its shape's keys: center, radius)");
+                          "3: 'colliders[0].rotate' does not apply to a sphere (its shape's keys: center, radius, "
+                          "footprint)");
     assert_colliders_fail("  - type: box\n    center: [0, 0, 0]\n    half_extents: [1, 1, 1]\n    normal: [0, 0, 1]\n",
                           "6: 'colliders[0].normal' does not apply to a box (its shape's keys: center, "
-                          "half_extents, rotate)");
+                          "half_extents, rotate, footprint)");
     assert_colliders_fail("  - type: sphere\n    center: [0, 0, 0]\n",
                           "3: 'colliders[0].radius' is not set (a sphere needs center and radius)");
     assert_colliders_fail("  - {type: plane}\n  - type: capsule\n    a: [0, 0, 0]\n    radius: 0.1\n",

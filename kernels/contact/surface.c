@@ -101,7 +101,8 @@ struct sb_surface {
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
     sb_footprint footprint;        /* where a collider has a footprint */
     sb_patch patch;                /* the pass's own, for the point it answers */
-    struct sb_pressed* pressed;    /* where a collider has a footprint: room for a candidate a triangle */
+    struct sb_pressed*
+        pressed; /* where a collider has a footprint: room for a candidate a triangle and such collider */
     uint32_t pressed_count;
 };
 
@@ -188,11 +189,16 @@ static void sb_surface_reach_free(sb_surface_reach* r) {
     free(r->unit);
 }
 
-/* The largest footprint of the solver's colliders (0: none). */
-static double sb_largest_footprint(const sb_solver* s) {
+/* The largest footprint of the solver's colliders (0: none), and how many
+ * have one. */
+static double sb_largest_footprint(const sb_solver* s, uint32_t* count) {
     double largest = 0.0;
-    for (uint32_t c = 0; c < s->def.collider_count; c++)
-        largest = fmax(largest, sb_collider_footprint(s->def.colliders[c]));
+    *count = 0;
+    for (uint32_t c = 0; c < s->def.collider_count; c++) {
+        double footprint = sb_collider_footprint(s->def.colliders[c]);
+        largest = fmax(largest, footprint);
+        *count += footprint > 0.0;
+    }
     return largest;
 }
 
@@ -219,15 +225,18 @@ static sb_status sb_check_footprints(const sb_solver* s, const sb_surface* f, sb
     return SB_OK;
 }
 
-/* The patch's room: 3 corners, or the largest footprint's patch. */
+/* The patch's room: 3 corners, or the largest footprint's patch; the
+ * candidates' room. */
 static bool sb_surface_patch_room(sb_surface* f, const sb_solver* s) {
-    double largest = sb_largest_footprint(s);
+    uint32_t pressing;
+    double largest = sb_largest_footprint(s, &pressing);
     if (largest > 0.0 && !sb_footprint_make(s->model, &f->triangles, largest, &f->footprint)) return false;
     size_t room = f->footprint.room > 3 ? f->footprint.room : 3;
     f->patch.at = malloc(room * sizeof *f->patch.at);
     f->patch.vertex = malloc(room * sizeof *f->patch.vertex);
     f->patch.weight = malloc(room * sizeof *f->patch.weight);
-    if (largest > 0.0 && !(f->pressed = malloc(((size_t)f->triangles.count + 1) * sizeof *f->pressed))) return false;
+    if (pressing && !(f->pressed = malloc(((size_t)f->triangles.count * pressing + 1) * sizeof *f->pressed)))
+        return false;
     return f->patch.at && f->patch.vertex && f->patch.weight;
 }
 
@@ -493,17 +502,23 @@ static void sb_patch_of(const sb_solver* s, sb_surface* f, const sb_surface_view
     }
 }
 
-/* Σ weight_j from_j, Σ weight_j to_j, Σ weight_j v_j */
-static void sb_patch_blend(const sb_patch* p, double from[3], double to[3], double v[3]) {
+/* Σ weight_j from_j and Σ weight_j to_j */
+static void sb_patch_move(const sb_patch* p, double from[3], double to[3]) {
     for (int k = 0; k < 3; k++) {
         from[k] = p->at[0].weight * p->at[0].from[k];
         to[k] = p->at[0].weight * p->at[0].to[k];
-        v[k] = p->at[0].weight * p->at[0].v[k];
         for (uint32_t j = 1; j < p->count; j++) {
             from[k] += p->at[j].weight * p->at[j].from[k];
             to[k] += p->at[j].weight * p->at[j].to[k];
-            v[k] += p->at[j].weight * p->at[j].v[k];
         }
+    }
+}
+
+/* Σ weight_j v_j */
+static void sb_patch_velocity(const sb_patch* p, double v[3]) {
+    for (int k = 0; k < 3; k++) {
+        v[k] = p->at[0].weight * p->at[0].v[k];
+        for (uint32_t j = 1; j < p->count; j++) v[k] += p->at[j].weight * p->at[j].v[k];
     }
 }
 
@@ -579,8 +594,7 @@ static bool sb_surface_contact(const sb_solver* s, sb_surface* f, const sb_surfa
                             .t0 = s->time - s->step.dt,
                             .t1 = s->time,
                             .thickness = s->def.contact_thickness};
-    double v[3];
-    sb_patch_blend(p, q->from, q->to, v);
+    sb_patch_move(p, q->from, q->to);
     return collider->collide(collider->user, q, contact);
 }
 
@@ -589,8 +603,8 @@ static bool sb_surface_contact(const sb_solver* s, sb_surface* f, const sb_surfa
 static void sb_surface_apply(const sb_solver* s, sb_surface* f, const sb_surface_view* view, const sb_corners* c,
                              uint32_t index, const sb_contact_query* q, const sb_contact* contact, double dt) {
     const sb_patch* p = &f->patch;
-    double v[3], from[3], to[3], before[3], x[3], dx[3], dv[3], W = 0.0, taken = 0.0, impulse[3];
-    sb_patch_blend(p, from, to, v);
+    double v[3], before[3], x[3], dx[3], dv[3], W = 0.0, taken = 0.0, impulse[3];
+    sb_patch_velocity(p, v);
     for (uint32_t j = 0; j < p->count; j++) W += p->at[j].weight * p->at[j].weight * p->at[j].inv_mass;
     memcpy(before, v, sizeof v);
     sb_contact_velocity(contact, v);
