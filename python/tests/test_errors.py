@@ -90,6 +90,14 @@ def test_library_refuses_a_bad_collider():
     assert "radius" in str(error.value)
 
 
+def test_solver_refuses_a_footprint_shorter_than_an_edge():
+    model = softbond.Model.sheet(nx=9, ny=9, width=1.0, height=1.0)  # edges up to 0.177 m
+    ball = softbond.Collider("sphere", center=(0.5, 0.5, 0.2), radius=0.1, footprint=0.1, name="ball")
+    with pytest.raises(softbond.InvalidError) as error:
+        softbond.Solver(model, colliders=[ball])
+    assert "'ball': footprint 0.1 m is shorter than the longest edge" in str(error.value)
+
+
 def test_blow_up_raises_unstable():
     model = softbond.Model.from_arrays(
         [[0, 0, 0], [1, 0, 0]], masses=1e-6, bonds=[[0, 1]], bond_k=1e6, rest_lengths=0.5
