@@ -116,13 +116,12 @@ static bool sb_footprint_room(sb_footprint* fp, const sb_model* m, const sb_surf
     double* d = malloc(((size_t)n + 1) * sizeof *d);
     double reach = radius + sb_footprint_longest_edge(m, tris);
     bool ok = vertex && d;
-    for (uint32_t t = 0; ok && t < tris->count; t++)
-        for (int c = 0; c < 3; c++) {
-            uint32_t i = tris->v[c][t];
-            double p[3] = {m->rest_x[i], m->rest_y[i], m->rest_z[i]};
-            uint32_t count = sb_footprint_reach(fp, m, &i, 1, p, reach * (1.0 + 1e-9), vertex, d);
-            fp->room = count > fp->room ? count : fp->room;
-        }
+    for (uint32_t i = 0; ok && i < n; i++) {
+        if (fp->first[i] == fp->first[i + 1]) continue; /* not on the surface */
+        double p[3] = {m->rest_x[i], m->rest_y[i], m->rest_z[i]};
+        uint32_t count = sb_footprint_reach(fp, m, &i, 1, p, reach * (1.0 + 1e-9), vertex, d);
+        fp->room = count > fp->room ? count : fp->room;
+    }
     free(vertex);
     free(d);
     return ok;
