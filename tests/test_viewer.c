@@ -288,8 +288,7 @@ static void test_scripted_drag_pulls_the_vertex(void** state) {
 /* haptics_probe.yaml with the mouse device: the probe (a 5 mm sphere 7 mm
  * above the sheet's middle) pressed and dragged 60 pixels down the screen
  * over 0.6 s (29 mm at the probe) pushes the sheet's middle vertex more
- * than 5 mm down. A jump as fast as a frame lets the probe slip between
- * the sheet's vertices (contact is per vertex). */
+ * than 5 mm down. */
 static void test_mouse_moves_the_haptic_tool(void** state) {
     (void)state;
     const char* scene = SB_SOURCE_DIR "/scenes/haptics_probe.yaml";
