@@ -660,6 +660,7 @@ static int sb_press_order(const void* a, const void* b) {
  * the last left it, and the force a tool felt jumped from tick to tick. */
 static uint32_t sb_surface_press(const sb_solver* s, sb_surface* f, const sb_surface_view* view, double dt) {
     uint32_t contacts = 0;
+    if (f->pressed_count == 0) return 0; /* pressed is NULL without a footprint */
     qsort(f->pressed, f->pressed_count, sizeof *f->pressed, sb_press_order);
     for (uint32_t k = 0; k < f->pressed_count; k++) {
         sb_corners corners;
