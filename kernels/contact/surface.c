@@ -33,6 +33,13 @@
  * normal at the point of contact is not the way out at the corner) is then
  * answered as a vertex, by the same collider.
  *
+ * A collider with a footprint (kernels/contact/footprint.c) answers the
+ * mean of a patch of vertices about that point instead, spread by the
+ * patch's weights the same way, at a corner too (the vertex pass leaves
+ * it out). Its touching patches are kept as candidates and answered after
+ * the triangles, earliest and deepest first, each tested again: the first
+ * pushes out the patches that overlap it.
+ *
  * One thread, triangles in a fixed order and each triangle's colliders in
  * order, each answer seen by the next (Gauss-Seidel): the same for any
  * thread count. A broad phase keeps it cheap on a large body: each
@@ -88,6 +95,13 @@ typedef struct sb_patch {
     sb_patch_vertex* at; /* room for 3, or the footprint's patch */
 } sb_patch;
 
+/* A triangle whose patch a collider with a footprint touches this step,
+ * waiting to be answered in order (sb_press_order). */
+typedef struct sb_pressed {
+    uint32_t triangle, collider;
+    double fraction, depth;
+} sb_pressed;
+
 struct sb_surface {
     sb_surface_triangles triangles;
     uint32_t blocks, groups;
@@ -101,17 +115,9 @@ struct sb_surface {
     const uint8_t* dead;           /* tearing's torn triangles, out of the pass (NULL: none) */
     sb_footprint footprint;        /* where a collider has a footprint */
     sb_patch patch;                /* the pass's own, for the point it answers */
-    struct sb_pressed*
-        pressed; /* where a collider has a footprint: room for a candidate a triangle and such collider */
+    sb_pressed* pressed;           /* room for a candidate per triangle and collider with a footprint */
     uint32_t pressed_count;
 };
-
-/* A triangle whose patch a collider with a footprint touches this step,
- * waiting to be answered in order (sb_press_order). */
-typedef struct sb_pressed {
-    uint32_t triangle, collider;
-    double fraction, depth;
-} sb_pressed;
 
 bool sb_surface_active(const sb_solver* s) {
     if (s->def.vertex_contact_only || !sb_surface_triangles_exist(s->model)) return false;
@@ -619,7 +625,8 @@ static void sb_surface_apply(const sb_solver* s, sb_surface* f, const sb_surface
     for (int k = 0; k < 3; k++) impulse[k] = dv[k] * taken / W;
     sb_contact_record(s, 0, (int)index, impulse);
     sb_contact_record_torque(s, 0, (int)index, contact->point, impulse);
-    for (int j = 0; j < 3 && sb_collider_footprint(s->def.colliders[index]) == 0.0; j++)
+    if (sb_collider_footprint(s->def.colliders[index]) > 0.0) return; /* a patch: no corner is answered alone */
+    for (int j = 0; j < 3; j++)
         if (c->inv_mass[j] > 0.0) sb_answer_corner(s, view, c->vertex[j], index, dt);
 }
 
